@@ -1,0 +1,42 @@
+// nearcap/error.hpp — the one error type raised at nearcap's boundaries.
+//
+// Everything that reads outside data (scene files, mesh files, command-line
+// arguments) reports faults as nearcap::Error: a kind, for programs, and a
+// message, for people, that names the file, the element and the fault
+// ("data/x.off: edge (3, 7) is used by 3 faces (non-manifold)").  Internal
+// invariants are not Errors; they are checks (NEARCAP_CHECK) that print their
+// operands and abort, because reaching one is a bug in nearcap, not in the input.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace nearcap {
+
+enum class ErrorKind {
+  Io,          // a file is missing, unreadable or unwritable
+  Parse,       // a file is not syntactically what its format says (JSON, OFF, ...)
+  Schema,      // a scene file has unknown keys, wrong types or missing fields
+  NonFinite,   // NaN or infinity where a finite number is required
+  Mesh,        // an occluder is not a closed, consistently outward-oriented 2-manifold
+  Camera,      // degenerate frustum, non-invertible view, zero-pixel viewport
+  Light,       // a light inside or on an occluder, or otherwise unusable
+  Degenerate,  // the requested construction is undefined for this configuration
+  Usage,       // a bad command-line argument (light index out of range, ...)
+};
+
+// Stable lower-case name of a kind ("mesh", "camera", ...), used in messages and
+// in the bad-input catalogue.
+std::string_view to_string(ErrorKind kind);
+
+class Error : public std::runtime_error {
+ public:
+  Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+  ErrorKind kind() const { return kind_; }
+
+ private:
+  ErrorKind kind_;
+};
+
+}  // namespace nearcap

@@ -1,0 +1,30 @@
+// nearcap/light_validation.hpp — lights must lie strictly outside every occluder.
+//
+// A light on an occluder's surface makes "the side of a triangle the light is
+// on" meaningless there; a light inside an occluder makes every shadow volume
+// of that occluder cover the whole scene, which ZP+ (section 3.2) assumes never
+// happens.  Both are rejected.  The test is exact: a light is on the surface
+// when it lies in the closed triangle of some face; it is inside when the
+// winding number of the closed mesh around it is non-zero, counted along a
+// segment from the light to a point below the mesh's bounding box with the
+// sample-point perturbation of perturbation.hpp.
+#pragma once
+
+#include <cstddef>
+
+#include "nearcap/camera_space.hpp"
+#include "nearcap/scene.hpp"
+
+namespace nearcap {
+
+enum class LightPlacement { Outside, OnSurface, Inside };
+
+// Where light k lies relative to occluder o (which must be closed).  When
+// OnSurface, *face (if given) receives a face that holds the light.
+LightPlacement light_placement(const CameraSpaceScene& scene, std::size_t o, std::size_t light, FaceIndex* face,
+                               FilterStats* stats);
+
+// Throws Error(Light) naming the scene file, the light and the object.
+void validate_lights(const Scene& scene);
+
+}  // namespace nearcap

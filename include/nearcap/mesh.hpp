@@ -1,0 +1,60 @@
+// nearcap/mesh.hpp — triangle meshes: positions and topology, nothing else.
+//
+// A TriangleMesh is what a scene object needs: vertex positions in object space
+// (doubles, exactly as read) and triangles as vertex-index triples, in the
+// file's order.  Occluders must be closed, consistently outward-oriented
+// 2-manifolds; validate_occluder() proves it and fills the face adjacency the
+// silhouette extraction walks.
+//
+// Reading: OFF is parsed by nearcap itself (OpenMesh 9 rejects '#' comment lines
+// and misreads face colours); OBJ, PLY and STL go through OpenMesh's readers
+// into a raw importer that keeps every face as written (OpenMesh's own mesh
+// would silently drop non-manifold faces, hiding exactly the faults we report).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nearcap/vec3.hpp"
+
+namespace nearcap {
+
+using VertexIndex = std::uint32_t;
+using FaceIndex = std::uint32_t;
+inline constexpr FaceIndex kNoFace = 0xffffffffu;
+
+struct TriangleMesh {
+  std::string source;                                  // file it was read from (for messages)
+  std::vector<Vec3d> positions;                        // object space
+  std::vector<std::array<VertexIndex, 3>> triangles;   // counter-clockwise seen from outside
+  // neighbours[f][k]: the face across edge (triangles[f][k], triangles[f][(k+1)%3]);
+  // filled by validate_occluder(), empty before.
+  std::vector<std::array<FaceIndex, 3>> neighbours;
+
+  std::size_t triangle_count() const { return triangles.size(); }
+  bool has_adjacency() const { return neighbours.size() == triangles.size(); }
+};
+
+// Reads OFF, OBJ, PLY or STL (chosen by extension, case-insensitive).  Checks
+// syntax, finiteness of every coordinate, index ranges, and that every face is
+// a triangle with three distinct vertices.  Throws nearcap::Error (Io, Parse,
+// NonFinite or Mesh) naming the file and the element.
+TriangleMesh read_mesh(const std::string& path);
+
+// Parses OFF text ("OFF" header, optional '#' comments anywhere, optional
+// per-face colour values after the indices).  `source` names it in messages.
+TriangleMesh parse_off(const std::string& text, const std::string& source);
+
+// Proves the mesh is a closed, consistently oriented 2-manifold with positive
+// signed volume (outward orientation), and fills `neighbours`.  Zero-area
+// triangles, duplicate positions and unreferenced vertices are legal.  Throws
+// nearcap::Error(Mesh) naming the first offending edge or vertex, in face order.
+void validate_occluder(TriangleMesh& mesh);
+
+// Fills `neighbours` for a mesh that may be open (receivers): kNoFace marks a
+// boundary edge.  Never throws.
+void build_adjacency(TriangleMesh& mesh);
+
+}  // namespace nearcap

@@ -1,0 +1,90 @@
+// nearcap classify SCENE [--json]: silhouettes and A-D cases, exact vs engine.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <iostream>
+
+#include "cli_commands.hpp"
+#include "nearcap/classification.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+nlohmann::json cases_json(const std::array<std::size_t, kQuadCaseCount>& counts) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t c = 0; c < kQuadCaseCount; ++c) j[std::string(to_string(static_cast<QuadCase>(c)))] = counts[c];
+  return j;
+}
+
+void run(const std::string& scene_path, bool as_json) {
+  const Scene scene = load_scene(scene_path);
+  const CameraSpaceScene cs(scene);
+  const SceneClassification result = classify_scene(cs);
+
+  if (as_json) {
+    nlohmann::json root;
+    root["lights"] = nlohmann::json::array();
+    for (const LightClassification& lc : result.lights) {
+      nlohmann::json jl;
+      jl["light"] = lc.light;
+      jl["objects"] = nlohmann::json::array();
+      for (const ObjectClassification& oc : lc.objects) {
+        nlohmann::json jo;
+        jo["object"] = oc.object;
+        jo["silhouette_edges"] = oc.edges.size();
+        jo["cases"] = cases_json(oc.case_counts);
+        jo["edge_on_triangles"] = oc.edge_on_triangles;
+        jo["engine_disagreements"] = {{"total", oc.engine.total()},
+                                      {"silhouette_missed", oc.engine.silhouette_missed},
+                                      {"silhouette_extra", oc.engine.silhouette_extra},
+                                      {"case_mismatch", oc.engine.case_mismatch},
+                                      {"facing_mismatch", oc.engine.facing_mismatch}};
+        nlohmann::json edges = nlohmann::json::array();
+        for (const ClassifiedEdge& ce : oc.edges) {
+          nlohmann::json je;
+          je["v"] = {std::min(ce.edge.a, ce.edge.d), std::max(ce.edge.a, ce.edge.d)};
+          je["case"] = std::string(to_string(ce.exact));
+          if (ce.engine_silhouette) je["engine_case"] = std::string(to_string(ce.engine));
+          else je["engine_case"] = nullptr;
+          edges.push_back(std::move(je));
+        }
+        jo["edges"] = std::move(edges);
+        jl["objects"].push_back(std::move(jo));
+      }
+      root["lights"].push_back(std::move(jl));
+    }
+    nlohmann::json filter = nlohmann::json::object();
+    for (int p = 0; p < static_cast<int>(Predicate::kCount); ++p)
+      filter[std::string(to_string(static_cast<Predicate>(p)))] = {{"filtered", result.stats.filtered[p]},
+                                                                   {"exact", result.stats.exact[p]}};
+    root["filter"] = filter;
+    std::cout << root.dump() << "\n";
+    return;
+  }
+  std::cout << "scene " << scene.source << ": " << scene.lights.size() << " light(s), " << scene.objects.size()
+            << " object(s)\n";
+  std::cout << "light object  silhouette     A     B    C1    C2     D  degen  engine-disagree\n";
+  for (const LightClassification& lc : result.lights) {
+    for (const ObjectClassification& oc : lc.objects) {
+      char line[256];
+      std::snprintf(line, sizeof line, "%5zu %6zu %11zu %5zu %5zu %5zu %5zu %5zu %6zu  %zu\n", lc.light, oc.object,
+                    oc.edges.size(), oc.case_counts[0], oc.case_counts[1], oc.case_counts[2], oc.case_counts[3],
+                    oc.case_counts[4], oc.case_counts[5], oc.engine.total());
+      std::cout << line;
+    }
+  }
+  std::cout << "exact fallbacks: " << result.stats.total_exact() << " predicate calls needed rationals\n";
+}
+
+}  // namespace
+
+void register_classify(CLI::App& app) {
+  auto* cmd = app.add_subcommand("classify", "silhouette edges and ZP+ cases A-D per light and occluder");
+  auto scene = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("scene", *scene, "scene file (JSON)")->required();
+  cmd->add_flag("--json", *json, "print every edge as JSON");
+  cmd->callback([scene, json] { run(*scene, *json); });
+}
+
+}  // namespace nearcap::cli

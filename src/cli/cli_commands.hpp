@@ -1,0 +1,23 @@
+// The subcommands of the nearcap program, one file each.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstddef>
+#include <string>
+
+#include "nearcap/scene.hpp"
+
+namespace nearcap::cli {
+
+void register_classify(CLI::App& app);
+void register_cap(CLI::App& app);
+void register_reference(CLI::App& app);
+
+// Throws Error(Usage) when `light` is not an index of scene.lights.
+void check_light_index(const Scene& scene, std::size_t light);
+
+// Writes `content` to `path` atomically (temporary file, then rename).
+void write_file_atomically(const std::string& path, const std::string& content);
+
+}  // namespace nearcap::cli

@@ -1,0 +1,35 @@
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "cli_commands.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap::cli {
+
+void check_light_index(const Scene& scene, std::size_t light) {
+  if (light >= scene.lights.size())
+    throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) + " is out of range (the scene has " +
+                                      std::to_string(scene.lights.size()) + " light(s))");
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp-nearcap";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(ErrorKind::Io, path + ": cannot write the output file");
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw Error(ErrorKind::Io, path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw Error(ErrorKind::Io, path + ": cannot move the output into place: " + ec.message());
+  }
+}
+
+}  // namespace nearcap::cli

@@ -1,0 +1,298 @@
+// Scene files: JSON -> Scene, with every fault named by file and JSON path.
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "nearcap/error.hpp"
+#include "nearcap/light_validation.hpp"
+#include "nearcap/rational.hpp"
+#include "nearcap/scene.hpp"
+
+namespace nearcap {
+namespace {
+
+using Json = nlohmann::json;
+
+class SceneReader {
+ public:
+  SceneReader(std::string source, std::string base) : source_(std::move(source)), base_(std::move(base)) {}
+
+  [[noreturn]] void fail(ErrorKind kind, const std::string& where, const std::string& what) const {
+    throw Error(kind, source_ + ": " + where + ": " + what);
+  }
+
+  void only_keys(const Json& obj, const std::string& where, std::initializer_list<const char*> allowed) const {
+    if (!obj.is_object()) fail(ErrorKind::Schema, where, "expected a JSON object, found " + std::string(obj.type_name()));
+    std::set<std::string> ok(allowed.begin(), allowed.end());
+    std::string unknown;
+    for (const auto& [k, v] : obj.items())
+      if (!ok.count(k)) unknown += (unknown.empty() ? "'" : ", '") + k + "'";
+    if (!unknown.empty()) {
+      std::string expected;
+      for (const auto* a : allowed) expected += (expected.empty() ? "" : ", ") + std::string(a);
+      fail(ErrorKind::Schema, where, "unknown key(s) " + unknown + " (allowed: " + expected + ")");
+    }
+  }
+
+  const Json& need(const Json& obj, const char* key, const std::string& where) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) fail(ErrorKind::Schema, where, std::string("missing required key '") + key + "'");
+    return *it;
+  }
+
+  double number(const Json& j, const std::string& where) const {
+    if (!j.is_number()) fail(ErrorKind::Schema, where, "expected a number, found " + std::string(j.type_name()));
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(ErrorKind::NonFinite, where, "the number is not finite");
+    return v;
+  }
+
+  int pixels(const Json& j, const std::string& where) const {
+    if (!j.is_number_integer() && !j.is_number_unsigned())
+      fail(ErrorKind::Schema, where, "expected an integer pixel count, found " + std::string(j.type_name()));
+    const long long v = j.get<long long>();
+    if (v < 1 || v > 16384)
+      fail(ErrorKind::Camera, where, "viewport size " + std::to_string(v) + " is outside [1, 16384] pixels");
+    return static_cast<int>(v);
+  }
+
+  Vec3d vec3(const Json& j, const std::string& where) const {
+    if (!j.is_array() || j.size() != 3)
+      fail(ErrorKind::Schema, where, "expected an array of 3 numbers");
+    return {number(j[0], where + "[0]"), number(j[1], where + "[1]"), number(j[2], where + "[2]")};
+  }
+
+  // Four rows; the last must be [0, 0, 0, 1] (affine); the linear part invertible.
+  Affine3d affine(const Json& j, const std::string& where, ErrorKind singular_kind) const {
+    if (!j.is_array() || j.size() != 4)
+      fail(ErrorKind::Schema, where, "expected 4 rows of 4 numbers, the last [0, 0, 0, 1]");
+    Affine3d m;
+    for (int i = 0; i < 4; ++i) {
+      const std::string w = where + "[" + std::to_string(i) + "]";
+      if (!j[i].is_array() || j[i].size() != 4) fail(ErrorKind::Schema, w, "expected a row of 4 numbers");
+      for (int k = 0; k < 4; ++k) {
+        const double v = number(j[i][k], w + "[" + std::to_string(k) + "]");
+        if (i < 3) m.rows[i][k] = v;
+        else if (v != (k == 3 ? 1.0 : 0.0))
+          fail(ErrorKind::Schema, where, "the last row must be exactly [0, 0, 0, 1] (an affine map)");
+      }
+    }
+    // Exact determinant of the linear part.
+    Rational a[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) a[i][k] = m.rows[i][k];
+    const Rational det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+                         a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+                         a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    if (sgn(det) == 0) fail(singular_kind, where, "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+    return m;
+  }
+
+  Frustum frustum(const Json& j, const std::string& where) const {
+    only_keys(j, where, {"left", "right", "bottom", "top", "near", "far"});
+    Frustum f;
+    f.left = number(need(j, "left", where), where + ".left");
+    f.right = number(need(j, "right", where), where + ".right");
+    f.bottom = number(need(j, "bottom", where), where + ".bottom");
+    f.top = number(need(j, "top", where), where + ".top");
+    f.near = number(need(j, "near", where), where + ".near");
+    f.far = number(need(j, "far", where), where + ".far");
+    check_frustum(f, where);
+    return f;
+  }
+
+  void check_frustum(const Frustum& f, const std::string& where) const {
+    std::ostringstream s;
+    s.precision(17);
+    if (!(f.left < f.right)) {
+      s << "left (" << f.left << ") must be < right (" << f.right << "): zero-size or inverted frustum";
+      fail(ErrorKind::Camera, where, s.str());
+    }
+    if (!(f.bottom < f.top)) {
+      s << "bottom (" << f.bottom << ") must be < top (" << f.top << "): zero-size or inverted frustum";
+      fail(ErrorKind::Camera, where, s.str());
+    }
+    if (!(f.near > 0)) {
+      s << "near (" << f.near << ") must be > 0";
+      fail(ErrorKind::Camera, where, s.str());
+    }
+    if (!(f.near < f.far)) {
+      s << "near (" << f.near << ") must be < far (" << f.far << ")";
+      fail(ErrorKind::Camera, where, s.str());
+    }
+  }
+
+  Camera camera(const Json& j) const {
+    const std::string where = "camera";
+    if (!j.is_object()) fail(ErrorKind::Schema, where, "expected a JSON object");
+    if (j.contains("view") || j.contains("frustum")) {
+      only_keys(j, where, {"view", "frustum", "width", "height"});
+      Camera c;
+      c.view = affine(need(j, "view", where), where + ".view", ErrorKind::Camera);
+      c.frustum = frustum(need(j, "frustum", where), where + ".frustum");
+      c.width = pixels(need(j, "width", where), where + ".width");
+      c.height = pixels(need(j, "height", where), where + ".height");
+      return c;
+    }
+    only_keys(j, where, {"eye", "target", "up", "fovy_deg", "near", "far", "width", "height"});
+    const Vec3d eye = vec3(need(j, "eye", where), where + ".eye");
+    const Vec3d target = vec3(need(j, "target", where), where + ".target");
+    const Vec3d up = j.contains("up") ? vec3(j["up"], where + ".up") : Vec3d{0, 1, 0};
+    const double fovy = number(need(j, "fovy_deg", where), where + ".fovy_deg");
+    if (!(fovy > 0 && fovy < 180)) fail(ErrorKind::Camera, where + ".fovy_deg", "must lie strictly between 0 and 180 degrees");
+    const double near = number(need(j, "near", where), where + ".near");
+    const double far = number(need(j, "far", where), where + ".far");
+    const int width = pixels(need(j, "width", where), where + ".width");
+    const int height = pixels(need(j, "height", where), where + ".height");
+    Frustum probe;
+    probe.near = near;
+    probe.far = far;
+    check_frustum(probe, where);
+    const Vec3d f = target - eye;
+    if (f.x == 0 && f.y == 0 && f.z == 0) fail(ErrorKind::Camera, where, "eye and target coincide: no view direction");
+    const Vec3d s = cross(f, up);
+    if (s.x == 0 && s.y == 0 && s.z == 0)
+      fail(ErrorKind::Camera, where, "up is parallel to the view direction (or zero): the view basis is undefined");
+    Camera c = look_at_camera(eye, target, up, fovy, near, far, width, height);
+    check_frustum(c.frustum, where);
+    return c;
+  }
+
+  Light light(const Json& j, const std::string& where) const {
+    only_keys(j, where, {"position"});
+    return Light{vec3(need(j, "position", where), where + ".position")};
+  }
+
+  SceneObject object(const Json& j, const std::string& where,
+                     std::map<std::string, std::shared_ptr<TriangleMesh>>& meshes,
+                     std::set<std::string>& validated) const {
+    only_keys(j, where, {"mesh", "translate", "scale", "rotate_deg", "matrix", "occluder"});
+    SceneObject o;
+    const Json& mesh = need(j, "mesh", where);
+    if (!mesh.is_string()) fail(ErrorKind::Schema, where + ".mesh", "expected a file name string");
+    if (j.contains("occluder")) {
+      if (!j["occluder"].is_boolean()) fail(ErrorKind::Schema, where + ".occluder", "expected true or false");
+      o.occluder = j["occluder"].get<bool>();
+    }
+    if (j.contains("matrix")) {
+      if (j.contains("translate") || j.contains("scale") || j.contains("rotate_deg"))
+        fail(ErrorKind::Schema, where, "'matrix' excludes 'translate', 'scale' and 'rotate_deg'");
+      o.object_to_world = affine(j["matrix"], where + ".matrix", ErrorKind::Schema);
+    } else {
+      const Vec3d t = j.contains("translate") ? vec3(j["translate"], where + ".translate") : Vec3d{0, 0, 0};
+      const double s = j.contains("scale") ? number(j["scale"], where + ".scale") : 1.0;
+      if (s == 0) fail(ErrorKind::Schema, where + ".scale", "a zero scale is not invertible");
+      const Vec3d r = j.contains("rotate_deg") ? vec3(j["rotate_deg"], where + ".rotate_deg") : Vec3d{0, 0, 0};
+      o.object_to_world = trs_matrix(t, r, s);
+    }
+    std::filesystem::path p(mesh.get<std::string>());
+    if (p.is_relative()) p = std::filesystem::path(base_) / p;
+    o.mesh_path = p.lexically_normal().string();
+    auto& slot = meshes[o.mesh_path];
+    if (!slot) slot = std::make_shared<TriangleMesh>(read_mesh(o.mesh_path));
+    if (o.occluder && !validated.count(o.mesh_path)) {
+      validate_occluder(*slot);
+      validated.insert(o.mesh_path);
+    }
+    if (!slot->has_adjacency()) build_adjacency(*slot);
+    o.mesh = slot;
+    return o;
+  }
+
+  // T * Rz * Ry * Rx * S: rotations about X first, then Y, then Z (extrinsic),
+  // computed once in double (the exactness convention).  With no rotation the
+  // matrix is exact: cos 0 = 1 and sin 0 = 0 exactly.
+  static Affine3d trs_matrix(const Vec3d& t, const Vec3d& rotate_deg, double s) {
+    auto rot = [](int axis, double deg) {
+      Affine3d m;
+      if (deg == 0) return m;
+      const double rad = deg * (M_PI / 180.0);
+      const double c = std::cos(rad), sn = std::sin(rad);
+      const int i = (axis + 1) % 3, k = (axis + 2) % 3;
+      m.rows[i][i] = c;
+      m.rows[i][k] = -sn;
+      m.rows[k][i] = sn;
+      m.rows[k][k] = c;
+      return m;
+    };
+    Affine3d scale;
+    for (int i = 0; i < 3; ++i) scale.rows[i][i] = s;
+    Affine3d m = compose_rounded(rot(0, rotate_deg.x), scale);
+    m = compose_rounded(rot(1, rotate_deg.y), m);
+    m = compose_rounded(rot(2, rotate_deg.z), m);
+    for (int i = 0; i < 3; ++i) m.rows[i][3] = t[i];
+    return m;
+  }
+
+  Scene scene(const Json& root) const {
+    only_keys(root, "scene", {"camera", "lights", "objects", "description"});
+    Scene sc;
+    sc.source = source_;
+    sc.camera = camera(need(root, "camera", "scene"));
+    const Json& lights = need(root, "lights", "scene");
+    if (!lights.is_array() || lights.empty()) fail(ErrorKind::Schema, "lights", "expected a non-empty array of lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) sc.lights.push_back(light(lights[i], "lights[" + std::to_string(i) + "]"));
+    const Json& objects = need(root, "objects", "scene");
+    if (!objects.is_array() || objects.empty()) fail(ErrorKind::Schema, "objects", "expected a non-empty array of objects");
+    std::map<std::string, std::shared_ptr<TriangleMesh>> meshes;
+    std::set<std::string> validated;
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      sc.objects.push_back(object(objects[i], "objects[" + std::to_string(i) + "]", meshes, validated));
+    if (root.contains("description") && !root["description"].is_string())
+      fail(ErrorKind::Schema, "description", "expected a string");
+    return sc;
+  }
+
+ private:
+  std::string source_;
+  std::string base_;
+};
+
+}  // namespace
+
+Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near,
+                      double far, int width, int height) {
+  auto normalize = [](const Vec3d& v) {
+    const double n = std::sqrt(dot(v, v));
+    return Vec3d{v.x / n, v.y / n, v.z / n};
+  };
+  const Vec3d f = normalize(target - eye);
+  const Vec3d s = normalize(cross(f, up));
+  const Vec3d u = cross(s, f);
+  Camera c;
+  c.view.rows = {{{s.x, s.y, s.z, -dot(s, eye)}, {u.x, u.y, u.z, -dot(u, eye)}, {-f.x, -f.y, -f.z, dot(f, eye)}}};
+  const double top = near * std::tan(fovy_deg * (M_PI / 360.0));
+  const double right = top * (static_cast<double>(width) / static_cast<double>(height));
+  c.frustum = Frustum{-right, right, -top, top, near, far};
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory) {
+  Json root;
+  try {
+    root = Json::parse(json_text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(ErrorKind::Parse, source + ": malformed JSON: " + e.what());
+  }
+  Scene sc = SceneReader(source, base_directory).scene(root);
+  validate_lights(sc);
+  return sc;
+}
+
+Scene load_scene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::Io, path + ": cannot open the scene file (missing or unreadable)");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parse_scene(buffer.str(), path, base.empty() ? "." : base);
+}
+
+}  // namespace nearcap
