@@ -6,6 +6,8 @@
 // vertex is recomputed from the rational C when a filter fails.
 #include "nearcap/camera_space.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string_view>
 
 namespace nearcap {
@@ -89,9 +91,34 @@ CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
     d.to_camera = RationalAffine::from(obj.object_to_world).then(view);
     d.handedness = d.to_camera.linear_determinant_sign();
     const BoundedAffine approx = compose_bounded(scene.camera.view, obj.object_to_world);
+    // Plain-double transform with one certified bound for all vertices:
+    // coordinate i is sum_j C_ij v_j + C_i3 with each C_ij known to within
+    // e_C and four roundings (three products, three sums: gamma_4 covers them),
+    // so |error| <= (max e_C + gamma_4 max|C|) (|v|_1 + 1).
+    double c[3][4], e_c = 0, c_max = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 4; ++j) {
+        c[i][j] = approx.m[i][j].v;
+        e_c = std::fmax(e_c, approx.m[i][j].e);
+        c_max = std::fmax(c_max, std::fabs(c[i][j]));
+      }
     const auto& positions = obj.mesh->positions;
-    d.vertices.resize(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) d.vertices[v] = approx.apply(positions[v]);
+    double v1 = 1.0;
+    for (const Vec3d& p : positions) v1 = std::max(v1, std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z) + 1.0);
+    constexpr double kGamma4 = 4 * 0x1p-53 / (1 - 4 * 0x1p-53);
+    d.max_error = (e_c + kGamma4 * c_max) * v1 * (1 + 0x1p-50);
+    d.estimates.resize(positions.size());
+    double max_abs = 0;
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      const Vec3d& p = positions[v];
+      Vec3d& out = d.estimates[v];
+      for (int i = 0; i < 3; ++i) {
+        const double x = c[i][0] * p.x + c[i][1] * p.y + c[i][2] * p.z + c[i][3];
+        out[i] = x;
+        max_abs = std::max(max_abs, std::fabs(x));
+      }
+    }
+    d.max_abs = max_abs + d.max_error;
   }
   const Affine3d identity = Affine3d::identity();
   const BoundedAffine view_approx = compose_bounded(scene.camera.view, identity);

@@ -1,15 +1,71 @@
+// Light facing: a three-stage filter, as CGAL's filtered kernels do it.
+//   1. static filter: the orientation determinant in plain double, against one
+//      bound per (object, light) derived from the largest coordinate and the
+//      largest input error (no per-call bound arithmetic);
+//   2. semi-static: the same determinant in BoundedDouble;
+//   3. exact: rationals.
 #include "nearcap/light_facing.hpp"
 
-namespace nearcap {
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
 
-Sign light_side(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light, FilterStats* stats) {
+namespace nearcap {
+namespace {
+
+// Bound on |orient(a,b,c,l) - fl(det of rounded differences)| when every
+// coordinate estimate is within `e` of its exact value and within `m` in
+// magnitude.  Differences are within 2m of zero and carry error
+// delta = 2e + 2u(2m) (inputs plus the subtraction's rounding).  The
+// determinant is a sum of six triple products: perturbing each factor by delta
+// changes it by at most (K^3 - (2m)^3) with K = 2m + delta, and evaluating it
+// in double (products, then two levels of sums) costs at most gamma_5 * 6 K^3.
+double orientation_static_bound(double m, double e) {
+  constexpr double u = 0x1p-53;
+  constexpr double gamma5 = 5 * u / (1 - 5 * u);
+  const double two_m = 2 * m;
+  const double delta = 2 * e + 2 * u * two_m;
+  const double k = two_m * (1 + 2 * u) + delta;
+  const double bound = 6 * (k * k * k - two_m * two_m * two_m) + 6 * gamma5 * k * k * k;
+  return bound * (1 + 0x1p-40);  // covers the rounding of this computation
+}
+
+struct StaticOrientationFilter {
+  double bound;
+  Vec3d l;  // the light's estimate
+  std::optional<Sign> operator()(const Vec3d& a, const Vec3d& b, const Vec3d& c) const {
+    const double ax = b.x - a.x, ay = b.y - a.y, az = b.z - a.z;
+    const double bx = c.x - a.x, by = c.y - a.y, bz = c.z - a.z;
+    const double cx = l.x - a.x, cy = l.y - a.y, cz = l.z - a.z;
+    const double det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+    return std::nullopt;
+  }
+};
+
+StaticOrientationFilter static_filter(const CameraSpaceScene& scene, std::size_t o, std::size_t light) {
+  const BoundedVec3& l = scene.light(light);
+  double m = scene.max_abs(o), e = scene.max_error(o);
+  for (int i = 0; i < 3; ++i) {
+    m = std::max(m, std::fabs(l[i].v) + l[i].e);
+    e = std::max(e, l[i].e);
+  }
+  return {orientation_static_bound(m, e), Vec3d{l.x.v, l.y.v, l.z.v}};
+}
+
+Sign light_side_filtered(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light,
+                         const StaticOrientationFilter& fast, FilterStats* stats) {
   const auto& t = scene.mesh(o).triangles[f];
+  if (const auto s = fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]))) {
+    if (stats) stats->record(Predicate::LightFacing, false);
+    return *s * scene.handedness(o);
+  }
+  const BoundedVec3 a = scene.vertex(o, t[0]), b = scene.vertex(o, t[1]), c = scene.vertex(o, t[2]);
+  const BoundedVec3& l = scene.light(light);
   const Sign s = filtered_sign(
-      Predicate::LightFacing, stats,
-      [&] {
-        return orientation_determinant(scene.vertex(o, t[0]), scene.vertex(o, t[1]), scene.vertex(o, t[2]),
-                                       scene.light(light));
-      },
+      Predicate::LightFacing, stats, [&] { return orientation_determinant(a, b, c, l); },
       [&] {
         return orientation_determinant(scene.exact_vertex(o, t[0]), scene.exact_vertex(o, t[1]),
                                        scene.exact_vertex(o, t[2]), scene.exact_light(light));
@@ -18,13 +74,33 @@ Sign light_side(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::
   return s * scene.handedness(o);
 }
 
+}  // namespace
+
+Sign light_side(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light, FilterStats* stats) {
+  return light_side_filtered(scene, o, f, light, static_filter(scene, o, light), stats);
+}
+
 std::vector<Facing> light_facing(const CameraSpaceScene& scene, std::size_t o, std::size_t light, FilterStats* stats) {
-  const std::size_t n = scene.mesh(o).triangle_count();
+  const auto& triangles = scene.mesh(o).triangles;
+  const std::size_t n = triangles.size();
+  const StaticOrientationFilter fast = static_filter(scene, o, light);
+  const Sign handedness = scene.handedness(o);
   std::vector<Facing> facing(n);
+  std::uint64_t decided_fast = 0;
+  // The static filter inline (this loop is the exact classification's hot
+  // path); the rare undecided triangles go through the full cascade.
   for (FaceIndex f = 0; f < n; ++f) {
-    const Sign s = light_side(scene, o, f, light, stats);
-    facing[f] = s == Sign::Positive ? Facing::Front : (s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+    const auto& t = triangles[f];
+    std::optional<Sign> s = fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]));
+    if (s) {
+      ++decided_fast;
+      *s = *s * handedness;
+    } else {
+      s = light_side_filtered(scene, o, f, light, fast, stats);
+    }
+    facing[f] = *s == Sign::Positive ? Facing::Front : (*s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
   }
+  if (stats) stats->filtered[static_cast<int>(Predicate::LightFacing)] += decided_fast;
   return facing;
 }
 

@@ -55,7 +55,7 @@ LightPlacement light_placement(const CameraSpaceScene& scene, std::size_t o, std
   for (FaceIndex f = 0; f < mesh.triangle_count(); ++f) {
     if (facing[f] == Facing::EdgeOn) continue;
     const auto& t = mesh.triangles[f];
-    const BoundedVec3 &a = scene.vertex(o, t[0]), &b = scene.vertex(o, t[1]), &c = scene.vertex(o, t[2]);
+    const BoundedVec3 a = scene.vertex(o, t[0]), b = scene.vertex(o, t[1]), c = scene.vertex(o, t[2]);
     // Quick certain rejection: the probe segment stays within x = l.x, y = l.y
     // (up to the infinitesimal tilt), so a triangle certainly on one side of it
     // in x or y cannot be crossed.

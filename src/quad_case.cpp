@@ -2,8 +2,6 @@
 // camera's near plane, decided exactly (the inputs are camera-space z values).
 #include "nearcap/quad_case.hpp"
 
-#include <functional>
-
 #include "nearcap/check.hpp"
 
 namespace nearcap {
@@ -37,32 +35,28 @@ QuadCase quad_case_from_sides(const QuadSides& s) {
 
 namespace {
 
-// sign(p.z + near): which side of the near plane a finite point lies on.
-Sign finite_side(const BoundedVec3& approx, const std::function<RationalVec3()>& exact, double near, FilterStats* stats) {
-  return filtered_sign(
-      Predicate::NearPlaneSide, stats, [&] { return approx.z + BoundedDouble(near); },
-      [&] { return Rational(exact().z + Rational(near)); });
-}
-
-// sign(p.z - l.z): which way the direction p - l points across the near plane.
-Sign direction_side(const BoundedVec3& approx, const std::function<RationalVec3()>& exact, const CameraSpaceScene& scene,
-                    std::size_t light, FilterStats* stats) {
-  return filtered_sign(
-      Predicate::NearPlaneSide, stats, [&] { return approx.z - scene.light(light).z; },
-      [&] { return Rational(exact().z - scene.exact_light(light).z); });
+// sign(p.z + near) for a finite point, sign(p.z - l.z) for the direction p - l:
+// both are a difference of two certified estimates, decided by BoundedDouble
+// and, within the bound, by rationals.
+template <class ExactZ>
+Sign z_difference_sign(const BoundedDouble& z, const BoundedDouble& ref, ExactZ&& exact, FilterStats* stats) {
+  return filtered_sign(Predicate::NearPlaneSide, stats, [&] { return z - ref; }, exact);
 }
 
 }  // namespace
 
 QuadSides quad_sides(const CameraSpaceScene& scene, std::size_t o, VertexIndex a, VertexIndex d, std::size_t light,
                      FilterStats* stats) {
-  const double near = scene.frustum().near;
-  const BoundedVec3& pa = scene.vertex(o, a);
-  const BoundedVec3& pd = scene.vertex(o, d);
-  const std::function<RationalVec3()> ea = [&] { return scene.exact_vertex(o, a); };
-  const std::function<RationalVec3()> ed = [&] { return scene.exact_vertex(o, d); };
-  return {finite_side(pa, ea, near, stats), finite_side(pd, ed, near, stats),
-          direction_side(pa, ea, scene, light, stats), direction_side(pd, ed, scene, light, stats)};
+  const BoundedDouble minus_near(-scene.frustum().near);
+  const BoundedDouble& lz = scene.light(light).z;
+  const BoundedDouble az = scene.vertex(o, a).z;
+  const BoundedDouble dz = scene.vertex(o, d).z;
+  const Rational exact_minus_near(-scene.frustum().near);
+  return {
+      z_difference_sign(az, minus_near, [&] { return Rational(scene.exact_vertex(o, a).z - exact_minus_near); }, stats),
+      z_difference_sign(dz, minus_near, [&] { return Rational(scene.exact_vertex(o, d).z - exact_minus_near); }, stats),
+      z_difference_sign(az, lz, [&] { return Rational(scene.exact_vertex(o, a).z - scene.exact_light(light).z); }, stats),
+      z_difference_sign(dz, lz, [&] { return Rational(scene.exact_vertex(o, d).z - scene.exact_light(light).z); }, stats)};
 }
 
 }  // namespace nearcap

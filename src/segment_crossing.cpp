@@ -25,7 +25,7 @@ bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, Face
                               Facing facing, const SamplePoint& p, FilterStats* stats) {
   if (facing == Facing::EdgeOn) return false;
   const auto& t = scene.mesh(o).triangles[f];
-  const BoundedVec3 &a = scene.vertex(o, t[0]), &b = scene.vertex(o, t[1]), &c = scene.vertex(o, t[2]);
+  const BoundedVec3 a = scene.vertex(o, t[0]), b = scene.vertex(o, t[1]), c = scene.vertex(o, t[2]);
   const auto exact_point = [&]() -> const RationalVec3& { return p.exact; };
   const Sign p_side = perturbed_sign(
                           Predicate::SegmentCrossing, stats, p.approx, [&] { return plane_form(a, b, c); },
@@ -40,8 +40,8 @@ bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, Face
   const BoundedVec3& l = scene.light(light);
   Sign first = Sign::Zero;
   for (int k = 0; k < 3; ++k) {
-    const BoundedVec3& u = scene.vertex(o, t[k]);
-    const BoundedVec3& v = scene.vertex(o, t[(k + 1) % 3]);
+    const BoundedVec3 u = scene.vertex(o, t[k]);
+    const BoundedVec3 v = scene.vertex(o, t[(k + 1) % 3]);
     const Sign s = perturbed_sign(
         Predicate::SegmentCrossing, stats, p.approx, [&] { return edge_form(l, u, v); },
         [&] {

@@ -43,7 +43,20 @@ class CameraSpaceScene {
   const SceneObject& object(std::size_t o) const { return scene_->objects[o]; }
   const TriangleMesh& mesh(std::size_t o) const { return *scene_->objects[o].mesh; }
 
-  const BoundedVec3& vertex(std::size_t o, VertexIndex v) const { return objects_[o].vertices[v]; }
+  // Certified estimate of a vertex.  All vertices of an object share one error
+  // bound (max_error), derived once from the map's bound and the largest input
+  // coordinate, so the transform is plain double arithmetic.
+  BoundedVec3 vertex(std::size_t o, VertexIndex v) const {
+    const Vec3d& p = objects_[o].estimates[v];
+    const double e = objects_[o].max_error;
+    return {BoundedDouble(p.x, e), BoundedDouble(p.y, e), BoundedDouble(p.z, e)};
+  }
+  // The estimate alone (within max_error(o) of the exact vertex, per coordinate).
+  const Vec3d& vertex_estimate(std::size_t o, VertexIndex v) const { return objects_[o].estimates[v]; }
+  // Bounds over all vertex estimates of object o: |coordinate| <= max_abs(o),
+  // |estimate - exact| <= max_error(o).  Inputs of the static filters.
+  double max_abs(std::size_t o) const { return objects_[o].max_abs; }
+  double max_error(std::size_t o) const { return objects_[o].max_error; }
   RationalVec3 exact_vertex(std::size_t o, VertexIndex v) const;
   // +1 when view * object_to_world preserves orientation (counter-clockwise
   // triangles stay counter-clockwise seen from outside), -1 when it mirrors.
@@ -58,8 +71,10 @@ class CameraSpaceScene {
  private:
   struct ObjectData {
     RationalAffine to_camera;
-    std::vector<BoundedVec3> vertices;
+    std::vector<Vec3d> estimates;
     Sign handedness = Sign::Positive;
+    double max_abs = 0;
+    double max_error = 0;
   };
   struct LightData {
     BoundedVec3 approx;
