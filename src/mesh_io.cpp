@@ -249,16 +249,43 @@ class RawImporter final : public OpenMesh::IO::BaseImporter {
   std::size_t faces_ = 0;
 };
 
-TriangleMesh read_with_openmesh(const std::string& path) {
+// Reads `in` (a file's bytes) with OpenMesh's reader for extension `ext`.
+TriangleMesh read_with_openmesh(std::istream& in, const std::string& ext, const std::string& path) {
   TriangleMesh mesh;
   mesh.source = path;
   RawImporter importer(mesh);
   OpenMesh::IO::Options options;
+  if (ext == "stl") {
+    // OpenMesh's stream reader needs to be told binary vs ascii: ascii STL
+    // starts with "solid" followed by a facet; anything else is binary.
+    std::string head(512, '\0');
+    in.read(&head[0], static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    in.clear();
+    in.seekg(0);
+    const bool ascii = head.rfind("solid", 0) == 0 && head.find("facet") != std::string::npos;
+    if (!ascii) options += OpenMesh::IO::Options::Binary;
+  }
+  if (ext == "ply") {
+    std::string head(256, '\0');
+    in.read(&head[0], static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    in.clear();
+    in.seekg(0);
+    if (head.find("format binary") != std::string::npos) options += OpenMesh::IO::Options::Binary;
+  }
   // OpenMesh prints its complaints to its own log streams; silence them, we
   // report faults ourselves.
   omerr().disable();
   omlog().disable();
-  const bool ok = OpenMesh::IO::IOManager().read(path, importer, options);
+  bool ok = false;
+  try {
+    ok = OpenMesh::IO::IOManager().read(in, "." + ext, importer, options);
+  } catch (const std::exception& e) {
+    omerr().enable();
+    omlog().enable();
+    fail(ErrorKind::Parse, path, std::string("OpenMesh failed to read the file: ") + e.what());
+  }
   omerr().enable();
   omlog().enable();
   if (!ok) fail(ErrorKind::Parse, path, "OpenMesh could not parse the file (malformed or truncated)");
@@ -276,13 +303,18 @@ TriangleMesh read_mesh(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(ErrorKind::Io, path, "cannot open the mesh file (missing or unreadable)");
   const std::string ext = lower_extension(path);
-  if (ext == "off") {
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return parse_off(buffer.str(), path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return parse_mesh(buffer.str(), ext, path);
+}
+
+TriangleMesh parse_mesh(const std::string& bytes, const std::string& format, const std::string& source) {
+  if (format == "off") return parse_off(bytes, source);
+  if (format == "obj" || format == "ply" || format == "stl") {
+    std::istringstream in(bytes, std::ios::binary);
+    return read_with_openmesh(in, format, source);
   }
-  if (ext == "obj" || ext == "ply" || ext == "stl") return read_with_openmesh(path);
-  fail(ErrorKind::Parse, path, "unknown mesh format '." + ext + "' (nearcap reads .off, .obj, .ply and .stl)");
+  fail(ErrorKind::Parse, source, "unknown mesh format '." + format + "' (nearcap reads .off, .obj, .ply and .stl)");
 }
 
 }  // namespace nearcap

@@ -43,6 +43,10 @@ struct TriangleMesh {
 // NonFinite or Mesh) naming the file and the element.
 TriangleMesh read_mesh(const std::string& path);
 
+// Same, from bytes in memory; `format` is "off", "obj", "ply" or "stl" and
+// `source` names the data in messages.  (Used by the fuzzers.)
+TriangleMesh parse_mesh(const std::string& bytes, const std::string& format, const std::string& source);
+
 // Parses OFF text ("OFF" header, optional '#' comments anywhere, optional
 // per-face colour values after the indices).  `source` names it in messages.
 TriangleMesh parse_off(const std::string& text, const std::string& source);
