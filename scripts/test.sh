@@ -1,8 +1,19 @@
 #!/usr/bin/env bash
-# Installs the packages, builds nearcap with warnings as errors and runs the
-# whole test suite (ctest).  This is the README's test command and what CI runs.
+# The README's test command, and what CI runs: installs the packages, checks
+# formatting, builds with warnings as errors and runs the test suite, then
+# builds and runs the suite again under AddressSanitizer + UndefinedBehaviorSanitizer,
+# then gives each fuzzer a short run.  Any failure, sanitizer report or crash fails it.
+#   NEARCAP_QUICK=1 ./scripts/test.sh   skips the sanitizer build and the fuzzers
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
+./scripts/check-format.sh
 ./scripts/build.sh -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_TESTS=ON
 ctest --test-dir build --output-on-failure -j2
+if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARCAP_SANITIZE=ON -DNEARCAP_WERROR=ON \
+  -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build-asan
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j2
+./scripts/fuzz.sh "${NEARCAP_FUZZ_SECONDS:-12}"

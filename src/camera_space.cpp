@@ -14,13 +14,20 @@ namespace nearcap {
 
 std::string_view to_string(Predicate p) {
   switch (p) {
-    case Predicate::LightFacing: return "light_facing";
-    case Predicate::NearPlaneSide: return "near_plane_side";
-    case Predicate::SegmentCrossing: return "segment_crossing";
-    case Predicate::RayHit: return "ray_hit";
-    case Predicate::ShadowCrossing: return "shadow_crossing";
-    case Predicate::Arrangement: return "arrangement";
-    case Predicate::kCount: break;
+    case Predicate::LightFacing:
+      return "light_facing";
+    case Predicate::NearPlaneSide:
+      return "near_plane_side";
+    case Predicate::SegmentCrossing:
+      return "segment_crossing";
+    case Predicate::RayHit:
+      return "ray_hit";
+    case Predicate::ShadowCrossing:
+      return "shadow_crossing";
+    case Predicate::Arrangement:
+      return "arrangement";
+    case Predicate::kCount:
+      break;
   }
   return "unknown";
 }
@@ -122,7 +129,8 @@ CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
   }
   const Affine3d identity = Affine3d::identity();
   const BoundedAffine view_approx = compose_bounded(scene.camera.view, identity);
-  for (const Light& l : scene.lights) lights_.push_back({view_approx.apply(l.position), view.apply(to_rational(l.position))});
+  for (const Light& l : scene.lights)
+    lights_.push_back({view_approx.apply(l.position), view.apply(to_rational(l.position))});
 }
 
 RationalVec3 CameraSpaceScene::exact_vertex(std::size_t o, VertexIndex v) const {

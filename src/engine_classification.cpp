@@ -32,7 +32,8 @@ EngineSilhouette engine_silhouette(const Scene& scene, std::size_t object, std::
   std::vector<glm::vec3> p(mesh.positions.size());
   for (std::size_t v = 0; v < p.size(); ++v) {
     const Vec3d& q = mesh.positions[v];
-    p[v] = glm::vec3(modelview * glm::vec4(static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z), 1.0f));
+    p[v] = glm::vec3(modelview *
+                     glm::vec4(static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z), 1.0f));
   }
   EngineSilhouette out;
   out.facing.resize(mesh.triangle_count());

@@ -58,7 +58,8 @@ StaticOrientationFilter static_filter(const CameraSpaceScene& scene, std::size_t
 Sign light_side_filtered(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light,
                          const StaticOrientationFilter& fast, FilterStats* stats) {
   const auto& t = scene.mesh(o).triangles[f];
-  if (const auto s = fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]))) {
+  if (const auto s =
+          fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]))) {
     if (stats) stats->record(Predicate::LightFacing, false);
     return *s * scene.handedness(o);
   }
@@ -91,7 +92,8 @@ std::vector<Facing> light_facing(const CameraSpaceScene& scene, std::size_t o, s
   // path); the rare undecided triangles go through the full cascade.
   for (FaceIndex f = 0; f < n; ++f) {
     const auto& t = triangles[f];
-    std::optional<Sign> s = fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]));
+    std::optional<Sign> s =
+        fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]));
     if (s) {
       ++decided_fast;
       *s = *s * handedness;

@@ -188,7 +188,9 @@ class RawImporter final : public OpenMesh::IO::BaseImporter {
     return OpenMesh::VertexHandle(static_cast<int>(mesh_.positions.size() - 1));
   }
   OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3d(0, 0, 0)); }
-  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override { return OpenMesh::HalfedgeHandle(); }
+  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override {
+    return OpenMesh::HalfedgeHandle();
+  }
   OpenMesh::FaceHandle add_face(const VHandles& v) override {
     const std::size_t index = faces_++;
     if (v.size() != 3) {

@@ -111,8 +111,7 @@ void validate_occluder(TriangleMesh& mesh) {
       const auto [it, inserted] = directed.emplace(key(a, b), f);
       if (!inserted)
         mesh_fault(mesh, edge_name(a, b) + " is traversed in the same direction by faces " +
-                             std::to_string(it->second) + " and " + std::to_string(f) +
-                             " (inconsistent orientation)");
+                             std::to_string(it->second) + " and " + std::to_string(f) + " (inconsistent orientation)");
     }
   }
   for (FaceIndex f = 0; f < nf; ++f) {
@@ -157,7 +156,9 @@ void validate_occluder(TriangleMesh& mesh) {
 
   const Sign volume = signed_volume_sign(mesh);
   if (volume == Sign::Negative)
-    mesh_fault(mesh, "the signed volume is negative: faces are oriented inward (expected counter-clockwise seen from outside)");
+    mesh_fault(
+        mesh,
+        "the signed volume is negative: faces are oriented inward (expected counter-clockwise seen from outside)");
   if (volume == Sign::Zero) mesh_fault(mesh, "the signed volume is zero (a flat or self-cancelling closed mesh)");
 }
 

@@ -8,12 +8,18 @@ namespace nearcap {
 
 std::string_view to_string(QuadCase c) {
   switch (c) {
-    case QuadCase::A: return "A";
-    case QuadCase::B: return "B";
-    case QuadCase::C1: return "C1";
-    case QuadCase::C2: return "C2";
-    case QuadCase::D: return "D";
-    case QuadCase::Degenerate: return "degenerate";
+    case QuadCase::A:
+      return "A";
+    case QuadCase::B:
+      return "B";
+    case QuadCase::C1:
+      return "C1";
+    case QuadCase::C2:
+      return "C2";
+    case QuadCase::D:
+      return "D";
+    case QuadCase::Degenerate:
+      return "degenerate";
   }
   return "?";
 }
@@ -40,7 +46,8 @@ namespace {
 // and, within the bound, by rationals.
 template <class ExactZ>
 Sign z_difference_sign(const BoundedDouble& z, const BoundedDouble& ref, ExactZ&& exact, FilterStats* stats) {
-  return filtered_sign(Predicate::NearPlaneSide, stats, [&] { return z - ref; }, exact);
+  return filtered_sign(
+      Predicate::NearPlaneSide, stats, [&] { return z - ref; }, exact);
 }
 
 }  // namespace
@@ -52,11 +59,14 @@ QuadSides quad_sides(const CameraSpaceScene& scene, std::size_t o, VertexIndex a
   const BoundedDouble az = scene.vertex(o, a).z;
   const BoundedDouble dz = scene.vertex(o, d).z;
   const Rational exact_minus_near(-scene.frustum().near);
-  return {
-      z_difference_sign(az, minus_near, [&] { return Rational(scene.exact_vertex(o, a).z - exact_minus_near); }, stats),
-      z_difference_sign(dz, minus_near, [&] { return Rational(scene.exact_vertex(o, d).z - exact_minus_near); }, stats),
-      z_difference_sign(az, lz, [&] { return Rational(scene.exact_vertex(o, a).z - scene.exact_light(light).z); }, stats),
-      z_difference_sign(dz, lz, [&] { return Rational(scene.exact_vertex(o, d).z - scene.exact_light(light).z); }, stats)};
+  return {z_difference_sign(
+              az, minus_near, [&] { return Rational(scene.exact_vertex(o, a).z - exact_minus_near); }, stats),
+          z_difference_sign(
+              dz, minus_near, [&] { return Rational(scene.exact_vertex(o, d).z - exact_minus_near); }, stats),
+          z_difference_sign(
+              az, lz, [&] { return Rational(scene.exact_vertex(o, a).z - scene.exact_light(light).z); }, stats),
+          z_difference_sign(
+              dz, lz, [&] { return Rational(scene.exact_vertex(o, d).z - scene.exact_light(light).z); }, stats)};
 }
 
 }  // namespace nearcap

@@ -27,7 +27,8 @@ class SceneReader {
   }
 
   void only_keys(const Json& obj, const std::string& where, std::initializer_list<const char*> allowed) const {
-    if (!obj.is_object()) fail(ErrorKind::Schema, where, "expected a JSON object, found " + std::string(obj.type_name()));
+    if (!obj.is_object())
+      fail(ErrorKind::Schema, where, "expected a JSON object, found " + std::string(obj.type_name()));
     std::set<std::string> ok(allowed.begin(), allowed.end());
     std::string unknown;
     for (const auto& [k, v] : obj.items())
@@ -62,8 +63,7 @@ class SceneReader {
   }
 
   Vec3d vec3(const Json& j, const std::string& where) const {
-    if (!j.is_array() || j.size() != 3)
-      fail(ErrorKind::Schema, where, "expected an array of 3 numbers");
+    if (!j.is_array() || j.size() != 3) fail(ErrorKind::Schema, where, "expected an array of 3 numbers");
     return {number(j[0], where + "[0]"), number(j[1], where + "[1]"), number(j[2], where + "[2]")};
   }
 
@@ -77,7 +77,8 @@ class SceneReader {
       if (!j[i].is_array() || j[i].size() != 4) fail(ErrorKind::Schema, w, "expected a row of 4 numbers");
       for (int k = 0; k < 4; ++k) {
         const double v = number(j[i][k], w + "[" + std::to_string(k) + "]");
-        if (i < 3) m.rows[i][k] = v;
+        if (i < 3)
+          m.rows[i][k] = v;
         else if (v != (k == 3 ? 1.0 : 0.0))
           fail(ErrorKind::Schema, where, "the last row must be exactly [0, 0, 0, 1] (an affine map)");
       }
@@ -89,7 +90,8 @@ class SceneReader {
     const Rational det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
                          a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
                          a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    if (sgn(det) == 0) fail(singular_kind, where, "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+    if (sgn(det) == 0)
+      fail(singular_kind, where, "the matrix is not invertible (its 3x3 linear part has determinant 0)");
     return m;
   }
 
@@ -144,7 +146,8 @@ class SceneReader {
     const Vec3d target = vec3(need(j, "target", where), where + ".target");
     const Vec3d up = j.contains("up") ? vec3(j["up"], where + ".up") : Vec3d{0, 1, 0};
     const double fovy = number(need(j, "fovy_deg", where), where + ".fovy_deg");
-    if (!(fovy > 0 && fovy < 180)) fail(ErrorKind::Camera, where + ".fovy_deg", "must lie strictly between 0 and 180 degrees");
+    if (!(fovy > 0 && fovy < 180))
+      fail(ErrorKind::Camera, where + ".fovy_deg", "must lie strictly between 0 and 180 degrees");
     const double near = number(need(j, "near", where), where + ".near");
     const double far = number(need(j, "far", where), where + ".far");
     const int width = pixels(need(j, "width", where), where + ".width");
@@ -236,9 +239,11 @@ class SceneReader {
     sc.camera = camera(need(root, "camera", "scene"));
     const Json& lights = need(root, "lights", "scene");
     if (!lights.is_array() || lights.empty()) fail(ErrorKind::Schema, "lights", "expected a non-empty array of lights");
-    for (std::size_t i = 0; i < lights.size(); ++i) sc.lights.push_back(light(lights[i], "lights[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < lights.size(); ++i)
+      sc.lights.push_back(light(lights[i], "lights[" + std::to_string(i) + "]"));
     const Json& objects = need(root, "objects", "scene");
-    if (!objects.is_array() || objects.empty()) fail(ErrorKind::Schema, "objects", "expected a non-empty array of objects");
+    if (!objects.is_array() || objects.empty())
+      fail(ErrorKind::Schema, "objects", "expected a non-empty array of objects");
     std::map<std::string, std::shared_ptr<TriangleMesh>> meshes;
     std::set<std::string> validated;
     for (std::size_t i = 0; i < objects.size(); ++i)
@@ -255,8 +260,8 @@ class SceneReader {
 
 }  // namespace
 
-Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near,
-                      double far, int width, int height) {
+Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near, double far,
+                      int width, int height) {
   auto normalize = [](const Vec3d& v) {
     const double n = std::sqrt(dot(v, v));
     return Vec3d{v.x / n, v.y / n, v.z / n};

@@ -27,14 +27,14 @@ bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, Face
   const auto& t = scene.mesh(o).triangles[f];
   const BoundedVec3 a = scene.vertex(o, t[0]), b = scene.vertex(o, t[1]), c = scene.vertex(o, t[2]);
   const auto exact_point = [&]() -> const RationalVec3& { return p.exact; };
-  const Sign p_side = perturbed_sign(
-                          Predicate::SegmentCrossing, stats, p.approx, [&] { return plane_form(a, b, c); },
-                          [&] {
-                            return plane_form(scene.exact_vertex(o, t[0]), scene.exact_vertex(o, t[1]),
-                                              scene.exact_vertex(o, t[2]));
-                          },
-                          exact_point) *
-                      scene.handedness(o);
+  const Sign p_side =
+      perturbed_sign(
+          Predicate::SegmentCrossing, stats, p.approx, [&] { return plane_form(a, b, c); },
+          [&] {
+            return plane_form(scene.exact_vertex(o, t[0]), scene.exact_vertex(o, t[1]), scene.exact_vertex(o, t[2]));
+          },
+          exact_point) *
+      scene.handedness(o);
   const Sign l_side = facing == Facing::Front ? Sign::Positive : Sign::Negative;
   if (p_side == Sign::Zero || p_side == l_side) return false;
   const BoundedVec3& l = scene.light(light);
@@ -50,8 +50,10 @@ bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, Face
         },
         exact_point);
     if (s == Sign::Zero) return false;
-    if (k == 0) first = s;
-    else if (s != first) return false;
+    if (k == 0)
+      first = s;
+    else if (s != first)
+      return false;
   }
   return true;
 }
@@ -73,11 +75,14 @@ SamplePoint pixel_centre(const Frustum& fr, int width, int height, int i, int j)
   SamplePoint s;
   // x = left + (2i + 1) (right - left) / (2W): the integers are exact doubles.
   const BoundedDouble two_w(2.0 * width), two_h(2.0 * height);
-  s.approx.x = BoundedDouble(fr.left) + BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w;
-  s.approx.y = BoundedDouble(fr.bottom) + BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h;
+  s.approx.x = BoundedDouble(fr.left) +
+               BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w;
+  s.approx.y = BoundedDouble(fr.bottom) +
+               BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h;
   s.approx.z = BoundedDouble(-fr.near);
   s.exact.x = Rational(fr.left) + Rational(2 * i + 1) * (Rational(fr.right) - Rational(fr.left)) / Rational(2 * width);
-  s.exact.y = Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height);
+  s.exact.y =
+      Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height);
   s.exact.z = Rational(-fr.near);
   return s;
 }

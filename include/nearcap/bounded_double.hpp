@@ -61,8 +61,8 @@ inline BoundedDouble operator-(const BoundedDouble& a, const BoundedDouble& b) {
 inline BoundedDouble operator*(const BoundedDouble& a, const BoundedDouble& b) {
   const double v = a.v * b.v;
   // |AB - ab| <= |a| eb + |b| ea + ea eb, plus the rounding of v.
-  const double e = std::fabs(a.v) * b.e + std::fabs(b.v) * a.e + a.e * b.e +
-                   BoundedDouble::kUlpFactor * std::fabs(v) + BoundedDouble::kUnderflow;
+  const double e = std::fabs(a.v) * b.e + std::fabs(b.v) * a.e + a.e * b.e + BoundedDouble::kUlpFactor * std::fabs(v) +
+                   BoundedDouble::kUnderflow;
   return {v, e};
 }
 // Division: requires |b.v| > b.e (b certainly non-zero); callers check the sign first.
@@ -70,8 +70,8 @@ inline BoundedDouble operator/(const BoundedDouble& a, const BoundedDouble& b) {
   const double v = a.v / b.v;
   const double lower = std::fabs(b.v) - b.e;  // > 0 by precondition
   // |A/B - a/b| = |A b - a B| / |B b| <= (ea |b| + |a| eb) / (|b| (|b| - eb)) + ...
-  const double e = (a.e + std::fabs(v) * b.e) / lower * (1.0 + 0x1p-50) +
-                   BoundedDouble::kUlpFactor * std::fabs(v) + BoundedDouble::kUnderflow;
+  const double e = (a.e + std::fabs(v) * b.e) / lower * (1.0 + 0x1p-50) + BoundedDouble::kUlpFactor * std::fabs(v) +
+                   BoundedDouble::kUnderflow;
   return {v, e};
 }
 inline BoundedDouble& operator+=(BoundedDouble& a, const BoundedDouble& b) { return a = a + b; }

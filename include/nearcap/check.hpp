@@ -24,9 +24,8 @@ std::string describe_pair(const char* ea, const char* eb, const A& a, const B& b
 }
 }  // namespace nearcap::detail
 
-#define NEARCAP_CHECK(cond) \
-  ((cond) ? (void)0 : ::nearcap::detail::check_failed(__FILE__, __LINE__, #cond))
-#define NEARCAP_CHECK_EQ(a, b)                                                                \
-  (((a) == (b)) ? (void)0                                                                     \
-                : ::nearcap::detail::check_failed(__FILE__, __LINE__,                         \
-                                                  ::nearcap::detail::describe_pair(#a, #b, (a), (b))))
+#define NEARCAP_CHECK(cond) ((cond) ? (void)0 : ::nearcap::detail::check_failed(__FILE__, __LINE__, #cond))
+#define NEARCAP_CHECK_EQ(a, b) \
+  (((a) == (b))                \
+       ? (void)0               \
+       : ::nearcap::detail::check_failed(__FILE__, __LINE__, ::nearcap::detail::describe_pair(#a, #b, (a), (b))))

@@ -17,17 +17,17 @@
 namespace nearcap {
 
 struct ClassifiedEdge {
-  SilhouetteEdge edge;   // exact silhouette edge
-  QuadCase exact;        // exact case
-  bool engine_silhouette = false;  // the float engine also found this edge
+  SilhouetteEdge edge;                     // exact silhouette edge
+  QuadCase exact;                          // exact case
+  bool engine_silhouette = false;          // the float engine also found this edge
   QuadCase engine = QuadCase::Degenerate;  // the engine's case (if engine_silhouette)
 };
 
 struct EngineDisagreement {
-  std::size_t silhouette_missed = 0;   // exact silhouette edges the engine missed
-  std::size_t silhouette_extra = 0;    // engine silhouette edges that are not exact ones
-  std::size_t case_mismatch = 0;       // common edges classified differently
-  std::size_t facing_mismatch = 0;     // triangles whose float facing differs from the exact one
+  std::size_t silhouette_missed = 0;  // exact silhouette edges the engine missed
+  std::size_t silhouette_extra = 0;   // engine silhouette edges that are not exact ones
+  std::size_t case_mismatch = 0;      // common edges classified differently
+  std::size_t facing_mismatch = 0;    // triangles whose float facing differs from the exact one
   std::size_t total() const { return silhouette_missed + silhouette_extra + case_mismatch; }
 };
 
@@ -35,7 +35,7 @@ struct ObjectClassification {
   std::size_t object = 0;
   std::vector<ClassifiedEdge> edges;
   std::array<std::size_t, kQuadCaseCount> case_counts{};
-  std::size_t edge_on_triangles = 0;   // triangles whose plane contains the light
+  std::size_t edge_on_triangles = 0;  // triangles whose plane contains the light
   EngineDisagreement engine;
 };
 

@@ -14,12 +14,12 @@
 namespace nearcap {
 
 enum class Predicate : int {
-  LightFacing,        // side of a triangle's plane the light lies on
-  NearPlaneSide,      // side of the camera's near plane a point (or direction) lies on
-  SegmentCrossing,    // does segment [l, p] cross a triangle (near-cap, inside tests)
-  RayHit,             // does the view ray through a pixel centre hit a triangle, and where
-  ShadowCrossing,     // does segment (l, q) cross a light-front-facing triangle
-  Arrangement,        // near-cap arrangement constructions
+  LightFacing,      // side of a triangle's plane the light lies on
+  NearPlaneSide,    // side of the camera's near plane a point (or direction) lies on
+  SegmentCrossing,  // does segment [l, p] cross a triangle (near-cap, inside tests)
+  RayHit,           // does the view ray through a pixel centre hit a triangle, and where
+  ShadowCrossing,   // does segment (l, q) cross a light-front-facing triangle
+  Arrangement,      // near-cap arrangement constructions
   kCount
 };
 
@@ -29,9 +29,7 @@ struct FilterStats {
   std::array<std::uint64_t, static_cast<int>(Predicate::kCount)> filtered{};  // decided in BoundedDouble
   std::array<std::uint64_t, static_cast<int>(Predicate::kCount)> exact{};     // needed rationals
 
-  void record(Predicate p, bool needed_exact) {
-    (needed_exact ? exact : filtered)[static_cast<int>(p)] += 1;
-  }
+  void record(Predicate p, bool needed_exact) { (needed_exact ? exact : filtered)[static_cast<int>(p)] += 1; }
   void merge(const FilterStats& o) {
     for (int i = 0; i < static_cast<int>(Predicate::kCount); ++i) {
       filtered[i] += o.filtered[i];

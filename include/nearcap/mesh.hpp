@@ -26,9 +26,9 @@ using FaceIndex = std::uint32_t;
 inline constexpr FaceIndex kNoFace = 0xffffffffu;
 
 struct TriangleMesh {
-  std::string source;                                  // file it was read from (for messages)
-  std::vector<Vec3d> positions;                        // object space
-  std::vector<std::array<VertexIndex, 3>> triangles;   // counter-clockwise seen from outside
+  std::string source;                                 // file it was read from (for messages)
+  std::vector<Vec3d> positions;                       // object space
+  std::vector<std::array<VertexIndex, 3>> triangles;  // counter-clockwise seen from outside
   // neighbours[f][k]: the face across edge (triangles[f][k], triangles[f][(k+1)%3]);
   // filled by validate_occluder(), empty before.
   std::vector<std::array<FaceIndex, 3>> neighbours;

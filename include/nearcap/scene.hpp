@@ -25,9 +25,9 @@ struct Frustum {
 };
 
 struct Camera {
-  Affine3d view;      // world -> camera space
+  Affine3d view;  // world -> camera space
   Frustum frustum;
-  int width = 0;      // pixels
+  int width = 0;  // pixels
   int height = 0;
 };
 
@@ -39,7 +39,7 @@ struct SceneObject {
   std::string mesh_path;                     // as resolved (relative to the scene file)
   std::shared_ptr<const TriangleMesh> mesh;  // object space; validated if occluder
   Affine3d object_to_world;
-  bool occluder = true;                      // casts shadows (every object receives them)
+  bool occluder = true;  // casts shadows (every object receives them)
 };
 
 struct Scene {
@@ -62,7 +62,7 @@ Scene load_scene(const std::string& path);
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory);
 
 // Builds view + frustum from the convenient form (computed in double, once).
-Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near,
-                      double far, int width, int height);
+Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near, double far,
+                      int width, int height);
 
 }  // namespace nearcap

@@ -15,10 +15,10 @@
 namespace nearcap {
 
 struct SilhouetteEdge {
-  VertexIndex a = 0;          // E_m = [A, D], in the front face's winding
+  VertexIndex a = 0;  // E_m = [A, D], in the front face's winding
   VertexIndex d = 0;
-  FaceIndex front_face = 0;   // the light-front-facing triangle
-  FaceIndex other_face = 0;   // the back-facing or edge-on neighbour
+  FaceIndex front_face = 0;  // the light-front-facing triangle
+  FaceIndex other_face = 0;  // the back-facing or edge-on neighbour
 };
 
 // Requires mesh.has_adjacency() and a closed mesh (every neighbour defined).

@@ -44,8 +44,10 @@ void run(const std::string& scene_path, bool as_json) {
           nlohmann::json je;
           je["v"] = {std::min(ce.edge.a, ce.edge.d), std::max(ce.edge.a, ce.edge.d)};
           je["case"] = std::string(to_string(ce.exact));
-          if (ce.engine_silhouette) je["engine_case"] = std::string(to_string(ce.engine));
-          else je["engine_case"] = nullptr;
+          if (ce.engine_silhouette)
+            je["engine_case"] = std::string(to_string(ce.engine));
+          else
+            je["engine_case"] = nullptr;
           edges.push_back(std::move(je));
         }
         jo["edges"] = std::move(edges);

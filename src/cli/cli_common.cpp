@@ -9,8 +9,9 @@ namespace nearcap::cli {
 
 void check_light_index(const Scene& scene, std::size_t light) {
   if (light >= scene.lights.size())
-    throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) + " is out of range (the scene has " +
-                                      std::to_string(scene.lights.size()) + " light(s))");
+    throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) +
+                                      " is out of range (the scene has " + std::to_string(scene.lights.size()) +
+                                      " light(s))");
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {
