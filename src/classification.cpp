@@ -32,6 +32,11 @@ SceneClassification classify_scene(const CameraSpaceScene& scene) {
   for (std::size_t k = 0; k < scene.light_count(); ++k) {
     LightClassification lc;
     lc.light = k;
+    lc.light_in_near_plane =
+        filtered_sign(
+            Predicate::NearPlaneSide, &out.stats,
+            [&] { return scene.light(k).z + BoundedDouble(scene.frustum().near); },
+            [&] { return Rational(scene.exact_light(k).z + Rational(scene.frustum().near)); }) == Sign::Zero;
     for (std::size_t o = 0; o < scene.object_count(); ++o) {
       if (!scene.object(o).occluder) continue;
       ObjectClassification oc = classify_object_exact(scene, o, k, &out.stats);

@@ -18,6 +18,8 @@ std::string_view to_string(ErrorKind kind) {
       return "camera";
     case ErrorKind::Light:
       return "light";
+    case ErrorKind::Range:
+      return "range";
     case ErrorKind::Degenerate:
       return "degenerate";
     case ErrorKind::Usage:

@@ -2,6 +2,7 @@
 #include "nearcap/light_validation.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "nearcap/error.hpp"
 #include "nearcap/light_facing.hpp"
@@ -71,8 +72,36 @@ LightPlacement light_placement(const CameraSpaceScene& scene, std::size_t o, std
   return winding != 0 ? LightPlacement::Inside : LightPlacement::Outside;
 }
 
-void validate_lights(const Scene& scene) {
+void validate_float_range(const Scene& scene, const CameraSpaceScene& cs) {
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (cs.max_abs(o) > kFloatPipelineCoordinateLimit) {
+      std::ostringstream s;
+      s << scene.source << ": objects[" << o << "] (" << scene.objects[o].mesh_path
+        << ") reaches camera-space coordinate " << cs.max_abs(o)
+        << ", beyond the float32 pipeline's limit 2^40 = " << kFloatPipelineCoordinateLimit
+        << " (scale or move the scene)";
+      throw Error(ErrorKind::Range, s.str());
+    }
+  }
+  for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+    const BoundedVec3& l = cs.light(k);
+    for (int i = 0; i < 3; ++i)
+      if (std::fabs(l[i].v) > kFloatPipelineCoordinateLimit) {
+        std::ostringstream s;
+        s << scene.source << ": lights[" << k << "] has camera-space coordinate " << l[i].v
+          << ", beyond the float32 pipeline's limit 2^40 = " << kFloatPipelineCoordinateLimit;
+        throw Error(ErrorKind::Range, s.str());
+      }
+  }
+}
+
+void validate_scene_geometry(const Scene& scene) {
   const CameraSpaceScene cs(scene);
+  validate_float_range(scene, cs);
+  validate_lights(scene, cs);
+}
+
+void validate_lights(const Scene& scene, const CameraSpaceScene& cs) {
   for (std::size_t k = 0; k < scene.lights.size(); ++k) {
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       if (!scene.objects[o].occluder) continue;

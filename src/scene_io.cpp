@@ -283,11 +283,18 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   Json root;
   try {
     root = Json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for numbers beyond double (5e7154): both
+    // are malformed input.  (Found by fuzz_scene; fuzz/regressions/scene.)
     throw Error(ErrorKind::Parse, source + ": malformed JSON: " + e.what());
   }
-  Scene sc = SceneReader(source, base_directory).scene(root);
-  validate_lights(sc);
+  Scene sc;
+  try {
+    sc = SceneReader(source, base_directory).scene(root);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(ErrorKind::Schema, source + ": " + e.what());
+  }
+  validate_scene_geometry(sc);
   return sc;
 }
 

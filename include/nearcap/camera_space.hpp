@@ -35,6 +35,7 @@ struct RationalAffine {
 
 class CameraSpaceScene {
  public:
+  // Keeps a pointer to `scene`, which must outlive it and stay in place.
   explicit CameraSpaceScene(const Scene& scene);
 
   const Scene& scene() const { return *scene_; }

@@ -41,6 +41,11 @@ struct ObjectClassification {
 
 struct LightClassification {
   std::size_t light = 0;
+  // The light lies exactly in the near plane (exact test).  Every infinite
+  // edge then leaves the plane on its vertex's side, so quads are A or D, and
+  // ZP+'s light frustum is undefined (l_far = 0): ZP+ must fall back to Z-fail
+  // for this light.
+  bool light_in_near_plane = false;
   std::vector<ObjectClassification> objects;  // occluders only, in scene order
 };
 

@@ -22,6 +22,7 @@ enum class ErrorKind {
   Mesh,        // an occluder is not a closed, consistently outward-oriented 2-manifold
   Camera,      // degenerate frustum, non-invertible view, zero-pixel viewport
   Light,       // a light inside or on an occluder, or otherwise unusable
+  Range,       // finite, but too large for the float32 pipeline to represent the scene
   Degenerate,  // the requested construction is undefined for this configuration
   Usage,       // a bad command-line argument (light index out of range, ...)
 };

@@ -25,6 +25,20 @@ LightPlacement light_placement(const CameraSpaceScene& scene, std::size_t o, std
                                FilterStats* stats);
 
 // Throws Error(Light) naming the scene file, the light and the object.
-void validate_lights(const Scene& scene);
+void validate_lights(const Scene& scene, const CameraSpaceScene& camera_space);
+
+// The float32 pipeline evaluates cubic expressions of camera-space coordinate
+// differences (the facing test dot(cross(b - a, c - a), l - a)).  With every
+// coordinate within 2^40, such a cubic stays below 6 (2^41)^3 < 2^126, inside
+// float32's range (max 2^128).  Scenes beyond it are rejected.
+inline constexpr double kFloatPipelineCoordinateLimit = 0x1p40;
+
+// Throws Error(Range) naming the object (or light) whose camera-space
+// coordinates exceed kFloatPipelineCoordinateLimit.
+void validate_float_range(const Scene& scene, const CameraSpaceScene& camera_space);
+
+// Everything load_scene() checks that needs camera-space geometry: the float
+// range, then the lights' placement.
+void validate_scene_geometry(const Scene& scene);
 
 }  // namespace nearcap

@@ -54,7 +54,8 @@ struct Scene {
 // view, non-zero viewport), object transforms (invertible), meshes (read, and
 // validated as closed outward 2-manifolds when they are occluders).  The
 // position of lights relative to occluders needs exact geometry and is checked
-// by validate_lights() (light_validation.hpp), which load_scene() calls last.
+// by validate_scene_geometry() (light_validation.hpp), which load_scene() calls
+// last, with the float32 range check.
 // Throws nearcap::Error naming the file and the element.
 Scene load_scene(const std::string& path);
 

@@ -27,6 +27,7 @@ void run(const std::string& scene_path, bool as_json) {
     for (const LightClassification& lc : result.lights) {
       nlohmann::json jl;
       jl["light"] = lc.light;
+      jl["light_in_near_plane"] = lc.light_in_near_plane;
       jl["objects"] = nlohmann::json::array();
       for (const ObjectClassification& oc : lc.objects) {
         nlohmann::json jo;
