@@ -150,8 +150,9 @@ TriangleMesh parse_off(const std::string& text, const std::string& source) {
   for (long long f = 0; f < nf; ++f) {
     const long long n = tokens.need_integer("a face's vertex count");
     if (n != 3)
-      tokens.error("face " + std::to_string(f) + " has " + std::to_string(n) +
-                   " vertices; nearcap reads triangle meshes only");
+      fail(ErrorKind::Mesh, source,
+           "line " + std::to_string(tokens.line()) + ": face " + std::to_string(f) + " has " + std::to_string(n) +
+               " vertices; nearcap reads triangle meshes only");
     std::array<VertexIndex, 3> t{};
     for (int k = 0; k < 3; ++k) {
       const long long idx = tokens.need_integer("a vertex index");

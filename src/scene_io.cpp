@@ -197,10 +197,15 @@ class SceneReader {
     if (p.is_relative()) p = std::filesystem::path(base_) / p;
     o.mesh_path = p.lexically_normal().string();
     auto& slot = meshes[o.mesh_path];
-    if (!slot) slot = std::make_shared<TriangleMesh>(read_mesh(o.mesh_path));
-    if (o.occluder && !validated.count(o.mesh_path)) {
-      validate_occluder(*slot);
-      validated.insert(o.mesh_path);
+    try {
+      if (!slot) slot = std::make_shared<TriangleMesh>(read_mesh(o.mesh_path));
+      if (o.occluder && !validated.count(o.mesh_path)) {
+        validate_occluder(*slot);
+        validated.insert(o.mesh_path);
+      }
+    } catch (const Error& e) {
+      // The mesh reader names the mesh file; say which object of which scene.
+      throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + e.what());
     }
     if (!slot->has_adjacency()) build_adjacency(*slot);
     o.mesh = slot;
