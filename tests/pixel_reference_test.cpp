@@ -1,0 +1,178 @@
+// The per-pixel reference: the grids never change an answer, the documented
+// tie rules, exact invariances, the image files, the command.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "nearcap/error.hpp"
+#include "nearcap/image_io.hpp"
+#include "nearcap/pixel_reference.hpp"
+#include "nearcap/reference_images.hpp"
+#include "random_scene.hpp"
+
+namespace nearcap {
+namespace {
+
+bool same(const PixelSample& a, const PixelSample& b) {
+  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
+}
+
+std::optional<Scene> try_parse(const std::string& json) {
+  try {
+    return parse_scene(json, "random", ".");
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
+RC_GTEST_PROP(PixelReference, GridsAgreeWithBruteForce, ()) {
+  const auto scene = try_parse(test::random_scene_json(*test::random_scene_params()));
+  RC_PRE(scene.has_value());
+  const CameraSpaceScene cs(*scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  for (int j = 0; j < scene->camera.height; ++j)
+    for (int i = 0; i < scene->camera.width; ++i)
+      RC_ASSERT(same(tracer.trace(i, j, nullptr), tracer.trace_brute_force(i, j, nullptr)));
+}
+
+RC_GTEST_PROP(PixelReference, InvariantUnderExactTranslation, ()) {
+  const test::RandomSceneParams params = *test::random_scene_params();
+  const std::array<int, 3> offset{*rc::gen::inRange(-1024 * 16, 1024 * 16), *rc::gen::inRange(-1024 * 16, 1024 * 16),
+                                  *rc::gen::inRange(-1024 * 16, 1024 * 16)};
+  const auto a = try_parse(test::random_scene_json(params));
+  RC_PRE(a.has_value());
+  const auto b = try_parse(test::random_scene_json(params, offset));
+  RC_ASSERT(b.has_value());
+  const CameraSpaceScene csa(*a), csb(*b);
+  const PixelReference ra = compute_pixel_reference(csa, 0), rb = compute_pixel_reference(csb, 0);
+  RC_ASSERT(ra.cap == rb.cap);
+  RC_ASSERT(ra.stencil == rb.stencil);
+  RC_ASSERT(ra.object == rb.object);
+  RC_ASSERT(ra.face == rb.face);
+}
+
+// Camera at the origin looking down -z, frustum [-1, 1]^2 at near 1, 2x2
+// pixels: pixel centres (+-1/2, +-1/2, -1).  A box [1, 3] x [-1/2, 3/2] x
+// [-4, -2]: the ray through pixel (1, 1) meets the box's front-left edge
+// (x = 1, z = -2) exactly.  The perturbation nudges the pixel centre away from
+// the camera first, which turns the ray slightly towards the axis: it passes
+// behind the edge and sees the left face (x = 1).
+std::string edge_scene_json(bool occluder) {
+  nlohmann::json j;
+  j["camera"] = {{"view", {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
+                 {"frustum", {{"left", -1}, {"right", 1}, {"bottom", -1}, {"top", 1}, {"near", 1}, {"far", 100}}},
+                 {"width", 2},
+                 {"height", 2}};
+  j["lights"] = nlohmann::json::array({{{"position", {0, 10, 0}}}});
+  j["objects"] = nlohmann::json::array(
+      {{{"mesh", test::unit_box_path()}, {"translate", {2, 0.5, -3}}, {"scale", 2}, {"occluder", occluder}}});
+  return j.dump();
+}
+
+TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
+  const Scene scene = parse_scene(edge_scene_json(false), "edge", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelSample s = tracer.trace(1, 1, nullptr);
+  ASSERT_TRUE(s.stencil.has_value());
+  const auto& t = cs.mesh(0).triangles[s.face];
+  // Every vertex of the seen triangle has camera-space x = 1: the left face.
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(cs.vertex_estimate(0, t[k]).x, 1.0) << "face " << s.face;
+  EXPECT_TRUE(same(s, tracer.trace_brute_force(1, 1, nullptr)));
+  // The pixel to its left sees nothing: its ray (x = -t/2) never reaches the box.
+  EXPECT_FALSE(tracer.trace(0, 1, nullptr).stencil.has_value());
+}
+
+TEST(PixelReference, PgmStoresTheTopRowFirst) {
+  const Scene scene = parse_scene(edge_scene_json(false), "edge", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReference ref = compute_pixel_reference(cs, 0);
+  int w = 0, h = 0;
+  const std::vector<std::uint16_t> pgm = decode_pgm16(stencil_pgm(ref), "stencil", &w, &h);
+  ASSERT_EQ(w, 2);
+  ASSERT_EQ(h, 2);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const std::uint16_t v = pgm[static_cast<std::size_t>(h - 1 - j) * w + i];
+      if (ref.seen(i, j))
+        EXPECT_EQ(v, ref.stencil[ref.index(i, j)]);
+      else
+        EXPECT_EQ(v, kPgmNothingSeen);
+    }
+  // Pixels (1, 1) and (1, 0) see the box, (0, *) see nothing: not symmetric
+  // under a vertical flip only if rows are stored in the right order.
+  EXPECT_TRUE(ref.seen(1, 1));
+  EXPECT_FALSE(ref.seen(0, 0));
+}
+
+TEST(PixelReference, DecodeRejectsMalformedPgm) {
+  int w = 0, h = 0;
+  EXPECT_THROW(decode_pgm16("P2\n1 1\n65535\n0", "x", &w, &h), Error);
+  EXPECT_THROW(decode_pgm16("P5\n2 2\n65535\n\x01", "x", &w, &h), Error);
+  EXPECT_THROW(decode_pgm16("P5\n1 1\n255\n\x01", "x", &w, &h), Error);
+}
+
+// ---- the command ------------------------------------------------------------
+int run_cli(const std::string& args, std::string* err) {
+  const std::string err_file = std::filesystem::temp_directory_path() / "nearcap_reference_test_stderr.txt";
+  const int status = std::system((std::string(NEARCAP_CLI) + " " + args + " > /dev/null 2> " + err_file).c_str());
+  std::ifstream in(err_file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  *err = ss.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::filesystem::path fresh_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+// A small valid scene file (the edge scene at 64 x 48 pixels) in the temp directory.
+std::string small_scene_file() {
+  nlohmann::json j = nlohmann::json::parse(edge_scene_json(true));
+  j["camera"]["width"] = 64;
+  j["camera"]["height"] = 48;
+  const auto path = std::filesystem::temp_directory_path() / "nearcap_reference_test_scene.json";
+  std::ofstream(path) << j.dump();
+  return path.string();
+}
+
+TEST(ReferenceCommand, WritesTheFourFiles) {
+  const auto dir = fresh_directory("nearcap_reference_ok");
+  const std::string scene = small_scene_file();
+  std::string err;
+  ASSERT_EQ(run_cli("reference " + scene + " --light 0 --out " + dir.string(), &err), 0) << err;
+  for (const char* f : {"cap.pgm", "stencil.pgm", "shadow.png", "reference.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  std::ifstream in(dir / "stencil.pgm", std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  int w = 0, h = 0;
+  EXPECT_NO_THROW(decode_pgm16(ss.str(), "stencil.pgm", &w, &h));
+  EXPECT_EQ(w, 64);
+  EXPECT_EQ(h, 48);
+}
+
+TEST(ReferenceCommand, BadInputLeavesNoOutput) {
+  const std::string scene = small_scene_file();
+  std::string err;
+  auto dir = fresh_directory("nearcap_reference_bad_light");
+  EXPECT_EQ(run_cli("reference " + scene + " --light 7 --out " + dir.string(), &err), 2);
+  EXPECT_NE(err.find("--light 7"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+  dir = fresh_directory("nearcap_reference_bad_scene");
+  const std::string bad = std::string(NEARCAP_SOURCE_DIR) + "/data/bad/light_inside.json";
+  EXPECT_EQ(run_cli("reference " + bad + " --light 0 --out " + dir.string(), &err), 2);
+  EXPECT_NE(err.find("error (light)"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+}
+
+}  // namespace
+}  // namespace nearcap
