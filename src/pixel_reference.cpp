@@ -317,19 +317,9 @@ struct PixelReferenceTracer::Impl {
     if (lt.eye_index == hit.eye_index) return false;
     const EyeTriangle& q = eye[hit.eye_index];
     auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
-    const BoundedDouble side_value = dot(scaled(q.plane.d, lt.plane.n) - scaled(lt.plane.d, q.plane.n), p.approx());
-    Sign side;
-    if (const auto s = side_value.sign(); s && *s != Sign::Zero) {
-      if (stats) stats->record(Predicate::ShadowCrossing, false);
-      side = *s;
-    } else if (coplanar(lt, hit.eye_index)) {
-      return false;  // the form vanishes identically: q lies in T's plane
-    } else {
-      if (stats) stats->record(Predicate::ShadowCrossing, true);
-      const auto pq = exact_plane(q.object, q.face), pt = exact_plane(lt.object, lt.face);
-      side = perturbed_sign(ExactForm{scaled(pq.d, pt.n) - scaled(pt.d, pq.n), Rational(0)}, p.exact());
-    }
-    if (side == Sign::Zero || side * hit.sigma != -lt.light_side) return false;
+    // The edge tests first: they reject almost every candidate, and the side
+    // test is the one that nears zero (q close to T's plane, e.g. T adjacent
+    // to q's own triangle).
     Sign first = Sign::Zero;
     for (int e = 0; e < 3; ++e) {
       const Sign s = perturbed_sign(
@@ -347,7 +337,19 @@ struct PixelReferenceTracer::Impl {
       if (s == Sign::Zero || (e > 0 && s != first)) return false;
       first = s;
     }
-    return true;
+    const BoundedDouble side_value = dot(scaled(q.plane.d, lt.plane.n) - scaled(lt.plane.d, q.plane.n), p.approx());
+    Sign side;
+    if (const auto s = side_value.sign(); s && *s != Sign::Zero) {
+      if (stats) stats->record(Predicate::ShadowCrossing, false);
+      side = *s;
+    } else if (coplanar(lt, hit.eye_index)) {
+      return false;  // the form vanishes identically: q lies in T's plane
+    } else {
+      if (stats) stats->record(Predicate::ShadowCrossing, true);
+      const auto pq = exact_plane(q.object, q.face), pt = exact_plane(lt.object, lt.face);
+      side = perturbed_sign(ExactForm{scaled(pq.d, pt.n) - scaled(pt.d, pq.n), Rational(0)}, p.exact());
+    }
+    return side * hit.sigma == -lt.light_side;
   }
 
   // The light-grid query for direction w = target - l, target's estimate within

@@ -50,7 +50,7 @@ class CentralGrid {
     std::size_t size() const { return static_cast<std::size_t>(last - first); }
   };
 
-  static constexpr double kQueryMargin = 0x1p-30;  // in face coordinates (tan of angle)
+  static constexpr double kQueryMargin = 0x1p-20;  // in face coordinates (tan of angle)
 
   // `centre` within `centre_error` per coordinate of the exact centre.
   // `cells_per_triangle` sets the grid resolution.
