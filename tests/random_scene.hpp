@@ -3,8 +3,8 @@
 // that a translation by a dyadic offset is exact (see README, exactness).
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <rapidcheck.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -30,8 +30,7 @@ inline rc::Gen<RandomSceneParams> random_scene_params() {
     RandomSceneParams p;
     const int boxes = *rc::gen::inRange(1, 4);
     for (int b = 0; b < boxes; ++b) {
-      p.box_centres16.push_back(
-          {*rc::gen::inRange(-20, 21), *rc::gen::inRange(-4, 28), *rc::gen::inRange(-56, 4)});
+      p.box_centres16.push_back({*rc::gen::inRange(-20, 21), *rc::gen::inRange(-4, 28), *rc::gen::inRange(-56, 4)});
       p.box_scales16.push_back(*rc::gen::inRange(4, 20));
       p.box_rotations_deg.push_back({*rc::gen::inRange(0, 90), *rc::gen::inRange(0, 90), *rc::gen::inRange(0, 90)});
     }
@@ -41,8 +40,7 @@ inline rc::Gen<RandomSceneParams> random_scene_params() {
       // Half of the scenes put a box on the segment from the eye to the light:
       // the eye then sits in a shadow volume, the case Z-pass gets wrong.
       const int f = *rc::gen::inRange(4, 12);  // sixteenths of the way
-      for (int k = 0; k < 3; ++k)
-        p.box_centres16[0][k] = p.eye16[k] + (p.light16[k] - p.eye16[k]) * f / 16;
+      for (int k = 0; k < 3; ++k) p.box_centres16[0][k] = p.eye16[k] + (p.light16[k] - p.eye16[k]) * f / 16;
     }
     p.near64 = *rc::gen::inRange(2, 32);
     p.half_width64 = *rc::gen::inRange(4, 32);
@@ -53,21 +51,19 @@ inline rc::Gen<RandomSceneParams> random_scene_params() {
 // The scene as JSON text, everything shifted by offset16 / 16.
 inline std::string random_scene_json(const RandomSceneParams& p, const std::array<int, 3>& offset16 = {0, 0, 0}) {
   auto v16 = [&](const std::array<int, 3>& a) {
-    return nlohmann::json::array({(a[0] + offset16[0]) / 16.0, (a[1] + offset16[1]) / 16.0,
-                                  (a[2] + offset16[2]) / 16.0});
+    return nlohmann::json::array(
+        {(a[0] + offset16[0]) / 16.0, (a[1] + offset16[1]) / 16.0, (a[2] + offset16[2]) / 16.0});
   };
   nlohmann::json j;
   const auto e = v16(p.eye16);
   const double near = p.near64 / 64.0, hw = p.half_width64 / 64.0;
-  j["camera"] = {{"view",
-                  {{1, 0, 0, -e[0].get<double>()},
-                   {0, 1, 0, -e[1].get<double>()},
-                   {0, 0, 1, -e[2].get<double>()},
-                   {0, 0, 0, 1}}},
-                 {"frustum", {{"left", -hw}, {"right", hw}, {"bottom", -hw * 0.75}, {"top", hw * 0.75},
-                              {"near", near}, {"far", 64}}},
-                 {"width", p.width},
-                 {"height", p.height}};
+  j["camera"] = {
+      {"view",
+       {{1, 0, 0, -e[0].get<double>()}, {0, 1, 0, -e[1].get<double>()}, {0, 0, 1, -e[2].get<double>()}, {0, 0, 0, 1}}},
+      {"frustum",
+       {{"left", -hw}, {"right", hw}, {"bottom", -hw * 0.75}, {"top", hw * 0.75}, {"near", near}, {"far", 64}}},
+      {"width", p.width},
+      {"height", p.height}};
   j["lights"] = nlohmann::json::array({{{"position", v16(p.light16)}}});
   j["objects"] = nlohmann::json::array();
   for (std::size_t b = 0; b < p.box_centres16.size(); ++b)

@@ -53,8 +53,8 @@ SideCrossings side_crossings(const CameraSpaceScene& cs, const std::vector<Objec
       const Rational nl = dot(n_s, l);
       const Sign beyond_p = perturbed_sign(Form{scaled(Rational(-1), n_s), nl}, P);
       const Sign before_q = perturbed_sign(linear(scaled(nl, n_q) - scaled(d_q, n_s)), P);
-      if (s1 == Sign::Zero || s2 == Sign::Zero || s3 == Sign::Zero || sigma == Sign::Zero ||
-          beyond_p == Sign::Zero || before_q == Sign::Zero) {
+      if (s1 == Sign::Zero || s2 == Sign::Zero || s3 == Sign::Zero || sigma == Sign::Zero || beyond_p == Sign::Zero ||
+          before_q == Sign::Zero) {
         out.degenerate = true;
         continue;
       }

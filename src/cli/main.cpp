@@ -16,12 +16,8 @@ int main(int argc, char** argv) {
   CLI::App app{"nearcap: exact and float analysis of stencil shadow volumes (ZP+)"};
   app.require_subcommand(1);
   nearcap::cli::register_classify(app);
-#ifdef NEARCAP_HAS_CAP_COMMAND  // scaffolding while the subcommands land
   nearcap::cli::register_cap(app);
-#endif
-#ifdef NEARCAP_HAS_REFERENCE_COMMAND
   nearcap::cli::register_reference(app);
-#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

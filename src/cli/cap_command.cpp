@@ -1,0 +1,87 @@
+// nearcap cap SCENE --light K [--out FILE] [--svg FILE]: the exact near-cap.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <iostream>
+#include <map>
+
+#include "cli_commands.hpp"
+#include "nearcap/near_cap.hpp"
+#include "nearcap/near_cap_svg.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+nlohmann::json point_json(const NearCapPoint& p) {
+  return {{"x", p.x.get_str()}, {"y", p.y.get_str()}, {"xd", p.x.get_d()}, {"yd", p.y.get_d()}};
+}
+nlohmann::json ring_json(const std::vector<NearCapPoint>& ring) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const NearCapPoint& p : ring) j.push_back(point_json(p));
+  return j;
+}
+
+void run(const std::string& scene_path, std::size_t light, const std::string& out, const std::string& svg_path) {
+  const Scene scene = load_scene(scene_path);
+  check_light_index(scene, light);
+  const CameraSpaceScene cs(scene);
+  const auto t0 = std::chrono::steady_clock::now();
+  FilterStats stats;
+  const NearCap cap = NearCap::build(cs, light, &stats);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  const Frustum& fr = scene.camera.frustum;
+  nlohmann::json j;
+  j["scene"] = scene.source;
+  j["light"] = light;
+  j["near_rectangle"] = {
+      {"left", fr.left}, {"right", fr.right}, {"bottom", fr.bottom}, {"top", fr.top}, {"z", -fr.near}};
+  j["faces"] = nlohmann::json::array();
+  for (const NearCapFace& f : cap.faces()) {
+    nlohmann::json holes = nlohmann::json::array();
+    for (const auto& h : f.holes) holes.push_back(ring_json(h));
+    j["faces"].push_back(
+        {{"count", f.count}, {"outer", ring_json(f.outer)}, {"holes", holes}, {"area", f.area_estimate}});
+  }
+  j["max_count"] = cap.max_count();
+  j["curves"] = {{"silhouette", cap.silhouette_curves()},
+                 {"near_plane_cuts", cap.near_plane_cuts()},
+                 {"arrangement_edges", cap.arrangement_edges()}};
+  j["exact_fallbacks"] = stats.total_exact();
+  j["ms"] = ms;
+  const std::string svg =
+      svg_path.empty() ? std::string() : near_cap_svg(cap, fr, scene.source + ", light " + std::to_string(light));
+  if (out.empty()) {
+    std::cout << j.dump() << "\n";
+  } else {
+    write_file_atomically(out, j.dump(1) + "\n");
+    std::map<std::size_t, double> area;
+    for (const NearCapFace& f : cap.faces()) area[f.count] += f.area_estimate;
+    const double total = (fr.right - fr.left) * (fr.top - fr.bottom);
+    std::cout << "near-cap of " << scene.source << ", light " << light << ": " << cap.faces().size() << " face(s), "
+              << cap.silhouette_curves() << " silhouette curve(s), " << cap.near_plane_cuts() << " near-plane cut(s), "
+              << ms << " ms\n";
+    for (const auto& [count, a] : area)
+      std::cout << "  count " << count << ": " << 100.0 * a / total << "% of the near rectangle\n";
+  }
+  if (!svg_path.empty()) write_file_atomically(svg_path, svg);
+}
+
+}  // namespace
+
+void register_cap(CLI::App& app) {
+  auto* cmd = app.add_subcommand("cap",
+                                 "the exact near-cap: faces of the near rectangle with their counts (JSON), "
+                                 "optionally a picture (SVG)");
+  auto scene = std::make_shared<std::string>();
+  auto light = std::make_shared<std::size_t>(0);
+  auto out = std::make_shared<std::string>();
+  auto svg = std::make_shared<std::string>();
+  cmd->add_option("scene", *scene, "scene file (JSON)")->required();
+  cmd->add_option("--light", *light, "index of the light in the scene's list")->required();
+  cmd->add_option("--out", *out, "write the JSON here (default: stdout)");
+  cmd->add_option("--svg", *svg, "write an SVG picture here");
+  cmd->callback([scene, light, out, svg] { run(*scene, *light, *out, *svg); });
+}
+
+}  // namespace nearcap::cli
