@@ -1,0 +1,40 @@
+// Running the nearcap program from tests: exit code, stdout, stderr.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace nearcap::test {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs `nearcap ARGS` (NEARCAP_CLI) from the source directory.
+inline CliResult run_cli(const std::string& args, const std::string& tag) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto out = dir / ("nearcap_test_" + tag + ".out"), err = dir / ("nearcap_test_" + tag + ".err");
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + std::string(NEARCAP_CLI) + "' " +
+                              args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+}  // namespace nearcap::test
