@@ -2,6 +2,7 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -25,8 +26,11 @@ inline std::string slurp(const std::filesystem::path& p) {
 
 // Runs `nearcap ARGS` (NEARCAP_CLI) from the source directory.
 inline CliResult run_cli(const std::string& args, const std::string& tag) {
+  // Unique per process and call: ctest runs tests in parallel processes.
+  static int calls = 0;
+  const std::string stem = "nearcap_test_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(calls++);
   const auto dir = std::filesystem::temp_directory_path();
-  const auto out = dir / ("nearcap_test_" + tag + ".out"), err = dir / ("nearcap_test_" + tag + ".err");
+  const auto out = dir / (stem + ".out"), err = dir / (stem + ".err");
   const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + std::string(NEARCAP_CLI) + "' " +
                               args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
@@ -34,6 +38,8 @@ inline CliResult run_cli(const std::string& args, const std::string& tag) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = slurp(out);
   r.err = slurp(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
   return r;
 }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_support.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/image_io.hpp"
 #include "nearcap/pixel_reference.hpp"
@@ -119,13 +120,9 @@ TEST(PixelReference, DecodeRejectsMalformedPgm) {
 
 // ---- the command ------------------------------------------------------------
 int run_cli(const std::string& args, std::string* err) {
-  const std::string err_file = std::filesystem::temp_directory_path() / "nearcap_reference_test_stderr.txt";
-  const int status = std::system((std::string(NEARCAP_CLI) + " " + args + " > /dev/null 2> " + err_file).c_str());
-  std::ifstream in(err_file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  *err = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const test::CliResult r = test::run_cli(args, "reference");
+  *err = r.err;
+  return r.exit_code;
 }
 
 std::filesystem::path fresh_directory(const std::string& name) {
@@ -135,18 +132,18 @@ std::filesystem::path fresh_directory(const std::string& name) {
 }
 
 // A small valid scene file (the edge scene at 64 x 48 pixels) in the temp directory.
-std::string small_scene_file() {
+std::string small_scene_file(const std::string& name) {
   nlohmann::json j = nlohmann::json::parse(edge_scene_json(true));
   j["camera"]["width"] = 64;
   j["camera"]["height"] = 48;
-  const auto path = std::filesystem::temp_directory_path() / "nearcap_reference_test_scene.json";
+  const auto path = std::filesystem::temp_directory_path() / ("nearcap_reference_test_" + name + ".json");
   std::ofstream(path) << j.dump();
   return path.string();
 }
 
 TEST(ReferenceCommand, WritesTheFourFiles) {
   const auto dir = fresh_directory("nearcap_reference_ok");
-  const std::string scene = small_scene_file();
+  const std::string scene = small_scene_file("ok");
   std::string err;
   ASSERT_EQ(run_cli("reference " + scene + " --light 0 --out " + dir.string(), &err), 0) << err;
   for (const char* f : {"cap.pgm", "stencil.pgm", "shadow.png", "reference.json"})
@@ -161,7 +158,7 @@ TEST(ReferenceCommand, WritesTheFourFiles) {
 }
 
 TEST(ReferenceCommand, BadInputLeavesNoOutput) {
-  const std::string scene = small_scene_file();
+  const std::string scene = small_scene_file("bad");
   std::string err;
   auto dir = fresh_directory("nearcap_reference_bad_light");
   EXPECT_EQ(run_cli("reference " + scene + " --light 7 --out " + dir.string(), &err), 2);
