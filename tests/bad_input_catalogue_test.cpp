@@ -30,6 +30,9 @@ std::vector<CatalogueEntry> catalogue() {
   return entries;
 }
 
+// Test names and messages show the file, not the struct's bytes.
+void PrintTo(const CatalogueEntry& e, std::ostream* os) { *os << e.file; }
+
 class BadInput : public ::testing::TestWithParam<CatalogueEntry> {};
 
 TEST_P(BadInput, LibraryThrowsTheCataloguedKind) {
