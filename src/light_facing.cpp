@@ -88,19 +88,35 @@ std::vector<Facing> light_facing(const CameraSpaceScene& scene, std::size_t o, s
   const Sign handedness = scene.handedness(o);
   std::vector<Facing> facing(n);
   std::uint64_t decided_fast = 0;
-  // The static filter inline (this loop is the exact classification's hot
-  // path); the rare undecided triangles go through the full cascade.
+  const double bound = fast.bound;
+  const Vec3d& l = fast.l;
+  const bool mirrored = handedness == Sign::Negative;
+  static_assert(static_cast<int>(Facing::Front) == 0 && static_cast<int>(Facing::Back) == 1);
+  // Raw pointers, hoisted: Facing is a byte type, so every store to `facing`
+  // may alias anything and would otherwise reload the containers each time.
+  const Vec3d* const estimate = &scene.vertex_estimate(o, 0);
+  const auto* const tri = triangles.data();
+  Facing* const out = facing.data();
+  // The static filter inline and branch-free (this loop is the exact
+  // classification's hot path: front and back alternate unpredictably); the
+  // rare undecided triangles go through the full cascade.
   for (FaceIndex f = 0; f < n; ++f) {
-    const auto& t = triangles[f];
-    std::optional<Sign> s =
-        fast(scene.vertex_estimate(o, t[0]), scene.vertex_estimate(o, t[1]), scene.vertex_estimate(o, t[2]));
-    if (s) {
-      ++decided_fast;
-      *s = *s * handedness;
-    } else {
-      s = light_side_filtered(scene, o, f, light, fast, stats);
+    const auto& t = tri[f];
+    const Vec3d& a = estimate[t[0]];
+    const Vec3d& b = estimate[t[1]];
+    const Vec3d& c = estimate[t[2]];
+    const double ax = b.x - a.x, ay = b.y - a.y, az = b.z - a.z;
+    const double bx = c.x - a.x, by = c.y - a.y, bz = c.z - a.z;
+    const double cx = l.x - a.x, cy = l.y - a.y, cz = l.z - a.z;
+    const double det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    const bool positive = det > bound, negative = det < -bound;
+    if (__builtin_expect(!(positive || negative), 0)) {
+      const Sign s = light_side_filtered(scene, o, f, light, fast, stats);
+      out[f] = s == Sign::Positive ? Facing::Front : (s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+      continue;
     }
-    facing[f] = *s == Sign::Positive ? Facing::Front : (*s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+    ++decided_fast;
+    out[f] = static_cast<Facing>(positive == mirrored);  // outer side: Front
   }
   if (stats) stats->filtered[static_cast<int>(Predicate::LightFacing)] += decided_fast;
   return facing;
