@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 namespace nearcap {
@@ -75,6 +76,78 @@ Sign light_side_filtered(const CameraSpaceScene& scene, std::size_t o, FaceIndex
   return s * scene.handedness(o);
 }
 
+// The light in object space, exactly: solve L x = l_world - t by Cramer's
+// rule over rationals (once per object and light).
+RationalVec3 light_in_object_space(const CameraSpaceScene& scene, std::size_t o, std::size_t light) {
+  const auto& m = scene.object(o).object_to_world.rows;
+  const Vec3d& lw = scene.scene().lights[light].position;
+  Rational a[3][3], r[3];
+  const double lwv[3] = {lw.x, lw.y, lw.z};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) a[i][j] = m[i][j];
+    r[i] = Rational(lwv[i]) - Rational(m[i][3]);
+  }
+  auto det3 = [](const Rational(&c)[3][3]) {
+    return Rational(c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) -
+                    c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0]) +
+                    c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]));
+  };
+  const Rational det = det3(a);  // non-zero: scenes reject singular object maps
+  RationalVec3 x;
+  for (int k = 0; k < 3; ++k) {
+    Rational c[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) c[i][j] = j == k ? r[i] : a[i][j];
+    x[k] = det3(c) / det;
+  }
+  return x;
+}
+
+// Object-space facing with the mesh's precomputed planes: n . l - d per face,
+// read sequentially, against one static bound.  Returns false when the mesh
+// has no planes (meshes not loaded through a scene).
+bool light_facing_object_space(const CameraSpaceScene& scene, std::size_t o, std::size_t light,
+                               const StaticOrientationFilter& fast, FilterStats* stats, std::vector<Facing>& facing) {
+  const TriangleMesh& mesh = scene.mesh(o);
+  const FacePlanes& fp = mesh.face_planes;
+  const std::size_t n = mesh.triangles.size();
+  if (fp.plane.size() != n) return false;
+  const RationalVec3 exact = light_in_object_space(scene, o, light);
+  double l[3], l_error = 0, l_max = 0;
+  for (int i = 0; i < 3; ++i) {
+    l[i] = exact[i].get_d();  // truncation: within one ulp
+    const double e = std::fabs(l[i]) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
+    l_error = std::fmax(l_error, e);
+    l_max = std::fmax(l_max, std::fabs(l[i]) + e);
+  }
+  // |exact - computed| for n . l - d: input errors, then six roundings.
+  constexpr double gamma6 = 6 * 0x1p-53 / (1 - 6 * 0x1p-53);
+  const double bound = (3 * (fp.n_max * l_error + l_max * fp.n_error + fp.n_error * l_error) + fp.d_error +
+                        gamma6 * (3 * fp.n_max * l_max + fp.d_max)) *
+                       (1 + 0x1p-40);
+  facing.resize(n);
+  Facing* const out = facing.data();
+  const std::array<double, 4>* const plane = fp.plane.data();
+  std::uint64_t decided_fast = 0;
+  for (FaceIndex f = 0; f < n; ++f) {
+    const std::array<double, 4>& p = plane[f];
+    const double det = p[0] * l[0] + p[1] * l[1] + p[2] * l[2] - p[3];
+    const bool positive = det > bound, negative = det < -bound;
+    if (__builtin_expect(!(positive || negative), 0)) {
+      // The camera-space cascade decides the same sign (orientation in object
+      // space = orientation in camera space x handedness, which light_side
+      // already multiplies in).
+      const Sign s = light_side_filtered(scene, o, f, light, fast, stats);
+      out[f] = s == Sign::Positive ? Facing::Front : (s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+      continue;
+    }
+    ++decided_fast;
+    out[f] = static_cast<Facing>(!positive);  // outer side: Front
+  }
+  if (stats) stats->filtered[static_cast<int>(Predicate::LightFacing)] += decided_fast;
+  return true;
+}
+
 }  // namespace
 
 Sign light_side(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light, FilterStats* stats) {
@@ -85,8 +158,10 @@ std::vector<Facing> light_facing(const CameraSpaceScene& scene, std::size_t o, s
   const auto& triangles = scene.mesh(o).triangles;
   const std::size_t n = triangles.size();
   const StaticOrientationFilter fast = static_filter(scene, o, light);
+  std::vector<Facing> facing;
+  if (light_facing_object_space(scene, o, light, fast, stats, facing)) return facing;
   const Sign handedness = scene.handedness(o);
-  std::vector<Facing> facing(n);
+  facing.resize(n);
   std::uint64_t decided_fast = 0;
   const double bound = fast.bound;
   const Vec3d& l = fast.l;

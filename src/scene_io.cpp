@@ -208,6 +208,7 @@ class SceneReader {
       throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + e.what());
     }
     if (!slot->has_adjacency()) build_adjacency(*slot);
+    if (slot->face_planes.plane.size() != slot->triangles.size()) compute_face_planes(*slot);
     o.mesh = slot;
     return o;
   }

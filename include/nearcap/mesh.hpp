@@ -25,6 +25,15 @@ using VertexIndex = std::uint32_t;
 using FaceIndex = std::uint32_t;
 inline constexpr FaceIndex kNoFace = 0xffffffffu;
 
+// Object-space plane of every face, n = (b - a) x (c - a) and d = n . a, as
+// doubles, with bounds over the mesh: |exact - stored| <= n_error (each
+// component of n) and d_error; |n_i| <= n_max, |d| <= d_max.  Orientation
+// tests against a point in object space are then n . p - d: no vertex gathers.
+struct FacePlanes {
+  std::vector<std::array<double, 4>> plane;  // n.x, n.y, n.z, d
+  double n_error = 0, d_error = 0, n_max = 0, d_max = 0;
+};
+
 struct TriangleMesh {
   std::string source;                                 // file it was read from (for messages)
   std::vector<Vec3d> positions;                       // object space
@@ -32,6 +41,8 @@ struct TriangleMesh {
   // neighbours[f][k]: the face across edge (triangles[f][k], triangles[f][(k+1)%3]);
   // filled by validate_occluder(), empty before.
   std::vector<std::array<FaceIndex, 3>> neighbours;
+  // Filled by compute_face_planes(); empty before.
+  FacePlanes face_planes;
 
   std::size_t triangle_count() const { return triangles.size(); }
   bool has_adjacency() const { return neighbours.size() == triangles.size(); }
@@ -56,6 +67,9 @@ TriangleMesh parse_off(const std::string& text, const std::string& source);
 // triangles, duplicate positions and unreferenced vertices are legal.  Throws
 // nearcap::Error(Mesh) naming the first offending edge or vertex, in face order.
 void validate_occluder(TriangleMesh& mesh);
+
+// Fills `face_planes` (certified, from the exact double vertices).
+void compute_face_planes(TriangleMesh& mesh);
 
 // Fills `neighbours` for a mesh that may be open (receivers): kNoFace marks a
 // boundary edge.  Never throws.
