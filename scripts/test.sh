@@ -14,6 +14,6 @@ if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARCAP_SANITIZE=ON -DNEARCAP_WERROR=ON \
   -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-asan
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2
 ./scripts/fuzz.sh "${NEARCAP_FUZZ_SECONDS:-12}"

@@ -13,61 +13,12 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "nearcap/classification.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/light_facing.hpp"
-#include "nearcap/perturbation.hpp"
-#include "nearcap/pixel_reference.hpp"
-#include "nearcap/segment_crossing.hpp"
 #include "random_scene.hpp"
+#include "zpass_identity.hpp"
 
 namespace nearcap {
 namespace {
-
-using Form = AffineForm<Rational>;
-Form linear(const RationalVec3& h) { return {h, Rational(0)}; }
-RationalVec3 scaled(const Rational& s, const RationalVec3& v) { return {s * v.x, s * v.y, s * v.z}; }
-
-struct SideCrossings {
-  int signed_sum = 0;
-  bool degenerate = false;  // a form vanished identically: this pixel proves nothing
-};
-
-// Signed crossings of the shadow-volume sides by the open segment (p, q).
-SideCrossings side_crossings(const CameraSpaceScene& cs, const std::vector<ObjectClassification>& objects,
-                             const RationalVec3& P, const RationalVec3& n_q, const Rational& d_q) {
-  SideCrossings out;
-  const RationalVec3& l = cs.exact_light(0);
-  const Sign sigma_q = sign_of(d_q);
-  for (const ObjectClassification& oc : objects) {
-    const TriangleMesh& mesh = cs.mesh(oc.object);
-    const Sign h = cs.handedness(oc.object);
-    for (const ClassifiedEdge& ce : oc.edges) {
-      const RationalVec3 a = cs.exact_vertex(oc.object, ce.edge.a);
-      const RationalVec3 d = cs.exact_vertex(oc.object, ce.edge.d);
-      const RationalVec3 n_s = cross(a - l, d - l);
-      const Sign s1 = perturbed_sign(linear(cross(l, a)), P);
-      const Sign s3 = perturbed_sign(linear(cross(d, l)), P);
-      const Sign sigma = perturbed_sign(linear(n_s), P);
-      const Sign s2 = perturbed_sign(linear(cross(a, d)), P);
-      const Rational nl = dot(n_s, l);
-      const Sign beyond_p = perturbed_sign(Form{scaled(Rational(-1), n_s), nl}, P);
-      const Sign before_q = perturbed_sign(linear(scaled(nl, n_q) - scaled(d_q, n_s)), P);
-      if (s1 == Sign::Zero || s2 == Sign::Zero || s3 == Sign::Zero || sigma == Sign::Zero || beyond_p == Sign::Zero ||
-          before_q == Sign::Zero) {
-        out.degenerate = true;
-        continue;
-      }
-      const bool in_wedge = s1 == sigma && s3 == sigma;
-      const bool beyond_edge = s2 == -sigma;
-      const bool after_p = beyond_p == sigma;
-      const bool before_hit = before_q * sigma * sigma_q == Sign::Negative;
-      if (in_wedge && beyond_edge && after_p && before_hit) out.signed_sum += -static_cast<int>(sigma * h);
-      (void)mesh;
-    }
-  }
-  return out;
-}
 
 RC_GTEST_PROP(ZPassIdentity, HoldsExactlyOnRandomScenes, ()) {
   const test::RandomSceneParams params = *test::random_scene_params();
@@ -77,40 +28,11 @@ RC_GTEST_PROP(ZPassIdentity, HoldsExactlyOnRandomScenes, ()) {
   } catch (const Error& e) {
     RC_DISCARD("scene rejected: " + std::string(e.what()));  // e.g. the light inside a box
   }
-  const CameraSpaceScene cs(scene);
-  std::vector<ObjectClassification> objects;
-  std::vector<std::vector<Facing>> facing(cs.object_count());
-  for (std::size_t o = 0; o < cs.object_count(); ++o)
-    if (scene.objects[o].occluder) {
-      objects.push_back(classify_object_exact(cs, o, 0, nullptr));
-      facing[o] = light_facing(cs, o, 0, nullptr);
-    }
-  const PixelReferenceTracer tracer(cs, 0);
-  int checked = 0, degenerate = 0, nonzero_cap = 0, shadowed = 0;
-  for (int j = 0; j < scene.camera.height; ++j)
-    for (int i = 0; i < scene.camera.width; ++i) {
-      const PixelSample s = tracer.trace(i, j, nullptr);
-      const SamplePoint p = pixel_centre(scene.camera.frustum, scene.camera.width, scene.camera.height, i, j);
-      RC_ASSERT(s.cap == near_cap_count_brute_force(cs, 0, facing, p, nullptr));
-      if (!s.stencil) continue;
-      const auto& t = cs.mesh(static_cast<std::size_t>(s.object)).triangles[s.face];
-      const auto o = static_cast<std::size_t>(s.object);
-      const RationalVec3 a = cs.exact_vertex(o, t[0]), b = cs.exact_vertex(o, t[1]), c = cs.exact_vertex(o, t[2]);
-      const RationalVec3 n_q = cross(b - a, c - a);
-      const Rational d_q = dot(n_q, a);
-      const SideCrossings sides = side_crossings(cs, objects, p.exact, n_q, d_q);
-      if (sides.degenerate) {
-        ++degenerate;
-        continue;
-      }
-      ++checked;
-      if (s.cap > 0) ++nonzero_cap;
-      if (*s.stencil > 0) ++shadowed;
-      RC_ASSERT(static_cast<long>(*s.stencil) == static_cast<long>(s.cap) + sides.signed_sum);
-    }
-  RC_ASSERT(degenerate * 20 <= checked + degenerate);
-  RC_CLASSIFY(nonzero_cap > 0, "eye in a shadow volume somewhere");
-  RC_CLASSIFY(shadowed > 0, "some pixel shadowed");
+  const test::IdentityReport r = test::check_zpass_identity(scene);
+  RC_ASSERT(r.holds);
+  RC_ASSERT(r.degenerate * 20 <= r.checked + r.degenerate);
+  RC_CLASSIFY(r.nonzero_cap > 0, "eye in a shadow volume somewhere");
+  RC_CLASSIFY(r.shadowed > 0, "some pixel shadowed");
 }
 
 }  // namespace
