@@ -9,15 +9,16 @@ cd "$(dirname "$0")/.."
 seconds=${1:-12}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
   -DNEARCAP_FUZZ=ON -DNEARCAP_BUILD_TESTS=OFF -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build-fuzz --target fuzz_scene fuzz_off fuzz_obj fuzz_ply fuzz_stl
+cmake --build build-fuzz --target fuzz_scene fuzz_off fuzz_obj fuzz_ply fuzz_stl fuzz_pgm
 work=fuzz-corpus-work
 mkdir -p "$work/crashes"
 status=0
-for target in scene off obj ply stl; do
+for target in scene off obj ply stl pgm; do
   corpus="$work/$target"
   mkdir -p "$corpus"
   case $target in
     scene) find data/scenes fuzz/seeds/scene -name '*.json' -size -64k -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
+    pgm) find fuzz/seeds/pgm -name '*.pgm' -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
     *) find data/meshes tests/data fuzz/seeds/$target -name "*.$target" -size -64k -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
   esac
   regress=fuzz/regressions/$target
