@@ -74,6 +74,17 @@ TEST(CapCommand, SvgIsWritten) {
   EXPECT_NE(text.find("count 1"), std::string::npos);
 }
 
+TEST(CapCommand, AFailingSecondOutputLeavesNoFirstOutput) {
+  const auto json = std::filesystem::temp_directory_path() / "nearcap_cli_test_partial.json";
+  std::filesystem::remove(json);
+  const test::CliResult r = test::run_cli(
+      "cap data/scenes/case_d.json --light 0 --out " + json.string() + " --svg /nonexistent-dir/cap.svg", "partial");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("error (io)"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(json)) << "no partial output";
+  EXPECT_FALSE(std::filesystem::exists(json.string() + ".tmp-nearcap"));
+}
+
 TEST(Cli, MissingSceneExitsWithTwo) {
   const test::CliResult r = test::run_cli("classify data/scenes/does_not_exist.json", "missing");
   EXPECT_EQ(r.exit_code, 2);

@@ -51,10 +51,13 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   j["ms"] = ms;
   const std::string svg =
       svg_path.empty() ? std::string() : near_cap_svg(cap, fr, scene.source + ", light " + std::to_string(light));
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!out.empty()) files.emplace_back(out, j.dump(1) + "\n");
+  if (!svg_path.empty()) files.emplace_back(svg_path, svg);
+  write_files_atomically(files);
   if (out.empty()) {
     std::cout << j.dump() << "\n";
   } else {
-    write_file_atomically(out, j.dump(1) + "\n");
     std::map<std::size_t, double> area;
     for (const NearCapFace& f : cap.faces()) area[f.count] += f.area_estimate;
     const double total = (fr.right - fr.left) * (fr.top - fr.bottom);
@@ -64,7 +67,6 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
     for (const auto& [count, a] : area)
       std::cout << "  count " << count << ": " << 100.0 * a / total << "% of the near rectangle\n";
   }
-  if (!svg_path.empty()) write_file_atomically(svg_path, svg);
 }
 
 }  // namespace

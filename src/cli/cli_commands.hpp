@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "nearcap/scene.hpp"
 
@@ -19,5 +21,9 @@ void check_light_index(const Scene& scene, std::size_t light);
 
 // Writes `content` to `path` atomically (temporary file, then rename).
 void write_file_atomically(const std::string& path, const std::string& content);
+
+// Several outputs of one command: every file is written to a temporary first,
+// and only when all succeeded are they renamed into place.
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace nearcap::cli

@@ -54,10 +54,10 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw Error(ErrorKind::Io, out_dir + ": cannot create the output directory: " + ec.message());
   const std::filesystem::path dir(out_dir);
-  write_file_atomically((dir / "cap.pgm").string(), cap);
-  write_file_atomically((dir / "stencil.pgm").string(), stencil);
-  write_file_atomically((dir / "shadow.png").string(), shadow);
-  write_file_atomically((dir / "reference.json").string(), summary.dump(1) + "\n");
+  write_files_atomically({{(dir / "cap.pgm").string(), cap},
+                          {(dir / "stencil.pgm").string(), stencil},
+                          {(dir / "shadow.png").string(), shadow},
+                          {(dir / "reference.json").string(), summary.dump(1) + "\n"}});
   std::cout << summary.dump() << "\n";
 }
 
