@@ -111,6 +111,21 @@ class SceneReader {
   void check_frustum(const Frustum& f, const std::string& where) const {
     std::ostringstream s;
     s.precision(17);
+    // Finite and within the float32 pipeline's range first: a frustum derived
+    // from fovy and a huge near plane can overflow to infinity, and an
+    // infinite one passes the ordering tests below.
+    const std::pair<const char*, double> values[] = {{"left", f.left}, {"right", f.right}, {"bottom", f.bottom},
+                                                     {"top", f.top},   {"near", f.near},   {"far", f.far}};
+    for (const auto& [name, v] : values) {
+      if (!std::isfinite(v)) {
+        s << name << " is " << v << " (not finite)";
+        fail(ErrorKind::NonFinite, where, s.str());
+      }
+      if (std::fabs(v) > kFloatPipelineCoordinateLimit) {
+        s << name << " (" << v << ") is beyond the float32 pipeline's limit 2^40";
+        fail(ErrorKind::Range, where, s.str());
+      }
+    }
     if (!(f.left < f.right)) {
       s << "left (" << f.left << ") must be < right (" << f.right << "): zero-size or inverted frustum";
       fail(ErrorKind::Camera, where, s.str());

@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <map>
+#include <set>
+
 #include "cli_support.hpp"
 
 namespace nearcap {
@@ -89,6 +93,151 @@ TEST(Cli, MissingSceneExitsWithTwo) {
   const test::CliResult r = test::run_cli("classify data/scenes/does_not_exist.json", "missing");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("does_not_exist.json"), std::string::npos) << r.err;
+}
+
+// A fuzz seed scene as a file the program can load: its "box.off" meshes point
+// at fuzz/meshes/box.off (the fuzzer's mesh directory), not at the seed's folder.
+std::string materialise_seed(const std::string& name) {
+  auto j = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/fuzz/seeds/scene/" + name));
+  for (auto& o : j.at("objects")) o["mesh"] = std::string(NEARCAP_SOURCE_DIR) + "/fuzz/meshes/box.off";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("nearcap_cli_seed_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(path) << j.dump();
+  return path.string();
+}
+
+const std::set<std::string> kCaseNames{"A", "B", "C1", "C2", "D", "degenerate"};
+
+// Checks the documented classify --json layout of one object entry; returns
+// its edges as (i, j) pairs.
+std::vector<std::pair<int, int>> check_object_layout(const nlohmann::json& o) {
+  std::set<std::string> keys;
+  for (const auto& item : o.items()) keys.insert(item.key());
+  EXPECT_EQ(keys, (std::set<std::string>{"object", "silhouette_edges", "cases", "edge_on_triangles",
+                                         "engine_disagreements", "edges"}));
+  std::set<std::string> case_keys;
+  for (const auto& item : o.at("cases").items()) case_keys.insert(item.key());
+  EXPECT_EQ(case_keys, kCaseNames);
+  const auto& dis = o.at("engine_disagreements");
+  EXPECT_EQ(dis.at("total").get<int>(), dis.at("silhouette_missed").get<int>() + dis.at("silhouette_extra").get<int>() +
+                                            dis.at("case_mismatch").get<int>());
+  EXPECT_TRUE(dis.at("facing_mismatch").is_number_unsigned());
+  const std::size_t n = o.at("silhouette_edges").get<std::size_t>();
+  EXPECT_EQ(n, o.at("edges").size());
+  std::map<std::string, std::size_t> recount;
+  std::size_t sum = 0;
+  for (const std::string& c : kCaseNames) sum += o.at("cases").at(c).get<std::size_t>();
+  EXPECT_EQ(sum, n);
+  std::vector<std::pair<int, int>> edges;
+  for (const auto& e : o.at("edges")) {
+    const auto& v = e.at("v");
+    EXPECT_EQ(v.size(), 2u);
+    EXPECT_LT(v.at(0).get<int>(), v.at(1).get<int>()) << "smallest index first";
+    edges.emplace_back(v.at(0).get<int>(), v.at(1).get<int>());
+    const std::string c = e.at("case").get<std::string>();
+    EXPECT_TRUE(kCaseNames.count(c)) << c;
+    ++recount[c];
+    const auto& engine = e.at("engine_case");
+    EXPECT_TRUE(engine.is_null() || kCaseNames.count(engine.get<std::string>())) << engine.dump();
+  }
+  for (const std::string& c : kCaseNames) EXPECT_EQ(recount[c], o.at("cases").at(c).get<std::size_t>()) << c;
+  return edges;
+}
+
+TEST(ClassifyCommand, BoxSeedHasAHexagonalSilhouette) {
+  // fuzz/seeds/scene/box.json: the unit box raised to y in [0, 1], light at
+  // (2, 4, 1) sees its +x, +y and +z faces: the silhouette is a hexagon.
+  const std::string scene = materialise_seed("box.json");
+  const test::CliResult r = test::run_cli("classify " + scene + " --json", "seed_box");
+  std::filesystem::remove(scene);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("filter"));
+  ASSERT_EQ(j.at("lights").size(), 1u);
+  const auto& light = j.at("lights").at(0);
+  EXPECT_EQ(light.at("light").get<int>(), 0);
+  ASSERT_EQ(light.at("objects").size(), 1u) << "the receiver (object 1) is not listed";
+  const auto& o = light.at("objects").at(0);
+  EXPECT_EQ(o.at("object").get<int>(), 0);
+  const auto edges = check_object_layout(o);
+  EXPECT_EQ(edges.size(), 6u);
+  const std::set<std::pair<int, int>> distinct(edges.begin(), edges.end());
+  EXPECT_EQ(distinct.size(), edges.size()) << "no edge twice";
+  std::map<int, int> degree;
+  for (const auto& [a, b] : edges) {
+    EXPECT_LT(b, 8);
+    ++degree[a];
+    ++degree[b];
+  }
+  EXPECT_EQ(degree.size(), 6u);
+  for (const auto& [v, d] : degree) EXPECT_EQ(d, 2) << "vertex " << v << ": the silhouette is one closed loop";
+}
+
+TEST(ClassifyCommand, LightInTheNearPlaneIsFlagged) {
+  // fuzz/seeds/scene/exact_camera.json: light 1 at world (0, 0.25, 4.5) is at
+  // camera-space z = 4.5 - 5 = -0.5 = -near.
+  const std::string scene = materialise_seed("exact_camera.json");
+  const test::CliResult r = test::run_cli("classify --json " + scene, "seed_exact");
+  std::filesystem::remove(scene);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("lights").size(), 2u);
+  EXPECT_FALSE(j["lights"][0].at("light_in_near_plane").get<bool>());
+  EXPECT_TRUE(j["lights"][1].at("light_in_near_plane").get<bool>());
+  for (const auto& light : j.at("lights"))
+    for (const auto& o : light.at("objects")) (void)check_object_layout(o);
+  for (const auto& e : j["lights"][1]["objects"][0]["edges"]) {
+    const std::string c = e.at("case").get<std::string>();
+    EXPECT_TRUE(c == "A" || c == "D" || c == "degenerate") << c;
+  }
+}
+
+TEST(ClassifyCommand, TextOutputNamesTheScene) {
+  const test::CliResult r = test::run_cli("classify data/scenes/default.json", "text");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("default.json"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("silhouette"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MissingSceneIsAnIoErrorWithNoOutput) {
+  for (const char* args :
+       {"classify data/scenes/does_not_exist.json", "classify --json data/scenes/does_not_exist.json"}) {
+    const test::CliResult r = test::run_cli(args, "missing_json");
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find("error (io)"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
+TEST(Cli, OverflowingFrustumIsAnErrorNotACrash) {
+  // A convenient camera whose frustum overflows (fovy 120 at near 1e308, see
+  // SceneErrors.LookAtFrustumThatOverflowsIsRejected): every command must end
+  // with exit code 2 and a one-line error, never a signal.
+  nlohmann::json j;
+  j["camera"] = {{"eye", {0, 1, 5}}, {"target", {0, 0, 0}}, {"fovy_deg", 120}, {"near", 1e308},
+                 {"far", 1.5e308},   {"width", 64},         {"height", 48}};
+  j["lights"] = nlohmann::json::array({{{"position", {2, 4, 1}}}});
+  j["objects"] = nlohmann::json::array(
+      {{{"mesh", std::string(NEARCAP_SOURCE_DIR) + "/fuzz/meshes/box.off"}, {"translate", {0, 0.5, 0}}}});
+  const auto scene =
+      std::filesystem::temp_directory_path() / ("nearcap_cli_overflow_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(scene) << j.dump();
+  const auto out_dir =
+      std::filesystem::temp_directory_path() / ("nearcap_cli_overflow_out_" + std::to_string(::getpid()));
+  for (const std::string& args : {"classify " + scene.string(), "cap " + scene.string() + " --light 0",
+                                  "reference " + scene.string() + " --light 0 --out " + out_dir.string()}) {
+    const test::CliResult r = test::run_cli(args, "overflow");
+    EXPECT_EQ(r.exit_code, 2) << args << " (128 + signal number when killed by a signal)\n" << r.err;
+    EXPECT_NE(r.err.find("error ("), std::string::npos) << args << "\n" << r.err;
+  }
+  std::filesystem::remove(scene);
+  std::filesystem::remove_all(out_dir);
+}
+
+TEST(Cli, UnknownSubcommandOrOptionIsNotSuccess) {
+  EXPECT_NE(test::run_cli("frobnicate data/scenes/default.json", "usage").exit_code, 0);
+  EXPECT_NE(test::run_cli("classify data/scenes/default.json --no-such-option", "usage").exit_code, 0);
 }
 
 }  // namespace

@@ -1,7 +1,15 @@
 // nearcap cap SCENE --light K [--out FILE] [--svg FILE]: the exact near-cap.
+//
+// Everything is computed (and the SVG drawn) before anything is written, and
+// files are written atomically: an error leaves no output.  JSON as in the
+// README; "ms" is the time of NearCap::build alone (light facing, silhouettes,
+// exact curves, arrangement, counts), "exact_fallbacks" the predicate calls
+// the double filters could not decide (the arrangement's exact constructions
+// are not fallbacks: they are listed under "filter" as "arrangement").
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <iostream>
 #include <map>
 
@@ -47,7 +55,16 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   j["curves"] = {{"silhouette", cap.silhouette_curves()},
                  {"near_plane_cuts", cap.near_plane_cuts()},
                  {"arrangement_edges", cap.arrangement_edges()}};
-  j["exact_fallbacks"] = stats.total_exact();
+  nlohmann::json filter = nlohmann::json::object();
+  std::uint64_t fallbacks = 0;
+  for (int p = 0; p < static_cast<int>(Predicate::kCount); ++p) {
+    if (stats.filtered[p] + stats.exact[p] == 0) continue;
+    filter[std::string(to_string(static_cast<Predicate>(p)))] = {{"filtered", stats.filtered[p]},
+                                                                 {"exact", stats.exact[p]}};
+    if (static_cast<Predicate>(p) != Predicate::Arrangement) fallbacks += stats.exact[p];
+  }
+  j["exact_fallbacks"] = fallbacks;
+  j["filter"] = filter;
   j["ms"] = ms;
   const std::string svg =
       svg_path.empty() ? std::string() : near_cap_svg(cap, fr, scene.source + ", light " + std::to_string(light));

@@ -1,0 +1,72 @@
+// Float32 matrices and the vertex transform (see float_transforms.hpp).
+#include "nearcap/gl/float_transforms.hpp"
+
+#include <cmath>
+
+namespace nearcap::gl {
+namespace {
+
+float dot4(const float a[4], const float b[4], Arithmetic arithmetic) {
+  if (arithmetic == Arithmetic::Fused) {
+    float r = a[0] * b[0];
+    r = std::fmaf(a[1], b[1], r);
+    r = std::fmaf(a[2], b[2], r);
+    return std::fmaf(a[3], b[3], r);
+  }
+  float r = a[0] * b[0];
+  r = r + a[1] * b[1];
+  r = r + a[2] * b[2];
+  return r + a[3] * b[3];
+}
+
+}  // namespace
+
+Mat4f to_mat4f(const Affine3d& a) {
+  Mat4f m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) m.at(r, c) = static_cast<float>(a.rows[r][c]);
+  m.at(3, 3) = 1.0f;
+  return m;
+}
+
+Mat4f frustum_matrix(const Frustum& f) {
+  Mat4f m;
+  m.at(0, 0) = static_cast<float>(2 * f.near / (f.right - f.left));
+  m.at(0, 2) = static_cast<float>((f.right + f.left) / (f.right - f.left));
+  m.at(1, 1) = static_cast<float>(2 * f.near / (f.top - f.bottom));
+  m.at(1, 2) = static_cast<float>((f.top + f.bottom) / (f.top - f.bottom));
+  m.at(2, 2) = static_cast<float>(-(f.far + f.near) / (f.far - f.near));
+  m.at(2, 3) = static_cast<float>(-2 * f.far * f.near / (f.far - f.near));
+  m.at(3, 2) = -1.0f;
+  return m;
+}
+
+Mat4f infinite_frustum_matrix(const Frustum& f) {
+  Mat4f m = frustum_matrix(f);
+  m.at(2, 2) = -1.0f;
+  m.at(2, 3) = static_cast<float>(-2 * f.near);
+  return m;
+}
+
+Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic) {
+  Mat4f out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      const float row[4] = {a.at(r, 0), a.at(r, 1), a.at(r, 2), a.at(r, 3)};
+      const float col[4] = {b.at(0, c), b.at(1, c), b.at(2, c), b.at(3, c)};
+      out.at(r, c) = dot4(row, col, arithmetic);
+    }
+  return out;
+}
+
+Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic) {
+  const float in[4] = {v.x, v.y, v.z, v.w};
+  float out[4];
+  for (int r = 0; r < 4; ++r) {
+    const float row[4] = {m.at(r, 0), m.at(r, 1), m.at(r, 2), m.at(r, 3)};
+    out[r] = dot4(row, in, arithmetic);
+  }
+  return {out[0], out[1], out[2], out[3]};
+}
+
+}  // namespace nearcap::gl

@@ -1,0 +1,348 @@
+// Mesh reading and occluder validation from bytes in memory: a valid box is
+// read exactly as written and gets its adjacency; every fault is an
+// nearcap::Error of the documented kind whose message names the source and the
+// element.  (Legal-but-awkward meshes: mesh_awkward_input_test.cpp.)
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <functional>
+#include <iomanip>
+#include <string>
+
+#include "nearcap/error.hpp"
+#include "nearcap/mesh.hpp"
+
+namespace nearcap {
+namespace {
+
+// The unit cube [-1/2, 1/2]^3, counter-clockwise seen from outside.
+const char* const kBoxVertices =
+    "-0.5 -0.5 -0.5\n-0.5 -0.5 0.5\n-0.5 0.5 -0.5\n-0.5 0.5 0.5\n"
+    "0.5 -0.5 -0.5\n0.5 -0.5 0.5\n0.5 0.5 -0.5\n0.5 0.5 0.5\n";
+const char* const kBoxFaces[12] = {"3 0 1 3\n", "3 0 3 2\n", "3 4 6 7\n", "3 4 7 5\n", "3 0 4 5\n", "3 0 5 1\n",
+                                   "3 2 3 7\n", "3 2 7 6\n", "3 0 2 6\n", "3 0 6 4\n", "3 1 5 7\n", "3 1 7 3\n"};
+
+std::string box_faces() {
+  std::string s;
+  for (const char* f : kBoxFaces) s += f;
+  return s;
+}
+// The box's vertex lines with line k replaced.
+std::string box_vertices_with(int k, const std::string& line) {
+  std::string v = kBoxVertices;
+  std::size_t start = 0;
+  for (int i = 0; i < k; ++i) start = v.find('\n', start) + 1;
+  return v.replace(start, v.find('\n', start) - start, line);
+}
+std::string box_off() { return std::string("OFF\n8 12 0\n") + kBoxVertices + box_faces(); }
+
+// Runs `f`, which must throw nearcap::Error of `kind` with `fragment` (and the
+// source name) in its message.
+void expect_error(const std::function<void()>& f, ErrorKind kind, const std::string& fragment,
+                  const std::string& source) {
+  try {
+    f();
+    ADD_FAILURE() << "no error; expected " << to_string(kind) << " with '" << fragment << "'";
+  } catch (const Error& e) {
+    EXPECT_EQ(to_string(e.kind()), to_string(kind)) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(source), std::string::npos) << "names the source: " << e.what();
+  }
+}
+void expect_parse_error(const std::string& text, ErrorKind kind, const std::string& fragment) {
+  expect_error([&] { (void)parse_off(text, "t.off"); }, kind, fragment, "t.off");
+}
+void expect_invalid_occluder(const std::string& text, const std::string& fragment) {
+  TriangleMesh mesh = parse_off(text, "t.off");  // reads fine
+  expect_error([&] { validate_occluder(mesh); }, ErrorKind::Mesh, fragment, "t.off");
+}
+
+TEST(MeshRead, BoxIsReadExactlyAsWritten) {
+  const TriangleMesh mesh = parse_off(box_off(), "box.off");
+  EXPECT_EQ(mesh.source, "box.off");
+  ASSERT_EQ(mesh.positions.size(), 8u);
+  ASSERT_EQ(mesh.triangle_count(), 12u);
+  EXPECT_EQ(mesh.positions[5].x, 0.5);
+  EXPECT_EQ(mesh.positions[5].y, -0.5);
+  EXPECT_EQ(mesh.positions[5].z, 0.5);
+  EXPECT_EQ(mesh.triangles[2], (std::array<VertexIndex, 3>{4, 6, 7}));
+  EXPECT_FALSE(mesh.has_adjacency()) << "adjacency comes from validation";
+}
+
+TEST(MeshRead, DecimalCoordinatesAreTheNearestDouble) {
+  const TriangleMesh mesh =
+      parse_off("OFF\n4 4 0\n0.1 0 0\n0 0.1 0\n0 0 0.1\n0 0 0\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 2 3 0\n", "t.off");
+  EXPECT_EQ(mesh.positions[0].x, 0.1) << "strtod's binary64, not a float";
+}
+
+TEST(MeshRead, ParseMeshOffIsParseOff) {
+  const TriangleMesh a = parse_off(box_off(), "box.off");
+  const TriangleMesh b = parse_mesh(box_off(), "off", "box.off");
+  EXPECT_EQ(a.triangles, b.triangles);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i) EXPECT_EQ(a.positions[i].z, b.positions[i].z);
+}
+
+TEST(MeshRead, FaceColoursAndTrailingCommentsAreIgnored) {
+  std::string faces = box_faces();
+  faces.replace(0, std::string(kBoxFaces[0]).size(), "3 0 1 3 255 0 0 # red\n");
+  const TriangleMesh mesh = parse_off(std::string("OFF\n8 12 0 # counts\n") + kBoxVertices + faces, "t.off");
+  EXPECT_EQ(mesh.triangles[0], (std::array<VertexIndex, 3>{0, 1, 3}));
+  EXPECT_EQ(mesh.triangles[1], (std::array<VertexIndex, 3>{0, 3, 2}));
+}
+
+TEST(MeshValidate, BoxIsAValidOccluderWithSymmetricAdjacency) {
+  TriangleMesh mesh = parse_off(box_off(), "box.off");
+  ASSERT_NO_THROW(validate_occluder(mesh));
+  ASSERT_TRUE(mesh.has_adjacency());
+  for (FaceIndex f = 0; f < mesh.triangle_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const VertexIndex a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
+      const FaceIndex g = mesh.neighbours[f][k];
+      ASSERT_NE(g, kNoFace);
+      ASSERT_NE(g, f);
+      // g has the twin half-edge b -> a, and its neighbour across it is f.
+      bool twin = false;
+      for (int j = 0; j < 3; ++j)
+        if (mesh.triangles[g][j] == b && mesh.triangles[g][(j + 1) % 3] == a) {
+          twin = true;
+          EXPECT_EQ(mesh.neighbours[g][j], f);
+        }
+      EXPECT_TRUE(twin) << "face " << f << " corner " << k;
+    }
+}
+
+TEST(MeshValidate, OpenMeshNamesABoundaryEdge) {
+  std::string faces = box_faces();
+  faces.erase(faces.find(kBoxFaces[11]));  // drop the last face (1, 7, 3)
+  expect_invalid_occluder(std::string("OFF\n8 11 0\n") + kBoxVertices + faces, "no neighbouring face");
+}
+
+TEST(MeshValidate, BuildAdjacencyMarksBoundaryEdgesOnOpenMeshes) {
+  std::string faces = box_faces();
+  faces.erase(faces.find(kBoxFaces[11]));
+  TriangleMesh mesh = parse_off(std::string("OFF\n8 11 0\n") + kBoxVertices + faces, "t.off");
+  build_adjacency(mesh);
+  ASSERT_TRUE(mesh.has_adjacency());
+  int boundary = 0;
+  for (const auto& n : mesh.neighbours)
+    for (FaceIndex g : n) boundary += g == kNoFace;
+  EXPECT_EQ(boundary, 3) << "the missing triangle's three edges";
+}
+
+TEST(MeshValidate, ThirdFaceOnAnEdgeIsANonManifoldEdge) {
+  // A fin: vertex 8 outside the box, triangle (0, 1, 8) on the box edge (0, 1).
+  expect_invalid_occluder(std::string("OFF\n9 13 0\n") + kBoxVertices + "-1 -1 0\n" + box_faces() + "3 0 1 8\n",
+                          "non-manifold edge");
+}
+
+TEST(MeshValidate, TwoTetrahedraSharingAVertexIsANonManifoldVertex) {
+  // Both outward; they share vertex 0 only.
+  const std::string text =
+      "OFF\n7 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n-1 0 0\n0 -1 0\n0 0 -1\n"
+      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+      "3 0 4 5\n3 0 6 4\n3 0 5 6\n3 4 6 5\n";
+  TriangleMesh probe = parse_off(text, "t.off");
+  expect_error([&] { validate_occluder(probe); }, ErrorKind::Mesh, "vertex 0", "t.off");
+  expect_invalid_occluder(text, "non-manifold vertex");
+}
+
+TEST(MeshValidate, OneFlippedFaceIsAnInconsistentOrientation) {
+  std::string faces = box_faces();
+  faces.replace(0, std::string(kBoxFaces[0]).size(), "3 0 3 1\n");
+  expect_invalid_occluder(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, "inconsistent orientation");
+}
+
+TEST(MeshValidate, AllFacesFlippedIsInward) {
+  std::string faces;
+  for (const char* f : kBoxFaces) {
+    int a, b, c;
+    ASSERT_EQ(std::sscanf(f, "3 %d %d %d", &a, &b, &c), 3);
+    faces += "3 " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(b) + "\n";
+  }
+  expect_invalid_occluder(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, "inward");
+}
+
+TEST(MeshValidate, TwoSidedFlatMeshHasZeroVolume) {
+  // One triangle glued to its reverse: closed, consistent, manifold, volume 0.
+  expect_invalid_occluder("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n", "signed volume is zero");
+}
+
+TEST(MeshValidate, ValidatingAnEmptyMeshIsAnError) {
+  TriangleMesh mesh;
+  mesh.source = "t.off";
+  expect_error([&] { validate_occluder(mesh); }, ErrorKind::Mesh, "no faces", "t.off");
+}
+
+TEST(MeshParse, NanCoordinateIsNonFiniteAndNamesTheVertex) {
+  expect_parse_error(std::string("OFF\n8 12 0\n") + box_vertices_with(2, "-0.5 nan -0.5") + box_faces(),
+                     ErrorKind::NonFinite, "vertex 2");
+}
+
+TEST(MeshParse, InfCoordinateIsNonFiniteAndNamesTheVertex) {
+  expect_parse_error(std::string("OFF\n8 12 0\n") + box_vertices_with(5, "0.5 -0.5 inf") + box_faces(),
+                     ErrorKind::NonFinite, "vertex 5");
+  expect_parse_error(std::string("OFF\n8 12 0\n") + box_vertices_with(5, "0.5 -1e999 0.5") + box_faces(),
+                     ErrorKind::NonFinite, "vertex 5");  // overflows to -inf
+}
+
+TEST(MeshParse, NoFacesIsAnEmptyMesh) {
+  expect_parse_error("OFF\n0 0 0\n", ErrorKind::Mesh, "no faces");
+  expect_parse_error(std::string("OFF\n8 0 0\n") + kBoxVertices, ErrorKind::Mesh, "no faces");
+}
+
+TEST(MeshParse, EmptyTextIsAParseError) { expect_parse_error("", ErrorKind::Parse, "end of file"); }
+
+TEST(MeshParse, TruncatedFileIsAParseErrorWithTheLine) {
+  const std::string full = box_off();
+  // Cut in the middle of the face list.
+  expect_parse_error(full.substr(0, full.size() - 10), ErrorKind::Parse, "truncated");
+  // Cut in the vertex list: fewer vertices than declared.
+  expect_parse_error("OFF\n8 12 0\n0 0 0\n1 1", ErrorKind::Parse, "line 4");
+}
+
+TEST(MeshParse, QuadFaceIsRejectedAsNotATriangle) {
+  expect_parse_error(
+      std::string("OFF\n8 7 0\n") + kBoxVertices + "4 0 1 3 2\n3 4 6 7\n3 4 7 5\n3 0 4 5\n3 0 5 1\n3 2 3 7\n3 2 7 6\n",
+      ErrorKind::Mesh, "face 0 has 4 vertices");
+}
+
+TEST(MeshParse, VertexIndexOutOfRangeIsNamed) {
+  std::string faces = box_faces();
+  faces.replace(0, std::string(kBoxFaces[0]).size(), "3 0 1 8\n");
+  expect_parse_error(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, ErrorKind::Parse, "refers to vertex 8");
+  faces.replace(0, std::string("3 0 1 8\n").size(), "3 0 -1 3\n");
+  expect_parse_error(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, ErrorKind::Parse, "refers to vertex -1");
+}
+
+TEST(MeshParse, RepeatedVertexInAFaceIsRejected) {
+  std::string faces = box_faces();
+  faces.replace(0, std::string(kBoxFaces[0]).size(), "3 0 1 1\n");
+  expect_parse_error(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, ErrorKind::Mesh, "repeats a vertex");
+}
+
+TEST(MeshParse, BadHeaderAndBadTokensAreParseErrors) {
+  expect_parse_error("COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", ErrorKind::Parse, "keyword OFF");
+  expect_parse_error("OFF\n3 x 0\n", ErrorKind::Parse, "found 'x'");
+  expect_parse_error("OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n", ErrorKind::Parse, "found 'zero'");
+  expect_parse_error("OFF\n-3 1 0\n", ErrorKind::Parse, "out of range");
+  expect_parse_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", ErrorKind::Parse, "found '1.5'");
+}
+
+TEST(MeshParse, UnknownFormatIsAParseError) {
+  expect_error([] { (void)parse_mesh(box_off(), "gltf", "t.gltf"); }, ErrorKind::Parse, "unknown mesh format",
+               "t.gltf");
+}
+
+TEST(MeshParse, MissingFileIsAnIoError) {
+  expect_error([] { (void)read_mesh("/nonexistent/nearcap/none.off"); }, ErrorKind::Io, "cannot open",
+               "/nonexistent/nearcap/none.off");
+}
+
+// ---- other formats through OpenMesh ----------------------------------------
+
+std::string box_obj() {
+  std::string s = "# the unit box\n";
+  for (const char* v : {"-0.5 -0.5 -0.5", "-0.5 -0.5 0.5", "-0.5 0.5 -0.5", "-0.5 0.5 0.5", "0.5 -0.5 -0.5",
+                        "0.5 -0.5 0.5", "0.5 0.5 -0.5", "0.5 0.5 0.5"})
+    s += std::string("v ") + v + "\n";
+  for (const char* f : kBoxFaces) {
+    int a, b, c;
+    std::sscanf(f, "3 %d %d %d", &a, &b, &c);
+    s += "f " + std::to_string(a + 1) + " " + std::to_string(b + 1) + " " + std::to_string(c + 1) + "\n";
+  }
+  return s;
+}
+
+TEST(MeshReadOtherFormats, ObjBoxKeepsFacesAndOrder) {
+  TriangleMesh mesh = parse_mesh(box_obj(), "obj", "box.obj");
+  ASSERT_EQ(mesh.positions.size(), 8u);
+  ASSERT_EQ(mesh.triangle_count(), 12u);
+  const TriangleMesh off = parse_off(box_off(), "box.off");
+  EXPECT_EQ(mesh.triangles, off.triangles);
+  EXPECT_EQ(mesh.positions[7].x, 0.5);
+  EXPECT_NO_THROW(validate_occluder(mesh));
+}
+
+TEST(MeshReadOtherFormats, ObjQuadIsRejectedAsNotATriangle) {
+  expect_error([] { (void)parse_mesh("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "obj", "q.obj"); },
+               ErrorKind::Mesh, "triangle meshes only", "q.obj");
+}
+
+TEST(MeshReadOtherFormats, AsciiPlyBox) {
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  s += kBoxVertices;
+  s += box_faces();
+  TriangleMesh mesh = parse_mesh(s, "ply", "box.ply");
+  ASSERT_EQ(mesh.triangle_count(), 12u);
+  EXPECT_EQ(mesh.triangles, parse_off(box_off(), "box.off").triangles);
+  EXPECT_NO_THROW(validate_occluder(mesh));
+}
+
+// A tetrahedron with one coordinate 0.1, in three formats.  The exactness
+// convention (README) makes every number read from a mesh file an exact
+// binary64 value: 0.1 must read as the double nearest to 1/10, as OFF does.
+const char* const kTetraObj = "v 0.1 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const char* const kTetraPly =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+    "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+    "0.1 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+// OpenMesh's OBJ and PLY readers hand coordinates over as float32, so for
+// those formats the float32 values are the scene (README, exactness
+// convention); OFF, parsed by nearcap, keeps the nearest double.  These tests
+// pin that documented behaviour: if a future reader keeps doubles, they fail
+// and the README must change with them.
+TEST(MeshReadOtherFormats, ObjCoordinatesAreOpenMeshsFloat32) {
+  const TriangleMesh mesh = parse_mesh(kTetraObj, "obj", "t.obj");
+  ASSERT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(mesh.positions[0].x, static_cast<double>(0.1f)) << std::setprecision(17) << mesh.positions[0].x;
+}
+
+TEST(MeshReadOtherFormats, PlyCoordinatesAreOpenMeshsFloat32) {
+  const TriangleMesh mesh = parse_mesh(kTetraPly, "ply", "t.ply");
+  ASSERT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(mesh.positions[0].x, static_cast<double>(0.1f)) << std::setprecision(17) << mesh.positions[0].x;
+}
+
+TEST(MeshReadOtherFormats, OffCoordinatesAreTheNearestDouble) {
+  const TriangleMesh mesh =
+      parse_off("OFF\n4 4 0\n0.1 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "t.off");
+  EXPECT_EQ(mesh.positions[0].x, 0.1);
+}
+
+TEST(MeshReadOtherFormats, AsciiStlSharesVerticesByPosition) {
+  // STL lists three positions per facet; equal positions become one vertex, so
+  // a closed STL solid is a valid occluder.  (STL is float32 by definition.)
+  std::string stl = "solid t\n";
+  auto facet = [&](const char* a, const char* b, const char* c) {
+    stl += std::string("facet normal 0 0 0\nouter loop\nvertex ") + a + "\nvertex " + b + "\nvertex " + c +
+           "\nendloop\nendfacet\n";
+  };
+  facet("0 0 0", "0 1 0", "1 0 0");
+  facet("0 0 0", "1 0 0", "0 0 1");
+  facet("0 0 0", "0 0 1", "0 1 0");
+  facet("1 0 0", "0 1 0", "0 0 1");
+  stl += "endsolid t\n";
+  TriangleMesh mesh = parse_mesh(stl, "stl", "t.stl");
+  EXPECT_EQ(mesh.positions.size(), 4u);
+  ASSERT_EQ(mesh.triangle_count(), 4u);
+  EXPECT_NO_THROW(validate_occluder(mesh));
+}
+
+TEST(MeshReadOtherFormats, GarbageIsAParseErrorNotACrash) {
+  for (const char* format : {"obj", "ply", "stl"}) {
+    try {
+      TriangleMesh mesh = parse_mesh(std::string("\x01\x02 garbage\nply\nsolid\n"), format, "g");
+      validate_occluder(mesh);
+      ADD_FAILURE() << format << ": garbage accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("g:"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
