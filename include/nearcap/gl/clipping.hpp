@@ -1,0 +1,27 @@
+// nearcap/gl/clipping.hpp — homogeneous clipping of a triangle as GL specifies
+// it, in float32.
+//
+// Planes, as distances d(v) >= 0 inside: near z + w, far w - z (left out with
+// depth clamp or an infinite far plane), and a guard band |x|, |y| <= g w
+// (g = 1 clips to the view volume; hardware uses a wide band so that x and y
+// are rarely clipped).  Sutherland-Hodgman, one plane after the other; an
+// intersection is interpolated from the INSIDE vertex towards the outside one
+// with t = d_in / (d_in - d_out), as Mesa's clipper does, so an edge shared by
+// two triangles is cut at the same point from both sides.
+#pragma once
+
+#include <vector>
+
+#include "nearcap/gl/float_transforms.hpp"
+
+namespace nearcap::gl {
+
+struct ClipSettings {
+  bool clip_far = true;     // false: depth clamp or infinite far plane
+  float guard_band = 8192;  // in NDC units; x and y clipped at |x| <= guard_band * w
+};
+
+// The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.
+std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings);
+
+}  // namespace nearcap::gl

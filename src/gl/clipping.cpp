@@ -1,0 +1,65 @@
+// Homogeneous clipping (see clipping.hpp).
+#include "nearcap/gl/clipping.hpp"
+
+namespace nearcap::gl {
+namespace {
+
+enum class Plane { Near, Far, Left, Right, Bottom, Top };
+
+float distance(const Vec4f& v, Plane p, float g) {
+  switch (p) {
+    case Plane::Near:
+      return v.z + v.w;
+    case Plane::Far:
+      return v.w - v.z;
+    case Plane::Left:
+      return v.x + g * v.w;
+    case Plane::Right:
+      return g * v.w - v.x;
+    case Plane::Bottom:
+      return v.y + g * v.w;
+    case Plane::Top:
+      return g * v.w - v.y;
+  }
+  return 0;
+}
+
+Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
+  return {in.x + t * (out.x - in.x), in.y + t * (out.y - in.y), in.z + t * (out.z - in.z), in.w + t * (out.w - in.w)};
+}
+
+std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g) {
+  std::vector<Vec4f> out;
+  const std::size_t n = poly.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec4f& a = poly[k];
+    const Vec4f& b = poly[(k + 1) % n];
+    const float da = distance(a, p, g), db = distance(b, p, g);
+    const bool a_in = da >= 0, b_in = db >= 0;
+    if (a_in) out.push_back(a);
+    if (a_in != b_in) {
+      // From the inside vertex towards the outside one.
+      if (a_in)
+        out.push_back(interpolate(a, b, da / (da - db)));
+      else
+        out.push_back(interpolate(b, a, db / (db - da)));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
+  std::vector<Vec4f> poly{a, b, c};
+  std::vector<Plane> planes{Plane::Near};
+  if (settings.clip_far) planes.push_back(Plane::Far);
+  for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes.push_back(p);
+  for (Plane p : planes) {
+    poly = clip_against(poly, p, settings.guard_band);
+    if (poly.size() < 3) return {};
+  }
+  return poly;
+}
+
+}  // namespace nearcap::gl

@@ -1,0 +1,63 @@
+// Homogeneous clipping: what is inside stays, what crosses the near plane is
+// cut there, shared edges are cut at the same point from both triangles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nearcap/gl/clipping.hpp"
+
+namespace nearcap::gl {
+namespace {
+
+TEST(Clipping, TriangleInsideIsUnchanged) {
+  const Vec4f a{0, 0, 0, 1}, b{0.5f, 0, 0, 1}, c{0, 0.5f, 0, 1};
+  const auto poly = clip_triangle(a, b, c, {});
+  ASSERT_EQ(poly.size(), 3u);
+  EXPECT_EQ(poly[0].x, a.x);
+  EXPECT_EQ(poly[1].x, b.x);
+  EXPECT_EQ(poly[2].y, c.y);
+}
+
+TEST(Clipping, TriangleBehindTheNearPlaneVanishes) {
+  EXPECT_TRUE(clip_triangle({0, 0, -3, 1}, {1, 0, -3, 1}, {0, 1, -3, 1}, {}).empty());
+}
+
+TEST(Clipping, CrossingTheNearPlaneCutsThere) {
+  // One vertex behind the near plane (z < -w): a quadrilateral, all of whose
+  // vertices lie on or inside the near plane up to float rounding.
+  const auto poly = clip_triangle({0, 0, 0.5f, 1}, {0.5f, 0, 0.5f, 1}, {0, 0.5f, -3, 1}, {});
+  ASSERT_EQ(poly.size(), 4u);
+  int on_plane = 0;
+  for (const Vec4f& v : poly) {
+    EXPECT_GE(v.z + v.w, -1e-6f);
+    on_plane += std::fabs(v.z + v.w) <= 1e-6f;
+  }
+  EXPECT_EQ(on_plane, 2);
+}
+
+TEST(Clipping, SharedEdgeIsCutAtTheSamePointFromBothSides) {
+  // Two triangles sharing edge (p, q), which crosses the near plane, listed
+  // in opposite directions: the cut point must be bit-identical.
+  const Vec4f p{0.3f, 0.1f, 0.7f, 1.3f}, q{-0.2f, 0.4f, -2.9f, 0.6f};
+  const Vec4f r{0.9f, -0.5f, 0.2f, 1.1f}, s{-0.8f, -0.7f, 0.1f, 1.2f};
+  const auto first = clip_triangle(p, q, r, {});
+  const auto second = clip_triangle(q, p, s, {});
+  std::vector<Vec4f> cut_first, cut_second;
+  for (const Vec4f& v : first)
+    if (std::fabs(v.z + v.w) < 1e-5f) cut_first.push_back(v);
+  for (const Vec4f& v : second)
+    if (std::fabs(v.z + v.w) < 1e-5f) cut_second.push_back(v);
+  bool shared = false;
+  for (const Vec4f& u : cut_first)
+    for (const Vec4f& v : cut_second) shared |= u.x == v.x && u.y == v.y && u.z == v.z && u.w == v.w;
+  EXPECT_TRUE(shared);
+}
+
+TEST(Clipping, FarPlaneOnlyWhenAsked) {
+  const Vec4f a{0, 0, 5, 1}, b{0.1f, 0, 5, 1}, c{0, 0.1f, 5, 1};  // beyond far (z > w)
+  EXPECT_TRUE(clip_triangle(a, b, c, {}).empty());
+  EXPECT_EQ(clip_triangle(a, b, c, {false, 8192}).size(), 3u);
+}
+
+}  // namespace
+}  // namespace nearcap::gl
