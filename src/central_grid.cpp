@@ -17,6 +17,13 @@ struct FaceAxes {
 };
 FaceAxes face_axes(int f) { return {f / 2, (f / 2 + 1) % 3, (f / 2 + 2) % 3, (f % 2 == 0) ? 1.0 : -1.0}; }
 
+// Bound on the error of a face coordinate u = w_u / m computed from estimates
+// within `err` per coordinate, with denom = m - err > 0 (a lower bound of the
+// exact m): |W_u/M - w_u/m| <= err (1 + |u|) / denom, plus the division's rounding.
+double projection_error(double u, double err, double denom) {
+  return err * (1.0 + std::fabs(u)) / denom * (1.0 + kRounding) + kRounding * std::fabs(u);
+}
+
 struct Box {
   double u_lo, u_hi, v_lo, v_hi;
 };
@@ -131,8 +138,7 @@ FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double 
     const double m = ax.sign * v[ax.axis];
     const double u = v[ax.u] / m, vv = v[ax.v] / m;
     const double denom = m - err;
-    const double eu = err * (1.0 + std::fabs(u)) / denom * (1.0 + kRounding) + kRounding * std::fabs(u);
-    const double ev = err * (1.0 + std::fabs(vv)) / denom * (1.0 + kRounding) + kRounding * std::fabs(vv);
+    const double eu = projection_error(u, err, denom), ev = projection_error(vv, err, denom);
     b.u_lo = std::min(b.u_lo, u - eu);
     b.u_hi = std::max(b.u_hi, u + eu);
     b.v_lo = std::min(b.v_lo, vv - ev);
@@ -238,8 +244,7 @@ CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) 
   const FaceAxes ax = face_axes(f);
   const double u = w[ax.u] / m, v = w[ax.v] / m;
   const double denom = m - err;
-  const double eu = err * (1.0 + std::fabs(u)) / denom * (1.0 + kRounding) + kRounding * std::fabs(u);
-  const double ev = err * (1.0 + std::fabs(v)) / denom * (1.0 + kRounding) + kRounding * std::fabs(v);
+  const double eu = projection_error(u, err, denom), ev = projection_error(v, err, denom);
   if (eu > kQueryMargin || ev > kQueryMargin) return all();
   const Face& face = faces_[f];
   const double fi = std::floor((u - face.u0) / face.du), fj = std::floor((v - face.v0) / face.dv);

@@ -76,6 +76,10 @@ Sign light_side_filtered(const CameraSpaceScene& scene, std::size_t o, FaceIndex
   return s * scene.handedness(o);
 }
 
+Facing facing_of(Sign outer_side) {
+  return outer_side == Sign::Positive ? Facing::Front : (outer_side == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+}
+
 // The light in object space, exactly: solve L x = l_world - t by Cramer's
 // rule over rationals (once per object and light).
 RationalVec3 light_in_object_space(const CameraSpaceScene& scene, std::size_t o, std::size_t light) {
@@ -115,8 +119,9 @@ bool light_facing_object_space(const CameraSpaceScene& scene, std::size_t o, std
   const RationalVec3 exact = light_in_object_space(scene, o, light);
   double l[3], l_error = 0, l_max = 0;
   for (int i = 0; i < 3; ++i) {
-    l[i] = exact[i].get_d();  // truncation: within one ulp
-    const double e = std::fabs(l[i]) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
+    const BoundedDouble b = bounded_estimate(exact[i]);
+    l[i] = b.v;
+    const double e = b.e;
     l_error = std::fmax(l_error, e);
     l_max = std::fmax(l_max, std::fabs(l[i]) + e);
   }
@@ -137,11 +142,11 @@ bool light_facing_object_space(const CameraSpaceScene& scene, std::size_t o, std
       // The camera-space cascade decides the same sign (orientation in object
       // space = orientation in camera space x handedness, which light_side
       // already multiplies in).
-      const Sign s = light_side_filtered(scene, o, f, light, fast, stats);
-      out[f] = s == Sign::Positive ? Facing::Front : (s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
+      out[f] = facing_of(light_side_filtered(scene, o, f, light, fast, stats));
       continue;
     }
     ++decided_fast;
+    static_assert(static_cast<int>(Facing::Front) == 0 && static_cast<int>(Facing::Back) == 1);
     out[f] = static_cast<Facing>(!positive);  // outer side: Front
   }
   if (stats) stats->filtered[static_cast<int>(Predicate::LightFacing)] += decided_fast;
@@ -160,40 +165,10 @@ std::vector<Facing> light_facing(const CameraSpaceScene& scene, std::size_t o, s
   const StaticOrientationFilter fast = static_filter(scene, o, light);
   std::vector<Facing> facing;
   if (light_facing_object_space(scene, o, light, fast, stats, facing)) return facing;
-  const Sign handedness = scene.handedness(o);
+  // A mesh without precomputed planes (not loaded through a scene): the
+  // camera-space cascade, triangle by triangle.
   facing.resize(n);
-  std::uint64_t decided_fast = 0;
-  const double bound = fast.bound;
-  const Vec3d& l = fast.l;
-  const bool mirrored = handedness == Sign::Negative;
-  static_assert(static_cast<int>(Facing::Front) == 0 && static_cast<int>(Facing::Back) == 1);
-  // Raw pointers, hoisted: Facing is a byte type, so every store to `facing`
-  // may alias anything and would otherwise reload the containers each time.
-  const Vec3d* const estimate = &scene.vertex_estimate(o, 0);
-  const auto* const tri = triangles.data();
-  Facing* const out = facing.data();
-  // The static filter inline and branch-free (this loop is the exact
-  // classification's hot path: front and back alternate unpredictably); the
-  // rare undecided triangles go through the full cascade.
-  for (FaceIndex f = 0; f < n; ++f) {
-    const auto& t = tri[f];
-    const Vec3d& a = estimate[t[0]];
-    const Vec3d& b = estimate[t[1]];
-    const Vec3d& c = estimate[t[2]];
-    const double ax = b.x - a.x, ay = b.y - a.y, az = b.z - a.z;
-    const double bx = c.x - a.x, by = c.y - a.y, bz = c.z - a.z;
-    const double cx = l.x - a.x, cy = l.y - a.y, cz = l.z - a.z;
-    const double det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-    const bool positive = det > bound, negative = det < -bound;
-    if (__builtin_expect(!(positive || negative), 0)) {
-      const Sign s = light_side_filtered(scene, o, f, light, fast, stats);
-      out[f] = s == Sign::Positive ? Facing::Front : (s == Sign::Negative ? Facing::Back : Facing::EdgeOn);
-      continue;
-    }
-    ++decided_fast;
-    out[f] = static_cast<Facing>(positive == mirrored);  // outer side: Front
-  }
-  if (stats) stats->filtered[static_cast<int>(Predicate::LightFacing)] += decided_fast;
+  for (FaceIndex f = 0; f < n; ++f) facing[f] = facing_of(light_side_filtered(scene, o, f, light, fast, stats));
   return facing;
 }
 

@@ -108,15 +108,9 @@ static_assert(std::is_same_v<Kernel::FT::Exact_type, Rational>, "Epeck must run 
 Rational exact_of(const Kernel::FT& v) { return CGAL::exact(v); }
 Kernel::FT ft(const Rational& r) { return Kernel::FT(r); }
 
-// A certified double of a rational (get_d truncates: error below one ulp).
-BoundedDouble bounded(const Rational& r) {
-  const double v = r.get_d();
-  return BoundedDouble(v, std::fabs(v) * 0x1p-52 + std::numeric_limits<double>::denorm_min());
-}
-
-// det(a - o, b - o, p - o): the side of plane (o, a, b) that p lies on.
+// The side of plane (o, a, b) that p lies on.
 Sign orientation(const RationalVec3& o, const RationalVec3& a, const RationalVec3& b, const RationalVec3& p) {
-  return sign_of(Rational(dot(cross(a - o, b - o), p - o)));
+  return sign_of(orientation_determinant(o, a, b, p));
 }
 
 // A 3-D segment in camera space, exact.
@@ -155,7 +149,7 @@ std::vector<HalfSpace> light_pyramid(const RationalVec3& l, const Frustum& fr) {
                             z0};
   std::vector<HalfSpace> p;
   auto add = [&](RationalVec3 h, Rational h0) {
-    HalfSpace half{h, h0, {bounded(h.x), bounded(h.y), bounded(h.z)}, bounded(h0)};
+    HalfSpace half{h, h0, {bounded_estimate(h.x), bounded_estimate(h.y), bounded_estimate(h.z)}, bounded_estimate(h0)};
     p.push_back(std::move(half));
   };
   for (int k = 0; k < 4; ++k) {
@@ -277,7 +271,7 @@ Point2 interior_point(const Arrangement& arr, Arrangement::Face_const_handle f,
 SamplePoint sample_at(const Point2& p, const Frustum& fr) {
   SamplePoint s;
   s.exact = RationalVec3{exact_of(p.x()), exact_of(p.y()), Rational(-fr.near)};
-  s.approx = BoundedVec3{bounded(s.exact.x), bounded(s.exact.y), BoundedDouble(-fr.near)};
+  s.approx = BoundedVec3{bounded_estimate(s.exact.x), bounded_estimate(s.exact.y), BoundedDouble(-fr.near)};
   return s;
 }
 

@@ -11,6 +11,7 @@
 
 #include "nearcap/light_facing.hpp"
 #include "nearcap/perturbation.hpp"
+#include "nearcap/segment_crossing.hpp"
 
 namespace nearcap {
 namespace {
@@ -26,27 +27,17 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 class PixelPoint {
  public:
   PixelPoint(const Frustum& fr, int width, int height, int i, int j)
-      : fr_(fr), width_(width), height_(height), i_(i), j_(j) {
-    const BoundedDouble two_w(2.0 * width), two_h(2.0 * height);
-    approx_.x = BoundedDouble(fr.left) +
-                BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w;
-    approx_.y = BoundedDouble(fr.bottom) +
-                BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h;
-    approx_.z = BoundedDouble(-fr.near);
-  }
+      : fr_(fr),
+        width_(width),
+        height_(height),
+        i_(i),
+        j_(j),
+        approx_(pixel_centre_estimate(fr, width, height, i, j)) {}
   const BoundedVec3& approx() const { return approx_; }
   Vec3d estimate() const { return {approx_.x.v, approx_.y.v, approx_.z.v}; }
   double error() const { return std::max(approx_.x.e, approx_.y.e); }
   const RationalVec3& exact() const {
-    if (!exact_) {
-      RationalVec3 p;
-      p.x =
-          Rational(fr_.left) + Rational(2 * i_ + 1) * (Rational(fr_.right) - Rational(fr_.left)) / Rational(2 * width_);
-      p.y = Rational(fr_.bottom) +
-            Rational(2 * j_ + 1) * (Rational(fr_.top) - Rational(fr_.bottom)) / Rational(2 * height_);
-      p.z = Rational(-fr_.near);
-      exact_ = std::move(p);
-    }
+    if (!exact_) exact_ = pixel_centre_exact(fr_, width_, height_, i_, j_);
     return *exact_;
   }
 
@@ -56,11 +47,6 @@ class PixelPoint {
   BoundedVec3 approx_;
   mutable std::optional<RationalVec3> exact_;
 };
-
-template <class T>
-Vec3<T> scaled(const T& s, const Vec3<T>& v) {
-  return {s * v.x, s * v.y, s * v.z};
-}
 
 // A triangle's camera-space plane data, estimated and exact.
 template <class T>
@@ -201,22 +187,22 @@ struct PixelReferenceTracer::Impl {
     const Sign beyond_p = perturbed_sign(
         Predicate::RayHit, stats, p.approx(),
         [&] {
-          return BoundedForm{scaled(BoundedDouble(-1.0), t.plane.n), t.plane.d};
+          return BoundedForm{BoundedDouble(-1.0) * t.plane.n, t.plane.d};
         },
         [&] {
           auto pl = exact_plane(t.object, t.face);
-          return ExactForm{scaled(Rational(-1), pl.n), pl.d};
+          return ExactForm{Rational(-1) * pl.n, pl.d};
         },
         exact_point);
     if (beyond_p != sigma) return Sign::Zero;
     const Sign before_far = perturbed_sign(
         Predicate::RayHit, stats, p.approx(),
         [&] {
-          return BoundedForm{scaled(BoundedDouble(fr.far), t.plane.n), BoundedDouble(-fr.near) * t.plane.d};
+          return BoundedForm{BoundedDouble(fr.far) * t.plane.n, BoundedDouble(-fr.near) * t.plane.d};
         },
         [&] {
           auto pl = exact_plane(t.object, t.face);
-          return ExactForm{scaled(Rational(fr.far), pl.n), Rational(-fr.near) * pl.d};
+          return ExactForm{Rational(fr.far) * pl.n, Rational(-fr.near) * pl.d};
         },
         exact_point);
     if (before_far != sigma) return Sign::Zero;
@@ -229,11 +215,11 @@ struct PixelReferenceTracer::Impl {
     const Sign s = perturbed_sign(
         Predicate::RayHit, stats, p.approx(),
         [&] {
-          return BoundedForm{scaled(t1.plane.d, t2.plane.n) - scaled(t2.plane.d, t1.plane.n), BoundedDouble(0.0)};
+          return BoundedForm{t1.plane.d * t2.plane.n - t2.plane.d * t1.plane.n, BoundedDouble(0.0)};
         },
         [&] {
           const auto p1 = exact_plane(t1.object, t1.face), p2 = exact_plane(t2.object, t2.face);
-          return ExactForm{scaled(p1.d, p2.n) - scaled(p2.d, p1.n), Rational(0)};
+          return ExactForm{p1.d * p2.n - p2.d * p1.n, Rational(0)};
         },
         [&]() -> const RationalVec3& { return p.exact(); });
     if (s == Sign::Zero) return std::make_pair(t1.object, t1.face) < std::make_pair(t2.object, t2.face);
@@ -325,19 +311,19 @@ struct PixelReferenceTracer::Impl {
       const Sign s = perturbed_sign(
           Predicate::ShadowCrossing, stats, p.approx(),
           [&] {
-            return BoundedForm{scaled(q.plane.d, lt.g[e]) + scaled(lt.g0[e], q.plane.n), BoundedDouble(0.0)};
+            return BoundedForm{q.plane.d * lt.g[e] + lt.g0[e] * q.plane.n, BoundedDouble(0.0)};
           },
           [&] {
             const auto pq = exact_plane(q.object, q.face);
             const Vec3<Rational> g = exact_g(lt, e);
             const Rational g0 = -dot(g, cs.exact_light(light));
-            return ExactForm{scaled(pq.d, g) + scaled(g0, pq.n), Rational(0)};
+            return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
           },
           exact_point);
       if (s == Sign::Zero || (e > 0 && s != first)) return false;
       first = s;
     }
-    const BoundedDouble side_value = dot(scaled(q.plane.d, lt.plane.n) - scaled(lt.plane.d, q.plane.n), p.approx());
+    const BoundedDouble side_value = dot(q.plane.d * lt.plane.n - lt.plane.d * q.plane.n, p.approx());
     Sign side;
     if (const auto s = side_value.sign(); s && *s != Sign::Zero) {
       if (stats) stats->record(Predicate::ShadowCrossing, false);
@@ -347,7 +333,7 @@ struct PixelReferenceTracer::Impl {
     } else {
       if (stats) stats->record(Predicate::ShadowCrossing, true);
       const auto pq = exact_plane(q.object, q.face), pt = exact_plane(lt.object, lt.face);
-      side = perturbed_sign(ExactForm{scaled(pq.d, pt.n) - scaled(pt.d, pq.n), Rational(0)}, p.exact());
+      side = perturbed_sign(ExactForm{pq.d * pt.n - pt.d * pq.n, Rational(0)}, p.exact());
     }
     return side * hit.sigma == -lt.light_side;
   }
@@ -377,7 +363,7 @@ struct PixelReferenceTracer::Impl {
     out.face = q.face;
     CentralGrid::EntryRange shadow_candidates = light_grid->all();
     if (accelerated && std::isfinite(hit->t.e)) {
-      const BoundedVec3 qpos = scaled(hit->t, p.approx());
+      const BoundedVec3 qpos = hit->t * p.approx();
       shadow_candidates = light_candidates(qpos);
     }
     std::uint32_t count = 0;

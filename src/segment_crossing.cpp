@@ -71,20 +71,24 @@ std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_
   return count;
 }
 
-SamplePoint pixel_centre(const Frustum& fr, int width, int height, int i, int j) {
-  SamplePoint s;
+BoundedVec3 pixel_centre_estimate(const Frustum& fr, int width, int height, int i, int j) {
   // x = left + (2i + 1) (right - left) / (2W): the integers are exact doubles.
   const BoundedDouble two_w(2.0 * width), two_h(2.0 * height);
-  s.approx.x = BoundedDouble(fr.left) +
-               BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w;
-  s.approx.y = BoundedDouble(fr.bottom) +
-               BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h;
-  s.approx.z = BoundedDouble(-fr.near);
-  s.exact.x = Rational(fr.left) + Rational(2 * i + 1) * (Rational(fr.right) - Rational(fr.left)) / Rational(2 * width);
-  s.exact.y =
-      Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height);
-  s.exact.z = Rational(-fr.near);
-  return s;
+  return {BoundedDouble(fr.left) +
+              BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w,
+          BoundedDouble(fr.bottom) +
+              BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h,
+          BoundedDouble(-fr.near)};
+}
+
+RationalVec3 pixel_centre_exact(const Frustum& fr, int width, int height, int i, int j) {
+  return {Rational(fr.left) + Rational(2 * i + 1) * (Rational(fr.right) - Rational(fr.left)) / Rational(2 * width),
+          Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height),
+          Rational(-fr.near)};
+}
+
+SamplePoint pixel_centre(const Frustum& fr, int width, int height, int i, int j) {
+  return {pixel_centre_estimate(fr, width, height, i, j), pixel_centre_exact(fr, width, height, i, j)};
 }
 
 }  // namespace nearcap

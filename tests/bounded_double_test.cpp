@@ -3,8 +3,8 @@
 // |X - v| <= e (up to the documented slack of the bound's own rounding), and
 // sign() answers only with X's exact sign.  Inputs include subnormals, zeros,
 // huge values, inputs that are themselves uncertain, and chains of operations
-// that cancel.  (certified_arithmetic_test.cpp covers moderate exact inputs,
-// division and determinants.)
+// that cancel; division by a certainly non-zero divisor; determinants of
+// nearly parallel vectors (the case the filters exist for).
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -14,6 +14,7 @@
 
 #include "nearcap/bounded_double.hpp"
 #include "nearcap/rational.hpp"
+#include "nearcap/vec3.hpp"
 
 namespace nearcap {
 namespace {
@@ -194,6 +195,39 @@ TEST(BoundedDoubleSign, CompoundAssignmentMatchesTheOperators) {
   EXPECT_EQ(d.e, d2.e);
   EXPECT_EQ(m.v, m2.v);
   EXPECT_EQ(m.e, m2.e);
+}
+
+RC_GTEST_PROP(BoundedDoubleRange, DivisionEnclosesTheExactQuotient, ()) {
+  const double a = *moderate_double(), b = *moderate_double();
+  RC_PRE(b != 0.0);
+  const Rational exact = Rational(a) / Rational(b);
+  const BoundedDouble q = BoundedDouble(a) / BoundedDouble(b);
+  RC_ASSERT(encloses(q, exact));
+  RC_ASSERT(sign_is_sound(q, exact));
+}
+
+RC_GTEST_PROP(BoundedDoubleRange, DeterminantSignIsNeverWrong, ()) {
+  // Nearly parallel rows: the second is the first scaled, plus a tiny nudge.
+  const double x = *moderate_double(), y = *moderate_double(), z = *moderate_double();
+  const int scale_exp = *rc::gen::inRange(-3, 4);
+  const double nudge = std::ldexp(static_cast<double>(*rc::gen::inRange(-2, 3)), *rc::gen::inRange(-60, -20));
+  const Vec3<double> u{x, y, z};
+  const Vec3<double> v{std::ldexp(x, scale_exp) + nudge, std::ldexp(y, scale_exp), std::ldexp(z, scale_exp)};
+  const Vec3<double> w{*moderate_double(), *moderate_double(), *moderate_double()};
+  const Vec3<BoundedDouble> bu(u), bv(v), bw(w);
+  const BoundedDouble det = dot(cross(bu, bv), bw);
+  const Rational exact = dot(cross(to_rational(u), to_rational(v)), to_rational(w));
+  RC_ASSERT(encloses(det, exact));
+  RC_ASSERT(sign_is_sound(det, exact));
+  RC_CLASSIFY(!det.sign().has_value(), "undecided (would go exact)");
+}
+
+TEST(BoundedDoubleSign, UncertainValuesCarryTheirErrorThroughProducts) {
+  const BoundedDouble x(1.0, 0.5);  // somewhere in [0.5, 1.5]
+  EXPECT_FALSE((x * x - BoundedDouble(1.0)).sign().has_value()) << "x^2 - 1 has both signs on [0.5, 1.5]";
+  const auto s = (x * x + BoundedDouble(1.0)).sign();
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(*s, Sign::Positive);
 }
 
 }  // namespace

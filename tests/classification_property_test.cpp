@@ -13,42 +13,39 @@
 namespace nearcap {
 namespace {
 
-std::optional<Scene> try_parse(const std::string& json) {
-  try {
-    return parse_scene(json, "random", ".");
-  } catch (const Error&) {
-    return std::nullopt;
+// Same silhouette edges, in the same order, with the same exact cases.
+void assert_same_edges(const ObjectClassification& a, const ObjectClassification& b) {
+  RC_ASSERT(a.edges.size() == b.edges.size());
+  for (std::size_t e = 0; e < a.edges.size(); ++e) {
+    RC_ASSERT(a.edges[e].edge.a == b.edges[e].edge.a);
+    RC_ASSERT(a.edges[e].edge.d == b.edges[e].edge.d);
+    RC_ASSERT(a.edges[e].exact == b.edges[e].exact);
+  }
+}
+
+void assert_same_classification(const SceneClassification& a, const SceneClassification& b) {
+  RC_ASSERT(a.lights.size() == b.lights.size());
+  for (std::size_t k = 0; k < a.lights.size(); ++k) {
+    RC_ASSERT(a.lights[k].light_in_near_plane == b.lights[k].light_in_near_plane);
+    RC_ASSERT(a.lights[k].objects.size() == b.lights[k].objects.size());
+    for (std::size_t o = 0; o < a.lights[k].objects.size(); ++o)
+      assert_same_edges(a.lights[k].objects[o], b.lights[k].objects[o]);
   }
 }
 
 RC_GTEST_PROP(Classification, InvariantUnderExactTranslation, ()) {
   const test::RandomSceneParams params = *test::random_scene_params();
-  const std::array<int, 3> offset{*rc::gen::inRange(-4096 * 16, 4096 * 16), *rc::gen::inRange(-4096 * 16, 4096 * 16),
-                                  *rc::gen::inRange(-4096 * 16, 4096 * 16)};
-  const auto a = try_parse(test::random_scene_json(params));
+  const std::array<int, 3> offset = *test::dyadic_offset16(4096);
+  const auto a = test::try_parse_scene(test::random_scene_json(params));
   RC_PRE(a.has_value());
-  const auto b = try_parse(test::random_scene_json(params, offset));
+  const auto b = test::try_parse_scene(test::random_scene_json(params, offset));
   RC_ASSERT(b.has_value());
   const CameraSpaceScene csa(*a), csb(*b);
-  const SceneClassification ca = classify_scene(csa), cb = classify_scene(csb);
-  RC_ASSERT(ca.lights.size() == cb.lights.size());
-  for (std::size_t k = 0; k < ca.lights.size(); ++k) {
-    RC_ASSERT(ca.lights[k].objects.size() == cb.lights[k].objects.size());
-    for (std::size_t o = 0; o < ca.lights[k].objects.size(); ++o) {
-      const auto& ea = ca.lights[k].objects[o].edges;
-      const auto& eb = cb.lights[k].objects[o].edges;
-      RC_ASSERT(ea.size() == eb.size());
-      for (std::size_t e = 0; e < ea.size(); ++e) {
-        RC_ASSERT(ea[e].edge.a == eb[e].edge.a);
-        RC_ASSERT(ea[e].edge.d == eb[e].edge.d);
-        RC_ASSERT(ea[e].exact == eb[e].exact);
-      }
-    }
-  }
+  assert_same_classification(classify_scene(csa), classify_scene(csb));
 }
 
 RC_GTEST_PROP(Classification, CaseCountsAddUp, ()) {
-  const auto s = try_parse(test::random_scene_json(*test::random_scene_params()));
+  const auto s = test::try_parse_scene(test::random_scene_json(*test::random_scene_params()));
   RC_PRE(s.has_value());
   const CameraSpaceScene cs(*s);
   const SceneClassification c = classify_scene(cs);
@@ -106,7 +103,7 @@ void check_reversal(const SceneClassification& c, const CameraSpaceScene& cs) {
 }
 
 RC_GTEST_PROP(Classification, ReversedEdgeHasTheSameCase, ()) {
-  const auto s = try_parse(test::random_scene_json(*test::random_scene_params()));
+  const auto s = test::try_parse_scene(test::random_scene_json(*test::random_scene_params()));
   RC_PRE(s.has_value());
   const CameraSpaceScene cs(*s);
   const SceneClassification c = classify_scene(cs);
@@ -116,7 +113,7 @@ RC_GTEST_PROP(Classification, ReversedEdgeHasTheSameCase, ()) {
 }
 
 RC_GTEST_PROP(ClassificationTorus, ReversalAndCountsOnRandomTori, ()) {
-  const auto s = try_parse(torus_scene_json(*test::random_scene_params(), *rc::gen::inRange(2, 9)));
+  const auto s = test::try_parse_scene(torus_scene_json(*test::random_scene_params(), *rc::gen::inRange(2, 9)));
   RC_PRE(s.has_value());
   const CameraSpaceScene cs(*s);
   const SceneClassification c = classify_scene(cs);
@@ -133,21 +130,15 @@ RC_GTEST_PROP(ClassificationTorus, InvariantUnderExactTranslation, ()) {
   // sixteenths of everything still cancels exactly in view * object_to_world.
   const test::RandomSceneParams params = *test::random_scene_params();
   const int scale8 = *rc::gen::inRange(2, 9);
-  const std::array<int, 3> offset{*rc::gen::inRange(-4096 * 16, 4096 * 16), *rc::gen::inRange(-4096 * 16, 4096 * 16),
-                                  *rc::gen::inRange(-4096 * 16, 4096 * 16)};
-  const auto a = try_parse(torus_scene_json(params, scale8));
+  const std::array<int, 3> offset = *test::dyadic_offset16(4096);
+  const auto a = test::try_parse_scene(torus_scene_json(params, scale8));
   RC_PRE(a.has_value());
-  const auto b = try_parse(torus_scene_json(params, scale8, offset));
+  const auto b = test::try_parse_scene(torus_scene_json(params, scale8, offset));
   RC_ASSERT(b.has_value());
   const CameraSpaceScene csa(*a), csb(*b);
   const ObjectClassification ca = classify_object_exact(csa, 0, 0, nullptr);
   const ObjectClassification cb = classify_object_exact(csb, 0, 0, nullptr);
-  RC_ASSERT(ca.edges.size() == cb.edges.size());
-  for (std::size_t e = 0; e < ca.edges.size(); ++e) {
-    RC_ASSERT(ca.edges[e].edge.a == cb.edges[e].edge.a);
-    RC_ASSERT(ca.edges[e].edge.d == cb.edges[e].edge.d);
-    RC_ASSERT(ca.edges[e].exact == cb.edges[e].exact);
-  }
+  assert_same_edges(ca, cb);
   RC_ASSERT(ca.case_counts == cb.case_counts);
 }
 
@@ -173,7 +164,7 @@ rc::Gen<test::RandomSceneParams> near_plane_scene_params() {
 }
 
 RC_GTEST_PROP(Classification, ReversedEdgeHasTheSameCaseNearTheNearPlane, ()) {
-  const auto s = try_parse(test::random_scene_json(*near_plane_scene_params()));
+  const auto s = test::try_parse_scene(test::random_scene_json(*near_plane_scene_params()));
   RC_PRE(s.has_value());
   const CameraSpaceScene cs(*s);
   const SceneClassification c = classify_scene(cs);
@@ -185,26 +176,14 @@ RC_GTEST_PROP(Classification, ReversedEdgeHasTheSameCaseNearTheNearPlane, ()) {
 
 RC_GTEST_PROP(Classification, InvariantUnderExactTranslationNearTheNearPlane, ()) {
   const test::RandomSceneParams params = *near_plane_scene_params();
-  const std::array<int, 3> offset{*rc::gen::inRange(-1024 * 16, 1024 * 16), *rc::gen::inRange(-1024 * 16, 1024 * 16),
-                                  *rc::gen::inRange(-1024 * 16, 1024 * 16)};
-  const auto a = try_parse(test::random_scene_json(params));
+  const std::array<int, 3> offset = *test::dyadic_offset16(1024);
+  const auto a = test::try_parse_scene(test::random_scene_json(params));
   RC_PRE(a.has_value());
-  const auto b = try_parse(test::random_scene_json(params, offset));
+  const auto b = test::try_parse_scene(test::random_scene_json(params, offset));
   RC_ASSERT(b.has_value());
   const CameraSpaceScene csa(*a), csb(*b);
   const SceneClassification ca = classify_scene(csa), cb = classify_scene(csb);
-  RC_ASSERT(ca.lights[0].light_in_near_plane == cb.lights[0].light_in_near_plane);
-  RC_ASSERT(ca.lights[0].objects.size() == cb.lights[0].objects.size());
-  for (std::size_t o = 0; o < ca.lights[0].objects.size(); ++o) {
-    const auto& ea = ca.lights[0].objects[o].edges;
-    const auto& eb = cb.lights[0].objects[o].edges;
-    RC_ASSERT(ea.size() == eb.size());
-    for (std::size_t e = 0; e < ea.size(); ++e) {
-      RC_ASSERT(ea[e].edge.a == eb[e].edge.a);
-      RC_ASSERT(ea[e].edge.d == eb[e].edge.d);
-      RC_ASSERT(ea[e].exact == eb[e].exact);
-    }
-  }
+  assert_same_classification(ca, cb);
   RC_CLASSIFY(ca.lights[0].light_in_near_plane, "light in the near plane");
 }
 

@@ -23,16 +23,8 @@ bool same(const PixelSample& a, const PixelSample& b) {
   return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
 }
 
-std::optional<Scene> try_parse(const std::string& json) {
-  try {
-    return parse_scene(json, "random", ".");
-  } catch (const Error&) {
-    return std::nullopt;
-  }
-}
-
 RC_GTEST_PROP(PixelReference, GridsAgreeWithBruteForce, ()) {
-  const auto scene = try_parse(test::random_scene_json(*test::random_scene_params()));
+  const auto scene = test::try_parse_scene(test::random_scene_json(*test::random_scene_params()));
   RC_PRE(scene.has_value());
   const CameraSpaceScene cs(*scene);
   const PixelReferenceTracer tracer(cs, 0);
@@ -43,11 +35,10 @@ RC_GTEST_PROP(PixelReference, GridsAgreeWithBruteForce, ()) {
 
 RC_GTEST_PROP(PixelReference, InvariantUnderExactTranslation, ()) {
   const test::RandomSceneParams params = *test::random_scene_params();
-  const std::array<int, 3> offset{*rc::gen::inRange(-1024 * 16, 1024 * 16), *rc::gen::inRange(-1024 * 16, 1024 * 16),
-                                  *rc::gen::inRange(-1024 * 16, 1024 * 16)};
-  const auto a = try_parse(test::random_scene_json(params));
+  const std::array<int, 3> offset = *test::dyadic_offset16(1024);
+  const auto a = test::try_parse_scene(test::random_scene_json(params));
   RC_PRE(a.has_value());
-  const auto b = try_parse(test::random_scene_json(params, offset));
+  const auto b = test::try_parse_scene(test::random_scene_json(params, offset));
   RC_ASSERT(b.has_value());
   const CameraSpaceScene csa(*a), csb(*b);
   const PixelReference ra = compute_pixel_reference(csa, 0), rb = compute_pixel_reference(csb, 0);

@@ -6,8 +6,12 @@
 #include <rapidcheck.h>
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "nearcap/error.hpp"
+#include "nearcap/scene.hpp"
 
 namespace nearcap::test {
 
@@ -74,6 +78,23 @@ inline std::string random_scene_json(const RandomSceneParams& p, const std::arra
   j["objects"].push_back(
       {{"mesh", unit_box_path()}, {"translate", v16({0, -8 * 16 - 24, 0})}, {"scale", 16}, {"occluder", false}});
   return j.dump();
+}
+
+// The scene, or nothing when it is rejected (e.g. a light inside a box).
+inline std::optional<Scene> try_parse_scene(const std::string& json) {
+  try {
+    return parse_scene(json, "random", ".");
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
+// An exactly representable offset, in sixteenths, of at most `limit` units.
+inline rc::Gen<std::array<int, 3>> dyadic_offset16(int limit) {
+  return rc::gen::exec([limit] {
+    return std::array<int, 3>{*rc::gen::inRange(-limit * 16, limit * 16), *rc::gen::inRange(-limit * 16, limit * 16),
+                              *rc::gen::inRange(-limit * 16, limit * 16)};
+  });
 }
 
 }  // namespace nearcap::test

@@ -23,7 +23,6 @@ namespace nearcap::test {
 
 using Form = AffineForm<Rational>;
 inline Form linear(const RationalVec3& h) { return {h, Rational(0)}; }
-inline RationalVec3 scaled(const Rational& s, const RationalVec3& v) { return {s * v.x, s * v.y, s * v.z}; }
 
 struct SideCrossings {
   int signed_sum = 0;
@@ -48,8 +47,8 @@ inline SideCrossings side_crossings(const CameraSpaceScene& cs, const std::vecto
       const Sign sigma = perturbed_sign(linear(n_s), P);
       const Sign s2 = perturbed_sign(linear(cross(a, d)), P);
       const Rational nl = dot(n_s, l);
-      const Sign beyond_p = perturbed_sign(Form{scaled(Rational(-1), n_s), nl}, P);
-      const Sign before_q = perturbed_sign(linear(scaled(nl, n_q) - scaled(d_q, n_s)), P);
+      const Sign beyond_p = perturbed_sign(Form{Rational(-1) * n_s, nl}, P);
+      const Sign before_q = perturbed_sign(linear(nl * n_q - d_q * n_s), P);
       if (s1 == Sign::Zero || s2 == Sign::Zero || s3 == Sign::Zero || sigma == Sign::Zero || beyond_p == Sign::Zero ||
           before_q == Sign::Zero) {
         out.degenerate = true;

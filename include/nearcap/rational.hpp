@@ -8,8 +8,11 @@
 
 #include <gmpxx.h>
 
+#include <cmath>
+#include <limits>
 #include <string>
 
+#include "nearcap/bounded_double.hpp"
 #include "nearcap/sign.hpp"
 #include "nearcap/vec3.hpp"
 
@@ -22,5 +25,10 @@ inline Vec3<Rational> to_rational(const Vec3d& p) { return {Rational(p.x), Ratio
 // "p/q" in lowest terms ("3/4", "-5", "0").
 inline std::string to_string(const Rational& q) { return q.get_str(); }
 inline double to_double(const Rational& q) { return q.get_d(); }  // truncation toward zero (GMP)
+// A certified estimate of q: get_d truncates, so the error is below one ulp.
+inline BoundedDouble bounded_estimate(const Rational& q) {
+  const double v = q.get_d();
+  return BoundedDouble(v, std::fabs(v) * 0x1p-52 + std::numeric_limits<double>::denorm_min());
+}
 
 }  // namespace nearcap

@@ -43,5 +43,8 @@ std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_
 // row j from the bottom; x = left + (i + 1/2)/W (right - left), y likewise,
 // z = -near.  Exact and certified estimate.
 SamplePoint pixel_centre(const Frustum& frustum, int width, int height, int i, int j);
+// Its two halves, for callers that want the rational only on demand.
+BoundedVec3 pixel_centre_estimate(const Frustum& frustum, int width, int height, int i, int j);
+RationalVec3 pixel_centre_exact(const Frustum& frustum, int width, int height, int i, int j);
 
 }  // namespace nearcap

@@ -19,9 +19,6 @@ void register_reference(CLI::App& app);
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);
 
-// Writes `content` to `path` atomically (temporary file, then rename).
-void write_file_atomically(const std::string& path, const std::string& content);
-
 // Several outputs of one command: every file is written to a temporary first,
 // and only when all succeeded are they renamed into place.
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);

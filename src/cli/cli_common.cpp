@@ -14,25 +14,6 @@ void check_light_index(const Scene& scene, std::size_t light) {
                                       " light(s))");
 }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp-nearcap";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(ErrorKind::Io, path + ": cannot write the output file");
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw Error(ErrorKind::Io, path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error(ErrorKind::Io, path + ": cannot move the output into place: " + ec.message());
-  }
-}
-
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
   // All temporaries first: a failure before the renames leaves no output.
   std::vector<std::string> temporaries;

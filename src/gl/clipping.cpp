@@ -1,15 +1,19 @@
 // Homogeneous clipping (see clipping.hpp).
 #include "nearcap/gl/clipping.hpp"
 
+#include <algorithm>
+
 namespace nearcap::gl {
 namespace {
 
-enum class Plane { Near, Far, Left, Right, Bottom, Top };
+enum class Plane { Near, WMin, Far, Left, Right, Bottom, Top };
 
-float distance(const Vec4f& v, Plane p, float g) {
+float distance(const Vec4f& v, Plane p, float g, float w_min) {
   switch (p) {
     case Plane::Near:
       return v.z + v.w;
+    case Plane::WMin:
+      return v.w - w_min;
     case Plane::Far:
       return v.w - v.z;
     case Plane::Left:
@@ -28,13 +32,13 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
   return {in.x + t * (out.x - in.x), in.y + t * (out.y - in.y), in.z + t * (out.z - in.z), in.w + t * (out.w - in.w)};
 }
 
-std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g) {
+std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
   for (std::size_t k = 0; k < n; ++k) {
     const Vec4f& a = poly[k];
     const Vec4f& b = poly[(k + 1) % n];
-    const float da = distance(a, p, g), db = distance(b, p, g);
+    const float da = distance(a, p, g, w_min), db = distance(b, p, g, w_min);
     const bool a_in = da >= 0, b_in = db >= 0;
     if (a_in) out.push_back(a);
     if (a_in != b_in) {
@@ -52,11 +56,18 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
 
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
   std::vector<Vec4f> poly{a, b, c};
-  std::vector<Plane> planes{Plane::Near};
+  std::vector<Plane> planes{settings.clip_near ? Plane::Near : Plane::WMin};
   if (settings.clip_far) planes.push_back(Plane::Far);
   for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes.push_back(p);
+  // Trivial accept: no plane separates any vertex (the common case).
+  const bool all_inside = std::all_of(planes.begin(), planes.end(), [&](Plane p) {
+    return distance(a, p, settings.guard_band, settings.w_min) >= 0 &&
+           distance(b, p, settings.guard_band, settings.w_min) >= 0 &&
+           distance(c, p, settings.guard_band, settings.w_min) >= 0;
+  });
+  if (all_inside) return poly;
   for (Plane p : planes) {
-    poly = clip_against(poly, p, settings.guard_band);
+    poly = clip_against(poly, p, settings.guard_band, settings.w_min);
     if (poly.size() < 3) return {};
   }
   return poly;

@@ -2,7 +2,8 @@
 // it, in float32.
 //
 // Planes, as distances d(v) >= 0 inside: near z + w, far w - z (left out with
-// depth clamp or an infinite far plane), and a guard band |x|, |y| <= g w
+// an infinite far plane, where w - z is exactly 0 at infinity, or with depth
+// clamp), and a guard band |x|, |y| <= g w
 // (g = 1 clips to the view volume; hardware uses a wide band so that x and y
 // are rarely clipped).  Sutherland-Hodgman, one plane after the other; an
 // intersection is interpolated from the INSIDE vertex towards the outside one
@@ -17,8 +18,13 @@
 namespace nearcap::gl {
 
 struct ClipSettings {
-  bool clip_far = true;     // false: depth clamp or infinite far plane
+  bool clip_far = true;     // false: depth clamp
   float guard_band = 8192;  // in NDC units; x and y clipped at |x| <= guard_band * w
+  // false: depth clamp (GL_DEPTH_CLAMP disables near and far clipping).  The
+  // divide still needs w > 0, so the plane w >= w_min takes the near plane's
+  // place; fragments in front of the near plane get depth 0 after clamping.
+  bool clip_near = true;
+  float w_min = 1e-6f;
 };
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.

@@ -11,11 +11,23 @@
 // coordinates depends on the framebuffer's orientation, so it is a setting
 // (checked against the real renderer later).  Depth is interpolated linearly
 // in window space from the three z values.
+//
+// Coverage is found row by row: on pixel row j each edge function is affine in
+// the column i, so the covered columns form one span computed exactly in
+// integers (no per-pixel test outside the triangle).  The cost is O(rows +
+// covered pixels) per triangle, which matters for long shadow-volume sides.
+// Snapped coordinates must stay below 2^30 in magnitude (products of
+// differences then fit in 64 bits); the clipper's guard band keeps them there
+// (pipeline.hpp), and a violation is an internal check failure.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+
+#include "nearcap/check.hpp"
 
 namespace nearcap::gl {
 
@@ -39,8 +51,113 @@ struct Fragment {
   bool front = true;
 };
 
-// Calls `emit` for every covered pixel of the triangle inside [0, width) x
-// [0, height).  Returns false when the triangle was dropped (zero snapped area).
+// The largest snapped coordinate magnitude the rasterizer accepts.
+inline constexpr std::int64_t kMaxFixedCoordinate = std::int64_t{1} << 30;
+
+namespace detail {
+
+struct FixedPoint {
+  std::int64_t x, y;
+};
+
+inline std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
+  const std::int64_t q = n / d;
+  return (n % d != 0 && n < 0) ? q - 1 : q;
+}
+inline std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }  // d > 0
+
+inline FixedPoint snap(const WindowVertex& v, int bits) {
+  const float scale = static_cast<float>(1 << bits);
+  // lrintf: round to nearest (even) under the default rounding mode, as
+  // llvmpipe's setup does with its float-to-fixed conversion.
+  const FixedPoint p{std::lrintf(v.x * scale), std::lrintf(v.y * scale)};
+  NEARCAP_CHECK(p.x > -kMaxFixedCoordinate && p.x < kMaxFixedCoordinate);
+  NEARCAP_CHECK(p.y > -kMaxFixedCoordinate && p.y < kMaxFixedCoordinate);
+  return p;
+}
+
+// Is the directed edge a -> b (of a counter-clockwise triangle, y up: the
+// interior on its left) included when a pixel centre lies exactly on it?
+inline bool edge_included(const FixedPoint& a, const FixedPoint& b, FillRule rule) {
+  const std::int64_t dx = b.x - a.x, dy = b.y - a.y;
+  const bool left = dy < 0;                                           // going down: the interior is to its right (+x)
+  if (rule == FillRule::TopLeft) return left || (dy == 0 && dx < 0);  // horizontal, interior below
+  return left || (dy == 0 && dx > 0);                                 // horizontal, interior above
+}
+
+}  // namespace detail
+
+// The sign of the snapped area: +1 front (counter-clockwise), -1 back, 0 dropped.
+inline int snapped_orientation(const std::array<WindowVertex, 3>& v, int subpixel_bits) {
+  const detail::FixedPoint a = detail::snap(v[0], subpixel_bits), b = detail::snap(v[1], subpixel_bits),
+                           c = detail::snap(v[2], subpixel_bits);
+  const std::int64_t area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+  return (area > 0) - (area < 0);
+}
+
+// Calls `emit(const Fragment&)` for every covered pixel of the triangle inside
+// [0, width) x [0, height), row by row from the bottom, left to right.
+// Returns false when the triangle was dropped (zero snapped area).
+template <class Emit>
+bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, int height,
+                             const RasterSettings& settings, Emit&& emit) {
+  using detail::FixedPoint;
+  const int bits = settings.subpixel_bits;
+  std::array<FixedPoint, 3> p{detail::snap(v[0], bits), detail::snap(v[1], bits), detail::snap(v[2], bits)};
+  std::array<float, 3> z{v[0].z, v[1].z, v[2].z};
+  std::int64_t area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
+  if (area == 0) return false;
+  const bool front = area > 0;
+  if (!front) {  // make it counter-clockwise for coverage
+    std::swap(p[1], p[2]);
+    std::swap(z[1], z[2]);
+    area = -area;
+  }
+  const std::int64_t one = std::int64_t{1} << bits, half = one >> 1;
+  const std::int64_t min_y = std::min({p[0].y, p[1].y, p[2].y}), max_y = std::max({p[0].y, p[1].y, p[2].y});
+  // Pixel j's centre is j * one + half: the candidate rows.
+  const std::int64_t j0 = std::max<std::int64_t>(0, detail::ceil_div(min_y - half, one));
+  const std::int64_t j1 = std::min<std::int64_t>(height - 1, detail::floor_div(max_y - half, one));
+  // Edge k from p[k] to p[k+1]: e_k(i, j) = C_k(j) + B_k i with
+  // B_k = -(b.y - a.y) one and C_k(j) = (b.x - a.x)(py - a.y) - (b.y - a.y)(half - a.x).
+  // A pixel is covered when e_k >= threshold_k for all k (0 if the edge is
+  // included by the fill rule, else 1: the edge functions are integers).
+  std::array<std::int64_t, 3> B, threshold;
+  for (int k = 0; k < 3; ++k) {
+    const FixedPoint& a = p[k];
+    const FixedPoint& b = p[(k + 1) % 3];
+    B[k] = -(b.y - a.y) * one;
+    threshold[k] = detail::edge_included(a, b, settings.fill_rule) ? 0 : 1;
+  }
+  const double inverse_area = 1.0 / static_cast<double>(area);
+  for (std::int64_t j = j0; j <= j1; ++j) {
+    const std::int64_t py = j * one + half;
+    std::int64_t lo = 0, hi = width - 1;
+    std::array<std::int64_t, 3> C;
+    for (int k = 0; k < 3 && lo <= hi; ++k) {
+      const FixedPoint& a = p[k];
+      const FixedPoint& b = p[(k + 1) % 3];
+      C[k] = (b.x - a.x) * (py - a.y) - (b.y - a.y) * (half - a.x);
+      const std::int64_t need = threshold[k] - C[k];  // B i >= need
+      if (B[k] > 0)
+        lo = std::max(lo, detail::ceil_div(need, B[k]));
+      else if (B[k] < 0)
+        hi = std::min(hi, detail::floor_div(-need, -B[k]));
+      else if (need > 0)
+        hi = lo - 1;  // a horizontal edge with the row outside
+    }
+    for (std::int64_t i = lo; i <= hi; ++i) {
+      // Barycentric weight of vertex k is the edge function opposite to it.
+      const double w0 = static_cast<double>(C[1] + B[1] * i), w1 = static_cast<double>(C[2] + B[2] * i),
+                   w2 = static_cast<double>(C[0] + B[0] * i);
+      const double depth = (w0 * z[0] + w1 * z[1] + w2 * z[2]) * inverse_area;
+      emit(Fragment{static_cast<int>(i), static_cast<int>(j), static_cast<float>(depth), front});
+    }
+  }
+  return true;
+}
+
+// The same through a std::function (tests, one-off callers).
 bool rasterize_triangle(const std::array<WindowVertex, 3>& v, int width, int height, const RasterSettings& settings,
                         const std::function<void(const Fragment&)>& emit);
 
