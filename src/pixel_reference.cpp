@@ -300,7 +300,10 @@ struct PixelReferenceTracer::Impl {
 
   // Does the open segment (l, q) cross lt, q the hit on eye triangle `q_tri`?
   bool shadow_crosses(const LightTriangle& lt, const Hit& hit, const PixelPoint& p, FilterStats* stats) const {
-    if (lt.eye_index == hit.eye_index) return false;
+    // q's own triangle: crossed by (l, q-), q- just before q on the view ray,
+    // exactly when the eye sees it from behind (sigma = handedness; lit
+    // triangles face the light, light_side = handedness).
+    if (lt.eye_index == hit.eye_index) return hit.sigma == lt.light_side;
     const EyeTriangle& q = eye[hit.eye_index];
     auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
     // The edge tests first: they reject almost every candidate, and the side

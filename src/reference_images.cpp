@@ -37,7 +37,7 @@ std::string stencil_pgm(const PixelReference& ref) {
   return encode_pgm16(ref.width, ref.height, flip_to_top_first(ref, ref.stencil));
 }
 
-std::string shadow_png(const CameraSpaceScene& cs, const PixelReference& ref) {
+std::vector<std::uint8_t> shadow_rgb(const CameraSpaceScene& cs, const PixelReference& ref) {
   static constexpr std::array<std::array<double, 3>, 6> kPalette{{{0.85, 0.80, 0.70},
                                                                   {0.80, 0.45, 0.30},
                                                                   {0.35, 0.60, 0.80},
@@ -75,7 +75,11 @@ std::string shadow_png(const CameraSpaceScene& cs, const PixelReference& ref) {
         rgb[3 * (row * ref.width + i) + ch] =
             static_cast<std::uint8_t>(std::lround(std::clamp(c[ch], 0.0, 1.0) * 255.0));
     }
-  return encode_png_rgb(ref.width, ref.height, rgb);
+  return rgb;
+}
+
+std::string shadow_png(const CameraSpaceScene& cs, const PixelReference& ref) {
+  return encode_png_rgb(ref.width, ref.height, shadow_rgb(cs, ref));
 }
 
 }  // namespace nearcap

@@ -6,11 +6,10 @@
 // The side of silhouette edge [a, d] (front face (a, d, c)) is the part of plane
 // (l, a, d) inside the wedge at l between a and d, beyond the edge.  The open
 // segment (p, q) lies on the view ray x = t P, 1 < t < t_q, so each test is a
-// linear form in P under the reference's perturbation.  One correction: when
-// the camera is inside an occluder and sees q on the inner side of a
-// light-front-facing triangle, q sits on that triangle's own shadow-volume
-// boundary, which the stencil definition excludes: the identity then reads
-// stencil = cap + sides - 1.
+// linear form in P under the reference's perturbation.  The stencil counts the
+// volumes the point just before q lies in, so the identity holds as written
+// also when the camera is inside an occluder and sees the inner side of a lit
+// face.
 #pragma once
 
 #include "nearcap/classification.hpp"
@@ -105,20 +104,13 @@ inline IdentityReport check_zpass_identity(const Scene& scene) {
         ++report.degenerate;
         continue;
       }
-      // When the eye sees q's triangle from its inner side (the camera inside
-      // an occluder) and that triangle faces the light, q lies on the boundary
-      // of that triangle's own shadow volume, reached from inside: the open
-      // segment never crosses it, but stencil excludes q's triangle.
-      const Rational d_q = dot(n_q, a);
-      const bool seen_from_inside = sign_of(d_q) == cs.handedness(o);
-      const int own_cap = (scene.objects[o].occluder && facing[o][s.face] == Facing::Front && seen_from_inside) ? 1 : 0;
       ++report.checked;
       report.nonzero_cap += s.cap > 0;
       report.shadowed += *s.stencil > 0;
-      if (static_cast<long>(*s.stencil) != static_cast<long>(s.cap) + sides.signed_sum - own_cap) {
+      if (static_cast<long>(*s.stencil) != static_cast<long>(s.cap) + sides.signed_sum) {
         report.holds = false;
         report.failure = where + ": stencil " + std::to_string(*s.stencil) + " vs cap " + std::to_string(s.cap) +
-                         " + sides " + std::to_string(sides.signed_sum) + " - own cap " + std::to_string(own_cap);
+                         " + sides " + std::to_string(sides.signed_sum);
         return report;
       }
     }

@@ -8,8 +8,13 @@
 //   stencil(i, j) = with q the first surface point seen through p (beyond the
 //                   near plane, before the far plane; occluders and receivers
 //                   alike), the number of light-front-facing occluder triangles
-//                   crossed by the open segment (l, q), q's own triangle
-//                   excluded.  The pixel is in shadow when stencil > 0.
+//                   crossed by the segment from l to q-, the point just before q
+//                   on the view ray: the number of shadow volumes q- lies in.
+//                   So q's own triangle counts exactly when the eye sees it from
+//                   behind (the camera inside an occluder looking at the inner
+//                   side of a lit face: the inside of an opaque body is dark, and
+//                   every stencil method counts it so).  The pixel is in shadow
+//                   when stencil > 0.
 //
 // Degeneracies: p is perturbed symbolically (perturbation.hpp: first away from
 // the camera, then +x, then +y), and every test below is the sign of an affine

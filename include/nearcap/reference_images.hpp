@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "nearcap/camera_space.hpp"
 #include "nearcap/pixel_reference.hpp"
@@ -22,5 +23,7 @@ inline constexpr std::uint16_t kPgmSaturated = 65534;
 std::string cap_pgm(const PixelReference& ref);
 std::string stencil_pgm(const PixelReference& ref);
 std::string shadow_png(const CameraSpaceScene& scene, const PixelReference& ref);
+// shadow.png's pixels: 8-bit RGB, top row first.
+std::vector<std::uint8_t> shadow_rgb(const CameraSpaceScene& scene, const PixelReference& ref);
 
 }  // namespace nearcap

@@ -15,6 +15,7 @@ namespace nearcap::cli {
 void register_classify(CLI::App& app);
 void register_cap(CLI::App& app);
 void register_reference(CLI::App& app);
+void register_cracks(CLI::App& app);
 
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);

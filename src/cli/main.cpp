@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_classify(app);
   nearcap::cli::register_cap(app);
   nearcap::cli::register_reference(app);
+  nearcap::cli::register_cracks(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

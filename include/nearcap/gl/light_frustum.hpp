@@ -1,0 +1,74 @@
+// nearcap/gl/light_frustum.hpp — ZP+'s light frustum (section 3.1 and 3.2 of
+// the paper): the modelview M_l and the projection P_l through which the
+// near-cap is rasterized, so that the light frustum's far rectangle is the
+// camera's near rectangle.
+//
+// All in camera space, float32, as an application computes them:
+//   Delta   = the light in camera space, view * light (float32 GLM product);
+//   alpha   = +1 when the light is on the camera's side of the near plane
+//             (Delta.z + near > 0), -1 on the other side; ON the plane there
+//             is no light frustum (l_far = 0) and ZP+ must fall back to Z-fail;
+//   l_far   = alpha (Delta.z + near), the light's distance to the near plane;
+//   M_l     = R_alpha T(-Delta): translation to the light, then the 180-degree
+//             rotation about the up axis when alpha = -1 (R = diag(alpha, 1, alpha));
+//   l_near  = l_far d / d_max (section 3.2; d = distance from the light to the
+//             nearest occluder, d_max = largest distance from the light to a
+//             corner of the near rectangle), times a scale (1 = the paper);
+//   P_l     = a named formulation (LightProjection).
+// The paper writes P_l for a near rectangle centred on the view axis; for an
+// off-centre frustum Delta.x and Delta.y are taken relative to the rectangle's
+// centre ((left + right) / 2, (bottom + top) / 2), which is the same matrix
+// when the frustum is centred.  Either way the light's NDC x and y of a point
+// of the near rectangle equal the camera's, so both passes share a viewport.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "nearcap/gl/float_transforms.hpp"
+#include "nearcap/scene.hpp"
+
+namespace nearcap::gl {
+
+// How P_l is formed.
+enum class LightProjection {
+  Paper,      // section 3.1's matrix, entries computed directly in float32
+  GlFrustum,  // glFrustum(l, r, b, t, l_near, l_far) of the same pyramid, computed in double, rounded
+};
+std::string_view to_string(LightProjection p);  // "paper", "glfrustum"
+
+// How l_near is chosen.
+enum class LightNearRule {
+  PaperRatio,  // l_far * d / d_max (section 3.2)
+};
+std::string_view to_string(LightNearRule r);  // "paper-ratio"
+
+struct LightFrustumChoice {
+  LightProjection projection = LightProjection::Paper;
+  LightNearRule near_rule = LightNearRule::PaperRatio;
+  double near_scale = 1.0;  // l_near multiplied by this (tuned by the analysis)
+};
+
+struct LightFrustum {
+  bool defined = false;  // false: the light lies in the near plane (float test), or l_near is not positive
+  std::string undefined_reason;
+  int alpha = 1;
+  Vec4f delta;  // the light in camera space (w = 1)
+  float l_near = 0, l_far = 0;
+  double d = 0, d_max = 0;
+  Mat4f modelview;   // M_l: camera space -> light frame
+  Mat4f projection;  // P_l
+};
+
+// The light frustum of light `light` for the scene's camera and occluders.
+LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFrustumChoice& choice);
+
+// The light's camera-space position in float32, as an application computes it
+// (view rounded to float32, times the light rounded to float32).
+Vec4f light_in_camera_space(const Scene& scene, std::size_t light);
+
+// The distance from point p (world space) to the nearest occluder triangle, in double.
+double distance_to_occluders(const Scene& scene, const Vec3d& p);
+
+}  // namespace nearcap::gl

@@ -1,0 +1,110 @@
+// nearcap/gl/pipeline.hpp — the fixed-function back end of a GL pipeline in
+// software: clipping, perspective divide, viewport, rasterization, depth test
+// and stencil, on a framebuffer of one depth buffer, one 8-bit stencil buffer
+// and one object-id buffer (the "colour" of the depth pre-pass).
+//
+// Everything after the vertex stage follows the GL rules as far as they fix
+// the result: homogeneous clipping (clipping.hpp), x_w = (x/w + 1) (W/2),
+// y_w = (y/w + 1) (H/2), z_w = (z/w) / 2 + 1/2 (glDepthRange(0, 1)), each a
+// float32 operation in that order; every fragment's depth is clamped to
+// [0, 1] before the test (with depth clamp that is what keeps it in range);
+// rasterization by rasterizer.hpp; the depth test compares the fragment's
+// depth, converted to the depth buffer's format, with the stored value;
+// stencil operations wrap (GL_INCR_WRAP / GL_DECR_WRAP) and are chosen per
+// facing (glStencilOpSeparate).  The stencil test itself always passes (the
+// shadow passes never mask by stencil).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "nearcap/gl/clipping.hpp"
+#include "nearcap/gl/float_transforms.hpp"
+#include "nearcap/gl/rasterizer.hpp"
+
+namespace nearcap::gl {
+
+enum class DepthFormat {
+  Fixed24,  // GL_DEPTH24_STENCIL8: round(z_w * (2^24 - 1))
+  Float32,  // GL_DEPTH32F_STENCIL8: z_w as stored float
+};
+
+enum class CullFace { None, Back, Front };
+enum class DepthFunc { Always, Less };
+enum class StencilOp { Keep, IncrementWrap, DecrementWrap };
+
+// glStencilOpSeparate(face, GL_KEEP, depth_fail, depth_pass).
+struct StencilOps {
+  StencilOp depth_fail = StencilOp::Keep;
+  StencilOp depth_pass = StencilOp::Keep;
+};
+
+struct DrawState {
+  CullFace cull = CullFace::None;
+  DepthFunc depth_func = DepthFunc::Less;  // Always: the depth test is disabled
+  bool depth_write = false;
+  // GL_DEPTH_CLAMP sets both: no near and no far clipping, depth clamped.
+  // GL_AMD_depth_clamp_separate sets one of them (GL_DEPTH_CLAMP_FAR_AMD:
+  // clipped at the near plane as usual, clamped at the far one).
+  bool depth_clamp_near = false;
+  bool depth_clamp_far = false;
+  bool clip_far = true;  // false with an infinite far plane (w - z is 0 at infinity)
+  StencilOps front, back;
+  std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
+};
+
+// What a draw call did: primitives in, after clipping and culling, fragments.
+struct DrawCounters {
+  std::uint64_t triangles = 0;   // submitted
+  std::uint64_t clipped = 0;     // entirely clipped away
+  std::uint64_t culled = 0;      // culled by facing, or dropped for zero snapped area
+  std::uint64_t rasterized = 0;  // triangles (after clipping's fan) that reached coverage
+  std::uint64_t fragments = 0;
+  DrawCounters& operator+=(const DrawCounters& o);
+};
+
+class Framebuffer {
+ public:
+  Framebuffer(int width, int height, DepthFormat format);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  DepthFormat depth_format() const { return format_; }
+  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width_ + i; }
+
+  // glClear of each buffer (depth 1.0, stencil 0, object -1).
+  void clear_depth();
+  void clear_stencil();
+  void clear_objects();
+
+  // The stored depth as a comparable integer: the 24-bit value, or the bits of
+  // the non-negative float (whose order is the integers' order).
+  std::uint32_t encode_depth(float z_window) const;
+  const std::vector<std::uint32_t>& depth() const { return depth_; }
+  const std::vector<std::uint8_t>& stencil() const { return stencil_; }
+  const std::vector<std::int32_t>& objects() const { return objects_; }
+  // Was anything drawn with depth writes on this pixel?
+  bool covered(int i, int j) const { return objects_[index(i, j)] >= 0; }
+
+  // Draws triangles given as clip-space vertex triples (3 per triangle).
+  DrawCounters draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster);
+
+ private:
+  int width_, height_;
+  DepthFormat format_;
+  std::vector<std::uint32_t> depth_;
+  std::vector<std::uint8_t> stencil_;
+  std::vector<std::int32_t> objects_;
+};
+
+// The guard band (in NDC units) that keeps snapped window coordinates inside
+// the rasterizer's range for this viewport and sub-pixel precision.
+float safe_guard_band(int width, int height, int subpixel_bits);
+
+// Perspective divide and viewport transform of one clip-space vertex.  z is
+// not clamped here: depth clamp, like the depth range, applies to each
+// fragment's interpolated depth (Framebuffer::encode_depth).
+WindowVertex to_window(const Vec4f& clip, int width, int height);
+
+}  // namespace nearcap::gl

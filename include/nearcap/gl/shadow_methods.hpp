@@ -1,0 +1,101 @@
+// nearcap/gl/shadow_methods.hpp — the stencil shadow methods, run through the
+// software GL pipeline for one light: what a GPU's stencil buffer holds.
+//
+// Every method starts with a depth pre-pass of all objects (receivers and
+// occluders; depth test LESS, depth and object id written), then counts into
+// the 8-bit wrapping stencil buffer:
+//   zpass             sides; front faces +1, back faces -1 on depth pass.
+//   zfail             sides, light cap and dark cap at infinity; back faces +1,
+//                     front faces -1 on depth fail (Everitt and Kilgard 2002),
+//                     with the infinite far plane or depth clamp (ZFailFar).
+//                     Depth clamp disables near clipping too, so a light-cap
+//                     triangle that crosses the near plane is clipped at w_min,
+//                     not where the depth pre-pass clipped it: its depths are no
+//                     longer bit-identical to the surface's, and the depth test
+//                     breaks the tie either way (wrong pixels on such faces).
+//   zpplus            ZP+ as published (section 3): the near-cap pass (every
+//                     occluder through M_l and P_l, back faces culled when
+//                     alpha = 1, front faces when alpha = -1, +1 per fragment,
+//                     no depth test), then zpass.
+//   zpplus-corrected  section 5: the same near-cap pass, then the sides with
+//                     the Figure 7 program plus corrective quads for C1 and C2;
+//                     an occluder with a case-D quad (float detection) switches
+//                     to zfail with depth clamp for this light (section 5.2) and
+//                     is left out of the near-cap pass.
+//   preload           Doom 3 BFG's "stencil preload" (DrawStencilShadowPass with
+//                     r_useStencilShadowPreload): the whole closed volume (sides
+//                     and caps) counted whatever the depth test says (front -1,
+//                     back +1 on both depth fail and depth pass) preloads the
+//                     number of volumes the near plane is in, then the same
+//                     volume again as Z-pass; infinite far plane.
+// When the light lies in the near plane there is no light frustum: both ZP+
+// methods fall back to zfail for the light (ShadowFrame::fallback says so).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nearcap/gl/light_frustum.hpp"
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/quad_case.hpp"
+
+namespace nearcap::gl {
+
+enum class ShadowMethod { ZPass, ZFail, ZPPlus, ZPPlusCorrected, Preload };
+inline constexpr std::array<ShadowMethod, 5> kAllShadowMethods{ShadowMethod::ZPass, ShadowMethod::ZFail,
+                                                               ShadowMethod::ZPPlus, ShadowMethod::ZPPlusCorrected,
+                                                               ShadowMethod::Preload};
+std::string_view to_string(ShadowMethod m);  // "zpass", "zfail", "zpplus", "zpplus-corrected", "preload"
+std::optional<ShadowMethod> shadow_method_from_string(std::string_view name);
+bool uses_near_cap(ShadowMethod m);
+
+enum class ZFailFar {
+  Infinite,       // infinite far plane (Everitt and Kilgard); its own depth pre-pass
+  DepthClamp,     // the finite frustum with GL_DEPTH_CLAMP (NV_depth_clamp: near and far)
+  DepthClampFar,  // the finite frustum, clamped at the far plane only (GL_AMD_depth_clamp_separate)
+};
+std::string_view to_string(ZFailFar f);  // "infinite", "clamp", "clamp-far"
+std::optional<ZFailFar> zfail_far_from_string(std::string_view name);
+
+struct EmulationSettings {
+  RasterSettings raster;
+  DepthFormat depth = DepthFormat::Fixed24;
+  Arithmetic arithmetic = Arithmetic::Separate;
+  LightFrustumChoice light_frustum;
+  ZFailFar zfail_far = ZFailFar::Infinite;
+  // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps:
+  // the paper's NV_depth_clamp, or far only.  Never Infinite: the depth
+  // pre-pass of ZP+ uses the finite frustum (section 5.2).
+  ZFailFar switch_clamp = ZFailFar::DepthClamp;
+};
+
+struct PassTimes {
+  double depth_ms = 0, cap_ms = 0, volume_ms = 0, setup_ms = 0;  // setup: silhouettes and vertex arrays
+  double total() const { return depth_ms + cap_ms + volume_ms + setup_ms; }
+};
+
+struct ShadowFrame {
+  ShadowMethod method = ShadowMethod::ZPass;
+  std::size_t light = 0;
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> stencil;                      // row 0 at the bottom
+  std::vector<std::int32_t> object;                       // visible object per pixel, -1 for none
+  std::vector<std::uint8_t> near_cap;                     // the near-cap pass alone (ZP+ methods; empty otherwise)
+  std::array<std::size_t, kQuadCaseCount> float_cases{};  // the engine's cases, all occluders
+  std::vector<std::size_t> zfail_objects;                 // occluders drawn with zfail instead (case D)
+  std::string fallback;                                   // why the whole light fell back to zfail, or ""
+  LightFrustum light_frustum;                             // ZP+ methods
+  DrawCounters depth_pass, cap_pass, volume_pass;
+  PassTimes times;
+  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
+};
+
+ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMethod method,
+                                const EmulationSettings& settings = {});
+
+}  // namespace nearcap::gl

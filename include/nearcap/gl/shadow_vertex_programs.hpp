@@ -1,0 +1,50 @@
+// nearcap/gl/shadow_vertex_programs.hpp — the vertex stage of every shadow
+// pass, emulated in float32 with the operation order of the GLSL source.
+//
+// Input vertices are object-space positions with the w code of the paper's
+// Figure 7 (ShadowVertex).  Matrices are what the application uploads:
+//   modelview_projection = P * MV (float32 product: gl_ModelViewProjectionMatrix;
+//                          every camera pass, the depth pre-pass included, uses
+//                          this one matrix so that shadow sides and the surfaces
+//                          they start on are transformed identically);
+//   light_modelview      = M_l * MV (float32 product);
+//   light_projection     = P_l;
+//   light_position       = the light in object space (w = 1), float32.
+// Each matrix-vector product is `transform` (float_transforms.hpp) with the
+// chosen Arithmetic: products summed left to right, separately rounded or fused.
+#pragma once
+
+#include "nearcap/gl/float_transforms.hpp"
+
+namespace nearcap::gl {
+
+// An object-space vertex with Figure 7's w: 1 in place, 0 extruded to infinity
+// away from the light, 2 in place and nailed, 4 extruded and nailed.
+struct ShadowVertex {
+  float x = 0, y = 0, z = 0, w = 1;
+};
+
+struct ShadowUniforms {
+  Mat4f modelview_projection;
+  Mat4f light_modelview;
+  Mat4f light_projection;
+  Vec4f light_position;  // object space
+  Arithmetic arithmetic = Arithmetic::Separate;
+};
+
+// The plain program (Z-pass, Z-fail, ZP+ as published): w = 0 extrudes,
+// anything else is the point (x, y, z, 1).
+Vec4f extrusion_program(const ShadowUniforms& u, const ShadowVertex& v);
+
+// Figure 7, line by line: extrude for w = 0 or 4, stick for w = 2, transform by
+// the camera; a movable vertex (w < 1.5) that the near plane clips
+// (w_clip <= 0 or z_clip < -w_clip) is re-transformed through the light
+// frustum and pushed onto the near plane (z = -w): its near-cap counterpart.
+Vec4f figure7_program(const ShadowUniforms& u, const ShadowVertex& v);
+
+// The near-cap pass: P_l * (light_modelview * (x, y, z, 1)), the two products
+// of Figure 7's lines 28-29, so a counterpart and the cap's own vertex agree
+// bit for bit.
+Vec4f near_cap_program(const ShadowUniforms& u, const ShadowVertex& v);
+
+}  // namespace nearcap::gl

@@ -1,0 +1,34 @@
+// nearcap/gl/shadow_volume_geometry.hpp — the vertex arrays of one
+// light/occluder pair's shadow volume, as an engine builds them on the CPU
+// from its float silhouette (engine_classification.hpp).
+//
+// Triangles, 3 ShadowVertex each, object space, w codes of Figure 7:
+//   sides      per silhouette edge E_m = [A, D] (front face's winding): the quad
+//              (D,1) (A,1) (A,0) (D,0), outward-facing (the paper's "normal of
+//              triangle AD-light points away from the shadow volume" makes this
+//              order counter-clockwise seen from outside the volume), split
+//              into (v0, v1, v2) and (v0, v2, v3);
+//   corrective the paper's corrective quads, split the same way: case C1
+//              {(A,2) (A,1) (D,1) (D,2)}, case C2 {(A,0) (A,4) (D,4) (D,0)};
+//   light_cap  the light-front-facing triangles, w = 1;
+//   dark_cap   the other triangles, w = 0 (extruded to infinity), same winding.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "nearcap/engine_classification.hpp"
+#include "nearcap/gl/shadow_vertex_programs.hpp"
+
+namespace nearcap::gl {
+
+struct ShadowVolumeGeometry {
+  std::vector<ShadowVertex> sides;
+  std::vector<ShadowVertex> corrective;
+  std::vector<ShadowVertex> light_cap;
+  std::vector<ShadowVertex> dark_cap;
+};
+
+ShadowVolumeGeometry shadow_volume_geometry(const TriangleMesh& mesh, const EngineSilhouette& silhouette);
+
+}  // namespace nearcap::gl

@@ -1,0 +1,88 @@
+// Float frames judged against the exact reference (see crack_map.hpp).
+#include "nearcap/crack_map.hpp"
+
+#include <array>
+
+#include "nearcap/check.hpp"
+#include "nearcap/image_io.hpp"
+#include "nearcap/reference_images.hpp"
+
+namespace nearcap {
+
+CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref) {
+  NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
+  CrackReport r;
+  r.method = frame.method;
+  const std::size_t n = static_cast<std::size_t>(ref.width) * ref.height;
+  r.verdict.assign(n, PixelVerdict::NothingSeen);
+  for (std::size_t p = 0; p < n; ++p) {
+    const bool seen = ref.stencil[p] != PixelReference::kNothingSeen;
+    if (seen) ++r.pixels_seen;
+    if (ref.object[p] != frame.object[p]) {
+      r.verdict[p] = PixelVerdict::VisibilityMismatch;
+      ++r.visibility_mismatch;
+      continue;
+    }
+    if (!seen) continue;
+    const std::uint8_t exact = static_cast<std::uint8_t>(ref.stencil[p] & 0xffu);
+    const bool ref_shadowed = ref.stencil[p] > 0, frame_shadowed = frame.stencil[p] != 0;
+    PixelVerdict v = PixelVerdict::Right;
+    if (ref_shadowed && !frame_shadowed)
+      v = PixelVerdict::WrongLit;
+    else if (!ref_shadowed && frame_shadowed)
+      v = PixelVerdict::WrongShadowed;
+    else if (frame.stencil[p] != exact)
+      v = PixelVerdict::CountOnly;
+    r.verdict[p] = v;
+    if (v == PixelVerdict::WrongLit) ++r.wrong_lit;
+    if (v == PixelVerdict::WrongShadowed) ++r.wrong_shadowed;
+    if (frame.stencil[p] != exact) ++r.count_mismatch;
+  }
+  r.wrong = r.wrong_lit + r.wrong_shadowed;
+  if (!frame.near_cap.empty() && frame.zfail_objects.empty()) {
+    r.cap_wrong.assign(n, false);
+    std::size_t mismatches = 0;
+    for (std::size_t p = 0; p < n; ++p)
+      if (frame.near_cap[p] != static_cast<std::uint8_t>(ref.cap[p] & 0xffu)) {
+        r.cap_wrong[p] = true;
+        ++mismatches;
+      }
+    r.cap_mismatch = mismatches;
+  }
+  return r;
+}
+
+std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report) {
+  std::vector<std::uint8_t> rgb = shadow_rgb(scene, ref);
+  using Rgb = std::array<std::uint8_t, 3>;
+  for (int j = 0; j < ref.height; ++j)
+    for (int i = 0; i < ref.width; ++i) {
+      const std::size_t p = ref.index(i, j);
+      std::uint8_t* px = &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - j) * ref.width + i)];
+      std::optional<Rgb> mark;
+      switch (report.verdict[p]) {
+        case PixelVerdict::WrongLit:
+          mark = Rgb{255, 40, 40};
+          break;
+        case PixelVerdict::WrongShadowed:
+          mark = Rgb{40, 230, 255};
+          break;
+        case PixelVerdict::CountOnly:
+          mark = Rgb{255, 220, 0};
+          break;
+        case PixelVerdict::VisibilityMismatch:
+          mark = Rgb{70, 70, 70};
+          break;
+        default:
+          if (!report.cap_wrong.empty() && report.cap_wrong[p]) mark = Rgb{255, 0, 255};
+      }
+      if (mark) {
+        for (int c = 0; c < 3; ++c) px[c] = (*mark)[c];
+      } else {
+        for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(px[c] / 2);  // dim what is right
+      }
+    }
+  return encode_png_rgb(ref.width, ref.height, rgb);
+}
+
+}  // namespace nearcap

@@ -1,0 +1,138 @@
+// ZP+'s light frustum (see light_frustum.hpp).
+#include "nearcap/gl/light_frustum.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace nearcap::gl {
+namespace {
+
+// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3d closest_point_on_triangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+  const Vec3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3d bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3d cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + (vb * denom) * ab + (vc * denom) * ac;
+}
+
+double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
+
+bool all_finite(const Mat4f& m) {
+  return std::all_of(m.m.begin(), m.m.end(), [](float v) { return std::isfinite(v); });
+}
+
+}  // namespace
+
+std::string_view to_string(LightProjection p) { return p == LightProjection::Paper ? "paper" : "glfrustum"; }
+std::string_view to_string(LightNearRule) { return "paper-ratio"; }
+
+Vec4f light_in_camera_space(const Scene& scene, std::size_t light) {
+  glm::mat4 view(1.0f);  // column-major, as engine_classification.cpp builds it
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) view[c][r] = static_cast<float>(scene.camera.view.rows[r][c]);
+  const Vec3d& p = scene.lights[light].position;
+  const glm::vec4 l = view * glm::vec4(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f);
+  return {l.x, l.y, l.z, 1.0f};
+}
+
+double distance_to_occluders(const Scene& scene, const Vec3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const SceneObject& obj : scene.objects) {
+    if (!obj.occluder) continue;
+    std::vector<Vec3d> world(obj.mesh->positions.size());
+    for (std::size_t v = 0; v < world.size(); ++v) world[v] = obj.object_to_world.apply(obj.mesh->positions[v]);
+    for (const auto& t : obj.mesh->triangles)
+      best = std::min(best, length(p - closest_point_on_triangle(p, world[t[0]], world[t[1]], world[t[2]])));
+  }
+  return best;
+}
+
+LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFrustumChoice& choice) {
+  LightFrustum lf;
+  const Frustum& f = scene.camera.frustum;
+  lf.delta = light_in_camera_space(scene, light);
+  const float near = static_cast<float>(f.near);
+  const float side = lf.delta.z + near;
+  if (side == 0.0f) {
+    lf.undefined_reason = "the light lies in the camera's near plane (l_far = 0)";
+    return lf;
+  }
+  lf.alpha = side > 0 ? 1 : -1;
+  const float alpha = static_cast<float>(lf.alpha);
+  lf.l_far = alpha * side;
+
+  // d and d_max in double: they only have to bound the light pyramid.
+  lf.d = distance_to_occluders(scene, scene.lights[light].position);
+  const Vec3d l_cam{lf.delta.x, lf.delta.y, lf.delta.z};
+  for (double x : {f.left, f.right})
+    for (double y : {f.bottom, f.top}) lf.d_max = std::max(lf.d_max, length(Vec3d{x, y, -f.near} - l_cam));
+  lf.l_near = static_cast<float>(choice.near_scale * lf.l_far * lf.d / lf.d_max);
+  if (!(lf.l_near > 0.0f) || !(lf.l_near < lf.l_far)) {
+    lf.undefined_reason = "l_near is not in (0, l_far)";
+    return lf;
+  }
+
+  // M_l = R_alpha T(-Delta).
+  Mat4f& m = lf.modelview;
+  m.at(0, 0) = alpha;
+  m.at(1, 1) = 1.0f;
+  m.at(2, 2) = alpha;
+  m.at(3, 3) = 1.0f;
+  m.at(0, 3) = -alpha * lf.delta.x;
+  m.at(1, 3) = -lf.delta.y;
+  m.at(2, 3) = -alpha * lf.delta.z;
+
+  // Delta relative to the near rectangle's centre (zero offset when centred).
+  const float width = static_cast<float>(f.right - f.left), height = static_cast<float>(f.top - f.bottom);
+  const float dx = lf.delta.x - static_cast<float>(0.5 * (f.left + f.right));
+  const float dy = lf.delta.y - static_cast<float>(0.5 * (f.bottom + f.top));
+  Mat4f& p = lf.projection;
+  if (choice.projection == LightProjection::Paper) {
+    const float ln = lf.l_near, lfar = lf.l_far;
+    p.at(0, 0) = 2.0f * alpha * lfar / width;
+    p.at(0, 2) = -2.0f * dx / width;
+    p.at(1, 1) = 2.0f * lfar / height;
+    p.at(1, 2) = -2.0f * dy / height;
+    p.at(2, 2) = (ln + lfar) / (ln - lfar);
+    p.at(2, 3) = 2.0f * ln * lfar / (ln - lfar);
+    p.at(3, 2) = -1.0f;
+  } else {
+    // The far rectangle in the light frame, scaled to the near distance;
+    // glFrustum computed in double.  With alpha = -1 the light frame's x is
+    // the camera's mirrored, and left > right mirrors it back (the paper's
+    // 2 alpha l_far / c_width): NDC x of a near-rectangle point is the camera's.
+    const double s = double{lf.l_near} / double{lf.l_far};
+    Frustum light_f;
+    light_f.left = lf.alpha * (f.left - double{lf.delta.x}) * s;
+    light_f.right = lf.alpha * (f.right - double{lf.delta.x}) * s;
+    light_f.bottom = (f.bottom - double{lf.delta.y}) * s;
+    light_f.top = (f.top - double{lf.delta.y}) * s;
+    light_f.near = lf.l_near;
+    light_f.far = lf.l_far;
+    p = frustum_matrix(light_f);
+  }
+  if (!all_finite(p) || !all_finite(m)) {
+    lf.undefined_reason = "P_l or M_l is not finite in float32";
+    return lf;
+  }
+  lf.defined = true;
+  return lf;
+}
+
+}  // namespace nearcap::gl

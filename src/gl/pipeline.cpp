@@ -1,0 +1,120 @@
+// The software GL back end (see pipeline.hpp).
+#include "nearcap/gl/pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace nearcap::gl {
+namespace {
+
+std::uint8_t apply(StencilOp op, std::uint8_t s) {
+  switch (op) {
+    case StencilOp::Keep:
+      return s;
+    case StencilOp::IncrementWrap:
+      return static_cast<std::uint8_t>(s + 1);
+    case StencilOp::DecrementWrap:
+      return static_cast<std::uint8_t>(s - 1);
+  }
+  return s;
+}
+
+bool culled(CullFace cull, bool front) {
+  return (cull == CullFace::Back && !front) || (cull == CullFace::Front && front);
+}
+
+}  // namespace
+
+DrawCounters& DrawCounters::operator+=(const DrawCounters& o) {
+  triangles += o.triangles;
+  clipped += o.clipped;
+  culled += o.culled;
+  rasterized += o.rasterized;
+  fragments += o.fragments;
+  return *this;
+}
+
+Framebuffer::Framebuffer(int width, int height, DepthFormat format)
+    : width_(width),
+      height_(height),
+      format_(format),
+      depth_(static_cast<std::size_t>(width) * height),
+      stencil_(depth_.size()),
+      objects_(depth_.size()) {
+  clear_depth();
+  clear_stencil();
+  clear_objects();
+}
+
+void Framebuffer::clear_depth() { std::fill(depth_.begin(), depth_.end(), encode_depth(1.0f)); }
+void Framebuffer::clear_stencil() { std::fill(stencil_.begin(), stencil_.end(), std::uint8_t{0}); }
+void Framebuffer::clear_objects() { std::fill(objects_.begin(), objects_.end(), -1); }
+
+std::uint32_t Framebuffer::encode_depth(float z) const {
+  z = std::clamp(z, 0.0f, 1.0f);  // GL clamps the fragment depth to the depth range before conversion
+  if (format_ == DepthFormat::Fixed24) return static_cast<std::uint32_t>(std::lrint(double{z} * 16777215.0));
+  std::uint32_t bits;
+  std::memcpy(&bits, &z, sizeof bits);
+  return bits;
+}
+
+float safe_guard_band(int width, int height, int subpixel_bits) {
+  // |x_w| <= (g + 1) W / 2 must stay below 2^30 / 2^bits, with a factor 2 of margin.
+  const double limit = std::ldexp(1.0, 29 - subpixel_bits);
+  const double g = limit / (0.5 * std::max(width, height)) - 1.0;
+  return static_cast<float>(std::min(8192.0, std::max(1.0, std::floor(g))));
+}
+
+WindowVertex to_window(const Vec4f& c, int width, int height) {
+  const float x = c.x / c.w, y = c.y / c.w, z = c.z / c.w;
+  const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
+  return {(x + 1.0f) * half_w, (y + 1.0f) * half_h, z * 0.5f + 0.5f};
+}
+
+DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state,
+                               const RasterSettings& raster) {
+  DrawCounters counters;
+  ClipSettings clip;
+  clip.clip_near = !state.depth_clamp_near;
+  clip.clip_far = state.clip_far && !state.depth_clamp_far;
+  clip.guard_band = safe_guard_band(width_, height_, raster.subpixel_bits);
+  const bool test_depth = state.depth_func == DepthFunc::Less;
+  for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
+    ++counters.triangles;
+    const std::vector<Vec4f> polygon =
+        clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip);
+    if (polygon.empty()) {
+      ++counters.clipped;
+      continue;
+    }
+    std::vector<WindowVertex> window(polygon.size());
+    for (std::size_t k = 0; k < polygon.size(); ++k) window[k] = to_window(polygon[k], width_, height_);
+    // The clipped polygon is drawn as a fan from its first vertex, as Mesa's
+    // clipper emits it; every piece has the facing of the whole.
+    for (std::size_t k = 1; k + 1 < window.size(); ++k) {
+      const std::array<WindowVertex, 3> tri{window[0], window[k], window[k + 1]};
+      const int orientation = snapped_orientation(tri, raster.subpixel_bits);
+      if (orientation == 0 || culled(state.cull, orientation > 0)) {
+        ++counters.culled;
+        continue;
+      }
+      ++counters.rasterized;
+      rasterize_triangle_with(tri, width_, height_, raster, [&](const Fragment& f) {
+        ++counters.fragments;
+        const std::size_t p = index(f.x, f.y);
+        const std::uint32_t z = encode_depth(f.depth);
+        const bool pass = !test_depth || z < depth_[p];
+        const StencilOps& ops = f.front ? state.front : state.back;
+        stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
+        if (pass && state.depth_write) {
+          depth_[p] = z;
+          objects_[p] = state.object_id;
+        }
+      });
+    }
+  }
+  return counters;
+}
+
+}  // namespace nearcap::gl

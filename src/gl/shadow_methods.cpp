@@ -1,0 +1,281 @@
+// The shadow methods through the software pipeline (see shadow_methods.hpp).
+#include "nearcap/gl/shadow_methods.hpp"
+
+#include <glm/glm.hpp>
+
+#include <chrono>
+#include <utility>
+
+#include "nearcap/engine_classification.hpp"
+#include "nearcap/gl/shadow_volume_geometry.hpp"
+
+namespace nearcap::gl {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// What the application prepares for one object.
+struct ObjectSetup {
+  ShadowUniforms uniforms;
+  bool mirrored = false;  // the modelview reverses orientation: glFrontFace(GL_CW)
+  bool occluder = false;
+  EngineSilhouette silhouette;
+  ShadowVolumeGeometry geometry;
+  bool case_d = false;
+};
+
+Vec4f light_in_object_space(const SceneObject& obj, const Vec3d& light) {
+  glm::dmat4 m(1.0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) m[c][r] = obj.object_to_world.rows[r][c];
+  const glm::dvec4 p = glm::inverse(m) * glm::dvec4(light.x, light.y, light.z, 1.0);
+  return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f};
+}
+
+float determinant3(const Mat4f& m) {
+  return m.at(0, 0) * (m.at(1, 1) * m.at(2, 2) - m.at(1, 2) * m.at(2, 1)) -
+         m.at(0, 1) * (m.at(1, 0) * m.at(2, 2) - m.at(1, 2) * m.at(2, 0)) +
+         m.at(0, 2) * (m.at(1, 0) * m.at(2, 1) - m.at(1, 1) * m.at(2, 0));
+}
+
+DrawState oriented(DrawState s, bool mirrored) {
+  if (!mirrored) return s;
+  std::swap(s.front, s.back);
+  if (s.cull == CullFace::Back)
+    s.cull = CullFace::Front;
+  else if (s.cull == CullFace::Front)
+    s.cull = CullFace::Back;
+  return s;
+}
+
+template <class Program>
+std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
+  std::vector<Vec4f> out(in.size());
+  for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
+  return out;
+}
+
+std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
+  std::vector<ShadowVertex> out;
+  out.reserve(3 * mesh.triangle_count());
+  for (const auto& t : mesh.triangles)
+    for (VertexIndex v : t) {
+      const Vec3d& p = mesh.positions[v];
+      out.push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f});
+    }
+  return out;
+}
+
+constexpr StencilOps kCountOnPass{StencilOp::Keep, StencilOp::IncrementWrap};
+constexpr StencilOps kUncountOnPass{StencilOp::Keep, StencilOp::DecrementWrap};
+constexpr StencilOps kCountOnFail{StencilOp::IncrementWrap, StencilOp::Keep};
+constexpr StencilOps kUncountOnFail{StencilOp::DecrementWrap, StencilOp::Keep};
+constexpr StencilOps kCountAlways{StencilOp::IncrementWrap, StencilOp::IncrementWrap};
+constexpr StencilOps kUncountAlways{StencilOp::DecrementWrap, StencilOp::DecrementWrap};
+
+DrawState zpass_state() {
+  DrawState s;
+  s.front = kCountOnPass;
+  s.back = kUncountOnPass;
+  return s;
+}
+DrawState zfail_state(ZFailFar far) {
+  DrawState s;
+  s.front = kUncountOnFail;
+  s.back = kCountOnFail;
+  s.depth_clamp_near = far == ZFailFar::DepthClamp;
+  s.depth_clamp_far = far == ZFailFar::DepthClamp || far == ZFailFar::DepthClampFar;
+  return s;
+}
+
+class FrameRenderer {
+ public:
+  FrameRenderer(const Scene& scene, std::size_t light, ShadowMethod method, const EmulationSettings& settings)
+      : scene_(scene),
+        light_(light),
+        method_(method),
+        settings_(settings),
+        fb_(scene.camera.width, scene.camera.height, settings.depth) {}
+
+  ShadowFrame run() {
+    ShadowFrame frame;
+    frame.method = method_;
+    frame.light = light_;
+    frame.width = fb_.width();
+    frame.height = fb_.height();
+    const auto t_setup = Clock::now();
+    if (uses_near_cap(method_)) {
+      frame.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
+      if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
+    }
+    const bool infinite = method_ == ShadowMethod::Preload ||
+                          (method_ == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
+    const Mat4f projection =
+        infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
+    prepare_objects(projection, frame);
+    frame.times.setup_ms = ms_since(t_setup);
+
+    auto t = Clock::now();
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+      DrawState s;
+      s.depth_write = true;
+      s.object_id = static_cast<std::int32_t>(o);
+      frame.depth_pass += fb_.draw(run_program(camera_vertices_[o], objects_[o].uniforms, extrusion_program),
+                                   oriented(s, objects_[o].mirrored), settings_.raster);
+    }
+    frame.times.depth_ms = ms_since(t);
+
+    t = Clock::now();
+    const bool zpplus = uses_near_cap(method_) && frame.fallback.empty();
+    if (zpplus) {
+      near_cap_pass(frame);
+      frame.near_cap = fb_.stencil();
+    }
+    frame.times.cap_ms = ms_since(t);
+
+    t = Clock::now();
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+      const ObjectSetup& obj = objects_[o];
+      if (!obj.occluder) continue;
+      if (method_ == ShadowMethod::ZPass || (method_ == ShadowMethod::ZPPlus && zpplus)) {
+        draw(obj, obj.geometry.sides, extrusion_program, zpass_state(), frame);
+      } else if (method_ == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
+        draw(obj, obj.geometry.sides, figure7_program, zpass_state(), frame);
+        draw(obj, obj.geometry.corrective, figure7_program, zpass_state(), frame);
+      } else if (method_ == ShadowMethod::Preload) {
+        DrawState preload;
+        preload.front = kUncountAlways;
+        preload.back = kCountAlways;
+        draw_closed_volume(obj, preload, frame);
+        draw_closed_volume(obj, zpass_state(), frame);
+      } else {
+        // zfail, or a ZP+ method's switch to zfail (case D, or no light frustum).
+        const ZFailFar far = method_ == ShadowMethod::ZFail ? settings_.zfail_far : settings_.switch_clamp;
+        draw_closed_volume(obj, zfail_state(far), frame);
+      }
+    }
+    frame.times.volume_ms = ms_since(t);
+    frame.stencil = fb_.stencil();
+    frame.object = fb_.objects();
+    return frame;
+  }
+
+ private:
+  void prepare_objects(const Mat4f& projection, ShadowFrame& frame) {
+    const Mat4f view = to_mat4f(scene_.camera.view);
+    const Arithmetic ar = settings_.arithmetic;
+    for (std::size_t o = 0; o < scene_.objects.size(); ++o) {
+      const SceneObject& so = scene_.objects[o];
+      ObjectSetup obj;
+      const Mat4f modelview = multiply(view, to_mat4f(so.object_to_world), ar);
+      obj.uniforms.modelview_projection = multiply(projection, modelview, ar);
+      obj.uniforms.light_position = light_in_object_space(so, scene_.lights[light_].position);
+      obj.uniforms.arithmetic = ar;
+      if (frame.light_frustum.defined) {
+        obj.uniforms.light_modelview = multiply(frame.light_frustum.modelview, modelview, ar);
+        obj.uniforms.light_projection = frame.light_frustum.projection;
+      }
+      obj.mirrored = determinant3(modelview) < 0.0f;
+      obj.occluder = so.occluder;
+      if (so.occluder) {
+        obj.silhouette = engine_silhouette(scene_, o, light_);
+        obj.geometry = shadow_volume_geometry(*so.mesh, obj.silhouette);
+        for (QuadCase c : obj.silhouette.cases) {
+          ++frame.float_cases[static_cast<std::size_t>(c)];
+          obj.case_d = obj.case_d || c == QuadCase::D;
+        }
+        if (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty())
+          frame.zfail_objects.push_back(o);
+      }
+      camera_vertices_.push_back(mesh_vertices(*so.mesh));
+      objects_.push_back(std::move(obj));
+    }
+  }
+
+  void near_cap_pass(ShadowFrame& frame) {
+    DrawState s;
+    s.depth_func = DepthFunc::Always;
+    s.cull = frame.light_frustum.alpha > 0 ? CullFace::Back : CullFace::Front;
+    s.front = kCountAlways;
+    s.back = kCountAlways;
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+      const ObjectSetup& obj = objects_[o];
+      if (!obj.occluder || (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
+      frame.cap_pass += fb_.draw(run_program(camera_vertices_[o], obj.uniforms, near_cap_program),
+                                 oriented(s, obj.mirrored), settings_.raster);
+    }
+  }
+
+  template <class Program>
+  void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, Program program, const DrawState& s,
+            ShadowFrame& frame) {
+    frame.volume_pass +=
+        fb_.draw(run_program(vertices, obj.uniforms, program), oriented(s, obj.mirrored), settings_.raster);
+  }
+
+  void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {
+    draw(obj, obj.geometry.sides, extrusion_program, s, frame);
+    draw(obj, obj.geometry.light_cap, extrusion_program, s, frame);
+    draw(obj, obj.geometry.dark_cap, extrusion_program, s, frame);
+  }
+
+  const Scene& scene_;
+  std::size_t light_;
+  ShadowMethod method_;
+  EmulationSettings settings_;
+  Framebuffer fb_;
+  std::vector<ObjectSetup> objects_;
+  std::vector<std::vector<ShadowVertex>> camera_vertices_;
+};
+
+}  // namespace
+
+std::string_view to_string(ShadowMethod m) {
+  switch (m) {
+    case ShadowMethod::ZPass:
+      return "zpass";
+    case ShadowMethod::ZFail:
+      return "zfail";
+    case ShadowMethod::ZPPlus:
+      return "zpplus";
+    case ShadowMethod::ZPPlusCorrected:
+      return "zpplus-corrected";
+    case ShadowMethod::Preload:
+      return "preload";
+  }
+  return "?";
+}
+
+std::optional<ShadowMethod> shadow_method_from_string(std::string_view name) {
+  for (ShadowMethod m : kAllShadowMethods)
+    if (to_string(m) == name) return m;
+  return std::nullopt;
+}
+
+std::string_view to_string(ZFailFar f) {
+  switch (f) {
+    case ZFailFar::Infinite:
+      return "infinite";
+    case ZFailFar::DepthClamp:
+      return "clamp";
+    case ZFailFar::DepthClampFar:
+      return "clamp-far";
+  }
+  return "?";
+}
+
+std::optional<ZFailFar> zfail_far_from_string(std::string_view name) {
+  for (ZFailFar f : {ZFailFar::Infinite, ZFailFar::DepthClamp, ZFailFar::DepthClampFar})
+    if (to_string(f) == name) return f;
+  return std::nullopt;
+}
+
+bool uses_near_cap(ShadowMethod m) { return m == ShadowMethod::ZPPlus || m == ShadowMethod::ZPPlusCorrected; }
+
+ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMethod method,
+                                const EmulationSettings& settings) {
+  return FrameRenderer(scene, light, method, settings).run();
+}
+
+}  // namespace nearcap::gl
