@@ -1,7 +1,9 @@
 // Float frames judged against the exact reference (see crack_map.hpp).
 #include "nearcap/crack_map.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cstdlib>
 
 #include "nearcap/check.hpp"
 #include "nearcap/image_io.hpp"
@@ -81,6 +83,27 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
       } else {
         for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(px[c] / 2);  // dim what is right
       }
+    }
+  // Cracks are often single pixels: ring each wrong pixel (and each near-cap
+  // mismatch) with a square of its colour so that a person finds it at once.
+  const int r = 6;
+  for (int j = 0; j < ref.height; ++j)
+    for (int i = 0; i < ref.width; ++i) {
+      const std::size_t p = ref.index(i, j);
+      const PixelVerdict v = report.verdict[p];
+      const bool cap = !report.cap_wrong.empty() && report.cap_wrong[p];
+      if (v != PixelVerdict::WrongLit && v != PixelVerdict::WrongShadowed && !cap) continue;
+      const Rgb colour = v == PixelVerdict::WrongLit        ? Rgb{255, 40, 40}
+                         : v == PixelVerdict::WrongShadowed ? Rgb{40, 230, 255}
+                                                            : Rgb{255, 0, 255};
+      for (int dj = -r; dj <= r; ++dj)
+        for (int di = -r; di <= r; ++di) {
+          if (std::max(std::abs(di), std::abs(dj)) != r) continue;
+          const int x = i + di, y = j + dj;
+          if (x < 0 || y < 0 || x >= ref.width || y >= ref.height) continue;
+          std::uint8_t* q = &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - y) * ref.width + x)];
+          for (int c = 0; c < 3; ++c) q[c] = colour[c];
+        }
     }
   return encode_png_rgb(ref.width, ref.height, rgb);
 }

@@ -51,7 +51,8 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
 // The reference's shaded image (reference_images.hpp), dimmed, with each
 // judged pixel marked: wrong-lit red, wrong-shadowed cyan, count-only yellow,
 // a near-cap mismatch that did not make the pixel wrong magenta, visibility
-// mismatches dark grey.  8-bit RGB PNG bytes.
+// mismatches dark grey; each wrong pixel and near-cap mismatch is also ringed
+// by a square of its colour, 13 pixels wide.  8-bit RGB PNG bytes.
 std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report);
 
 }  // namespace nearcap

@@ -31,6 +31,8 @@ Vec3d closest_point_on_triangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, 
   return a + (vb * denom) * ab + (vc * denom) * ac;
 }
 
+constexpr double kMaxNearRatio = 0.5;
+
 double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
 
 bool all_finite(const Mat4f& m) {
@@ -82,7 +84,9 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
   const Vec3d l_cam{lf.delta.x, lf.delta.y, lf.delta.z};
   for (double x : {f.left, f.right})
     for (double y : {f.bottom, f.top}) lf.d_max = std::max(lf.d_max, length(Vec3d{x, y, -f.near} - l_cam));
-  lf.l_near = static_cast<float>(choice.near_scale * lf.l_far * lf.d / lf.d_max);
+  // When d >= d_max no occluder can reach the light pyramid and the paper's
+  // ratio would put l_near at or beyond l_far: nearcap caps the ratio at 1/2.
+  lf.l_near = static_cast<float>(choice.near_scale * lf.l_far * std::min(lf.d / lf.d_max, kMaxNearRatio));
   if (!(lf.l_near > 0.0f) || !(lf.l_near < lf.l_far)) {
     lf.undefined_reason = "l_near is not in (0, l_far)";
     return lf;

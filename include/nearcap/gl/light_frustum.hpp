@@ -14,6 +14,8 @@
 //   l_near  = l_far d / d_max (section 3.2; d = distance from the light to the
 //             nearest occluder, d_max = largest distance from the light to a
 //             corner of the near rectangle), times a scale (1 = the paper);
+//             when d >= d_max (no occluder can reach the light pyramid) the
+//             ratio is capped at 1/2, so that l_near < l_far always;
 //   P_l     = a named formulation (LightProjection).
 // The paper writes P_l for a near rectangle centred on the view axis; for an
 // off-centre frustum Delta.x and Delta.y are taken relative to the rectangle's
@@ -40,7 +42,7 @@ std::string_view to_string(LightProjection p);  // "paper", "glfrustum"
 
 // How l_near is chosen.
 enum class LightNearRule {
-  PaperRatio,  // l_far * d / d_max (section 3.2)
+  PaperRatio,  // l_far * min(d / d_max, 1/2) (section 3.2; the cap is nearcap's)
 };
 std::string_view to_string(LightNearRule r);  // "paper-ratio"
 

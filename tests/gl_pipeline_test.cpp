@@ -1,0 +1,188 @@
+// The software GL back end, the light frustum and the Figure 7 program.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nearcap/gl/light_frustum.hpp"
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/gl/shadow_vertex_programs.hpp"
+
+namespace nearcap::gl {
+namespace {
+
+// A full-viewport quad at clip depth z (w = 1), counter-clockwise.
+std::vector<Vec4f> full_quad(float z, bool ccw = true) {
+  const Vec4f a{-1, -1, z, 1}, b{1, -1, z, 1}, c{1, 1, z, 1}, d{-1, 1, z, 1};
+  if (ccw) return {a, b, c, a, c, d};
+  return {a, c, b, a, d, c};
+}
+
+TEST(Framebuffer, StencilWrapsBothWays) {
+  Framebuffer fb(4, 4, DepthFormat::Fixed24);
+  DrawState s;
+  s.depth_func = DepthFunc::Always;
+  s.back.depth_pass = StencilOp::DecrementWrap;
+  fb.draw(full_quad(0, false), s, {});
+  for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 255);
+  s.front.depth_pass = StencilOp::IncrementWrap;
+  for (int k = 0; k < 2; ++k) fb.draw(full_quad(0), s, {});
+  for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 1);
+}
+
+TEST(Framebuffer, DepthTestLessWithSeparateFailAndPassOps) {
+  Framebuffer fb(8, 8, DepthFormat::Fixed24);
+  DrawState write;
+  write.depth_write = true;
+  write.object_id = 7;
+  fb.draw(full_quad(0.0f), write, {});  // z_w = 0.5
+  for (std::int32_t o : fb.objects()) EXPECT_EQ(o, 7);
+  DrawState count;
+  count.front = {StencilOp::IncrementWrap, StencilOp::DecrementWrap};  // fail: +1, pass: -1
+  fb.draw(full_quad(0.5f), count, {});                                 // behind: fails
+  fb.draw(full_quad(0.0f), count, {});                                 // equal: LESS fails
+  fb.draw(full_quad(-0.5f), count, {});                                // in front: passes
+  for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 1);
+}
+
+TEST(Framebuffer, DepthEncodings) {
+  const Framebuffer fixed(1, 1, DepthFormat::Fixed24), floating(1, 1, DepthFormat::Float32);
+  EXPECT_EQ(fixed.encode_depth(1.0f), 0xFFFFFFu);
+  EXPECT_EQ(fixed.encode_depth(0.0f), 0u);
+  EXPECT_EQ(fixed.encode_depth(2.0f), 0xFFFFFFu);  // clamped to the depth range
+  EXPECT_EQ(fixed.encode_depth(0.5f), 8388608u);   // 8388607.5 rounds to even
+  EXPECT_EQ(fixed.encode_depth(0.25f), 4194304u);  // 4194303.75 rounds up
+  // Two depths one float ulp apart: one 24-bit value, two float values.
+  const float z = 0.25f, next = std::nextafter(z, 1.0f);  // 4194303.75 and 4194304.25 steps
+  EXPECT_EQ(fixed.encode_depth(z), fixed.encode_depth(next));
+  EXPECT_LT(floating.encode_depth(z), floating.encode_depth(next));
+}
+
+TEST(Framebuffer, CullingByFacing) {
+  Framebuffer fb(4, 4, DepthFormat::Fixed24);
+  DrawState s;
+  s.depth_func = DepthFunc::Always;
+  s.cull = CullFace::Back;
+  s.front.depth_pass = s.back.depth_pass = StencilOp::IncrementWrap;
+  const DrawCounters c = fb.draw(full_quad(0, false), s, {});
+  EXPECT_EQ(c.culled, 2u);
+  EXPECT_EQ(c.fragments, 0u);
+  fb.draw(full_quad(0, true), s, {});
+  for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 1);
+}
+
+TEST(Framebuffer, DepthClampKeepsWhatTheFarPlaneWouldClip) {
+  DrawState s;
+  s.depth_func = DepthFunc::Always;
+  s.front.depth_pass = StencilOp::IncrementWrap;
+  Framebuffer clipped(4, 4, DepthFormat::Fixed24), clamped(4, 4, DepthFormat::Fixed24);
+  clipped.draw(full_quad(2.0f), s, {});  // beyond the far plane
+  s.depth_clamp_far = true;
+  clamped.draw(full_quad(2.0f), s, {});
+  for (std::uint8_t v : clipped.stencil()) EXPECT_EQ(v, 0);
+  for (std::uint8_t v : clamped.stencil()) EXPECT_EQ(v, 1);
+}
+
+Scene one_box_scene(const Vec3d& light, double near) {
+  Scene scene;
+  scene.camera.frustum = {-0.4, 0.4, -0.3, 0.3, near, 50};
+  scene.camera.width = 64;
+  scene.camera.height = 48;
+  scene.lights.push_back({light});
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {{-1, -1, -6}, {1, -1, -6}, {0, 1, -6}, {0, 0, -5}};
+  mesh->triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  SceneObject obj;
+  obj.mesh = mesh;
+  scene.objects.push_back(obj);
+  return scene;
+}
+
+// The near rectangle's corners through M_l and P_l land on the light
+// frustum's far rectangle at the camera's NDC corners.
+void expect_far_rectangle_is_the_near_rectangle(const Scene& scene, const LightFrustum& lf) {
+  const Frustum& f = scene.camera.frustum;
+  for (double x : {f.left, f.right})
+    for (double y : {f.bottom, f.top}) {
+      const Vec4f corner{static_cast<float>(x), static_cast<float>(y), static_cast<float>(-f.near), 1.0f};
+      const Vec4f c = transform(lf.projection, transform(lf.modelview, corner));
+      EXPECT_NEAR(c.x / c.w, x < 0 ? -1.0 : 1.0, 1e-5);
+      EXPECT_NEAR(c.y / c.w, y < 0 ? -1.0 : 1.0, 1e-5);
+      EXPECT_NEAR(c.z / c.w, 1.0, 1e-4);  // the light's far plane
+    }
+}
+
+TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
+  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum}) {
+    LightFrustumChoice choice;
+    choice.projection = p;
+    const Scene same_side = one_box_scene({3, 2, 1}, 0.5);  // the camera's side of z = -0.5
+    const LightFrustum a = light_frustum(same_side, 0, choice);
+    ASSERT_TRUE(a.defined) << a.undefined_reason;
+    EXPECT_EQ(a.alpha, 1);
+    EXPECT_FLOAT_EQ(a.l_far, 1.5f);
+    expect_far_rectangle_is_the_near_rectangle(same_side, a);
+    const Scene other_side = one_box_scene({3, 2, -3}, 0.5);
+    const LightFrustum b = light_frustum(other_side, 0, choice);
+    ASSERT_TRUE(b.defined) << b.undefined_reason;
+    EXPECT_EQ(b.alpha, -1);
+    EXPECT_FLOAT_EQ(b.l_far, 2.5f);
+    expect_far_rectangle_is_the_near_rectangle(other_side, b);
+  }
+}
+
+TEST(LightFrustum, NearPlaneLeavesTheLightPyramidEmpty) {
+  const Scene scene = one_box_scene({0, 1.5, -4}, 0.5);  // beyond the near plane, close to the box
+  const LightFrustum lf = light_frustum(scene, 0, {});
+  ASSERT_TRUE(lf.defined);
+  EXPECT_GT(lf.l_near, 0.0f);
+  EXPECT_LT(lf.l_near, lf.l_far);
+  // Section 3.2: l_near = l_far d / d_max, so the farthest point of the light
+  // near rectangle is d from the light: nothing of the occluder is closer.
+  ASSERT_LT(lf.d, lf.d_max);
+  EXPECT_NEAR(lf.l_near, lf.l_far * lf.d / lf.d_max, 1e-6 * lf.l_far);
+  EXPECT_NEAR(lf.d, distance_to_occluders(scene, {0, 1.5, -4}), 0.0);
+  EXPECT_GT(lf.d, 0.0);
+}
+
+TEST(LightFrustum, UndefinedWhenTheLightIsInTheNearPlane) {
+  const LightFrustum lf = light_frustum(one_box_scene({3, 2, -0.5}, 0.5), 0, {});
+  EXPECT_FALSE(lf.defined);
+  EXPECT_NE(lf.undefined_reason.find("near plane"), std::string::npos);
+}
+
+TEST(Figure7Program, ClippedMovableVerticesBecomeTheirNearCapCounterparts) {
+  const Scene scene = one_box_scene({0, 3, -8}, 0.5);  // light beyond the box: shadows come at the camera
+  const LightFrustum lf = light_frustum(scene, 0, {});
+  ASSERT_TRUE(lf.defined);
+  ShadowUniforms u;
+  u.modelview_projection = frustum_matrix(scene.camera.frustum);  // view and model are the identity
+  u.light_modelview = lf.modelview;
+  u.light_projection = lf.projection;
+  u.light_position = {0, 3, -8, 1};
+  // A point between the eye and the near plane: clipped.
+  const ShadowVertex movable{0.01f, 0.02f, -0.25f, 1.0f};
+  const Vec4f out = figure7_program(u, movable);
+  const Vec4f cap = near_cap_program(u, movable);
+  EXPECT_EQ(out.x, cap.x);
+  EXPECT_EQ(out.y, cap.y);
+  EXPECT_EQ(out.w, cap.w);
+  EXPECT_EQ(out.z, -out.w);  // on the near plane
+  // Nailed (w = 2): kept where the camera puts it, clipped or not.
+  const ShadowVertex nailed{0.01f, 0.02f, -0.25f, 2.0f};
+  const Vec4f kept = figure7_program(u, nailed);
+  const Vec4f plain = extrusion_program(u, movable);
+  EXPECT_EQ(kept.x, plain.x);
+  EXPECT_EQ(kept.z, plain.z);
+  EXPECT_EQ(kept.w, plain.w);
+  // A vertex the near plane does not clip is left alone.
+  const ShadowVertex visible{0.0f, 0.0f, -3.0f, 1.0f};
+  const Vec4f v = figure7_program(u, visible), e = extrusion_program(u, visible);
+  EXPECT_EQ(v.x, e.x);
+  EXPECT_EQ(v.z, e.z);
+  // w = 0 extrudes away from the light: w_clip = -(z - l.z) < 0 here (towards the camera).
+  const Vec4f extruded = extrusion_program(u, {0.0f, 0.0f, -3.0f, 0.0f});
+  EXPECT_LT(extruded.w, 0.0f);
+}
+
+}  // namespace
+}  // namespace nearcap::gl
