@@ -240,5 +240,69 @@ TEST(Cli, UnknownSubcommandOrOptionIsNotSuccess) {
   EXPECT_NE(test::run_cli("classify data/scenes/default.json --no-such-option", "usage").exit_code, 0);
 }
 
+TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
+  const test::CliResult r = test::run_cli("cracks data/scenes/near_split.json --light 0 --method all", "cracks_all");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("methods").size(), 5u);
+  std::set<std::string> names;
+  for (const auto& m : j["methods"]) {
+    names.insert(m.at("method").get<std::string>());
+    for (const char* key :
+         {"pixels_seen", "wrong", "wrong_lit", "wrong_shadowed", "count_mismatch", "case_disagreements", "ms"})
+      EXPECT_TRUE(m.at(key).is_number()) << key;
+    EXPECT_TRUE(m.contains("cap_mismatch"));
+    EXPECT_EQ(m["wrong"].get<std::size_t>(),
+              m["wrong_lit"].get<std::size_t>() + m["wrong_shadowed"].get<std::size_t>());
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"zpass", "zfail", "zpplus", "zpplus-corrected", "preload"}));
+}
+
+TEST(CracksCommand, OutWritesTheImageAndTheRecord) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_cracks_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "cracks data/scenes/near_split.json --light 0 --method zpplus --out '" + dir.string() + "'", "cracks_out");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out).at("method"), "zpplus");
+  const std::string png = test::slurp(dir / "cracks.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto record = nlohmann::json::parse(test::slurp(dir / "cracks.json"));
+  EXPECT_EQ(record.at("light"), 0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CracksCommand, TableNamesEveryMethod) {
+  const test::CliResult r = test::run_cli("cracks data/scenes/case_d.json --light 0 --table", "cracks_table");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* m : {"zpass", "zfail", "zpplus", "zpplus-corrected", "preload"})
+    EXPECT_NE(r.out.find(m), std::string::npos) << m;
+}
+
+TEST(CracksCommand, BadArgumentsAreUsageErrorsAndWriteNothing) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_cracks_bad_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  for (const std::string args : {"--method zpass+", "--subpixel-bits 40", "--l-near-scale 2"}) {
+    const test::CliResult r = test::run_cli(
+        "cracks data/scenes/near_split.json --light 0 " + args + " --out '" + dir.string() + "'", "cracks_bad");
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find("usage"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << args;
+  }
+  const test::CliResult light = test::run_cli("cracks data/scenes/near_split.json --light 3", "cracks_light");
+  EXPECT_EQ(light.exit_code, 2);
+  EXPECT_NE(light.err.find("--light 3"), std::string::npos) << light.err;
+}
+
+TEST(CracksCommand, LightOnTheNearPlaneSaysZPPlusFellBack) {
+  const test::CliResult r =
+      test::run_cli("cracks data/scenes/light_on_near_plane.json --light 0 --method zpplus", "cracks_fallback");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j.at("fallback").get<std::string>().find("zfail"), std::string::npos);
+  EXPECT_TRUE(j.at("cap_mismatch").is_null());
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -4,6 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 namespace nearcap::gl {
 namespace {
@@ -79,7 +83,8 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
   clip.guard_band = safe_guard_band(width_, height_, raster.subpixel_bits);
-  const bool test_depth = state.depth_func == DepthFunc::Less;
+  // Vertex post-processing and setup, in submission order.
+  std::vector<std::array<WindowVertex, 3>> triangles;
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
     ++counters.triangles;
     const std::vector<Vec4f> polygon =
@@ -99,21 +104,51 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
         ++counters.culled;
         continue;
       }
-      ++counters.rasterized;
-      rasterize_triangle_with(tri, width_, height_, raster, [&](const Fragment& f) {
-        ++counters.fragments;
-        const std::size_t p = index(f.x, f.y);
-        const std::uint32_t z = encode_depth(f.depth);
-        const bool pass = !test_depth || z < depth_[p];
-        const StencilOps& ops = f.front ? state.front : state.back;
-        stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
-        if (pass && state.depth_write) {
-          depth_[p] = z;
-          objects_[p] = state.object_id;
-        }
-      });
+      triangles.push_back(tri);
     }
   }
+  counters.rasterized = triangles.size();
+  // Fragments: horizontal bands in parallel, each band seeing every triangle
+  // in submission order, so every pixel gets its fragments in GL's order and
+  // the result does not depend on the number of threads.
+  const bool test_depth = state.depth_func == DepthFunc::Less;
+  constexpr int kBandRows = 32;
+  const int bands = (height_ + kBandRows - 1) / kBandRows;
+  // Bin the triangles by the bands their rows may touch (a conservative range
+  // from the float y extent, widened by a pixel), keeping submission order.
+  std::vector<std::vector<std::uint32_t>> binned(static_cast<std::size_t>(bands));
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& tri = triangles[t];
+    const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
+    const int b0 = std::clamp(static_cast<int>(std::floor(lo)) - 1, 0, height_ - 1) / kBandRows;
+    const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
+    for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
+  }
+  counters.fragments = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, bands), std::uint64_t{0},
+      [&](const tbb::blocked_range<int>& range, std::uint64_t fragments) {
+        for (int b = range.begin(); b != range.end(); ++b) {
+          const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
+          for (std::uint32_t t : binned[static_cast<std::size_t>(b)])
+            rasterize_triangle_with(
+                triangles[t], width_, height_, raster,
+                [&](const Fragment& f) {
+                  ++fragments;
+                  const std::size_t p = index(f.x, f.y);
+                  const std::uint32_t z = encode_depth(f.depth);
+                  const bool pass = !test_depth || z < depth_[p];
+                  const StencilOps& ops = f.front ? state.front : state.back;
+                  stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
+                  if (pass && state.depth_write) {
+                    depth_[p] = z;
+                    objects_[p] = state.object_id;
+                  }
+                },
+                row_begin, row_end);
+        }
+        return fragments;
+      },
+      std::plus<>());
   return counters;
 }
 

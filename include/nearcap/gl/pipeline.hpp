@@ -88,6 +88,8 @@ class Framebuffer {
   bool covered(int i, int j) const { return objects_[index(i, j)] >= 0; }
 
   // Draws triangles given as clip-space vertex triples (3 per triangle).
+  // Fragments are processed in horizontal bands on all cores (TBB); each
+  // pixel sees its fragments in submission order, as in GL.
   DrawCounters draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster);
 
  private:

@@ -98,9 +98,12 @@ inline int snapped_orientation(const std::array<WindowVertex, 3>& v, int subpixe
 // Calls `emit(const Fragment&)` for every covered pixel of the triangle inside
 // [0, width) x [0, height), row by row from the bottom, left to right.
 // Returns false when the triangle was dropped (zero snapped area).
+// Only rows [row_begin, row_end) are visited when given (a band of the
+// framebuffer: bands rasterized in parallel see each pixel's fragments in the
+// same order as one pass over all rows).
 template <class Emit>
 bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, int height,
-                             const RasterSettings& settings, Emit&& emit) {
+                             const RasterSettings& settings, Emit&& emit, int row_begin = 0, int row_end = -1) {
   using detail::FixedPoint;
   const int bits = settings.subpixel_bits;
   std::array<FixedPoint, 3> p{detail::snap(v[0], bits), detail::snap(v[1], bits), detail::snap(v[2], bits)};
@@ -116,8 +119,9 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
   const std::int64_t one = std::int64_t{1} << bits, half = one >> 1;
   const std::int64_t min_y = std::min({p[0].y, p[1].y, p[2].y}), max_y = std::max({p[0].y, p[1].y, p[2].y});
   // Pixel j's centre is j * one + half: the candidate rows.
-  const std::int64_t j0 = std::max<std::int64_t>(0, detail::ceil_div(min_y - half, one));
-  const std::int64_t j1 = std::min<std::int64_t>(height - 1, detail::floor_div(max_y - half, one));
+  const std::int64_t last_row = (row_end < 0 ? height : std::min(row_end, height)) - 1;
+  const std::int64_t j0 = std::max<std::int64_t>(row_begin, detail::ceil_div(min_y - half, one));
+  const std::int64_t j1 = std::min<std::int64_t>(last_row, detail::floor_div(max_y - half, one));
   // Edge k from p[k] to p[k+1]: e_k(i, j) = C_k(j) + B_k i with
   // B_k = -(b.y - a.y) one and C_k(j) = (b.x - a.x)(py - a.y) - (b.y - a.y)(half - a.x).
   // A pixel is covered when e_k >= threshold_k for all k (0 if the edge is
