@@ -20,5 +20,10 @@ if ./build/nearcap reference --help >/dev/null 2>&1; then
   echo "== nearcap reference $scene --light 0"
   ./build/nearcap reference "$scene" --light 0 --out "$out"
 fi
+if ./build/nearcap cracks --help >/dev/null 2>&1; then
+  echo "== nearcap cracks $scene --light 0 --table"
+  ./build/nearcap cracks "$scene" --light 0 --table
+  ./build/nearcap cracks "$scene" --light 0 --out "$out" >/dev/null
+fi
 echo "== results in $out/"
 ls -l "$out"
