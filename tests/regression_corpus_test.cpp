@@ -5,6 +5,7 @@
 
 #include "cli_support.hpp"
 #include "nearcap/classification.hpp"
+#include "nearcap/crack_map.hpp"
 #include "nearcap/near_cap.hpp"
 #include "nearcap/pixel_reference.hpp"
 
@@ -53,6 +54,23 @@ TEST(RegressionCorpus, EveryEntryKeepsItsFigures) {
 
     const NearCap cap = NearCap::build(cs, light);
     EXPECT_EQ(cap.faces().size(), e.at("near_cap_faces").get<std::size_t>());
+
+    // Wrong pixels per float method (default emulation settings), where recorded.
+    if (e.contains("cracks"))
+      for (const auto& [name, figures] : e.at("cracks").items()) {
+        SCOPED_TRACE(name);
+        const auto method = gl::shadow_method_from_string(name);
+        ASSERT_TRUE(method.has_value());
+        const CrackReport r = judge_frame(gl::render_shadow_frame(scene, light, *method), ref);
+        EXPECT_EQ(r.wrong, figures.at("wrong").get<std::size_t>());
+        EXPECT_EQ(r.count_mismatch, figures.at("count_mismatch").get<std::size_t>());
+        if (figures.at("cap_mismatch").is_null()) {
+          EXPECT_FALSE(r.cap_mismatch.has_value());
+        } else {
+          ASSERT_TRUE(r.cap_mismatch.has_value());
+          EXPECT_EQ(*r.cap_mismatch, figures.at("cap_mismatch").get<std::size_t>());
+        }
+      }
   }
 }
 
