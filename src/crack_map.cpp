@@ -54,31 +54,42 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
   return r;
 }
 
+namespace {
+
+using Rgb = std::array<std::uint8_t, 3>;
+
+// The mark of a judged pixel (crack_map.hpp), nothing when it is right.
+std::optional<Rgb> mark_colour(const CrackReport& report, std::size_t p) {
+  switch (report.verdict[p]) {
+    case PixelVerdict::WrongLit:
+      return Rgb{255, 40, 40};
+    case PixelVerdict::WrongShadowed:
+      return Rgb{40, 230, 255};
+    case PixelVerdict::CountOnly:
+      return Rgb{255, 220, 0};
+    case PixelVerdict::VisibilityMismatch:
+      return Rgb{70, 70, 70};
+    default:
+      if (!report.cap_wrong.empty() && report.cap_wrong[p]) return Rgb{255, 0, 255};
+      return std::nullopt;
+  }
+}
+
+bool ringed(const CrackReport& report, std::size_t p) {
+  const PixelVerdict v = report.verdict[p];
+  return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed ||
+         (!report.cap_wrong.empty() && report.cap_wrong[p]);
+}
+
+}  // namespace
+
 std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report) {
   std::vector<std::uint8_t> rgb = shadow_rgb(scene, ref);
-  using Rgb = std::array<std::uint8_t, 3>;
+  auto pixel = [&](int i, int j) { return &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - j) * ref.width + i)]; };
   for (int j = 0; j < ref.height; ++j)
     for (int i = 0; i < ref.width; ++i) {
-      const std::size_t p = ref.index(i, j);
-      std::uint8_t* px = &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - j) * ref.width + i)];
-      std::optional<Rgb> mark;
-      switch (report.verdict[p]) {
-        case PixelVerdict::WrongLit:
-          mark = Rgb{255, 40, 40};
-          break;
-        case PixelVerdict::WrongShadowed:
-          mark = Rgb{40, 230, 255};
-          break;
-        case PixelVerdict::CountOnly:
-          mark = Rgb{255, 220, 0};
-          break;
-        case PixelVerdict::VisibilityMismatch:
-          mark = Rgb{70, 70, 70};
-          break;
-        default:
-          if (!report.cap_wrong.empty() && report.cap_wrong[p]) mark = Rgb{255, 0, 255};
-      }
-      if (mark) {
+      std::uint8_t* px = pixel(i, j);
+      if (const auto mark = mark_colour(report, ref.index(i, j))) {
         for (int c = 0; c < 3; ++c) px[c] = (*mark)[c];
       } else {
         for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(px[c] / 2);  // dim what is right
@@ -90,18 +101,14 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
   for (int j = 0; j < ref.height; ++j)
     for (int i = 0; i < ref.width; ++i) {
       const std::size_t p = ref.index(i, j);
-      const PixelVerdict v = report.verdict[p];
-      const bool cap = !report.cap_wrong.empty() && report.cap_wrong[p];
-      if (v != PixelVerdict::WrongLit && v != PixelVerdict::WrongShadowed && !cap) continue;
-      const Rgb colour = v == PixelVerdict::WrongLit        ? Rgb{255, 40, 40}
-                         : v == PixelVerdict::WrongShadowed ? Rgb{40, 230, 255}
-                                                            : Rgb{255, 0, 255};
+      if (!ringed(report, p)) continue;
+      const Rgb colour = *mark_colour(report, p);
       for (int dj = -r; dj <= r; ++dj)
         for (int di = -r; di <= r; ++di) {
           if (std::max(std::abs(di), std::abs(dj)) != r) continue;
           const int x = i + di, y = j + dj;
           if (x < 0 || y < 0 || x >= ref.width || y >= ref.height) continue;
-          std::uint8_t* q = &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - y) * ref.width + x)];
+          std::uint8_t* q = pixel(x, y);
           for (int c = 0; c < 3; ++c) q[c] = colour[c];
         }
     }

@@ -3,6 +3,8 @@
 
 #include <glm/glm.hpp>
 
+#include "nearcap/gl/light_frustum.hpp"
+
 namespace nearcap {
 namespace {
 
@@ -22,10 +24,9 @@ EngineSilhouette engine_silhouette(const Scene& scene, std::size_t object, std::
   const TriangleMesh& mesh = *obj.mesh;
   const glm::mat4 view = to_glm_float(scene.camera.view);
   const glm::mat4 modelview = view * to_glm_float(obj.object_to_world);
-  const glm::vec3 l = glm::vec3(view * glm::vec4(glm::vec3(static_cast<float>(scene.lights[light].position.x),
-                                                           static_cast<float>(scene.lights[light].position.y),
-                                                           static_cast<float>(scene.lights[light].position.z)),
-                                                 1.0f));
+  // The same float32 light position as the light frustum's Delta (one computation).
+  const gl::Vec4f light_camera = gl::light_in_camera_space(scene, light);
+  const glm::vec3 l(light_camera.x, light_camera.y, light_camera.z);
   const float near = static_cast<float>(scene.camera.frustum.near);
   const float handedness = glm::determinant(glm::mat3(modelview)) >= 0.0f ? 1.0f : -1.0f;
 

@@ -28,6 +28,14 @@ std::uint64_t env_or(const char* name, std::uint64_t fallback) {
   return v ? std::strtoull(v, nullptr, 10) : fallback;
 }
 
+// The run's seed (NEARCAP_STRESS_SEED, or a random one), printed for replay.
+std::uint64_t announced_seed() {
+  const std::uint64_t seed = env_or("NEARCAP_STRESS_SEED", std::random_device{}());
+  std::printf("stress seed %llu (replay: NEARCAP_STRESS_SEED=%llu)\n", static_cast<unsigned long long>(seed),
+              static_cast<unsigned long long>(seed));
+  return seed;
+}
+
 struct HardScene {
   std::string json;
   std::string kind;
@@ -94,10 +102,8 @@ HardScene hard_scene(std::mt19937_64& rng) {
 }
 
 TEST(Stress, ExactKernelIdentitiesOnHardConfigurations) {
-  const std::uint64_t seed = env_or("NEARCAP_STRESS_SEED", std::random_device{}());
+  const std::uint64_t seed = announced_seed();
   const std::uint64_t count = env_or("NEARCAP_STRESS_COUNT", 2000);
-  std::printf("stress seed %llu (replay: NEARCAP_STRESS_SEED=%llu)\n", static_cast<unsigned long long>(seed),
-              static_cast<unsigned long long>(seed));
   std::mt19937_64 rng(seed);
   std::map<std::string, int> ran, rejected, degenerate_light;
   int identity_pixels = 0;
@@ -151,10 +157,8 @@ TEST(Stress, ExactKernelIdentitiesOnHardConfigurations) {
 // frustum is undefined.  Wrong pixels per method are printed (a measurement:
 // float against exact on configurations built to be hard).
 TEST(Stress, FloatPipelineOnHardConfigurations) {
-  const std::uint64_t seed = env_or("NEARCAP_STRESS_SEED", std::random_device{}());
+  const std::uint64_t seed = announced_seed();
   const std::uint64_t count = env_or("NEARCAP_STRESS_COUNT", 2000);
-  std::printf("stress seed %llu (replay: NEARCAP_STRESS_SEED=%llu)\n", static_cast<unsigned long long>(seed),
-              static_cast<unsigned long long>(seed));
   std::mt19937_64 rng(seed);
   std::map<std::string, std::size_t> wrong, fallbacks;
   std::size_t pixels = 0, scenes = 0;

@@ -112,6 +112,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   // in submission order, so every pixel gets its fragments in GL's order and
   // the result does not depend on the number of threads.
   const bool test_depth = state.depth_func == DepthFunc::Less;
+  const bool needs_depth = test_depth || state.depth_write;
   constexpr int kBandRows = 32;
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
@@ -135,7 +136,8 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
                 [&](const Fragment& f) {
                   ++fragments;
                   const std::size_t p = index(f.x, f.y);
-                  const std::uint32_t z = encode_depth(f.depth);
+                  const std::uint32_t z =
+                      needs_depth ? encode_depth(f.depth) : 0;  // the near-cap pass neither tests nor writes
                   const bool pass = !test_depth || z < depth_[p];
                   const StencilOps& ops = f.front ? state.front : state.back;
                   stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
