@@ -24,6 +24,8 @@ std::string_view to_string(ErrorKind kind) {
       return "degenerate";
     case ErrorKind::Usage:
       return "usage";
+    case ErrorKind::Gl:
+      return "gl";
   }
   return "unknown";
 }

@@ -66,5 +66,26 @@ TEST(FuzzSeeds, SceneSeedsAreValidScenes) {
   EXPECT_GT(seeds, 0);
 }
 
+TEST(FuzzSeeds, MeshSeedsAreValidOccludersInEveryFormatVariant) {
+  // Each mesh fuzzer starts from small valid files of its format (ascii and
+  // binary PLY and STL; OBJ with every face-entry form): each must read and
+  // validate exactly as the fuzzer calls it.
+  const fs::path root = fs::path(NEARCAP_SOURCE_DIR) / "fuzz" / "seeds";
+  for (const char* format : {"obj", "ply", "stl"}) {
+    int seeds = 0;
+    for (const auto& entry : fs::directory_iterator(root / format)) {
+      try {
+        TriangleMesh mesh = parse_mesh(test::slurp(entry.path()), format, entry.path().string());
+        validate_occluder(mesh);
+        EXPECT_GE(mesh.triangle_count(), 4u) << entry.path();
+      } catch (const Error& e) {
+        ADD_FAILURE() << entry.path() << ": " << e.what();
+      }
+      ++seeds;
+    }
+    EXPECT_GE(seeds, 2) << format;
+  }
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -25,6 +25,7 @@ enum class ErrorKind {
   Range,       // finite, but too large for the float32 pipeline to represent the scene
   Degenerate,  // the requested construction is undefined for this configuration
   Usage,       // a bad command-line argument (light index out of range, ...)
+  Gl,          // no OpenGL context could be made, or the GL reported an error
 };
 
 // Stable lower-case name of a kind ("mesh", "camera", ...), used in messages and

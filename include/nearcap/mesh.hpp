@@ -6,10 +6,9 @@
 // 2-manifolds; validate_occluder() proves it and fills the face adjacency the
 // silhouette extraction walks.
 //
-// Reading: OFF is parsed by nearcap itself (OpenMesh 9 rejects '#' comment lines
-// and misreads face colours); OBJ, PLY and STL go through OpenMesh's readers
-// into a raw importer that keeps every face as written (OpenMesh's own mesh
-// would silently drop non-manifold faces, hiding exactly the faults we report).
+// Reading: every format is parsed by nearcap itself (mesh_io.cpp says why
+// not OpenMesh's readers); faces are kept exactly as written, so the
+// validation reports the faults a topology-building reader would hide.
 #pragma once
 
 #include <array>
@@ -61,6 +60,25 @@ TriangleMesh parse_mesh(const std::string& bytes, const std::string& format, con
 // Parses OFF text ("OFF" header, optional '#' comments anywhere, optional
 // per-face colour values after the indices).  `source` names it in messages.
 TriangleMesh parse_off(const std::string& text, const std::string& source);
+
+// Parses Wavefront OBJ text: "v x y z" vertices (a fourth value must be 1;
+// six or seven values carry colours, ignored), "f" triangles whose entries are
+// "i", "i/t", "i//n" or "i/t/n" with 1-based or negative (relative) position
+// indices referring to vertices defined before the face; '#' comments and '\'
+// line continuations.  Texture, normal, group and material statements are
+// skipped; free-form geometry and unknown statements are errors.
+TriangleMesh parse_obj(const std::string& text, const std::string& source);
+
+// Parses PLY 1.0 (ascii, binary little- or big-endian): the "vertex"
+// element's x, y, z (any numeric type, kept at its declared precision) and the
+// "face" element's "vertex_indices" (or "vertex_index") list; other elements
+// and properties are skipped by their declared types.
+TriangleMesh parse_ply(const std::string& bytes, const std::string& source);
+
+// Parses STL, binary (exactly 84 + 50 n bytes) or ascii ("solid" ...): one
+// triangle per facet, equal positions shared as one vertex, float32
+// coordinates, stored normals ignored.
+TriangleMesh parse_stl(const std::string& bytes, const std::string& source);
 
 // Proves the mesh is a closed, consistently oriented 2-manifold with positive
 // signed volume (outward orientation), and fills `neighbours`.  Zero-area

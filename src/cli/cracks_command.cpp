@@ -21,7 +21,8 @@ struct CracksOptions {
   std::string method = "all";
   int subpixel_bits = 8;
   std::string depth = "fixed24";
-  std::string fill_rule = "top-left";
+  std::string fill_rule = "bottom-left";
+  float guard_band = 1.0f;
   std::string light_projection = "paper";
   double l_near_scale = 1.0;
   std::string zfail_far = "infinite";
@@ -37,6 +38,9 @@ gl::EmulationSettings settings_from(const CracksOptions& o) {
     throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(o.subpixel_bits) + " is not in [0, 12]");
   s.raster.subpixel_bits = o.subpixel_bits;
   s.raster.fill_rule = o.fill_rule == "top-left" ? gl::FillRule::TopLeft : gl::FillRule::BottomLeft;
+  if (!(o.guard_band >= 1.0f))
+    throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
+  s.raster.guard_band = o.guard_band;
   s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
   s.light_frustum.projection =
@@ -168,8 +172,12 @@ void register_cracks(CLI::App& app) {
   cmd->add_option("--depth", o->depth, "depth buffer: fixed24 or float32")
       ->check(CLI::IsMember({"fixed24", "float32"}))
       ->capture_default_str();
-  cmd->add_option("--fill-rule", o->fill_rule, "pixel centres on an edge: top-left or bottom-left")
+  cmd->add_option("--fill-rule", o->fill_rule,
+                  "pixel centres on an edge: bottom-left (llvmpipe's, GL window coordinates) or top-left")
       ->check(CLI::IsMember({"top-left", "bottom-left"}))
+      ->capture_default_str();
+  cmd->add_option("--guard-band", o->guard_band,
+                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
       ->capture_default_str();
   cmd->add_option("--light-projection", o->light_projection, "P_l formulation: paper or glfrustum")
       ->check(CLI::IsMember({"paper", "glfrustum"}))

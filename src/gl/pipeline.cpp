@@ -82,7 +82,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   ClipSettings clip;
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
-  clip.guard_band = safe_guard_band(width_, height_, raster.subpixel_bits);
+  clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
   // Vertex post-processing and setup, in submission order.
   std::vector<std::array<WindowVertex, 3>> triangles;
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {

@@ -7,9 +7,9 @@
 // sign gives the facing, counter-clockwise = front as glFrontFace(GL_CCW)),
 // and evaluates three 64-bit integer edge functions at pixel centres
 // (i + 1/2, j + 1/2).  A centre exactly on an edge is covered when the edge is
-// included by the fill rule; which rule llvmpipe applies to GL window
-// coordinates depends on the framebuffer's orientation, so it is a setting
-// (checked against the real renderer later).  Depth is interpolated linearly
+// included by the fill rule, a setting whose default, bottom-left in GL window
+// coordinates, is llvmpipe's for framebuffer objects (checked pixel for pixel
+// through EGL by tests/llvmpipe_rasterizer_test.cpp).  Depth is interpolated linearly
 // in window space from the three z values.
 //
 // Coverage is found row by row: on pixel row j each edge function is affine in
@@ -36,13 +36,21 @@ struct WindowVertex {
 };
 
 enum class FillRule {
-  TopLeft,     // edges with the interior below (horizontal) or to the right are included
-  BottomLeft,  // horizontal edges with the interior above, and left edges
+  TopLeft,     // horizontal edges with the interior below, and left edges (interior to the right)
+  BottomLeft,  // horizontal edges with the interior above, and left edges: llvmpipe's, in GL window coordinates
 };
 
+// The defaults are llvmpipe's (Mesa 22.3), as observed through a headless EGL
+// context (tests/llvmpipe_rasterizer_test.cpp): 8 sub-pixel bits, pixel
+// centres on a horizontal edge owned by the triangle above it (bottom-left in
+// GL window coordinates, y up), and x, y clipped at the view volume.
 struct RasterSettings {
   int subpixel_bits = 8;
-  FillRule fill_rule = FillRule::TopLeft;
+  FillRule fill_rule = FillRule::BottomLeft;
+  // x and y are clipped at |x|, |y| <= guard_band * w.  1: at the view volume,
+  // as llvmpipe does; larger: a hardware-style guard band (the pipeline caps
+  // it at safe_guard_band() so snapped coordinates stay in range).
+  float guard_band = 1.0f;
 };
 
 struct Fragment {
