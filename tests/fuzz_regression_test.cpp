@@ -5,6 +5,8 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/mesh.hpp"
@@ -50,6 +52,36 @@ TEST(FuzzRegressions, MeshInputsFailCleanly) {
       }
     }
   }
+}
+
+// Every crash input has the error it must produce now (fuzz/regressions/expected.json),
+// and every file in fuzz/regressions/ is listed there.
+TEST(FuzzRegressions, EachCrashInputGivesItsDocumentedError) {
+  const fs::path root = fs::path(NEARCAP_SOURCE_DIR) / "fuzz" / "regressions";
+  const nlohmann::json expected = nlohmann::json::parse(test::slurp(root / "expected.json"));
+  std::size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file() || entry.path().filename() == "expected.json") continue;
+    ++files;
+    const std::string key = fs::relative(entry.path(), root).generic_string();
+    ASSERT_TRUE(expected.contains(key)) << key << " has no expected error in expected.json";
+    const std::string format = entry.path().parent_path().filename().string();
+    try {
+      if (format == "scene") {
+        (void)parse_scene(test::slurp(entry.path()), entry.path().string(),
+                          (fs::path(NEARCAP_SOURCE_DIR) / "fuzz" / "meshes").string());
+      } else {
+        TriangleMesh mesh = parse_mesh(test::slurp(entry.path()), format, entry.path().string());
+        validate_occluder(mesh);
+      }
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(to_string(e.kind())), expected[key].at("kind").get<std::string>()) << key;
+      EXPECT_NE(std::string(e.what()).find(expected[key].at("message").get<std::string>()), std::string::npos)
+          << key << ": " << e.what();
+    }
+  }
+  EXPECT_EQ(files, expected.size());
 }
 
 TEST(FuzzSeeds, SceneSeedsAreValidScenes) {

@@ -161,7 +161,7 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
   const std::uint64_t count = env_or("NEARCAP_STRESS_COUNT", 2000);
   std::mt19937_64 rng(seed);
   std::map<std::string, std::size_t> wrong, fallbacks;
-  std::size_t pixels = 0, scenes = 0;
+  std::size_t pixels = 0, scenes = 0, switches = 0, switched_wrong = 0, switched_wrong_clamp_far = 0;
   for (std::uint64_t k = 0; k < count; ++k) {
     const HardScene h = hard_scene(rng);
     Scene scene;
@@ -186,12 +186,27 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
         ASSERT_EQ(f.fallback.empty(), f.light_frustum.defined) << "configuration " << k << ", seed " << seed;
         fallbacks[name] += !f.fallback.empty();
       }
+      if (m == gl::ShadowMethod::ZPPlusCorrected && !f.zfail_objects.empty()) {
+        ++switches;
+        switched_wrong += judge_frame(f, ref).wrong;
+        // The same switch with far-only depth clamp (the README's finding:
+        // GL_DEPTH_CLAMP also disables near clipping).
+        gl::EmulationSettings far_only;
+        far_only.switch_clamp = gl::ZFailFar::DepthClampFar;
+        switched_wrong_clamp_far += judge_frame(gl::render_shadow_frame(scene, 0, m, far_only), ref).wrong;
+      }
     }
   }
   std::printf("  %zu configurations, %zu pixels seen\n", scenes, pixels);
   for (const auto& [name, n] : wrong)
     std::printf("  %-17s %zu wrong pixels, %zu fallbacks to zfail\n", name.c_str(), n, fallbacks[name]);
+  std::printf(
+      "  zpplus-corrected switched to zfail (case D) in %zu configurations: %zu wrong pixels there "
+      "with GL_DEPTH_CLAMP, %zu with far-only clamp\n",
+      switches, switched_wrong, switched_wrong_clamp_far);
   EXPECT_GT(scenes, 0u);
+  // Far-only clamping never makes the case-D switch worse than GL_DEPTH_CLAMP.
+  EXPECT_LE(switched_wrong_clamp_far, switched_wrong);
 }
 
 }  // namespace
