@@ -26,6 +26,8 @@ std::string_view to_string(ErrorKind kind) {
       return "usage";
     case ErrorKind::Gl:
       return "gl";
+    case ErrorKind::Resource:
+      return "resource";
   }
   return "unknown";
 }

@@ -74,7 +74,7 @@ LightPlacement light_placement(const CameraSpaceScene& scene, std::size_t o, std
 
 void validate_float_range(const Scene& scene, const CameraSpaceScene& cs) {
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    if (cs.max_abs(o) > kFloatPipelineCoordinateLimit) {
+    if (!(cs.max_abs(o) <= kFloatPipelineCoordinateLimit)) {  // NaN too
       std::ostringstream s;
       s << scene.source << ": objects[" << o << "] (" << scene.objects[o].mesh_path
         << ") reaches camera-space coordinate " << cs.max_abs(o)
@@ -86,7 +86,7 @@ void validate_float_range(const Scene& scene, const CameraSpaceScene& cs) {
   for (std::size_t k = 0; k < scene.lights.size(); ++k) {
     const BoundedVec3& l = cs.light(k);
     for (int i = 0; i < 3; ++i)
-      if (std::fabs(l[i].v) > kFloatPipelineCoordinateLimit) {
+      if (!(std::fabs(l[i].v) <= kFloatPipelineCoordinateLimit)) {
         std::ostringstream s;
         s << scene.source << ": lights[" << k << "] has camera-space coordinate " << l[i].v
           << ", beyond the float32 pipeline's limit 2^40 = " << kFloatPipelineCoordinateLimit;

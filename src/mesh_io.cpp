@@ -9,11 +9,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
+#include <filesystem>
 #include <sstream>
 
 #include "mesh_reading.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/input_files.hpp"
 #include "nearcap/mesh.hpp"
 
 namespace nearcap {
@@ -59,9 +60,8 @@ void check_read_mesh(const TriangleMesh& mesh) {
 namespace {
 
 std::string lower_extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  if (dot == std::string::npos) return {};
-  std::string ext = path.substr(dot + 1);
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
@@ -69,12 +69,15 @@ std::string lower_extension(const std::string& path) {
 }  // namespace
 
 TriangleMesh read_mesh(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) mesh_reading::fail(ErrorKind::Io, path, "cannot open the mesh file (missing or unreadable)");
+  // The format first: a name nearcap would not parse is refused before a byte is read.
   const std::string ext = lower_extension(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parse_mesh(buffer.str(), ext, path);
+  if (ext.empty())
+    mesh_reading::fail(ErrorKind::Parse, path,
+                       "the mesh file name has no extension (nearcap reads .off, .obj, .ply and .stl)");
+  if (ext != "off" && ext != "obj" && ext != "ply" && ext != "stl")
+    mesh_reading::fail(ErrorKind::Parse, path,
+                       "unknown mesh format '." + ext + "' (nearcap reads .off, .obj, .ply and .stl)");
+  return parse_mesh(io::read_input_file(path, "mesh file"), ext, path);
 }
 
 TriangleMesh parse_mesh(const std::string& bytes, const std::string& format, const std::string& source) {

@@ -1,14 +1,15 @@
 // Scene files: JSON -> Scene, with every fault named by file and JSON path.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "nearcap/error.hpp"
+#include "nearcap/io/input_files.hpp"
 #include "nearcap/light_validation.hpp"
 #include "nearcap/rational.hpp"
 #include "nearcap/scene.hpp"
@@ -54,9 +55,17 @@ class SceneReader {
   }
 
   int pixels(const Json& j, const std::string& where) const {
-    if (!j.is_number_integer() && !j.is_number_unsigned())
-      fail(ErrorKind::Schema, where, "expected an integer pixel count, found " + std::string(j.type_name()));
-    const long long v = j.get<long long>();
+    long long v = 0;
+    if (j.is_number_integer() || j.is_number_unsigned()) {
+      v = j.get<long long>();
+    } else if (j.is_number_float() && std::isfinite(j.get<double>()) && j.get<double>() == std::floor(j.get<double>()) &&
+               std::fabs(j.get<double>()) <= 1e9) {
+      v = static_cast<long long>(j.get<double>());  // 64.0 is the integer 64
+    } else {
+      fail(ErrorKind::Schema, where,
+           j.is_number() ? "must be an integer number of pixels"
+                         : "expected an integer pixel count, found " + std::string(j.type_name()));
+    }
     if (v < 1 || v > 16384)
       fail(ErrorKind::Camera, where, "viewport size " + std::to_string(v) + " is outside [1, 16384] pixels");
     return static_cast<int>(v);
@@ -170,14 +179,36 @@ class SceneReader {
     Frustum probe;
     probe.near = near;
     probe.far = far;
+    probe.left = probe.bottom = -1;
+    probe.right = probe.top = 1;
     check_frustum(probe, where);
+    for (const auto& [name, v] : {std::pair<const char*, const Vec3d*>{"eye", &eye}, {"target", &target}})
+      for (int k = 0; k < 3; ++k)
+        if (std::fabs((*v)[k]) > kFloatPipelineCoordinateLimit) {
+          std::ostringstream m;
+          m.precision(17);
+          m << (*v)[k] << " is beyond the float32 pipeline's limit 2^40 (move the scene nearer the origin)";
+          fail(ErrorKind::Range, where + "." + name + "[" + std::to_string(k) + "]", m.str());
+        }
     const Vec3d f = target - eye;
     if (f.x == 0 && f.y == 0 && f.z == 0) fail(ErrorKind::Camera, where, "eye and target coincide: no view direction");
-    const Vec3d s = cross(f, up);
-    if (s.x == 0 && s.y == 0 && s.z == 0)
-      fail(ErrorKind::Camera, where, "up is parallel to the view direction (or zero): the view basis is undefined");
+    if (up.x == 0 && up.y == 0 && up.z == 0) fail(ErrorKind::Camera, where + ".up", "is the zero vector (up must be non-zero and not parallel to the view direction)");
     Camera c = look_at_camera(eye, target, up, fovy, near, far, width, height);
-    check_frustum(c.frustum, where);
+    // Every derived double is checked before it becomes the exact scene.
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 4; ++k)
+        if (!std::isfinite(c.view.rows[r][k]))
+          fail(ErrorKind::Camera, where + ".up",
+               "is parallel to the view direction (or too small to give one): the view basis is undefined");
+    const Frustum& d = c.frustum;
+    if (!std::isfinite(d.top) || !std::isfinite(d.right) || !(d.top > 0) || !(d.right > 0)) {
+      std::ostringstream m;
+      m.precision(17);
+      m << "the frustum derived from near = " << near << " and fovy_deg = " << fovy << " (top = near tan(fovy/2) = "
+        << d.top << ", right = top width/height = " << d.right << ") is degenerate or not finite";
+      fail(ErrorKind::Camera, where + ".near", m.str());
+    }
+    check_frustum(c.frustum, where + " (derived from near, fovy_deg, width and height)");
     return c;
   }
 
@@ -279,16 +310,83 @@ class SceneReader {
   std::string base_;
 };
 
+// nlohmann::json keeps the last of two equal keys; a scene file with one is
+// rejected, like an unknown key.  The parser callback sees every key; a stack
+// of open containers gives the JSON path for the message.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(std::string source) : source_(std::move(source)), state_(std::make_shared<State>()) {}
+  bool operator()(int, Json::parse_event_t event, Json& parsed) const {
+    State& st = *state_;
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start:
+        enter_value(st);
+        st.open.push_back({event == Json::parse_event_t::array_start, {}, {}, -1});
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        st.open.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        Container& c = st.open.back();
+        const std::string key = parsed.get<std::string>();
+        if (!c.keys.insert(key).second)
+          throw Error(ErrorKind::Schema, source_ + ": " + path(st) + ": duplicate key '" + key +
+                                             "' (each key may appear once in an object)");
+        c.key = key;
+        break;
+      }
+      case Json::parse_event_t::value:
+        enter_value(st);
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Container {
+    bool array;
+    std::set<std::string> keys;
+    std::string key;  // the current member's key (objects)
+    long index;       // the current element's index (arrays)
+  };
+  struct State {
+    std::vector<Container> open;
+  };
+  static void enter_value(State& st) {
+    if (!st.open.empty() && st.open.back().array) ++st.open.back().index;
+  }
+  static std::string path(const State& st) {
+    std::string p;
+    for (std::size_t k = 0; k + 1 < st.open.size(); ++k) {
+      const Container& c = st.open[k];
+      if (c.array)
+        p += "[" + std::to_string(c.index) + "]";
+      else
+        p += (p.empty() ? "" : ".") + c.key;
+    }
+    return p.empty() ? "scene" : p;
+  }
+  std::string source_;
+  std::shared_ptr<State> state_;  // the callback is copied by the parser
+};
+
 }  // namespace
 
 Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovy_deg, double near, double far,
                       int width, int height) {
+  // Scaled first by the largest component, so that neither tiny (1e-300)
+  // nor huge (1e200) vectors underflow or overflow in the dot product.  A
+  // zero vector gives NaN, which the scene reader reports.
   auto normalize = [](const Vec3d& v) {
-    const double n = std::sqrt(dot(v, v));
-    return Vec3d{v.x / n, v.y / n, v.z / n};
+    const double m = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    const Vec3d w{v.x / m, v.y / m, v.z / m};
+    const double n = std::sqrt(dot(w, w));
+    return Vec3d{w.x / n, w.y / n, w.z / n};
   };
   const Vec3d f = normalize(target - eye);
-  const Vec3d s = normalize(cross(f, up));
+  const Vec3d s = normalize(cross(f, normalize(up)));
   const Vec3d u = cross(s, f);
   Camera c;
   c.view.rows = {{{s.x, s.y, s.z, -dot(s, eye)}, {u.x, u.y, u.z, -dot(u, eye)}, {-f.x, -f.y, -f.z, dot(f, eye)}}};
@@ -303,7 +401,7 @@ Camera look_at_camera(const Vec3d& eye, const Vec3d& target, const Vec3d& up, do
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory) {
   Json root;
   try {
-    root = Json::parse(json_text);
+    root = Json::parse(json_text, DuplicateKeyCheck(source));
   } catch (const nlohmann::json::exception& e) {
     // parse_error, and out_of_range for numbers beyond double (5e7154): both
     // are malformed input.  (Found by fuzz_scene; fuzz/regressions/scene.)
@@ -320,12 +418,9 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
 }
 
 Scene load_scene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorKind::Io, path + ": cannot open the scene file (missing or unreadable)");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
+  const std::string text = io::read_input_file(path, "scene file");
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_scene(buffer.str(), path, base.empty() ? "." : base);
+  return parse_scene(text, path, base.empty() ? "." : base);
 }
 
 }  // namespace nearcap

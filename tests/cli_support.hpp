@@ -24,14 +24,15 @@ inline std::string slurp(const std::filesystem::path& p) {
   return ss.str();
 }
 
-// Runs `nearcap ARGS` (NEARCAP_CLI) from the source directory.
-inline CliResult run_cli(const std::string& args, const std::string& tag) {
+// Runs `nearcap ARGS` (NEARCAP_CLI) from the source directory; `prefix` goes
+// before the program (environment assignments, `timeout 30`).
+inline CliResult run_cli(const std::string& args, const std::string& tag, const std::string& prefix = "") {
   // Unique per process and call: ctest runs tests in parallel processes.
   static int calls = 0;
   const std::string stem = "nearcap_test_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(calls++);
   const auto dir = std::filesystem::temp_directory_path();
   const auto out = dir / (stem + ".out"), err = dir / (stem + ".err");
-  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + std::string(NEARCAP_CLI) + "' " +
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + prefix + " '" + std::string(NEARCAP_CLI) + "' " +
                               args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
   CliResult r;

@@ -71,7 +71,7 @@ TEST(CapCommand, SvgIsWritten) {
   const auto svg = std::filesystem::temp_directory_path() / "nearcap_cli_test_cap.svg";
   std::filesystem::remove(svg);
   const test::CliResult r =
-      test::run_cli("cap data/scenes/case_d.json --light 0 --out /dev/null --svg " + svg.string(), "svg");
+      test::run_cli("cap data/scenes/case_d.json --light 0 --svg " + svg.string(), "svg");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = test::slurp(svg);
   EXPECT_NE(text.find("<svg"), std::string::npos);
@@ -79,14 +79,23 @@ TEST(CapCommand, SvgIsWritten) {
 }
 
 TEST(CapCommand, AFailingSecondOutputLeavesNoFirstOutput) {
-  const auto json = std::filesystem::temp_directory_path() / "nearcap_cli_test_partial.json";
-  std::filesystem::remove(json);
-  const test::CliResult r = test::run_cli(
-      "cap data/scenes/case_d.json --light 0 --out " + json.string() + " --svg /nonexistent-dir/cap.svg", "partial");
+  // The SVG's parent is a regular file: no directory can be made there.
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_cli_test_partial_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "a_file") << "";
+  const test::CliResult r = test::run_cli("cap data/scenes/case_d.json --light 0 --out " + (dir / "cap.json").string() +
+                                              " --svg " + (dir / "a_file" / "cap.svg").string(),
+                                          "partial");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("error (io)"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(json)) << "no partial output";
-  EXPECT_FALSE(std::filesystem::exists(json.string() + ".tmp-nearcap"));
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    ++entries;
+    EXPECT_EQ(e.path().filename(), "a_file") << "no partial output, no temporary";
+  }
+  EXPECT_EQ(entries, 1u);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, MissingSceneExitsWithTwo) {

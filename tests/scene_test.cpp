@@ -274,7 +274,7 @@ TEST(SceneErrors, WrongTypes) {
   expect_error(with([](Json& j) { j["camera"]["eye"] = "origin"; }), ErrorKind::Schema, "camera.eye");
   expect_error(with([](Json& j) { j["camera"]["eye"] = {0, 1}; }), ErrorKind::Schema, "expected an array of 3 numbers");
   expect_error(with([](Json& j) { j["camera"]["fovy_deg"] = "60"; }), ErrorKind::Schema, "expected a number");
-  expect_error(with([](Json& j) { j["camera"]["width"] = 640.5; }), ErrorKind::Schema, "integer pixel count");
+  expect_error(with([](Json& j) { j["camera"]["width"] = 640.5; }), ErrorKind::Schema, "must be an integer");
   expect_error(with([](Json& j) { j["lights"] = {{"position", {1, 2, 3}}}; }), ErrorKind::Schema, "lights");
   expect_error(with([](Json& j) { j["lights"] = Json::array(); }), ErrorKind::Schema, "non-empty array of lights");
   expect_error(with([](Json& j) { j["objects"] = Json::array(); }), ErrorKind::Schema, "non-empty array of objects");

@@ -132,7 +132,7 @@ TEST(ShadowMethods, CaseDSwitchesThatOccluderToZFail) {
 
   // Far-only clamp (AMD_depth_clamp_separate): as right as Z-fail.
   gl::EmulationSettings far_only;
-  far_only.switch_clamp = gl::ZFailFar::DepthClampFar;
+  far_only.switch_clamp = gl::SwitchClamp::DepthClampFar;
   EXPECT_LE(judge("case_d.json", ShadowMethod::ZPPlusCorrected, far_only).wrong, zfail.wrong);
 
   // The paper's NV_depth_clamp also disables near clipping: the box's lit
@@ -140,7 +140,7 @@ TEST(ShadowMethods, CaseDSwitchesThatOccluderToZFail) {
   // plane, their light-cap depths differ from the depth pre-pass's, and the
   // LESS test turns ties into counts: wrong-shadowed pixels on the box only.
   gl::EmulationSettings both;
-  both.switch_clamp = gl::ZFailFar::DepthClamp;
+  both.switch_clamp = gl::SwitchClamp::DepthClamp;
   const CrackReport clamped = judge("case_d.json", ShadowMethod::ZPPlusCorrected, both);
   EXPECT_GT(clamped.wrong_shadowed, 1000u);
   for (std::size_t p = 0; p < clamped.verdict.size(); ++p)
@@ -152,7 +152,7 @@ TEST(ShadowMethods, CaseDSwitchesThatOccluderToZFail) {
 TEST(ShadowMethods, LightOnTheNearPlaneFallsBackToZFail) {
   const Judged& j = judged("light_on_near_plane.json");
   gl::EmulationSettings s;
-  s.switch_clamp = gl::ZFailFar::DepthClampFar;
+  s.switch_clamp = gl::SwitchClamp::DepthClampFar;
   s.zfail_far = gl::ZFailFar::DepthClampFar;
   const gl::ShadowFrame zfail = gl::render_shadow_frame(j.scene, 0, ShadowMethod::ZFail, s);
   for (ShadowMethod m : {ShadowMethod::ZPPlus, ShadowMethod::ZPPlusCorrected}) {

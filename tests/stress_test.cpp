@@ -192,7 +192,7 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
         // The same switch with far-only depth clamp (the README's finding:
         // GL_DEPTH_CLAMP also disables near clipping).
         gl::EmulationSettings far_only;
-        far_only.switch_clamp = gl::ZFailFar::DepthClampFar;
+        far_only.switch_clamp = gl::SwitchClamp::DepthClampFar;
         switched_wrong_clamp_far += judge_frame(gl::render_shadow_frame(scene, 0, m, far_only), ref).wrong;
       }
     }

@@ -26,6 +26,7 @@ enum class ErrorKind {
   Degenerate,  // the requested construction is undefined for this configuration
   Usage,       // a bad command-line argument (light index out of range, ...)
   Gl,          // no OpenGL context could be made, or the GL reported an error
+  Resource,    // over a documented size or memory limit, or out of memory
 };
 
 // Stable lower-case name of a kind ("mesh", "camera", ...), used in messages and

@@ -68,10 +68,10 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   j["ms"] = ms;
   const std::string svg =
       svg_path.empty() ? std::string() : near_cap_svg(cap, fr, scene.source + ", light " + std::to_string(light));
-  std::vector<std::pair<std::string, std::string>> files;
-  if (!out.empty()) files.emplace_back(out, j.dump(1) + "\n");
-  if (!svg_path.empty()) files.emplace_back(svg_path, svg);
-  write_files_atomically(files);
+  std::vector<io::OutputFile> files;
+  if (!out.empty()) files.push_back({out, j.dump(1) + "\n"});
+  if (!svg_path.empty()) files.push_back({svg_path, svg});
+  io::write_output_files(files);
   if (out.empty()) {
     std::cout << j.dump() << "\n";
   } else {
@@ -97,7 +97,7 @@ void register_cap(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   auto svg = std::make_shared<std::string>();
   cmd->add_option("scene", *scene, "scene file (JSON)")->required();
-  cmd->add_option("--light", *light, "index of the light in the scene's list")->required();
+  add_light_option(*cmd, *light);
   cmd->add_option("--out", *out, "write the JSON here (default: stdout)");
   cmd->add_option("--svg", *svg, "write an SVG picture here");
   cmd->callback([scene, light, out, svg] { run(*scene, *light, *out, *svg); });

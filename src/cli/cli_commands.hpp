@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "nearcap/io/output_files.hpp"
 #include "nearcap/scene.hpp"
 
 namespace nearcap::cli {
@@ -17,11 +18,24 @@ void register_cap(CLI::App& app);
 void register_reference(CLI::App& app);
 void register_cracks(CLI::App& app);
 
+// "classify, cap, reference, cracks": the registered subcommands' names.
+std::string subcommand_names(const CLI::App& app);
+
+// Adds the required --light option: a non-negative integer written in digits
+// ("-1", "1e0", "" and "abc" are usage errors naming the value).
+void add_light_option(CLI::App& cmd, std::size_t& light);
+
+// --max-memory GB, for the commands whose memory grows with the pixel count.
+void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
+
+// Refuses a frame whose estimated memory (fixed + per_pixel * width * height
+// bytes) exceeds max_memory_gb (0: three quarters of the machine's memory),
+// with the estimate in the message, before anything is allocated.
+void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
+                           double max_memory_gb);
+
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);
 
-// Several outputs of one command: every file is written to a temporary first,
-// and only when all succeeded are they renamed into place.
-void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace nearcap::cli

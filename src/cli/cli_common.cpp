@@ -1,48 +1,61 @@
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::cli {
 
+std::string subcommand_names(const CLI::App& app) {
+  std::string names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+  return names;
+}
+
+void add_light_option(CLI::App& cmd, std::size_t& light) {
+  const CLI::Validator digits(
+      [](std::string& value) -> std::string {
+        const bool ok = !value.empty() && value.size() <= 9 &&
+                        std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+        return ok ? std::string() : "'" + value + "' is not a light index (a non-negative integer)";
+      },
+      "INDEX");
+  cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)")->required()->check(digits);
+}
+
+void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
+  cmd.add_option("--max-memory", max_memory_gb,
+                 "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
+      ->check(CLI::PositiveNumber);
+}
+
+void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
+                           double max_memory_gb) {
+  const double pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
+  const double estimate = 64e6 + bytes_per_pixel * pixels;
+  double limit = max_memory_gb * 1e9;
+  if (limit <= 0) {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    limit = pages > 0 && page > 0 ? 0.75 * static_cast<double>(pages) * static_cast<double>(page) : 8e9;
+  }
+  if (estimate <= limit) return;
+  char message[320];
+  std::snprintf(message, sizeof message,
+                "%s: %s at %dx%d needs about %.1f GB (%.0f bytes per pixel), over the limit of %.1f GB; lower "
+                "width/height in the scene, or raise the limit with --max-memory GB",
+                scene.source.c_str(), command.c_str(), scene.camera.width, scene.camera.height, estimate / 1e9,
+                bytes_per_pixel, limit / 1e9);
+  throw Error(ErrorKind::Resource, message);
+}
+
 void check_light_index(const Scene& scene, std::size_t light) {
   if (light >= scene.lights.size())
     throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) +
                                       " is out of range (the scene has " + std::to_string(scene.lights.size()) +
                                       " light(s))");
-}
-
-void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
-  // All temporaries first: a failure before the renames leaves no output.
-  std::vector<std::string> temporaries;
-  auto cleanup = [&] {
-    for (const std::string& t : temporaries) std::remove(t.c_str());
-  };
-  for (const auto& [path, content] : files) {
-    const std::string tmp = path + ".tmp-nearcap";
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      cleanup();
-      throw Error(ErrorKind::Io, path + ": cannot write the output file");
-    }
-    temporaries.push_back(tmp);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.close();
-    if (!out) {
-      cleanup();
-      throw Error(ErrorKind::Io, path + ": write failed");
-    }
-  }
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    std::error_code ec;
-    std::filesystem::rename(temporaries[k], files[k].first, ec);
-    if (ec) {
-      cleanup();
-      throw Error(ErrorKind::Io, files[k].first + ": cannot move the output into place: " + ec.message());
-    }
-  }
 }
 
 }  // namespace nearcap::cli

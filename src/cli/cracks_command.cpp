@@ -30,7 +30,14 @@ struct CracksOptions {
   bool fma = false;
   std::string out;
   bool table = false;
+  double max_memory_gb = 0;
 };
+
+// Peak memory per pixel, measured (README "Limits"): the exact reference, one
+// emulated frame at a time (depth, stencil, object ids, near-cap copy), and
+// one encoded crack image per method.
+constexpr double kCracksBytesPerPixel = 32;
+constexpr double kCracksBytesPerPixelPerMethod = 4;
 
 gl::EmulationSettings settings_from(const CracksOptions& o) {
   gl::EmulationSettings s;
@@ -50,7 +57,7 @@ gl::EmulationSettings settings_from(const CracksOptions& o) {
                 "--l-near-scale must be in (0, 1] (l_near beyond l_far d / d_max clips the occluder)");
   s.light_frustum.near_scale = o.l_near_scale;
   s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
-  s.switch_clamp = *gl::zfail_far_from_string(o.switch_clamp);
+  s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
   return s;
 }
 
@@ -113,6 +120,9 @@ void run(const CracksOptions& o) {
   const gl::EmulationSettings settings = settings_from(o);
   const Scene scene = load_scene(o.scene);
   check_light_index(scene, o.light);
+  check_memory_estimate(scene, "cracks",
+                        kCracksBytesPerPixel + kCracksBytesPerPixelPerMethod * static_cast<double>(methods.size()),
+                        o.max_memory_gb);
   const CameraSpaceScene cs(scene);
   const PixelReference ref = compute_pixel_reference(cs, o.light);
   const SceneClassification classification = classify_scene(cs);
@@ -120,7 +130,7 @@ void run(const CracksOptions& o) {
   for (const ObjectClassification& oc : classification.lights[o.light].objects) case_disagreements += oc.engine.total();
 
   std::vector<nlohmann::json> records;
-  std::vector<std::pair<std::string, std::string>> files;
+  std::vector<io::OutputFile> files;
   const std::filesystem::path dir(o.out);
   for (gl::ShadowMethod m : methods) {
     const gl::ShadowFrame frame = gl::render_shadow_frame(scene, o.light, m, settings);
@@ -128,7 +138,7 @@ void run(const CracksOptions& o) {
     records.push_back(record_json(frame, report, case_disagreements));
     if (!o.out.empty()) {
       const std::string name = methods.size() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
-      files.emplace_back((dir / name).string(), crack_png(cs, ref, report));
+      files.push_back({(dir / name).string(), crack_png(cs, ref, report)});
     }
   }
   nlohmann::json root;
@@ -138,15 +148,12 @@ void run(const CracksOptions& o) {
     root["methods"] = records;
   }
   if (!o.out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw Error(ErrorKind::Io, o.out + ": cannot create the output directory: " + ec.message());
     nlohmann::json full = root;
     full["scene"] = scene.source;
     full["light"] = o.light;
     full["reference_ms"] = ref.setup_ms + ref.trace_ms;
-    files.emplace_back((dir / "cracks.json").string(), full.dump(1) + "\n");
-    write_files_atomically(files);
+    files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
+    io::write_output_files(files);
   }
   if (o.table)
     print_table(records);
@@ -164,7 +171,7 @@ void register_cracks(CLI::App& app) {
       "(cracks-METHOD.png for several methods) and DIR/cracks.json");
   auto o = std::make_shared<CracksOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
-  cmd->add_option("--light", o->light, "index of the light in the scene's list")->required();
+  add_light_option(*cmd, o->light);
   cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload or all")
       ->capture_default_str();
   cmd->add_option("--subpixel-bits", o->subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
@@ -194,6 +201,7 @@ void register_cracks(CLI::App& app) {
   cmd->add_flag("--fma", o->fma, "vertex transforms with fused multiply-add");
   cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");
   cmd->add_flag("--table", o->table, "print a human-readable table instead of JSON");
+  add_max_memory_option(*cmd, o->max_memory_gb);
   cmd->callback([o] { run(*o); });
 }
 

@@ -1,30 +1,63 @@
 // nearcap — command-line front end.  Each subcommand loads and validates a
 // scene, computes everything, and only then writes its output, so a failure
-// leaves no partial files behind.  Errors: one line on stderr naming the file,
-// the element and the fault; exit code 2 for bad input, 1 for internal faults.
+// leaves no partial files behind.  Errors: one line on stderr,
+// "nearcap: error (KIND): ...", naming the file, the element and the fault;
+// exit code 2 for bad input and bad usage, 1 for internal faults.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
-#include <chrono>
+#include <algorithm>
 #include <cstdio>
-#include <iostream>
+#include <cstring>
+#include <new>
+#include <string>
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
 
+namespace {
+
+constexpr const char* kVersion = "nearcap 0.1.0";
+
+int usage_error(const std::string& message) {
+  std::string line = message;
+  std::replace(line.begin(), line.end(), '\n', ' ');
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n", line.c_str());
+  return 2;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"nearcap: exact and float analysis of stencil shadow volumes (ZP+)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", kVersion, "print the version and exit");
   nearcap::cli::register_classify(app);
   nearcap::cli::register_cap(app);
   nearcap::cli::register_reference(app);
   nearcap::cli::register_cracks(app);
+
+  // The subcommand comes first; name an unknown one as such.
+  if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
+  const auto subcommands = app.get_subcommands([](const CLI::App*) { return true; });
+  if (argv[1][0] != '-' && std::none_of(subcommands.begin(), subcommands.end(),
+                                        [&](const CLI::App* sub) { return sub->get_name() == argv[1]; }))
+    return usage_error(std::string("unknown subcommand '") + argv[1] + "' (one of " +
+                       nearcap::cli::subcommand_names(app) + ")");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty())
+      return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
+    return usage_error(e.what());
   } catch (const nearcap::Error& e) {
     std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(), e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "nearcap: error (resource): out of memory (a smaller --width/--height in the scene, or more "
+                 "memory; see the README's limits)\n");
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());

@@ -42,19 +42,21 @@ nlohmann::json summary_json(const Scene& scene, const PixelReference& ref) {
           {"filter", filter}};
 }
 
-void run(const std::string& scene_path, std::size_t light, const std::string& out_dir) {
+// Peak memory per pixel, measured (README "Limits"): the reference's cap and
+// stencil counts, the per-pixel scratch of the trace, the encoded images.
+constexpr double kReferenceBytesPerPixel = 24;
+
+void run(const std::string& scene_path, std::size_t light, const std::string& out_dir, double max_memory_gb) {
   const Scene scene = load_scene(scene_path);
   check_light_index(scene, light);
+  check_memory_estimate(scene, "reference", kReferenceBytesPerPixel, max_memory_gb);
   const CameraSpaceScene cs(scene);
   const PixelReference ref = compute_pixel_reference(cs, light);
   const nlohmann::json summary = summary_json(scene, ref);
   // Everything is computed and encoded before the first byte is written.
   const std::string cap = cap_pgm(ref), stencil = stencil_pgm(ref), shadow = shadow_png(cs, ref);
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw Error(ErrorKind::Io, out_dir + ": cannot create the output directory: " + ec.message());
   const std::filesystem::path dir(out_dir);
-  write_files_atomically({{(dir / "cap.pgm").string(), cap},
+  io::write_output_files({{(dir / "cap.pgm").string(), cap},
                           {(dir / "stencil.pgm").string(), stencil},
                           {(dir / "shadow.png").string(), shadow},
                           {(dir / "reference.json").string(), summary.dump(1) + "\n"}});
@@ -71,9 +73,11 @@ void register_reference(CLI::App& app) {
   auto light = std::make_shared<std::size_t>(0);
   auto out = std::make_shared<std::string>();
   cmd->add_option("scene", *scene, "scene file (JSON)")->required();
-  cmd->add_option("--light", *light, "index of the light in the scene's list")->required();
+  add_light_option(*cmd, *light);
   cmd->add_option("--out", *out, "output directory (created if missing)")->required();
-  cmd->callback([scene, light, out] { run(*scene, *light, *out); });
+  auto max_memory = std::make_shared<double>(0);
+  add_max_memory_option(*cmd, *max_memory);
+  cmd->callback([scene, light, out, max_memory] { run(*scene, *light, *out, *max_memory); });
 }
 
 }  // namespace nearcap::cli

@@ -54,13 +54,17 @@ Vec4f light_in_camera_space(const Scene& scene, std::size_t light) {
 }
 
 double distance_to_occluders(const Scene& scene, const Vec3d& p) {
+  // In camera space, where d_max is measured: a view with a scale or a shear
+  // changes distances, and d / d_max must compare lengths of one space.
+  const Affine3d& view = scene.camera.view;
+  const Vec3d pc = view.apply(p);
   double best = std::numeric_limits<double>::infinity();
   for (const SceneObject& obj : scene.objects) {
     if (!obj.occluder) continue;
-    std::vector<Vec3d> world(obj.mesh->positions.size());
-    for (std::size_t v = 0; v < world.size(); ++v) world[v] = obj.object_to_world.apply(obj.mesh->positions[v]);
+    std::vector<Vec3d> cam(obj.mesh->positions.size());
+    for (std::size_t v = 0; v < cam.size(); ++v) cam[v] = view.apply(obj.object_to_world.apply(obj.mesh->positions[v]));
     for (const auto& t : obj.mesh->triangles)
-      best = std::min(best, length(p - closest_point_on_triangle(p, world[t[0]], world[t[1]], world[t[2]])));
+      best = std::min(best, length(pc - closest_point_on_triangle(pc, cam[t[0]], cam[t[1]], cam[t[2]])));
   }
   return best;
 }
@@ -79,13 +83,16 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
   const float alpha = static_cast<float>(lf.alpha);
   lf.l_far = alpha * side;
 
-  // d and d_max in double: they only have to bound the light pyramid.
+  // d and d_max in double and both in camera space: they only have to bound
+  // the light pyramid.
   lf.d = distance_to_occluders(scene, scene.lights[light].position);
   const Vec3d l_cam{lf.delta.x, lf.delta.y, lf.delta.z};
   for (double x : {f.left, f.right})
     for (double y : {f.bottom, f.top}) lf.d_max = std::max(lf.d_max, length(Vec3d{x, y, -f.near} - l_cam));
-  // When d >= d_max no occluder can reach the light pyramid and the paper's
-  // ratio would put l_near at or beyond l_far: nearcap caps the ratio at 1/2.
+  // The ratio is capped at 1/2 whenever it exceeds 1/2 (not only when
+  // d >= d_max, where the paper's l_near would reach l_far): an l_near close
+  // to l_far leaves P_l's depth row, (l_near + l_far) / (l_near - l_far),
+  // ill-conditioned, and the far plane clips the occluder at the near rectangle.
   lf.l_near = static_cast<float>(choice.near_scale * lf.l_far * std::min(lf.d / lf.d_max, kMaxNearRatio));
   if (!(lf.l_near > 0.0f) || !(lf.l_near < lf.l_far)) {
     lf.undefined_reason = "l_near is not in (0, l_far)";

@@ -1,10 +1,13 @@
 // The software GL back end (see pipeline.hpp).
 #include "nearcap/gl/pipeline.hpp"
 
+#include "nearcap/error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -83,6 +86,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
+  // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
+  // snapping holds up to 2^(30 - bits).
+  const float max_window = static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits));
   // Vertex post-processing and setup, in submission order.
   std::vector<std::array<WindowVertex, 3>> triangles;
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
@@ -94,7 +100,19 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
       continue;
     }
     std::vector<WindowVertex> window(polygon.size());
-    for (std::size_t k = 0; k < polygon.size(); ++k) window[k] = to_window(polygon[k], width_, height_);
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      window[k] = to_window(polygon[k], width_, height_);
+      // After clipping every vertex lies within the guard band; only a
+      // degenerate homogeneous vertex ((0, 0, 0, 0): an extrusion whose
+      // direction rounded to zero) can leave it.  Refused, never rasterized.
+      if (!(std::fabs(window[k].x) < max_window) || !(std::fabs(window[k].y) < max_window) ||
+          !std::isfinite(window[k].z))
+        throw Error(ErrorKind::Range,
+                    "float pipeline: a clipped vertex has window coordinates (" + std::to_string(window[k].x) + ", " +
+                        std::to_string(window[k].y) + ", " + std::to_string(window[k].z) +
+                        ") (clip-space w = " + std::to_string(polygon[k].w) +
+                        "): the float32 transforms of this scene are degenerate");
+    }
     // The clipped polygon is drawn as a fan from its first vertex, as Mesa's
     // clipper emits it; every piece has the facing of the whole.
     for (std::size_t k = 1; k + 1 < window.size(); ++k) {

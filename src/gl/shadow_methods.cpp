@@ -4,9 +4,11 @@
 #include <glm/glm.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 #include "nearcap/engine_classification.hpp"
+#include "nearcap/error.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 
 namespace nearcap::gl {
@@ -151,7 +153,7 @@ class FrameRenderer {
         draw_closed_volume(obj, zpass_state(), frame);
       } else {
         // zfail, or a ZP+ method's switch to zfail (case D, or no light frustum).
-        const ZFailFar far = method_ == ShadowMethod::ZFail ? settings_.zfail_far : settings_.switch_clamp;
+        const ZFailFar far = method_ == ShadowMethod::ZFail ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
         draw_closed_volume(obj, zfail_state(far), frame);
       }
     }
@@ -176,7 +178,16 @@ class FrameRenderer {
         obj.uniforms.light_modelview = multiply(frame.light_frustum.modelview, modelview, ar);
         obj.uniforms.light_projection = frame.light_frustum.projection;
       }
-      obj.mirrored = determinant3(modelview) < 0.0f;
+      // A modelview that rounds to a singular float32 matrix (a view or an
+      // object scale below float32's range, 1e-50 say) maps the object onto a
+      // plane or a point: the exact kernel still answers, a GL cannot draw it.
+      const float det = determinant3(modelview);
+      if (!(det != 0.0f) || !std::isfinite(det))
+        throw Error(ErrorKind::Range, scene_.source + ": objects[" + std::to_string(o) +
+                                          "]: the modelview (view times object matrix) rounded to float32 is "
+                                          "singular or not finite; the float pipeline cannot draw this object "
+                                          "(scale the scene towards 1)");
+      obj.mirrored = det < 0.0f;
       obj.occluder = so.occluder;
       if (so.occluder) {
         obj.silhouette = engine_silhouette(scene_, o, light_);
@@ -269,6 +280,16 @@ std::optional<ZFailFar> zfail_far_from_string(std::string_view name) {
   for (ZFailFar f : {ZFailFar::Infinite, ZFailFar::DepthClamp, ZFailFar::DepthClampFar})
     if (to_string(f) == name) return f;
   return std::nullopt;
+}
+
+std::string_view to_string(SwitchClamp c) { return to_string(as_zfail_far(c)); }
+std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name) {
+  for (SwitchClamp c : {SwitchClamp::DepthClamp, SwitchClamp::DepthClampFar})
+    if (to_string(c) == name) return c;
+  return std::nullopt;
+}
+ZFailFar as_zfail_far(SwitchClamp c) {
+  return c == SwitchClamp::DepthClamp ? ZFailFar::DepthClamp : ZFailFar::DepthClampFar;
 }
 
 bool uses_near_cap(ShadowMethod m) { return m == ShadowMethod::ZPPlus || m == ShadowMethod::ZPPlusCorrected; }

@@ -11,11 +11,13 @@
 //   l_far   = alpha (Delta.z + near), the light's distance to the near plane;
 //   M_l     = R_alpha T(-Delta): translation to the light, then the 180-degree
 //             rotation about the up axis when alpha = -1 (R = diag(alpha, 1, alpha));
-//   l_near  = l_far d / d_max (section 3.2; d = distance from the light to the
-//             nearest occluder, d_max = largest distance from the light to a
-//             corner of the near rectangle), times a scale (1 = the paper);
-//             when d >= d_max (no occluder can reach the light pyramid) the
-//             ratio is capped at 1/2, so that l_near < l_far always;
+//   l_near  = l_far min(d / d_max, 1/2) (section 3.2; d = distance from the
+//             light to the nearest occluder, d_max = largest distance from the
+//             light to a corner of the near rectangle, both in camera space),
+//             times a scale (1 = the paper's ratio).  The cap at 1/2 is
+//             nearcap's and applies whenever d / d_max > 1/2: it keeps
+//             l_near < l_far always (d >= d_max would put it at or beyond
+//             l_far) and P_l's depth row away from l_near = l_far;
 //   P_l     = a named formulation (LightProjection).
 // The paper writes P_l for a near rectangle centred on the view axis; for an
 // off-centre frustum Delta.x and Delta.y are taken relative to the rectangle's
@@ -70,7 +72,8 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
 // (view rounded to float32, times the light rounded to float32).
 Vec4f light_in_camera_space(const Scene& scene, std::size_t light);
 
-// The distance from point p (world space) to the nearest occluder triangle, in double.
+// The distance from point p (given in world space) to the nearest occluder
+// triangle, measured in camera space (where d_max is), in double.
 double distance_to_occluders(const Scene& scene, const Vec3d& p);
 
 }  // namespace nearcap::gl

@@ -62,16 +62,26 @@ enum class ZFailFar {
 std::string_view to_string(ZFailFar f);  // "infinite", "clamp", "clamp-far"
 std::optional<ZFailFar> zfail_far_from_string(std::string_view name);
 
+// How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps
+// depth: the paper's NV_depth_clamp, or far only.  A type of its own, without
+// ZFailFar::Infinite: the depth pre-pass of ZP+ uses the finite frustum
+// (section 5.2), so the switch cannot use an infinite far plane.
+enum class SwitchClamp {
+  DepthClamp,     // GL_DEPTH_CLAMP (near and far)
+  DepthClampFar,  // far only (GL_AMD_depth_clamp_separate)
+};
+std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far"
+std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name);
+ZFailFar as_zfail_far(SwitchClamp c);
+
 struct EmulationSettings {
   RasterSettings raster;
   DepthFormat depth = DepthFormat::Fixed24;
   Arithmetic arithmetic = Arithmetic::Separate;
   LightFrustumChoice light_frustum;
   ZFailFar zfail_far = ZFailFar::Infinite;
-  // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps:
-  // the paper's NV_depth_clamp, or far only.  Never Infinite: the depth
-  // pre-pass of ZP+ uses the finite frustum (section 5.2).
-  ZFailFar switch_clamp = ZFailFar::DepthClamp;
+  // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps.
+  SwitchClamp switch_clamp = SwitchClamp::DepthClamp;
 };
 
 struct PassTimes {

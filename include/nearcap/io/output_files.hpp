@@ -1,0 +1,39 @@
+// nearcap/io/output_files.hpp — writing a command's outputs: all or nothing,
+// and never over a special file.
+//
+// A command with several outputs (reference: three images and a summary;
+// cracks: one image per method and a summary; cap: JSON and SVG) writes them
+// through write_output_files, which promises:
+//   - every destination is checked before any is touched: a directory, a
+//     block device, a socket, two outputs naming the same file (through a
+//     symlink or a hard link too) or a missing parent that cannot be created
+//     is an Error naming the path, and nothing is written;
+//   - a regular file or a new name is written to a temporary in the same
+//     directory and renamed into place (so a reader never sees half a file);
+//     a symlink is followed and its target is what gets replaced;
+//   - a destination that exists and is not a regular file (a character device
+//     such as /dev/null or a terminal, a FIFO, /proc/self/fd/1) is opened and
+//     written through, never renamed over: as root a rename would replace the
+//     device node itself;
+//   - if any step fails, the files already moved into place are rolled back
+//     (a replaced file gets its old content back, a new one is removed, as are
+//     the directories the call created), and the Error says what failed.
+//     Bytes already written through to a FIFO or a device cannot be taken back,
+//     so those are written last, after every rename has succeeded.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace nearcap::io {
+
+struct OutputFile {
+  std::string path;     // as the user named it
+  std::string content;  // the bytes to write
+};
+
+// Writes every file or none of them (see above).  Missing parent directories
+// are created, and removed again if the call fails.
+void write_output_files(const std::vector<OutputFile>& files);
+
+}  // namespace nearcap::io

@@ -1,0 +1,91 @@
+// Bounded reads of regular files (see input_files.hpp).
+#include "nearcap/io/input_files.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap::io {
+namespace {
+
+constexpr std::uint64_t kDefaultMaxInputMb = 1024;
+
+std::string megabytes(std::uint64_t bytes) {
+  return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MB";
+}
+
+const char* kind_of(mode_t m) {
+  if (S_ISDIR(m)) return "a directory";
+  if (S_ISCHR(m)) return "a character device";
+  if (S_ISBLK(m)) return "a block device";
+  if (S_ISFIFO(m)) return "a FIFO";
+  if (S_ISSOCK(m)) return "a socket";
+  return "not a regular file";
+}
+
+}  // namespace
+
+std::uint64_t max_input_bytes() {
+  const char* env = std::getenv("NEARCAP_MAX_INPUT_MB");
+  if (env == nullptr || *env == '\0') return kDefaultMaxInputMb << 20;
+  std::uint64_t mb = 0;
+  for (const char* c = env; *c; ++c) {
+    if (*c < '0' || *c > '9' || mb > (std::uint64_t{1} << 40))
+      throw Error(ErrorKind::Usage, std::string("NEARCAP_MAX_INPUT_MB='") + env +
+                                        "' is not a positive whole number of megabytes");
+    mb = 10 * mb + static_cast<std::uint64_t>(*c - '0');
+  }
+  if (mb == 0) throw Error(ErrorKind::Usage, "NEARCAP_MAX_INPUT_MB must be at least 1");
+  return mb << 20;
+}
+
+std::string read_input_file(const std::string& path, const std::string& what) {
+  const std::uint64_t limit = max_input_bytes();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int e = errno;
+    if (e == ENOENT) throw Error(ErrorKind::Io, path + ": cannot open the " + what + " (no such file)");
+    throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
+  }
+  if (!S_ISREG(st.st_mode))
+    throw Error(ErrorKind::Io, path + ": is " + kind_of(st.st_mode) + ", not a " + what +
+                                   " (nearcap reads only regular files)");
+  if (static_cast<std::uint64_t>(st.st_size) > limit)
+    throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
+                                         ", over the input limit of " + megabytes(limit) +
+                                         " (raise it with NEARCAP_MAX_INPUT_MB)");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int e = errno;
+    throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
+  }
+  std::string bytes;
+  bytes.reserve(static_cast<std::size_t>(st.st_size));
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int e = errno;
+      ::close(fd);
+      throw Error(ErrorKind::Io, path + ": cannot read the " + what + ": " + std::strerror(e));
+    }
+    if (n == 0) break;
+    bytes.append(buffer, static_cast<std::size_t>(n));
+    if (bytes.size() > limit) {  // the file grew while being read
+      ::close(fd);
+      throw Error(ErrorKind::Resource, path + ": the " + what + " grew past the input limit of " +
+                                           megabytes(limit) + " while being read");
+    }
+  }
+  ::close(fd);
+  return bytes;
+}
+
+}  // namespace nearcap::io

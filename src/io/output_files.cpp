@@ -1,0 +1,277 @@
+// Outputs written all or nothing, never renamed over a special file (see
+// output_files.hpp).  POSIX: lstat/stat to tell what a destination is, link()
+// for no-replace moves and backups, rename() for atomic replacement.
+#include "nearcap/io/output_files.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <utility>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw Error(ErrorKind::Io, path + ": " + what); }
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+enum class Destination {
+  NewName,       // nothing there: link the temporary into place
+  RegularFile,   // replace atomically, keeping a backup for the rollback
+  WriteThrough,  // a character device or a FIFO: open and write
+};
+
+struct Plan {
+  std::string user_path;  // as given, for messages
+  std::string target;     // the path actually created or replaced (symlinks followed)
+  Destination kind = Destination::NewName;
+  mode_t mode = 0666;  // the replaced file's permission bits
+  dev_t dev = 0;       // identity of an existing destination
+  ino_t ino = 0;
+  std::string temporary;  // for NewName and RegularFile
+  std::string backup;     // RegularFile: the old content, hard-linked
+  bool committed = false;
+};
+
+const char* kind_of(mode_t m) {
+  if (S_ISDIR(m)) return "a directory";
+  if (S_ISBLK(m)) return "a block device";
+  if (S_ISSOCK(m)) return "a socket";
+  if (S_ISCHR(m)) return "a character device";
+  if (S_ISFIFO(m)) return "a FIFO";
+  return "a special file";
+}
+
+// Follows a chain of symlinks that ends at a name that does not exist yet
+// (a dangling link): the name the link would create.
+std::string follow_dangling_link(const std::string& path) {
+  fs::path p = fs::absolute(path);
+  for (int hops = 0; hops < 40; ++hops) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p.lexically_normal().string();
+    const fs::path next = fs::read_symlink(p);
+    p = next.is_absolute() ? next : p.parent_path() / next;
+  }
+  fail(path, "too many levels of symbolic links");
+}
+
+// Creates the missing ancestors of `dir`, deepest last; returns those it made.
+std::vector<fs::path> create_parents(const fs::path& dir, const std::string& user_path) {
+  std::vector<fs::path> missing;
+  for (fs::path p = dir; !p.empty(); p = p.parent_path()) {
+    struct stat st {};
+    if (::stat(p.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode)) fail(user_path, p.string() + " is " + kind_of(st.st_mode) + ", not a directory");
+      break;
+    }
+    if (errno != ENOENT) fail(user_path, "cannot inspect " + p.string() + ": " + errno_text(errno));
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  std::vector<fs::path> created;
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
+      const int e = errno;
+      for (auto c = created.rbegin(); c != created.rend(); ++c) ::rmdir(c->c_str());
+      fail(user_path, "cannot create the directory " + it->string() + ": " + errno_text(e));
+    }
+    created.push_back(*it);
+  }
+  return created;
+}
+
+Plan plan_for(const std::string& path) {
+  if (path.empty()) fail("(empty path)", "an output path is empty");
+  Plan p;
+  p.user_path = path;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {  // exists (symlinks followed)
+    p.dev = st.st_dev;
+    p.ino = st.st_ino;
+    if (S_ISREG(st.st_mode)) {
+      p.kind = Destination::RegularFile;
+      p.target = fs::canonical(path).string();
+      p.mode = st.st_mode & 07777;
+    } else if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
+      p.kind = Destination::WriteThrough;
+      p.target = path;  // opened as named: /proc/self/fd/1 resolves only through open()
+    } else {
+      fail(path, std::string("is ") + kind_of(st.st_mode) + "; nearcap writes only regular files, character devices "
+                                                             "and FIFOs");
+    }
+    return p;
+  }
+  if (errno != ENOENT) fail(path, "cannot inspect the output path: " + errno_text(errno));
+  p.kind = Destination::NewName;
+  p.target = follow_dangling_link(path);
+  return p;
+}
+
+std::string temporary_name(const std::string& target, std::size_t k) {
+  static std::atomic<unsigned> counter{0};
+  const fs::path t(target);
+  return (t.parent_path() / ("." + t.filename().string() + ".nearcap-" + std::to_string(::getpid()) + "-" +
+                             std::to_string(k) + "-" + std::to_string(counter++)))
+      .string();
+}
+
+void write_all(int fd, const std::string& content, const std::string& user_path) {
+  std::size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int e = errno;
+      ::close(fd);
+      fail(user_path, "write failed: " + errno_text(e));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+void write_temporary(Plan& p, const std::string& content, std::size_t k) {
+  p.temporary = temporary_name(p.target, k);
+  const int fd = ::open(p.temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, p.mode);
+  if (fd < 0) {
+    const int e = errno;
+    p.temporary.clear();
+    fail(p.user_path, "cannot write the output file: " + errno_text(e));
+  }
+  if (p.kind == Destination::RegularFile) ::fchmod(fd, p.mode);  // keep the replaced file's permissions
+  try {
+    write_all(fd, content, p.user_path);
+  } catch (...) {
+    ::unlink(p.temporary.c_str());
+    p.temporary.clear();
+    throw;
+  }
+  if (::close(fd) != 0) {
+    const int e = errno;
+    ::unlink(p.temporary.c_str());
+    p.temporary.clear();
+    fail(p.user_path, "write failed: " + errno_text(e));
+  }
+}
+
+// Moves p's temporary into place.  Throws on failure, leaving p uncommitted.
+void commit(Plan& p, std::size_t k) {
+  if (p.kind == Destination::NewName) {
+    // link() never replaces: a name that appeared since the check is an error.
+    if (::link(p.temporary.c_str(), p.target.c_str()) != 0)
+      fail(p.user_path, "cannot move the output into place: " + errno_text(errno));
+    ::unlink(p.temporary.c_str());
+    p.temporary.clear();
+    p.committed = true;
+    return;
+  }
+  // RegularFile: keep the old content under a backup name, then replace.
+  p.backup = temporary_name(p.target, k) + ".old";
+  if (::link(p.target.c_str(), p.backup.c_str()) != 0)
+    fail(p.user_path, "cannot keep a backup of the file being replaced: " + errno_text(errno));
+  if (::rename(p.temporary.c_str(), p.target.c_str()) != 0) {
+    const int e = errno;
+    ::unlink(p.backup.c_str());
+    p.backup.clear();
+    fail(p.user_path, "cannot move the output into place: " + errno_text(e));
+  }
+  p.temporary.clear();
+  p.committed = true;
+}
+
+void roll_back(Plan& p) {
+  if (!p.committed) return;
+  if (p.kind == Destination::NewName) {
+    ::unlink(p.target.c_str());
+  } else if (p.kind == Destination::RegularFile && !p.backup.empty()) {
+    ::rename(p.backup.c_str(), p.target.c_str());
+    p.backup.clear();
+  }
+  p.committed = false;
+}
+
+void write_through(const Plan& p, const std::string& content) {
+  const int fd = ::open(p.target.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) fail(p.user_path, "cannot open for writing: " + errno_text(errno));
+  write_all(fd, content, p.user_path);
+  ::close(fd);
+}
+
+void write_output_files_unguarded(const std::vector<OutputFile>& files) {
+  // 1. Check every destination before touching any.
+  std::vector<Plan> plans;
+  plans.reserve(files.size());
+  for (const OutputFile& f : files) plans.push_back(plan_for(f.path));
+  for (std::size_t a = 0; a < plans.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b) {
+      const bool same_existing = plans[a].kind != Destination::NewName && plans[b].kind != Destination::NewName &&
+                                 plans[a].dev == plans[b].dev && plans[a].ino == plans[b].ino;
+      const bool same_name = plans[a].kind == Destination::NewName && plans[b].kind == Destination::NewName &&
+                             fs::weakly_canonical(plans[a].target) == fs::weakly_canonical(plans[b].target);
+      if (same_existing || same_name)
+        throw Error(ErrorKind::Usage, plans[a].user_path + ": two outputs of this command name the same file ('" +
+                                          plans[b].user_path + "' and '" + plans[a].user_path + "')");
+    }
+
+  // 2. Directories, then temporaries; any failure removes what was made.
+  std::vector<fs::path> created_dirs;
+  auto remove_created_dirs = [&] {
+    for (auto it = created_dirs.rbegin(); it != created_dirs.rend(); ++it) ::rmdir(it->c_str());
+  };
+  auto remove_temporaries = [&] {
+    for (Plan& p : plans)
+      if (!p.temporary.empty()) {
+        ::unlink(p.temporary.c_str());
+        p.temporary.clear();
+      }
+  };
+  try {
+    for (Plan& p : plans) {
+      if (p.kind != Destination::NewName) continue;
+      const std::vector<fs::path> made = create_parents(fs::path(p.target).parent_path(), p.user_path);
+      created_dirs.insert(created_dirs.end(), made.begin(), made.end());
+    }
+    for (std::size_t k = 0; k < plans.size(); ++k)
+      if (plans[k].kind != Destination::WriteThrough) write_temporary(plans[k], files[k].content, k);
+  } catch (...) {
+    remove_temporaries();
+    remove_created_dirs();
+    throw;
+  }
+
+  // 3. Renames, rolled back together on any failure; then the write-throughs.
+  try {
+    for (std::size_t k = 0; k < plans.size(); ++k)
+      if (plans[k].kind != Destination::WriteThrough) commit(plans[k], k);
+    for (std::size_t k = 0; k < plans.size(); ++k)
+      if (plans[k].kind == Destination::WriteThrough) write_through(plans[k], files[k].content);
+  } catch (...) {
+    for (auto it = plans.rbegin(); it != plans.rend(); ++it) roll_back(*it);
+    remove_temporaries();
+    remove_created_dirs();
+    throw;
+  }
+  for (Plan& p : plans)
+    if (!p.backup.empty()) ::unlink(p.backup.c_str());
+}
+
+}  // namespace
+
+void write_output_files(const std::vector<OutputFile>& files) {
+  try {
+    write_output_files_unguarded(files);
+  } catch (const fs::filesystem_error& e) {
+    throw Error(ErrorKind::Io, e.path1().string() + ": " + e.code().message());
+  }
+}
+
+}  // namespace nearcap::io

@@ -1,0 +1,318 @@
+// The program against what a careful outsider tried: outputs onto special
+// files, partial outputs, derived-camera crashes, unbounded reads, usage
+// conventions.  Each test is one reproduction; every failure must be one line
+// starting "nearcap: error", exit code 2, and leave no output behind.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "cli_support.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Scene "B" of the reliability report: a box over the ground, 64 x 48.
+nlohmann::json scene_b() {
+  return nlohmann::json::parse(R"({"camera":{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0],"fovy_deg":50,
+    "near":0.1,"far":100,"width":64,"height":48},"lights":[{"position":[2,5,1.5]}],
+    "objects":[{"mesh":"box.off","translate":[0,1,0]},{"mesh":"ground.off","occluder":false}]})");
+}
+
+class Reliability : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nearcap_reliability_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    for (const char* mesh : {"box.off", "ground.off"})
+      fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes" / mesh, dir_ / mesh);
+    write_scene("B.json", scene_b());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void write_scene(const std::string& name, const nlohmann::json& j) const {
+    std::ofstream(dir_ / name) << j.dump();
+  }
+  void write_text(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+  test::CliResult run(const std::string& args, const std::string& prefix = "timeout 120") const {
+    return test::run_cli(args, "reliability", prefix);
+  }
+  // One line, "nearcap: error", exit 2, containing `fragment`, nothing on stdout.
+  static void expect_one_line_error(const test::CliResult& r, const std::string& fragment, const std::string& what) {
+    EXPECT_EQ(r.exit_code, 2) << what << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error", 0), 0u) << what << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << "\n" << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << what << ": expected '" << fragment << "' in\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << what << "\n" << r.out;
+  }
+  std::set<std::string> entries(const std::string& d) const {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_ / d)) names.insert(e.path().filename().string());
+    return names;
+  }
+  fs::path dir_;
+};
+
+// ---- 1. special files -------------------------------------------------------
+
+TEST_F(Reliability, AFifoDestinationIsWrittenThroughNotReplaced) {
+  ASSERT_EQ(::mkfifo(path("f").c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = test::slurp(path("f")); });
+  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("f"));
+  reader.join();
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::accept(received)) << received;
+  struct stat st {};
+  ASSERT_EQ(::lstat(path("f").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+}
+
+TEST_F(Reliability, ASymlinkDestinationKeepsTheLinkAndWritesItsTarget) {
+  write_text("target.json", "old");
+  fs::create_symlink("target.json", path("link.json"));
+  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("link.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(path("link.json")));
+  EXPECT_TRUE(nlohmann::json::accept(test::slurp(path("target.json"))));
+}
+
+TEST_F(Reliability, ProcSelfFdOneReachesStandardOutput) {
+  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out /proc/self/fd/1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The JSON went through the descriptor into the captured stdout, followed by the summary lines.
+  EXPECT_NE(r.out.find("\"near_rectangle\""), std::string::npos) << r.out;
+}
+
+TEST_F(Reliability, DevNullIsACharacterDevice) {
+  // Run by the suite, and again by scripts/test.sh after the whole suite.
+  struct stat st {};
+  ASSERT_EQ(::stat("/dev/null", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode)) << "/dev/null is not a character device: restore it with "
+                                      "'rm /dev/null && mknod -m 666 /dev/null c 1 3'";
+}
+
+// ---- 2. partial outputs -----------------------------------------------------
+
+TEST_F(Reliability, ReferenceLeavesNothingWhenAnyOutputIsBlocked) {
+  for (const char* blocked : {"cap.pgm", "stencil.pgm", "shadow.png", "reference.json"}) {
+    const std::string d = std::string("ref_") + blocked;
+    fs::create_directories(dir_ / d / blocked / "sub");
+    const test::CliResult r = run("reference " + path("B.json") + " --light 0 --out " + path(d));
+    expect_one_line_error(r, blocked, blocked);
+    EXPECT_EQ(entries(d), (std::set<std::string>{blocked})) << blocked;
+  }
+}
+
+TEST_F(Reliability, CracksLeavesNoImageWhenItsJsonIsBlocked) {
+  fs::create_directories(dir_ / "c" / "cracks.json");
+  const test::CliResult r = run("cracks " + path("B.json") + " --light 0 --out " + path("c"));
+  expect_one_line_error(r, "cracks.json", "cracks");
+  EXPECT_EQ(entries("c"), (std::set<std::string>{"cracks.json"}));
+}
+
+TEST_F(Reliability, CapLeavesNoJsonWhenItsSvgIsBlocked) {
+  fs::create_directories(dir_ / "s" / "x.svg");
+  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("s/out.json") + " --svg " +
+                                path("s/x.svg"));
+  expect_one_line_error(r, "x.svg", "cap");
+  EXPECT_EQ(entries("s"), (std::set<std::string>{"x.svg"}));
+}
+
+TEST_F(Reliability, TwoOutputsWithOnePathAreRejectedUpFront) {
+  const test::CliResult r =
+      run("cap " + path("B.json") + " --light 0 --out " + path("same.json") + " --svg " + path("same.json"));
+  expect_one_line_error(r, "same file", "cap");
+  EXPECT_FALSE(fs::exists(path("same.json")));
+}
+
+TEST_F(Reliability, AFailedRunLeavesNoNewOutputDirectory) {
+  fs::create_directories(dir_ / "blocked.json");
+  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("blocked.json") + " --svg " +
+                                path("new/dir/x.svg"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(fs::exists(path("new")));
+}
+
+// ---- 3. derived cameras -----------------------------------------------------
+
+TEST_F(Reliability, AnEyeBeyondTheFloatRangeIsARangeError) {
+  for (const double z : {1e160, 1e200, 1e300}) {
+    nlohmann::json j = scene_b();
+    j["camera"]["eye"] = {0, 2.5, z};
+    write_scene("far_eye.json", j);
+    for (const std::string cmd : {"classify", "cap", "reference"}) {
+      const std::string extra = cmd == "classify" ? "" : " --light 0 --out " + path("o_" + cmd);
+      const test::CliResult r = run(cmd + " " + path("far_eye.json") + extra);
+      expect_one_line_error(r, "camera.eye[2]", cmd);
+      EXPECT_FALSE(fs::exists(path("o_" + cmd)));
+    }
+  }
+}
+
+TEST_F(Reliability, TinyViewDirectionsAndUpVectorsGiveTheRightBasis) {
+  // Both used to overflow the look-at normalisation (SIGFPE); both are
+  // legitimate cameras: looking down +z, up +y.
+  nlohmann::json tiny_target = scene_b();
+  tiny_target["camera"]["eye"] = {0, 0.7, 0};
+  tiny_target["camera"]["target"] = {0, 0.7, 1e-300};
+  nlohmann::json tiny_up = scene_b();
+  tiny_up["camera"]["up"] = {0, 1e-300, 0};
+  nlohmann::json plain_up = scene_b();
+  write_scene("tiny_target.json", tiny_target);
+  write_scene("tiny_up.json", tiny_up);
+  write_scene("plain_up.json", plain_up);
+  for (const char* name : {"tiny_target.json", "tiny_up.json"}) {
+    for (const std::string cmd : {"classify --json", "cap", "reference"}) {
+      const std::string extra =
+          cmd == "classify --json" ? "" : " --light 0 --out " + path("o_" + cmd + "_" + name);
+      const test::CliResult r = run(cmd + " " + path(name) + extra);
+      EXPECT_EQ(r.exit_code, 0) << name << " " << cmd << "\n" << r.err;
+    }
+  }
+  // up = 1e-300 y is the same camera as up = y: identical classification.
+  EXPECT_EQ(run("classify --json " + path("tiny_up.json")).out, run("classify --json " + path("plain_up.json")).out);
+}
+
+TEST_F(Reliability, AFloat32DegenerateViewIsRefusedByTheFloatPipelineOnly) {
+  nlohmann::json j = scene_b();
+  j["camera"] = nlohmann::json::parse(R"({"view":[[1e-50,0,0,0],[0,1e-50,0,0],[0,0,1e-50,-5],[0,0,0,1]],
+    "frustum":{"left":-0.5,"right":0.5,"bottom":-0.375,"top":0.375,"near":0.5,"far":64},"width":64,"height":48})");
+  write_scene("tiny_view.json", j);
+  EXPECT_EQ(run("classify " + path("tiny_view.json")).exit_code, 0);
+  for (const char* method : {"zfail", "preload", "zpass", "zpplus", "zpplus-corrected", "all"}) {
+    const test::CliResult r = run("cracks " + path("tiny_view.json") + " --light 0 --method " + method);
+    expect_one_line_error(r, "float32", method);
+  }
+}
+
+TEST_F(Reliability, ADenormalNearPlaneNamesNear) {
+  nlohmann::json j = scene_b();
+  j["camera"]["near"] = 5e-324;
+  write_scene("denormal_near.json", j);
+  const test::CliResult r = run("classify " + path("denormal_near.json"));
+  expect_one_line_error(r, "camera.near", "near");
+  EXPECT_EQ(r.err.find("left"), std::string::npos) << "left is not a key of the look-at form: " << r.err;
+}
+
+// ---- 4. bounded reads -------------------------------------------------------
+
+TEST_F(Reliability, MeshesThatAreNotRegularFilesAreRefusedWithoutReading) {
+  fs::create_symlink("/dev/zero", path("zero.off"));
+  ASSERT_EQ(::mkfifo(path("fifo.off").c_str(), 0600), 0);
+  fs::create_directories(dir_ / "dir.off");
+  const std::pair<const char*, const char*> cases[] = {{"zero.off", "character device"},
+                                                       {"fifo.off", "FIFO"},
+                                                       {"dir.off", "directory"},
+                                                       {"/dev/zero", "no extension"},
+                                                       {"noext", "no extension"}};
+  for (const auto& [mesh, fragment] : cases) {
+    nlohmann::json j = scene_b();
+    j["objects"][0]["mesh"] = mesh;
+    write_scene("m.json", j);
+    // A memory cap: reading /dev/zero would exceed it at once.
+    const test::CliResult r = run("classify " + path("m.json"), "ulimit -v 4000000; timeout 30");
+    expect_one_line_error(r, fragment, mesh);
+  }
+}
+
+TEST_F(Reliability, AScenePathThatIsADirectoryIsNamedAsSuch) {
+  fs::create_directories(dir_ / "scene_dir.json");
+  expect_one_line_error(run("classify " + path("scene_dir.json")), "is a directory", "scene");
+}
+
+TEST_F(Reliability, FilesOverTheInputLimitAreAResourceError) {
+  const test::CliResult r = run("classify " + path("B.json"), "NEARCAP_MAX_INPUT_MB=1");
+  EXPECT_EQ(r.exit_code, 0) << "the small scene is under 1 MB: " << r.err;
+  // A mesh of 1.5 MB: comments count too.
+  std::ofstream big(dir_ / "big.off");
+  big << test::slurp(dir_ / "box.off");
+  for (int k = 0; k < 30000; ++k) big << "# padding padding padding padding padding\n";
+  big.close();
+  nlohmann::json j = scene_b();
+  j["objects"][0]["mesh"] = "big.off";
+  write_scene("big.json", j);
+  expect_one_line_error(run("classify " + path("big.json"), "NEARCAP_MAX_INPUT_MB=1"), "NEARCAP_MAX_INPUT_MB",
+                        "big mesh");
+  EXPECT_EQ(run("classify " + path("big.json"), "NEARCAP_MAX_INPUT_MB=2").exit_code, 0);
+  expect_one_line_error(run("classify " + path("B.json"), "NEARCAP_MAX_INPUT_MB=lots"), "NEARCAP_MAX_INPUT_MB",
+                        "bad variable");
+}
+
+TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
+  nlohmann::json j = scene_b();
+  j["camera"]["width"] = 16384;
+  j["camera"]["height"] = 16384;
+  write_scene("huge.json", j);
+  for (const std::string cmd : {"reference", "cracks"}) {
+    const test::CliResult r =
+        run(cmd + " " + path("huge.json") + " --light 0 --max-memory 2 --out " + path("o_" + cmd));
+    expect_one_line_error(r, "needs about", cmd);
+    EXPECT_NE(r.err.find("16384x16384"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("o_" + cmd)));
+  }
+}
+
+// ---- 5. usage conventions ---------------------------------------------------
+
+TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
+  const std::string b = path("B.json");
+  const std::pair<std::string, std::string> cases[] = {
+      {"classify " + b + " --light abc", "--light"},  // classify has no --light: an extra argument
+      {"cap " + b + " --light abc", "not a light index"},
+      {"cap " + b + " --light 1e0", "not a light index"},
+      {"cap " + b + " --light -1", "not a light index"},
+      {"cap " + b + " --light ''", "not a light index"},
+      {"cap " + b + " --light", "--light"},
+      {"cap " + b + " --light 0 --light 0", "--light"},
+      {"cap " + b, "--light"},
+      {"reference " + b + " --light 0", "--out"},
+      {"", "no subcommand"},
+      {"bogus", "unknown subcommand 'bogus'"},
+      {"tune x", "unknown subcommand 'tune'"},
+      {"classify " + b + " --bogus", "--bogus"},
+      {"classify " + b + " extra", "extra"},
+      {"cap " + b + " --light 3", "out of range"},
+  };
+  for (const auto& [args, fragment] : cases) expect_one_line_error(run(args), fragment, args);
+}
+
+TEST_F(Reliability, VersionAndHelpExitZero) {
+  const test::CliResult v = run("--version");
+  EXPECT_EQ(v.exit_code, 0);
+  EXPECT_NE(v.out.find("nearcap 0."), std::string::npos) << v.out;
+  EXPECT_EQ(run("--help").exit_code, 0);
+  EXPECT_EQ(run("cracks --help").exit_code, 0);
+}
+
+TEST_F(Reliability, DuplicateKeysAreRejectedWithTheirPath) {
+  write_text("dup.json", R"({"camera":{"eye":[0,2.5,5],"target":[0,0.7,0],"fovy_deg":50,"near":0.1,"far":100,
+    "width":64,"height":48},"lights":[{"position":[2,5,1.5]}],
+    "objects":[{"mesh":"box.off","translate":[0,1,0]},{"mesh":"ground.off","occluder":false,"occluder":true}]})");
+  expect_one_line_error(run("classify " + path("dup.json")), "objects[1]: duplicate key 'occluder'", "dup");
+  write_text("dup_top.json", R"({"camera":{},"camera":{}})");
+  expect_one_line_error(run("classify " + path("dup_top.json")), "duplicate key 'camera'", "dup top");
+}
+
+TEST_F(Reliability, IntegralWidthsAreAcceptedAndFractionsNamed) {
+  nlohmann::json j = scene_b();
+  j["camera"]["width"] = 64.0;
+  write_scene("w.json", j);
+  EXPECT_EQ(run("classify " + path("w.json")).exit_code, 0);
+  j["camera"]["width"] = 64.5;
+  write_scene("w.json", j);
+  expect_one_line_error(run("classify " + path("w.json")), "must be an integer", "64.5");
+}
+
+}  // namespace
+}  // namespace nearcap
