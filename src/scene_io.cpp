@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -58,8 +59,8 @@ class SceneReader {
     long long v = 0;
     if (j.is_number_integer() || j.is_number_unsigned()) {
       v = j.get<long long>();
-    } else if (j.is_number_float() && std::isfinite(j.get<double>()) && j.get<double>() == std::floor(j.get<double>()) &&
-               std::fabs(j.get<double>()) <= 1e9) {
+    } else if (j.is_number_float() && std::isfinite(j.get<double>()) &&
+               j.get<double>() == std::floor(j.get<double>()) && std::fabs(j.get<double>()) <= 1e9) {
       v = static_cast<long long>(j.get<double>());  // 64.0 is the integer 64
     } else {
       fail(ErrorKind::Schema, where,
@@ -134,6 +135,10 @@ class SceneReader {
         s << name << " (" << v << ") is beyond the float32 pipeline's limit 2^40";
         fail(ErrorKind::Range, where, s.str());
       }
+      if (v != 0 && std::fabs(v) < static_cast<double>(std::numeric_limits<float>::min())) {
+        s << v << " is below float32's smallest normal number (2^-126): the float pipeline would round it to 0";
+        fail(ErrorKind::Range, where + "." + name, s.str());
+      }
     }
     if (!(f.left < f.right)) {
       s << "left (" << f.left << ") must be < right (" << f.right << "): zero-size or inverted frustum";
@@ -150,6 +155,15 @@ class SceneReader {
     if (!(f.near < f.far)) {
       s << "near (" << f.near << ") must be < far (" << f.far << ")";
       fail(ErrorKind::Camera, where, s.str());
+    }
+    // Distinct in double but equal in float32: a frustum a GL cannot use.
+    if (static_cast<float>(f.left) == static_cast<float>(f.right) ||
+        static_cast<float>(f.bottom) == static_cast<float>(f.top) ||
+        static_cast<float>(f.near) == static_cast<float>(f.far)) {
+      s << "left/right, bottom/top or near/far round to the same float32 value (left " << f.left << ", right "
+        << f.right << ", bottom " << f.bottom << ", top " << f.top << ", near " << f.near << ", far " << f.far
+        << "): the frustum is degenerate for the float pipeline";
+      fail(ErrorKind::Range, where, s.str());
     }
   }
 
@@ -192,7 +206,9 @@ class SceneReader {
         }
     const Vec3d f = target - eye;
     if (f.x == 0 && f.y == 0 && f.z == 0) fail(ErrorKind::Camera, where, "eye and target coincide: no view direction");
-    if (up.x == 0 && up.y == 0 && up.z == 0) fail(ErrorKind::Camera, where + ".up", "is the zero vector (up must be non-zero and not parallel to the view direction)");
+    if (up.x == 0 && up.y == 0 && up.z == 0)
+      fail(ErrorKind::Camera, where + ".up",
+           "is the zero vector (up must be non-zero and not parallel to the view direction)");
     Camera c = look_at_camera(eye, target, up, fovy, near, far, width, height);
     // Every derived double is checked before it becomes the exact scene.
     for (int r = 0; r < 3; ++r)
@@ -204,8 +220,9 @@ class SceneReader {
     if (!std::isfinite(d.top) || !std::isfinite(d.right) || !(d.top > 0) || !(d.right > 0)) {
       std::ostringstream m;
       m.precision(17);
-      m << "the frustum derived from near = " << near << " and fovy_deg = " << fovy << " (top = near tan(fovy/2) = "
-        << d.top << ", right = top width/height = " << d.right << ") is degenerate or not finite";
+      m << "the frustum derived from near = " << near << " and fovy_deg = " << fovy
+        << " (top = near tan(fovy/2) = " << d.top << ", right = top width/height = " << d.right
+        << ") is degenerate or not finite";
       fail(ErrorKind::Camera, where + ".near", m.str());
     }
     check_frustum(c.frustum, where + " (derived from near, fovy_deg, width and height)");

@@ -77,26 +77,15 @@ TEST(BadInputCatalogue, CoversTheIssueList) {
   // The kinds of fault the hardening issue lists must each have an entry.
   std::set<std::string> files;
   for (const CatalogueEntry& e : catalogue()) files.insert(e.file);
-  for (const char* f : {"scene_open_mesh_off.json",
-                        "scene_nonmanifold_edge_off.json",
-                        "scene_inconsistent_orientation_off.json",
-                        "scene_inward_off.json",
-                        "scene_nan_coordinate_off.json",
-                        "scene_inf_coordinate_off.json",
-                        "scene_empty_off.json",
-                        "light_inside.json",
-                        "light_on_surface.json",
-                        "zero_size_frustum.json",
-                        "inverted_frustum.json",
-                        "near_ge_far.json",
-                        "singular_view.json",
-                        "zero_viewport.json",
-                        "missing_mesh.json",
-                        "truncated.json",
-                        "scene_truncated_off.json",
-                        "unknown_key.json",
-                        "wrong_type.json",
-                        "huge_coordinates.json"})
+  for (const char* f :
+       {"scene_open_mesh_off.json", "scene_nonmanifold_edge_off.json", "scene_inconsistent_orientation_off.json",
+        "scene_inward_off.json", "scene_nan_coordinate_off.json", "scene_inf_coordinate_off.json",
+        "scene_empty_off.json", "light_inside.json", "light_on_surface.json", "zero_size_frustum.json",
+        "inverted_frustum.json", "near_ge_far.json", "singular_view.json", "zero_viewport.json", "missing_mesh.json",
+        "truncated.json", "scene_truncated_off.json", "unknown_key.json", "wrong_type.json", "huge_coordinates.json",
+        // the reliability report
+        "eye_beyond_range.json", "near_denormal.json", "width_fraction.json", "duplicate_key.json",
+        "mesh_no_extension.json", "mesh_dev_zero.json", "mesh_directory.json"})
     EXPECT_TRUE(files.count(f)) << f;
 }
 

@@ -39,9 +39,7 @@ class Reliability : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write_scene(const std::string& name, const nlohmann::json& j) const {
-    std::ofstream(dir_ / name) << j.dump();
-  }
+  void write_scene(const std::string& name, const nlohmann::json& j) const { std::ofstream(dir_ / name) << j.dump(); }
   void write_text(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
   test::CliResult run(const std::string& args, const std::string& prefix = "timeout 120") const {
     return test::run_cli(args, "reliability", prefix);
@@ -122,8 +120,8 @@ TEST_F(Reliability, CracksLeavesNoImageWhenItsJsonIsBlocked) {
 
 TEST_F(Reliability, CapLeavesNoJsonWhenItsSvgIsBlocked) {
   fs::create_directories(dir_ / "s" / "x.svg");
-  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("s/out.json") + " --svg " +
-                                path("s/x.svg"));
+  const test::CliResult r =
+      run("cap " + path("B.json") + " --light 0 --out " + path("s/out.json") + " --svg " + path("s/x.svg"));
   expect_one_line_error(r, "x.svg", "cap");
   EXPECT_EQ(entries("s"), (std::set<std::string>{"x.svg"}));
 }
@@ -137,8 +135,8 @@ TEST_F(Reliability, TwoOutputsWithOnePathAreRejectedUpFront) {
 
 TEST_F(Reliability, AFailedRunLeavesNoNewOutputDirectory) {
   fs::create_directories(dir_ / "blocked.json");
-  const test::CliResult r = run("cap " + path("B.json") + " --light 0 --out " + path("blocked.json") + " --svg " +
-                                path("new/dir/x.svg"));
+  const test::CliResult r =
+      run("cap " + path("B.json") + " --light 0 --out " + path("blocked.json") + " --svg " + path("new/dir/x.svg"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_FALSE(fs::exists(path("new")));
 }
@@ -173,8 +171,7 @@ TEST_F(Reliability, TinyViewDirectionsAndUpVectorsGiveTheRightBasis) {
   write_scene("plain_up.json", plain_up);
   for (const char* name : {"tiny_target.json", "tiny_up.json"}) {
     for (const std::string cmd : {"classify --json", "cap", "reference"}) {
-      const std::string extra =
-          cmd == "classify --json" ? "" : " --light 0 --out " + path("o_" + cmd + "_" + name);
+      const std::string extra = cmd == "classify --json" ? "" : " --light 0 --out " + path("o_" + cmd + "_" + name);
       const test::CliResult r = run(cmd + " " + path(name) + extra);
       EXPECT_EQ(r.exit_code, 0) << name << " " << cmd << "\n" << r.err;
     }

@@ -32,8 +32,9 @@ inline CliResult run_cli(const std::string& args, const std::string& tag, const 
   const std::string stem = "nearcap_test_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(calls++);
   const auto dir = std::filesystem::temp_directory_path();
   const auto out = dir / (stem + ".out"), err = dir / (stem + ".err");
-  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + prefix + " '" + std::string(NEARCAP_CLI) + "' " +
-                              args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + prefix + " '" +
+                              std::string(NEARCAP_CLI) + "' " + args + " > '" + out.string() + "' 2> '" + err.string() +
+                              "'";
   const int status = std::system(command.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -70,8 +70,7 @@ TEST(CapCommand, AreasAndCountsAgreeWithTheReference) {
 TEST(CapCommand, SvgIsWritten) {
   const auto svg = std::filesystem::temp_directory_path() / "nearcap_cli_test_cap.svg";
   std::filesystem::remove(svg);
-  const test::CliResult r =
-      test::run_cli("cap data/scenes/case_d.json --light 0 --svg " + svg.string(), "svg");
+  const test::CliResult r = test::run_cli("cap data/scenes/case_d.json --light 0 --svg " + svg.string(), "svg");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = test::slurp(svg);
   EXPECT_NE(text.find("<svg"), std::string::npos);

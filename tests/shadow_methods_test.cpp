@@ -182,5 +182,50 @@ TEST(ShadowMethods, NamesRoundTrip) {
   EXPECT_FALSE(gl::shadow_method_from_string("zpass+").has_value());
 }
 
+// l_near = l_far d / d_max compares two lengths, so both must be measured in
+// one space: a view with a scale or a shear changes camera-space lengths.  A
+// small box 0.0125 from the light, whose light pyramid is long and thin
+// (reported: with d in world space and d_max in camera space, a view scaled by
+// 1/2 put l_near beyond the box, and ZP+ lost it from the near-cap: 16 wrong
+// pixels).  The same scene under a scaled view, halved lengths under the
+// identity, a shear and an enlarging view: ZP+ is exact on all of them.
+Scene small_box_scene(const std::string& view, double length) {
+  const std::string l = std::to_string(length);
+  const std::string text = R"({"camera":{"view":)" + view +
+                           R"(,"frustum":{"left":-0.5,"right":0.5,"bottom":-0.5,"top":0.5,"near":1,"far":100},
+      "width":64,"height":64},"lights":[{"position":[0,0,)" +
+                           std::to_string(2 * length) + R"(]}],"objects":[{"mesh":"box.off","translate":[0,0,)" + l +
+                           R"(],"scale":)" + std::to_string(0.025 * length) +
+                           R"(},{"mesh":"box.off","translate":[0,0,)" + std::to_string(-20 * length) + R"(],"scale":)" +
+                           std::to_string(8 * length) + R"(,"occluder":false}]})";
+  return parse_scene(text, "small_box(" + view + ")", std::string(NEARCAP_SOURCE_DIR) + "/data/meshes");
+}
+
+TEST(ShadowMethods, LightNearPlaneIsMeasuredInOneSpaceUnderScaledAndShearedViews) {
+  const std::string identity = "[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]";
+  const Scene halved = small_box_scene(identity, 1.0);
+  const Scene scaled = small_box_scene("[[0.5,0,0,0],[0,0.5,0,0],[0,0,0.5,0],[0,0,0,1]]", 2.0);
+  const Scene enlarged = small_box_scene("[[4,0,0,0],[0,4,0,0],[0,0,4,0],[0,0,0,1]]", 0.25);
+  const Scene sheared = small_box_scene("[[1,0.3,0,0],[0,1,0.2,0],[0,0,1,0],[0,0,0,1]]", 1.0);
+  const gl::LightFrustum a = gl::light_frustum(halved, 0, {}), b = gl::light_frustum(scaled, 0, {});
+  ASSERT_TRUE(a.defined && b.defined);
+  EXPECT_NEAR(b.d, a.d, 1e-12) << "d in camera space, like d_max";
+  EXPECT_NEAR(b.l_near, a.l_near, 1e-6f);
+  for (const Scene* scene : {&halved, &scaled, &enlarged, &sheared}) {
+    const CameraSpaceScene cs(*scene);
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    const gl::LightFrustum lf = gl::light_frustum(*scene, 0, {});
+    EXPECT_LT(lf.l_near, lf.l_far * lf.d / lf.d_max * 1.0001f) << scene->source;
+    for (ShadowMethod m : {ShadowMethod::ZPPlus, ShadowMethod::ZPPlusCorrected}) {
+      const CrackReport r = judge_frame(gl::render_shadow_frame(*scene, 0, m), ref);
+      EXPECT_EQ(r.wrong, 0u) << scene->source << " " << to_string(m);
+      ASSERT_TRUE(r.cap_mismatch.has_value());
+      EXPECT_EQ(*r.cap_mismatch, 0u) << scene->source << " " << to_string(m);
+    }
+    // The configuration matters: Z-pass is wrong here (the near plane cuts the volume).
+    EXPECT_GT(judge_frame(gl::render_shadow_frame(*scene, 0, ShadowMethod::ZPass), ref).wrong, 0u) << scene->source;
+  }
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -37,5 +37,4 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);
 
-
 }  // namespace nearcap::cli

@@ -109,9 +109,8 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
           !std::isfinite(window[k].z))
         throw Error(ErrorKind::Range,
                     "float pipeline: a clipped vertex has window coordinates (" + std::to_string(window[k].x) + ", " +
-                        std::to_string(window[k].y) + ", " + std::to_string(window[k].z) +
-                        ") (clip-space w = " + std::to_string(polygon[k].w) +
-                        "): the float32 transforms of this scene are degenerate");
+                        std::to_string(window[k].y) + ", " + std::to_string(window[k].z) + ") (clip-space w = " +
+                        std::to_string(polygon[k].w) + "): the float32 transforms of this scene are degenerate");
     }
     // The clipped polygon is drawn as a fan from its first vertex, as Mesa's
     // clipper emits it; every piece has the facing of the whole.

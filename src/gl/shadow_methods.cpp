@@ -153,7 +153,8 @@ class FrameRenderer {
         draw_closed_volume(obj, zpass_state(), frame);
       } else {
         // zfail, or a ZP+ method's switch to zfail (case D, or no light frustum).
-        const ZFailFar far = method_ == ShadowMethod::ZFail ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
+        const ZFailFar far =
+            method_ == ShadowMethod::ZFail ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
         draw_closed_volume(obj, zfail_state(far), frame);
       }
     }

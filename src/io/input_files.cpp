@@ -16,9 +16,7 @@ namespace {
 
 constexpr std::uint64_t kDefaultMaxInputMb = 1024;
 
-std::string megabytes(std::uint64_t bytes) {
-  return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MB";
-}
+std::string megabytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MB"; }
 
 const char* kind_of(mode_t m) {
   if (S_ISDIR(m)) return "a directory";
@@ -37,8 +35,8 @@ std::uint64_t max_input_bytes() {
   std::uint64_t mb = 0;
   for (const char* c = env; *c; ++c) {
     if (*c < '0' || *c > '9' || mb > (std::uint64_t{1} << 40))
-      throw Error(ErrorKind::Usage, std::string("NEARCAP_MAX_INPUT_MB='") + env +
-                                        "' is not a positive whole number of megabytes");
+      throw Error(ErrorKind::Usage,
+                  std::string("NEARCAP_MAX_INPUT_MB='") + env + "' is not a positive whole number of megabytes");
     mb = 10 * mb + static_cast<std::uint64_t>(*c - '0');
   }
   if (mb == 0) throw Error(ErrorKind::Usage, "NEARCAP_MAX_INPUT_MB must be at least 1");
@@ -54,8 +52,8 @@ std::string read_input_file(const std::string& path, const std::string& what) {
     throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
   }
   if (!S_ISREG(st.st_mode))
-    throw Error(ErrorKind::Io, path + ": is " + kind_of(st.st_mode) + ", not a " + what +
-                                   " (nearcap reads only regular files)");
+    throw Error(ErrorKind::Io,
+                path + ": is " + kind_of(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
   if (static_cast<std::uint64_t>(st.st_size) > limit)
     throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
                                          ", over the input limit of " + megabytes(limit) +
@@ -80,8 +78,8 @@ std::string read_input_file(const std::string& path, const std::string& what) {
     bytes.append(buffer, static_cast<std::size_t>(n));
     if (bytes.size() > limit) {  // the file grew while being read
       ::close(fd);
-      throw Error(ErrorKind::Resource, path + ": the " + what + " grew past the input limit of " +
-                                           megabytes(limit) + " while being read");
+      throw Error(ErrorKind::Resource,
+                  path + ": the " + what + " grew past the input limit of " + megabytes(limit) + " while being read");
     }
   }
   ::close(fd);

@@ -21,7 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw Error(ErrorKind::Io, path + ": " + what); }
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw Error(ErrorKind::Io, path + ": " + what);
+}
 
 std::string errno_text(int e) { return std::strerror(e); }
 
@@ -106,8 +108,9 @@ Plan plan_for(const std::string& path) {
       p.kind = Destination::WriteThrough;
       p.target = path;  // opened as named: /proc/self/fd/1 resolves only through open()
     } else {
-      fail(path, std::string("is ") + kind_of(st.st_mode) + "; nearcap writes only regular files, character devices "
-                                                             "and FIFOs");
+      fail(path, std::string("is ") + kind_of(st.st_mode) +
+                     "; nearcap writes only regular files, character devices "
+                     "and FIFOs");
     }
     return p;
   }

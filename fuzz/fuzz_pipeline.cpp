@@ -1,0 +1,43 @@
+// libFuzzer target: the whole pipeline behind one scene file.  The scene is
+// read and validated (meshes resolved against fuzz/meshes), its viewport is
+// shrunk to at most 8 x 6 pixels so that an execution stays cheap, and then
+// every light goes through what the commands do: the classification (exact
+// and engine), the exact near-cap arrangement, the per-pixel reference, and
+// every float method judged against it.  Any nearcap::Error is an accepted
+// answer; anything else (a crash, an internal check, a sanitizer report,
+// another exception) is a bug.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "nearcap/classification.hpp"
+#include "nearcap/crack_map.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/near_cap.hpp"
+#include "nearcap/scene.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size > 16 * 1024) return 0;  // bounded input size
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  try {
+    nearcap::Scene scene = nearcap::parse_scene(text, "fuzz.json", NEARCAP_FUZZ_MESH_DIR);
+    scene.camera.width = std::min(scene.camera.width, 8);
+    scene.camera.height = std::min(scene.camera.height, 6);
+    const nearcap::CameraSpaceScene cs(scene);
+    (void)nearcap::classify_scene(cs);
+    const std::size_t lights = std::min<std::size_t>(scene.lights.size(), 2);
+    for (std::size_t light = 0; light < lights; ++light) {
+      try {
+        (void)nearcap::NearCap::build(cs, light);
+      } catch (const nearcap::Error&) {  // a light in the near plane: no near-cap
+      }
+      const nearcap::PixelReference ref = nearcap::compute_pixel_reference(cs, light);
+      for (nearcap::gl::ShadowMethod m : nearcap::gl::kAllShadowMethods)
+        (void)nearcap::judge_frame(nearcap::gl::render_shadow_frame(scene, light, m), ref);
+    }
+  } catch (const nearcap::Error&) {
+  }
+  return 0;
+}
