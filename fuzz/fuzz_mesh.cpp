@@ -5,7 +5,8 @@
 #include <string>
 
 #include "nearcap/error.hpp"
-#include "nearcap/mesh.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/scene/mesh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > 64 * 1024) return 0;  // bounded input size

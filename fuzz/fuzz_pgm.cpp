@@ -7,7 +7,7 @@
 #include <string>
 
 #include "nearcap/error.hpp"
-#include "nearcap/image_io.hpp"
+#include "nearcap/io/image_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > 1 << 20) return 0;  // bounded input size

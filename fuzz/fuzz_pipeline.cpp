@@ -11,12 +11,14 @@
 #include <cstdint>
 #include <string>
 
-#include "nearcap/classification.hpp"
-#include "nearcap/crack_map.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/near_cap.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/near_cap.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/case_comparison.hpp"
+#include "nearcap/judge/crack_map.hpp"
+#include "nearcap/scene/scene.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > 16 * 1024) return 0;  // bounded input size
@@ -26,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     scene.camera.width = std::min(scene.camera.width, 8);
     scene.camera.height = std::min(scene.camera.height, 6);
     const nearcap::CameraSpaceScene cs(scene);
-    (void)nearcap::classify_scene(cs);
+    (void)nearcap::compare_engine_cases(cs, nearcap::classify_scene(cs));
     const std::size_t lights = std::min<std::size_t>(scene.lights.size(), 2);
     for (std::size_t light = 0; light < lights; ++light) {
       try {

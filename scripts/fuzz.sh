@@ -8,14 +8,18 @@
 #   NEARCAP_FUZZ_RUNS=10000000 ./scripts/fuzz.sh 0
 #                                  until 10 million executions per target (a campaign)
 #   NEARCAP_FUZZ_TARGETS="scene pipeline" ./scripts/fuzz.sh 60   some targets only
+#   NEARCAP_FUZZ_BIN=DIR ./scripts/fuzz.sh 60   prebuilt fuzz_* binaries from DIR, no build
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-12}
 runs=${NEARCAP_FUZZ_RUNS:-0}
 targets=${NEARCAP_FUZZ_TARGETS:-"scene pipeline off obj ply stl pgm"}
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
-  -DNEARCAP_FUZZ=ON -DNEARCAP_BUILD_TESTS=OFF -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build-fuzz --target $(for t in $targets; do printf 'fuzz_%s ' "$t"; done)
+bin=${NEARCAP_FUZZ_BIN:-build-fuzz/fuzz}
+if [ -z "${NEARCAP_FUZZ_BIN:-}" ]; then
+  cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+    -DNEARCAP_FUZZ=ON -DNEARCAP_BUILD_TESTS=OFF -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake --build build-fuzz --target $(for t in $targets; do printf 'fuzz_%s ' "$t"; done)
+fi
 work=fuzz-corpus-work
 mkdir -p "$work/crashes"
 status=0
@@ -37,7 +41,7 @@ for target in $targets; do
   max_len=65536
   [ "$target" = pipeline ] && max_len=16384
   start=$(date +%s)
-  if ./build-fuzz/fuzz/fuzz_$target "$corpus" "${limits[@]}" -max_len=$max_len -rss_limit_mb=2048 -timeout=60 \
+  if "$bin/fuzz_$target" "$corpus" "${limits[@]}" -max_len=$max_len -rss_limit_mb=2048 -timeout=60 \
        -artifact_prefix="$work/crashes/$target-" -print_final_stats=1 >"$log" 2>&1; then
     executed=$(grep -E "stat::number_of_executed_units" "$log" | awk '{print $2}')
     echo "fuzz_$target: ${executed:-?} executions in $(( $(date +%s) - start )) s, no crash"

@@ -12,7 +12,8 @@
 
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap {
 namespace {

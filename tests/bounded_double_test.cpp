@@ -12,9 +12,9 @@
 #include <limits>
 #include <vector>
 
-#include "nearcap/bounded_double.hpp"
-#include "nearcap/rational.hpp"
-#include "nearcap/vec3.hpp"
+#include "nearcap/numeric/bounded_double.hpp"
+#include "nearcap/numeric/rational.hpp"
+#include "nearcap/numeric/vec3.hpp"
 
 namespace nearcap {
 namespace {

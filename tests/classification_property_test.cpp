@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "nearcap/classification.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/exact/classification.hpp"
 #include "random_scene.hpp"
 
 #include <map>

@@ -9,8 +9,10 @@
 
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/mesh.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/mesh.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap {
 namespace {

@@ -3,8 +3,9 @@
 // answer on every triangle; and mirrored objects keep their outer side.
 #include <gtest/gtest.h>
 
-#include "nearcap/light_facing.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/exact/light_facing.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 #include "random_scene.hpp"
 
 namespace nearcap {

@@ -4,9 +4,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "nearcap/light_facing.hpp"
-#include "nearcap/mesh.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/exact/light_facing.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/mesh.hpp"
+#include "nearcap/scene/scene.hpp"
 #include "random_scene.hpp"
 
 namespace nearcap {

@@ -12,7 +12,8 @@
 #include <sstream>
 #include <string>
 
-#include "nearcap/mesh.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/scene/mesh.hpp"
 #include "openmesh_reference_reader.hpp"
 
 namespace nearcap {

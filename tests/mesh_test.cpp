@@ -11,7 +11,8 @@
 #include <string>
 
 #include "nearcap/error.hpp"
-#include "nearcap/mesh.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/scene/mesh.hpp"
 
 namespace nearcap {
 namespace {

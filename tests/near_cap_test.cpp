@@ -20,10 +20,11 @@
 
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/light_facing.hpp"
-#include "nearcap/light_validation.hpp"
-#include "nearcap/near_cap.hpp"
-#include "nearcap/segment_crossing.hpp"
+#include "nearcap/exact/light_facing.hpp"
+#include "nearcap/exact/light_validation.hpp"
+#include "nearcap/exact/near_cap.hpp"
+#include "nearcap/exact/segment_crossing.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "random_scene.hpp"
 
 namespace nearcap {

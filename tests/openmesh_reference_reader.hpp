@@ -1,11 +1,11 @@
 // OpenMesh's readers as a reference for nearcap's own on well-formed files
 // (the differential mesh-reader test).  Never given outside data: OpenMesh's
-// readers abort or crash on malformed input (see src/mesh_io.cpp).
+// readers abort or crash on malformed input (see src/io/mesh_file.cpp).
 #pragma once
 
 #include <string>
 
-#include "nearcap/mesh.hpp"
+#include "nearcap/scene/mesh.hpp"
 
 namespace nearcap::test {
 

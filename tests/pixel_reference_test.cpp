@@ -11,9 +11,10 @@
 
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/image_io.hpp"
-#include "nearcap/pixel_reference.hpp"
-#include "nearcap/reference_images.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/image_io.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/reference_images.hpp"
 #include "random_scene.hpp"
 
 namespace nearcap {

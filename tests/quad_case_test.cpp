@@ -3,7 +3,8 @@
 // case and each kind of degeneracy.
 #include <gtest/gtest.h>
 
-#include "nearcap/classification.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "random_scene.hpp"
 
 namespace nearcap {

@@ -11,7 +11,8 @@
 #include <vector>
 
 #include "nearcap/error.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap::test {
 

@@ -11,7 +11,8 @@
 
 #include "nearcap/gl/float_transforms.hpp"
 #include "nearcap/gl/rasterizer.hpp"
-#include "nearcap/mesh.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/scene/mesh.hpp"
 
 namespace nearcap::gl {
 namespace {

@@ -4,10 +4,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
-#include "nearcap/classification.hpp"
-#include "nearcap/crack_map.hpp"
-#include "nearcap/near_cap.hpp"
-#include "nearcap/pixel_reference.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/near_cap.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_map.hpp"
 
 namespace nearcap {
 namespace {

@@ -9,7 +9,8 @@
 #include <string>
 
 #include "nearcap/error.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap {
 namespace {

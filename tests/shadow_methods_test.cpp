@@ -8,9 +8,10 @@
 #include <string>
 #include <utility>
 
-#include "nearcap/crack_map.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_map.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap {
 namespace {

@@ -13,10 +13,11 @@
 #include <map>
 #include <random>
 
-#include "nearcap/crack_map.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/exact/near_cap.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/near_cap.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_map.hpp"
 #include "random_scene.hpp"
 #include "zpass_identity.hpp"
 

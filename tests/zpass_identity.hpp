@@ -12,11 +12,11 @@
 // face.
 #pragma once
 
-#include "nearcap/classification.hpp"
-#include "nearcap/light_facing.hpp"
-#include "nearcap/perturbation.hpp"
-#include "nearcap/pixel_reference.hpp"
-#include "nearcap/segment_crossing.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/light_facing.hpp"
+#include "nearcap/exact/perturbation.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/exact/segment_crossing.hpp"
 
 namespace nearcap::test {
 

@@ -14,6 +14,7 @@
 #include <rapidcheck/gtest.h>
 
 #include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "random_scene.hpp"
 #include "zpass_identity.hpp"
 

@@ -12,9 +12,10 @@
 #include <memory>
 #include <string>
 
-#include "nearcap/classification.hpp"
-#include "nearcap/engine_classification.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/gl/engine_classification.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace {
 

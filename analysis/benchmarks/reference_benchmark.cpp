@@ -8,8 +8,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "nearcap/pixel_reference.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace {
 

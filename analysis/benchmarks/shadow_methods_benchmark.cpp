@@ -10,7 +10,8 @@
 #include <string>
 
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace {
 

@@ -14,8 +14,9 @@
 #include <map>
 
 #include "cli_commands.hpp"
-#include "nearcap/near_cap.hpp"
-#include "nearcap/near_cap_svg.hpp"
+#include "nearcap/exact/near_cap.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/near_cap_svg.hpp"
 
 namespace nearcap::cli {
 namespace {

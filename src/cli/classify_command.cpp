@@ -5,7 +5,9 @@
 #include <iostream>
 
 #include "cli_commands.hpp"
-#include "nearcap/classification.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/case_comparison.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -20,6 +22,7 @@ void run(const std::string& scene_path, bool as_json) {
   const Scene scene = load_scene(scene_path);
   const CameraSpaceScene cs(scene);
   const SceneClassification result = classify_scene(cs);
+  const CaseComparison engine = compare_engine_cases(cs, result);
 
   if (as_json) {
     nlohmann::json root;
@@ -29,24 +32,28 @@ void run(const std::string& scene_path, bool as_json) {
       jl["light"] = lc.light;
       jl["light_in_near_plane"] = lc.light_in_near_plane;
       jl["objects"] = nlohmann::json::array();
-      for (const ObjectClassification& oc : lc.objects) {
+      for (std::size_t k = 0; k < lc.objects.size(); ++k) {
+        const ObjectClassification& oc = lc.objects[k];
+        const ObjectCaseComparison& cmp = engine.lights[lc.light][k];
         nlohmann::json jo;
         jo["object"] = oc.object;
         jo["silhouette_edges"] = oc.edges.size();
         jo["cases"] = cases_json(oc.case_counts);
         jo["edge_on_triangles"] = oc.edge_on_triangles;
-        jo["engine_disagreements"] = {{"total", oc.engine.total()},
-                                      {"silhouette_missed", oc.engine.silhouette_missed},
-                                      {"silhouette_extra", oc.engine.silhouette_extra},
-                                      {"case_mismatch", oc.engine.case_mismatch},
-                                      {"facing_mismatch", oc.engine.facing_mismatch}};
+        const EngineDisagreement& d = cmp.disagreement;
+        jo["engine_disagreements"] = {{"total", d.total()},
+                                      {"silhouette_missed", d.silhouette_missed},
+                                      {"silhouette_extra", d.silhouette_extra},
+                                      {"case_mismatch", d.case_mismatch},
+                                      {"facing_mismatch", d.facing_mismatch}};
         nlohmann::json edges = nlohmann::json::array();
-        for (const ClassifiedEdge& ce : oc.edges) {
+        for (std::size_t e = 0; e < oc.edges.size(); ++e) {
+          const ClassifiedEdge& ce = oc.edges[e];
           nlohmann::json je;
           je["v"] = {std::min(ce.edge.a, ce.edge.d), std::max(ce.edge.a, ce.edge.d)};
           je["case"] = std::string(to_string(ce.exact));
-          if (ce.engine_silhouette)
-            je["engine_case"] = std::string(to_string(ce.engine));
+          if (cmp.edges[e].found)
+            je["engine_case"] = std::string(to_string(cmp.edges[e].engine));
           else
             je["engine_case"] = nullptr;
           edges.push_back(std::move(je));
@@ -68,11 +75,12 @@ void run(const std::string& scene_path, bool as_json) {
             << " object(s)\n";
   std::cout << "light object  silhouette     A     B    C1    C2     D  degen  engine-disagree\n";
   for (const LightClassification& lc : result.lights) {
-    for (const ObjectClassification& oc : lc.objects) {
+    for (std::size_t k = 0; k < lc.objects.size(); ++k) {
+      const ObjectClassification& oc = lc.objects[k];
       char line[256];
       std::snprintf(line, sizeof line, "%5zu %6zu %11zu %5zu %5zu %5zu %5zu %5zu %6zu  %zu\n", lc.light, oc.object,
                     oc.edges.size(), oc.case_counts[0], oc.case_counts[1], oc.case_counts[2], oc.case_counts[3],
-                    oc.case_counts[4], oc.case_counts[5], oc.engine.total());
+                    oc.case_counts[4], oc.case_counts[5], engine.lights[lc.light][k].disagreement.total());
       std::cout << line;
     }
   }

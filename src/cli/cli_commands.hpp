@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "nearcap/io/output_files.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap::cli {
 

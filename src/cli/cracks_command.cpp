@@ -8,9 +8,11 @@
 #include <iostream>
 
 #include "cli_commands.hpp"
-#include "nearcap/classification.hpp"
-#include "nearcap/crack_map.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/case_comparison.hpp"
+#include "nearcap/judge/crack_map.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -126,8 +128,7 @@ void run(const CracksOptions& o) {
   const CameraSpaceScene cs(scene);
   const PixelReference ref = compute_pixel_reference(cs, o.light);
   const SceneClassification classification = classify_scene(cs);
-  std::size_t case_disagreements = 0;
-  for (const ObjectClassification& oc : classification.lights[o.light].objects) case_disagreements += oc.engine.total();
+  const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 
   std::vector<nlohmann::json> records;
   std::vector<io::OutputFile> files;

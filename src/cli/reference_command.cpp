@@ -6,8 +6,9 @@
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/pixel_reference.hpp"
-#include "nearcap/reference_images.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/reference_images.hpp"
 
 namespace nearcap::cli {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <utility>
 
-#include "nearcap/engine_classification.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 
 namespace nearcap::gl {

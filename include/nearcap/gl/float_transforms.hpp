@@ -7,7 +7,7 @@
 
 #include <array>
 
-#include "nearcap/scene.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap::gl {
 

@@ -31,7 +31,7 @@
 #include <string_view>
 
 #include "nearcap/gl/float_transforms.hpp"
-#include "nearcap/scene.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap::gl {
 

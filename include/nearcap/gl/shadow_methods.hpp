@@ -40,9 +40,9 @@
 #include <string_view>
 #include <vector>
 
+#include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/gl/pipeline.hpp"
-#include "nearcap/quad_case.hpp"
 
 namespace nearcap::gl {
 

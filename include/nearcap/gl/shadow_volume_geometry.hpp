@@ -17,7 +17,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "nearcap/engine_classification.hpp"
+#include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
 
 namespace nearcap::gl {

@@ -1,0 +1,82 @@
+// nearcap/central_grid.hpp — triangles binned by their direction from a centre.
+//
+// Every query of the per-pixel reference is a segment or a ray from a fixed
+// centre: the eye (view rays through pixel centres) or the light (segments
+// [l, p] for the near-cap, (l, q) for the stencil).  So the acceleration
+// structure is a cube map around the centre: each of its six faces is an
+// adaptive 2-D grid over the face's projection plane, and a triangle is listed
+// in every cell its central projection may touch.  A query direction w picks
+// one face (its largest coordinate) and one cell: the candidates.
+//
+// The grid only ever narrows a search, never decides: binning is conservative
+// (projected boxes are widened by their certified error plus kQueryMargin, a
+// triangle reaching the centre's side of a face's plane is listed in all of
+// that face's cells) and a query whose own uncertainty exceeds kQueryMargin
+// gets every triangle.  The exact predicates then decide on the candidates.
+// Doubles are right here: they estimate, the predicates decide.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "nearcap/numeric/vec3.hpp"
+
+namespace nearcap {
+
+class CentralGrid {
+ public:
+  // A triangle as the grid sees it: vertex estimates, each coordinate within
+  // `error` of the exact vertex.  `id` is returned by queries.
+  struct Triangle {
+    std::array<Vec3d, 3> vertex;
+    double error = 0;
+    std::uint32_t id = 0;
+  };
+  // A cell's entry: the triangle's id and a lower bound, over the triangle, of
+  // the coordinate along the face's axis (distance from the centre's plane),
+  // in increasing order of that bound within each cell.
+  struct Entry {
+    std::uint32_t id;
+    double axis_lower_bound;
+  };
+
+  // A contiguous run of entries (C++17 has no std::span).
+  struct EntryRange {
+    const Entry* first = nullptr;
+    const Entry* last = nullptr;
+    const Entry* begin() const { return first; }
+    const Entry* end() const { return last; }
+    std::size_t size() const { return static_cast<std::size_t>(last - first); }
+  };
+
+  static constexpr double kQueryMargin = 0x1p-20;  // in face coordinates (tan of angle)
+
+  // `centre` within `centre_error` per coordinate of the exact centre.
+  // `cells_per_triangle` sets the grid resolution.
+  CentralGrid(const Vec3d& centre, double centre_error, const std::vector<Triangle>& triangles,
+              double cells_per_triangle = 1.0);
+
+  // The candidates for direction w (estimate of the exact direction, each
+  // coordinate within w_error): every triangle whose projection may contain
+  // the direction.  When the query is too uncertain it returns all() instead.
+  EntryRange candidates(const Vec3d& w, double w_error) const;
+  EntryRange all() const { return {all_.data(), all_.data() + all_.size()}; }
+
+  std::size_t triangle_count() const { return all_.size(); }
+  std::size_t listed_entries() const;  // total over all cells (memory / quality)
+
+ private:
+  struct Face {
+    double u0 = 0, v0 = 0, du = 1, dv = 1;  // grid origin and cell size
+    int nu = 0, nv = 0;
+    std::vector<std::uint32_t> offsets;  // CSR over cells, size nu*nv+1
+    std::vector<Entry> entries;
+  };
+  Vec3d centre_;
+  double centre_error_;
+  std::array<Face, 6> faces_;
+  std::vector<Entry> all_;
+};
+
+}  // namespace nearcap

@@ -1,0 +1,108 @@
+// nearcap/pixel_reference.hpp — the exact per-pixel reference: what the
+// stencil buffer should hold.
+//
+// For light l and pixel (i, j) (column i from the left, row j from the bottom;
+// its centre p is the camera-space near-plane point of pixel_centre()):
+//   cap(i, j)     = number of light-front-facing occluder triangles crossed by
+//                   the segment [l, p]: the near-cap count ZP+ should render;
+//   stencil(i, j) = with q the first surface point seen through p (beyond the
+//                   near plane, before the far plane; occluders and receivers
+//                   alike), the number of light-front-facing occluder triangles
+//                   crossed by the segment from l to q-, the point just before q
+//                   on the view ray: the number of shadow volumes q- lies in.
+//                   So q's own triangle counts exactly when the eye sees it from
+//                   behind (the camera inside an occluder looking at the inner
+//                   side of a lit face: the inside of an opaque body is dark, and
+//                   every stencil method counts it so).  The pixel is in shadow
+//                   when stencil > 0.
+//
+// Degeneracies: p is perturbed symbolically (perturbation.hpp: first away from
+// the camera, then +x, then +y), and every test below is the sign of an affine
+// form in p, so a pixel centre on a projected edge, on a silhouette, on the
+// near or far plane is decided by that one rule.  What the perturbation cannot
+// separate is a property of the scene, with its own rule:
+//   - a triangle whose plane passes through the eye is never seen (edge-on);
+//   - two coplanar triangles both hit: the lower (object, face) index is seen;
+//   - a triangle coplanar with q's triangle is never crossed by (l, q).
+//
+// The forms (camera space, n = (b-a) x (c-a), d = det(a, b, c) for triangle
+// abc, all as functions of the sample point P):
+//   ray hits abc          sign(P.(a x b)) = sign(P.(b x c)) = sign(P.(c x a)) = sign(d)
+//   hit beyond p          sign(d - n.P) = sign(d)               (t = d / n.P > 1)
+//   hit before far        sign(far n.P - near d) = sign(d)
+//   hit 1 before hit 2    sign(d1 d2) sign((d1 n2 - d2 n1).P) < 0
+//   q beyond T's plane    sign(d_q) sign((d_q n_T - d_T n_q).P) = -(light's side)
+//   (l, q) inside T       sign((d_q g_k + g0_k n_q).P) equal for k = 0, 1, 2,
+//                         with g_k = (u-l) x (v-l), g0_k = -g_k.l for T's edges uv.
+// Each is evaluated in BoundedDouble and recomputed over rationals only when
+// the filter cannot decide (FilterStats counts both).  A cube-map grid around
+// the eye and one around the light (central_grid.hpp) supply the candidates.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/central_grid.hpp"
+#include "nearcap/numeric/filter_stats.hpp"
+
+namespace nearcap {
+
+// What the reference knows about one pixel.
+struct PixelSample {
+  std::uint32_t cap = 0;
+  std::optional<std::uint32_t> stencil;  // nothing when no surface is seen
+  std::int32_t object = -1;              // the visible object, -1 for none
+  FaceIndex face = 0;                    // its visible triangle
+};
+
+// Per-pixel results of one (scene, light) pair, row-major with row 0 the
+// BOTTOM row (GL window coordinates): index = j * width + i.
+struct PixelReference {
+  static constexpr std::uint32_t kNothingSeen = std::numeric_limits<std::uint32_t>::max();
+
+  std::size_t light = 0;
+  int width = 0, height = 0;
+  std::vector<std::uint32_t> cap;
+  std::vector<std::uint32_t> stencil;  // kNothingSeen where no surface is seen
+  std::vector<std::int32_t> object;    // -1 where no surface is seen
+  std::vector<FaceIndex> face;
+  FilterStats stats;
+  double setup_ms = 0, trace_ms = 0;  // building the grids; tracing the pixels
+
+  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
+  bool seen(int i, int j) const { return stencil[index(i, j)] != kNothingSeen; }
+  bool shadowed(int i, int j) const { return seen(i, j) && stencil[index(i, j)] > 0; }
+};
+
+// Traces single pixels; built once per (scene, light).  Thread-safe: trace()
+// is const and each caller passes its own FilterStats.
+class PixelReferenceTracer {
+ public:
+  PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light);
+  ~PixelReferenceTracer();
+  PixelReferenceTracer(const PixelReferenceTracer&) = delete;
+  PixelReferenceTracer& operator=(const PixelReferenceTracer&) = delete;
+
+  PixelSample trace(int i, int j, FilterStats* stats) const;
+
+  // The same quantities without any acceleration: every triangle is tested.
+  // The oracle the grids are tested against (slow).
+  PixelSample trace_brute_force(int i, int j, FilterStats* stats) const;
+
+  const CentralGrid& eye_grid() const;
+  const CentralGrid& light_grid() const;
+  std::size_t front_facing_triangles() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Every pixel of the camera's viewport, on all cores (TBB).
+PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light);
+
+}  // namespace nearcap

@@ -1,0 +1,51 @@
+// nearcap/io/scene_builder.hpp — a scene built in memory, validated like a file.
+//
+// For a program that already holds its meshes (as OpenMesh or CGAL meshes:
+// io/openmesh_adapter.hpp, io/cgal_adapter.hpp) and has no reason to write
+// them to disk.  build() applies every check load_scene applies: finite,
+// in-range camera and transforms, invertible matrices, every face a triangle
+// with distinct in-range vertices, occluders closed outward 2-manifolds, each
+// light strictly outside every occluder.  Faults are nearcap::Error naming the
+// builder's `source` and the element ("my scene: objects[1] (occluder): ...").
+//
+//   Scene scene = SceneBuilder("my scene")
+//                     .camera(look_at_camera(eye, target, up, 50, 0.1, 100, 640, 480))
+//                     .light({2, 5, 1.5})
+//                     .object(mesh_from_openmesh(bunny, "bunny"), transform)
+//                     .receiver(ground)
+//                     .build();
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap {
+
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(std::string source = "in-memory scene");
+  SceneBuilder& camera(const Camera& camera);
+  SceneBuilder& light(const Vec3d& position);
+  // An occluder (casts and receives shadows).  `mesh.source` names it in messages.
+  SceneBuilder& object(TriangleMesh mesh, const Affine3d& object_to_world = Affine3d::identity());
+  // A receiver only (need not be closed).
+  SceneBuilder& receiver(TriangleMesh mesh, const Affine3d& object_to_world = Affine3d::identity());
+  // Validates and returns the scene; throws nearcap::Error.
+  Scene build() const;
+
+ private:
+  struct Pending {
+    TriangleMesh mesh;
+    Affine3d object_to_world;
+    bool occluder;
+  };
+  std::string source_;
+  bool has_camera_ = false;
+  Camera camera_;
+  std::vector<Light> lights_;
+  std::vector<Pending> objects_;
+};
+
+}  // namespace nearcap

@@ -1,0 +1,58 @@
+// nearcap/crack_map.hpp — a float pipeline's stencil buffer judged pixel by
+// pixel against the exact reference: the crack pixels.
+//
+// Per pixel (i, j), with ref the exact reference (pixel_reference.hpp) and
+// frame the emulated method (gl/shadow_methods.hpp):
+//   NothingSeen         neither sees a surface;
+//   VisibilityMismatch  they see different objects (or one sees nothing): the
+//                       depth pre-pass's snapped coverage differs from the exact
+//                       centre sample at an object's outline.  Not a shadow
+//                       crack; counted apart and excluded from the rest;
+//   WrongLit            frame lit (stencil 0), reference shadowed (count > 0);
+//   WrongShadowed       frame shadowed, reference lit;
+//   CountOnly           same shadow status, but stencil != count mod 256;
+//   Right               stencil == count mod 256.
+// A method's near-cap pass (ZP+) is compared with the reference's cap count
+// (mod 256) on every pixel of the viewport: cap_mismatch.  When a method left
+// occluders out of its near-cap pass (zpplus-corrected's switch to Z-fail for
+// a case-D occluder) its cap is not the whole scene's, and cap_mismatch is
+// not reported.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+
+namespace nearcap {
+
+enum class PixelVerdict : std::uint8_t { NothingSeen, Right, CountOnly, WrongLit, WrongShadowed, VisibilityMismatch };
+
+struct CrackReport {
+  gl::ShadowMethod method = gl::ShadowMethod::ZPass;
+  std::size_t pixels_seen = 0;              // the reference sees a surface
+  std::size_t wrong = 0;                    // wrong_lit + wrong_shadowed
+  std::size_t wrong_lit = 0;                // lit, should be shadowed
+  std::size_t wrong_shadowed = 0;           // shadowed, should be lit
+  std::size_t count_mismatch = 0;           // stencil != exact count (mod 256), wrong pixels included
+  std::optional<std::size_t> cap_mismatch;  // ZP+ methods with a whole-scene cap pass
+  std::size_t visibility_mismatch = 0;
+  std::vector<PixelVerdict> verdict;  // row 0 at the bottom
+  std::vector<bool> cap_wrong;        // per pixel, when cap_mismatch is reported
+};
+
+CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref);
+
+// The reference's shaded image (reference_images.hpp), dimmed, with each
+// judged pixel marked: wrong-lit red, wrong-shadowed cyan, count-only yellow,
+// a near-cap mismatch that did not make the pixel wrong magenta, visibility
+// mismatches dark grey; each wrong pixel and near-cap mismatch is also ringed
+// by a square of its colour, 13 pixels wide.  8-bit RGB PNG bytes.
+std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report);
+
+}  // namespace nearcap

@@ -1,0 +1,140 @@
+// Camera-space geometry: exact maps, certified estimates.
+//
+// The composed map C = view * object_to_world has rational entries (products
+// and sums of doubles).  Its BoundedDouble estimate is evaluated from the same
+// doubles, so each vertex estimate C v carries a certified bound; the exact
+// vertex is recomputed from the rational C when a filter fails.
+#include "nearcap/exact/camera_space.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+namespace nearcap {
+
+std::string_view to_string(Predicate p) {
+  switch (p) {
+    case Predicate::LightFacing:
+      return "light_facing";
+    case Predicate::NearPlaneSide:
+      return "near_plane_side";
+    case Predicate::SegmentCrossing:
+      return "segment_crossing";
+    case Predicate::RayHit:
+      return "ray_hit";
+    case Predicate::ShadowCrossing:
+      return "shadow_crossing";
+    case Predicate::Arrangement:
+      return "arrangement";
+    case Predicate::kCount:
+      break;
+  }
+  return "unknown";
+}
+
+RationalAffine RationalAffine::from(const Affine3d& a) {
+  RationalAffine r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) r.m[i][j] = a.rows[i][j];
+  return r;
+}
+
+RationalAffine RationalAffine::then(const RationalAffine& outer) const {
+  RationalAffine r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      Rational s = j == 3 ? outer.m[i][3] : Rational(0);
+      for (int k = 0; k < 3; ++k) s += outer.m[i][k] * m[k][j];
+      r.m[i][j] = s;
+    }
+  return r;
+}
+
+RationalVec3 RationalAffine::apply(const RationalVec3& p) const {
+  RationalVec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + m[i][3];
+  return r;
+}
+
+Sign RationalAffine::linear_determinant_sign() const {
+  const Rational det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  return sign_of(det);
+}
+
+namespace {
+
+// Estimate of outer * inner entries from the exact doubles of both maps.
+struct BoundedAffine {
+  BoundedDouble m[3][4];
+  BoundedVec3 apply(const Vec3d& p) const {
+    BoundedVec3 r;
+    for (int i = 0; i < 3; ++i)
+      r[i] = m[i][0] * BoundedDouble(p.x) + m[i][1] * BoundedDouble(p.y) + m[i][2] * BoundedDouble(p.z) + m[i][3];
+    return r;
+  }
+};
+
+BoundedAffine compose_bounded(const Affine3d& outer, const Affine3d& inner) {
+  BoundedAffine r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      BoundedDouble s = j == 3 ? BoundedDouble(outer.rows[i][3]) : BoundedDouble(0.0);
+      for (int k = 0; k < 3; ++k) s += BoundedDouble(outer.rows[i][k]) * BoundedDouble(inner.rows[k][j]);
+      r.m[i][j] = s;
+    }
+  return r;
+}
+
+}  // namespace
+
+CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
+  const RationalAffine view = RationalAffine::from(scene.camera.view);
+  objects_.resize(scene.objects.size());
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const SceneObject& obj = scene.objects[o];
+    ObjectData& d = objects_[o];
+    d.to_camera = RationalAffine::from(obj.object_to_world).then(view);
+    d.handedness = d.to_camera.linear_determinant_sign();
+    const BoundedAffine approx = compose_bounded(scene.camera.view, obj.object_to_world);
+    // Plain-double transform with one certified bound for all vertices:
+    // coordinate i is sum_j C_ij v_j + C_i3 with each C_ij known to within
+    // e_C and four roundings (three products, three sums: gamma_4 covers them),
+    // so |error| <= (max e_C + gamma_4 max|C|) (|v|_1 + 1).
+    double c[3][4], e_c = 0, c_max = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 4; ++j) {
+        c[i][j] = approx.m[i][j].v;
+        e_c = std::fmax(e_c, approx.m[i][j].e);
+        c_max = std::fmax(c_max, std::fabs(c[i][j]));
+      }
+    const auto& positions = obj.mesh->positions;
+    double v1 = 1.0;
+    for (const Vec3d& p : positions) v1 = std::max(v1, std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z) + 1.0);
+    constexpr double kGamma4 = 4 * 0x1p-53 / (1 - 4 * 0x1p-53);
+    d.max_error = (e_c + kGamma4 * c_max) * v1 * (1 + 0x1p-50);
+    d.estimates.resize(positions.size());
+    double max_abs = 0;
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      const Vec3d& p = positions[v];
+      Vec3d& out = d.estimates[v];
+      for (int i = 0; i < 3; ++i) {
+        const double x = c[i][0] * p.x + c[i][1] * p.y + c[i][2] * p.z + c[i][3];
+        out[i] = x;
+        max_abs = std::max(max_abs, std::fabs(x));
+      }
+    }
+    d.max_abs = max_abs + d.max_error;
+  }
+  const Affine3d identity = Affine3d::identity();
+  const BoundedAffine view_approx = compose_bounded(scene.camera.view, identity);
+  for (const Light& l : scene.lights)
+    lights_.push_back({view_approx.apply(l.position), view.apply(to_rational(l.position))});
+}
+
+RationalVec3 CameraSpaceScene::exact_vertex(std::size_t o, VertexIndex v) const {
+  return objects_[o].to_camera.apply(to_rational(scene_->objects[o].mesh->positions[v]));
+}
+
+}  // namespace nearcap

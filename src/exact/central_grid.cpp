@@ -1,0 +1,265 @@
+// The cube-map grid of triangles around a centre (see central_grid.hpp).
+#include "nearcap/exact/central_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace nearcap {
+namespace {
+
+constexpr double kRounding = 0x1p-50;  // generous relative bound for a few double operations
+constexpr double kFaceRange = 1.0 + 2.0 * CentralGrid::kQueryMargin;
+
+struct FaceAxes {
+  int axis, u, v;
+  double sign;
+};
+FaceAxes face_axes(int f) { return {f / 2, (f / 2 + 1) % 3, (f / 2 + 2) % 3, (f % 2 == 0) ? 1.0 : -1.0}; }
+
+// Bound on the error of a face coordinate u = w_u / m computed from estimates
+// within `err` per coordinate, with denom = m - err > 0 (a lower bound of the
+// exact m): |W_u/M - w_u/m| <= err (1 + |u|) / denom, plus the division's rounding.
+double projection_error(double u, double err, double denom) {
+  return err * (1.0 + std::fabs(u)) / denom * (1.0 + kRounding) + kRounding * std::fabs(u);
+}
+
+struct Box {
+  double u_lo, u_hi, v_lo, v_hi;
+};
+
+// What one triangle looks like from one face: skipped, projected to a box, or
+// reaching the face's plane (listed everywhere on the face).
+enum class Placement { Skip, Boxed, Whole };
+
+struct FacePlacement {
+  Placement placement = Placement::Skip;
+  Box box{};
+  double axis_lower_bound = 0;
+};
+
+// Distance from the origin to triangle abc (closest point by regions, as in
+// Ericson, Real-Time Collision Detection, 5.1.5).  An estimate: the caller
+// compares it with a threshold far above its rounding error.
+double distance_to_origin(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+  const Vec3d p{0, 0, 0};
+  const Vec3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  auto norm = [](const Vec3d& v) { return std::sqrt(dot(v, v)); };
+  if (d1 <= 0 && d2 <= 0) return norm(a);
+  const Vec3d bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return norm(b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return norm(a + Vec3d{v * ab.x, v * ab.y, v * ab.z});
+  }
+  const Vec3d cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return norm(c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return norm(a + Vec3d{w * ac.x, w * ac.y, w * ac.z});
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return norm(b + Vec3d{w * (c.x - b.x), w * (c.y - b.y), w * (c.z - b.z)});
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  return norm(a + Vec3d{v * ab.x + w * ac.x, v * ab.y + w * ac.y, v * ab.z + w * ac.z});
+}
+
+// Clips a convex polygon (coordinates relative to the centre) to the half-space
+// s * w[axis] >= w[other] * t for t = +1 or -1: one side of the face's cone.
+std::vector<Vec3d> clip_to_cone_side(const std::vector<Vec3d>& poly, const FaceAxes& ax, int other, double t) {
+  std::vector<Vec3d> out;
+  const std::size_t n = poly.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3d& a = poly[k];
+    const Vec3d& b = poly[(k + 1) % n];
+    const double fa = ax.sign * a[ax.axis] - t * a[other];
+    const double fb = ax.sign * b[ax.axis] - t * b[other];
+    if (fa >= 0) out.push_back(a);
+    if ((fa >= 0) != (fb >= 0)) {
+      const double s = fa / (fa - fb);
+      out.push_back(Vec3d{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z + s * (b.z - a.z)});
+    }
+  }
+  return out;
+}
+
+FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double centre_error, int f) {
+  const FaceAxes ax = face_axes(f);
+  std::vector<Vec3d> w(3);
+  double mag = 0;
+  for (int i = 0; i < 3; ++i) {
+    w[i] = t.vertex[i] - centre;
+    mag = std::max({mag, std::fabs(w[i].x), std::fabs(w[i].y), std::fabs(w[i].z)});
+  }
+  // Every point of the clipped polygon below lies within `err` (per coordinate)
+  // of a point of the exact triangle in the exact cone: input errors plus the
+  // rounding of the subtraction and of a few clipping steps.
+  const double err = t.error + centre_error + 16.0 * kRounding * mag;
+  FacePlacement out;
+  double lower = std::numeric_limits<double>::infinity();
+  bool all_behind = true;
+  for (int i = 0; i < 3; ++i) {
+    const double m = ax.sign * w[i][ax.axis];
+    if (!(m < -err)) all_behind = false;
+    lower = std::min(lower, m - err);
+  }
+  out.axis_lower_bound = lower;
+  if (all_behind) return out;
+  // The part of the triangle inside the face's cone |w_u|, |w_v| <= m, widened:
+  // the cone is opened by a relative margin so that clipping in double never
+  // loses a part of the exact triangle that the exact cone holds.
+  const double open = 1.0 + 0x1p-20;
+  std::vector<Vec3d> poly = w;
+  for (int other : {ax.u, ax.v})
+    for (double side : {1.0 / open, -1.0 / open}) {
+      if (poly.empty()) break;
+      poly = clip_to_cone_side(poly, ax, other, side);
+    }
+  // Near the apex the cone opening no longer covers the input error: a
+  // triangle passing that close to the centre is listed everywhere.
+  const double apex = 0x1p22 * err;
+  if (distance_to_origin(w[0], w[1], w[2]) <= 4.0 * apex) {
+    out.placement = Placement::Whole;
+    return out;
+  }
+  if (poly.empty()) return out;  // no point of the exact triangle lies in the exact cone
+  Box b{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Vec3d& v : poly) {
+    const double m = ax.sign * v[ax.axis];
+    const double u = v[ax.u] / m, vv = v[ax.v] / m;
+    const double denom = m - err;
+    const double eu = projection_error(u, err, denom), ev = projection_error(vv, err, denom);
+    b.u_lo = std::min(b.u_lo, u - eu);
+    b.u_hi = std::max(b.u_hi, u + eu);
+    b.v_lo = std::min(b.v_lo, vv - ev);
+    b.v_hi = std::max(b.v_hi, vv + ev);
+  }
+  b.u_lo = std::max(b.u_lo - CentralGrid::kQueryMargin, -kFaceRange);
+  b.u_hi = std::min(b.u_hi + CentralGrid::kQueryMargin, kFaceRange);
+  b.v_lo = std::max(b.v_lo - CentralGrid::kQueryMargin, -kFaceRange);
+  b.v_hi = std::min(b.v_hi + CentralGrid::kQueryMargin, kFaceRange);
+  if (!(b.u_lo <= b.u_hi && b.v_lo <= b.v_hi)) return out;
+  out.placement = Placement::Boxed;
+  out.box = b;
+  return out;
+}
+
+int cell_index(double x, double origin, double size, int n) {
+  const double c = std::floor((x - origin) / size);
+  if (c < 0) return 0;
+  if (c >= n) return n - 1;
+  return static_cast<int>(c);
+}
+
+}  // namespace
+
+CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::vector<Triangle>& triangles,
+                         double cells_per_triangle)
+    : centre_(centre), centre_error_(centre_error) {
+  all_.reserve(triangles.size());
+  for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
+
+  std::vector<FacePlacement> placements(triangles.size());
+  for (int f = 0; f < 6; ++f) {
+    Face& face = faces_[f];
+    Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
+    std::size_t boxed = 0;
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      placements[i] = place(triangles[i], centre_, centre_error_, f);
+      if (placements[i].placement != Placement::Boxed) continue;
+      ++boxed;
+      const Box& b = placements[i].box;
+      extent = {std::min(extent.u_lo, b.u_lo), std::max(extent.u_hi, b.u_hi), std::min(extent.v_lo, b.v_lo),
+                std::max(extent.v_hi, b.v_hi)};
+    }
+    if (boxed == 0) extent = {-kFaceRange, kFaceRange, -kFaceRange, kFaceRange};
+    const double width = std::max(extent.u_hi - extent.u_lo, 1e-300);
+    const double height = std::max(extent.v_hi - extent.v_lo, 1e-300);
+    const double cells = std::max(1.0, static_cast<double>(boxed) * cells_per_triangle);
+    face.nu = static_cast<int>(std::clamp(std::round(std::sqrt(cells * width / height)), 1.0, 2048.0));
+    face.nv = static_cast<int>(std::clamp(std::round(std::sqrt(cells * height / width)), 1.0, 2048.0));
+    face.u0 = extent.u_lo;
+    face.v0 = extent.v_lo;
+    face.du = width / face.nu;
+    face.dv = height / face.nv;
+
+    // Two passes over a CSR layout: count, then fill.
+    const std::size_t cell_count = static_cast<std::size_t>(face.nu) * static_cast<std::size_t>(face.nv);
+    std::vector<std::uint32_t> counts(cell_count + 1, 0);
+    std::vector<Entry> whole;
+    auto for_cells = [&](const Box& b, auto&& fn) {
+      const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
+      const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) fn(static_cast<std::size_t>(j) * face.nu + i);
+    };
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (placements[t].placement == Placement::Boxed)
+        for_cells(placements[t].box, [&](std::size_t c) { ++counts[c]; });
+      else if (placements[t].placement == Placement::Whole)
+        whole.push_back({triangles[t].id, placements[t].axis_lower_bound});
+    }
+    face.offsets.assign(cell_count + 1, 0);
+    for (std::size_t c = 0; c < cell_count; ++c)
+      face.offsets[c + 1] = face.offsets[c] + counts[c] + static_cast<std::uint32_t>(whole.size());
+    face.entries.resize(face.offsets[cell_count]);
+    std::vector<std::uint32_t> fill(face.offsets.begin(), face.offsets.end() - 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+      if (placements[t].placement == Placement::Boxed)
+        for_cells(placements[t].box, [&](std::size_t c) {
+          face.entries[fill[c]++] = {triangles[t].id, placements[t].axis_lower_bound};
+        });
+    for (std::size_t c = 0; c < cell_count; ++c) {
+      for (const Entry& e : whole) face.entries[fill[c]++] = e;
+      std::sort(face.entries.begin() + face.offsets[c], face.entries.begin() + face.offsets[c + 1],
+                [](const Entry& a, const Entry& b) { return a.axis_lower_bound < b.axis_lower_bound; });
+    }
+    // Directions outside the grid's extent can only lie in whole-face triangles:
+    // they sit in an extra last "cell".
+    std::sort(whole.begin(), whole.end(),
+              [](const Entry& a, const Entry& b) { return a.axis_lower_bound < b.axis_lower_bound; });
+    face.offsets.push_back(face.offsets.back() + static_cast<std::uint32_t>(whole.size()));
+    face.entries.insert(face.entries.end(), whole.begin(), whole.end());
+  }
+}
+
+CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) const {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::fabs(w[a]) > std::fabs(w[axis])) axis = a;
+  const double m = std::fabs(w[axis]);
+  const double err = w_error + centre_error_;
+  if (!(m > 2.0 * err) || !std::isfinite(m)) return all();
+  const int f = 2 * axis + (w[axis] >= 0 ? 0 : 1);
+  const FaceAxes ax = face_axes(f);
+  const double u = w[ax.u] / m, v = w[ax.v] / m;
+  const double denom = m - err;
+  const double eu = projection_error(u, err, denom), ev = projection_error(v, err, denom);
+  if (eu > kQueryMargin || ev > kQueryMargin) return all();
+  const Face& face = faces_[f];
+  const double fi = std::floor((u - face.u0) / face.du), fj = std::floor((v - face.v0) / face.dv);
+  std::size_t cell;
+  if (fi < 0 || fj < 0 || fi >= face.nu || fj >= face.nv)
+    cell = static_cast<std::size_t>(face.nu) * static_cast<std::size_t>(face.nv);  // the whole-face list
+  else
+    cell = static_cast<std::size_t>(fj) * face.nu + static_cast<std::size_t>(fi);
+  return {face.entries.data() + face.offsets[cell], face.entries.data() + face.offsets[cell + 1]};
+}
+
+std::size_t CentralGrid::listed_entries() const {
+  std::size_t n = 0;
+  for (const Face& f : faces_) n += f.entries.size();
+  return n;
+}
+
+}  // namespace nearcap

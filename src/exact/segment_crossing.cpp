@@ -1,0 +1,94 @@
+// Segment [l, p_eps] against a triangle, with the sample-point perturbation.
+#include "nearcap/exact/segment_crossing.hpp"
+
+#include "nearcap/exact/perturbation.hpp"
+
+namespace nearcap {
+namespace {
+
+// orient(l, P, u, v) = (P - l) . ((u - l) x (v - l)) as an affine form in P.
+template <class T>
+AffineForm<T> edge_form(const Vec3<T>& l, const Vec3<T>& u, const Vec3<T>& v) {
+  const Vec3<T> g = cross(u - l, v - l);
+  return {g, T(-dot(g, l))};
+}
+// orient(a, b, c, P) = ((b - a) x (c - a)) . (P - a) as an affine form in P.
+template <class T>
+AffineForm<T> plane_form(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
+  const Vec3<T> n = cross(b - a, c - a);
+  return {n, T(-dot(n, a))};
+}
+
+}  // namespace
+
+bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light,
+                              Facing facing, const SamplePoint& p, FilterStats* stats) {
+  if (facing == Facing::EdgeOn) return false;
+  const auto& t = scene.mesh(o).triangles[f];
+  const BoundedVec3 a = scene.vertex(o, t[0]), b = scene.vertex(o, t[1]), c = scene.vertex(o, t[2]);
+  const auto exact_point = [&]() -> const RationalVec3& { return p.exact; };
+  const Sign p_side =
+      perturbed_sign(
+          Predicate::SegmentCrossing, stats, p.approx, [&] { return plane_form(a, b, c); },
+          [&] {
+            return plane_form(scene.exact_vertex(o, t[0]), scene.exact_vertex(o, t[1]), scene.exact_vertex(o, t[2]));
+          },
+          exact_point) *
+      scene.handedness(o);
+  const Sign l_side = facing == Facing::Front ? Sign::Positive : Sign::Negative;
+  if (p_side == Sign::Zero || p_side == l_side) return false;
+  const BoundedVec3& l = scene.light(light);
+  Sign first = Sign::Zero;
+  for (int k = 0; k < 3; ++k) {
+    const BoundedVec3 u = scene.vertex(o, t[k]);
+    const BoundedVec3 v = scene.vertex(o, t[(k + 1) % 3]);
+    const Sign s = perturbed_sign(
+        Predicate::SegmentCrossing, stats, p.approx, [&] { return edge_form(l, u, v); },
+        [&] {
+          return edge_form(scene.exact_light(light), scene.exact_vertex(o, t[k]),
+                           scene.exact_vertex(o, t[(k + 1) % 3]));
+        },
+        exact_point);
+    if (s == Sign::Zero) return false;
+    if (k == 0)
+      first = s;
+    else if (s != first)
+      return false;
+  }
+  return true;
+}
+
+std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_t light,
+                                       const std::vector<std::vector<Facing>>& facing, const SamplePoint& p,
+                                       FilterStats* stats) {
+  std::size_t count = 0;
+  for (std::size_t o = 0; o < scene.object_count(); ++o) {
+    if (!scene.object(o).occluder) continue;
+    const std::vector<Facing>& fo = facing[o];
+    for (FaceIndex f = 0; f < fo.size(); ++f)
+      if (fo[f] == Facing::Front && segment_crosses_triangle(scene, o, f, light, Facing::Front, p, stats)) ++count;
+  }
+  return count;
+}
+
+BoundedVec3 pixel_centre_estimate(const Frustum& fr, int width, int height, int i, int j) {
+  // x = left + (2i + 1) (right - left) / (2W): the integers are exact doubles.
+  const BoundedDouble two_w(2.0 * width), two_h(2.0 * height);
+  return {BoundedDouble(fr.left) +
+              BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w,
+          BoundedDouble(fr.bottom) +
+              BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h,
+          BoundedDouble(-fr.near)};
+}
+
+RationalVec3 pixel_centre_exact(const Frustum& fr, int width, int height, int i, int j) {
+  return {Rational(fr.left) + Rational(2 * i + 1) * (Rational(fr.right) - Rational(fr.left)) / Rational(2 * width),
+          Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height),
+          Rational(-fr.near)};
+}
+
+SamplePoint pixel_centre(const Frustum& fr, int width, int height, int i, int j) {
+  return {pixel_centre_estimate(fr, width, height, i, j), pixel_centre_exact(fr, width, height, i, j)};
+}
+
+}  // namespace nearcap

@@ -1,0 +1,75 @@
+// PGM and PNG encoders.
+#include "nearcap/io/image_io.hpp"
+
+#include <stb_image_write.h>
+
+#include <cctype>
+
+#include "nearcap/check.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap {
+
+std::string encode_pgm16(int width, int height, const std::vector<std::uint16_t>& pixels) {
+  NEARCAP_CHECK(width > 0 && height > 0 && pixels.size() == static_cast<std::size_t>(width) * height);
+  std::string out = "P5\n" + std::to_string(width) + " " + std::to_string(height) + "\n65535\n";
+  out.reserve(out.size() + 2 * pixels.size());
+  for (const std::uint16_t v : pixels) {
+    out.push_back(static_cast<char>(v >> 8));
+    out.push_back(static_cast<char>(v & 0xff));
+  }
+  return out;
+}
+
+std::vector<std::uint16_t> decode_pgm16(const std::string& bytes, const std::string& source, int* width, int* height) {
+  std::size_t pos = 0;
+  auto fail = [&](const std::string& what) { throw Error(ErrorKind::Parse, source + ": not a 16-bit PGM: " + what); };
+  auto token = [&]() {
+    while (pos < bytes.size()) {
+      if (bytes[pos] == '#') {
+        while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
+      } else if (std::isspace(static_cast<unsigned char>(bytes[pos]))) {
+        ++pos;
+      } else {
+        break;
+      }
+    }
+    const std::size_t start = pos;
+    while (pos < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+    return bytes.substr(start, pos - start);
+  };
+  if (token() != "P5") fail("magic is not P5");
+  long long w = 0, h = 0, maxval = 0;
+  try {
+    w = std::stoll(token());
+    h = std::stoll(token());
+    maxval = std::stoll(token());
+  } catch (const std::exception&) {
+    fail("malformed header");
+  }
+  if (w <= 0 || h <= 0 || w > 65536 || h > 65536) fail("bad size");
+  if (maxval != 65535) fail("maxval is not 65535");
+  ++pos;  // the single whitespace after maxval
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (bytes.size() < pos + 2 * n) fail("truncated pixel data");
+  std::vector<std::uint16_t> pixels(n);
+  for (std::size_t k = 0; k < n; ++k)
+    pixels[k] = static_cast<std::uint16_t>((static_cast<unsigned char>(bytes[pos + 2 * k]) << 8) |
+                                           static_cast<unsigned char>(bytes[pos + 2 * k + 1]));
+  *width = static_cast<int>(w);
+  *height = static_cast<int>(h);
+  return pixels;
+}
+
+std::string encode_png_rgb(int width, int height, const std::vector<std::uint8_t>& rgb) {
+  NEARCAP_CHECK(width > 0 && height > 0 && rgb.size() == 3 * static_cast<std::size_t>(width) * height);
+  std::string out;
+  auto sink = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(sink, &out, width, height, 3, rgb.data(), width * 3))
+    throw Error(ErrorKind::Io, "PNG encoding failed");
+  return out;
+}
+
+}  // namespace nearcap

@@ -1,0 +1,128 @@
+// OFF, parsed by nearcap (OpenMesh 9 rejects '#' comment lines and misreads face colours).
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdlib>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "mesh_reading.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/scene/mesh.hpp"
+
+namespace nearcap {
+using mesh_reading::check_read_mesh;
+using mesh_reading::fail;
+
+namespace {
+
+// Tokenizer that skips '#' comments to end of line and tracks line numbers.
+class OffTokens {
+ public:
+  OffTokens(const std::string& text, const std::string& source) : text_(text), source_(source) {}
+
+  bool next(std::string& token) {
+    for (;;) {
+      while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
+        if (text_[pos_] == '\n') ++line_;
+        ++pos_;
+      }
+      if (pos_ >= text_.size()) return false;
+      if (text_[pos_] == '#') {
+        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+        continue;
+      }
+      break;
+    }
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && text_[pos_] != '#') ++pos_;
+    token = text_.substr(start, pos_ - start);
+    return true;
+  }
+  // Skips to the end of the current line (face colours and other trailing values).
+  void skip_rest_of_line() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  }
+  int line() const { return line_; }
+  [[noreturn]] void error(const std::string& what) const {
+    fail(ErrorKind::Parse, source_, "line " + std::to_string(line_) + ": " + what);
+  }
+  std::string need(const char* what) {
+    std::string t;
+    if (!next(t)) error(std::string("unexpected end of file, expected ") + what + " (truncated file?)");
+    return t;
+  }
+  long long need_integer(const char* what) {
+    const std::string t = need(what);
+    std::size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(t, &used);
+    } catch (const std::exception&) {
+      error(std::string("expected ") + what + ", found '" + t + "'");
+    }
+    if (used != t.size()) error(std::string("expected ") + what + ", found '" + t + "'");
+    return v;
+  }
+  double need_double(const char* what) {
+    const std::string t = need(what);
+    // strtod accepts "nan" and "inf": those are reported as NonFinite later, by vertex.
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end != t.c_str() + t.size()) error(std::string("expected ") + what + ", found '" + t + "'");
+    return v;
+  }
+
+ private:
+  const std::string& text_;
+  const std::string& source_;
+  std::size_t pos_ = 0;
+  int line_ = 1;
+};
+
+}  // namespace
+
+TriangleMesh parse_off(const std::string& text, const std::string& source) {
+  TriangleMesh mesh;
+  mesh.source = source;
+  OffTokens tokens(text, source);
+  std::string header = tokens.need("the OFF header");
+  if (header != "OFF") tokens.error("the file does not start with the keyword OFF (found '" + header + "')");
+  const long long nv = tokens.need_integer("the vertex count");
+  const long long nf = tokens.need_integer("the face count");
+  tokens.need_integer("the edge count");
+  constexpr long long kMaxElements = 100'000'000;
+  if (nv < 0 || nf < 0 || nv > kMaxElements || nf > kMaxElements)
+    tokens.error("vertex or face count out of range (" + std::to_string(nv) + ", " + std::to_string(nf) + ")");
+  mesh.positions.reserve(static_cast<std::size_t>(std::min<long long>(nv, 1 << 20)));
+  for (long long i = 0; i < nv; ++i) {
+    const double x = tokens.need_double("a vertex coordinate");
+    const double y = tokens.need_double("a vertex coordinate");
+    const double z = tokens.need_double("a vertex coordinate");
+    mesh.positions.push_back({x, y, z});
+  }
+  mesh.triangles.reserve(static_cast<std::size_t>(std::min<long long>(nf, 1 << 20)));
+  for (long long f = 0; f < nf; ++f) {
+    const long long n = tokens.need_integer("a face's vertex count");
+    if (n != 3)
+      fail(ErrorKind::Mesh, source,
+           "line " + std::to_string(tokens.line()) + ": face " + std::to_string(f) + " has " + std::to_string(n) +
+               " vertices; nearcap reads triangle meshes only");
+    std::array<VertexIndex, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      const long long idx = tokens.need_integer("a vertex index");
+      if (idx < 0 || idx >= nv)
+        tokens.error("face " + std::to_string(f) + " refers to vertex " + std::to_string(idx) + " but the file has " +
+                     std::to_string(nv) + " vertices");
+      t[k] = static_cast<VertexIndex>(idx);
+    }
+    tokens.skip_rest_of_line();  // optional colour
+    mesh.triangles.push_back(t);
+  }
+  check_read_mesh(mesh);
+  return mesh;
+}
+
+}  // namespace nearcap

@@ -1,0 +1,58 @@
+// The folders are layers (README "Layout"): a file may include headers of its
+// own layer and of the layers before it, never of a later one.  So the exact
+// kernel includes nothing from gl/, judge/ or render/, and io/ nothing from
+// the float pipeline.  Checked over every header and source file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::map<std::string, int> kLayer = {{"", 0},   {"numeric", 1}, {"scene", 2},  {"exact", 3}, {"io", 4},
+                                           {"gl", 5}, {"judge", 6},   {"render", 7}, {"cli", 8}};
+
+// "exact" for include/nearcap/exact/x.hpp and src/exact/x.cpp; "" for the root.
+std::string layer_of(const fs::path& relative) {
+  const auto first = relative.begin();
+  if (std::next(first) == relative.end()) return "";
+  return first->string();
+}
+
+TEST(Layering, EveryIncludePointsToTheSameOrAnEarlierLayer) {
+  const fs::path root(NEARCAP_SOURCE_DIR);
+  const std::regex include(R"re(#include\s+"nearcap/([^"]+)")re");
+  std::size_t files = 0, includes = 0;
+  for (const auto& [base, prefix] :
+       {std::pair<fs::path, std::string>{root / "include/nearcap", "include"}, {root / "src", "src"}}) {
+    for (const auto& entry : fs::recursive_directory_iterator(base)) {
+      if (!entry.is_regular_file()) continue;
+      const fs::path rel = fs::relative(entry.path(), base);
+      const std::string from = layer_of(rel);
+      ASSERT_TRUE(kLayer.count(from)) << "unknown layer folder " << from << " (" << rel << "): add it to kLayer";
+      ++files;
+      std::ifstream in(entry.path());
+      std::string line;
+      while (std::getline(in, line)) {
+        std::smatch m;
+        if (!std::regex_search(line, m, include)) continue;
+        ++includes;
+        const std::string to = layer_of(fs::path(m[1].str()));
+        ASSERT_TRUE(kLayer.count(to)) << rel << " includes an unknown layer: " << line;
+        EXPECT_LE(kLayer.at(to), kLayer.at(from))
+            << prefix << "/" << rel.string() << " (" << from << ") includes a later layer: " << line;
+      }
+    }
+  }
+  EXPECT_GT(files, 60u);
+  EXPECT_GT(includes, 100u);
+}
+
+}  // namespace
+}  // namespace nearcap
