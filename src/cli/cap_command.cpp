@@ -67,8 +67,9 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   j["exact_fallbacks"] = fallbacks;
   j["filter"] = filter;
   j["ms"] = ms;
-  const std::string svg =
-      svg_path.empty() ? std::string() : near_cap_svg(cap, fr, scene.source + ", light " + std::to_string(light));
+  const std::string svg = svg_path.empty()
+                              ? std::string()
+                              : near_cap_svg(cap, scene.camera, scene.source + ", light " + std::to_string(light));
   std::vector<io::OutputFile> files;
   if (!out.empty()) files.push_back({out, j.dump(1) + "\n"});
   if (!svg_path.empty()) files.push_back({svg_path, svg});

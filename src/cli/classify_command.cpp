@@ -73,18 +73,19 @@ void run(const std::string& scene_path, bool as_json) {
   }
   std::cout << "scene " << scene.source << ": " << scene.lights.size() << " light(s), " << scene.objects.size()
             << " object(s)\n";
-  std::cout << "light object  silhouette     A     B    C1    C2     D  degen  engine-disagree\n";
+  std::cout << "light object  silhouette      A      B     C1     C2      D  degen  engine-disagree\n";
   for (const LightClassification& lc : result.lights) {
     for (std::size_t k = 0; k < lc.objects.size(); ++k) {
       const ObjectClassification& oc = lc.objects[k];
       char line[256];
-      std::snprintf(line, sizeof line, "%5zu %6zu %11zu %5zu %5zu %5zu %5zu %5zu %6zu  %zu\n", lc.light, oc.object,
+      std::snprintf(line, sizeof line, "%5zu %6zu %11zu %6zu %6zu %6zu %6zu %6zu %6zu  %15zu\n", lc.light, oc.object,
                     oc.edges.size(), oc.case_counts[0], oc.case_counts[1], oc.case_counts[2], oc.case_counts[3],
                     oc.case_counts[4], oc.case_counts[5], engine.lights[lc.light][k].disagreement.total());
       std::cout << line;
     }
   }
   std::cout << "exact fallbacks: " << result.stats.total_exact() << " predicate calls needed rationals\n";
+  print_case_legend(std::cout);
 }
 
 }  // namespace

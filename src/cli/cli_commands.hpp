@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,9 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 // with the estimate in the message, before anything is allocated.
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
+
+// What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.
+void print_case_legend(std::ostream& out);
 
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);

@@ -51,6 +51,16 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
   throw Error(ErrorKind::Resource, message);
 }
 
+void print_case_legend(std::ostream& out) {
+  out << "cases: where the camera's near plane cuts a silhouette edge's infinite side quad (ZP+ section 5)\n"
+         "  A   not at all: nothing to correct\n"
+         "  B   both infinite edges: the clipped vertices move to their near-cap counterparts (exact)\n"
+         "  C1  an infinite edge and the silhouette edge: counterparts plus a corrective quad\n"
+         "  C2  an infinite edge and the edge at infinity: counterparts plus a corrective quad\n"
+         "  D   the silhouette edge and the edge at infinity (light near the near plane): ZP+ switches to Z-fail\n"
+         "  degen(erate)  the plane holds a quad vertex or is parallel to an infinite edge\n";
+}
+
 void check_light_index(const Scene& scene, std::size_t light) {
   if (light >= scene.lights.size())
     throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) +

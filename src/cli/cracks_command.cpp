@@ -156,9 +156,15 @@ void run(const CracksOptions& o) {
     files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
     io::write_output_files(files);
   }
-  if (o.table)
+  if (o.table) {
     print_table(records);
-  else
+    const nlohmann::json& cases = records.front()["float_cases"];
+    std::printf("float engine's cases for light %zu:", o.light);
+    for (const char* c : {"A", "B", "C1", "C2", "D"}) std::printf(" %s %zu", c, cases[c].get<std::size_t>());
+    std::printf("\n");
+    std::fflush(stdout);
+    print_case_legend(std::cout);
+  } else
     std::cout << root.dump() << "\n";
 }
 

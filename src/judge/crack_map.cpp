@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cstdlib>
+#include <optional>
 
+#include "legend.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/judge/reference_images.hpp"
@@ -56,29 +59,44 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
 
 namespace {
 
-using Rgb = std::array<std::uint8_t, 3>;
+using Rgb = legend::Rgb;
 
-// The mark of a judged pixel (crack_map.hpp), nothing when it is right.
+constexpr Rgb kWrongLit{255, 40, 40}, kWrongShadowed{40, 230, 255}, kCountOnly{255, 220, 0}, kCapWrong{255, 0, 255},
+    kVisibility{110, 110, 110};
+
+// The fill of a judged pixel (crack_map.hpp), nothing when it is right.  The
+// verdict decides; a near-cap mismatch fills only a pixel whose verdict is
+// right (else it shows as the outer ring).
 std::optional<Rgb> mark_colour(const CrackReport& report, std::size_t p) {
   switch (report.verdict[p]) {
     case PixelVerdict::WrongLit:
-      return Rgb{255, 40, 40};
+      return kWrongLit;
     case PixelVerdict::WrongShadowed:
-      return Rgb{40, 230, 255};
+      return kWrongShadowed;
     case PixelVerdict::CountOnly:
-      return Rgb{255, 220, 0};
+      return kCountOnly;
     case PixelVerdict::VisibilityMismatch:
-      return Rgb{70, 70, 70};
+      return kVisibility;
     default:
-      if (!report.cap_wrong.empty() && report.cap_wrong[p]) return Rgb{255, 0, 255};
+      if (!report.cap_wrong.empty() && report.cap_wrong[p]) return kCapWrong;
       return std::nullopt;
   }
 }
 
-bool ringed(const CrackReport& report, std::size_t p) {
-  const PixelVerdict v = report.verdict[p];
-  return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed ||
-         (!report.cap_wrong.empty() && report.cap_wrong[p]);
+// The verdict's ring colour, drawn in increasing priority; nothing for right pixels.
+int ring_priority(PixelVerdict v) {
+  switch (v) {
+    case PixelVerdict::VisibilityMismatch:
+      return 1;
+    case PixelVerdict::CountOnly:
+      return 2;
+    case PixelVerdict::WrongShadowed:
+      return 3;
+    case PixelVerdict::WrongLit:
+      return 4;
+    default:
+      return 0;
+  }
 }
 
 }  // namespace
@@ -86,33 +104,55 @@ bool ringed(const CrackReport& report, std::size_t p) {
 std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report) {
   std::vector<std::uint8_t> rgb = shadow_rgb(scene, ref);
   auto pixel = [&](int i, int j) { return &rgb[3 * (static_cast<std::size_t>(ref.height - 1 - j) * ref.width + i)]; };
+  std::vector<bool> marked(static_cast<std::size_t>(ref.width) * ref.height, false);
   for (int j = 0; j < ref.height; ++j)
     for (int i = 0; i < ref.width; ++i) {
       std::uint8_t* px = pixel(i, j);
       if (const auto mark = mark_colour(report, ref.index(i, j))) {
         for (int c = 0; c < 3; ++c) px[c] = (*mark)[c];
+        marked[ref.index(i, j)] = true;
       } else {
         for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(px[c] / 2);  // dim what is right
       }
     }
-  // Cracks are often single pixels: ring each wrong pixel (and each near-cap
-  // mismatch) with a square of its colour so that a person finds it at once.
-  const int r = 6;
-  for (int j = 0; j < ref.height; ++j)
-    for (int i = 0; i < ref.width; ++i) {
-      const std::size_t p = ref.index(i, j);
-      if (!ringed(report, p)) continue;
-      const Rgb colour = *mark_colour(report, p);
-      for (int dj = -r; dj <= r; ++dj)
-        for (int di = -r; di <= r; ++di) {
-          if (std::max(std::abs(di), std::abs(dj)) != r) continue;
-          const int x = i + di, y = j + dj;
-          if (x < 0 || y < 0 || x >= ref.width || y >= ref.height) continue;
-          std::uint8_t* q = pixel(x, y);
-          for (int c = 0; c < 3; ++c) q[c] = colour[c];
-        }
-    }
-  return encode_png_rgb(ref.width, ref.height, rgb);
+  // Cracks are often single pixels: every marked pixel is ringed so that a
+  // person finds it at once.  Inner rings (radius 5) in the verdict's colour,
+  // drawn by priority (visibility, count-only, wrong-shadowed, wrong-lit: the
+  // worst on top); outer rings (radius 7) in magenta for near-cap mismatches,
+  // so a pixel that is both wrong and a near-cap mismatch shows both.  Rings
+  // never paint over a marked pixel, so no mark hides another.
+  auto ring = [&](int i, int j, int r, const Rgb& colour) {
+    for (int dj = -r; dj <= r; ++dj)
+      for (int di = -r; di <= r; ++di) {
+        if (std::max(std::abs(di), std::abs(dj)) != r) continue;
+        const int x = i + di, y = j + dj;
+        if (x < 0 || y < 0 || x >= ref.width || y >= ref.height || marked[ref.index(x, y)]) continue;
+        std::uint8_t* q = pixel(x, y);
+        for (int c = 0; c < 3; ++c) q[c] = colour[c];
+      }
+  };
+  for (int priority = 1; priority <= 4; ++priority)
+    for (int j = 0; j < ref.height; ++j)
+      for (int i = 0; i < ref.width; ++i) {
+        const std::size_t p = ref.index(i, j);
+        if (ring_priority(report.verdict[p]) == priority) ring(i, j, 5, *mark_colour(report, p));
+      }
+  if (!report.cap_wrong.empty())
+    for (int j = 0; j < ref.height; ++j)
+      for (int i = 0; i < ref.width; ++i)
+        if (report.cap_wrong[ref.index(i, j)]) ring(i, j, 7, kCapWrong);
+
+  char title[160];
+  std::snprintf(title, sizeof title, "%s: %zu wrong (%zu lit, %zu shadowed), %zu count, %s near-cap",
+                std::string(to_string(report.method)).c_str(), report.wrong, report.wrong_lit, report.wrong_shadowed,
+                report.count_mismatch, report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
+  const legend::Image framed = legend::with_legend({ref.width, ref.height, std::move(rgb)}, title,
+                                                   {{kWrongLit, "wrong, lit: should be in shadow"},
+                                                    {kWrongShadowed, "wrong, shadowed: should be lit"},
+                                                    {kCountOnly, "stencil count differs, status right"},
+                                                    {kCapWrong, "near-cap pass differs (outer ring)"},
+                                                    {kVisibility, "another object seen (outline)"}});
+  return encode_png_rgb(framed.width, framed.height, framed.rgb);
 }
 
 }  // namespace nearcap

@@ -2,6 +2,7 @@
 #include "nearcap/judge/near_cap_svg.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -36,11 +37,12 @@ std::string fill_for(std::size_t count, std::size_t max_count) {
 
 }  // namespace
 
-std::string near_cap_svg(const NearCap& cap, const Frustum& fr, const std::string& title) {
+std::string near_cap_svg(const NearCap& cap, const Camera& camera, const std::string& title) {
+  const Frustum& fr = camera.frustum;
   const double width_px = 800.0;
   const double scale = width_px / (fr.right - fr.left);
   const double height_px = (fr.top - fr.bottom) * scale;
-  const double legend = 40.0;
+  const double legend = 64.0;
   auto px = [&](const NearCapPoint& p) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.3f,%.3f", (p.x.get_d() - fr.left) * scale, (fr.top - p.y.get_d()) * scale);
@@ -62,16 +64,28 @@ std::string near_cap_svg(const NearCap& cap, const Frustum& fr, const std::strin
     for (const auto& h : f.holes) ring(h);
     svg << "\"><title>count " << f.count << "</title></path>\n";
   }
-  // Legend: one swatch per count.
-  for (std::size_t c = 0; c <= max_count && c < 16; ++c) {
-    const double x = 10 + 60.0 * static_cast<double>(c);
-    svg << "<rect x=\"" << x << "\" y=\"" << height_px + 10 << "\" width=\"20\" height=\"20\" fill=\""
+  // Legend: one swatch per count, then the title, and the pixel aspect.
+  svg << "<text x=\"10\" y=\"" << height_px + 25
+      << "\" font-family=\"sans-serif\" font-size=\"12\">near-cap count:</text>\n";
+  for (std::size_t c = 0; c <= max_count && c < 12; ++c) {
+    const double x = 110 + 50.0 * static_cast<double>(c);
+    svg << "<rect x=\"" << x << "\" y=\"" << height_px + 12 << "\" width=\"18\" height=\"18\" fill=\""
         << fill_for(c, max_count) << "\" stroke=\"#555555\"/>";
-    svg << "<text x=\"" << x + 25 << "\" y=\"" << height_px + 25 << "\" font-family=\"sans-serif\" font-size=\"12\">"
+    svg << "<text x=\"" << x + 23 << "\" y=\"" << height_px + 25 << "\" font-family=\"sans-serif\" font-size=\"12\">"
         << c << "</text>\n";
   }
-  svg << "<text x=\"" << width_px - 10 << "\" y=\"" << height_px + 25
-      << "\" text-anchor=\"end\" font-family=\"sans-serif\" font-size=\"12\">" << escape(title) << "</text>\n";
+  const double rect_aspect = (fr.right - fr.left) / (fr.top - fr.bottom);
+  const double pixel_aspect = static_cast<double>(camera.width) / static_cast<double>(camera.height);
+  char note[200];
+  if (std::fabs(rect_aspect / pixel_aspect - 1.0) > 1e-9)
+    std::snprintf(note, sizeof note,
+                  "drawn to the near rectangle's aspect %.4g; the %dx%d pixels are not square (pixel aspect %.4g)",
+                  rect_aspect, camera.width, camera.height, rect_aspect / pixel_aspect);
+  else
+    std::snprintf(note, sizeof note, "drawn to the near rectangle's aspect %.4g (%dx%d square pixels)", rect_aspect,
+                  camera.width, camera.height);
+  svg << "<text x=\"10\" y=\"" << height_px + 52 << "\" font-family=\"sans-serif\" font-size=\"12\">" << escape(title)
+      << "; " << note << "</text>\n";
   svg << "</svg>\n";
   return svg.str();
 }

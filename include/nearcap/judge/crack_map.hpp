@@ -49,10 +49,14 @@ struct CrackReport {
 CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref);
 
 // The reference's shaded image (reference_images.hpp), dimmed, with each
-// judged pixel marked: wrong-lit red, wrong-shadowed cyan, count-only yellow,
-// a near-cap mismatch that did not make the pixel wrong magenta, visibility
-// mismatches dark grey; each wrong pixel and near-cap mismatch is also ringed
-// by a square of its colour, 13 pixels wide.  8-bit RGB PNG bytes.
+// judged pixel filled by its verdict: wrong-lit red, wrong-shadowed cyan,
+// count-only yellow, visibility mismatch grey; a near-cap mismatch fills a
+// pixel magenta when its verdict is right.  Every marked pixel is ringed: an
+// inner square (11 pixels wide) in its verdict's colour, rings of worse
+// verdicts drawn over milder ones (grey, yellow, cyan, red), and an outer
+// magenta square (15 wide) around each near-cap mismatch; rings never cover a
+// marked pixel.  Below the image, a legend: the method's counts and the
+// colours.  8-bit RGB PNG bytes (wider than the frame when the legend needs it).
 std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report);
 
 }  // namespace nearcap
