@@ -196,7 +196,8 @@ void register_cracks(CLI::App& app) {
   cmd->add_option("--light-projection", o->light_projection, "P_l formulation: paper or glfrustum")
       ->check(CLI::IsMember({"paper", "glfrustum"}))
       ->capture_default_str();
-  cmd->add_option("--l-near-scale", o->l_near_scale, "l_near = scale * l_far * min(d / d_max, 1/2)")->capture_default_str();
+  cmd->add_option("--l-near-scale", o->l_near_scale, "l_near = scale * l_far * min(d / d_max, 1/2)")
+      ->capture_default_str();
   cmd->add_option("--zfail-far", o->zfail_far,
                   "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP) or clamp-far (far plane only)")
       ->check(CLI::IsMember({"infinite", "clamp", "clamp-far"}))
