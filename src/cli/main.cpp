@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr,
-                 "nearcap: error (resource): out of memory (a smaller --width/--height in the scene, or more "
+                 "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or give it more "
                  "memory; see the README's limits)\n");
     return 2;
   } catch (const std::exception& e) {
