@@ -15,8 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::map<std::string, int> kLayer = {{"", 0},   {"numeric", 1}, {"scene", 2},  {"exact", 3}, {"io", 4},
-                                           {"gl", 5}, {"judge", 6},   {"render", 7}, {"cli", 8}};
+const std::map<std::string, int> kLayer = {{"", 0},   {"numeric", 1}, {"scene", 2},  {"exact", 3},    {"io", 4},
+                                           {"gl", 5}, {"judge", 6},   {"render", 7}, {"analysis", 8}, {"cli", 9}};
 
 // "exact" for include/nearcap/exact/x.hpp and src/exact/x.cpp; "" for the root.
 std::string layer_of(const fs::path& relative) {
