@@ -55,9 +55,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(), e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr,
-                 "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or give it more "
-                 "memory; see the README's limits)\n");
+    std::fprintf(
+        stderr,
+        "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or give it more "
+        "memory; see the README's limits)\n");
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());
