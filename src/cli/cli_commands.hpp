@@ -18,6 +18,7 @@ void register_classify(CLI::App& app);
 void register_cap(CLI::App& app);
 void register_reference(CLI::App& app);
 void register_cracks(CLI::App& app);
+void register_frame(CLI::App& app);
 
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);
