@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/scene/scene.hpp"
 
@@ -19,6 +20,8 @@ void register_cap(CLI::App& app);
 void register_reference(CLI::App& app);
 void register_cracks(CLI::App& app);
 void register_frame(CLI::App& app);
+void register_sample(CLI::App& app);
+void register_sweep(CLI::App& app);
 
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);
@@ -35,6 +38,26 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 // with the estimate in the message, before anything is allocated.
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
+
+// The float pipeline's named choices, as command-line options (cracks, sweep).
+struct EmulationOptions {
+  int subpixel_bits = 8;
+  std::string depth = "fixed24";
+  std::string fill_rule = "bottom-left";
+  float guard_band = 1.0f;
+  std::string light_projection = "paper";
+  double l_near_scale = 1.0;
+  std::string zfail_far = "infinite";
+  std::string switch_clamp = "clamp";
+  bool fma = false;
+};
+void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
+// Throws Error(Usage) for a value out of range.
+gl::EmulationSettings settings_from(const EmulationOptions& options);
+
+// The methods named by --method/--methods: one name, a comma-separated list,
+// or "all".  Throws Error(Usage) naming an unknown one.
+std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);
 
 // What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.
 void print_case_legend(std::ostream& out);

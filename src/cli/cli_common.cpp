@@ -51,6 +51,74 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
   throw Error(ErrorKind::Resource, message);
 }
 
+void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
+  cmd.add_option("--subpixel-bits", o.subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
+      ->capture_default_str();
+  cmd.add_option("--depth", o.depth, "depth buffer: fixed24 or float32")
+      ->check(CLI::IsMember({"fixed24", "float32"}))
+      ->capture_default_str();
+  cmd.add_option("--fill-rule", o.fill_rule,
+                 "pixel centres on an edge: bottom-left (llvmpipe's, GL window coordinates) or top-left")
+      ->check(CLI::IsMember({"top-left", "bottom-left"}))
+      ->capture_default_str();
+  cmd.add_option("--guard-band", o.guard_band,
+                 "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
+      ->capture_default_str();
+  cmd.add_option("--light-projection", o.light_projection, "P_l formulation: paper or glfrustum")
+      ->check(CLI::IsMember({"paper", "glfrustum"}))
+      ->capture_default_str();
+  cmd.add_option("--l-near-scale", o.l_near_scale, "l_near = scale * l_far * min(d / d_max, 1/2)")
+      ->capture_default_str();
+  cmd.add_option("--zfail-far", o.zfail_far,
+                 "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP) or clamp-far (far plane only)")
+      ->check(CLI::IsMember({"infinite", "clamp", "clamp-far"}))
+      ->capture_default_str();
+  cmd.add_option("--switch-clamp", o.switch_clamp,
+                 "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp or clamp-far")
+      ->check(CLI::IsMember({"clamp", "clamp-far"}))
+      ->capture_default_str();
+  cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
+}
+
+gl::EmulationSettings settings_from(const EmulationOptions& o) {
+  gl::EmulationSettings s;
+  if (o.subpixel_bits < 0 || o.subpixel_bits > 12)
+    throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(o.subpixel_bits) + " is not in [0, 12]");
+  s.raster.subpixel_bits = o.subpixel_bits;
+  s.raster.fill_rule = o.fill_rule == "top-left" ? gl::FillRule::TopLeft : gl::FillRule::BottomLeft;
+  if (!(o.guard_band >= 1.0f))
+    throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
+  s.raster.guard_band = o.guard_band;
+  s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
+  s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
+  s.light_frustum.projection =
+      o.light_projection == "paper" ? gl::LightProjection::Paper : gl::LightProjection::GlFrustum;
+  if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
+    throw Error(ErrorKind::Usage,
+                "--l-near-scale must be in (0, 1] (l_near beyond l_far d / d_max clips the occluder)");
+  s.light_frustum.near_scale = o.l_near_scale;
+  s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
+  s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
+  return s;
+}
+
+std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option) {
+  if (names == "all") return {gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
+  std::vector<gl::ShadowMethod> methods;
+  std::size_t start = 0;
+  while (start <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', start), names.size());
+    const std::string name = names.substr(start, comma - start);
+    const auto m = gl::shadow_method_from_string(name);
+    if (!m)
+      throw Error(ErrorKind::Usage,
+                  option + " '" + name + "' is not one of zpass, zfail, zpplus, zpplus-corrected, preload (or all)");
+    methods.push_back(*m);
+    start = comma + 1;
+  }
+  return methods;
+}
+
 void print_case_legend(std::ostream& out) {
   out << "cases: where the camera's near plane cuts a silhouette edge's infinite side quad (ZP+ section 5)\n"
          "  A   not at all: nothing to correct\n"

@@ -21,15 +21,7 @@ struct CracksOptions {
   std::string scene;
   std::size_t light = 0;
   std::string method = "all";
-  int subpixel_bits = 8;
-  std::string depth = "fixed24";
-  std::string fill_rule = "bottom-left";
-  float guard_band = 1.0f;
-  std::string light_projection = "paper";
-  double l_near_scale = 1.0;
-  std::string zfail_far = "infinite";
-  std::string switch_clamp = "clamp";
-  bool fma = false;
+  EmulationOptions emulation;
   std::string out;
   bool table = false;
   double max_memory_gb = 0;
@@ -40,28 +32,6 @@ struct CracksOptions {
 // one encoded crack image per method.
 constexpr double kCracksBytesPerPixel = 30;  // 28.5 (one method) to 30.4 (all five) at 2048x2048
 constexpr double kCracksBytesPerPixelPerMethod = 1;
-
-gl::EmulationSettings settings_from(const CracksOptions& o) {
-  gl::EmulationSettings s;
-  if (o.subpixel_bits < 0 || o.subpixel_bits > 12)
-    throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(o.subpixel_bits) + " is not in [0, 12]");
-  s.raster.subpixel_bits = o.subpixel_bits;
-  s.raster.fill_rule = o.fill_rule == "top-left" ? gl::FillRule::TopLeft : gl::FillRule::BottomLeft;
-  if (!(o.guard_band >= 1.0f))
-    throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
-  s.raster.guard_band = o.guard_band;
-  s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
-  s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
-  s.light_frustum.projection =
-      o.light_projection == "paper" ? gl::LightProjection::Paper : gl::LightProjection::GlFrustum;
-  if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
-    throw Error(ErrorKind::Usage,
-                "--l-near-scale must be in (0, 1] (l_near beyond l_far d / d_max clips the occluder)");
-  s.light_frustum.near_scale = o.l_near_scale;
-  s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
-  s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
-  return s;
-}
 
 nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements) {
   nlohmann::json j;
@@ -110,16 +80,8 @@ void print_table(const std::vector<nlohmann::json>& records) {
 }
 
 void run(const CracksOptions& o) {
-  std::vector<gl::ShadowMethod> methods;
-  if (o.method == "all") {
-    methods.assign(gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end());
-  } else if (const auto m = gl::shadow_method_from_string(o.method)) {
-    methods.push_back(*m);
-  } else {
-    throw Error(ErrorKind::Usage,
-                "--method " + o.method + " is not one of zpass, zfail, zpplus, zpplus-corrected, preload, all");
-  }
-  const gl::EmulationSettings settings = settings_from(o);
+  const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
+  const gl::EmulationSettings settings = settings_from(o.emulation);
   const Scene scene = load_scene(o.scene);
   check_light_index(scene, o.light);
   check_memory_estimate(scene, "cracks",
@@ -181,32 +143,7 @@ void register_cracks(CLI::App& app) {
   add_light_option(*cmd, o->light);
   cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload or all")
       ->capture_default_str();
-  cmd->add_option("--subpixel-bits", o->subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
-      ->capture_default_str();
-  cmd->add_option("--depth", o->depth, "depth buffer: fixed24 or float32")
-      ->check(CLI::IsMember({"fixed24", "float32"}))
-      ->capture_default_str();
-  cmd->add_option("--fill-rule", o->fill_rule,
-                  "pixel centres on an edge: bottom-left (llvmpipe's, GL window coordinates) or top-left")
-      ->check(CLI::IsMember({"top-left", "bottom-left"}))
-      ->capture_default_str();
-  cmd->add_option("--guard-band", o->guard_band,
-                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
-      ->capture_default_str();
-  cmd->add_option("--light-projection", o->light_projection, "P_l formulation: paper or glfrustum")
-      ->check(CLI::IsMember({"paper", "glfrustum"}))
-      ->capture_default_str();
-  cmd->add_option("--l-near-scale", o->l_near_scale, "l_near = scale * l_far * min(d / d_max, 1/2)")
-      ->capture_default_str();
-  cmd->add_option("--zfail-far", o->zfail_far,
-                  "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP) or clamp-far (far plane only)")
-      ->check(CLI::IsMember({"infinite", "clamp", "clamp-far"}))
-      ->capture_default_str();
-  cmd->add_option("--switch-clamp", o->switch_clamp,
-                  "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp or clamp-far")
-      ->check(CLI::IsMember({"clamp", "clamp-far"}))
-      ->capture_default_str();
-  cmd->add_flag("--fma", o->fma, "vertex transforms with fused multiply-add");
+  add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");
   cmd->add_flag("--table", o->table, "print a human-readable table instead of JSON");
   add_max_memory_option(*cmd, o->max_memory_gb);

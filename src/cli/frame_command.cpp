@@ -9,8 +9,10 @@
 namespace nearcap::cli {
 namespace {
 
-void run(const std::string& path_file, int frame, const std::string& out) {
-  const analysis::CameraPath path = analysis::load_camera_path(path_file);
+void run(const std::string& path_file, int frame, int width, int height, const std::string& out) {
+  analysis::CameraPath path = analysis::load_camera_path(path_file);
+  if (width > 0) path.width = width;
+  if (height > 0) path.height = height;
   if (frame < 0 || frame >= path.frames)
     throw Error(ErrorKind::Usage, path_file + ": --frame " + std::to_string(frame) + " is not in [0, " +
                                       std::to_string(path.frames) + ") (the path has " + std::to_string(path.frames) +
@@ -32,8 +34,11 @@ void register_frame(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   cmd->add_option("path", *path, "camera path file (JSON)")->required();
   cmd->add_option("--frame", *frame, "frame index (0 = the first)")->required();
+  auto width = std::make_shared<int>(0), height = std::make_shared<int>(0);
+  cmd->add_option("--width", *width, "viewport width (default: the path's)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", *height, "viewport height (default: the path's)")->check(CLI::Range(1, 16384));
   cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
-  cmd->callback([path, frame, out] { run(*path, *frame, *out); });
+  cmd->callback([path, frame, width, height, out] { run(*path, *frame, *width, *height, *out); });
 }
 
 }  // namespace nearcap::cli

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   nearcap::cli::register_reference(app);
   nearcap::cli::register_cracks(app);
   nearcap::cli::register_frame(app);
+  nearcap::cli::register_sample(app);
+  nearcap::cli::register_sweep(app);
 
   // The subcommand comes first; name an unknown one as such.
   if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");

@@ -4,6 +4,7 @@
 #include "nearcap/error.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -39,6 +40,7 @@ DrawCounters& DrawCounters::operator+=(const DrawCounters& o) {
   culled += o.culled;
   rasterized += o.rasterized;
   fragments += o.fragments;
+  depth_passed += o.depth_passed;
   return *this;
 }
 
@@ -142,20 +144,22 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
     for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
   }
-  counters.fragments = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, bands), std::uint64_t{0},
-      [&](const tbb::blocked_range<int>& range, std::uint64_t fragments) {
+  using Counts = std::array<std::uint64_t, 2>;  // fragments, depth test passed
+  const Counts counts = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, bands), Counts{0, 0},
+      [&](const tbb::blocked_range<int>& range, Counts fragments) {
         for (int b = range.begin(); b != range.end(); ++b) {
           const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
           for (std::uint32_t t : binned[static_cast<std::size_t>(b)])
             rasterize_triangle_with(
                 triangles[t], width_, height_, raster,
                 [&](const Fragment& f) {
-                  ++fragments;
+                  ++fragments[0];
                   const std::size_t p = index(f.x, f.y);
                   const std::uint32_t z =
                       needs_depth ? encode_depth(f.depth) : 0;  // the near-cap pass neither tests nor writes
                   const bool pass = !test_depth || z < depth_[p];
+                  fragments[1] += pass;
                   const StencilOps& ops = f.front ? state.front : state.back;
                   stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
                   if (pass && state.depth_write) {
@@ -167,7 +171,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
         }
         return fragments;
       },
-      std::plus<>());
+      [](const Counts& a, const Counts& b) { return Counts{a[0] + b[0], a[1] + b[1]}; });
+  counters.fragments = counts[0];
+  counters.depth_passed = counts[1];
   return counters;
 }
 

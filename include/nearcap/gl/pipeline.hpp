@@ -61,6 +61,8 @@ struct DrawCounters {
   std::uint64_t culled = 0;      // culled by facing, or dropped for zero snapped area
   std::uint64_t rasterized = 0;  // triangles (after clipping's fan) that reached coverage
   std::uint64_t fragments = 0;
+  std::uint64_t depth_passed = 0;  // fragments that passed the depth test (all of them when it is off)
+  std::uint64_t depth_failed() const { return fragments - depth_passed; }
   DrawCounters& operator+=(const DrawCounters& o);
 };
 

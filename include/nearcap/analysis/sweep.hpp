@@ -1,0 +1,66 @@
+// nearcap/analysis/sweep.hpp — one configuration through the exact reference
+// and the float methods, as rows a sweep aggregates.
+//
+// A configuration is a scene file's text plus where it came from (a camera
+// path's frame, or a hard-case sampler's index) and how to replay it.  For
+// every light of the scene and every chosen method it gives one SweepRow:
+// the exact and float case counts, the judge's counts, the work per pass
+// (vertices in, fragments, and how many passed the depth test: Z-pass counts
+// on passing fragments and Z-fail on failing ones, which is when one is
+// slower than the other) and the time per pass.  Rows are data: CSV with a
+// fixed header (csv_header), one line per row (csv_line).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nearcap/exact/quad_case.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+
+namespace nearcap::analysis {
+
+struct SweepConfiguration {
+  std::string id;          // unique in a sweep: "path:eye_in_shadow:12", "sample:7:103"
+  std::string source;      // the path file, or "sampler"
+  std::string kind;        // the sampler's kind, or the path's name
+  std::string detail;      // the sampler's parameters, or "frame F of N"
+  std::string scene_json;  // a scene file's text (mesh paths absolute)
+  std::string replay;      // shell commands that write this configuration to c.json
+};
+
+struct PassWork {
+  std::uint64_t triangles = 0, fragments = 0, depth_passed = 0;
+  double ms = 0;
+};
+
+struct SweepRow {
+  std::string configuration, source, kind, detail, replay;
+  std::size_t light = 0;
+  std::string method;
+  std::array<std::size_t, kQuadCaseCount> exact_cases{};  // all occluders, this light
+  std::array<std::size_t, kQuadCaseCount> float_cases{};  // the engine's (never degenerate)
+  std::size_t case_disagreements = 0;
+  std::size_t pixels_seen = 0, wrong = 0, wrong_lit = 0, wrong_shadowed = 0, count_mismatch = 0;
+  long long cap_mismatch = -1;  // -1: the method has no whole-scene near-cap pass
+  std::size_t visibility_mismatch = 0;
+  std::string fallback;           // why the light fell back to Z-fail, or ""
+  std::size_t zfail_objects = 0;  // occluders switched to Z-fail (case D)
+  PassWork setup, depth, near_cap, volume;
+  double reference_ms = 0;  // the exact reference for this light (shared by its methods)
+};
+
+struct SweepOptions {
+  std::vector<gl::ShadowMethod> methods{gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
+  gl::EmulationSettings settings;
+};
+
+// Loads the configuration's scene and runs every light and method.  Throws
+// nearcap::Error when the scene does not load (a sampler's light inside an
+// occluder, say): the caller records the configuration as rejected.
+std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuration, const SweepOptions& options);
+
+std::string csv_header();
+std::string csv_line(const SweepRow& row);  // with the trailing newline
+
+}  // namespace nearcap::analysis

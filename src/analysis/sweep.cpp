@@ -1,0 +1,121 @@
+// One configuration of a sweep (see sweep.hpp).
+#include "nearcap/analysis/sweep.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/case_comparison.hpp"
+#include "nearcap/judge/crack_map.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+PassWork work(const gl::DrawCounters& c, double ms) { return {c.triangles, c.fragments, c.depth_passed, ms}; }
+
+// RFC 4180: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  return buf;
+}
+
+constexpr const char* kCaseNames[] = {"A", "B", "C1", "C2", "D", "degenerate"};
+
+}  // namespace
+
+std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuration, const SweepOptions& options) {
+  const Scene scene = parse_scene(configuration.scene_json, configuration.id, ".");
+  const CameraSpaceScene cs(scene);
+  const SceneClassification exact = classify_scene(cs);
+  const CaseComparison engine = compare_engine_cases(cs, exact);
+  std::vector<SweepRow> rows;
+  for (std::size_t light = 0; light < scene.lights.size(); ++light) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const PixelReference ref = compute_pixel_reference(cs, light);
+    const double reference_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::array<std::size_t, kQuadCaseCount> exact_cases{};
+    for (const ObjectClassification& o : exact.lights[light].objects)
+      for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
+    for (gl::ShadowMethod m : options.methods) {
+      const gl::ShadowFrame frame = gl::render_shadow_frame(scene, light, m, options.settings);
+      const CrackReport report = judge_frame(frame, ref);
+      SweepRow r;
+      r.configuration = configuration.id;
+      r.source = configuration.source;
+      r.kind = configuration.kind;
+      r.detail = configuration.detail;
+      r.replay = configuration.replay;
+      r.light = light;
+      r.method = std::string(to_string(m));
+      r.exact_cases = exact_cases;
+      r.float_cases = frame.float_cases;
+      r.case_disagreements = engine.total(light);
+      r.pixels_seen = report.pixels_seen;
+      r.wrong = report.wrong;
+      r.wrong_lit = report.wrong_lit;
+      r.wrong_shadowed = report.wrong_shadowed;
+      r.count_mismatch = report.count_mismatch;
+      r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
+      r.visibility_mismatch = report.visibility_mismatch;
+      r.fallback = frame.fallback;
+      r.zfail_objects = frame.zfail_objects.size();
+      r.setup = {0, 0, 0, frame.times.setup_ms};
+      r.depth = work(frame.depth_pass, frame.times.depth_ms);
+      r.near_cap = work(frame.cap_pass, frame.times.cap_ms);
+      r.volume = work(frame.volume_pass, frame.times.volume_ms);
+      r.reference_ms = reference_ms;
+      rows.push_back(std::move(r));
+    }
+  }
+  return rows;
+}
+
+std::string csv_header() {
+  std::string h = "configuration,source,kind,detail,light,method";
+  for (const char* c : kCaseNames) h += std::string(",exact_") + c;
+  for (const char* c : kCaseNames)
+    if (std::string(c) != "degenerate") h += std::string(",float_") + c;
+  h += ",case_disagreements,pixels_seen,wrong,wrong_lit,wrong_shadowed,count_mismatch,cap_mismatch,"
+       "visibility_mismatch,fallback,zfail_objects";
+  for (const char* pass : {"depth", "near_cap", "volume"})
+    h += std::string(",") + pass + "_triangles," + pass + "_fragments," + pass + "_depth_pass," + pass +
+         "_depth_fail," + pass + "_ms";
+  h += ",setup_ms,frame_ms,reference_ms,replay\n";
+  return h;
+}
+
+std::string csv_line(const SweepRow& r) {
+  std::ostringstream s;
+  s << csv_field(r.configuration) << ',' << csv_field(r.source) << ',' << csv_field(r.kind) << ','
+    << csv_field(r.detail) << ',' << r.light << ',' << r.method;
+  for (std::size_t c = 0; c < kQuadCaseCount; ++c) s << ',' << r.exact_cases[c];
+  for (std::size_t c = 0; c + 1 < kQuadCaseCount; ++c) s << ',' << r.float_cases[c];
+  s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.wrong_lit << ','
+    << r.wrong_shadowed << ',' << r.count_mismatch << ',';
+  if (r.cap_mismatch >= 0) s << r.cap_mismatch;
+  s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects;
+  for (const PassWork* p : {&r.depth, &r.near_cap, &r.volume})
+    s << ',' << p->triangles << ',' << p->fragments << ',' << p->depth_passed << ',' << p->fragments - p->depth_passed
+      << ',' << number(p->ms);
+  const double frame_ms = r.setup.ms + r.depth.ms + r.near_cap.ms + r.volume.ms;
+  s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',' << number(r.reference_ms) << ','
+    << csv_field(r.replay) << '\n';
+  return s.str();
+}
+
+}  // namespace nearcap::analysis

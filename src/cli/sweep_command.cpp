@@ -1,0 +1,326 @@
+// nearcap sweep: camera paths and hard-case samples through the exact
+// reference and the float methods, one CSV row per (configuration, light,
+// method).  nearcap sample: one hard-case configuration as a scene file.
+//
+// Configurations are enumerated in a fixed order (each --path's frames, then
+// sampler indices 0..N-1) and run a few at a time on all cores; each
+// configuration's rows are appended to the CSV in one write, in order.  With
+// --resume an existing CSV is continued: its last configuration is run again
+// (it may have been cut off mid-write), every earlier one is kept, so no row
+// is lost or written twice.
+#include <fcntl.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cli_commands.hpp"
+#include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/sweep.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/io/input_files.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+struct SamplerOptions {
+  std::uint64_t seed = 1;
+  std::string kinds = "all";
+  int width = 48, height = 36;
+  bool allow_bunny = false;
+};
+
+analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
+  analysis::SamplerSpec spec;
+  spec.seed = o.seed;
+  if (o.kinds != "all") {
+    spec.kinds.clear();
+    std::stringstream names(o.kinds);
+    std::string name;
+    while (std::getline(names, name, ',')) spec.kinds.push_back(analysis::hard_case_kind_from_string(name));
+  }
+  spec.width = o.width;
+  spec.height = o.height;
+  spec.allow_bunny = o.allow_bunny;
+  // The bundled meshes: NEARCAP_DATA_DIR, or the source tree's data/ this program was built from.
+  const char* data = std::getenv("NEARCAP_DATA_DIR");
+  spec.mesh_directory = (std::filesystem::path(data && *data ? data : NEARCAP_DATA_DIR) / "meshes").string();
+  return spec;
+}
+
+std::string sample_replay(const SamplerOptions& o, std::uint64_t index) {
+  std::ostringstream s;
+  s << "nearcap sample --seed " << o.seed << " --index " << index << " --kinds " << o.kinds << " --width " << o.width
+    << " --height " << o.height << (o.allow_bunny ? " --allow-bunny" : "") << " --out c.json";
+  return s.str();
+}
+
+void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
+  cmd.add_option("--seed", o.seed, "the sampler's seed")->capture_default_str();
+  cmd.add_option("--kinds", o.kinds,
+                 "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
+                 "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh) or all")
+      ->capture_default_str();
+  if (sizes) {
+    cmd.add_option("--width", o.width, "viewport width of every configuration")->capture_default_str();
+    cmd.add_option("--height", o.height, "viewport height of every configuration")->capture_default_str();
+  }
+  cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
+}
+
+// ---- nearcap sample --------------------------------------------------------
+
+void run_sample(const SamplerOptions& o, std::uint64_t index, const std::string& out) {
+  const analysis::HardCase c = analysis::HardCaseSampler(sampler_spec(o)).sample(index);
+  const std::string json = c.scene_json + "\n";
+  if (out.empty())
+    std::cout << json;
+  else
+    io::write_output_files({{out, json}});
+}
+
+// ---- nearcap sweep ---------------------------------------------------------
+
+struct SweepCommandOptions {
+  std::vector<std::string> paths;
+  std::uint64_t samples = 0;
+  SamplerOptions sampler;
+  int width = 0, height = 0;  // 0: each path's own viewport, the sampler's 48 x 36
+  std::string methods = "all";
+  EmulationOptions emulation;
+  std::string out;
+  bool resume = false;
+};
+
+// The configurations in their fixed order, made on demand.
+class Configurations {
+ public:
+  explicit Configurations(const SweepCommandOptions& o) : options_(o) {
+    for (const std::string& file : o.paths) {
+      analysis::CameraPath path = analysis::load_camera_path(file);
+      if (o.width > 0) path.width = o.width;
+      if (o.height > 0) path.height = o.height;
+      paths_.push_back(std::move(path));
+    }
+    analysis::SamplerSpec spec = sampler_spec(o.sampler);
+    if (o.width > 0) spec.width = o.width;
+    if (o.height > 0) spec.height = o.height;
+    sampler_options_ = o.sampler;
+    sampler_options_.width = spec.width;
+    sampler_options_.height = spec.height;
+    sampler_ = std::make_unique<analysis::HardCaseSampler>(spec);
+    for (const analysis::CameraPath& p : paths_) count_ += static_cast<std::uint64_t>(p.frames);
+    count_ += o.samples;
+  }
+  std::uint64_t count() const { return count_; }
+
+  analysis::SweepConfiguration at(std::uint64_t k) const {
+    for (const analysis::CameraPath& p : paths_) {
+      if (k < static_cast<std::uint64_t>(p.frames)) {
+        const int f = static_cast<int>(k);
+        analysis::SweepConfiguration c;
+        const std::string name = std::filesystem::path(p.source).stem().string();
+        c.id = "path:" + name + ":" + std::to_string(f);
+        c.source = p.source;
+        c.kind = name;
+        c.detail = "frame " + std::to_string(f) + " of " + std::to_string(p.frames);
+        c.scene_json = analysis::path_frame_json(p, f);
+        c.replay = "nearcap frame " + p.source + " --frame " + std::to_string(f) + " --width " +
+                   std::to_string(p.width) + " --height " + std::to_string(p.height) + " --out c.json";
+        return c;
+      }
+      k -= static_cast<std::uint64_t>(p.frames);
+    }
+    const analysis::HardCase h = sampler_->sample(k);
+    analysis::SweepConfiguration c;
+    c.id = "sample:" + std::to_string(h.seed) + ":" + std::to_string(h.index);
+    c.source = "sampler";
+    c.kind = std::string(analysis::to_string(h.kind));
+    c.detail = h.detail;
+    c.scene_json = h.scene_json;
+    c.replay = sample_replay(sampler_options_, h.index);
+    return c;
+  }
+
+ private:
+  const SweepCommandOptions& options_;
+  std::vector<analysis::CameraPath> paths_;
+  std::unique_ptr<analysis::HardCaseSampler> sampler_;
+  SamplerOptions sampler_options_;
+  std::uint64_t count_ = 0;
+};
+
+// The rows of one configuration as CSV text; a configuration whose scene is
+// rejected gets one row with method "rejected" and the error as its fallback.
+std::string configuration_csv(const analysis::SweepConfiguration& c, const analysis::SweepOptions& options) {
+  std::string text;
+  try {
+    for (const analysis::SweepRow& r : analysis::sweep_configuration(c, options)) text += analysis::csv_line(r);
+  } catch (const Error& e) {
+    analysis::SweepRow r;
+    r.configuration = c.id;
+    r.source = c.source;
+    r.kind = c.kind;
+    r.detail = c.detail;
+    r.replay = c.replay;
+    r.method = "rejected";
+    r.fallback = std::string(to_string(e.kind())) + ": " + e.what();
+    text += analysis::csv_line(r);
+  }
+  return text;
+}
+
+// --resume: the configurations already in the CSV, all but its last (which is
+// run again).  The file is cut back to the end of the previous one.
+std::uint64_t resume_point(const std::string& file, const Configurations& configurations) {
+  const std::string text = io::read_input_file(file, "sweep results file");
+  const std::string header = analysis::csv_header();
+  if (text.compare(0, header.size(), header) != 0)
+    throw Error(ErrorKind::Schema, file +
+                                       ": not a sweep results file of this nearcap (its header differs); "
+                                       "start a new one or remove --resume");
+  // Line starts of each configuration's first row, in file order.
+  std::vector<std::pair<std::string, std::size_t>> starts;
+  std::size_t pos = header.size();
+  while (pos < text.size()) {
+    const std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) break;  // a cut-off last line
+    std::string id = text.substr(pos, text.find(',', pos) - pos);
+    if (!id.empty() && id.front() == '"') id = id.substr(1, id.size() - 2);
+    if (starts.empty() || starts.back().first != id) starts.emplace_back(id, pos);
+    pos = end + 1;
+  }
+  if (starts.empty()) {
+    ::truncate(file.c_str(), static_cast<off_t>(header.size()));
+    return 0;
+  }
+  // Every kept configuration must be the next one in order: same options.
+  for (std::size_t k = 0; k + 1 < starts.size(); ++k)
+    if (k >= configurations.count() || configurations.at(k).id != starts[k].first)
+      throw Error(ErrorKind::Schema, file + ": row group " + std::to_string(k) + " is configuration '" +
+                                         starts[k].first + "', not what these options make ('" +
+                                         (k < configurations.count() ? configurations.at(k).id : "none") +
+                                         "'); resume with the options of the interrupted run");
+  if (::truncate(file.c_str(), static_cast<off_t>(starts.back().second)) != 0)
+    throw Error(ErrorKind::Io, file + ": cannot cut the last configuration back for the resume");
+  return starts.size() - 1;
+}
+
+std::string duration(double seconds) {
+  char buf[32];
+  const long s = static_cast<long>(seconds + 0.5);
+  if (s >= 3600)
+    std::snprintf(buf, sizeof buf, "%ldh%02ldm", s / 3600, s / 60 % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%ldm%02lds", s / 60, s % 60);
+  return buf;
+}
+
+void run_sweep(const SweepCommandOptions& o) {
+  if (o.paths.empty() && o.samples == 0)
+    throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
+  analysis::SweepOptions options;
+  options.methods = methods_from(o.methods, "--methods");
+  options.settings = settings_from(o.emulation);
+  const Configurations configurations(o);
+  const std::uint64_t total = configurations.count();
+
+  std::uint64_t first = 0;
+  const bool exists = std::filesystem::exists(o.out);
+  if (exists && !o.resume)
+    throw Error(ErrorKind::Usage, o.out + ": exists; give --resume to continue that sweep, or another --out");
+  if (exists) {
+    first = resume_point(o.out, configurations);
+  } else {
+    io::write_output_files({{o.out, analysis::csv_header()}});
+  }
+  const int fd = ::open(o.out.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd < 0) throw Error(ErrorKind::Io, o.out + ": cannot open for appending");
+
+  const bool terminal = ::isatty(2) != 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::uint64_t done = first, last_report = first;
+  std::fprintf(stderr, "sweep: %llu configurations (%llu already in %s), %zu method(s)\n",
+               static_cast<unsigned long long>(total), static_cast<unsigned long long>(first), o.out.c_str(),
+               options.methods.size());
+  constexpr std::uint64_t kBlock = 8;  // run together, written in order
+  for (std::uint64_t begin = first; begin < total; begin += kBlock) {
+    const std::uint64_t end = std::min(total, begin + kBlock);
+    std::vector<std::string> blocks(end - begin);
+    tbb::parallel_for(begin, end,
+                      [&](std::uint64_t k) { blocks[k - begin] = configuration_csv(configurations.at(k), options); });
+    for (const std::string& b : blocks) {
+      std::size_t written = 0;
+      while (written < b.size()) {
+        const ssize_t n = ::write(fd, b.data() + written, b.size() - written);
+        if (n < 0) {
+          ::close(fd);
+          throw Error(ErrorKind::Io, o.out + ": write failed");
+        }
+        written += static_cast<std::size_t>(n);
+      }
+    }
+    done = end;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double rate = static_cast<double>(done - first) / std::max(seconds, 1e-9);
+    const double eta = static_cast<double>(total - done) / std::max(rate, 1e-9);
+    if (terminal) {
+      const int bar = static_cast<int>(30.0 * static_cast<double>(done) / static_cast<double>(total));
+      std::fprintf(stderr, "\r[%-30s] %llu/%llu  %.1f/s  ETA %s   ", std::string(bar, '#').c_str(),
+                   static_cast<unsigned long long>(done), static_cast<unsigned long long>(total), rate,
+                   duration(eta).c_str());
+    } else if (done == total || (done - last_report) * 10 >= total) {
+      std::fprintf(stderr, "sweep: %llu/%llu configurations, %.1f/s, ETA %s\n", static_cast<unsigned long long>(done),
+                   static_cast<unsigned long long>(total), rate, duration(eta).c_str());
+      last_report = done;
+    }
+  }
+  ::close(fd);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (terminal) std::fprintf(stderr, "\n");
+  std::printf("sweep: %llu configurations in %.1f s (%.2f per second), rows in %s\n",
+              static_cast<unsigned long long>(total - first), seconds,
+              static_cast<double>(total - first) / std::max(seconds, 1e-9), o.out.c_str());
+}
+
+}  // namespace
+
+void register_sample(CLI::App& app) {
+  auto* cmd = app.add_subcommand("sample", "one hard-case configuration of the sampler as a scene file");
+  auto o = std::make_shared<SamplerOptions>();
+  auto index = std::make_shared<std::uint64_t>(0);
+  auto out = std::make_shared<std::string>();
+  add_sampler_options(*cmd, *o, true);
+  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")->required();
+  cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
+  cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
+}
+
+void register_sweep(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "sweep",
+      "camera paths and hard-case samples through the exact reference and the float methods: one CSV row per "
+      "configuration, light and method (README \"Sweeps\")");
+  auto o = std::make_shared<SweepCommandOptions>();
+  cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
+  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler");
+  add_sampler_options(*cmd, o->sampler, false);
+  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)");
+  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)");
+  cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
+  add_emulation_options(*cmd, o->emulation);
+  cmd->add_option("--out", o->out, "the results CSV")->required();
+  cmd->add_flag("--resume", o->resume, "continue the sweep already in --out");
+  cmd->callback([o] { run_sweep(*o); });
+}
+
+}  // namespace nearcap::cli

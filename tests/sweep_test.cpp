@@ -1,0 +1,153 @@
+// `nearcap sweep` and `nearcap sample` end to end: the rows a sweep writes,
+// a resumed sweep equal to an uninterrupted one, replaying a row alone, and
+// the errors of a bad invocation.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "cli_support.hpp"
+#include "nearcap/analysis/sweep.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> split(const std::string& line) {  // no quoted commas in the columns compared
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) out.push_back(cell);
+  return out;
+}
+
+// The rows without their timing columns (*_ms), which differ run to run.
+std::vector<std::string> untimed_rows(const std::string& csv) {
+  std::stringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    std::string kept;
+    for (std::size_t k = 0; k < cells.size() && k < header.size(); ++k)
+      if (header[k].size() < 3 || header[k].compare(header[k].size() - 3, 3, "_ms") != 0) kept += cells[k] + ",";
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+class Sweep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nearcap_sweep_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // A small sweep: the 60 frames of a path and 8 samples, 16 x 12 pixels.
+  std::string args(const std::string& out) const {
+    return "sweep --path data/paths/near_plane_sweep.json --samples 8 --seed 3 --width 16 --height 12 --out " + out;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Sweep, WritesOneRowPerConfigurationLightAndMethod) {
+  const test::CliResult r = test::run_cli(args(path("a.csv")), "sweep");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = test::slurp(path("a.csv"));
+  EXPECT_EQ(csv.rfind(analysis::csv_header(), 0), 0u);
+  std::stringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::map<std::string, int> rows_per_configuration;
+  int rejected = 0;
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    ++rows_per_configuration[cells[0]];
+    rejected += cells[5] == "rejected";
+  }
+  EXPECT_EQ(rows_per_configuration.size(), 60u + 8u);
+  for (const auto& [id, n] : rows_per_configuration)
+    EXPECT_TRUE(n == 1 || n % 5 == 0) << id << ": " << n << " rows (5 methods per light, or one 'rejected')";
+  EXPECT_EQ(rows_per_configuration["path:near_plane_sweep:31"], 5);
+  EXPECT_LT(rejected, 8);
+  EXPECT_NE(r.out.find("68 configurations"), std::string::npos) << r.out;
+}
+
+TEST_F(Sweep, AResumedSweepEqualsAnUninterruptedOne) {
+  ASSERT_EQ(test::run_cli(args(path("whole.csv")), "sweep_whole").exit_code, 0);
+  const std::string whole = test::slurp(path("whole.csv"));
+  // Interrupted mid-row, 60 % of the way through.
+  std::string cut = whole.substr(0, whole.size() * 3 / 5);
+  ASSERT_NE(cut.back(), '\n');
+  std::ofstream(path("resumed.csv"), std::ios::binary) << cut;
+  const test::CliResult r = test::run_cli(args(path("resumed.csv")) + " --resume", "sweep_resume");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(untimed_rows(test::slurp(path("resumed.csv"))), untimed_rows(whole));
+  // Resuming a finished sweep reruns its last configuration only.
+  ASSERT_EQ(test::run_cli(args(path("resumed.csv")) + " --resume", "sweep_resume2").exit_code, 0);
+  EXPECT_EQ(untimed_rows(test::slurp(path("resumed.csv"))), untimed_rows(whole));
+}
+
+TEST_F(Sweep, ARowReplaysAlone) {
+  ASSERT_EQ(test::run_cli(args(path("a.csv")), "sweep_replay").exit_code, 0);
+  std::stringstream in(test::slurp(path("a.csv")));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  int replayed = 0;
+  while (std::getline(in, line) && replayed < 3) {
+    const auto cells = split(line);
+    if (cells[5] != "zpplus-corrected" || cells[0].rfind("sample:", 0) != 0) continue;
+    // The replay column: "nearcap sample ... --out c.json"; run it with this build's program.
+    std::string replay = cells[column("replay")];
+    replay.replace(0, std::string("nearcap ").size(), "");
+    replay.replace(replay.find("c.json"), 6, path("c.json"));
+    ASSERT_EQ(test::run_cli(replay, "replay").exit_code, 0) << replay;
+    const test::CliResult c = test::run_cli(
+        "cracks " + path("c.json") + " --light " + cells[4] + " --method zpplus-corrected", "replay_cracks");
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_NE(c.out.find("\"wrong\":" + cells[column("wrong")] + ","), std::string::npos)
+        << cells[0] << ": the sweep said " << cells[column("wrong")] << " wrong; cracks says " << c.out;
+    ++replayed;
+  }
+  EXPECT_GT(replayed, 0);
+}
+
+TEST_F(Sweep, BadInvocationsAreOneLineErrors) {
+  const std::string out = path("b.csv");
+  const std::pair<std::string, std::string> cases[] = {
+      {"sweep --out " + out, "nothing to sweep"},
+      {"sweep --samples 2 --methods zpass,bogus --out " + out, "'bogus'"},
+      {"sweep --samples 2 --kinds grazing,nope --out " + out, "unknown hard-case kind 'nope'"},
+      {"sweep --path data/paths/missing.json --out " + out, "missing.json"},
+  };
+  for (const auto& [a, fragment] : cases) {
+    const test::CliResult r = test::run_cli(a, "sweep_bad");
+    EXPECT_EQ(r.exit_code, 2) << a << "\n" << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << a << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(out)) << a;
+  }
+  // An existing file needs --resume; one from other options cannot be resumed.
+  ASSERT_EQ(test::run_cli("sweep --samples 2 --width 8 --height 6 --out " + out, "sweep_b").exit_code, 0);
+  EXPECT_NE(test::run_cli("sweep --samples 2 --width 8 --height 6 --out " + out, "sweep_b2").err.find("--resume"),
+            std::string::npos);
+  std::ofstream(out, std::ios::app) << test::slurp(out).substr(analysis::csv_header().size());  // a second group
+  const test::CliResult other =
+      test::run_cli("sweep --samples 2 --seed 99 --width 8 --height 6 --out " + out + " --resume", "sweep_b3");
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.err.find("options of the interrupted run"), std::string::npos) << other.err;
+}
+
+}  // namespace
+}  // namespace nearcap
