@@ -171,7 +171,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
         }
         return fragments;
       },
-      [](const Counts& a, const Counts& b) { return Counts{a[0] + b[0], a[1] + b[1]}; });
+      [](const Counts& a, const Counts& b) {
+        return Counts{a[0] + b[0], a[1] + b[1]};
+      });
   counters.fragments = counts[0];
   counters.depth_passed = counts[1];
   return counters;
