@@ -60,7 +60,8 @@ TEST(CameraPath, TheNearPlaneSweepMeetsCasesCAndD) {
     const Scene scene = parse_scene(analysis::path_frame_json(path, f), "frame", ".");
     const CameraSpaceScene cs(scene);
     std::array<std::size_t, kQuadCaseCount> counts{};
-    for (const ObjectClassification& o : classify_scene(cs).lights[0].objects)
+    const SceneClassification classification = classify_scene(cs);  // kept: the loop reads into it
+    for (const ObjectClassification& o : classification.lights[0].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) counts[c] += o.case_counts[c];
     for (std::size_t c = 0; c < kQuadCaseCount; ++c) frames_with[c] += counts[c] > 0;
   }
