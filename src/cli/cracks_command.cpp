@@ -12,6 +12,7 @@
 #include "nearcap/exact/classification.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/case_comparison.hpp"
+#include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 
 namespace nearcap::cli {
@@ -40,6 +41,13 @@ nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::
   j["wrong"] = r.wrong;
   j["wrong_lit"] = r.wrong_lit;
   j["wrong_shadowed"] = r.wrong_shadowed;
+  if (r.cracks) {
+    j["cracks"] = *r.cracks;
+    nlohmann::json buckets = nlohmann::json::object();
+    for (std::size_t k = 0; k < kCrackDistanceLevels; ++k)
+      buckets[std::string(kCrackDistanceNames[k])] = (*r.wrong_by_distance)[k];
+    j["wrong_by_distance"] = buckets;
+  }
   j["count_mismatch"] = r.count_mismatch;
   j["cap_mismatch"] = r.cap_mismatch ? nlohmann::json(*r.cap_mismatch) : nlohmann::json(nullptr);
   j["case_disagreements"] = case_disagreements;
@@ -67,15 +75,16 @@ nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::
 }
 
 void print_table(const std::vector<nlohmann::json>& records) {
-  std::printf("%-17s %9s %7s %9s %9s %8s %8s %7s %9s %9s\n", "method", "seen", "wrong", "wrong-lit", "wrong-shd",
-              "count!=", "cap!=", "cases!=", "visib!=", "ms");
+  std::printf("%-17s %9s %7s %7s %9s %9s %8s %8s %7s %9s %9s\n", "method", "seen", "wrong", "cracks", "wrong-lit",
+              "wrong-shd", "count!=", "cap!=", "cases!=", "visib!=", "ms");
   for (const nlohmann::json& r : records) {
     const std::string cap = r["cap_mismatch"].is_null() ? "-" : std::to_string(r["cap_mismatch"].get<std::size_t>());
-    std::printf("%-17s %9zu %7zu %9zu %9zu %8zu %8s %7zu %9zu %9.1f%s\n", r["method"].get<std::string>().c_str(),
-                r["pixels_seen"].get<std::size_t>(), r["wrong"].get<std::size_t>(), r["wrong_lit"].get<std::size_t>(),
-                r["wrong_shadowed"].get<std::size_t>(), r["count_mismatch"].get<std::size_t>(), cap.c_str(),
-                r["case_disagreements"].get<std::size_t>(), r["visibility_mismatch"].get<std::size_t>(),
-                r["ms"].get<double>(), r["fallback"].is_null() ? "" : "  (fell back to zfail)");
+    std::printf("%-17s %9zu %7zu %7zu %9zu %9zu %8zu %8s %7zu %9zu %9.1f%s\n", r["method"].get<std::string>().c_str(),
+                r["pixels_seen"].get<std::size_t>(), r["wrong"].get<std::size_t>(), r["cracks"].get<std::size_t>(),
+                r["wrong_lit"].get<std::size_t>(), r["wrong_shadowed"].get<std::size_t>(),
+                r["count_mismatch"].get<std::size_t>(), cap.c_str(), r["case_disagreements"].get<std::size_t>(),
+                r["visibility_mismatch"].get<std::size_t>(), r["ms"].get<double>(),
+                r["fallback"].is_null() ? "" : "  (fell back to zfail)");
   }
 }
 
@@ -88,7 +97,12 @@ void run(const CracksOptions& o) {
                         kCracksBytesPerPixel + kCracksBytesPerPixelPerMethod * static_cast<double>(methods.size()),
                         o.max_memory_gb);
   const CameraSpaceScene cs(scene);
-  const PixelReference ref = compute_pixel_reference(cs, o.light);
+  const auto t0 = std::chrono::steady_clock::now();
+  const PixelReferenceTracer tracer(cs, o.light);
+  PixelReference ref = compute_pixel_reference(tracer);
+  ref.setup_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - ref.trace_ms;
+  CrackDistances distances(tracer);
   const SceneClassification classification = classify_scene(cs);
   const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 
@@ -97,7 +111,8 @@ void run(const CracksOptions& o) {
   const std::filesystem::path dir(o.out);
   for (gl::ShadowMethod m : methods) {
     const gl::ShadowFrame frame = gl::render_shadow_frame(scene, o.light, m, settings);
-    const CrackReport report = judge_frame(frame, ref);
+    CrackReport report = judge_frame(frame, ref);
+    distances.measure(report);
     records.push_back(record_json(frame, report, case_disagreements));
     if (!o.out.empty()) {
       const std::string name = methods.size() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
@@ -115,6 +130,7 @@ void run(const CracksOptions& o) {
     full["scene"] = scene.source;
     full["light"] = o.light;
     full["reference_ms"] = ref.setup_ms + ref.trace_ms;
+    full["crack_distance_ms"] = distances.ms();
     files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
     io::write_output_files(files);
   }

@@ -256,6 +256,39 @@ CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) 
   return {face.entries.data() + face.offsets[cell], face.entries.data() + face.offsets[cell + 1]};
 }
 
+bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const {
+  ids.clear();
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::fabs(w[a]) > std::fabs(w[axis])) axis = a;
+  const double m = std::fabs(w[axis]);
+  const double err = w_error + centre_error_;
+  if (!(m > 2.0 * err) || !std::isfinite(m) || !std::isfinite(err)) return false;
+  const int f = 2 * axis + (w[axis] >= 0 ? 0 : 1);
+  const FaceAxes ax = face_axes(f);
+  const double u = w[ax.u] / m, v = w[ax.v] / m;
+  const double denom = m - err;
+  const double eu = projection_error(u, err, denom), ev = projection_error(v, err, denom);
+  // Every exact direction of the region projects into [u +- eu] x [v +- ev];
+  // inside [-1, 1]^2 it lies in this face's cone, where the binning is complete.
+  if (std::fabs(u) + eu > 1.0 || std::fabs(v) + ev > 1.0) return false;
+  const Face& face = faces_[f];
+  const int i0 = cell_index(u - eu, face.u0, face.du, face.nu), i1 = cell_index(u + eu, face.u0, face.du, face.nu);
+  const int j0 = cell_index(v - ev, face.v0, face.dv, face.nv), j1 = cell_index(v + ev, face.v0, face.dv, face.nv);
+  constexpr long long kMaxCells = 4096;
+  if (static_cast<long long>(i1 - i0 + 1) * (j1 - j0 + 1) > kMaxCells) return false;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t cell = static_cast<std::size_t>(j) * face.nu + static_cast<std::size_t>(i);
+      for (std::uint32_t k = face.offsets[cell]; k < face.offsets[cell + 1]; ++k) ids.push_back(face.entries[k].id);
+    }
+  // Directions beyond the grid's extent lie only in whole-face triangles,
+  // which every cell lists too.
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return true;
+}
+
 std::size_t CentralGrid::listed_entries() const {
   std::size_t n = 0;
   for (const Face& f : faces_) n += f.entries.size();

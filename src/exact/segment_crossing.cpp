@@ -1,6 +1,8 @@
 // Segment [l, p_eps] against a triangle, with the sample-point perturbation.
 #include "nearcap/exact/segment_crossing.hpp"
 
+#include <cmath>
+
 #include "nearcap/exact/perturbation.hpp"
 
 namespace nearcap {
@@ -71,20 +73,33 @@ std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_
   return count;
 }
 
-BoundedVec3 pixel_centre_estimate(const Frustum& fr, int width, int height, int i, int j) {
-  // x = left + (2i + 1) (right - left) / (2W): the integers are exact doubles.
-  const BoundedDouble two_w(2.0 * width), two_h(2.0 * height);
+BoundedVec3 window_point_estimate(const Frustum& fr, int width, int height, const WindowPoint& p) {
+  // The integers and the powers of two are exact doubles.
+  const double scale = std::ldexp(1.0, p.shift);
+  const BoundedDouble w(width * scale), h(height * scale);
   return {BoundedDouble(fr.left) +
-              BoundedDouble(2.0 * i + 1.0) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / two_w,
+              BoundedDouble(static_cast<double>(p.x)) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / w,
           BoundedDouble(fr.bottom) +
-              BoundedDouble(2.0 * j + 1.0) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / two_h,
+              BoundedDouble(static_cast<double>(p.y)) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / h,
           BoundedDouble(-fr.near)};
 }
 
-RationalVec3 pixel_centre_exact(const Frustum& fr, int width, int height, int i, int j) {
-  return {Rational(fr.left) + Rational(2 * i + 1) * (Rational(fr.right) - Rational(fr.left)) / Rational(2 * width),
-          Rational(fr.bottom) + Rational(2 * j + 1) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(2 * height),
+RationalVec3 window_point_exact(const Frustum& fr, int width, int height, const WindowPoint& p) {
+  const double scale = std::ldexp(1.0, p.shift);
+  return {Rational(fr.left) +
+              Rational(static_cast<double>(p.x)) * (Rational(fr.right) - Rational(fr.left)) / Rational(width * scale),
+          Rational(fr.bottom) +
+              Rational(static_cast<double>(p.y)) * (Rational(fr.top) - Rational(fr.bottom)) / Rational(height * scale),
           Rational(-fr.near)};
+}
+
+BoundedVec3 pixel_centre_estimate(const Frustum& fr, int width, int height, int i, int j) {
+  // x = left + (2i + 1) (right - left) / (2W).
+  return window_point_estimate(fr, width, height, window_pixel_centre(i, j));
+}
+
+RationalVec3 pixel_centre_exact(const Frustum& fr, int width, int height, int i, int j) {
+  return window_point_exact(fr, width, height, window_pixel_centre(i, j));
 }
 
 SamplePoint pixel_centre(const Frustum& fr, int width, int height, int i, int j) {

@@ -62,7 +62,12 @@ namespace {
 using Rgb = legend::Rgb;
 
 constexpr Rgb kWrongLit{255, 40, 40}, kWrongShadowed{40, 230, 255}, kCountOnly{255, 220, 0}, kCapWrong{255, 0, 255},
-    kVisibility{110, 110, 110};
+    kVisibility{110, 110, 110}, kNoiseLit{255, 150, 40}, kNoiseShadowed{70, 110, 255};
+
+// A wrong pixel whose crack distance was measured below kCrackLevel.
+bool is_noise(const CrackReport& report, std::size_t p) {
+  return !report.distance.empty() && report.distance[p] >= 0 && report.distance[p] < kCrackLevel;
+}
 
 // The fill of a judged pixel (crack_map.hpp), nothing when it is right.  The
 // verdict decides; a near-cap mismatch fills only a pixel whose verdict is
@@ -70,9 +75,9 @@ constexpr Rgb kWrongLit{255, 40, 40}, kWrongShadowed{40, 230, 255}, kCountOnly{2
 std::optional<Rgb> mark_colour(const CrackReport& report, std::size_t p) {
   switch (report.verdict[p]) {
     case PixelVerdict::WrongLit:
-      return kWrongLit;
+      return is_noise(report, p) ? kNoiseLit : kWrongLit;
     case PixelVerdict::WrongShadowed:
-      return kWrongShadowed;
+      return is_noise(report, p) ? kNoiseShadowed : kWrongShadowed;
     case PixelVerdict::CountOnly:
       return kCountOnly;
     case PixelVerdict::VisibilityMismatch:
@@ -135,23 +140,33 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
     for (int j = 0; j < ref.height; ++j)
       for (int i = 0; i < ref.width; ++i) {
         const std::size_t p = ref.index(i, j);
-        if (ring_priority(report.verdict[p]) == priority) ring(i, j, 5, *mark_colour(report, p));
+        if (ring_priority(report.verdict[p]) == priority && !is_noise(report, p))
+          ring(i, j, 5, *mark_colour(report, p));
       }
   if (!report.cap_wrong.empty())
     for (int j = 0; j < ref.height; ++j)
       for (int i = 0; i < ref.width; ++i)
         if (report.cap_wrong[ref.index(i, j)]) ring(i, j, 7, kCapWrong);
 
-  char title[160];
-  std::snprintf(title, sizeof title, "%s: %zu wrong (%zu lit, %zu shadowed), %zu count, %s near-cap",
+  char title[200];
+  const std::string cracks = report.cracks ? std::to_string(*report.cracks) + " cracks, " : std::string();
+  std::snprintf(title, sizeof title, "%s: %zu wrong (%zu lit, %zu shadowed), %s%zu count, %s near-cap",
                 std::string(to_string(report.method)).c_str(), report.wrong, report.wrong_lit, report.wrong_shadowed,
-                report.count_mismatch, report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
-  const legend::Image framed = legend::with_legend({ref.width, ref.height, std::move(rgb)}, title,
-                                                   {{kWrongLit, "wrong, lit: should be in shadow"},
-                                                    {kWrongShadowed, "wrong, shadowed: should be lit"},
-                                                    {kCountOnly, "stencil count differs, status right"},
-                                                    {kCapWrong, "near-cap pass differs (outer ring)"},
-                                                    {kVisibility, "another object seen (outline)"}});
+                cracks.c_str(), report.count_mismatch,
+                report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
+  std::vector<legend::Entry> entries;
+  if (report.cracks) {
+    entries = {{kWrongLit, "crack, lit: should be in shadow"},
+               {kWrongShadowed, "crack, shadowed: should be lit"},
+               {kNoiseLit, "boundary noise, lit (exact status not constant over the pixel)"},
+               {kNoiseShadowed, "boundary noise, shadowed"}};
+  } else {
+    entries = {{kWrongLit, "wrong, lit: should be in shadow"}, {kWrongShadowed, "wrong, shadowed: should be lit"}};
+  }
+  entries.insert(entries.end(), {{kCountOnly, "stencil count differs, status right"},
+                                 {kCapWrong, "near-cap pass differs (outer ring)"},
+                                 {kVisibility, "another object seen (outline)"}});
+  const legend::Image framed = legend::with_legend({ref.width, ref.height, std::move(rgb)}, title, entries);
   return encode_png_rgb(framed.width, framed.height, framed.rgb);
 }
 

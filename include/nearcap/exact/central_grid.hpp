@@ -61,6 +61,11 @@ class CentralGrid {
   // coordinate within w_error): every triangle whose projection may contain
   // the direction.  When the query is too uncertain it returns all() instead.
   EntryRange candidates(const Vec3d& w, double w_error) const;
+  // The candidates for every direction within w_error (per coordinate, any
+  // size) of w: the ids of the triangles listed in the cells the region's
+  // projection touches, sorted and unique.  False when the region reaches
+  // beyond one face or is too wide to be worth it: the caller takes all().
+  bool candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const;
   EntryRange all() const { return {all_.data(), all_.data() + all_.size()}; }
 
   std::size_t triangle_count() const { return all_.size(); }

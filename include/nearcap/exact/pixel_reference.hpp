@@ -47,6 +47,7 @@
 
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/central_grid.hpp"
+#include "nearcap/exact/segment_crossing.hpp"
 #include "nearcap/numeric/filter_stats.hpp"
 
 namespace nearcap {
@@ -88,6 +89,15 @@ class PixelReferenceTracer {
   PixelReferenceTracer& operator=(const PixelReferenceTracer&) = delete;
 
   PixelSample trace(int i, int j, FilterStats* stats) const;
+  // Any window point (a sub-pixel sample), same rules.
+  PixelSample trace_at(const WindowPoint& p, FilterStats* stats) const;
+
+  // The exact shadow status (true: in shadow) when it is PROVEN the same at
+  // every point of the square of half-width (half_width / 2^centre.shift)
+  // pixels centred on the window point `centre`, with a surface seen at every
+  // point; nothing when it is not proven (crack_distance.hpp says how).
+  std::optional<bool> proven_status_over_square(const WindowPoint& centre, std::int64_t half_width,
+                                                FilterStats* stats) const;
 
   // The same quantities without any acceleration: every triangle is tested.
   // The oracle the grids are tested against (slow).
@@ -96,13 +106,18 @@ class PixelReferenceTracer {
   const CentralGrid& eye_grid() const;
   const CentralGrid& light_grid() const;
   std::size_t front_facing_triangles() const;
+  const CameraSpaceScene& scene() const;
+  std::size_t light() const;
+
+  struct Impl;  // src/exact/pixel_tracer_impl.hpp
 
  private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
 // Every pixel of the camera's viewport, on all cores (TBB).
 PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light);
+// The same with a tracer the caller keeps (for the crack distance).
+PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer);
 
 }  // namespace nearcap

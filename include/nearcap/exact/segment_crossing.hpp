@@ -12,6 +12,8 @@
 // rejected when the scene is loaded.
 #pragma once
 
+#include <cstdint>
+
 #include <cstddef>
 
 #include "nearcap/exact/camera_space.hpp"
@@ -43,6 +45,18 @@ std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_
 // row j from the bottom; x = left + (i + 1/2)/W (right - left), y likewise,
 // z = -near.  Exact and certified estimate.
 SamplePoint pixel_centre(const Frustum& frustum, int width, int height, int i, int j);
+
+// A point of the window at dyadic window coordinates (x / 2^shift, y / 2^shift)
+// (pixel (i, j) covers [i, i+1] x [j, j+1]; its centre is (2i+1, 2j+1, shift 1)).
+// The sub-pixel sample points of the crack distance (crack_distance.hpp).
+struct WindowPoint {
+  std::int64_t x = 1, y = 1;  // |x|, |y| < 2^53 / width, height: exact doubles
+  int shift = 1;              // 0 <= shift <= 30
+};
+inline WindowPoint window_pixel_centre(int i, int j) { return {2 * std::int64_t{i} + 1, 2 * std::int64_t{j} + 1, 1}; }
+// Its camera-space near-plane point: x = left + X (right - left) / (W 2^shift).
+BoundedVec3 window_point_estimate(const Frustum& frustum, int width, int height, const WindowPoint& p);
+RationalVec3 window_point_exact(const Frustum& frustum, int width, int height, const WindowPoint& p);
 // Its two halves, for callers that want the rational only on demand.
 BoundedVec3 pixel_centre_estimate(const Frustum& frustum, int width, int height, int i, int j);
 RationalVec3 pixel_centre_exact(const Frustum& frustum, int width, int height, int i, int j);

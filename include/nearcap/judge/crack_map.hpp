@@ -19,6 +19,7 @@
 // not reported.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 
@@ -44,6 +46,13 @@ struct CrackReport {
   std::size_t visibility_mismatch = 0;
   std::vector<PixelVerdict> verdict;  // row 0 at the bottom
   std::vector<bool> cap_wrong;        // per pixel, when cap_mismatch is reported
+  // Filled by CrackDistances::measure (crack_distances.hpp), empty before:
+  // the wrong pixels per crack-distance level (exact/crack_distance.hpp), the
+  // cracks among them (level >= kCrackLevel), and each pixel's level (-1 for
+  // a pixel that is not wrong).
+  std::optional<std::array<std::size_t, kCrackDistanceLevels>> wrong_by_distance;
+  std::optional<std::size_t> cracks;
+  std::vector<std::int8_t> distance;
 };
 
 CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref);
@@ -51,7 +60,9 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
 // The reference's shaded image (reference_images.hpp), dimmed, with each
 // judged pixel filled by its verdict: wrong-lit red, wrong-shadowed cyan,
 // count-only yellow, visibility mismatch grey; a near-cap mismatch fills a
-// pixel magenta when its verdict is right.  Every marked pixel is ringed: an
+// pixel magenta when its verdict is right.  When the crack distances were
+// measured, a wrong pixel that is boundary noise (not a crack) is filled
+// orange (lit) or blue (shadowed) and not ringed.  Every other marked pixel is ringed: an
 // inner square (11 pixels wide) in its verdict's colour, rings of worse
 // verdicts drawn over milder ones (grey, yellow, cyan, red), and an outer
 // magenta square (15 wide) around each near-cap mismatch; rings never cover a

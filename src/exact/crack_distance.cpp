@@ -1,0 +1,234 @@
+// The crack distance: the exact shadow status proven constant over squares
+// around a pixel centre (see crack_distance.hpp for the argument).
+#include "nearcap/exact/crack_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pixel_tracer_impl.hpp"
+
+namespace nearcap {
+namespace {
+
+using Corners = std::array<PixelPoint, 4>;
+
+// The strict sign an affine form has at all four corners (then over the whole
+// square), or Zero when the corners disagree or one of them is zero.
+template <class ApproxForm, class ExactForm>
+Sign uniform_sign(Predicate pred, FilterStats* stats, const Corners& corners, ApproxForm&& approx_form,
+                  ExactForm&& exact_form) {
+  const BoundedForm fa = approx_form();
+  std::optional<AffineForm<Rational>> fe;
+  Sign common = Sign::Zero;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    Sign s;
+    if (const auto v = fa.at(corners[k].approx()).sign(); v && *v != Sign::Zero) {
+      if (stats) stats->record(pred, false);
+      s = *v;
+    } else {
+      if (stats) stats->record(pred, true);
+      if (!fe) fe = exact_form();
+      s = sign_of(Rational(fe->at(corners[k].exact())));
+    }
+    if (s == Sign::Zero || (k > 0 && s != common)) return Sign::Zero;
+    common = s;
+  }
+  return common;
+}
+
+class SquareProof {
+ public:
+  SquareProof(const PixelReferenceTracer::Impl& t, const Corners& corners, FilterStats* stats)
+      : t_(t), c_(corners), stats_(stats) {}
+
+  // The uniform signs of triangle e's view-ray forms.
+  Sign edge(const EyeTriangle& e, int k) const {
+    return uniform_sign(
+        Predicate::RayHit, stats_, c_,
+        [&] {
+          return BoundedForm{e.edge[k], BoundedDouble(0.0)};
+        },
+        [&] {
+          const auto v = t_.exact_triangle(e.object, e.face);
+          return ExactForm{cross(v[k], v[(k + 1) % 3]), Rational(0)};
+        });
+  }
+  Sign beyond_near(const EyeTriangle& e) const {
+    return uniform_sign(
+        Predicate::RayHit, stats_, c_,
+        [&] {
+          return BoundedForm{BoundedDouble(-1.0) * e.plane.n, e.plane.d};
+        },
+        [&] {
+          const auto pl = t_.exact_plane(e.object, e.face);
+          return ExactForm{Rational(-1) * pl.n, pl.d};
+        });
+  }
+  Sign before_far(const EyeTriangle& e) const {
+    const Frustum& fr = t_.cs.frustum();
+    return uniform_sign(
+        Predicate::RayHit, stats_, c_,
+        [&] {
+          return BoundedForm{BoundedDouble(fr.far) * e.plane.n, BoundedDouble(-fr.near) * e.plane.d};
+        },
+        [&] {
+          const auto pl = t_.exact_plane(e.object, e.face);
+          return ExactForm{Rational(fr.far) * pl.n, Rational(-fr.near) * pl.d};
+        });
+  }
+  // sign((d1 n2 - d2 n1) . P): times sign(d1 d2), negative when e1 is hit first.
+  Sign order(const EyeTriangle& e1, const EyeTriangle& e2) const {
+    return uniform_sign(
+        Predicate::RayHit, stats_, c_,
+        [&] {
+          return BoundedForm{e1.plane.d * e2.plane.n - e2.plane.d * e1.plane.n, BoundedDouble(0.0)};
+        },
+        [&] {
+          const auto p1 = t_.exact_plane(e1.object, e1.face), p2 = t_.exact_plane(e2.object, e2.face);
+          return ExactForm{p1.d * p2.n - p2.d * p1.n, Rational(0)};
+        });
+  }
+
+  // 1. T is hit over the whole square.
+  bool hit_everywhere(const EyeTriangle& e) const {
+    for (int k = 0; k < 3; ++k)
+      if (edge(e, k) != e.sigma) return false;
+    return beyond_near(e) == e.sigma && before_far(e) == e.sigma;
+  }
+  // 2. Another triangle is never seen in front of T over the square.
+  bool hidden_everywhere(const EyeTriangle& other, const EyeTriangle& seen) const {
+    if (other.sigma == Sign::Zero) return true;  // edge-on: never seen
+    const Sign miss = -other.sigma;
+    if (order(seen, other) * seen.sigma * other.sigma == Sign::Negative) return true;
+    for (int k = 0; k < 3; ++k)
+      if (edge(other, k) == miss) return true;
+    return beyond_near(other) == miss || before_far(other) == miss;
+  }
+
+  enum class Crossing { Always, Never, Unknown };
+  // 3. Does (l, q(P)) cross light triangle L for every P, for none, or not proven?
+  Crossing crossing(const LightTriangle& lt, const EyeTriangle& q, std::uint32_t q_index) const {
+    if (lt.eye_index == q_index) return q.sigma == lt.light_side ? Crossing::Always : Crossing::Never;
+    std::array<Sign, 3> s{};
+    for (int k = 0; k < 3; ++k) {
+      s[k] = uniform_sign(
+          Predicate::ShadowCrossing, stats_, c_,
+          [&] {
+            return BoundedForm{q.plane.d * lt.g[k] + lt.g0[k] * q.plane.n, BoundedDouble(0.0)};
+          },
+          [&] {
+            const auto pq = t_.exact_plane(q.object, q.face);
+            const Vec3<Rational> g = t_.exact_g(lt, k);
+            const Rational g0 = -dot(g, t_.cs.exact_light(t_.light));
+            return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
+          });
+      for (int m = 0; m < k; ++m)
+        if (s[k] != Sign::Zero && s[m] == -s[k]) return Crossing::Never;  // never all one sign
+    }
+    if (t_.coplanar(lt, q_index)) return Crossing::Never;  // q lies in L's plane
+    const Sign side = uniform_sign(
+        Predicate::ShadowCrossing, stats_, c_,
+        [&] {
+          return BoundedForm{q.plane.d * lt.plane.n - lt.plane.d * q.plane.n, BoundedDouble(0.0)};
+        },
+        [&] {
+          const auto pq = t_.exact_plane(q.object, q.face), pt = t_.exact_plane(lt.object, lt.face);
+          return ExactForm{pq.d * pt.n - pt.d * pq.n, Rational(0)};
+        });
+    if (side != Sign::Zero && side * q.sigma != -lt.light_side) return Crossing::Never;
+    if (side != Sign::Zero && s[0] != Sign::Zero && s[0] == s[1] && s[1] == s[2]) return Crossing::Always;
+    return Crossing::Unknown;
+  }
+
+ private:
+  const PixelReferenceTracer::Impl& t_;
+  const Corners& c_;
+  FilterStats* stats_;
+};
+
+// The box, in estimated coordinates, that holds every point of a set of
+// certified points: centre and half-extent per coordinate (worst axis).
+struct Region {
+  Vec3d centre;
+  double half_extent;
+};
+Region region_of(const std::array<BoundedVec3, 4>& points) {
+  Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3d hi = -1.0 * lo;
+  for (const BoundedVec3& p : points)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a].v - p[a].e);
+      hi[a] = std::max(hi[a], p[a].v + p[a].e);
+    }
+  Region r{{0, 0, 0}, 0};
+  for (int a = 0; a < 3; ++a) {
+    r.centre[a] = 0.5 * lo[a] + 0.5 * hi[a];
+    r.half_extent = std::max(r.half_extent, (hi[a] - lo[a]) * (0.5 + 0x1p-40) + 1e-300);
+  }
+  return r;
+}
+
+}  // namespace
+
+std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
+                                                                    FilterStats* stats) const {
+  const Impl& t = *impl_;
+  const Scene& scene = t.cs.scene();
+  const int width = scene.camera.width, height = scene.camera.height;
+  const Frustum& fr = t.cs.frustum();
+  const PixelPoint centre(fr, width, height, c);
+  const Corners corners{PixelPoint(fr, width, height, {c.x - half_width, c.y - half_width, c.shift}),
+                        PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
+                        PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
+                        PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})};
+  const SquareProof proof(t, corners, stats);
+
+  // The triangle seen at the centre, seen over the whole square.
+  const std::optional<Hit> hit =
+      t.first_hit(t.eye_grid->candidates(centre.estimate(), centre.error()), centre, true, stats);
+  if (!hit) return std::nullopt;
+  const EyeTriangle& seen = t.eye[hit->eye_index];
+  if (!proof.hit_everywhere(seen)) return std::nullopt;
+  std::vector<std::uint32_t> ids;
+  const Region directions =
+      region_of({corners[0].approx(), corners[1].approx(), corners[2].approx(), corners[3].approx()});
+  if (!t.eye_grid->candidates_in(directions.centre, directions.half_extent, ids)) {
+    ids.clear();
+    for (const auto& e : t.eye_grid->all()) ids.push_back(e.id);
+  }
+  for (std::uint32_t id : ids)
+    if (id != hit->eye_index && !proof.hidden_everywhere(t.eye[id], seen)) return std::nullopt;
+
+  // q(P) over the square: the convex hull of the corners' hits on T's plane.
+  std::array<BoundedVec3, 4> q;
+  bool bounded = true;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const BoundedDouble tk = t.hit_parameter(seen, corners[k]);
+    bounded = bounded && std::isfinite(tk.e) && std::isfinite(tk.v);
+    q[k] = tk * corners[k].approx();
+  }
+  const BoundedVec3& l = t.cs.light(t.light);
+  bool listed = false;
+  if (bounded) {
+    const Region points = region_of(q);
+    const Vec3d w{points.centre.x - l.x.v, points.centre.y - l.y.v, points.centre.z - l.z.v};
+    const double err = points.half_extent + std::max({l.x.e, l.y.e, l.z.e}) * (1.0 + 0x1p-40);
+    listed = t.light_grid->candidates_in(w, err, ids);
+  }
+  if (!listed) {
+    ids.clear();
+    for (const auto& e : t.light_grid->all()) ids.push_back(e.id);
+  }
+  bool unknown = false;
+  for (std::uint32_t id : ids) {
+    const auto crossing = proof.crossing(t.lit[id], seen, hit->eye_index);
+    if (crossing == SquareProof::Crossing::Always) return true;
+    if (crossing == SquareProof::Crossing::Unknown) unknown = true;
+  }
+  if (unknown) return std::nullopt;
+  return false;
+}
+
+}  // namespace nearcap

@@ -1,0 +1,374 @@
+// The per-pixel reference tracer's internals (private to src/exact/): the
+// triangle lists, grids and filtered predicates that pixel_reference.cpp
+// traces pixels with and square_constancy.cpp proves constant statuses with.
+// See include/nearcap/exact/pixel_reference.hpp for the forms.
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "nearcap/exact/light_facing.hpp"
+#include "nearcap/exact/perturbation.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/exact/segment_crossing.hpp"
+
+namespace nearcap {
+
+using BoundedForm = AffineForm<BoundedDouble>;
+using ExactForm = AffineForm<Rational>;
+
+// A sample point of the window (a pixel centre, or a sub-pixel point of the
+// crack distance): certified estimate now, exact rational on first demand.
+class PixelPoint {
+ public:
+  PixelPoint(const Frustum& fr, int width, int height, const WindowPoint& w)
+      : fr_(fr), width_(width), height_(height), w_(w), approx_(window_point_estimate(fr, width, height, w)) {}
+  const BoundedVec3& approx() const { return approx_; }
+  Vec3d estimate() const { return {approx_.x.v, approx_.y.v, approx_.z.v}; }
+  double error() const { return std::max(approx_.x.e, approx_.y.e); }
+  const RationalVec3& exact() const {
+    if (!exact_) exact_ = window_point_exact(fr_, width_, height_, w_);
+    return *exact_;
+  }
+
+ private:
+  const Frustum& fr_;
+  int width_, height_;
+  WindowPoint w_;
+  BoundedVec3 approx_;
+  mutable std::optional<RationalVec3> exact_;
+};
+
+// A triangle's camera-space plane data, estimated and exact.
+template <class T>
+struct PlaneData {
+  Vec3<T> n;  // (b - a) x (c - a)
+  T d;        // det(a, b, c) = n . a
+};
+template <class T>
+PlaneData<T> plane_data(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
+  const Vec3<T> n = cross(b - a, c - a);
+  return {n, T(dot(n, a))};
+}
+
+// A triangle as the view rays see it.
+struct EyeTriangle {
+  std::array<BoundedVec3, 3> edge;  // a x b, b x c, c x a
+  PlaneData<BoundedDouble> plane;
+  std::uint32_t object;
+  FaceIndex face;
+  Sign sigma;  // sign(d), exact: Zero when the plane passes through the eye
+};
+
+// A light-front-facing occluder triangle as the segments from the light see it.
+struct LightTriangle {
+  std::array<BoundedVec3, 3> g;  // (u - l) x (v - l) for edges ab, bc, ca
+  std::array<BoundedDouble, 3> g0;
+  PlaneData<BoundedDouble> plane;
+  std::uint32_t object;
+  FaceIndex face;
+  Sign light_side;          // orientation sign of the light w.r.t. (a, b, c): handedness
+  std::uint32_t eye_index;  // the same triangle in the eye list
+};
+
+// The first surface hit along the view ray, with what the shadow test needs.
+struct Hit {
+  std::uint32_t eye_index;
+  Sign sigma;       // sign(d)
+  BoundedDouble t;  // d / n.P estimate (may be uncertain)
+};
+
+struct PixelReferenceTracer::Impl {
+  const CameraSpaceScene& cs;
+  std::size_t light;
+  std::vector<EyeTriangle> eye;
+  std::vector<LightTriangle> lit;
+  std::unique_ptr<CentralGrid> eye_grid;
+  std::unique_ptr<CentralGrid> light_grid;
+  // Exact coplanarity of (light triangle, visible triangle) pairs, per thread:
+  // the two triangles of a flat quad make the side form vanish identically,
+  // and without this cache each such pixel would pay for rationals.
+  mutable tbb::enumerable_thread_specific<std::unordered_map<std::uint64_t, bool>> coplanar_cache;
+
+  Impl(const CameraSpaceScene& scene, std::size_t k) : cs(scene), light(k) {
+    std::vector<CentralGrid::Triangle> eye_items, light_items;
+    const BoundedVec3& l = cs.light(light);
+    for (std::size_t o = 0; o < cs.object_count(); ++o) {
+      const TriangleMesh& mesh = cs.mesh(o);
+      std::vector<Facing> facing;
+      if (cs.object(o).occluder) facing = light_facing(cs, o, light, nullptr);
+      for (FaceIndex f = 0; f < mesh.triangles.size(); ++f) {
+        const auto& t = mesh.triangles[f];
+        const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
+        EyeTriangle et{
+            {cross(a, b), cross(b, c), cross(c, a)}, plane_data(a, b, c), static_cast<std::uint32_t>(o), f, Sign::Zero};
+        et.sigma = sign_of_d(et, nullptr);
+        const auto eye_index = static_cast<std::uint32_t>(eye.size());
+        eye.push_back(et);
+        CentralGrid::Triangle item{
+            {cs.vertex_estimate(o, t[0]), cs.vertex_estimate(o, t[1]), cs.vertex_estimate(o, t[2])},
+            cs.max_error(o),
+            eye_index};
+        eye_items.push_back(item);
+        if (!facing.empty() && facing[f] == Facing::Front) {
+          LightTriangle lt;
+          const std::array<BoundedVec3, 3> v{a, b, c};
+          for (int e = 0; e < 3; ++e) {
+            lt.g[e] = cross(v[e] - l, v[(e + 1) % 3] - l);
+            lt.g0[e] = -dot(lt.g[e], l);
+          }
+          lt.plane = et.plane;
+          lt.object = static_cast<std::uint32_t>(o);
+          lt.face = f;
+          lt.light_side = cs.handedness(o);
+          lt.eye_index = eye_index;
+          item.id = static_cast<std::uint32_t>(lit.size());
+          lit.push_back(lt);
+          light_items.push_back(item);
+        }
+      }
+    }
+    eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 1.0);
+    const double light_error = std::max({l.x.e, l.y.e, l.z.e});
+    light_grid = std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, light_error, light_items, 1.0);
+  }
+
+  // ---- exact data, computed only when a filter fails ----------------------
+  std::array<RationalVec3, 3> exact_triangle(std::uint32_t object, FaceIndex f) const {
+    const auto& t = cs.mesh(object).triangles[f];
+    return {cs.exact_vertex(object, t[0]), cs.exact_vertex(object, t[1]), cs.exact_vertex(object, t[2])};
+  }
+  PlaneData<Rational> exact_plane(std::uint32_t object, FaceIndex f) const {
+    const auto v = exact_triangle(object, f);
+    return plane_data(v[0], v[1], v[2]);
+  }
+  Vec3<Rational> exact_g(const LightTriangle& lt, int e) const {
+    const auto v = exact_triangle(lt.object, lt.face);
+    const RationalVec3& l = cs.exact_light(light);
+    return cross(v[e] - l, v[(e + 1) % 3] - l);
+  }
+
+  Sign sign_of_d(const EyeTriangle& t, FilterStats* stats) const {
+    return filtered_sign(
+        Predicate::RayHit, stats, [&] { return t.plane.d; }, [&] { return exact_plane(t.object, t.face).d; });
+  }
+
+  // Does the view ray through P hit t beyond p and before the far plane?
+  // Returns sign(d) on a hit, Zero otherwise.
+  Sign ray_hits(const EyeTriangle& t, const PixelPoint& p, FilterStats* stats) const {
+    const Sign sigma = t.sigma;
+    if (sigma == Sign::Zero) return Sign::Zero;
+    auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
+    for (int e = 0; e < 3; ++e) {
+      const Sign s = perturbed_sign(
+          Predicate::RayHit, stats, p.approx(),
+          [&] {
+            return BoundedForm{t.edge[e], BoundedDouble(0.0)};
+          },
+          [&] {
+            const auto v = exact_triangle(t.object, t.face);
+            return ExactForm{cross(v[e], v[(e + 1) % 3]), Rational(0)};
+          },
+          exact_point);
+      if (s != sigma) return Sign::Zero;
+    }
+    const Frustum& fr = cs.frustum();
+    const Sign beyond_p = perturbed_sign(
+        Predicate::RayHit, stats, p.approx(),
+        [&] {
+          return BoundedForm{BoundedDouble(-1.0) * t.plane.n, t.plane.d};
+        },
+        [&] {
+          auto pl = exact_plane(t.object, t.face);
+          return ExactForm{Rational(-1) * pl.n, pl.d};
+        },
+        exact_point);
+    if (beyond_p != sigma) return Sign::Zero;
+    const Sign before_far = perturbed_sign(
+        Predicate::RayHit, stats, p.approx(),
+        [&] {
+          return BoundedForm{BoundedDouble(fr.far) * t.plane.n, BoundedDouble(-fr.near) * t.plane.d};
+        },
+        [&] {
+          auto pl = exact_plane(t.object, t.face);
+          return ExactForm{Rational(fr.far) * pl.n, Rational(-fr.near) * pl.d};
+        },
+        exact_point);
+    if (before_far != sigma) return Sign::Zero;
+    return sigma;
+  }
+
+  // Is hit h1 (on t1) strictly before hit h2 (on t2)?  Coplanar: lower index.
+  bool before(const EyeTriangle& t1, Sign s1, const EyeTriangle& t2, Sign s2, const PixelPoint& p,
+              FilterStats* stats) const {
+    const Sign s = perturbed_sign(
+        Predicate::RayHit, stats, p.approx(),
+        [&] {
+          return BoundedForm{t1.plane.d * t2.plane.n - t2.plane.d * t1.plane.n, BoundedDouble(0.0)};
+        },
+        [&] {
+          const auto p1 = exact_plane(t1.object, t1.face), p2 = exact_plane(t2.object, t2.face);
+          return ExactForm{p1.d * p2.n - p2.d * p1.n, Rational(0)};
+        },
+        [&]() -> const RationalVec3& { return p.exact(); });
+    if (s == Sign::Zero) return std::make_pair(t1.object, t1.face) < std::make_pair(t2.object, t2.face);
+    return s * s1 * s2 == Sign::Negative;
+  }
+
+  BoundedDouble hit_parameter(const EyeTriangle& t, const PixelPoint& p) const {
+    const BoundedDouble np = dot(t.plane.n, p.approx());
+    if (!np.sign() || *np.sign() == Sign::Zero) return BoundedDouble(0.0, std::numeric_limits<double>::infinity());
+    return t.plane.d / np;
+  }
+
+  template <class Range>
+  std::optional<Hit> first_hit(const Range& candidates, const PixelPoint& p, bool early_exit,
+                               FilterStats* stats) const {
+    std::optional<Hit> best;
+    double axis_upper = std::numeric_limits<double>::infinity();
+    const Vec3d pe = p.estimate();
+    const double m = std::max({std::fabs(pe.x), std::fabs(pe.y), std::fabs(pe.z)}) * (1.0 + 0x1p-40);
+    for (const auto& entry : candidates) {
+      if (early_exit && entry.axis_lower_bound > axis_upper) break;
+      const EyeTriangle& t = eye[entry.id];
+      const Sign s = ray_hits(t, p, stats);
+      if (s == Sign::Zero) continue;
+      if (!best || before(t, s, eye[best->eye_index], best->sigma, p, stats)) {
+        best = Hit{entry.id, s, hit_parameter(t, p)};
+        const double t_hi = best->t.v + best->t.e;
+        axis_upper = std::isfinite(t_hi) ? t_hi * m * (1.0 + 0x1p-40) : std::numeric_limits<double>::infinity();
+      }
+    }
+    return best;
+  }
+
+  // Does [l, p] cross lt?  (The near-cap test.)
+  bool cap_crosses(const LightTriangle& lt, const PixelPoint& p, FilterStats* stats) const {
+    auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
+    const Sign side = perturbed_sign(
+        Predicate::SegmentCrossing, stats, p.approx(),
+        [&] {
+          return BoundedForm{lt.plane.n, -lt.plane.d};
+        },
+        [&] {
+          auto pl = exact_plane(lt.object, lt.face);
+          return ExactForm{pl.n, Rational(-pl.d)};
+        },
+        exact_point);
+    if (side != -lt.light_side) return false;
+    Sign first = Sign::Zero;
+    for (int e = 0; e < 3; ++e) {
+      const Sign s = perturbed_sign(
+          Predicate::SegmentCrossing, stats, p.approx(),
+          [&] {
+            return BoundedForm{lt.g[e], lt.g0[e]};
+          },
+          [&] {
+            const Vec3<Rational> g = exact_g(lt, e);
+            return ExactForm{g, Rational(-dot(g, cs.exact_light(light)))};
+          },
+          exact_point);
+      if (s == Sign::Zero || (e > 0 && s != first)) return false;
+      first = s;
+    }
+    return true;
+  }
+
+  bool coplanar(const LightTriangle& lt, std::uint32_t q_index) const {
+    auto& cache = coplanar_cache.local();
+    const std::uint64_t key = (static_cast<std::uint64_t>(lt.eye_index) << 32) | q_index;
+    if (const auto it = cache.find(key); it != cache.end()) return it->second;
+    const EyeTriangle& q = eye[q_index];
+    const auto t = exact_triangle(lt.object, lt.face);
+    const auto v = exact_triangle(q.object, q.face);
+    bool flat = true;
+    for (int k = 0; k < 3 && flat; ++k) flat = sign_of(orientation_determinant(t[0], t[1], t[2], v[k])) == Sign::Zero;
+    cache.emplace(key, flat);
+    return flat;
+  }
+
+  // Does the open segment (l, q) cross lt, q the hit on eye triangle `q_tri`?
+  bool shadow_crosses(const LightTriangle& lt, const Hit& hit, const PixelPoint& p, FilterStats* stats) const {
+    // q's own triangle: crossed by (l, q-), q- just before q on the view ray,
+    // exactly when the eye sees it from behind (sigma = handedness; lit
+    // triangles face the light, light_side = handedness).
+    if (lt.eye_index == hit.eye_index) return hit.sigma == lt.light_side;
+    const EyeTriangle& q = eye[hit.eye_index];
+    auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
+    // The edge tests first: they reject almost every candidate, and the side
+    // test is the one that nears zero (q close to T's plane, e.g. T adjacent
+    // to q's own triangle).
+    Sign first = Sign::Zero;
+    for (int e = 0; e < 3; ++e) {
+      const Sign s = perturbed_sign(
+          Predicate::ShadowCrossing, stats, p.approx(),
+          [&] {
+            return BoundedForm{q.plane.d * lt.g[e] + lt.g0[e] * q.plane.n, BoundedDouble(0.0)};
+          },
+          [&] {
+            const auto pq = exact_plane(q.object, q.face);
+            const Vec3<Rational> g = exact_g(lt, e);
+            const Rational g0 = -dot(g, cs.exact_light(light));
+            return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
+          },
+          exact_point);
+      if (s == Sign::Zero || (e > 0 && s != first)) return false;
+      first = s;
+    }
+    const BoundedDouble side_value = dot(q.plane.d * lt.plane.n - lt.plane.d * q.plane.n, p.approx());
+    Sign side;
+    if (const auto s = side_value.sign(); s && *s != Sign::Zero) {
+      if (stats) stats->record(Predicate::ShadowCrossing, false);
+      side = *s;
+    } else if (coplanar(lt, hit.eye_index)) {
+      return false;  // the form vanishes identically: q lies in T's plane
+    } else {
+      if (stats) stats->record(Predicate::ShadowCrossing, true);
+      const auto pq = exact_plane(q.object, q.face), pt = exact_plane(lt.object, lt.face);
+      side = perturbed_sign(ExactForm{pq.d * pt.n - pt.d * pq.n, Rational(0)}, p.exact());
+    }
+    return side * hit.sigma == -lt.light_side;
+  }
+
+  // The light-grid query for direction w = target - l, target's estimate within
+  // `target_error`; nothing certain -> every front-facing triangle.
+  CentralGrid::EntryRange light_candidates(const BoundedVec3& target) const {
+    const BoundedVec3 w = target - cs.light(light);
+    const double err = std::max({w.x.e, w.y.e, w.z.e});
+    if (!std::isfinite(err)) return light_grid->all();
+    return light_grid->candidates({w.x.v, w.y.v, w.z.v}, err);
+  }
+
+  PixelSample trace(const WindowPoint& w, bool accelerated, FilterStats* stats) const {
+    const Scene& scene = cs.scene();
+    const PixelPoint p(cs.frustum(), scene.camera.width, scene.camera.height, w);
+    PixelSample out;
+    const auto cap_candidates = accelerated ? light_candidates(p.approx()) : light_grid->all();
+    for (const auto& entry : cap_candidates)
+      if (cap_crosses(lit[entry.id], p, stats)) ++out.cap;
+
+    const auto eye_candidates = accelerated ? eye_grid->candidates(p.estimate(), p.error()) : eye_grid->all();
+    const std::optional<Hit> hit = first_hit(eye_candidates, p, accelerated, stats);
+    if (!hit) return out;
+    const EyeTriangle& q = eye[hit->eye_index];
+    out.object = static_cast<std::int32_t>(q.object);
+    out.face = q.face;
+    CentralGrid::EntryRange shadow_candidates = light_grid->all();
+    if (accelerated && std::isfinite(hit->t.e)) {
+      const BoundedVec3 qpos = hit->t * p.approx();
+      shadow_candidates = light_candidates(qpos);
+    }
+    std::uint32_t count = 0;
+    for (const auto& entry : shadow_candidates)
+      if (shadow_crosses(lit[entry.id], *hit, p, stats)) ++count;
+    out.stencil = count;
+    return out;
+  }
+};
+
+}  // namespace nearcap

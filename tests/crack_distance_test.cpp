@@ -1,0 +1,188 @@
+// The crack distance (exact/crack_distance.hpp, judge/crack_distances.hpp)
+// against brute force: every square a level claims constant is sampled
+// densely through the exact reference (trace_at), and must show one shadow
+// status; a square that holds a pixel of the other status is never proven.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <optional>
+
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/crack_distance.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
+#include "nearcap/judge/crack_map.hpp"
+
+namespace nearcap {
+namespace {
+
+// The exact status at a window point: nothing when no surface is seen.
+std::optional<bool> status_at(const PixelReferenceTracer& tracer, const WindowPoint& w) {
+  const PixelSample s = tracer.trace_at(w, nullptr);
+  if (!s.stencil) return std::nullopt;
+  return *s.stencil > 0;
+}
+
+// Samples the square of level `level` around pixel (i, j) on a 9 x 9 grid
+// (corners, edges and interior) and returns the statuses seen.
+std::vector<std::optional<bool>> sample_square(const PixelReferenceTracer& tracer, int i, int j, int level) {
+  constexpr int kShift = kCrackDistanceShift + 3;
+  const std::int64_t half = kCrackDistanceRadiiFixed[static_cast<std::size_t>(level - 1)] << 3;
+  const std::int64_t cx = (2 * std::int64_t{i} + 1) << (kShift - 1), cy = (2 * std::int64_t{j} + 1) << (kShift - 1);
+  std::vector<std::optional<bool>> out;
+  for (int a = 0; a <= 8; ++a)
+    for (int b = 0; b <= 8; ++b)
+      out.push_back(status_at(tracer, {cx + half * (a - 4) / 4, cy + half * (b - 4) / 4, kShift}));
+  return out;
+}
+
+struct Tally {
+  std::size_t checked = 0, cracks = 0, noise = 0, boundary = 0;
+};
+
+// Every pixel of interest of one (scene, light): the wrong pixels of Z-pass
+// and Z-fail, the pixels next to an exact shadow boundary, and a spread of
+// others.  Each level is checked by sampling; boundary pixels must stay below
+// the r = 2 square, which holds their differing neighbour.
+void check_scene(const Scene& scene, Tally& tally, std::size_t pixel_budget) {
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelReference ref = compute_pixel_reference(tracer);
+  CrackDistances distances(tracer);
+  std::vector<std::pair<int, int>> pixels;
+  for (gl::ShadowMethod m : {gl::ShadowMethod::ZPass, gl::ShadowMethod::ZFail}) {
+    CrackReport report = judge_frame(gl::render_shadow_frame(scene, 0, m), ref);
+    distances.measure(report);
+    std::size_t bucket_total = 0;
+    for (std::size_t n : *report.wrong_by_distance) bucket_total += n;
+    EXPECT_EQ(bucket_total, report.wrong) << scene.source;
+    for (std::size_t p = 0; p < report.verdict.size(); ++p)
+      if (report.distance[p] >= 0)
+        pixels.emplace_back(static_cast<int>(p % ref.width), static_cast<int>(p / ref.width));
+  }
+  std::vector<std::pair<int, int>> boundary;
+  for (int j = 0; j + 1 < ref.height; ++j)
+    for (int i = 0; i + 1 < ref.width; ++i)
+      for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}})
+        if (ref.seen(i, j) && ref.seen(i + di, j + dj) && ref.shadowed(i, j) != ref.shadowed(i + di, j + dj))
+          boundary.emplace_back(i, j);
+  for (int j = 1; j < ref.height; j += 5)
+    for (int i = 2; i < ref.width; i += 7) pixels.emplace_back(i, j);
+  pixels.insert(pixels.end(), boundary.begin(), boundary.end());
+  std::sort(pixels.begin(), pixels.end());
+  pixels.erase(std::unique(pixels.begin(), pixels.end()), pixels.end());
+  // A deterministic thinning to the budget.
+  if (pixels.size() > pixel_budget) {
+    std::vector<std::pair<int, int>> kept;
+    const double step = static_cast<double>(pixels.size()) / static_cast<double>(pixel_budget);
+    for (std::size_t k = 0; k < pixel_budget; ++k) kept.push_back(pixels[static_cast<std::size_t>(k * step)]);
+    pixels = kept;
+  }
+  const std::vector<int> levels = distances.levels(pixels);
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto [i, j] = pixels[k];
+    const int level = levels[k];
+    ASSERT_GE(level, 0);
+    ASSERT_LT(level, static_cast<int>(kCrackDistanceLevels));
+    ++tally.checked;
+    (level >= kCrackLevel ? tally.cracks : tally.noise)++;
+    if (level == 0) continue;
+    const auto statuses = sample_square(tracer, i, j, level);
+    for (const auto& s : statuses) {
+      ASSERT_TRUE(s.has_value()) << scene.source << " pixel " << i << "," << j << " level " << level
+                                 << ": a sample sees nothing";
+      ASSERT_EQ(*s, ref.shadowed(i, j)) << scene.source << " pixel " << i << "," << j << " level " << level
+                                        << ": the exact status changes inside the square";
+    }
+  }
+  for (const auto& [i, j] : boundary) {
+    ++tally.boundary;
+    // The square of half-width one pixel holds the neighbour of the other status.
+    EXPECT_FALSE(tracer.proven_status_over_square(crack_square_centre(i, j), 1 << kCrackDistanceShift, nullptr))
+        << scene.source << " pixel " << i << "," << j;
+  }
+}
+
+analysis::SamplerSpec sampler_spec(std::uint64_t seed) {
+  analysis::SamplerSpec s;
+  s.seed = seed;
+  s.width = 40;
+  s.height = 30;
+  s.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  return s;
+}
+
+TEST(CrackDistance, EveryClaimedSquareIsConstantUnderDenseSamplingOnSampledScenes) {
+  Tally tally;
+  std::size_t scenes = 0;
+  for (std::uint64_t seed : {3u, 11u}) {
+    const analysis::HardCaseSampler sampler(sampler_spec(seed));
+    for (std::uint64_t index = 0; index < 12; ++index) {
+      const analysis::HardCase c = sampler.sample(index);
+      std::optional<Scene> scene;
+      try {
+        scene = parse_scene(c.scene_json, "sample " + std::to_string(index), ".");
+      } catch (const Error&) {
+        continue;  // a light inside an occluder: the sampler does not avoid it
+      }
+      ++scenes;
+      check_scene(*scene, tally, 60);
+      if (HasFatalFailure()) return;
+    }
+  }
+  EXPECT_GE(scenes, 16u);
+  // Both outcomes occur, so the brute force checked real claims.
+  EXPECT_GT(tally.cracks, 50u);
+  EXPECT_GT(tally.noise, 50u);
+  EXPECT_GT(tally.boundary, 50u);
+}
+
+TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
+  // The bundled eye-in-shadow scene: Z-pass inverts the whole shadow (README,
+  // "What the methods get wrong"), a crack of the whole frame; Z-fail is right.
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/eye_in_shadow.json");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelReference ref = compute_pixel_reference(tracer);
+  CrackDistances distances(tracer);
+  CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
+  distances.measure(zpass);
+  ASSERT_GT(zpass.wrong, 1000u);
+  EXPECT_GT(*zpass.cracks, zpass.wrong * 9 / 10);
+  EXPECT_LT(*zpass.cracks, zpass.wrong) << "pixels at the exact shadow's outline are noise";
+  CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail), ref);
+  distances.measure(zfail);
+  EXPECT_EQ(*zfail.cracks, 0u);
+  Tally tally;
+  check_scene(scene, tally, 150);
+}
+
+TEST(CrackDistance, LevelsDoNotDependOnTheOrderOfMeasurement) {
+  const analysis::HardCaseSampler sampler(sampler_spec(5));
+  for (std::uint64_t index = 0; index < 6; ++index) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(index).scene_json, "sample", ".");
+    } catch (const Error&) {
+      continue;
+    }
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer tracer(cs, 0);
+    const PixelReference ref = compute_pixel_reference(tracer);
+    const CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
+    const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail), ref);
+    CrackDistances a(tracer), b(tracer);
+    CrackReport a1 = zpass, a2 = zfail, b1 = zfail, b2 = zpass;
+    a.measure(a1);
+    a.measure(a2);
+    b.measure(b1);
+    b.measure(b2);
+    EXPECT_EQ(a1.distance, b2.distance) << index;
+    EXPECT_EQ(a2.distance, b1.distance) << index;
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
