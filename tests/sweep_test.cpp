@@ -95,6 +95,37 @@ TEST_F(Sweep, AResumedSweepEqualsAnUninterruptedOne) {
   EXPECT_EQ(untimed_rows(test::slurp(path("resumed.csv"))), untimed_rows(whole));
 }
 
+TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
+  ASSERT_EQ(test::run_cli(args(path("b.csv")), "sweep_buckets").exit_code, 0);
+  std::stringstream in(test::slurp(path("b.csv")));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  const auto column = [&](const std::string& name) {
+    const auto k = static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+    EXPECT_LT(k, header.size()) << name;
+    return k;
+  };
+  std::size_t rows = 0, with_cracks = 0;
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    if (cells[5] == "rejected") continue;
+    ++rows;
+    long long buckets = 0;
+    for (const char* b : {"lt_1_512", "1_512", "1_64", "1_8", "1_2", "2", "8"})
+      buckets += std::stoll(cells[column(std::string("wrong_r_") + b)]);
+    const long long cracks = std::stoll(cells[column("cracks")]);
+    EXPECT_EQ(buckets, std::stoll(cells[column("wrong")])) << line;
+    EXPECT_EQ(cracks, std::stoll(cells[column("wrong_r_1_2")]) + std::stoll(cells[column("wrong_r_2")]) +
+                          std::stoll(cells[column("wrong_r_8")]))
+        << line;
+    with_cracks += cracks > 0;
+    EXPECT_FALSE(cells[column("light_near_distance")].empty()) << line;
+  }
+  EXPECT_GT(rows, 300u);
+  EXPECT_GT(with_cracks, 0u);
+}
+
 TEST_F(Sweep, ARowReplaysAlone) {
   ASSERT_EQ(test::run_cli(args(path("a.csv")), "sweep_replay").exit_code, 0);
   std::stringstream in(test::slurp(path("a.csv")));
@@ -118,6 +149,8 @@ TEST_F(Sweep, ARowReplaysAlone) {
     ASSERT_EQ(c.exit_code, 0) << c.err;
     EXPECT_NE(c.out.find("\"wrong\":" + cells[column("wrong")] + ","), std::string::npos)
         << cells[0] << ": the sweep said " << cells[column("wrong")] << " wrong; cracks says " << c.out;
+    EXPECT_NE(c.out.find("\"cracks\":" + cells[column("cracks")] + ","), std::string::npos)
+        << cells[0] << ": the sweep said " << cells[column("cracks")] << " cracks; cracks says " << c.out;
     ++replayed;
   }
   EXPECT_GT(replayed, 0);

@@ -1,7 +1,9 @@
 // One configuration of a sweep (see sweep.hpp).
 #include "nearcap/analysis/sweep.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -9,6 +11,7 @@
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/case_comparison.hpp"
+#include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 
 namespace nearcap::analysis {
@@ -33,6 +36,22 @@ std::string number(double v) {
   return buf;
 }
 
+// A feature: 6 significant digits, "nan" / "inf" as Python and spreadsheets read them.
+std::string scientific(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+// "lt_1/512" -> "lt_1_512": column names without a slash.
+std::string distance_column(std::string_view name) {
+  std::string out(name);
+  std::replace(out.begin(), out.end(), '/', '_');
+  return out;
+}
+
 constexpr const char* kCaseNames[] = {"A", "B", "C1", "C2", "D", "degenerate"};
 
 }  // namespace
@@ -45,15 +64,21 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
   std::vector<SweepRow> rows;
   for (std::size_t light = 0; light < scene.lights.size(); ++light) {
     const auto t0 = std::chrono::steady_clock::now();
-    const PixelReference ref = compute_pixel_reference(cs, light);
+    const PixelReferenceTracer tracer(cs, light);
+    const PixelReference ref = compute_pixel_reference(tracer);
     const double reference_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    CrackDistances distances(tracer);
+    const ConditioningFeatures features =
+        conditioning_features(cs, light, options.settings.light_frustum, options.settings.arithmetic);
     std::array<std::size_t, kQuadCaseCount> exact_cases{};
     for (const ObjectClassification& o : exact.lights[light].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
     for (gl::ShadowMethod m : options.methods) {
       const gl::ShadowFrame frame = gl::render_shadow_frame(scene, light, m, options.settings);
-      const CrackReport report = judge_frame(frame, ref);
+      CrackReport report = judge_frame(frame, ref);
+      const double measured_before = distances.ms();
+      distances.measure(report);
       SweepRow r;
       r.configuration = configuration.id;
       r.source = configuration.source;
@@ -70,6 +95,10 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       r.wrong_lit = report.wrong_lit;
       r.wrong_shadowed = report.wrong_shadowed;
       r.count_mismatch = report.count_mismatch;
+      r.cracks = *report.cracks;
+      r.wrong_by_distance = *report.wrong_by_distance;
+      r.crack_distance_ms = distances.ms() - measured_before;
+      r.features = features;
       r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
       r.visibility_mismatch = report.visibility_mismatch;
       r.fallback = frame.fallback;
@@ -90,12 +119,16 @@ std::string csv_header() {
   for (const char* c : kCaseNames) h += std::string(",exact_") + c;
   for (const char* c : kCaseNames)
     if (std::string(c) != "degenerate") h += std::string(",float_") + c;
-  h += ",case_disagreements,pixels_seen,wrong,wrong_lit,wrong_shadowed,count_mismatch,cap_mismatch,"
+  h += ",case_disagreements,pixels_seen,wrong,cracks,wrong_lit,wrong_shadowed,count_mismatch,cap_mismatch,"
        "visibility_mismatch,fallback,zfail_objects";
+  for (std::string_view name : kCrackDistanceNames) h += ",wrong_r_" + distance_column(name);
+  h += ",light_frustum_defined,light_near_distance,l_far_over_width,delta_over_width,skew,l_near_over_l_far,"
+       "cond_projection,cond_light_transform,coordinate_over_size,cap_window_error_px,cap_window_error_ulp,"
+       "cap_vertices";
   for (const char* pass : {"depth", "near_cap", "volume"})
     h += std::string(",") + pass + "_triangles," + pass + "_fragments," + pass + "_depth_pass," + pass +
          "_depth_fail," + pass + "_ms";
-  h += ",setup_ms,frame_ms,reference_ms,replay\n";
+  h += ",setup_ms,frame_ms,reference_ms,crack_distance_ms,replay\n";
   return h;
 }
 
@@ -105,16 +138,24 @@ std::string csv_line(const SweepRow& r) {
     << csv_field(r.detail) << ',' << r.light << ',' << r.method;
   for (std::size_t c = 0; c < kQuadCaseCount; ++c) s << ',' << r.exact_cases[c];
   for (std::size_t c = 0; c + 1 < kQuadCaseCount; ++c) s << ',' << r.float_cases[c];
-  s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.wrong_lit << ','
-    << r.wrong_shadowed << ',' << r.count_mismatch << ',';
+  s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.cracks << ',' << r.wrong_lit
+    << ',' << r.wrong_shadowed << ',' << r.count_mismatch << ',';
   if (r.cap_mismatch >= 0) s << r.cap_mismatch;
   s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects;
+  for (std::size_t n : r.wrong_by_distance) s << ',' << n;
+  const ConditioningFeatures& f = r.features;
+  s << ',' << (f.light_frustum_defined ? 1 : 0);
+  for (double v :
+       {f.light_near_distance, f.l_far_over_width, f.delta_over_width, f.skew, f.l_near_over_l_far, f.cond_projection,
+        f.cond_light_transform, f.coordinate_over_size, f.cap_window_error_px, f.cap_window_error_ulp})
+    s << ',' << scientific(v);
+  s << ',' << f.cap_vertices;
   for (const PassWork* p : {&r.depth, &r.near_cap, &r.volume})
     s << ',' << p->triangles << ',' << p->fragments << ',' << p->depth_passed << ',' << p->fragments - p->depth_passed
       << ',' << number(p->ms);
   const double frame_ms = r.setup.ms + r.depth.ms + r.near_cap.ms + r.volume.ms;
   s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',' << number(r.reference_ms) << ','
-    << csv_field(r.replay) << '\n';
+    << number(r.crack_distance_ms) << ',' << csv_field(r.replay) << '\n';
   return s.str();
 }
 

@@ -4,7 +4,8 @@
 // A configuration is a scene file's text plus where it came from (a camera
 // path's frame, or a hard-case sampler's index) and how to replay it.  For
 // every light of the scene and every chosen method it gives one SweepRow:
-// the exact and float case counts, the judge's counts, the work per pass
+// the exact and float case counts, the judge's counts with their crack
+// distances, the conditioning features (conditioning.hpp), the work per pass
 // (vertices in, fragments, and how many passed the depth test: Z-pass counts
 // on passing fragments and Z-fail on failing ones, which is when one is
 // slower than the other) and the time per pass.  Rows are data: CSV with a
@@ -15,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "nearcap/analysis/conditioning.hpp"
+#include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 
@@ -42,12 +45,16 @@ struct SweepRow {
   std::array<std::size_t, kQuadCaseCount> float_cases{};  // the engine's (never degenerate)
   std::size_t case_disagreements = 0;
   std::size_t pixels_seen = 0, wrong = 0, wrong_lit = 0, wrong_shadowed = 0, count_mismatch = 0;
-  long long cap_mismatch = -1;  // -1: the method has no whole-scene near-cap pass
+  std::size_t cracks = 0;                                             // wrong at crack distance >= 1/2 pixel
+  std::array<std::size_t, kCrackDistanceLevels> wrong_by_distance{};  // exact/crack_distance.hpp
+  long long cap_mismatch = -1;                                        // -1: the method has no whole-scene near-cap pass
   std::size_t visibility_mismatch = 0;
   std::string fallback;           // why the light fell back to Z-fail, or ""
   std::size_t zfail_objects = 0;  // occluders switched to Z-fail (case D)
   PassWork setup, depth, near_cap, volume;
-  double reference_ms = 0;  // the exact reference for this light (shared by its methods)
+  double reference_ms = 0;        // the exact reference for this light (shared by its methods)
+  double crack_distance_ms = 0;   // measuring this method's wrong pixels not measured before
+  ConditioningFeatures features;  // this (frame, light), the same for every method
 };
 
 struct SweepOptions {

@@ -1,0 +1,60 @@
+// nearcap/analysis/conditioning.hpp — what makes one (frame, light) hard for
+// the float pipeline: the conditioning features a sweep records beside the
+// crack counts, so that cracks can be plotted against them and a policy can
+// be fitted on them.
+//
+// For light k of a scene (camera space, where the light frustum is built;
+// `width` is the near rectangle's, right - left):
+//   light_near_distance   (l_z + near) / near, exact (rationals) then rounded:
+//                         the light's signed distance to the near plane in units
+//                         of near, positive on the camera's side;
+//   l_far_over_width      the float light frustum's l_far / width;
+//   delta_over_width      |Delta_xy - centre of the near rectangle| / width: how
+//                         far off the rectangle the light sits sideways;
+//   skew                  |Delta_xy - centre| / l_far: the light pyramid's shear
+//                         (P_l's off-diagonal terms grow with it);
+//   l_near_over_l_far     l_near / l_far;
+//   cond_projection       the 2-norm condition number of P_l (float32 entries);
+//   cond_light_transform  of P_l * M_l (the float32 matrices, multiplied in double);
+//   coordinate_over_size  the largest |world coordinate| of the scene (vertices,
+//                         lights, eye) over the diagonal of the scene's bounding box;
+//   cap_window_error_px   the largest error, in pixels, of the near-cap pass's
+//                         float32 window coordinates (the vertex program's
+//                         P_l * (M_l MV) v, divided by w and mapped to the
+//                         viewport in float32) against the exact ones (the
+//                         point where the line from the light through v meets
+//                         the near plane, mapped to the window; in double from
+//                         the certified camera-space estimates, whose error is
+//                         below 1e-12 of a pixel here), over the occluder
+//                         vertices between the light and the near plane that
+//                         land within one viewport of the window;
+//   cap_window_error_ulp  the same error in float32 ulps at the viewport's size
+//                         (the ulp of max(width, height) in pixels: the coarsest
+//                         spacing of float32 window coordinates in the viewport;
+//                         the rasterizer then snaps to 1/256 pixel).
+// When the float light frustum is undefined (the light in the near plane in
+// float) the frustum features are NaN and `light_frustum_defined` is false.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/gl/light_frustum.hpp"
+
+namespace nearcap::analysis {
+
+struct ConditioningFeatures {
+  bool light_frustum_defined = false;
+  double light_near_distance = 0;
+  double l_far_over_width = 0, delta_over_width = 0, skew = 0, l_near_over_l_far = 0;
+  double cond_projection = 0, cond_light_transform = 0;
+  double coordinate_over_size = 0;
+  double cap_window_error_px = 0, cap_window_error_ulp = 0;
+  std::size_t cap_vertices = 0;  // vertices the window error was measured on
+};
+
+ConditioningFeatures conditioning_features(const CameraSpaceScene& scene, std::size_t light,
+                                           const gl::LightFrustumChoice& choice, gl::Arithmetic arithmetic);
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,120 @@
+// Conditioning features of one (frame, light) (see conditioning.hpp).
+#include "nearcap/analysis/conditioning.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "nearcap/numeric/singular_values.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::array<std::array<double, 4>, 4> entries(const gl::Mat4f& m) {
+  std::array<std::array<double, 4>, 4> a{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) a[r][c] = m.at(r, c);
+  return a;
+}
+
+std::array<std::array<double, 4>, 4> product(const std::array<std::array<double, 4>, 4>& a,
+                                             const std::array<std::array<double, 4>, 4>& b) {
+  std::array<std::array<double, 4>, 4> p{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      for (int k = 0; k < 4; ++k) p[r][c] += a[r][k] * b[k][c];
+  return p;
+}
+
+double float_ulp(double x) {
+  const float f = std::fabs(static_cast<float>(x));
+  return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
+}
+
+double coordinate_over_size(const Scene& scene) {
+  double largest = 0;
+  Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3d hi = -1.0 * lo;
+  auto add = [&](const Vec3d& p) {
+    for (int a = 0; a < 3; ++a) {
+      largest = std::max(largest, std::fabs(p[a]));
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  };
+  for (const SceneObject& o : scene.objects)
+    for (const Vec3d& v : o.mesh->positions) add(o.object_to_world.apply(v));
+  for (const Light& l : scene.lights) add(l.position);
+  const double diagonal = std::sqrt(dot(hi - lo, hi - lo));
+  return diagonal > 0 ? largest / diagonal : kNaN;
+}
+
+}  // namespace
+
+ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size_t light,
+                                           const gl::LightFrustumChoice& choice, gl::Arithmetic arithmetic) {
+  const Scene& scene = cs.scene();
+  const Frustum& fr = scene.camera.frustum;
+  const double width = fr.right - fr.left;
+  ConditioningFeatures f;
+  f.light_near_distance =
+      nearcap::to_double(Rational((cs.exact_light(light).z + Rational(fr.near)) / Rational(fr.near)));
+  f.coordinate_over_size = coordinate_over_size(scene);
+
+  const gl::LightFrustum lf = gl::light_frustum(scene, light, choice);
+  f.light_frustum_defined = lf.defined;
+  if (!lf.defined) {
+    f.l_far_over_width = f.delta_over_width = f.skew = f.l_near_over_l_far = kNaN;
+    f.cond_projection = f.cond_light_transform = f.cap_window_error_px = f.cap_window_error_ulp = kNaN;
+    return f;
+  }
+  const double cx = 0.5 * (fr.left + fr.right), cy = 0.5 * (fr.bottom + fr.top);
+  const double side = std::hypot(lf.delta.x - cx, lf.delta.y - cy);
+  f.l_far_over_width = lf.l_far / width;
+  f.delta_over_width = side / width;
+  f.skew = side / lf.l_far;
+  f.l_near_over_l_far = static_cast<double>(lf.l_near) / lf.l_far;
+  const auto projection = entries(lf.projection);
+  f.cond_projection = condition_number(projection);
+  f.cond_light_transform = condition_number(product(projection, entries(lf.modelview)));
+
+  // The near-cap pass's window coordinates of occluder vertices, float32 as
+  // the vertex program and viewport compute them, against the exact projection.
+  const gl::Mat4f view = gl::to_mat4f(scene.camera.view);
+  const BoundedVec3& l = cs.light(light);
+  const double lx = l.x.v, ly = l.y.v, lz = l.z.v;
+  const int w = scene.camera.width, h = scene.camera.height;
+  const float half_w = 0.5f * static_cast<float>(w), half_h = 0.5f * static_cast<float>(h);
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    if (!cs.object(o).occluder) continue;
+    const gl::Mat4f modelview = gl::multiply(view, gl::to_mat4f(cs.object(o).object_to_world), arithmetic);
+    const gl::Mat4f light_modelview = gl::multiply(lf.modelview, modelview, arithmetic);
+    const TriangleMesh& mesh = cs.mesh(o);
+    for (VertexIndex v = 0; v < mesh.positions.size(); ++v) {
+      const Vec3d& p = cs.vertex_estimate(o, v);
+      // The exact projection from the light onto z = -near: l + t (p - l).
+      const double t = (-fr.near - lz) / (p.z - lz);
+      if (!(t >= 1.0) || !std::isfinite(t)) continue;  // not between the light and the near plane
+      const double ex = (lx + t * (p.x - lx) - fr.left) / width * w;
+      const double ey = (ly + t * (p.y - ly) - fr.bottom) / (fr.top - fr.bottom) * h;
+      if (ex < -w || ex > 2.0 * w || ey < -h || ey > 2.0 * h) continue;
+      const Vec3d& q = mesh.positions[v];
+      const gl::Vec4f object{static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z), 1.0f};
+      const gl::Vec4f clip =
+          gl::transform(lf.projection, gl::transform(light_modelview, object, arithmetic), arithmetic);
+      if (!(clip.w > 0.0f)) continue;
+      const float fx = (clip.x / clip.w + 1.0f) * half_w, fy = (clip.y / clip.w + 1.0f) * half_h;
+      const double err = std::max(std::fabs(fx - ex), std::fabs(fy - ey));
+      const double ulps = err / float_ulp(std::max(w, h));
+      f.cap_window_error_px = std::max(f.cap_window_error_px, err);
+      f.cap_window_error_ulp = std::max(f.cap_window_error_ulp, ulps);
+      ++f.cap_vertices;
+    }
+  }
+  return f;
+}
+
+}  // namespace nearcap::analysis
