@@ -126,6 +126,32 @@ TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
   EXPECT_GT(with_cracks, 0u);
 }
 
+// The sweep sharded over two MPI ranks (mpirun, Open MPI) writes exactly the
+// rows of one process, in the same order, timings aside.
+TEST_F(Sweep, TwoMpiRanksWriteWhatOneProcessWrites) {
+#ifndef NEARCAP_MPIEXEC
+  GTEST_SKIP() << "nearcap was built without MPI (README, \"Sweeps on a cluster\")";
+#else
+  ASSERT_EQ(test::run_cli(args(path("one.csv")), "sweep_one").exit_code, 0);
+  // Leak detection off in a sanitizer build: Open MPI keeps allocations past
+  // MPI_Finalize by design; every other check stays on.
+  const std::string launcher = "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 " + std::string(NEARCAP_MPIEXEC) +
+                               " --allow-run-as-root --oversubscribe -n 2";
+  const test::CliResult r = test::run_cli(args(path("two.csv")), "sweep_mpi", launcher);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto one = untimed_rows(test::slurp(path("one.csv"))), two = untimed_rows(test::slurp(path("two.csv")));
+  EXPECT_EQ(one.size(), two.size());
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "rank 0 alone reports: " << r.out;
+  // An error before the ranks part (the file exists) is reported once, exit code 2.
+  const test::CliResult again = test::run_cli(args(path("two.csv")), "sweep_mpi_again", launcher);
+  EXPECT_NE(again.exit_code, 0);
+  const std::string marker = "nearcap: error (usage)";
+  EXPECT_NE(again.err.find(marker), std::string::npos) << again.err;
+  EXPECT_EQ(again.err.find(marker), again.err.rfind(marker)) << again.err;
+#endif
+}
+
 TEST_F(Sweep, ARowReplaysAlone) {
   ASSERT_EQ(test::run_cli(args(path("a.csv")), "sweep_replay").exit_code, 0);
   std::stringstream in(test::slurp(path("a.csv")));

@@ -22,6 +22,13 @@ void register_cracks(CLI::App& app);
 void register_frame(CLI::App& app);
 void register_sample(CLI::App& app);
 void register_sweep(CLI::App& app);
+void register_report(CLI::App& app);
+
+// Thrown by a command whose child process already reported its error on
+// stderr: main exits with this code and prints nothing more.
+struct ExitCode {
+  int code = 1;
+};
 
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "cli_commands.hpp"
+#include "mpi_world.hpp"
 #include "nearcap/error.hpp"
 
 namespace {
@@ -19,6 +20,7 @@ namespace {
 constexpr const char* kVersion = "nearcap 0.1.0";
 
 int usage_error(const std::string& message) {
+  if (const nearcap::cli::MpiWorld* world = nearcap::cli::mpi_world(); world && world->rank() != 0) return 2;
   std::string line = message;
   std::replace(line.begin(), line.end(), '\n', ' ');
   while (!line.empty() && line.back() == ' ') line.pop_back();
@@ -29,6 +31,14 @@ int usage_error(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  nearcap::cli::MpiWorld world(&argc, &argv);
+  // Under MPI: a failure once the ranks work apart ends them all; before,
+  // every rank meets the same error and rank 0 alone reports it.
+  const auto fail = [&world](int code) {
+    if (world.size() > 1 && world.sharded()) world.abort(code);
+    return code;
+  };
+  const auto report = [&world] { return world.rank() == 0 || world.sharded(); };
   CLI::App app{"nearcap: exact and float analysis of stencil shadow volumes (ZP+)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", kVersion, "print the version and exit");
@@ -39,6 +49,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_frame(app);
   nearcap::cli::register_sample(app);
   nearcap::cli::register_sweep(app);
+  nearcap::cli::register_report(app);
 
   // The subcommand comes first; name an unknown one as such.
   if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
@@ -54,18 +65,21 @@ int main(int argc, char** argv) {
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty())
       return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
     return usage_error(e.what());
+  } catch (const nearcap::cli::ExitCode& e) {
+    return fail(e.code);
   } catch (const nearcap::Error& e) {
-    std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(), e.what());
-    return 2;
+    if (report())
+      std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(), e.what());
+    return fail(2);
   } catch (const std::bad_alloc&) {
-    std::fprintf(
-        stderr,
-        "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or give it more "
-        "memory; see the README's limits)\n");
-    return 2;
+    if (report())
+      std::fprintf(stderr,
+                   "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or "
+                   "give it more memory; see the README's limits)\n");
+    return fail(2);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());
-    return 1;
+    if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());
+    return fail(1);
   }
   return 0;
 }

@@ -12,20 +12,25 @@
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
 #include "cli_commands.hpp"
+#include "mpi_world.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/sweep.hpp"
+#include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
 
@@ -225,6 +230,77 @@ std::string duration(double seconds) {
   return buf;
 }
 
+// Writes the rows of consecutive configurations as they become ready, in
+// configuration order, and reports progress.
+class OrderedWriter {
+ public:
+  OrderedWriter(const std::string& file, std::uint64_t first, std::uint64_t total, std::size_t methods)
+      : file_(file), first_(first), next_(first), total_(total), last_report_(first) {
+    fd_ = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+    if (fd_ < 0) throw Error(ErrorKind::Io, file + ": cannot open for appending");
+    std::fprintf(stderr, "sweep: %llu configurations (%llu already in %s), %zu method(s)\n",
+                 static_cast<unsigned long long>(total), static_cast<unsigned long long>(first), file.c_str(), methods);
+  }
+  ~OrderedWriter() { ::close(fd_); }
+  OrderedWriter(const OrderedWriter&) = delete;
+  OrderedWriter& operator=(const OrderedWriter&) = delete;
+
+  void add(std::uint64_t index, std::string rows) {
+    ready_[index] = std::move(rows);
+    const std::uint64_t before = next_;
+    for (auto it = ready_.find(next_); it != ready_.end(); it = ready_.find(next_)) {
+      write_all(it->second);
+      ready_.erase(it);
+      ++next_;
+    }
+    if (next_ != before) progress();
+  }
+  bool complete() const { return next_ == total_; }
+  void finish() const {
+    const double seconds = elapsed();
+    if (terminal_) std::fprintf(stderr, "\n");
+    std::printf("sweep: %llu configurations in %.1f s (%.2f per second), rows in %s\n",
+                static_cast<unsigned long long>(total_ - first_), seconds,
+                static_cast<double>(total_ - first_) / std::max(seconds, 1e-9), file_.c_str());
+  }
+
+ private:
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  void write_all(const std::string& b) {
+    std::size_t written = 0;
+    while (written < b.size()) {
+      const ssize_t n = ::write(fd_, b.data() + written, b.size() - written);
+      if (n < 0) throw Error(ErrorKind::Io, file_ + ": write failed: " + std::strerror(errno));
+      written += static_cast<std::size_t>(n);
+    }
+  }
+  void progress() {
+    const double rate = static_cast<double>(next_ - first_) / std::max(elapsed(), 1e-9);
+    const double eta = static_cast<double>(total_ - next_) / std::max(rate, 1e-9);
+    if (terminal_) {
+      const int bar = static_cast<int>(30.0 * static_cast<double>(next_) / static_cast<double>(total_));
+      std::fprintf(stderr, "\r[%-30s] %llu/%llu  %.1f/s  ETA %s   ", std::string(bar, '#').c_str(),
+                   static_cast<unsigned long long>(next_), static_cast<unsigned long long>(total_), rate,
+                   duration(eta).c_str());
+    } else if (next_ == total_ || (next_ - last_report_) * 10 >= total_) {
+      std::fprintf(stderr, "sweep: %llu/%llu configurations, %.1f/s, ETA %s\n", static_cast<unsigned long long>(next_),
+                   static_cast<unsigned long long>(total_), rate, duration(eta).c_str());
+      last_report_ = next_;
+    }
+  }
+
+  std::string file_;
+  int fd_ = -1;
+  std::uint64_t first_, next_, total_, last_report_;
+  std::map<std::uint64_t, std::string> ready_;
+  bool terminal_ = ::isatty(2) != 0;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+// Under MPI (mpi_world.hpp) rank r runs configurations first + r, first + r +
+// size, ... (interleaved, so that each rank gets easy and hard frames of a
+// path alike) and sends each one's rows to rank 0, which writes every
+// configuration's rows in order.  One process is the world of size 1.
 void run_sweep(const SweepCommandOptions& o) {
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
@@ -233,63 +309,60 @@ void run_sweep(const SweepCommandOptions& o) {
   options.settings = settings_from(o.emulation);
   const Configurations configurations(o);
   const std::uint64_t total = configurations.count();
+  MpiWorld* const world_ptr = mpi_world();  // made by main
+  NEARCAP_CHECK(world_ptr != nullptr);
+  MpiWorld& world = *world_ptr;
 
+  // Rank 0 owns the file: new, or resumed after its last configuration.
+  constexpr std::uint64_t kFailed = ~std::uint64_t{0};
   std::uint64_t first = 0;
-  const bool exists = std::filesystem::exists(o.out);
-  if (exists && !o.resume)
-    throw Error(ErrorKind::Usage, o.out + ": exists; give --resume to continue that sweep, or another --out");
-  if (exists) {
-    first = resume_point(o.out, configurations);
-  } else {
-    io::write_output_files({{o.out, analysis::csv_header()}});
+  if (world.rank() == 0) {
+    try {
+      const bool exists = std::filesystem::exists(o.out);
+      if (exists && !o.resume)
+        throw Error(ErrorKind::Usage, o.out + ": exists; give --resume to continue that sweep, or another --out");
+      if (exists)
+        first = resume_point(o.out, configurations);
+      else
+        io::write_output_files({{o.out, analysis::csv_header()}});
+    } catch (...) {
+      world.broadcast(kFailed);
+      throw;
+    }
   }
-  const int fd = ::open(o.out.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-  if (fd < 0) throw Error(ErrorKind::Io, o.out + ": cannot open for appending");
+  first = world.broadcast(first);
+  if (first == kFailed) throw ExitCode{2};  // rank 0 reported why
+  world.mark_sharded();
 
-  const bool terminal = ::isatty(2) != 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  std::uint64_t done = first, last_report = first;
-  std::fprintf(stderr, "sweep: %llu configurations (%llu already in %s), %zu method(s)\n",
-               static_cast<unsigned long long>(total), static_cast<unsigned long long>(first), o.out.c_str(),
-               options.methods.size());
-  constexpr std::uint64_t kBlock = 8;  // run together, written in order
-  for (std::uint64_t begin = first; begin < total; begin += kBlock) {
-    const std::uint64_t end = std::min(total, begin + kBlock);
+  std::vector<std::uint64_t> mine;
+  for (std::uint64_t k = first + static_cast<std::uint64_t>(world.rank()); k < total;
+       k += static_cast<std::uint64_t>(world.size()))
+    mine.push_back(k);
+  std::unique_ptr<OrderedWriter> writer;
+  if (world.rank() == 0) writer = std::make_unique<OrderedWriter>(o.out, first, total, options.methods.size());
+  constexpr std::size_t kBlock = 8;  // run together on this rank's cores
+  for (std::size_t begin = 0; begin < mine.size(); begin += kBlock) {
+    const std::size_t end = std::min(mine.size(), begin + kBlock);
     std::vector<std::string> blocks(end - begin);
-    tbb::parallel_for(begin, end,
-                      [&](std::uint64_t k) { blocks[k - begin] = configuration_csv(configurations.at(k), options); });
-    for (const std::string& b : blocks) {
-      std::size_t written = 0;
-      while (written < b.size()) {
-        const ssize_t n = ::write(fd, b.data() + written, b.size() - written);
-        if (n < 0) {
-          ::close(fd);
-          throw Error(ErrorKind::Io, o.out + ": write failed");
-        }
-        written += static_cast<std::size_t>(n);
-      }
+    tbb::parallel_for(
+        begin, end, [&](std::size_t k) { blocks[k - begin] = configuration_csv(configurations.at(mine[k]), options); });
+    for (std::size_t k = begin; k < end; ++k) {
+      if (writer)
+        writer->add(mine[k], std::move(blocks[k - begin]));
+      else
+        world.send_rows(mine[k], blocks[k - begin]);
     }
-    done = end;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double rate = static_cast<double>(done - first) / std::max(seconds, 1e-9);
-    const double eta = static_cast<double>(total - done) / std::max(rate, 1e-9);
-    if (terminal) {
-      const int bar = static_cast<int>(30.0 * static_cast<double>(done) / static_cast<double>(total));
-      std::fprintf(stderr, "\r[%-30s] %llu/%llu  %.1f/s  ETA %s   ", std::string(bar, '#').c_str(),
-                   static_cast<unsigned long long>(done), static_cast<unsigned long long>(total), rate,
-                   duration(eta).c_str());
-    } else if (done == total || (done - last_report) * 10 >= total) {
-      std::fprintf(stderr, "sweep: %llu/%llu configurations, %.1f/s, ETA %s\n", static_cast<unsigned long long>(done),
-                   static_cast<unsigned long long>(total), rate, duration(eta).c_str());
-      last_report = done;
-    }
+    std::uint64_t index = 0;
+    std::string rows;
+    while (writer && world.receive_rows(index, rows, false)) writer->add(index, std::move(rows));
   }
-  ::close(fd);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (terminal) std::fprintf(stderr, "\n");
-  std::printf("sweep: %llu configurations in %.1f s (%.2f per second), rows in %s\n",
-              static_cast<unsigned long long>(total - first), seconds,
-              static_cast<double>(total - first) / std::max(seconds, 1e-9), o.out.c_str());
+  if (!writer) return;
+  std::uint64_t index = 0;
+  std::string rows;
+  while (!writer->complete() && world.receive_rows(index, rows, true)) writer->add(index, std::move(rows));
+  if (!writer->complete())
+    throw Error(ErrorKind::Io, o.out + ": the sweep ended before every configuration's rows arrived");
+  writer->finish();
 }
 
 }  // namespace
