@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
 # The main job, from a fresh Debian 12 machine: installs the packages, builds,
-# then runs every command on data/scenes/near_cap_bunny_wall.json (the Stanford
-# bunny between a light and the camera's near plane, a wall behind: where ZP+
-# as published cracks and its corrections do not) and writes the results under
-# out/near_cap_bunny_wall/.  Another scene: ./scripts/demo.sh data/scenes/NAME.json
+# then
+#   1. runs every command on data/scenes/near_cap_bunny_wall.json (the Stanford
+#      bunny between a light and the camera's near plane, a wall behind: where
+#      ZP+ as published cracks and its corrections do not), results under
+#      out/near_cap_bunny_wall/;
+#   2. sweeps the bundled camera paths (data/paths/, 430 frames at 160 x 120)
+#      and 200 hard configurations of the sampler through the exact reference
+#      and the five float methods (out/sweep/rows.csv), and writes the report:
+#      out/sweep/report/index.html.
+# About 3 minutes on 2 cores after the build.  Run again, it continues the
+# sweep where it stopped (--resume) and rewrites the report.
+# Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
@@ -19,7 +27,17 @@ echo "== nearcap cap $scene --light 0 (the exact near-cap; picture: $out/cap.svg
 echo "== nearcap reference $scene --light 0 (the exact per-pixel counts; picture: $out/shadow.png)"
 ./build/nearcap reference "$scene" --light 0 --out "$out" >/dev/null
 echo "== nearcap cracks $scene --light 0 --table (every float method against the exact reference)"
-./build/nearcap cracks "$scene" --light 0 --table
-./build/nearcap cracks "$scene" --light 0 --out "$out" >/dev/null
+./build/nearcap cracks "$scene" --light 0 --table --out "$out"
 echo "== results in $out/: cracks-METHOD.png shows each method's wrong pixels, ringed, with a legend"
 ls -l "$out"
+
+echo "== nearcap sweep: the bundled camera paths and 200 hard configurations (out/sweep/rows.csv)"
+mkdir -p out/sweep
+resume=()
+[ -e out/sweep/rows.csv ] && resume=(--resume)
+paths=()
+for p in data/paths/*.json; do paths+=(--path "$p"); done
+./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --out out/sweep/rows.csv "${resume[@]}"
+echo "== nearcap report out/sweep/rows.csv --out out/sweep/report"
+./build/nearcap report out/sweep/rows.csv --out out/sweep/report
+echo "== open out/sweep/report/index.html: speed against error, the paths, cracks against conditioning"

@@ -50,7 +50,7 @@ void check_scene(const Scene& scene, Tally& tally, std::size_t pixel_budget) {
   const CameraSpaceScene cs(scene);
   const PixelReferenceTracer tracer(cs, 0);
   const PixelReference ref = compute_pixel_reference(tracer);
-  CrackDistances distances(tracer);
+  CrackDistances distances(tracer, ref);
   std::vector<std::pair<int, int>> pixels;
   for (gl::ShadowMethod m : {gl::ShadowMethod::ZPass, gl::ShadowMethod::ZFail}) {
     CrackReport report = judge_frame(gl::render_shadow_frame(scene, 0, m), ref);
@@ -146,7 +146,7 @@ TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
   const CameraSpaceScene cs(scene);
   const PixelReferenceTracer tracer(cs, 0);
   const PixelReference ref = compute_pixel_reference(tracer);
-  CrackDistances distances(tracer);
+  CrackDistances distances(tracer, ref);
   CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
   distances.measure(zpass);
   ASSERT_GT(zpass.wrong, 1000u);
@@ -173,7 +173,7 @@ TEST(CrackDistance, LevelsDoNotDependOnTheOrderOfMeasurement) {
     const PixelReference ref = compute_pixel_reference(tracer);
     const CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
     const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail), ref);
-    CrackDistances a(tracer), b(tracer);
+    CrackDistances a(tracer, ref), b(tracer, ref);
     CrackReport a1 = zpass, a2 = zfail, b1 = zfail, b2 = zpass;
     a.measure(a1);
     a.measure(a2);

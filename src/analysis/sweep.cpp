@@ -68,7 +68,7 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
     const PixelReference ref = compute_pixel_reference(tracer);
     const double reference_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    CrackDistances distances(tracer);
+    CrackDistances distances(tracer, ref);
     const ConditioningFeatures features =
         conditioning_features(cs, light, options.settings.light_frustum, options.settings.arithmetic);
     std::array<std::size_t, kQuadCaseCount> exact_cases{};

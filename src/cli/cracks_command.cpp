@@ -102,7 +102,7 @@ void run(const CracksOptions& o) {
   PixelReference ref = compute_pixel_reference(tracer);
   ref.setup_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - ref.trace_ms;
-  CrackDistances distances(tracer);
+  CrackDistances distances(tracer, ref);
   const SceneClassification classification = classify_scene(cs);
   const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 

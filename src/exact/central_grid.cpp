@@ -209,6 +209,21 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
       else if (placements[t].placement == Placement::Whole)
         whole.push_back({triangles[t].id, placements[t].axis_lower_bound});
     }
+    std::uint32_t max_id = 0;
+    for (const Triangle& t : triangles) max_id = std::max(max_id, t.id);
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    face.box_of.assign(triangles.empty() ? 0 : static_cast<std::size_t>(max_id) + 1,
+                       std::array<float, 4>{kInf, -kInf, kInf, -kInf});
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      std::array<float, 4>& b = face.box_of[triangles[t].id];
+      if (placements[t].placement == Placement::Whole) {
+        b = {-kInf, kInf, -kInf, kInf};
+      } else if (placements[t].placement == Placement::Boxed) {
+        const Box& x = placements[t].box;
+        b = {std::nextafter(static_cast<float>(x.u_lo), -kInf), std::nextafter(static_cast<float>(x.u_hi), kInf),
+             std::nextafter(static_cast<float>(x.v_lo), -kInf), std::nextafter(static_cast<float>(x.v_hi), kInf)};
+      }
+    }
     face.offsets.assign(cell_count + 1, 0);
     for (std::size_t c = 0; c < cell_count; ++c)
       face.offsets[c + 1] = face.offsets[c] + counts[c] + static_cast<std::uint32_t>(whole.size());
@@ -283,9 +298,17 @@ bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std:
       for (std::uint32_t k = face.offsets[cell]; k < face.offsets[cell + 1]; ++k) ids.push_back(face.entries[k].id);
     }
   // Directions beyond the grid's extent lie only in whole-face triangles,
-  // which every cell lists too.
+  // which every cell lists too.  Only triangles whose own box meets the
+  // region's can contain one of its directions.
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const double u_lo = u - eu, u_hi = u + eu, v_lo = v - ev, v_hi = v + ev;
+  ids.erase(std::remove_if(ids.begin(), ids.end(),
+                           [&](std::uint32_t id) {
+                             const std::array<float, 4>& b = face.box_of[id];
+                             return b[1] < u_lo || b[0] > u_hi || b[3] < v_lo || b[2] > v_hi;
+                           }),
+            ids.end());
   return true;
 }
 

@@ -37,6 +37,28 @@ Sign uniform_sign(Predicate pred, FilterStats* stats, const Corners& corners, Ap
   return common;
 }
 
+// The same from the values at the corners, already computed (filtered).
+template <class ExactForm>
+Sign uniform_sign_of_values(Predicate pred, FilterStats* stats, const Corners& corners,
+                            const std::array<BoundedDouble, 4>& values, ExactForm&& exact_form) {
+  std::optional<AffineForm<Rational>> fe;
+  Sign common = Sign::Zero;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    Sign s;
+    if (const auto v = values[k].sign(); v && *v != Sign::Zero) {
+      if (stats) stats->record(pred, false);
+      s = *v;
+    } else {
+      if (stats) stats->record(pred, true);
+      if (!fe) fe = exact_form();
+      s = sign_of(Rational(fe->at(corners[k].exact())));
+    }
+    if (s == Sign::Zero || (k > 0 && s != common)) return Sign::Zero;
+    common = s;
+  }
+  return common;
+}
+
 class SquareProof {
  public:
   SquareProof(const PixelReferenceTracer::Impl& t, const Corners& corners, FilterStats* stats)
@@ -98,31 +120,35 @@ class SquareProof {
   }
   // 2. Another triangle is never seen in front of T over the square.
   bool hidden_everywhere(const EyeTriangle& other, const EyeTriangle& seen) const {
-    if (other.sigma == Sign::Zero) return true;  // edge-on: never seen
+    if (other.sigma == Sign::Zero || other.before_near) return true;  // edge-on, or all before the near plane
     const Sign miss = -other.sigma;
     if (order(seen, other) * seen.sigma * other.sigma == Sign::Negative) return true;
+    if (beyond_near(other) == miss) return true;
     for (int k = 0; k < 3; ++k)
       if (edge(other, k) == miss) return true;
-    return beyond_near(other) == miss || before_far(other) == miss;
+    return before_far(other) == miss;
   }
 
   enum class Crossing { Always, Never, Unknown };
   // 3. Does (l, q(P)) cross light triangle L for every P, for none, or not proven?
+  // The edge forms of (l, q(P)) against L are d_q (g_k . P) + g0_k (n_q . P):
+  // n_q . C_j is the same for every L, computed once per square.
+  void prepare_crossings(const EyeTriangle& q) {
+    for (std::size_t j = 0; j < 4; ++j) nq_corner_[j] = dot(q.plane.n, c_[j].approx());
+  }
   Crossing crossing(const LightTriangle& lt, const EyeTriangle& q, std::uint32_t q_index) const {
     if (lt.eye_index == q_index) return q.sigma == lt.light_side ? Crossing::Always : Crossing::Never;
     std::array<Sign, 3> s{};
     for (int k = 0; k < 3; ++k) {
-      s[k] = uniform_sign(
-          Predicate::ShadowCrossing, stats_, c_,
-          [&] {
-            return BoundedForm{q.plane.d * lt.g[k] + lt.g0[k] * q.plane.n, BoundedDouble(0.0)};
-          },
-          [&] {
-            const auto pq = t_.exact_plane(q.object, q.face);
-            const Vec3<Rational> g = t_.exact_g(lt, k);
-            const Rational g0 = -dot(g, t_.cs.exact_light(t_.light));
-            return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
-          });
+      std::array<BoundedDouble, 4> values;
+      for (std::size_t j = 0; j < 4; ++j)
+        values[j] = q.plane.d * dot(lt.g[k], c_[j].approx()) + lt.g0[k] * nq_corner_[j];
+      s[k] = uniform_sign_of_values(Predicate::ShadowCrossing, stats_, c_, values, [&] {
+        const auto pq = t_.exact_plane(q.object, q.face);
+        const Vec3<Rational> g = t_.exact_g(lt, k);
+        const Rational g0 = -dot(g, t_.cs.exact_light(t_.light));
+        return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
+      });
       for (int m = 0; m < k; ++m)
         if (s[k] != Sign::Zero && s[m] == -s[k]) return Crossing::Never;  // never all one sign
     }
@@ -145,6 +171,7 @@ class SquareProof {
   const PixelReferenceTracer::Impl& t_;
   const Corners& c_;
   FilterStats* stats_;
+  std::array<BoundedDouble, 4> nq_corner_{};
 };
 
 // The box, in estimated coordinates, that holds every point of a set of
@@ -183,7 +210,7 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
                         PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
                         PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
                         PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})};
-  const SquareProof proof(t, corners, stats);
+  SquareProof proof(t, corners, stats);
 
   // The triangle seen at the centre, seen over the whole square.
   const std::optional<Hit> hit =
@@ -221,13 +248,23 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
     ids.clear();
     for (const auto& e : t.light_grid->all()) ids.push_back(e.id);
   }
-  bool unknown = false;
-  for (std::uint32_t id : ids) {
-    const auto crossing = proof.crossing(t.lit[id], seen, hit->eye_index);
-    if (crossing == SquareProof::Crossing::Always) return true;
-    if (crossing == SquareProof::Crossing::Unknown) unknown = true;
+  // The status at the centre decides which proof can succeed.  In shadow:
+  // only a triangle crossed at the centre can be crossed everywhere, so those
+  // are tried and nothing else.  Lit: every triangle must be proven never
+  // crossed, and the first that is not ends the proof.
+  proof.prepare_crossings(seen);
+  bool shadowed_at_centre = false;
+  std::vector<std::uint32_t> crossed_at_centre;
+  for (std::uint32_t id : ids)
+    if (t.shadow_crosses(t.lit[id], *hit, centre, stats)) crossed_at_centre.push_back(id);
+  shadowed_at_centre = !crossed_at_centre.empty();
+  if (shadowed_at_centre) {
+    for (std::uint32_t id : crossed_at_centre)
+      if (proof.crossing(t.lit[id], seen, hit->eye_index) == SquareProof::Crossing::Always) return true;
+    return std::nullopt;
   }
-  if (unknown) return std::nullopt;
+  for (std::uint32_t id : ids)
+    if (proof.crossing(t.lit[id], seen, hit->eye_index) != SquareProof::Crossing::Never) return std::nullopt;
   return false;
 }
 

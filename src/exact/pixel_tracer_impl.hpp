@@ -63,6 +63,9 @@ struct EyeTriangle {
   std::uint32_t object;
   FaceIndex face;
   Sign sigma;  // sign(d), exact: Zero when the plane passes through the eye
+  // Every vertex certainly on the eye's side of the near plane (z > -near):
+  // no view ray meets it beyond the near plane (the crack distance's shortcut).
+  bool before_near = false;
 };
 
 // A light-front-facing occluder triangle as the segments from the light see it.
@@ -108,6 +111,9 @@ struct PixelReferenceTracer::Impl {
         EyeTriangle et{
             {cross(a, b), cross(b, c), cross(c, a)}, plane_data(a, b, c), static_cast<std::uint32_t>(o), f, Sign::Zero};
         et.sigma = sign_of_d(et, nullptr);
+        et.before_near = true;
+        for (const BoundedVec3* v : {&a, &b, &c})
+          et.before_near = et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
         const auto eye_index = static_cast<std::uint32_t>(eye.size());
         eye.push_back(et);
         CentralGrid::Triangle item{

@@ -31,11 +31,31 @@ int level_in_tile(int size, int a, int b, int i, int j) {
 
 }  // namespace
 
-CrackDistances::CrackDistances(const PixelReferenceTracer& tracer)
+CrackDistances::CrackDistances(const PixelReferenceTracer& tracer, const PixelReference& reference)
     : tracer_(tracer),
+      reference_(reference),
       width_(tracer.scene().scene().camera.width),
       height_(tracer.scene().scene().camera.height),
       level_(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), -1) {}
+
+// Every pixel centre of the tile inside the viewport sees the same triangle
+// with the same shadow status: necessary for a proof (which needs one
+// triangle seen over the whole tile and one status).
+bool CrackDistances::tile_may_be_constant(int size, int a, int b) const {
+  const PixelReference& ref = reference_;
+  const int i0 = a * size, j0 = b * size;
+  const int i1 = std::min(width_, i0 + size), j1 = std::min(height_, j0 + size);
+  const std::size_t first = ref.index(i0, j0);
+  if (!ref.seen(i0, j0)) return false;
+  for (int j = j0; j < j1; ++j)
+    for (int i = i0; i < i1; ++i) {
+      const std::size_t p = ref.index(i, j);
+      if (ref.object[p] != ref.object[first] || ref.face[p] != ref.face[first] ||
+          (ref.stencil[p] > 0) != (ref.stencil[first] > 0) || !ref.seen(i, j))
+        return false;
+    }
+  return true;
+}
 
 void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -66,7 +86,8 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
       // The tile's centre and half-width in units of 2^-10 pixel.
       const std::int64_t half = std::int64_t{size} << (kCrackDistanceShift - 1);
       const WindowPoint centre{(2 * a + 1) * half, (2 * b + 1) * half, kCrackDistanceShift};
-      proven[k] = tracer_.proven_status_over_square(centre, half, &stats.local()).has_value();
+      proven[k] = tile_may_be_constant(size, static_cast<int>(a), static_cast<int>(b)) &&
+                  tracer_.proven_status_over_square(centre, half, &stats.local()).has_value();
     });
     proofs_ += todo.size();
     for (std::size_t k = 0; k < todo.size(); ++k) tiles_[todo[k]] = proven[k] != 0;

@@ -77,6 +77,10 @@ class CentralGrid {
     int nu = 0, nv = 0;
     std::vector<std::uint32_t> offsets;  // CSR over cells, size nu*nv+1
     std::vector<Entry> entries;
+    // Each listed triangle's conservative box on this face, by id, as floats
+    // rounded outward (u_lo, u_hi, v_lo, v_hi): region queries keep only the
+    // triangles whose box meets the region's.
+    std::vector<std::array<float, 4>> box_of;
   };
   Vec3d centre_;
   double centre_error_;

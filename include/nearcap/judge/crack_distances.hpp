@@ -11,7 +11,11 @@
 //   1. Tiles: the window is covered by aligned square tiles of 32 pixels, each
 //      split into four down to single pixels (a quadtree).  For a wrong pixel,
 //      its tiles are tried from 32 pixels down until one is proven constant
-//      (each tile at most once per CrackDistances, whoever asks).  A pixel in
+//      (each tile at most once per CrackDistances, whoever asks).  A tile
+//      whose pixel centres (from the full-frame reference) do not all see the
+//      same triangle with the same status cannot be proven and is not tried:
+//      the shortcut changes no answer, it only skips proofs that would fail.
+//      A pixel in
 //      a proven tile has every square inside that tile proven: level 4 (its
 //      own pixel square, r = 1/2), 5 when its centre is >= 2 pixels from the
 //      tile's edges, 6 when >= 8.
@@ -38,7 +42,8 @@ class CrackDistances {
  public:
   static constexpr int kLargestTile = 32;  // pixels; then 16, 8, 4, 2, 1
 
-  explicit CrackDistances(const PixelReferenceTracer& tracer);
+  // `reference` is the tracer's full-frame reference (compute_pixel_reference).
+  CrackDistances(const PixelReferenceTracer& tracer, const PixelReference& reference);
 
   // Measures every wrong pixel of the report not measured yet (all cores),
   // then fills the report's crack-distance fields.
@@ -53,7 +58,10 @@ class CrackDistances {
  private:
   void resolve(const std::vector<std::size_t>& pixels);
 
+  bool tile_may_be_constant(int size, int a, int b) const;
+
   const PixelReferenceTracer& tracer_;
+  const PixelReference& reference_;
   int width_, height_;
   std::vector<std::int8_t> level_;  // -1: not measured yet
   // Proven tiles by (size, tile column, tile row) key; false: tried, not proven.
