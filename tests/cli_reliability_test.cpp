@@ -331,3 +331,33 @@ TEST_F(Reliability, IntegralWidthsAreAcceptedAndFractionsNamed) {
 
 }  // namespace
 }  // namespace nearcap
+
+namespace nearcap {
+namespace {
+
+// A hard configuration (the light 2^-24 before the near plane) whose float32
+// light frustum maps a vertex to (0, 0, 0, 0): ZP+ refuses that frame with an
+// error (range); with --method all the other methods still run and say so.
+TEST_F(Reliability, AMethodThatRefusesTheFrameDoesNotStopTheOthers) {
+  ASSERT_EQ(run("sample --seed 4073463411 --index 1620 --width 8 --height 8 --out " + path("k.json")).exit_code, 0);
+  const test::CliResult all = run("cracks " + path("k.json") + " --light 0");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  const nlohmann::json records = nlohmann::json::parse(all.out)["methods"];
+  ASSERT_EQ(records.size(), 5u);
+  std::size_t refused = 0;
+  for (const nlohmann::json& r : records) {
+    if (r.contains("refused")) {
+      ++refused;
+      EXPECT_EQ(r["method"], "zpplus");
+      EXPECT_NE(r["refused"].get<std::string>().find("degenerate"), std::string::npos) << r;
+    } else {
+      EXPECT_TRUE(r.contains("wrong")) << r;
+    }
+  }
+  EXPECT_EQ(refused, 1u);
+  // Asked for alone, the method's refusal is the command's one-line error.
+  expect_one_line_error(run("cracks " + path("k.json") + " --light 0 --method zpplus"), "degenerate", "zpplus alone");
+}
+
+}  // namespace
+}  // namespace nearcap

@@ -60,7 +60,7 @@ FEATURES = [
     ("cap_window_error_px", "near-cap window error (px)"),
     ("cap_window_error_ulp", "near-cap window error (ulp)"),
 ]
-INTEGER_COLUMNS = ["light", "pixels_seen", "wrong", "cracks", "wrong_lit", "wrong_shadowed", "count_mismatch",
+INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_lit", "wrong_shadowed", "count_mismatch",
                    "zfail_objects", "case_disagreements"] + ["wrong_r_" + b for b in BUCKETS] + \
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
 FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"] + \
@@ -77,7 +77,7 @@ class ReportError(Exception):
 
 
 def read_rows(files):
-    rows, rejected, seen = [], 0, {}
+    rows, rejected, seen, refused = [], 0, {}, []
     for name in files:
         try:
             handle = open(name, newline="")
@@ -111,6 +111,9 @@ def read_rows(files):
                     for c in ("fragments", "depth_pass", "depth_fail"):
                         r[p + "_" + c] = int(r[p + "_" + c])
                 r["cap_mismatch"] = int(r["cap_mismatch"]) if r["cap_mismatch"] else None
+                if r["refused"]:
+                    refused.append(r)
+                    continue
                 key = (r["configuration"], r["light"], r["method"])
                 if key in seen:
                     raise ReportError("parse", f"{name}: line {line}: a second row for configuration "
@@ -119,7 +122,7 @@ def read_rows(files):
                 rows.append(r)
     if not rows:
         raise ReportError("parse", f"{files[0]}: no rows to report on")
-    return rows, rejected
+    return rows, rejected, refused
 
 
 def methods_of(rows):
@@ -137,6 +140,7 @@ class Report:
     def __init__(self, rows, rejected, out):
         self.rows, self.rejected, self.out = rows, rejected, out
         self.methods = methods_of(rows)
+        self.refused = []
         self.plots, self.sections = [], []
 
     def save(self, fig, name, points):
@@ -197,8 +201,13 @@ class Report:
         ref_ms = {}
         for r in self.rows:
             ref_ms[(r["configuration"], r["light"])] = r["reference_ms"]
+        refused = defaultdict(int)
+        for r in self.refused:
+            refused[r["method"]] += 1
+        refusals = ", ".join(f"{m} {n}" for m, n in sorted(refused.items()))
         text = (f"<p>{len(configs)} configurations, {len(self.rows)} rows"
-                f"{f', {self.rejected} configurations rejected (the scene did not load)' if self.rejected else ''}. "
+                f"{f', {self.rejected} configurations rejected (the scene did not load)' if self.rejected else ''}"
+                f"{f'; frames the float pipeline refused (float32 transforms degenerate): {refusals}' if refusals else ''}. "
                 f"Exact reference: {sum(ref_ms.values()) / max(1, len(ref_ms)):.1f} ms per (configuration, light) "
                 f"on average. Z-pass counts on depth-passing fragments and Z-fail on failing ones: the volume "
                 f"pass's split says which of the two had more to do.</p>")
@@ -386,7 +395,7 @@ th{{background:#eee}} td:first-child{{text-align:left}}</style></head><body>
 Times are the float pipeline's emulation on the CPU, not a GPU's.</p><ul>{toc}</ul>{body}</body></html>"""
         (self.out / "index.html").write_text(page)
         (self.out / "report.json").write_text(json.dumps(
-            {"rows": len(self.rows), "rejected": self.rejected, "methods": self.methods,
+            {"rows": len(self.rows), "rejected": self.rejected, "refused": len(self.refused), "methods": self.methods,
              "configurations": len({r["configuration"] for r in self.rows}), "plots": self.plots}, indent=1) + "\n")
 
 
@@ -420,7 +429,7 @@ def main(argv):
             k += 1
     if not args or out is None:
         raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR")
-    rows, rejected = read_rows(args)
+    rows, rejected, refused = read_rows(args)
     target = Path(out)
     if target.exists() and not target.is_dir():
         raise ReportError("io", f"{out}: exists and is not a directory")
@@ -429,6 +438,7 @@ def main(argv):
     staging = Path(tempfile.mkdtemp(prefix=".nearcap-report-", dir=parent))
     try:
         report = Report(rows, rejected, staging)
+        report.refused = refused
         report.sources = args
         report.write()
         target.mkdir(exist_ok=True)

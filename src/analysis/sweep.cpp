@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -75,10 +76,6 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
     for (const ObjectClassification& o : exact.lights[light].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
     for (gl::ShadowMethod m : options.methods) {
-      const gl::ShadowFrame frame = gl::render_shadow_frame(scene, light, m, options.settings);
-      CrackReport report = judge_frame(frame, ref);
-      const double measured_before = distances.ms();
-      distances.measure(report);
       SweepRow r;
       r.configuration = configuration.id;
       r.source = configuration.source;
@@ -88,8 +85,23 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       r.light = light;
       r.method = std::string(to_string(m));
       r.exact_cases = exact_cases;
-      r.float_cases = frame.float_cases;
       r.case_disagreements = engine.total(light);
+      r.reference_ms = reference_ms;
+      r.features = features;
+      gl::ShadowFrame frame;
+      try {
+        frame = gl::render_shadow_frame(scene, light, m, options.settings);
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Range) throw;
+        r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)
+        r.fallback = std::string("refused: ") + e.what();
+        rows.push_back(std::move(r));
+        continue;
+      }
+      CrackReport report = judge_frame(frame, ref);
+      const double measured_before = distances.ms();
+      distances.measure(report);
+      r.float_cases = frame.float_cases;
       r.pixels_seen = report.pixels_seen;
       r.wrong = report.wrong;
       r.wrong_lit = report.wrong_lit;
@@ -98,7 +110,6 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       r.cracks = *report.cracks;
       r.wrong_by_distance = *report.wrong_by_distance;
       r.crack_distance_ms = distances.ms() - measured_before;
-      r.features = features;
       r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
       r.visibility_mismatch = report.visibility_mismatch;
       r.fallback = frame.fallback;
@@ -107,7 +118,6 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       r.depth = work(frame.depth_pass, frame.times.depth_ms);
       r.near_cap = work(frame.cap_pass, frame.times.cap_ms);
       r.volume = work(frame.volume_pass, frame.times.volume_ms);
-      r.reference_ms = reference_ms;
       rows.push_back(std::move(r));
     }
   }
@@ -120,7 +130,7 @@ std::string csv_header() {
   for (const char* c : kCaseNames)
     if (std::string(c) != "degenerate") h += std::string(",float_") + c;
   h += ",case_disagreements,pixels_seen,wrong,cracks,wrong_lit,wrong_shadowed,count_mismatch,cap_mismatch,"
-       "visibility_mismatch,fallback,zfail_objects";
+       "visibility_mismatch,fallback,zfail_objects,refused";
   for (std::string_view name : kCrackDistanceNames) h += ",wrong_r_" + distance_column(name);
   h += ",light_frustum_defined,light_near_distance,l_far_over_width,delta_over_width,skew,l_near_over_l_far,"
        "cond_projection,cond_light_transform,coordinate_over_size,cap_window_error_px,cap_window_error_ulp,"
@@ -141,7 +151,8 @@ std::string csv_line(const SweepRow& r) {
   s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.cracks << ',' << r.wrong_lit
     << ',' << r.wrong_shadowed << ',' << r.count_mismatch << ',';
   if (r.cap_mismatch >= 0) s << r.cap_mismatch;
-  s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects;
+  s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects << ','
+    << (r.refused ? 1 : 0);
   for (std::size_t n : r.wrong_by_distance) s << ',' << n;
   const ConditioningFeatures& f = r.features;
   s << ',' << (f.light_frustum_defined ? 1 : 0);

@@ -49,7 +49,9 @@ struct SweepRow {
   std::array<std::size_t, kCrackDistanceLevels> wrong_by_distance{};  // exact/crack_distance.hpp
   long long cap_mismatch = -1;                                        // -1: the method has no whole-scene near-cap pass
   std::size_t visibility_mismatch = 0;
-  std::string fallback;           // why the light fell back to Z-fail, or ""
+  std::string fallback;           // why the light fell back to Z-fail, or "" (the refusal, when refused)
+  bool refused = false;           // the float pipeline refused the frame (its float32 transforms are
+                                  // degenerate: error (range)); the row's counts are then all 0
   std::size_t zfail_objects = 0;  // occluders switched to Z-fail (case D)
   PassWork setup, depth, near_cap, volume;
   double reference_ms = 0;        // the exact reference for this light (shared by its methods)
