@@ -115,6 +115,7 @@ void run(const CracksOptions& o) {
   std::vector<nlohmann::json> records;
   std::vector<io::OutputFile> files;
   const std::filesystem::path dir(o.out);
+  std::size_t refusals = 0;
   for (gl::ShadowMethod m : methods) {
     gl::ShadowFrame frame;
     try {
@@ -124,6 +125,7 @@ void run(const CracksOptions& o) {
       // (0, 0, 0, 0)): this method refuses the frame, the others still run.
       if (e.kind() != ErrorKind::Range || methods.size() == 1) throw;
       records.push_back({{"method", std::string(to_string(m))}, {"refused", e.what()}});
+      if (++refusals == methods.size()) throw;  // no method can draw this frame
       continue;
     }
     CrackReport report = judge_frame(frame, ref);
