@@ -178,6 +178,35 @@ TEST(ShadowMethods, PreloadCountsWhatZFailCounts) {
   }
 }
 
+// A batch shares the depth pre-pass, silhouettes and geometry between
+// methods; every frame is still exactly the one rendered alone, in any order
+// of methods and with either far-plane mode.
+TEST(ShadowMethods, ABatchRendersWhatEachMethodRendersAlone) {
+  for (const char* name : {"case_d.json", "near_cap_bunny_wall.json", "eye_in_shadow.json"}) {
+    const Judged& j = judged(name);
+    for (gl::ZFailFar far : {gl::ZFailFar::Infinite, gl::ZFailFar::DepthClampFar}) {
+      gl::EmulationSettings settings;
+      settings.zfail_far = far;
+      gl::ShadowFrameBatch batch(j.scene, 0, settings);
+      for (ShadowMethod m : {ShadowMethod::Preload, ShadowMethod::ZPPlusCorrected, ShadowMethod::ZFail,
+                             ShadowMethod::ZPass, ShadowMethod::ZPPlus}) {
+        const gl::ShadowFrame shared = batch.render(m), alone = gl::render_shadow_frame(j.scene, 0, m, settings);
+        const std::string what = std::string(name) + " " + std::string(to_string(m));
+        EXPECT_EQ(shared.stencil, alone.stencil) << what;
+        EXPECT_EQ(shared.object, alone.object) << what;
+        EXPECT_EQ(shared.near_cap, alone.near_cap) << what;
+        EXPECT_EQ(shared.float_cases, alone.float_cases) << what;
+        EXPECT_EQ(shared.zfail_objects, alone.zfail_objects) << what;
+        EXPECT_EQ(shared.fallback, alone.fallback) << what;
+        EXPECT_EQ(shared.depth_pass.fragments, alone.depth_pass.fragments) << what;
+        EXPECT_EQ(shared.depth_pass.depth_passed, alone.depth_pass.depth_passed) << what;
+        EXPECT_EQ(shared.volume_pass.fragments, alone.volume_pass.fragments) << what;
+        EXPECT_EQ(shared.cap_pass.fragments, alone.cap_pass.fragments) << what;
+      }
+    }
+  }
+}
+
 TEST(ShadowMethods, NamesRoundTrip) {
   for (ShadowMethod m : gl::kAllShadowMethods) EXPECT_EQ(gl::shadow_method_from_string(to_string(m)), m);
   EXPECT_FALSE(gl::shadow_method_from_string("zpass+").has_value());

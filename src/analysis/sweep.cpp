@@ -75,6 +75,7 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
     std::array<std::size_t, kQuadCaseCount> exact_cases{};
     for (const ObjectClassification& o : exact.lights[light].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
+    gl::ShadowFrameBatch batch(scene, light, options.settings);
     for (gl::ShadowMethod m : options.methods) {
       SweepRow r;
       r.configuration = configuration.id;
@@ -90,7 +91,7 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       r.features = features;
       gl::ShadowFrame frame;
       try {
-        frame = gl::render_shadow_frame(scene, light, m, options.settings);
+        frame = batch.render(m);
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::Range) throw;
         r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)

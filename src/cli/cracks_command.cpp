@@ -116,10 +116,11 @@ void run(const CracksOptions& o) {
   std::vector<io::OutputFile> files;
   const std::filesystem::path dir(o.out);
   std::size_t refusals = 0;
+  gl::ShadowFrameBatch batch(scene, o.light, settings);
   for (gl::ShadowMethod m : methods) {
     gl::ShadowFrame frame;
     try {
-      frame = gl::render_shadow_frame(scene, o.light, m, settings);
+      frame = batch.render(m);
     } catch (const Error& e) {
       // Float32 transforms too degenerate to draw (a clipped vertex at
       // (0, 0, 0, 0)): this method refuses the frame, the others still run.

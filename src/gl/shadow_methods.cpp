@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <utility>
 
 #include "nearcap/error.hpp"
@@ -22,8 +24,8 @@ struct ObjectSetup {
   ShadowUniforms uniforms;
   bool mirrored = false;  // the modelview reverses orientation: glFrontFace(GL_CW)
   bool occluder = false;
-  EngineSilhouette silhouette;
-  ShadowVolumeGeometry geometry;
+  const EngineSilhouette* silhouette = nullptr;  // in the batch's shared work
+  const ShadowVolumeGeometry* geometry = nullptr;
   bool case_d = false;
 };
 
@@ -91,13 +93,37 @@ DrawState zfail_state(ZFailFar far) {
   return s;
 }
 
+}  // namespace
+
+// What every method of one (scene, light, settings) shares: the object-space
+// vertex arrays, the engine's silhouettes and volume geometry, and the depth
+// pre-pass per projection (finite far plane, or infinite for Z-fail's default
+// and preload), with its counters and time.
+struct ShadowFrameBatch::SharedWork {
+  struct DepthPass {
+    Framebuffer framebuffer;
+    DrawCounters counters;
+    double ms = 0;
+  };
+  std::vector<std::vector<ShadowVertex>> vertices;
+  std::vector<std::optional<EngineSilhouette>> silhouettes;
+  std::vector<std::optional<ShadowVolumeGeometry>> geometry;
+  std::array<std::optional<DepthPass>, 2> depth;
+};
+
+namespace {
+
+using SharedWork = ShadowFrameBatch::SharedWork;
+
 class FrameRenderer {
  public:
-  FrameRenderer(const Scene& scene, std::size_t light, ShadowMethod method, const EmulationSettings& settings)
+  FrameRenderer(const Scene& scene, std::size_t light, ShadowMethod method, const EmulationSettings& settings,
+                SharedWork& shared)
       : scene_(scene),
         light_(light),
         method_(method),
         settings_(settings),
+        shared_(shared),
         fb_(scene.camera.width, scene.camera.height, settings.depth) {}
 
   ShadowFrame run() {
@@ -118,17 +144,26 @@ class FrameRenderer {
     prepare_objects(projection, frame);
     frame.times.setup_ms = ms_since(t_setup);
 
-    auto t = Clock::now();
-    for (std::size_t o = 0; o < objects_.size(); ++o) {
-      DrawState s;
-      s.depth_write = true;
-      s.object_id = static_cast<std::int32_t>(o);
-      frame.depth_pass += fb_.draw(run_program(camera_vertices_[o], objects_[o].uniforms, extrusion_program),
-                                   oriented(s, objects_[o].mirrored), settings_.raster);
+    // The depth pre-pass: the same for every method with this projection.
+    std::optional<SharedWork::DepthPass>& depth = shared_.depth[infinite ? 1 : 0];
+    if (!depth) {
+      const auto t = Clock::now();
+      Framebuffer fb(scene_.camera.width, scene_.camera.height, settings_.depth);
+      DrawCounters counters;
+      for (std::size_t o = 0; o < objects_.size(); ++o) {
+        DrawState s;
+        s.depth_write = true;
+        s.object_id = static_cast<std::int32_t>(o);
+        counters += fb.draw(run_program(shared_.vertices[o], objects_[o].uniforms, extrusion_program),
+                            oriented(s, objects_[o].mirrored), settings_.raster);
+      }
+      depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t)};
     }
-    frame.times.depth_ms = ms_since(t);
+    fb_ = depth->framebuffer;
+    frame.depth_pass = depth->counters;
+    frame.times.depth_ms = depth->ms;
 
-    t = Clock::now();
+    auto t = Clock::now();
     const bool zpplus = uses_near_cap(method_) && frame.fallback.empty();
     if (zpplus) {
       near_cap_pass(frame);
@@ -141,10 +176,10 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder) continue;
       if (method_ == ShadowMethod::ZPass || (method_ == ShadowMethod::ZPPlus && zpplus)) {
-        draw(obj, obj.geometry.sides, extrusion_program, zpass_state(), frame);
+        draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
       } else if (method_ == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
-        draw(obj, obj.geometry.sides, figure7_program, zpass_state(), frame);
-        draw(obj, obj.geometry.corrective, figure7_program, zpass_state(), frame);
+        draw(obj, obj.geometry->sides, figure7_program, zpass_state(), frame);
+        draw(obj, obj.geometry->corrective, figure7_program, zpass_state(), frame);
       } else if (method_ == ShadowMethod::Preload) {
         DrawState preload;
         preload.front = kUncountAlways;
@@ -191,16 +226,20 @@ class FrameRenderer {
       obj.mirrored = det < 0.0f;
       obj.occluder = so.occluder;
       if (so.occluder) {
-        obj.silhouette = engine_silhouette(scene_, o, light_);
-        obj.geometry = shadow_volume_geometry(*so.mesh, obj.silhouette);
-        for (QuadCase c : obj.silhouette.cases) {
+        if (!shared_.silhouettes[o]) {
+          shared_.silhouettes[o] = engine_silhouette(scene_, o, light_);
+          shared_.geometry[o] = shadow_volume_geometry(*so.mesh, *shared_.silhouettes[o]);
+        }
+        obj.silhouette = &*shared_.silhouettes[o];
+        obj.geometry = &*shared_.geometry[o];
+        for (QuadCase c : obj.silhouette->cases) {
           ++frame.float_cases[static_cast<std::size_t>(c)];
           obj.case_d = obj.case_d || c == QuadCase::D;
         }
         if (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty())
           frame.zfail_objects.push_back(o);
       }
-      camera_vertices_.push_back(mesh_vertices(*so.mesh));
+      if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
       objects_.push_back(std::move(obj));
     }
   }
@@ -214,7 +253,7 @@ class FrameRenderer {
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
-      frame.cap_pass += fb_.draw(run_program(camera_vertices_[o], obj.uniforms, near_cap_program),
+      frame.cap_pass += fb_.draw(run_program(shared_.vertices[o], obj.uniforms, near_cap_program),
                                  oriented(s, obj.mirrored), settings_.raster);
     }
   }
@@ -227,18 +266,18 @@ class FrameRenderer {
   }
 
   void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {
-    draw(obj, obj.geometry.sides, extrusion_program, s, frame);
-    draw(obj, obj.geometry.light_cap, extrusion_program, s, frame);
-    draw(obj, obj.geometry.dark_cap, extrusion_program, s, frame);
+    draw(obj, obj.geometry->sides, extrusion_program, s, frame);
+    draw(obj, obj.geometry->light_cap, extrusion_program, s, frame);
+    draw(obj, obj.geometry->dark_cap, extrusion_program, s, frame);
   }
 
   const Scene& scene_;
   std::size_t light_;
   ShadowMethod method_;
   EmulationSettings settings_;
+  SharedWork& shared_;
   Framebuffer fb_;
   std::vector<ObjectSetup> objects_;
-  std::vector<std::vector<ShadowVertex>> camera_vertices_;
 };
 
 }  // namespace
@@ -295,9 +334,20 @@ ZFailFar as_zfail_far(SwitchClamp c) {
 
 bool uses_near_cap(ShadowMethod m) { return m == ShadowMethod::ZPPlus || m == ShadowMethod::ZPPlusCorrected; }
 
+ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const EmulationSettings& settings)
+    : scene_(scene), light_(light), settings_(settings), shared_(std::make_unique<SharedWork>()) {
+  shared_->silhouettes.resize(scene.objects.size());
+  shared_->geometry.resize(scene.objects.size());
+}
+ShadowFrameBatch::~ShadowFrameBatch() = default;
+
+ShadowFrame ShadowFrameBatch::render(ShadowMethod method) {
+  return FrameRenderer(scene_, light_, method, settings_, *shared_).run();
+}
+
 ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMethod method,
                                 const EmulationSettings& settings) {
-  return FrameRenderer(scene, light, method, settings).run();
+  return ShadowFrameBatch(scene, light, settings).render(method);
 }
 
 }  // namespace nearcap::gl

@@ -35,6 +35,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -107,5 +108,30 @@ struct ShadowFrame {
 
 ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMethod method,
                                 const EmulationSettings& settings = {});
+
+// Several methods of one (scene, light, settings), sharing what they have in
+// common as an engine would within a frame: vertex arrays, the silhouettes
+// and shadow-volume geometry, and the depth pre-pass per projection (each
+// method's frame reports that pass's counters and time as its own).  Each
+// render(m) returns exactly what render_shadow_frame(scene, light, m,
+// settings) returns, times aside (tests/shadow_methods_test.cpp).  Keeps a
+// reference to the scene.
+class ShadowFrameBatch {
+ public:
+  ShadowFrameBatch(const Scene& scene, std::size_t light, const EmulationSettings& settings = {});
+  ~ShadowFrameBatch();
+  ShadowFrameBatch(const ShadowFrameBatch&) = delete;
+  ShadowFrameBatch& operator=(const ShadowFrameBatch&) = delete;
+
+  ShadowFrame render(ShadowMethod method);
+
+  struct SharedWork;  // src/gl/shadow_methods.cpp
+
+ private:
+  const Scene& scene_;
+  std::size_t light_;
+  EmulationSettings settings_;
+  std::unique_ptr<SharedWork> shared_;
+};
 
 }  // namespace nearcap::gl
