@@ -58,7 +58,7 @@ constexpr const char* kCaseNames[] = {"A", "B", "C1", "C2", "D", "degenerate"};
 }  // namespace
 
 std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuration, const SweepOptions& options) {
-  const Scene scene = parse_scene(configuration.scene_json, configuration.id, ".");
+  const Scene scene = parse_scene(configuration.scene_json, configuration.id, ".", options.meshes);
   const CameraSpaceScene cs(scene);
   const SceneClassification exact = classify_scene(cs);
   const CaseComparison engine = compare_engine_cases(cs, exact);

@@ -307,6 +307,8 @@ void run_sweep(const SweepCommandOptions& o) {
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
   options.settings = settings_from(o.emulation);
+  MeshCache meshes;
+  options.meshes = &meshes;
   const Configurations configurations(o);
   const std::uint64_t total = configurations.count();
   MpiWorld* const world_ptr = mpi_world();  // made by main

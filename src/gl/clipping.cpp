@@ -1,6 +1,8 @@
 // Homogeneous clipping (see clipping.hpp).
 #include "nearcap/gl/clipping.hpp"
 
+#include <array>
+
 #include <algorithm>
 
 namespace nearcap::gl {
@@ -35,6 +37,7 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
 std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
+  out.reserve(n + 1);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec4f& a = poly[k];
     const Vec4f& b = poly[(k + 1) % n];
@@ -55,19 +58,25 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
 }  // namespace
 
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
+  std::array<Plane, 6> planes{};
+  std::size_t count = 0;
+  planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
+  if (settings.clip_far) planes[count++] = Plane::Far;
+  for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
+  // Trivial accept: no plane separates any vertex (the common case); trivial
+  // reject: one plane has all three outside (clipping would leave nothing).
+  bool all_inside = true;
+  for (std::size_t k = 0; k < count; ++k) {
+    const float da = distance(a, planes[k], settings.guard_band, settings.w_min),
+                db = distance(b, planes[k], settings.guard_band, settings.w_min),
+                dc = distance(c, planes[k], settings.guard_band, settings.w_min);
+    if (da < 0 && db < 0 && dc < 0) return {};
+    all_inside = all_inside && da >= 0 && db >= 0 && dc >= 0;
+  }
   std::vector<Vec4f> poly{a, b, c};
-  std::vector<Plane> planes{settings.clip_near ? Plane::Near : Plane::WMin};
-  if (settings.clip_far) planes.push_back(Plane::Far);
-  for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes.push_back(p);
-  // Trivial accept: no plane separates any vertex (the common case).
-  const bool all_inside = std::all_of(planes.begin(), planes.end(), [&](Plane p) {
-    return distance(a, p, settings.guard_band, settings.w_min) >= 0 &&
-           distance(b, p, settings.guard_band, settings.w_min) >= 0 &&
-           distance(c, p, settings.guard_band, settings.w_min) >= 0;
-  });
   if (all_inside) return poly;
-  for (Plane p : planes) {
-    poly = clip_against(poly, p, settings.guard_band, settings.w_min);
+  for (std::size_t k = 0; k < count; ++k) {
+    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min);
     if (poly.size() < 3) return {};
   }
   return poly;

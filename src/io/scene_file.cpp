@@ -1,4 +1,7 @@
 // Scene files: JSON -> Scene, with every fault named by file and JSON path.
+#include "nearcap/io/scene_file.hpp"
+
+#include <sys/stat.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -24,7 +27,8 @@ using Json = nlohmann::json;
 
 class SceneReader {
  public:
-  SceneReader(std::string source, std::string base) : source_(std::move(source)), base_(std::move(base)) {}
+  SceneReader(std::string source, std::string base, MeshCache* cache)
+      : source_(std::move(source)), base_(std::move(base)), cache_(cache) {}
 
   [[noreturn]] void fail(ErrorKind kind, const std::string& where, const std::string& what) const {
     throw Error(kind, source_ + ": " + where + ": " + what);
@@ -209,20 +213,24 @@ class SceneReader {
     std::filesystem::path p(mesh.get<std::string>());
     if (p.is_relative()) p = std::filesystem::path(base_) / p;
     o.mesh_path = p.lexically_normal().string();
-    auto& slot = meshes[o.mesh_path];
     try {
+      if (cache_) {
+        o.mesh = cache_->get(o.mesh_path, o.occluder);
+        return o;
+      }
+      auto& slot = meshes[o.mesh_path];
       if (!slot) slot = std::make_shared<TriangleMesh>(read_mesh(o.mesh_path));
       if (o.occluder && !validated.count(o.mesh_path)) {
         validate_occluder(*slot);
         validated.insert(o.mesh_path);
       }
+      if (!slot->has_adjacency()) build_adjacency(*slot);
+      if (slot->face_planes.plane.size() != slot->triangles.size()) compute_face_planes(*slot);
+      o.mesh = slot;
     } catch (const Error& e) {
       // The mesh reader names the mesh file; say which object of which scene.
       throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + e.what());
     }
-    if (!slot->has_adjacency()) build_adjacency(*slot);
-    if (slot->face_planes.plane.size() != slot->triangles.size()) compute_face_planes(*slot);
-    o.mesh = slot;
     return o;
   }
 
@@ -275,6 +283,7 @@ class SceneReader {
  private:
   std::string source_;
   std::string base_;
+  MeshCache* cache_;
 };
 
 // nlohmann::json keeps the last of two equal keys; a scene file with one is
@@ -341,7 +350,8 @@ class DuplicateKeyCheck {
 
 }  // namespace
 
-Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory) {
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory,
+                  MeshCache* cache) {
   Json root;
   try {
     root = Json::parse(json_text, DuplicateKeyCheck(source));
@@ -352,12 +362,41 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   }
   Scene sc;
   try {
-    sc = SceneReader(source, base_directory).scene(root);
+    sc = SceneReader(source, base_directory, cache).scene(root);
   } catch (const nlohmann::json::exception& e) {
     throw Error(ErrorKind::Schema, source + ": " + e.what());
   }
   validate_scene_geometry(sc);
   return sc;
+}
+
+std::shared_ptr<const TriangleMesh> MeshCache::get(const std::string& path, bool occluder) {
+  struct stat st {};
+  const bool stated = ::stat(path.c_str(), &st) == 0;
+  const long long size = stated ? static_cast<long long>(st.st_size) : -1;
+  const long long mtime = stated ? static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec : -1;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  Entry& e = entries_[path];
+  if (!e.mesh || e.size != size || e.mtime_ns != mtime || !stated) {
+    e = Entry{};
+    auto mesh = std::make_shared<TriangleMesh>(read_mesh(path));
+    ++reads_;
+    build_adjacency(*mesh);
+    compute_face_planes(*mesh);
+    e.mesh = std::move(mesh);
+    e.size = size;
+    e.mtime_ns = mtime;
+  }
+  if (occluder && !e.validated) {
+    validate_occluder(*e.mesh);
+    e.validated = true;
+  }
+  return e.mesh;
+}
+
+std::size_t MeshCache::reads() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return reads_;
 }
 
 Scene load_scene(const std::string& path) {

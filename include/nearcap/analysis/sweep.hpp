@@ -20,6 +20,7 @@
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
 
 namespace nearcap::analysis {
 
@@ -62,6 +63,7 @@ struct SweepRow {
 struct SweepOptions {
   std::vector<gl::ShadowMethod> methods{gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
   gl::EmulationSettings settings;
+  MeshCache* meshes = nullptr;  // shared by the configurations (a path's frames read their mesh once)
 };
 
 // Loads the configuration's scene and runs every light and method.  Throws

@@ -1,6 +1,9 @@
 // nearcap/io/scene_file.hpp — scene files (JSON, README "Scene format") into Scene.
 #pragma once
 
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "nearcap/scene/scene.hpp"
@@ -17,7 +20,31 @@ namespace nearcap {
 // Throws nearcap::Error naming the file and the element.
 Scene load_scene(const std::string& path);
 
-// Same, from JSON text; mesh paths are resolved against `base_directory`.
-Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory);
+// Meshes read once for many scene files: a sweep's frames of one camera path
+// name the same 75k-triangle mesh hundreds of times.  Keyed by the resolved
+// path; a file whose size or modification time changed is read again; an
+// occluder's validation is done once too.  Thread-safe.
+class MeshCache {
+ public:
+  // The mesh, read, with adjacency and face planes, validated when `occluder`.
+  // Throws what reading or validating throws (the caller adds the context).
+  std::shared_ptr<const TriangleMesh> get(const std::string& path, bool occluder);
+  std::size_t reads() const;  // how many times a file was actually read
+
+ private:
+  struct Entry {
+    std::shared_ptr<TriangleMesh> mesh;
+    long long size = -1, mtime_ns = -1;
+    bool validated = false;
+  };
+  mutable std::mutex mutex_;
+  std::map<std::string, Entry> entries_;
+  std::size_t reads_ = 0;
+};
+
+// Same, from JSON text; mesh paths are resolved against `base_directory`;
+// meshes come from `cache` when one is given.
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory,
+                  MeshCache* cache = nullptr);
 
 }  // namespace nearcap
