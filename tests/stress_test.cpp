@@ -21,6 +21,7 @@
 #include "nearcap/exact/near_cap.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "zpass_identity.hpp"
 
@@ -113,7 +114,7 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
   const std::uint64_t seed = announced_seed();
   const std::uint64_t count = env_or("NEARCAP_STRESS_COUNT", 2000);
   const analysis::HardCaseSampler sampler = stress_sampler(seed);
-  std::map<std::string, std::size_t> wrong, fallbacks, refused;
+  std::map<std::string, std::size_t> wrong, cracks, fallbacks, refused;
   std::size_t pixels = 0, scenes = 0, switches = 0, switched_wrong = 0, switched_wrong_clamp_far = 0;
   for (std::uint64_t k = 0; k < count; ++k) {
     const analysis::HardCase sample = sampler.sample(k);
@@ -127,7 +128,9 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
     }
     ++scenes;
     const CameraSpaceScene cs(scene);
-    const PixelReference ref = compute_pixel_reference(cs, 0);
+    const PixelReferenceTracer tracer(cs, 0);
+    const PixelReference ref = compute_pixel_reference(tracer);
+    CrackDistances distances(tracer, ref);
     for (std::uint32_t seen : ref.stencil) pixels += seen != PixelReference::kNothingSeen;
     const gl::ShadowFrame zfail = gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail);
     for (gl::ShadowMethod m : gl::kAllShadowMethods) {
@@ -144,7 +147,11 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
         ++refused[name];
         continue;
       }
-      wrong[name] += judge_frame(f, ref).wrong;
+      CrackReport report = judge_frame(f, ref);
+      distances.measure(report);
+      wrong[name] += report.wrong;
+      cracks[name] += *report.cracks;
+      ASSERT_LE(*report.cracks, report.wrong);
       if (m == gl::ShadowMethod::Preload) {
         ASSERT_EQ(f.stencil, zfail.stencil) << "configuration " << k << ", seed " << seed << "\n" << json;
       }
@@ -165,8 +172,8 @@ TEST(Stress, FloatPipelineOnHardConfigurations) {
   }
   std::printf("  %zu configurations, %zu pixels seen\n", scenes, pixels);
   for (const auto& [name, n] : wrong)
-    std::printf("  %-17s %zu wrong pixels, %zu fallbacks to zfail, %zu frames refused\n", name.c_str(), n,
-                fallbacks[name], refused[name]);
+    std::printf("  %-17s %zu wrong pixels (%zu cracks), %zu fallbacks to zfail, %zu frames refused\n", name.c_str(), n,
+                cracks[name], fallbacks[name], refused[name]);
   std::printf(
       "  zpplus-corrected switched to zfail (case D) in %zu configurations: %zu wrong pixels there "
       "with GL_DEPTH_CLAMP, %zu with far-only clamp\n",
