@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates the README's pictures (data/pictures/*.png) from bundled scenes:
+# Regenerates the README's pictures (data/pictures/*.png) from bundled scenes
+# and a small sweep (its report's figures):
 # runs nearcap on them into out/pictures-work/, then draws the PNGs with
 # matplotlib (analysis/pictures/readme_pictures.py; Debian's /usr/bin/python3, where
 # python3-matplotlib is).  Needs a build (./scripts/build.sh).
@@ -14,3 +15,8 @@ $n reference data/scenes/near_cap_bunny_wall.json --light 0 --out "$work/bunny_w
 $n cracks data/scenes/near_cap_bunny_wall.json --light 0 --method zpplus --out "$work/bunny_wall_zpplus" >/dev/null
 $n cracks data/scenes/case_d.json --light 0 --method zpplus-corrected --out "$work/case_d_corrected" >/dev/null
 /usr/bin/python3 analysis/pictures/readme_pictures.py "$work" data/pictures
+# The sweep report's figures: the near-plane sweep path and 100 hard cases.
+$n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv" >/dev/null 2>&1
+$n report "$work/sweep.csv" --out "$work/report" >/dev/null
+cp "$work/report/path_near_plane_sweep.png" data/pictures/report_near_plane_sweep.png
+cp "$work/report/pareto.png" data/pictures/report_pareto.png

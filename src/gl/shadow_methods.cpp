@@ -109,6 +109,7 @@ struct ShadowFrameBatch::SharedWork {
   std::vector<std::optional<EngineSilhouette>> silhouettes;
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
+  double silhouette_ms = 0;  // computing silhouettes and geometry, once
 };
 
 namespace {
@@ -142,7 +143,9 @@ class FrameRenderer {
     const Mat4f projection =
         infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
     prepare_objects(projection, frame);
-    frame.times.setup_ms = ms_since(t_setup);
+    // Every method's setup includes the silhouettes and volume geometry, also
+    // when an earlier method of the batch computed them.
+    frame.times.setup_ms = ms_since(t_setup) - computed_here_ms_ + shared_.silhouette_ms;
 
     // The depth pre-pass: the same for every method with this projection.
     std::optional<SharedWork::DepthPass>& depth = shared_.depth[infinite ? 1 : 0];
@@ -227,8 +230,12 @@ class FrameRenderer {
       obj.occluder = so.occluder;
       if (so.occluder) {
         if (!shared_.silhouettes[o]) {
+          const auto t = Clock::now();
           shared_.silhouettes[o] = engine_silhouette(scene_, o, light_);
           shared_.geometry[o] = shadow_volume_geometry(*so.mesh, *shared_.silhouettes[o]);
+          const double ms = ms_since(t);
+          shared_.silhouette_ms += ms;
+          computed_here_ms_ += ms;
         }
         obj.silhouette = &*shared_.silhouettes[o];
         obj.geometry = &*shared_.geometry[o];
@@ -276,6 +283,7 @@ class FrameRenderer {
   ShadowMethod method_;
   EmulationSettings settings_;
   SharedWork& shared_;
+  double computed_here_ms_ = 0;  // of shared_.silhouette_ms
   Framebuffer fb_;
   std::vector<ObjectSetup> objects_;
 };

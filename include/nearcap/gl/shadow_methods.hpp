@@ -112,7 +112,8 @@ ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMet
 // Several methods of one (scene, light, settings), sharing what they have in
 // common as an engine would within a frame: vertex arrays, the silhouettes
 // and shadow-volume geometry, and the depth pre-pass per projection (each
-// method's frame reports that pass's counters and time as its own).  Each
+// method's frame reports that pass's counters and time, and the silhouettes'
+// time in its setup, as its own: frame times stay comparable).  Each
 // render(m) returns exactly what render_shadow_frame(scene, light, m,
 // settings) returns, times aside (tests/shadow_methods_test.cpp).  Keeps a
 // reference to the scene.
