@@ -2,7 +2,9 @@
 // a resumed sweep equal to an uninterrupted one, replaying a row alone, and
 // the errors of a bad invocation.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <map>
 
 #include <filesystem>
 #include <fstream>
@@ -124,6 +126,36 @@ TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
   }
   EXPECT_GT(rows, 300u);
   EXPECT_GT(with_cracks, 0u);
+}
+
+// --variant runs every method again under other named choices; each row says
+// which; the variants' rows differ only where the choice matters.
+TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
+  const test::CliResult r = test::run_cli(
+      "sweep --path data/paths/near_plane_sweep.json --width 16 --height 12 --variant light-projection=glfrustum "
+      "--variant zfail-far=clamp-far --out " +
+          path("v.csv"),
+      "sweep_variants");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::stringstream in(test::slurp(path("v.csv")));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  ASSERT_EQ(header[6], "variant");
+  std::map<std::string, int> per_variant;
+  while (std::getline(in, line)) ++per_variant[split(line)[6]];
+  EXPECT_EQ(per_variant.size(), 3u);
+  EXPECT_EQ(per_variant["default"], 60 * 5);
+  EXPECT_EQ(per_variant["light-projection=glfrustum"], 60 * 5);
+  EXPECT_EQ(per_variant["zfail-far=clamp-far"], 60 * 5);
+  for (const char* bad : {"--variant bogus=1", "--variant depth=float16", "--variant subpixel-bits=x",
+                          "--variant zfail-far=clamp-far --variant zfail-far=clamp-far"}) {
+    const test::CliResult b =
+        test::run_cli("sweep --samples 2 " + std::string(bad) + " --out " + path("bad.csv"), "sweep_bad_variant");
+    EXPECT_EQ(b.exit_code, 2) << bad;
+    EXPECT_NE(b.err.find("--variant"), std::string::npos) << bad << ": " << b.err;
+    EXPECT_FALSE(fs::exists(path("bad.csv"))) << bad;
+  }
 }
 
 // The sweep sharded over two MPI ranks (mpirun, Open MPI) writes exactly the

@@ -65,7 +65,7 @@ INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
 FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"] + \
                 [f for f, _ in FEATURES]
-REQUIRED = ["configuration", "source", "kind", "detail", "method", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
+REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + [p + "_" + c for p in ("depth", "near_cap", "volume")
                             for c in ("fragments", "depth_pass", "depth_fail")]
 
@@ -114,6 +114,9 @@ def read_rows(files):
                 if r["refused"]:
                     refused.append(r)
                     continue
+                # A method under a non-default variant is its own series: "zpplus [light-projection=glfrustum]".
+                if r["variant"] != "default":
+                    r["method"] = f'{r["method"]} [{r["variant"]}]'
                 key = (r["configuration"], r["light"], r["method"])
                 if key in seen:
                     raise ReportError("parse", f"{name}: line {line}: a second row for configuration "
@@ -127,13 +130,19 @@ def read_rows(files):
 
 def methods_of(rows):
     present = {r["method"] for r in rows}
-    return [m for m in METHOD_ORDER if m in present] + sorted(present - set(METHOD_ORDER))
+    order = {m: k for k, m in enumerate(METHOD_ORDER)}
+    return sorted(present, key=lambda m: (order.get(m.split(" [")[0], len(order)), m))
 
 
 def colour(method):
     palette = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
                "preload": "#9467bd"}
-    return palette.get(method, "#7f7f7f")
+    if method in palette:
+        return palette[method]
+    # A variant: its method's hue, darker.
+    base = palette.get(method.split(" [")[0], "#7f7f7f")
+    r, g, b = (int(base[k:k + 2], 16) for k in (1, 3, 5))
+    return f"#{r * 3 // 5:02x}{g * 3 // 5:02x}{b * 3 // 5:02x}"
 
 
 class Report:

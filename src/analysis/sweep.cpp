@@ -70,63 +70,66 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
     const double reference_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     CrackDistances distances(tracer, ref);
-    const ConditioningFeatures features =
-        conditioning_features(cs, light, options.settings.light_frustum, options.settings.arithmetic);
     std::array<std::size_t, kQuadCaseCount> exact_cases{};
     for (const ObjectClassification& o : exact.lights[light].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
-    gl::ShadowFrameBatch batch(scene, light, options.settings);
-    for (gl::ShadowMethod m : options.methods) {
-      SweepRow r;
-      r.configuration = configuration.id;
-      r.source = configuration.source;
-      r.kind = configuration.kind;
-      r.detail = configuration.detail;
-      r.replay = configuration.replay;
-      r.light = light;
-      r.method = std::string(to_string(m));
-      r.exact_cases = exact_cases;
-      r.case_disagreements = engine.total(light);
-      r.reference_ms = reference_ms;
-      r.features = features;
-      gl::ShadowFrame frame;
-      try {
-        frame = batch.render(m);
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Range) throw;
-        r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)
-        r.fallback = std::string("refused: ") + e.what();
+    for (const SweepVariant& variant : options.variants) {
+      const ConditioningFeatures features =
+          conditioning_features(cs, light, variant.settings.light_frustum, variant.settings.arithmetic);
+      gl::ShadowFrameBatch batch(scene, light, variant.settings);
+      for (gl::ShadowMethod m : options.methods) {
+        SweepRow r;
+        r.variant = variant.name;
+        r.configuration = configuration.id;
+        r.source = configuration.source;
+        r.kind = configuration.kind;
+        r.detail = configuration.detail;
+        r.replay = configuration.replay;
+        r.light = light;
+        r.method = std::string(to_string(m));
+        r.exact_cases = exact_cases;
+        r.case_disagreements = engine.total(light);
+        r.reference_ms = reference_ms;
+        r.features = features;
+        gl::ShadowFrame frame;
+        try {
+          frame = batch.render(m);
+        } catch (const Error& e) {
+          if (e.kind() != ErrorKind::Range) throw;
+          r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)
+          r.fallback = std::string("refused: ") + e.what();
+          rows.push_back(std::move(r));
+          continue;
+        }
+        CrackReport report = judge_frame(frame, ref);
+        const double measured_before = distances.ms();
+        distances.measure(report);
+        r.float_cases = frame.float_cases;
+        r.pixels_seen = report.pixels_seen;
+        r.wrong = report.wrong;
+        r.wrong_lit = report.wrong_lit;
+        r.wrong_shadowed = report.wrong_shadowed;
+        r.count_mismatch = report.count_mismatch;
+        r.cracks = *report.cracks;
+        r.wrong_by_distance = *report.wrong_by_distance;
+        r.crack_distance_ms = distances.ms() - measured_before;
+        r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
+        r.visibility_mismatch = report.visibility_mismatch;
+        r.fallback = frame.fallback;
+        r.zfail_objects = frame.zfail_objects.size();
+        r.setup = {0, 0, 0, frame.times.setup_ms};
+        r.depth = work(frame.depth_pass, frame.times.depth_ms);
+        r.near_cap = work(frame.cap_pass, frame.times.cap_ms);
+        r.volume = work(frame.volume_pass, frame.times.volume_ms);
         rows.push_back(std::move(r));
-        continue;
       }
-      CrackReport report = judge_frame(frame, ref);
-      const double measured_before = distances.ms();
-      distances.measure(report);
-      r.float_cases = frame.float_cases;
-      r.pixels_seen = report.pixels_seen;
-      r.wrong = report.wrong;
-      r.wrong_lit = report.wrong_lit;
-      r.wrong_shadowed = report.wrong_shadowed;
-      r.count_mismatch = report.count_mismatch;
-      r.cracks = *report.cracks;
-      r.wrong_by_distance = *report.wrong_by_distance;
-      r.crack_distance_ms = distances.ms() - measured_before;
-      r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
-      r.visibility_mismatch = report.visibility_mismatch;
-      r.fallback = frame.fallback;
-      r.zfail_objects = frame.zfail_objects.size();
-      r.setup = {0, 0, 0, frame.times.setup_ms};
-      r.depth = work(frame.depth_pass, frame.times.depth_ms);
-      r.near_cap = work(frame.cap_pass, frame.times.cap_ms);
-      r.volume = work(frame.volume_pass, frame.times.volume_ms);
-      rows.push_back(std::move(r));
     }
   }
   return rows;
 }
 
 std::string csv_header() {
-  std::string h = "configuration,source,kind,detail,light,method";
+  std::string h = "configuration,source,kind,detail,light,method,variant";
   for (const char* c : kCaseNames) h += std::string(",exact_") + c;
   for (const char* c : kCaseNames)
     if (std::string(c) != "degenerate") h += std::string(",float_") + c;
@@ -146,7 +149,7 @@ std::string csv_header() {
 std::string csv_line(const SweepRow& r) {
   std::ostringstream s;
   s << csv_field(r.configuration) << ',' << csv_field(r.source) << ',' << csv_field(r.kind) << ','
-    << csv_field(r.detail) << ',' << r.light << ',' << r.method;
+    << csv_field(r.detail) << ',' << r.light << ',' << r.method << ',' << csv_field(r.variant);
   for (std::size_t c = 0; c < kQuadCaseCount; ++c) s << ',' << r.exact_cases[c];
   for (std::size_t c = 0; c + 1 < kQuadCaseCount; ++c) s << ',' << r.float_cases[c];
   s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.cracks << ',' << r.wrong_lit

@@ -59,6 +59,13 @@ struct EmulationOptions {
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
+// `base` with the choices of a variant spec "NAME=VALUE[,NAME=VALUE...]"
+// overridden (NAME: an emulation option without its dashes, e.g.
+// "light-projection=glfrustum,l-near-scale=0.5"; fma=1 or fma=0).  Throws
+// Error(Usage) naming an unknown name or a bad value.
+EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec);
+// The choices that differ from the defaults, as a variant spec; "default" when none.
+std::string variant_label(const EmulationOptions& options);
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 

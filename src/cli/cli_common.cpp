@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <initializer_list>
+#include <sstream>
+#include <utility>
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
@@ -78,6 +81,104 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->check(CLI::IsMember({"clamp", "clamp-far"}))
       ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
+}
+
+namespace {
+
+// The emulation options by name, as text: what a variant spec overrides.
+std::vector<std::pair<std::string, std::string>> option_values(const EmulationOptions& o) {
+  auto number = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  return {{"subpixel-bits", std::to_string(o.subpixel_bits)},
+          {"depth", o.depth},
+          {"fill-rule", o.fill_rule},
+          {"guard-band", number(o.guard_band)},
+          {"light-projection", o.light_projection},
+          {"l-near-scale", number(o.l_near_scale)},
+          {"zfail-far", o.zfail_far},
+          {"switch-clamp", o.switch_clamp},
+          {"fma", o.fma ? "1" : "0"}};
+}
+
+double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size())
+    throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not a number");
+  return v;
+}
+
+void need_one_of(const std::string& spec, const std::string& name, const std::string& value,
+                 std::initializer_list<const char*> allowed) {
+  for (const char* a : allowed)
+    if (value == a) return;
+  std::string list;
+  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not one of " + list);
+}
+
+}  // namespace
+
+EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec) {
+  EmulationOptions o = base;
+  std::stringstream parts(spec);
+  std::string part;
+  bool any = false;
+  while (std::getline(parts, part, ',')) {
+    const std::size_t eq = part.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': expected NAME=VALUE, got '" + part + "'");
+    const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
+    any = true;
+    if (name == "subpixel-bits") {
+      o.subpixel_bits = static_cast<int>(parse_number(spec, name, value));
+    } else if (name == "depth") {
+      need_one_of(spec, name, value, {"fixed24", "float32"});
+      o.depth = value;
+    } else if (name == "fill-rule") {
+      need_one_of(spec, name, value, {"bottom-left", "top-left"});
+      o.fill_rule = value;
+    } else if (name == "guard-band") {
+      o.guard_band = static_cast<float>(parse_number(spec, name, value));
+    } else if (name == "light-projection") {
+      need_one_of(spec, name, value, {"paper", "glfrustum"});
+      o.light_projection = value;
+    } else if (name == "l-near-scale") {
+      o.l_near_scale = parse_number(spec, name, value);
+    } else if (name == "zfail-far") {
+      need_one_of(spec, name, value, {"infinite", "clamp", "clamp-far"});
+      o.zfail_far = value;
+    } else if (name == "switch-clamp") {
+      need_one_of(spec, name, value, {"clamp", "clamp-far"});
+      o.switch_clamp = value;
+    } else if (name == "fma") {
+      need_one_of(spec, name, value, {"0", "1"});
+      o.fma = value == "1";
+    } else {
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
+                                        "' (subpixel-bits, depth, fill-rule, guard-band, light-projection, "
+                                        "l-near-scale, zfail-far, switch-clamp, fma)");
+    }
+  }
+  if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
+  settings_from(o);  // the ranges
+  return o;
+}
+
+std::string variant_label(const EmulationOptions& options) {
+  const auto now = option_values(options), defaults = option_values(EmulationOptions{});
+  std::string label;
+  for (std::size_t k = 0; k < now.size(); ++k)
+    if (now[k].second != defaults[k].second) label += (label.empty() ? "" : ",") + now[k].first + "=" + now[k].second;
+  return label.empty() ? "default" : label;
 }
 
 gl::EmulationSettings settings_from(const EmulationOptions& o) {

@@ -102,6 +102,7 @@ struct SweepCommandOptions {
   int width = 0, height = 0;  // 0: each path's own viewport, the sampler's 48 x 36
   std::string methods = "all";
   EmulationOptions emulation;
+  std::vector<std::string> variants;
   std::string out;
   bool resume = false;
 };
@@ -306,7 +307,16 @@ void run_sweep(const SweepCommandOptions& o) {
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
-  options.settings = settings_from(o.emulation);
+  // The options' own choices, then each --variant over them.
+  options.variants = {{variant_label(o.emulation), settings_from(o.emulation)}};
+  std::set<std::string> names{options.variants.front().name};
+  for (const std::string& spec : o.variants) {
+    const EmulationOptions v = with_variant(o.emulation, spec);
+    const std::string name = variant_label(v);
+    if (!names.insert(name).second)
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "' repeats the variant " + name);
+    options.variants.push_back({name, settings_from(v)});
+  }
   MeshCache meshes;
   options.meshes = &meshes;
   const Configurations configurations(o);
@@ -393,6 +403,9 @@ void register_sweep(CLI::App& app) {
   cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)");
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   add_emulation_options(*cmd, o->emulation);
+  cmd->add_option("--variant", o->variants,
+                  "run every method under these choices too, NAME=VALUE[,...] over the options above "
+                  "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
   cmd->add_option("--out", o->out, "the results CSV")->required();
   cmd->add_flag("--resume", o->resume, "continue the sweep already in --out");
   cmd->callback([o] { run_sweep(*o); });

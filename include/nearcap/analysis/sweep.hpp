@@ -42,6 +42,7 @@ struct SweepRow {
   std::string configuration, source, kind, detail, replay;
   std::size_t light = 0;
   std::string method;
+  std::string variant = "default";
   std::array<std::size_t, kQuadCaseCount> exact_cases{};  // all occluders, this light
   std::array<std::size_t, kQuadCaseCount> float_cases{};  // the engine's (never degenerate)
   std::size_t case_disagreements = 0;
@@ -60,13 +61,21 @@ struct SweepRow {
   ConditioningFeatures features;  // this (frame, light), the same for every method
 };
 
+// A named set of the float pipeline's choices (P_l formulation, l_near scale,
+// Z-fail far mode, sub-pixel bits, depth format, FMA, ...): every method runs
+// under each variant of a sweep.
+struct SweepVariant {
+  std::string name = "default";  // "default", or the choices that differ ("light-projection=glfrustum")
+  gl::EmulationSettings settings;
+};
+
 struct SweepOptions {
   std::vector<gl::ShadowMethod> methods{gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
-  gl::EmulationSettings settings;
+  std::vector<SweepVariant> variants{SweepVariant{}};
   MeshCache* meshes = nullptr;  // shared by the configurations (a path's frames read their mesh once)
 };
 
-// Loads the configuration's scene and runs every light and method.  Throws
+// Loads the configuration's scene and runs every light, variant and method.  Throws
 // nearcap::Error when the scene does not load (a sampler's light inside an
 // occluder, say): the caller records the configuration as rejected.
 std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuration, const SweepOptions& options);
