@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 
@@ -411,6 +416,45 @@ TEST(SceneErrors, CoordinatesBeyondTheFloatPipelineAreARangeError) {
   j = minimal_scene();
   j["lights"][0]["position"] = {0, 0x1p41, 0};
   expect_error(j, ErrorKind::Range, "lights[0]");
+}
+
+}  // namespace
+}  // namespace nearcap
+
+namespace nearcap {
+namespace {
+
+// A sweep's mesh cache: one read for many scenes; a changed file is read
+// again; an occluder mesh that fails validation fails every scene naming it.
+TEST(MeshCache, ReadsOnceAndAgainWhenTheFileChanges) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("nearcap_mesh_cache_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::copy_file(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off", dir / "m.off",
+                fs::copy_options::overwrite_existing);
+  const std::string json = R"({"camera":{"eye":[0,0,5],"target":[0,0,0],"fovy_deg":50,"near":0.5,"far":50,
+    "width":8,"height":6},"lights":[{"position":[3,4,5]}],"objects":[{"mesh":"m.off"},{"mesh":"m.off","translate":[3,0,0]}]})";
+  MeshCache cache;
+  const Scene a = parse_scene(json, "a", dir.string(), &cache);
+  const Scene b = parse_scene(json, "b", dir.string(), &cache);
+  EXPECT_EQ(cache.reads(), 1u);
+  EXPECT_EQ(a.objects[0].mesh.get(), b.objects[1].mesh.get());
+  EXPECT_TRUE(a.objects[0].mesh->has_adjacency());
+  // Replace the file by a different mesh (an open one: not a valid occluder).
+  {
+    std::ofstream f(dir / "m.off");
+    f << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  }
+  fs::last_write_time(dir / "m.off", fs::last_write_time(dir / "m.off") + std::chrono::seconds(2));
+  try {
+    parse_scene(json, "c", dir.string(), &cache);
+    ADD_FAILURE() << "an open occluder mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Mesh) << e.what();
+    EXPECT_NE(std::string(e.what()).find("objects[0]"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(cache.reads(), 2u);
+  fs::remove_all(dir);
 }
 
 }  // namespace
