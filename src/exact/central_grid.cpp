@@ -2,8 +2,10 @@
 #include "nearcap/exact/central_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace nearcap {
 namespace {
@@ -73,28 +75,40 @@ double distance_to_origin(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   return norm(a + Vec3d{v * ab.x + w * ac.x, v * ab.y + w * ac.y, v * ab.z + w * ac.z});
 }
 
-// Clips a convex polygon (coordinates relative to the centre) to the half-space
+// A polygon on the stack: no allocation per clip.  A triangle clipped by 4
+// planes has at most 7 vertices; each clip at most doubles the count even
+// when rounding makes the polygon slightly non-convex, so 3 * 2^4 = 48 always
+// suffice.
+struct SmallPolygon {
+  std::array<Vec3d, 48> v;
+  std::size_t n = 0;
+  void push(const Vec3d& p) { v[n++] = p; }
+};
+
+// Clips a polygon (coordinates relative to the centre) to the half-space
 // s * w[axis] >= w[other] * t for t = +1 or -1: one side of the face's cone.
-std::vector<Vec3d> clip_to_cone_side(const std::vector<Vec3d>& poly, const FaceAxes& ax, int other, double t) {
-  std::vector<Vec3d> out;
-  const std::size_t n = poly.size();
+void clip_to_cone_side(const SmallPolygon& poly, const FaceAxes& ax, int other, double t, SmallPolygon& out) {
+  out.n = 0;
+  const std::size_t n = poly.n;
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec3d& a = poly[k];
-    const Vec3d& b = poly[(k + 1) % n];
+    const Vec3d& a = poly.v[k];
+    const Vec3d& b = poly.v[k + 1 == n ? 0 : k + 1];
     const double fa = ax.sign * a[ax.axis] - t * a[other];
     const double fb = ax.sign * b[ax.axis] - t * b[other];
-    if (fa >= 0) out.push_back(a);
+    if (fa >= 0) out.push(a);
     if ((fa >= 0) != (fb >= 0)) {
       const double s = fa / (fa - fb);
-      out.push_back(Vec3d{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z + s * (b.z - a.z)});
+      out.push(Vec3d{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z + s * (b.z - a.z)});
     }
   }
-  return out;
 }
 
-FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double centre_error, int f) {
+// `scratch`: two polygon buffers, made once by the caller (zeroing 2 KB per
+// call would cost more than the clipping).
+FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double centre_error, int f,
+                    std::array<SmallPolygon, 2>& scratch) {
   const FaceAxes ax = face_axes(f);
-  std::vector<Vec3d> w(3);
+  std::array<Vec3d, 3> w;
   double mag = 0;
   for (int i = 0; i < 3; ++i) {
     w[i] = t.vertex[i] - centre;
@@ -118,12 +132,17 @@ FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double 
   // the cone is opened by a relative margin so that clipping in double never
   // loses a part of the exact triangle that the exact cone holds.
   const double open = 1.0 + 0x1p-20;
-  std::vector<Vec3d> poly = w;
+  SmallPolygon* in = &scratch[0];
+  SmallPolygon* out_poly = &scratch[1];
+  in->n = 0;
+  for (const Vec3d& p : w) in->push(p);
   for (int other : {ax.u, ax.v})
     for (double side : {1.0 / open, -1.0 / open}) {
-      if (poly.empty()) break;
-      poly = clip_to_cone_side(poly, ax, other, side);
+      if (in->n == 0) break;
+      clip_to_cone_side(*in, ax, other, side, *out_poly);
+      std::swap(in, out_poly);
     }
+  const SmallPolygon& poly = *in;
   // Near the apex the cone opening no longer covers the input error: a
   // triangle passing that close to the centre is listed everywhere.
   const double apex = 0x1p22 * err;
@@ -131,10 +150,11 @@ FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double 
     out.placement = Placement::Whole;
     return out;
   }
-  if (poly.empty()) return out;  // no point of the exact triangle lies in the exact cone
+  if (poly.n == 0) return out;  // no point of the exact triangle lies in the exact cone
   Box b{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
         std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const Vec3d& v : poly) {
+  for (std::size_t k = 0; k < poly.n; ++k) {
+    const Vec3d& v = poly.v[k];
     const double m = ax.sign * v[ax.axis];
     const double u = v[ax.u] / m, vv = v[ax.v] / m;
     const double denom = m - err;
@@ -170,12 +190,13 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
 
   std::vector<FacePlacement> placements(triangles.size());
+  auto scratch = std::make_unique<std::array<SmallPolygon, 2>>();
   for (int f = 0; f < 6; ++f) {
     Face& face = faces_[f];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
     std::size_t boxed = 0;
     for (std::size_t i = 0; i < triangles.size(); ++i) {
-      placements[i] = place(triangles[i], centre_, centre_error_, f);
+      placements[i] = place(triangles[i], centre_, centre_error_, f, *scratch);
       if (placements[i].placement != Placement::Boxed) continue;
       ++boxed;
       const Box& b = placements[i].box;

@@ -100,6 +100,10 @@ struct PixelReferenceTracer::Impl {
 
   Impl(const CameraSpaceScene& scene, std::size_t k) : cs(scene), light(k) {
     std::vector<CentralGrid::Triangle> eye_items, light_items;
+    std::size_t total = 0;
+    for (std::size_t o = 0; o < cs.object_count(); ++o) total += cs.mesh(o).triangles.size();
+    eye.reserve(total);
+    eye_items.reserve(total);
     const BoundedVec3& l = cs.light(light);
     for (std::size_t o = 0; o < cs.object_count(); ++o) {
       const TriangleMesh& mesh = cs.mesh(o);
