@@ -53,6 +53,7 @@ struct EmulationOptions {
   std::string fill_rule = "bottom-left";
   float guard_band = 1.0f;
   std::string light_projection = "paper";
+  std::string l_near = "paper-ratio";
   double l_near_scale = 1.0;
   std::string zfail_far = "infinite";
   std::string switch_clamp = "clamp";

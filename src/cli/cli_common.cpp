@@ -70,7 +70,12 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--light-projection", o.light_projection, "P_l formulation: paper or glfrustum")
       ->check(CLI::IsMember({"paper", "glfrustum"}))
       ->capture_default_str();
-  cmd.add_option("--l-near-scale", o.l_near_scale, "l_near = scale * l_far * min(d / d_max, 1/2)")
+  cmd.add_option("--l-near", o.l_near,
+                 "how ZP+'s light frustum picks l_near: paper-ratio (l_far min(d / d_max, 1/2)), exact-max (the "
+                 "largest admissible, exactly, capped at l_far / 2) or near-clamp (depth clamp at the near side)")
+      ->check(CLI::IsMember({"paper-ratio", "exact-max", "near-clamp"}))
+      ->capture_default_str();
+  cmd.add_option("--l-near-scale", o.l_near_scale, "l_near multiplied by this safety margin in (0, 1]")
       ->capture_default_str();
   cmd.add_option("--zfail-far", o.zfail_far,
                  "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP) or clamp-far (far plane only)")
@@ -97,6 +102,7 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"fill-rule", o.fill_rule},
           {"guard-band", number(o.guard_band)},
           {"light-projection", o.light_projection},
+          {"l-near", o.l_near},
           {"l-near-scale", number(o.l_near_scale)},
           {"zfail-far", o.zfail_far},
           {"switch-clamp", o.switch_clamp},
@@ -151,6 +157,9 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "light-projection") {
       need_one_of(spec, name, value, {"paper", "glfrustum"});
       o.light_projection = value;
+    } else if (name == "l-near") {
+      need_one_of(spec, name, value, {"paper-ratio", "exact-max", "near-clamp"});
+      o.l_near = value;
     } else if (name == "l-near-scale") {
       o.l_near_scale = parse_number(spec, name, value);
     } else if (name == "zfail-far") {
@@ -165,7 +174,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
                                         "' (subpixel-bits, depth, fill-rule, guard-band, light-projection, "
-                                        "l-near-scale, zfail-far, switch-clamp, fma)");
+                                        "l-near, l-near-scale, zfail-far, switch-clamp, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -196,8 +205,12 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
       o.light_projection == "paper" ? gl::LightProjection::Paper : gl::LightProjection::GlFrustum;
   if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
     throw Error(ErrorKind::Usage,
-                "--l-near-scale must be in (0, 1] (l_near beyond l_far d / d_max clips the occluder)");
+                "--l-near-scale must be in (0, 1] (a margin below the rule's l_near; above it clips the occluder)");
   s.light_frustum.near_scale = o.l_near_scale;
+  const auto rule = gl::light_near_rule_from_string(o.l_near);
+  if (!rule)
+    throw Error(ErrorKind::Usage, "--l-near '" + o.l_near + "' is not one of paper-ratio, exact-max, near-clamp");
+  s.light_frustum.near_rule = *rule;
   s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
   s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
   return s;

@@ -3,6 +3,9 @@
 
 #include <glm/glm.hpp>
 
+#include "nearcap/error.hpp"
+#include "nearcap/exact/light_pyramid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,7 +45,23 @@ bool all_finite(const Mat4f& m) {
 }  // namespace
 
 std::string_view to_string(LightProjection p) { return p == LightProjection::Paper ? "paper" : "glfrustum"; }
-std::string_view to_string(LightNearRule) { return "paper-ratio"; }
+std::string_view to_string(LightNearRule r) {
+  switch (r) {
+    case LightNearRule::PaperRatio:
+      return "paper-ratio";
+    case LightNearRule::ExactMax:
+      return "exact-max";
+    case LightNearRule::NearClamp:
+      return "near-clamp";
+  }
+  return "?";
+}
+
+std::optional<LightNearRule> light_near_rule_from_string(std::string_view name) {
+  for (LightNearRule r : {LightNearRule::PaperRatio, LightNearRule::ExactMax, LightNearRule::NearClamp})
+    if (to_string(r) == name) return r;
+  return std::nullopt;
+}
 
 Vec4f light_in_camera_space(const Scene& scene, std::size_t light) {
   glm::mat4 view(1.0f);  // column-major, as engine_classification.cpp builds it
@@ -83,17 +102,45 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
   const float alpha = static_cast<float>(lf.alpha);
   lf.l_far = alpha * side;
 
-  // d and d_max in double and both in camera space: they only have to bound
-  // the light pyramid.
-  lf.d = distance_to_occluders(scene, scene.lights[light].position);
-  const Vec3d l_cam{lf.delta.x, lf.delta.y, lf.delta.z};
-  for (double x : {f.left, f.right})
-    for (double y : {f.bottom, f.top}) lf.d_max = std::max(lf.d_max, length(Vec3d{x, y, -f.near} - l_cam));
-  // The ratio is capped at 1/2 whenever it exceeds 1/2 (not only when
-  // d >= d_max, where the paper's l_near would reach l_far): an l_near close
-  // to l_far leaves P_l's depth row, (l_near + l_far) / (l_near - l_far),
-  // ill-conditioned, and the far plane clips the occluder at the near rectangle.
-  lf.l_near = static_cast<float>(choice.near_scale * lf.l_far * std::min(lf.d / lf.d_max, kMaxNearRatio));
+  double l_near = 0;
+  switch (choice.near_rule) {
+    case LightNearRule::PaperRatio: {
+      // d and d_max in double and both in camera space: they only have to
+      // bound the light pyramid.
+      lf.d = distance_to_occluders(scene, scene.lights[light].position);
+      const Vec3d l_cam{lf.delta.x, lf.delta.y, lf.delta.z};
+      for (double x : {f.left, f.right})
+        for (double y : {f.bottom, f.top}) lf.d_max = std::max(lf.d_max, length(Vec3d{x, y, -f.near} - l_cam));
+      // The ratio is capped at 1/2 whenever it exceeds 1/2 (not only when
+      // d >= d_max, where the paper's l_near would reach l_far): an l_near close
+      // to l_far leaves P_l's depth row, (l_near + l_far) / (l_near - l_far),
+      // ill-conditioned, and the far plane clips the occluder at the near rectangle.
+      l_near = lf.l_far * std::min(lf.d / lf.d_max, kMaxNearRatio);
+      break;
+    }
+    case LightNearRule::ExactMax: {
+      const CameraSpaceScene cs(scene);
+      AdmissibleLightNear a;
+      try {
+        a = max_admissible_light_near(cs, light);
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Degenerate) throw;
+        lf.undefined_reason = "the light lies exactly in the camera's near plane (l_far = 0)";
+        return lf;
+      }
+      lf.admissible = a.l_near ? to_double(*a.l_near) : std::numeric_limits<double>::infinity();
+      l_near = std::min(lf.admissible, kMaxNearRatio * lf.l_far);
+      break;
+    }
+    case LightNearRule::NearClamp:
+      lf.near_clamped = true;
+      l_near = kMaxNearRatio * lf.l_far;
+      break;
+  }
+  // Rounded toward zero: never above what the rule admits.
+  const double scaled = choice.near_scale * l_near;
+  lf.l_near = static_cast<float>(scaled);
+  if (static_cast<double>(lf.l_near) > scaled) lf.l_near = std::nextafter(lf.l_near, 0.0f);
   if (!(lf.l_near > 0.0f) || !(lf.l_near < lf.l_far)) {
     lf.undefined_reason = "l_near is not in (0, l_far)";
     return lf;

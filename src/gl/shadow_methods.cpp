@@ -254,6 +254,7 @@ class FrameRenderer {
   void near_cap_pass(ShadowFrame& frame) {
     DrawState s;
     s.depth_func = DepthFunc::Always;
+    s.depth_clamp_near = frame.light_frustum.near_clamped;  // the near-clamp rule: no clipping at l_near
     s.cull = frame.light_frustum.alpha > 0 ? CullFace::Back : CullFace::Front;
     s.front = kCountAlways;
     s.back = kCountAlways;

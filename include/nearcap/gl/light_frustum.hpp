@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -45,13 +46,19 @@ std::string_view to_string(LightProjection p);  // "paper", "glfrustum"
 // How l_near is chosen.
 enum class LightNearRule {
   PaperRatio,  // l_far * min(d / d_max, 1/2) (section 3.2; the cap is nearcap's)
+  ExactMax,    // min(L*, l_far / 2), L* the largest admissible l_near computed exactly
+               // (exact/light_pyramid.hpp), rounded down to float32
+  NearClamp,   // the paper's own proposal (section 6): the cap pass clamps depth on
+               // its near side instead of clipping there, so no occluder is lost
+               // whatever l_near is; l_near = l_far / 2 keeps P_l well-conditioned
 };
-std::string_view to_string(LightNearRule r);  // "paper-ratio"
+std::string_view to_string(LightNearRule r);  // "paper-ratio", "exact-max", "near-clamp"
+std::optional<LightNearRule> light_near_rule_from_string(std::string_view name);
 
 struct LightFrustumChoice {
   LightProjection projection = LightProjection::Paper;
   LightNearRule near_rule = LightNearRule::PaperRatio;
-  double near_scale = 1.0;  // l_near multiplied by this (tuned by the analysis)
+  double near_scale = 1.0;  // l_near multiplied by this: a safety margin below the rule (tuned by the analysis)
 };
 
 struct LightFrustum {
@@ -60,9 +67,11 @@ struct LightFrustum {
   int alpha = 1;
   Vec4f delta;  // the light in camera space (w = 1)
   float l_near = 0, l_far = 0;
-  double d = 0, d_max = 0;
-  Mat4f modelview;   // M_l: camera space -> light frame
-  Mat4f projection;  // P_l
+  double d = 0, d_max = 0;    // paper-ratio's inputs (0 for the other rules)
+  double admissible = 0;      // exact-max: L* rounded toward zero (infinity: no occluder in the pyramid)
+  bool near_clamped = false;  // near-clamp: the cap pass clamps depth at the near side, no near clipping
+  Mat4f modelview;            // M_l: camera space -> light frame
+  Mat4f projection;           // P_l
 };
 
 // The light frustum of light `light` for the scene's camera and occluders.

@@ -1,0 +1,137 @@
+// The largest admissible l_near, exactly (see light_pyramid.hpp).
+#include "nearcap/exact/light_pyramid.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap {
+namespace {
+
+// A side plane of the pyramid through l and the rectangle edge from c0 to c1,
+// as n . (P - l) >= 0 inside (n oriented towards the rectangle's centre).
+template <class T>
+struct SidePlane {
+  Vec3<T> n;
+};
+
+template <class T>
+std::array<SidePlane<T>, 4> side_planes(const Vec3<T>& l, const std::array<Vec3<T>, 4>& corners,
+                                        const Vec3<T>& centre) {
+  std::array<SidePlane<T>, 4> planes;
+  for (int k = 0; k < 4; ++k) {
+    Vec3<T> n = cross(corners[k] - l, corners[(k + 1) % 4] - l);
+    if (dot(n, centre - l) < T(0)) n = T(-1) * n;
+    planes[k] = {n};
+  }
+  return planes;
+}
+
+// Sutherland-Hodgman against n . (P - l) >= 0, exactly.
+std::vector<RationalVec3> clip(const std::vector<RationalVec3>& poly, const Vec3<Rational>& n, const RationalVec3& l) {
+  std::vector<RationalVec3> out;
+  const std::size_t m = poly.size();
+  for (std::size_t k = 0; k < m; ++k) {
+    const RationalVec3& a = poly[k];
+    const RationalVec3& b = poly[(k + 1) % m];
+    const Rational da = dot(n, a - l), db = dot(n, b - l);
+    if (sgn(da) >= 0) out.push_back(a);
+    if ((sgn(da) >= 0) != (sgn(db) >= 0)) {
+      const Rational t = da / (da - db);
+      out.push_back(a + t * (b - a));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& cs, std::size_t light) {
+  const Frustum& fr = cs.frustum();
+  const RationalVec3& l = cs.exact_light(light);
+  const Rational near(fr.near);
+  const Rational side = l.z + near;
+  if (sgn(side) == 0)
+    throw Error(ErrorKind::Degenerate, "the light lies in the camera's near plane: no light frustum (l_far = 0)");
+  const int alpha = sgn(side);
+  AdmissibleLightNear out;
+  out.l_far = alpha > 0 ? side : Rational(-side);
+  const Rational ralpha(alpha);
+  auto axial = [&](const RationalVec3& p) { return Rational(ralpha * (l.z - p.z)); };
+
+  // The pyramid, exactly and in double.
+  const std::array<RationalVec3, 4> corners{RationalVec3{Rational(fr.left), Rational(fr.bottom), -near},
+                                            RationalVec3{Rational(fr.right), Rational(fr.bottom), -near},
+                                            RationalVec3{Rational(fr.right), Rational(fr.top), -near},
+                                            RationalVec3{Rational(fr.left), Rational(fr.top), -near}};
+  const RationalVec3 centre{Rational((Rational(fr.left) + Rational(fr.right)) / 2),
+                            Rational((Rational(fr.bottom) + Rational(fr.top)) / 2), -near};
+  const auto planes = side_planes(l, corners, centre);
+  const Vec3d ld{to_double(l.x), to_double(l.y), to_double(l.z)};
+  std::array<Vec3d, 4> nd;
+  for (int k = 0; k < 4; ++k) nd[k] = {to_double(planes[k].n.x), to_double(planes[k].n.y), to_double(planes[k].n.z)};
+
+  // Double pass: drop triangles certainly outside one side plane, bound the
+  // others' axial distance from below, and sort them by that bound.
+  struct Candidate {
+    double lower;
+    std::size_t object;
+    FaceIndex face;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    if (!cs.object(o).occluder) continue;
+    const TriangleMesh& mesh = cs.mesh(o);
+    const double err = cs.max_error(o);
+    for (FaceIndex f = 0; f < mesh.triangles.size(); ++f) {
+      const auto& t = mesh.triangles[f];
+      std::array<Vec3d, 3> v;
+      double mag = std::max({std::fabs(ld.x), std::fabs(ld.y), std::fabs(ld.z)});
+      for (int i = 0; i < 3; ++i) {
+        v[i] = cs.vertex_estimate(o, t[i]);
+        mag = std::max({mag, std::fabs(v[i].x), std::fabs(v[i].y), std::fabs(v[i].z)});
+      }
+      // A generous bound on the error of n . (v - l) in double: the vertex
+      // error, the plane normal's rounding, and the products' rounding.
+      bool outside = false;
+      for (int k = 0; k < 4 && !outside; ++k) {
+        const double nmag = std::fabs(nd[k].x) + std::fabs(nd[k].y) + std::fabs(nd[k].z);
+        const double bound = nmag * (3 * err + 2 * mag * 0x1p-40);
+        outside = true;
+        for (int i = 0; i < 3 && outside; ++i) outside = dot(nd[k], v[i] - ld) < -bound;
+      }
+      if (outside) continue;
+      // Every point of the triangle has axial distance >= the smallest vertex's.
+      double lower = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < 3; ++i) lower = std::min(lower, alpha * (ld.z - v[i].z));
+      candidates.push_back({lower - (2 * err + mag * 0x1p-40), o, f});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.lower < b.lower; });
+
+  // Exact pass, nearest first, until no remaining triangle can go lower.
+  for (const Candidate& c : candidates) {
+    if (out.l_near && c.lower > to_double(*out.l_near) * (1 + 0x1p-40) + 1e-300) break;
+    const auto& t = cs.mesh(c.object).triangles[c.face];
+    std::vector<RationalVec3> poly{cs.exact_vertex(c.object, t[0]), cs.exact_vertex(c.object, t[1]),
+                                   cs.exact_vertex(c.object, t[2])};
+    for (const auto& p : planes) {
+      poly = clip(poly, p.n, l);
+      if (poly.empty()) break;
+    }
+    ++out.exact_triangles;
+    for (const RationalVec3& p : poly) {
+      const Rational a = axial(p);
+      if (sgn(a) <= 0) continue;  // the apex itself (a triangle through the light): not in the open pyramid
+      if (!out.l_near || a < *out.l_near) out.l_near = a;
+    }
+  }
+  return out;
+}
+
+}  // namespace nearcap

@@ -1,0 +1,122 @@
+// The largest admissible l_near (exact/light_pyramid.hpp) and the l_near rules
+// of the light frustum (gl/light_frustum.hpp).
+#include <gtest/gtest.h>
+
+#include <optional>
+
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/light_pyramid.hpp"
+#include "nearcap/gl/light_frustum.hpp"
+#include "nearcap/io/scene_file.hpp"
+
+namespace nearcap {
+namespace {
+
+std::string box_scene(const std::string& light, const std::string& translate, double scale) {
+  // The exact camera form: the near rectangle is [-1, 1]^2 at z = -1 exactly.
+  return R"({"camera":{"view":[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]],
+    "frustum":{"left":-1,"right":1,"bottom":-1,"top":1,"near":1,"far":100},"width":8,"height":8},
+    "lights":[{"position":)" +
+         light + R"(}],"objects":[{"mesh":")" + std::string(NEARCAP_SOURCE_DIR) + R"(/data/meshes/box.off",
+    "translate":)" +
+         translate + R"(,"scale":)" + std::to_string(scale) + "}]}";
+}
+
+TEST(LightPyramid, TheNearestOccluderPointInThePyramidExactly) {
+  // Light at z = 2 (l_far = 3), a box of side 0.5 centred at z = 1: its top
+  // face z = 1.25 crosses the pyramid's axis, 0.75 from the light.
+  const Scene scene = parse_scene(box_scene("[0,0,2]", "[0,0,1]", 0.5), "box", ".");
+  const CameraSpaceScene cs(scene);
+  const AdmissibleLightNear a = max_admissible_light_near(cs, 0);
+  ASSERT_TRUE(a.l_near.has_value());
+  EXPECT_EQ(*a.l_near, Rational(3, 4));
+  EXPECT_EQ(a.l_far, Rational(3));
+  // Moved sideways out of the pyramid (half-width 0.25 at that depth... the box
+  // from x = 2.75 to 3.25 is far outside): no occluder point in the pyramid.
+  const Scene away = parse_scene(box_scene("[0,0,2]", "[3,0,1]", 0.5), "away", ".");
+  const CameraSpaceScene cs_away(away);
+  EXPECT_FALSE(max_admissible_light_near(cs_away, 0).l_near.has_value());
+  // Only the box's corner enters the pyramid: the minimum is where a pyramid
+  // edge meets the box, not at a box vertex.  The near rectangle is
+  // [-1, 1]^2 at z = -1, so the pyramid's half-width at depth a is a / 3; the
+  // box [0.75, 1.75]^2 x [-1, 0] first meets it on the corner edge through
+  // (1, 1, -1), at x = y = 0.75: a = 2.25 (z = -0.25, inside the box).
+  const Scene corner = parse_scene(box_scene("[0,0,2]", "[1.25,1.25,-0.5]", 1.0), "corner", ".");
+  const CameraSpaceScene cs_corner(corner);
+  const AdmissibleLightNear c = max_admissible_light_near(cs_corner, 0);
+  ASSERT_TRUE(c.l_near.has_value());
+  EXPECT_EQ(*c.l_near, Rational(9, 4));
+}
+
+TEST(LightPyramid, ALightInTheNearPlaneHasNoFrustum) {
+  const Scene scene = parse_scene(box_scene("[0,0,-1]", "[0,0,-5]", 0.5), "in plane", ".");
+  const CameraSpaceScene cs(scene);
+  EXPECT_THROW(max_admissible_light_near(cs, 0), Error);
+}
+
+// On hard cases: the paper's l_far d / d_max never exceeds L* (it is
+// admissible by construction); no occluder vertex in the pyramid lies nearer
+// than L*; exact-max's float l_near never exceeds L*.
+TEST(LightPyramid, ThePaperRatioIsAdmissibleAndNoVertexIsNearer) {
+  analysis::SamplerSpec spec;
+  spec.seed = 77;
+  spec.width = 8;
+  spec.height = 8;
+  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  int checked = 0, with_l_near = 0;
+  for (std::uint64_t k = 0; k < 120; ++k) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
+    } catch (const Error&) {
+      continue;
+    }
+    const CameraSpaceScene cs(scene);
+    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) continue;
+    const AdmissibleLightNear a = max_admissible_light_near(cs, 0);
+    ++checked;
+    if (!a.l_near) continue;
+    ++with_l_near;
+    const Rational& best = *a.l_near;
+    // The paper's rule without the cap, in double (d and d_max as the light frustum computes them).
+    gl::LightFrustumChoice paper;
+    const gl::LightFrustum lf = gl::light_frustum(scene, 0, paper);
+    if (lf.d_max > 0) {
+      const double ratio_l_near = to_double(a.l_far) * lf.d / lf.d_max;
+      EXPECT_LE(ratio_l_near, to_double(best) * (1 + 1e-9)) << "sample " << k;
+    }
+    // No occluder vertex strictly inside the pyramid is nearer to the light.
+    const RationalVec3& l = cs.exact_light(0);
+    const int alpha = sgn(Rational(l.z + Rational(scene.camera.frustum.near)));
+    const Frustum& f = scene.camera.frustum;
+    for (std::size_t o = 0; o < cs.object_count(); ++o) {
+      if (!cs.object(o).occluder) continue;
+      for (VertexIndex v = 0; v < cs.mesh(o).positions.size(); ++v) {
+        const RationalVec3 p = cs.exact_vertex(o, v);
+        const Rational depth = Rational(alpha) * (l.z - p.z);
+        if (sgn(depth) <= 0) continue;
+        // The point where the ray from l through p meets the near plane.
+        const Rational t = (Rational(-f.near) - l.z) / (p.z - l.z);
+        const Rational x = l.x + t * (p.x - l.x), y = l.y + t * (p.y - l.y);
+        const bool inside =
+            x > Rational(f.left) && x < Rational(f.right) && y > Rational(f.bottom) && y < Rational(f.top);
+        if (inside) {
+          EXPECT_GE(depth, best) << "sample " << k << " object " << o << " vertex " << v;
+        }
+      }
+    }
+    gl::LightFrustumChoice exact;
+    exact.near_rule = gl::LightNearRule::ExactMax;
+    const gl::LightFrustum le = gl::light_frustum(scene, 0, exact);
+    if (le.defined) {
+      EXPECT_LE(Rational(static_cast<double>(le.l_near)), best) << "sample " << k;
+    }
+  }
+  EXPECT_GE(checked, 80);
+  EXPECT_GE(with_l_near, 20);
+}
+
+}  // namespace
+}  // namespace nearcap
