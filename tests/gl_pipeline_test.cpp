@@ -112,7 +112,7 @@ void expect_far_rectangle_is_the_near_rectangle(const Scene& scene, const LightF
 }
 
 TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
-  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum}) {
+  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed}) {
     LightFrustumChoice choice;
     choice.projection = p;
     const Scene same_side = one_box_scene({3, 2, 1}, 0.5);  // the camera's side of z = -0.5
@@ -127,6 +127,29 @@ TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
     EXPECT_EQ(b.alpha, -1);
     EXPECT_FLOAT_EQ(b.l_far, 2.5f);
     expect_far_rectangle_is_the_near_rectangle(other_side, b);
+  }
+}
+
+// composed: P_l M_l in double maps the camera's near rectangle onto the
+// light's far rectangle, x and y to +-1 and z to w, to double precision.
+TEST(LightFrustum, TheComposedMatrixMapsTheNearRectangleToTheFarRectangle) {
+  LightFrustumChoice choice;
+  choice.projection = LightProjection::Composed;
+  for (const Vec3d& light : {Vec3d{3, 2, 1}, Vec3d{3, 2, -3}}) {
+    const Scene scene = one_box_scene(light, 0.5);
+    const LightFrustum lf = light_frustum(scene, 0, choice);
+    ASSERT_TRUE(lf.defined) << lf.undefined_reason;
+    const Frustum& f = scene.camera.frustum;
+    for (double x : {f.left, f.right})
+      for (double y : {f.bottom, f.top}) {
+        const double p[4] = {x, y, -f.near, 1.0};
+        double c[4] = {0, 0, 0, 0};
+        for (int r = 0; r < 4; ++r)
+          for (int k = 0; k < 4; ++k) c[r] += lf.composed[r][k] * p[k];
+        EXPECT_NEAR(c[0] / c[3], x < 0 ? -1.0 : 1.0, 1e-12);
+        EXPECT_NEAR(c[1] / c[3], y < 0 ? -1.0 : 1.0, 1e-12);
+        EXPECT_NEAR(c[2] / c[3], 1.0, 1e-9);
+      }
   }
 }
 

@@ -44,7 +44,23 @@ bool all_finite(const Mat4f& m) {
 
 }  // namespace
 
-std::string_view to_string(LightProjection p) { return p == LightProjection::Paper ? "paper" : "glfrustum"; }
+std::string_view to_string(LightProjection p) {
+  switch (p) {
+    case LightProjection::Paper:
+      return "paper";
+    case LightProjection::GlFrustum:
+      return "glfrustum";
+    case LightProjection::Composed:
+      return "composed";
+  }
+  return "?";
+}
+
+std::optional<LightProjection> light_projection_from_string(std::string_view name) {
+  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed})
+    if (to_string(p) == name) return p;
+  return std::nullopt;
+}
 std::string_view to_string(LightNearRule r) {
   switch (r) {
     case LightNearRule::PaperRatio:
@@ -161,7 +177,35 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
   const float dx = lf.delta.x - static_cast<float>(0.5 * (f.left + f.right));
   const float dy = lf.delta.y - static_cast<float>(0.5 * (f.bottom + f.top));
   Mat4f& p = lf.projection;
-  if (choice.projection == LightProjection::Paper) {
+  if (choice.projection == LightProjection::Composed) {
+    // Section 3.1's P_l and M_l with every input in double (Delta = view *
+    // light in double), multiplied in double; rounded once, per object, by
+    // the caller.  The float32 P_l below is what `paper` uploads, kept for
+    // the conditioning features.
+    const Vec3d dl = scene.camera.view.apply(scene.lights[light].position);
+    const double a = lf.alpha, lfar = a * (dl.z + f.near), ln = double{lf.l_near};
+    const double w = f.right - f.left, h = f.top - f.bottom;
+    const double ddx = dl.x - 0.5 * (f.left + f.right), ddy = dl.y - 0.5 * (f.bottom + f.top);
+    std::array<std::array<double, 4>, 4> pd{}, md{};
+    pd[0][0] = 2 * a * lfar / w;
+    pd[0][2] = -2 * ddx / w;
+    pd[1][1] = 2 * lfar / h;
+    pd[1][2] = -2 * ddy / h;
+    pd[2][2] = (ln + lfar) / (ln - lfar);
+    pd[2][3] = 2 * ln * lfar / (ln - lfar);
+    pd[3][2] = -1;
+    md[0][0] = a;
+    md[1][1] = 1;
+    md[2][2] = a;
+    md[3][3] = 1;
+    md[0][3] = -a * dl.x;
+    md[1][3] = -dl.y;
+    md[2][3] = -a * dl.z;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k) lf.composed[r][c] += pd[r][k] * md[k][c];
+  }
+  if (choice.projection == LightProjection::Paper || choice.projection == LightProjection::Composed) {
     const float ln = lf.l_near, lfar = lf.l_far;
     p.at(0, 0) = 2.0f * alpha * lfar / width;
     p.at(0, 2) = -2.0f * dx / width;

@@ -43,6 +43,32 @@ float determinant3(const Mat4f& m) {
          m.at(0, 2) * (m.at(1, 0) * m.at(2, 1) - m.at(1, 1) * m.at(2, 0));
 }
 
+Mat4f identity_matrix() {
+  Mat4f m;
+  for (int k = 0; k < 4; ++k) m.at(k, k) = 1.0f;
+  return m;
+}
+
+// (P_l M_l) * view * object_to_world, all in double, rounded to float32 once.
+Mat4f composed_light_matrix(const LightFrustum& lf, const Affine3d& view, const Affine3d& object_to_world) {
+  std::array<std::array<double, 4>, 4> mv{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) {
+      double v = c == 3 ? view.rows[r][3] : 0.0;
+      for (int k = 0; k < 3; ++k) v += view.rows[r][k] * object_to_world.rows[k][c];
+      mv[r][c] = v;
+    }
+  mv[3][3] = 1.0;
+  Mat4f out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      double v = 0;
+      for (int k = 0; k < 4; ++k) v += lf.composed[r][k] * mv[k][c];
+      out.at(r, c) = static_cast<float>(v);
+    }
+  return out;
+}
+
 DrawState oriented(DrawState s, bool mirrored) {
   if (!mirrored) return s;
   std::swap(s.front, s.back);
@@ -213,7 +239,12 @@ class FrameRenderer {
       obj.uniforms.modelview_projection = multiply(projection, modelview, ar);
       obj.uniforms.light_position = light_in_object_space(so, scene_.lights[light_].position);
       obj.uniforms.arithmetic = ar;
-      if (frame.light_frustum.defined) {
+      if (frame.light_frustum.defined && settings_.light_frustum.projection == LightProjection::Composed) {
+        // P_l * M_l * MV in double, rounded once: the whole light transform is one uploaded matrix.
+        obj.uniforms.light_modelview =
+            composed_light_matrix(frame.light_frustum, scene_.camera.view, so.object_to_world);
+        obj.uniforms.light_projection = identity_matrix();
+      } else if (frame.light_frustum.defined) {
         obj.uniforms.light_modelview = multiply(frame.light_frustum.modelview, modelview, ar);
         obj.uniforms.light_projection = frame.light_frustum.projection;
       }

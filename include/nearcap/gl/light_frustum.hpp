@@ -26,6 +26,7 @@
 // of the near rectangle equal the camera's, so both passes share a viewport.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -40,8 +41,11 @@ namespace nearcap::gl {
 enum class LightProjection {
   Paper,      // section 3.1's matrix, entries computed directly in float32
   GlFrustum,  // glFrustum(l, r, b, t, l_near, l_far) of the same pyramid, computed in double, rounded
+  Composed,   // P_l * M_l * MV composed in double (section 3.1's P_l, Delta in double) and rounded
+              // to float32 once per object: one uploaded matrix, P_l the identity
 };
-std::string_view to_string(LightProjection p);  // "paper", "glfrustum"
+std::string_view to_string(LightProjection p);  // "paper", "glfrustum", "composed"
+std::optional<LightProjection> light_projection_from_string(std::string_view name);
 
 // How l_near is chosen.
 enum class LightNearRule {
@@ -72,6 +76,8 @@ struct LightFrustum {
   bool near_clamped = false;  // near-clamp: the cap pass clamps depth at the near side, no near clipping
   Mat4f modelview;            // M_l: camera space -> light frame
   Mat4f projection;           // P_l
+  // composed: P_l * M_l in double, row-major (camera space -> the light's clip space).
+  std::array<std::array<double, 4>, 4> composed{};
 };
 
 // The light frustum of light `light` for the scene's camera and occluders.
