@@ -2,6 +2,7 @@
 // of the light frustum (gl/light_frustum.hpp).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <optional>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
@@ -53,6 +54,101 @@ TEST(LightPyramid, ALightInTheNearPlaneHasNoFrustum) {
   const Scene scene = parse_scene(box_scene("[0,0,-1]", "[0,0,-5]", 0.5), "in plane", ".");
   const CameraSpaceScene cs(scene);
   EXPECT_THROW(max_admissible_light_near(cs, 0), Error);
+}
+
+// Brute force by enumeration, independent of the clipping: the minimum of the
+// axial distance over (triangle ∩ pyramid) lies at a triangle vertex inside
+// the pyramid, where a triangle edge crosses a side plane inside the
+// pyramid, or where a pyramid edge (the ray from l through a corner) pierces
+// the triangle; every such point is computed exactly and tested for
+// membership, and the smallest is compared with L*.
+std::optional<Rational> enumerated_l_near(const CameraSpaceScene& cs) {
+  const Frustum& f = cs.frustum();
+  const RationalVec3& l = cs.exact_light(0);
+  const Rational near(f.near);
+  const int alpha = sgn(Rational(l.z + near));
+  const std::array<RationalVec3, 4> corners{RationalVec3{Rational(f.left), Rational(f.bottom), -near},
+                                            RationalVec3{Rational(f.right), Rational(f.bottom), -near},
+                                            RationalVec3{Rational(f.right), Rational(f.top), -near},
+                                            RationalVec3{Rational(f.left), Rational(f.top), -near}};
+  // Inside the closed pyramid: in front of the light and, projected from l
+  // onto the near plane, inside the rectangle.
+  auto inside = [&](const RationalVec3& p) {
+    const Rational depth = Rational(alpha) * (l.z - p.z);
+    if (sgn(depth) <= 0) return false;
+    const Rational t = (-near - l.z) / (p.z - l.z);
+    const Rational x = l.x + t * (p.x - l.x), y = l.y + t * (p.y - l.y);
+    return x >= Rational(f.left) && x <= Rational(f.right) && y >= Rational(f.bottom) && y <= Rational(f.top);
+  };
+  std::optional<Rational> best;
+  auto consider = [&](const RationalVec3& p) {
+    if (!inside(p)) return;
+    const Rational depth = Rational(alpha) * (l.z - p.z);
+    if (!best || depth < *best) best = depth;
+  };
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    if (!cs.object(o).occluder) continue;
+    for (const auto& t : cs.mesh(o).triangles) {
+      const std::array<RationalVec3, 3> v{cs.exact_vertex(o, t[0]), cs.exact_vertex(o, t[1]), cs.exact_vertex(o, t[2])};
+      for (const RationalVec3& p : v) consider(p);
+      for (int e = 0; e < 3; ++e)
+        for (int k = 0; k < 4; ++k) {  // edge e against side plane k
+          const Vec3<Rational> n = cross(corners[k] - l, corners[(k + 1) % 4] - l);
+          const Rational da = dot(n, v[e] - l), db = dot(n, v[(e + 1) % 3] - l);
+          if (sgn(da) * sgn(db) < 0) consider(v[e] + Rational(da / (da - db)) * (v[(e + 1) % 3] - v[e]));
+        }
+      const Vec3<Rational> normal = cross(v[1] - v[0], v[2] - v[0]);
+      for (int k = 0; k < 4; ++k) {  // pyramid edge k against the triangle
+        const RationalVec3 dir = corners[k] - l;
+        const Rational denom = dot(normal, dir);
+        if (sgn(denom) == 0) continue;
+        const Rational s = Rational(dot(normal, v[0] - l)) / denom;
+        if (sgn(s) <= 0) continue;
+        const RationalVec3 p = l + s * dir;
+        // p inside the triangle: same side of the three edges within its plane.
+        int pos = 0, neg = 0;
+        for (int e = 0; e < 3; ++e) {
+          const int side = sgn(dot(cross(v[(e + 1) % 3] - v[e], p - v[e]), normal));
+          pos += side > 0;
+          neg += side < 0;
+        }
+        if (pos == 0 || neg == 0) consider(p);
+      }
+    }
+  }
+  return best;
+}
+
+TEST(LightPyramid, EqualsTheEnumerationOfEveryCandidatePoint) {
+  analysis::SamplerSpec spec;
+  spec.seed = 31;
+  spec.width = 8;
+  spec.height = 8;
+  spec.kinds = {analysis::HardCaseKind::Straddling, analysis::HardCaseKind::SeveralOccluders,
+                analysis::HardCaseKind::EyeInShadow, analysis::HardCaseKind::LightNearNearPlane};
+  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  int compared = 0, nonempty = 0;
+  for (std::uint64_t k = 0; k < 36; ++k) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
+    } catch (const Error&) {
+      continue;
+    }
+    const CameraSpaceScene cs(scene);
+    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) continue;
+    const AdmissibleLightNear a = max_admissible_light_near(cs, 0);
+    const std::optional<Rational> brute = enumerated_l_near(cs);
+    ++compared;
+    nonempty += brute.has_value();
+    ASSERT_EQ(a.l_near.has_value(), brute.has_value()) << "sample " << k;
+    if (brute) {
+      EXPECT_EQ(*a.l_near, *brute) << "sample " << k;
+    }
+  }
+  EXPECT_GE(compared, 24);
+  EXPECT_GE(nonempty, 6);
 }
 
 // On hard cases: the paper's l_far d / d_max never exceeds L* (it is
