@@ -112,7 +112,8 @@ void expect_far_rectangle_is_the_near_rectangle(const Scene& scene, const LightF
 }
 
 TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
-  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed}) {
+  for (LightProjection p :
+       {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed, LightProjection::Rebased}) {
     LightFrustumChoice choice;
     choice.projection = p;
     const Scene same_side = one_box_scene({3, 2, 1}, 0.5);  // the camera's side of z = -0.5
@@ -150,6 +151,39 @@ TEST(LightFrustum, TheComposedMatrixMapsTheNearRectangleToTheFarRectangle) {
         EXPECT_NEAR(c[1] / c[3], y < 0 ? -1.0 : 1.0, 1e-12);
         EXPECT_NEAR(c[2] / c[3], 1.0, 1e-9);
       }
+  }
+}
+
+// On a well-conditioned frame every formulation maps a point to the same NDC
+// as the paper's matrix, within float32 rounding of a few operations
+// (1e-5 of the NDC range).
+TEST(LightFrustum, EveryFormulationAgreesWithThePaperOnAWellConditionedFrame) {
+  const Scene scene = one_box_scene({3, 2, 1}, 0.5);
+  const LightFrustum paper = light_frustum(scene, 0, {});
+  ASSERT_TRUE(paper.defined);
+  auto ndc = [](const LightFrustum& lf, LightProjection p, const Vec4f& v) {
+    Vec4f c;
+    if (p == LightProjection::Composed) {
+      double d[4] = {0, 0, 0, 0};
+      const double in[4] = {v.x, v.y, v.z, v.w};
+      for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) d[r] += lf.composed[r][k] * in[k];
+      c = {static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2]), static_cast<float>(d[3])};
+    } else {
+      c = transform(lf.projection, transform(lf.modelview, v));
+    }
+    return std::array<double, 3>{c.x / c.w, c.y / c.w, c.z / c.w};
+  };
+  for (LightProjection p : {LightProjection::GlFrustum, LightProjection::Composed, LightProjection::Rebased}) {
+    LightFrustumChoice choice;
+    choice.projection = p;
+    const LightFrustum lf = light_frustum(scene, 0, choice);
+    ASSERT_TRUE(lf.defined);
+    for (const Vec4f& v : {Vec4f{0.1f, 0.2f, -0.5f, 1}, Vec4f{-0.3f, 0.05f, -0.2f, 1}, Vec4f{1.2f, 0.9f, 0.4f, 1},
+                           Vec4f{0.0f, 0.0f, -0.9f, 1}}) {
+      const auto a = ndc(paper, LightProjection::Paper, v), b = ndc(lf, p, v);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-5) << to_string(p) << " coordinate " << k;
+    }
   }
 }
 

@@ -68,8 +68,9 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
       ->capture_default_str();
   cmd.add_option("--light-projection", o.light_projection,
-                 "P_l formulation: paper, glfrustum, or composed (P_l M_l MV in double, rounded once)")
-      ->check(CLI::IsMember({"paper", "glfrustum", "composed"}))
+                 "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once) or rebased "
+                 "(origin at the near rectangle's centre)")
+      ->check(CLI::IsMember({"paper", "glfrustum", "composed", "rebased"}))
       ->capture_default_str();
   cmd.add_option("--l-near", o.l_near,
                  "how ZP+'s light frustum picks l_near: paper-ratio (l_far min(d / d_max, 1/2)), exact-max (the "
@@ -156,7 +157,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "guard-band") {
       o.guard_band = static_cast<float>(parse_number(spec, name, value));
     } else if (name == "light-projection") {
-      need_one_of(spec, name, value, {"paper", "glfrustum", "composed"});
+      need_one_of(spec, name, value, {"paper", "glfrustum", "composed", "rebased"});
       o.light_projection = value;
     } else if (name == "l-near") {
       need_one_of(spec, name, value, {"paper-ratio", "exact-max", "near-clamp"});
@@ -205,7 +206,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto projection = gl::light_projection_from_string(o.light_projection);
   if (!projection)
     throw Error(ErrorKind::Usage,
-                "--light-projection '" + o.light_projection + "' is not one of paper, glfrustum, composed");
+                "--light-projection '" + o.light_projection + "' is not one of paper, glfrustum, composed, rebased");
   s.light_frustum.projection = *projection;
   if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
     throw Error(ErrorKind::Usage,

@@ -52,12 +52,15 @@ std::string_view to_string(LightProjection p) {
       return "glfrustum";
     case LightProjection::Composed:
       return "composed";
+    case LightProjection::Rebased:
+      return "rebased";
   }
   return "?";
 }
 
 std::optional<LightProjection> light_projection_from_string(std::string_view name) {
-  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed})
+  for (LightProjection p :
+       {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed, LightProjection::Rebased})
     if (to_string(p) == name) return p;
   return std::nullopt;
 }
@@ -214,6 +217,23 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
     p.at(2, 2) = (ln + lfar) / (ln - lfar);
     p.at(2, 3) = 2.0f * ln * lfar / (ln - lfar);
     p.at(3, 2) = -1.0f;
+  } else if (choice.projection == LightProjection::Rebased) {
+    // Origin at the near rectangle's centre: M_l = T(-(cx, cy, -near)).
+    m = Mat4f{};
+    m.at(0, 0) = m.at(1, 1) = m.at(2, 2) = m.at(3, 3) = 1.0f;
+    m.at(0, 3) = -static_cast<float>(0.5 * (f.left + f.right));
+    m.at(1, 3) = -static_cast<float>(0.5 * (f.bottom + f.top));
+    m.at(2, 3) = near;
+    const float ln = lf.l_near, lfar = lf.l_far;
+    const float k = (ln + lfar) / (ln - lfar), l = 2.0f * ln * lfar / (ln - lfar);
+    p.at(0, 0) = 2.0f * lfar / width;
+    p.at(0, 2) = -2.0f * alpha * dx / width;
+    p.at(1, 1) = 2.0f * lfar / height;
+    p.at(1, 2) = -2.0f * alpha * dy / height;
+    p.at(2, 2) = alpha * k;
+    p.at(2, 3) = l - k * lfar;
+    p.at(3, 2) = -alpha;
+    p.at(3, 3) = lfar;
   } else {
     // The far rectangle in the light frame, scaled to the near distance;
     // glFrustum computed in double.  With alpha = -1 the light frame's x is
