@@ -37,28 +37,6 @@ Sign uniform_sign(Predicate pred, FilterStats* stats, const Corners& corners, Ap
   return common;
 }
 
-// The same from the values at the corners, already computed (filtered).
-template <class ExactForm>
-Sign uniform_sign_of_values(Predicate pred, FilterStats* stats, const Corners& corners,
-                            const std::array<BoundedDouble, 4>& values, ExactForm&& exact_form) {
-  std::optional<AffineForm<Rational>> fe;
-  Sign common = Sign::Zero;
-  for (std::size_t k = 0; k < corners.size(); ++k) {
-    Sign s;
-    if (const auto v = values[k].sign(); v && *v != Sign::Zero) {
-      if (stats) stats->record(pred, false);
-      s = *v;
-    } else {
-      if (stats) stats->record(pred, true);
-      if (!fe) fe = exact_form();
-      s = sign_of(Rational(fe->at(corners[k].exact())));
-    }
-    if (s == Sign::Zero || (k > 0 && s != common)) return Sign::Zero;
-    common = s;
-  }
-  return common;
-}
-
 class SquareProof {
  public:
   SquareProof(const PixelReferenceTracer::Impl& t, const Corners& corners, FilterStats* stats)
@@ -131,24 +109,21 @@ class SquareProof {
 
   enum class Crossing { Always, Never, Unknown };
   // 3. Does (l, q(P)) cross light triangle L for every P, for none, or not proven?
-  // The edge forms of (l, q(P)) against L are d_q (g_k . P) + g0_k (n_q . P):
-  // n_q . C_j is the same for every L, computed once per square.
-  void prepare_crossings(const EyeTriangle& q) {
-    for (std::size_t j = 0; j < 4; ++j) nq_corner_[j] = dot(q.plane.n, c_[j].approx());
-  }
   Crossing crossing(const LightTriangle& lt, const EyeTriangle& q, std::uint32_t q_index) const {
     if (lt.eye_index == q_index) return q.sigma == lt.light_side ? Crossing::Always : Crossing::Never;
     std::array<Sign, 3> s{};
     for (int k = 0; k < 3; ++k) {
-      std::array<BoundedDouble, 4> values;
-      for (std::size_t j = 0; j < 4; ++j)
-        values[j] = q.plane.d * dot(lt.g[k], c_[j].approx()) + lt.g0[k] * nq_corner_[j];
-      s[k] = uniform_sign_of_values(Predicate::ShadowCrossing, stats_, c_, values, [&] {
-        const auto pq = t_.exact_plane(q.object, q.face);
-        const Vec3<Rational> g = t_.exact_g(lt, k);
-        const Rational g0 = -dot(g, t_.cs.exact_light(t_.light));
-        return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
-      });
+      s[k] = uniform_sign(
+          Predicate::ShadowCrossing, stats_, c_,
+          [&] {
+            return BoundedForm{q.plane.d * lt.g[k] + lt.g0[k] * q.plane.n, BoundedDouble(0.0)};
+          },
+          [&] {
+            const auto pq = t_.exact_plane(q.object, q.face);
+            const Vec3<Rational> g = t_.exact_g(lt, k);
+            const Rational g0 = -dot(g, t_.cs.exact_light(t_.light));
+            return ExactForm{pq.d * g + g0 * pq.n, Rational(0)};
+          });
       for (int m = 0; m < k; ++m)
         if (s[k] != Sign::Zero && s[m] == -s[k]) return Crossing::Never;  // never all one sign
     }
@@ -171,7 +146,6 @@ class SquareProof {
   const PixelReferenceTracer::Impl& t_;
   const Corners& c_;
   FilterStats* stats_;
-  std::array<BoundedDouble, 4> nq_corner_{};
 };
 
 // The box, in estimated coordinates, that holds every point of a set of
@@ -210,7 +184,7 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
                         PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
                         PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
                         PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})};
-  SquareProof proof(t, corners, stats);
+  const SquareProof proof(t, corners, stats);
 
   // The triangle seen at the centre, seen over the whole square.
   const std::optional<Hit> hit =
@@ -252,7 +226,6 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   // only a triangle crossed at the centre can be crossed everywhere, so those
   // are tried and nothing else.  Lit: every triangle must be proven never
   // crossed, and the first that is not ends the proof.
-  proof.prepare_crossings(seen);
   bool shadowed_at_centre = false;
   std::vector<std::uint32_t> crossed_at_centre;
   for (std::uint32_t id : ids)
