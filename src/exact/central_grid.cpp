@@ -103,21 +103,57 @@ void clip_to_cone_side(const SmallPolygon& poly, const FaceAxes& ax, int other, 
   }
 }
 
-// `scratch`: two polygon buffers, made once by the caller (zeroing 2 KB per
-// call would cost more than the clipping).
-FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double centre_error, int f,
-                    std::array<SmallPolygon, 2>& scratch) {
-  const FaceAxes ax = face_axes(f);
-  std::array<Vec3d, 3> w;
+// A triangle relative to the centre, with what every face needs of it.
+struct Relative {
+  std::array<Vec3d, 3> w;  // vertices minus the centre
+  double err = 0;          // per coordinate, of w against the exact relative vertices
+  // Near the apex the cone opening no longer covers the input error: a
+  // triangle passing that close to the centre is listed everywhere.
+  bool near_apex = false;
+  // The face whose cone strictly holds all three vertices (then the whole
+  // triangle, the cone being convex), with room to spare for the errors and
+  // the cones' opening: no other face can list it.  -1 when there is none.
+  int only_face = -1;
+};
+
+Relative relative_to(const CentralGrid::Triangle& t, const Vec3d& centre, double centre_error) {
+  Relative r;
   double mag = 0;
   for (int i = 0; i < 3; ++i) {
-    w[i] = t.vertex[i] - centre;
-    mag = std::max({mag, std::fabs(w[i].x), std::fabs(w[i].y), std::fabs(w[i].z)});
+    r.w[i] = t.vertex[i] - centre;
+    mag = std::max({mag, std::fabs(r.w[i].x), std::fabs(r.w[i].y), std::fabs(r.w[i].z)});
   }
   // Every point of the clipped polygon below lies within `err` (per coordinate)
   // of a point of the exact triangle in the exact cone: input errors plus the
   // rounding of the subtraction and of a few clipping steps.
-  const double err = t.error + centre_error + 16.0 * kRounding * mag;
+  r.err = t.error + centre_error + 16.0 * kRounding * mag;
+  const double apex = 0x1p22 * r.err;
+  r.near_apex = distance_to_origin(r.w[0], r.w[1], r.w[2]) <= 4.0 * apex;
+  int face = -1;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3d& v = r.w[i];
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (std::fabs(v[a]) > std::fabs(v[axis])) axis = a;
+    const FaceAxes ax = face_axes(2 * axis + (v[axis] >= 0 ? 0 : 1));
+    // Strictly inside with a relative margin far above the cones' opening
+    // (2^-20) and an absolute one above the errors.
+    const double m = ax.sign * v[ax.axis];
+    const bool strict = m * (1.0 - 0x1p-16) - 4.0 * r.err > std::max(std::fabs(v[ax.u]), std::fabs(v[ax.v]));
+    const int f = 2 * axis + (v[axis] >= 0 ? 0 : 1);
+    if (!strict || (i > 0 && f != face)) return r;
+    face = f;
+  }
+  r.only_face = face;
+  return r;
+}
+
+// `scratch`: two polygon buffers, made once by the caller (zeroing 2 KB per
+// call would cost more than the clipping).
+FacePlacement place(const Relative& r, int f, std::array<SmallPolygon, 2>& scratch) {
+  const FaceAxes ax = face_axes(f);
+  const std::array<Vec3d, 3>& w = r.w;
+  const double err = r.err;
   FacePlacement out;
   double lower = std::numeric_limits<double>::infinity();
   bool all_behind = true;
@@ -128,6 +164,11 @@ FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double 
   }
   out.axis_lower_bound = lower;
   if (all_behind) return out;
+  if (r.near_apex) {
+    out.placement = Placement::Whole;
+    return out;
+  }
+  if (r.only_face >= 0 && r.only_face != f) return out;
   // The part of the triangle inside the face's cone |w_u|, |w_v| <= m, widened:
   // the cone is opened by a relative margin so that clipping in double never
   // loses a part of the exact triangle that the exact cone holds.
@@ -143,13 +184,6 @@ FacePlacement place(const CentralGrid::Triangle& t, const Vec3d& centre, double 
       std::swap(in, out_poly);
     }
   const SmallPolygon& poly = *in;
-  // Near the apex the cone opening no longer covers the input error: a
-  // triangle passing that close to the centre is listed everywhere.
-  const double apex = 0x1p22 * err;
-  if (distance_to_origin(w[0], w[1], w[2]) <= 4.0 * apex) {
-    out.placement = Placement::Whole;
-    return out;
-  }
   if (poly.n == 0) return out;  // no point of the exact triangle lies in the exact cone
   Box b{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
         std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
@@ -189,6 +223,9 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   all_.reserve(triangles.size());
   for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
 
+  std::vector<Relative> relative;
+  relative.reserve(triangles.size());
+  for (const Triangle& t : triangles) relative.push_back(relative_to(t, centre_, centre_error_));
   std::vector<FacePlacement> placements(triangles.size());
   auto scratch = std::make_unique<std::array<SmallPolygon, 2>>();
   for (int f = 0; f < 6; ++f) {
@@ -196,7 +233,7 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
     std::size_t boxed = 0;
     for (std::size_t i = 0; i < triangles.size(); ++i) {
-      placements[i] = place(triangles[i], centre_, centre_error_, f, *scratch);
+      placements[i] = place(relative[i], f, *scratch);
       if (placements[i].placement != Placement::Boxed) continue;
       ++boxed;
       const Box& b = placements[i].box;
@@ -294,42 +331,75 @@ CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) 
 
 bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const {
   ids.clear();
-  int axis = 0;
-  for (int a = 1; a < 3; ++a)
-    if (std::fabs(w[a]) > std::fabs(w[axis])) axis = a;
-  const double m = std::fabs(w[axis]);
-  const double err = w_error + centre_error_;
-  if (!(m > 2.0 * err) || !std::isfinite(m) || !std::isfinite(err)) return false;
-  const int f = 2 * axis + (w[axis] >= 0 ? 0 : 1);
-  const FaceAxes ax = face_axes(f);
-  const double u = w[ax.u] / m, v = w[ax.v] / m;
-  const double denom = m - err;
-  const double eu = projection_error(u, err, denom), ev = projection_error(v, err, denom);
-  // Every exact direction of the region projects into [u +- eu] x [v +- ev];
-  // inside [-1, 1]^2 it lies in this face's cone, where the binning is complete.
-  if (std::fabs(u) + eu > 1.0 || std::fabs(v) + ev > 1.0) return false;
-  const Face& face = faces_[f];
-  const int i0 = cell_index(u - eu, face.u0, face.du, face.nu), i1 = cell_index(u + eu, face.u0, face.du, face.nu);
-  const int j0 = cell_index(v - ev, face.v0, face.dv, face.nv), j1 = cell_index(v + ev, face.v0, face.dv, face.nv);
+  const double mag = std::max({std::fabs(w.x), std::fabs(w.y), std::fabs(w.z)});
+  // Each exact coordinate of the region lies in [w_a - err, w_a + err]: the
+  // caller's bound, the centre's, and the rounding of these few operations.
+  const double err = (w_error + centre_error_) * (1.0 + kRounding) + kRounding * mag;
+  if (!std::isfinite(mag) || !std::isfinite(err)) return false;
+  // Every direction lies in the exact cone of at least one face, and the
+  // binning of a face is complete for the directions of its cone, so the
+  // region is covered by querying, on every face whose cone it may meet, the
+  // cells its directions there may project to.
+  struct FaceQuery {
+    int face;
+    Box box;
+  };
+  std::array<FaceQuery, 6> queries{};
+  std::size_t query_count = 0;
+  long long cells = 0;
   constexpr long long kMaxCells = 4096;
-  if (static_cast<long long>(i1 - i0 + 1) * (j1 - j0 + 1) > kMaxCells) return false;
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
-      const std::size_t cell = static_cast<std::size_t>(j) * face.nu + static_cast<std::size_t>(i);
-      for (std::uint32_t k = face.offsets[cell]; k < face.offsets[cell + 1]; ++k) ids.push_back(face.entries[k].id);
+  for (int f = 0; f < 6; ++f) {
+    const FaceAxes ax = face_axes(f);
+    const double m_lo = ax.sign * w[ax.axis] - err, m_hi = ax.sign * w[ax.axis] + err;
+    // The cone holds directions with sign * w_axis >= |w_u|, |w_v|: none of
+    // the region's when its largest axis coordinate stays below the smallest
+    // |w_u| or |w_v| it holds (or is not positive).
+    const double min_u = std::fabs(w[ax.u]) - err, min_v = std::fabs(w[ax.v]) - err;
+    if (!(m_hi > 0) || m_hi < min_u || m_hi < min_v) continue;
+    Box b{-kFaceRange, kFaceRange, -kFaceRange, kFaceRange};
+    if (m_lo > 0) {
+      // u = w_u / m over the box: interval division by a positive interval,
+      // rounded outward.
+      auto range = [&](double lo, double hi, double& out_lo, double& out_hi) {
+        out_lo = lo >= 0 ? lo / m_hi : lo / m_lo;
+        out_hi = hi >= 0 ? hi / m_lo : hi / m_hi;
+        out_lo -= kRounding * std::fabs(out_lo) + 0x1p-1000;
+        out_hi += kRounding * std::fabs(out_hi) + 0x1p-1000;
+      };
+      range(w[ax.u] - err, w[ax.u] + err, b.u_lo, b.u_hi);
+      range(w[ax.v] - err, w[ax.v] + err, b.v_lo, b.v_hi);
+      // Directions of the cone have |u|, |v| <= 1.
+      if (b.u_lo > kFaceRange || b.u_hi < -kFaceRange || b.v_lo > kFaceRange || b.v_hi < -kFaceRange) continue;
+      b = {std::max(b.u_lo, -kFaceRange), std::min(b.u_hi, kFaceRange), std::max(b.v_lo, -kFaceRange),
+           std::min(b.v_hi, kFaceRange)};
     }
-  // Directions beyond the grid's extent lie only in whole-face triangles,
-  // which every cell lists too.  Only triangles whose own box meets the
-  // region's can contain one of its directions.
+    const Face& face = faces_[f];
+    const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
+    const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
+    cells += static_cast<long long>(i1 - i0 + 1) * (j1 - j0 + 1);
+    if (cells > kMaxCells) return false;
+    queries[query_count++] = {f, b};
+  }
+  for (std::size_t q = 0; q < query_count; ++q) {
+    const Face& face = faces_[queries[q].face];
+    const Box& b = queries[q].box;
+    const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
+    const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t cell = static_cast<std::size_t>(j) * face.nu + static_cast<std::size_t>(i);
+        for (std::uint32_t k = face.offsets[cell]; k < face.offsets[cell + 1]; ++k) {
+          // Directions beyond the grid's extent lie only in whole-face
+          // triangles, which every cell lists too.  Only triangles whose own
+          // box meets the region's can contain one of its directions.
+          const std::uint32_t id = face.entries[k].id;
+          const std::array<float, 4>& tb = face.box_of[id];
+          if (!(tb[1] < b.u_lo || tb[0] > b.u_hi || tb[3] < b.v_lo || tb[2] > b.v_hi)) ids.push_back(id);
+        }
+      }
+  }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  const double u_lo = u - eu, u_hi = u + eu, v_lo = v - ev, v_hi = v + ev;
-  ids.erase(std::remove_if(ids.begin(), ids.end(),
-                           [&](std::uint32_t id) {
-                             const std::array<float, 4>& b = face.box_of[id];
-                             return b[1] < u_lo || b[0] > u_hi || b[3] < v_lo || b[2] > v_hi;
-                           }),
-            ids.end());
   return true;
 }
 

@@ -224,18 +224,16 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   }
   // The status at the centre decides which proof can succeed.  In shadow:
   // only a triangle crossed at the centre can be crossed everywhere, so those
-  // are tried and nothing else.  Lit: every triangle must be proven never
-  // crossed, and the first that is not ends the proof.
+  // are tried as they are found, and the first crossed everywhere ends the
+  // proof.  Lit: every triangle must be proven never crossed, and the first
+  // that is not ends the proof.
   bool shadowed_at_centre = false;
-  std::vector<std::uint32_t> crossed_at_centre;
   for (std::uint32_t id : ids)
-    if (t.shadow_crosses(t.lit[id], *hit, centre, stats)) crossed_at_centre.push_back(id);
-  shadowed_at_centre = !crossed_at_centre.empty();
-  if (shadowed_at_centre) {
-    for (std::uint32_t id : crossed_at_centre)
+    if (t.shadow_crosses(t.lit[id], *hit, centre, stats)) {
       if (proof.crossing(t.lit[id], seen, hit->eye_index) == SquareProof::Crossing::Always) return true;
-    return std::nullopt;
-  }
+      shadowed_at_centre = true;
+    }
+  if (shadowed_at_centre) return std::nullopt;
   for (std::uint32_t id : ids)
     if (proof.crossing(t.lit[id], seen, hit->eye_index) != SquareProof::Crossing::Never) return std::nullopt;
   return false;
