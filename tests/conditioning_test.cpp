@@ -45,7 +45,7 @@ TEST(Conditioning, TheLightsDistanceToTheNearPlaneIsExact) {
                            std::string(NEARCAP_SOURCE_DIR) + R"(/data/meshes/box.off","translate":[0,0,-5]}]})";
   const Scene scene = parse_scene(json, "inline", ".");
   const CameraSpaceScene cs(scene);
-  const auto f = analysis::conditioning_features(cs, 0, {}, gl::Arithmetic::Separate);
+  const auto f = analysis::conditioning_features(cs, 0, gl::LightFrustumChoice{}, gl::Arithmetic::Separate);
   EXPECT_EQ(f.light_near_distance, 0.5);
   EXPECT_TRUE(f.light_frustum_defined);
   EXPECT_NEAR(f.l_near_over_l_far, 0.5, 1e-6) << "min(d / d_max, 1/2): the box is far away";
@@ -60,7 +60,7 @@ TEST(Conditioning, TheNearPlaneSweepGetsWorseAsTheLightNearsTheNearPlane) {
   auto features = [&](int frame) {
     const Scene scene = parse_scene(analysis::path_frame_json(path, frame), "frame", ".");
     const CameraSpaceScene cs(scene);
-    return analysis::conditioning_features(cs, 0, {}, gl::Arithmetic::Separate);
+    return analysis::conditioning_features(cs, 0, gl::LightFrustumChoice{}, gl::Arithmetic::Separate);
   };
   const auto easy = features(48), hard = features(31);
   EXPECT_GT(std::fabs(easy.light_near_distance), 10 * std::fabs(hard.light_near_distance));

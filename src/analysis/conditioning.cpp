@@ -56,6 +56,11 @@ double coordinate_over_size(const Scene& scene) {
 
 ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size_t light,
                                            const gl::LightFrustumChoice& choice, gl::Arithmetic arithmetic) {
+  return conditioning_features(cs, light, gl::light_frustum(cs.scene(), light, choice), arithmetic);
+}
+
+ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size_t light, const gl::LightFrustum& lf,
+                                           gl::Arithmetic arithmetic) {
   const Scene& scene = cs.scene();
   const Frustum& fr = scene.camera.frustum;
   const double width = fr.right - fr.left;
@@ -64,7 +69,6 @@ ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size
       nearcap::to_double(Rational((cs.exact_light(light).z + Rational(fr.near)) / Rational(fr.near)));
   f.coordinate_over_size = coordinate_over_size(scene);
 
-  const gl::LightFrustum lf = gl::light_frustum(scene, light, choice);
   f.light_frustum_defined = lf.defined;
   if (!lf.defined) {
     f.l_far_over_width = f.delta_over_width = f.skew = f.l_near_over_l_far = kNaN;

@@ -74,9 +74,9 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
     for (const ObjectClassification& o : exact.lights[light].objects)
       for (std::size_t c = 0; c < kQuadCaseCount; ++c) exact_cases[c] += o.case_counts[c];
     for (const SweepVariant& variant : options.variants) {
-      const ConditioningFeatures features =
-          conditioning_features(cs, light, variant.settings.light_frustum, variant.settings.arithmetic);
       gl::ShadowFrameBatch batch(scene, light, variant.settings);
+      const ConditioningFeatures features =
+          conditioning_features(cs, light, batch.light_frustum(), variant.settings.arithmetic);
       for (gl::ShadowMethod m : options.methods) {
         SweepRow r;
         r.variant = variant.name;

@@ -208,6 +208,16 @@ FacePlacement place(const Relative& r, int f, std::array<SmallPolygon, 2>& scrat
   return out;
 }
 
+// The largest float <= x and the smallest float >= x (x finite or infinite).
+float float_below(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float float_above(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
 int cell_index(double x, double origin, double size, int n) {
   const double c = std::floor((x - origin) / size);
   if (c < 0) return 0;
@@ -231,9 +241,10 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   for (int f = 0; f < 6; ++f) {
     Face& face = faces_[f];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
-    std::size_t boxed = 0;
+    std::size_t boxed = 0, listed = 0;
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       placements[i] = place(relative[i], f, *scratch);
+      if (placements[i].placement != Placement::Skip) ++listed;
       if (placements[i].placement != Placement::Boxed) continue;
       ++boxed;
       const Box& b = placements[i].box;
@@ -270,16 +281,17 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
     std::uint32_t max_id = 0;
     for (const Triangle& t : triangles) max_id = std::max(max_id, t.id);
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    face.box_of.assign(triangles.empty() ? 0 : static_cast<std::size_t>(max_id) + 1,
+    // Only ids listed in a cell are ever looked up: a face that lists none
+    // needs no boxes.
+    face.box_of.assign(listed == 0 ? 0 : static_cast<std::size_t>(max_id) + 1,
                        std::array<float, 4>{kInf, -kInf, kInf, -kInf});
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::size_t t = 0; t < triangles.size() && listed > 0; ++t) {
       std::array<float, 4>& b = face.box_of[triangles[t].id];
       if (placements[t].placement == Placement::Whole) {
         b = {-kInf, kInf, -kInf, kInf};
       } else if (placements[t].placement == Placement::Boxed) {
         const Box& x = placements[t].box;
-        b = {std::nextafter(static_cast<float>(x.u_lo), -kInf), std::nextafter(static_cast<float>(x.u_hi), kInf),
-             std::nextafter(static_cast<float>(x.v_lo), -kInf), std::nextafter(static_cast<float>(x.v_hi), kInf)};
+        b = {float_below(x.u_lo), float_above(x.u_hi), float_below(x.v_lo), float_above(x.v_hi)};
       }
     }
     face.offsets.assign(cell_count + 1, 0);

@@ -290,6 +290,13 @@ struct PixelReferenceTracer::Impl {
   }
 
   bool coplanar(const LightTriangle& lt, std::uint32_t q_index) const {
+    // Filter: a vertex of q certainly off T's plane decides (almost always).
+    const EyeTriangle& q_tri = eye[q_index];
+    const auto& q_vertices = cs.mesh(q_tri.object).triangles[q_tri.face];
+    for (int k = 0; k < 3; ++k) {
+      const BoundedDouble side = dot(lt.plane.n, cs.vertex(q_tri.object, q_vertices[k])) - lt.plane.d;
+      if (const auto s = side.sign(); s && *s != Sign::Zero) return false;
+    }
     auto& cache = coplanar_cache.local();
     const std::uint64_t key = (static_cast<std::uint64_t>(lt.eye_index) << 32) | q_index;
     if (const auto it = cache.find(key); it != cache.end()) return it->second;

@@ -135,6 +135,7 @@ struct ShadowFrameBatch::SharedWork {
   std::vector<std::optional<EngineSilhouette>> silhouettes;
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
+  std::optional<LightFrustum> light_frustum;
   double silhouette_ms = 0;  // computing silhouettes and geometry, once
 };
 
@@ -161,7 +162,8 @@ class FrameRenderer {
     frame.height = fb_.height();
     const auto t_setup = Clock::now();
     if (uses_near_cap(method_)) {
-      frame.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
+      if (!shared_.light_frustum) shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
+      frame.light_frustum = *shared_.light_frustum;
       if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
     }
     const bool infinite = method_ == ShadowMethod::Preload ||
@@ -383,6 +385,11 @@ ShadowFrameBatch::~ShadowFrameBatch() = default;
 
 ShadowFrame ShadowFrameBatch::render(ShadowMethod method) {
   return FrameRenderer(scene_, light_, method, settings_, *shared_).run();
+}
+
+const LightFrustum& ShadowFrameBatch::light_frustum() {
+  if (!shared_->light_frustum) shared_->light_frustum = gl::light_frustum(scene_, light_, settings_.light_frustum);
+  return *shared_->light_frustum;
 }
 
 ShadowFrame render_shadow_frame(const Scene& scene, std::size_t light, ShadowMethod method,

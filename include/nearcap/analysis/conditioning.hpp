@@ -56,5 +56,9 @@ struct ConditioningFeatures {
 
 ConditioningFeatures conditioning_features(const CameraSpaceScene& scene, std::size_t light,
                                            const gl::LightFrustumChoice& choice, gl::Arithmetic arithmetic);
+// The same with the light frustum already computed (gl::light_frustum(scene,
+// light, choice), as a ShadowFrameBatch shares it).
+ConditioningFeatures conditioning_features(const CameraSpaceScene& scene, std::size_t light,
+                                           const gl::LightFrustum& light_frustum, gl::Arithmetic arithmetic);
 
 }  // namespace nearcap::analysis

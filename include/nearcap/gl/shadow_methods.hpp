@@ -125,6 +125,10 @@ class ShadowFrameBatch {
   ShadowFrameBatch& operator=(const ShadowFrameBatch&) = delete;
 
   ShadowFrame render(ShadowMethod method);
+  // ZP+'s light frustum for these settings: computed once per batch (its
+  // l_near rule may measure the distance from the light to every occluder
+  // triangle) and shared by every ZP+ method rendered.
+  const LightFrustum& light_frustum();
 
   struct SharedWork;  // src/gl/shadow_methods.cpp
 

@@ -20,8 +20,9 @@
 //      own pixel square, r = 1/2), 5 when its centre is >= 2 pixels from the
 //      tile's edges, 6 when >= 8.
 //   2. Pixels: a wrong pixel in no proven tile (not even its own 1-pixel
-//      tile, which is its r = 1/2 square) tries its own squares r = 1/512,
-//      1/64, 1/8 from the smallest up: level 0 to 3.
+//      tile, which is its r = 1/2 square) tries its own squares r = 1/8,
+//      1/64, 1/512 from the largest down, and the first proven gives its
+//      level (3 to 1; 0 when none is).
 // A pixel's level depends only on the exact scene and the pixel, never on
 // which other pixels are wrong or in what order methods are measured.  It is
 // a lower bound of the largest proven-constant square of exact/crack_distance
