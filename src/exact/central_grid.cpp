@@ -177,9 +177,10 @@ FacePlacement place(const Relative& r, int f, std::array<SmallPolygon, 2>& scrat
   SmallPolygon* out_poly = &scratch[1];
   in->n = 0;
   for (const Vec3d& p : w) in->push(p);
+  // A triangle strictly inside this face's cone needs no clipping.
   for (int other : {ax.u, ax.v})
     for (double side : {1.0 / open, -1.0 / open}) {
-      if (in->n == 0) break;
+      if (in->n == 0 || r.only_face == f) break;
       clip_to_cone_side(*in, ax, other, side, *out_poly);
       std::swap(in, out_poly);
     }
@@ -236,21 +237,43 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   std::vector<Relative> relative;
   relative.reserve(triangles.size());
   for (const Triangle& t : triangles) relative.push_back(relative_to(t, centre_, centre_error_));
-  std::vector<FacePlacement> placements(triangles.size());
+  // The triangles each face has to place: those strictly inside its cone,
+  // and those that are not strictly inside one cone (or pass near the
+  // centre), which every face places.
+  std::array<std::vector<std::uint32_t>, 6> inside;
+  std::vector<std::uint32_t> anywhere;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const Relative& r = relative[i];
+    if (r.only_face >= 0 && !r.near_apex)
+      inside[static_cast<std::size_t>(r.only_face)].push_back(static_cast<std::uint32_t>(i));
+    else
+      anywhere.push_back(static_cast<std::uint32_t>(i));
+  }
+  std::uint32_t max_id = 0;
+  for (const Triangle& t : triangles) max_id = std::max(max_id, t.id);
+
+  struct Placed {
+    std::uint32_t index;
+    FacePlacement placement;
+  };
+  std::vector<Placed> placed;
   auto scratch = std::make_unique<std::array<SmallPolygon, 2>>();
   for (int f = 0; f < 6; ++f) {
     Face& face = faces_[f];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
-    std::size_t boxed = 0, listed = 0;
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      placements[i] = place(relative[i], f, *scratch);
-      if (placements[i].placement != Placement::Skip) ++listed;
-      if (placements[i].placement != Placement::Boxed) continue;
-      ++boxed;
-      const Box& b = placements[i].box;
-      extent = {std::min(extent.u_lo, b.u_lo), std::max(extent.u_hi, b.u_hi), std::min(extent.v_lo, b.v_lo),
-                std::max(extent.v_hi, b.v_hi)};
-    }
+    std::size_t boxed = 0;
+    placed.clear();
+    for (const std::vector<std::uint32_t>* list : {&inside[static_cast<std::size_t>(f)], &anywhere})
+      for (std::uint32_t i : *list) {
+        const FacePlacement p = place(relative[i], f, *scratch);
+        if (p.placement == Placement::Skip) continue;
+        placed.push_back({i, p});
+        if (p.placement != Placement::Boxed) continue;
+        ++boxed;
+        const Box& b = p.box;
+        extent = {std::min(extent.u_lo, b.u_lo), std::max(extent.u_hi, b.u_hi), std::min(extent.v_lo, b.v_lo),
+                  std::max(extent.v_hi, b.v_hi)};
+      }
     if (boxed == 0) extent = {-kFaceRange, kFaceRange, -kFaceRange, kFaceRange};
     const double width = std::max(extent.u_hi - extent.u_lo, 1e-300);
     const double height = std::max(extent.v_hi - extent.v_lo, 1e-300);
@@ -272,25 +295,23 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) fn(static_cast<std::size_t>(j) * face.nu + i);
     };
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-      if (placements[t].placement == Placement::Boxed)
-        for_cells(placements[t].box, [&](std::size_t c) { ++counts[c]; });
-      else if (placements[t].placement == Placement::Whole)
-        whole.push_back({triangles[t].id, placements[t].axis_lower_bound});
+    for (const Placed& p : placed) {
+      if (p.placement.placement == Placement::Boxed)
+        for_cells(p.placement.box, [&](std::size_t c) { ++counts[c]; });
+      else
+        whole.push_back({triangles[p.index].id, p.placement.axis_lower_bound});
     }
-    std::uint32_t max_id = 0;
-    for (const Triangle& t : triangles) max_id = std::max(max_id, t.id);
     constexpr float kInf = std::numeric_limits<float>::infinity();
     // Only ids listed in a cell are ever looked up: a face that lists none
     // needs no boxes.
-    face.box_of.assign(listed == 0 ? 0 : static_cast<std::size_t>(max_id) + 1,
+    face.box_of.assign(placed.empty() ? 0 : static_cast<std::size_t>(max_id) + 1,
                        std::array<float, 4>{kInf, -kInf, kInf, -kInf});
-    for (std::size_t t = 0; t < triangles.size() && listed > 0; ++t) {
-      std::array<float, 4>& b = face.box_of[triangles[t].id];
-      if (placements[t].placement == Placement::Whole) {
+    for (const Placed& p : placed) {
+      std::array<float, 4>& b = face.box_of[triangles[p.index].id];
+      if (p.placement.placement == Placement::Whole) {
         b = {-kInf, kInf, -kInf, kInf};
-      } else if (placements[t].placement == Placement::Boxed) {
-        const Box& x = placements[t].box;
+      } else {
+        const Box& x = p.placement.box;
         b = {float_below(x.u_lo), float_above(x.u_hi), float_below(x.v_lo), float_above(x.v_hi)};
       }
     }
@@ -299,10 +320,10 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
       face.offsets[c + 1] = face.offsets[c] + counts[c] + static_cast<std::uint32_t>(whole.size());
     face.entries.resize(face.offsets[cell_count]);
     std::vector<std::uint32_t> fill(face.offsets.begin(), face.offsets.end() - 1);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-      if (placements[t].placement == Placement::Boxed)
-        for_cells(placements[t].box, [&](std::size_t c) {
-          face.entries[fill[c]++] = {triangles[t].id, placements[t].axis_lower_bound};
+    for (const Placed& p : placed)
+      if (p.placement.placement == Placement::Boxed)
+        for_cells(p.placement.box, [&](std::size_t c) {
+          face.entries[fill[c]++] = {triangles[p.index].id, p.placement.axis_lower_bound};
         });
     for (std::size_t c = 0; c < cell_count; ++c) {
       for (const Entry& e : whole) face.entries[fill[c]++] = e;
