@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "nearcap/error.hpp"
@@ -77,7 +78,27 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       gl::ShadowFrameBatch batch(scene, light, variant.settings);
       const ConditioningFeatures features =
           conditioning_features(cs, light, batch.light_frustum(), variant.settings.arithmetic);
-      for (gl::ShadowMethod m : options.methods) {
+      // Which occluders Z-pass gets wrong, from the exact near-cap.
+      std::vector<bool> zpass_wrong(scene.objects.size(), false);
+      std::size_t occluders = 0, wrong_occluders = 0;
+      for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+        if (!scene.objects[o].occluder) continue;
+        ++occluders;
+        zpass_wrong[o] = ref.cap_pixels_by_object[o] > 0;
+        if (zpass_wrong[o]) ++wrong_occluders;
+      }
+      // A row per method, then one per engine policy (a frame with a method per occluder).
+      struct Entry {
+        std::string name;
+        std::optional<gl::ShadowMethod> method;
+        std::vector<gl::ShadowMethod> object_methods;
+      };
+      std::vector<Entry> entries;
+      for (gl::ShadowMethod m : options.methods) entries.push_back({std::string(to_string(m)), m, {}});
+      for (EnginePolicy p : options.policies)
+        entries.push_back(
+            {std::string(to_string(p)), std::nullopt, object_methods(scene, engine_choices(p, scene, light))});
+      for (const Entry& entry : entries) {
         SweepRow r;
         r.variant = variant.name;
         r.configuration = configuration.id;
@@ -86,14 +107,28 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         r.detail = configuration.detail;
         r.replay = configuration.replay;
         r.light = light;
-        r.method = std::string(to_string(m));
+        r.method = entry.name;
+        r.occluders = occluders;
+        r.zpass_wrong_occluders = wrong_occluders;
+        // The method each occluder gets, where the row decides Z-pass or Z-fail per occluder.
+        std::vector<gl::ShadowMethod> decided = entry.object_methods;
+        if (entry.method && !gl::uses_near_cap(*entry.method)) decided.assign(scene.objects.size(), *entry.method);
+        if (!decided.empty()) {
+          r.false_negatives = r.false_positives = 0;
+          for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+            if (!scene.objects[o].occluder) continue;
+            const bool zpass = decided[o] == gl::ShadowMethod::ZPass;
+            if (zpass && zpass_wrong[o]) ++r.false_negatives;
+            if (!zpass && !zpass_wrong[o]) ++r.false_positives;
+          }
+        }
         r.exact_cases = exact_cases;
         r.case_disagreements = engine.total(light);
         r.reference_ms = reference_ms;
         r.features = features;
         gl::ShadowFrame frame;
         try {
-          frame = batch.render(m);
+          frame = entry.method ? batch.render(*entry.method) : batch.render(entry.object_methods);
         } catch (const Error& e) {
           if (e.kind() != ErrorKind::Range) throw;
           r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)
@@ -134,7 +169,8 @@ std::string csv_header() {
   for (const char* c : kCaseNames)
     if (std::string(c) != "degenerate") h += std::string(",float_") + c;
   h += ",case_disagreements,pixels_seen,wrong,cracks,wrong_lit,wrong_shadowed,count_mismatch,cap_mismatch,"
-       "visibility_mismatch,fallback,zfail_objects,refused";
+       "visibility_mismatch,fallback,zfail_objects,refused,occluders,zpass_wrong_occluders,false_negatives,"
+       "false_positives";
   for (std::string_view name : kCrackDistanceNames) h += ",wrong_r_" + distance_column(name);
   h += ",light_frustum_defined,light_near_distance,l_far_over_width,delta_over_width,skew,l_near_over_l_far,"
        "cond_projection,cond_light_transform,coordinate_over_size,cap_window_error_px,cap_window_error_ulp,"
@@ -156,7 +192,10 @@ std::string csv_line(const SweepRow& r) {
     << ',' << r.wrong_shadowed << ',' << r.count_mismatch << ',';
   if (r.cap_mismatch >= 0) s << r.cap_mismatch;
   s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects << ','
-    << (r.refused ? 1 : 0);
+    << (r.refused ? 1 : 0) << ',' << r.occluders << ',' << r.zpass_wrong_occluders << ',';
+  if (r.false_negatives >= 0) s << r.false_negatives;
+  s << ',';
+  if (r.false_positives >= 0) s << r.false_positives;
   for (std::size_t n : r.wrong_by_distance) s << ',' << n;
   const ConditioningFeatures& f = r.features;
   s << ',' << (f.light_frustum_defined ? 1 : 0);

@@ -54,13 +54,17 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
 
   const auto t1 = std::chrono::steady_clock::now();
   tbb::enumerable_thread_specific<FilterStats> stats;
+  const std::size_t objects = tracer.scene().object_count();
+  tbb::enumerable_thread_specific<std::vector<std::size_t>> cap_pixels(std::vector<std::size_t>(objects, 0));
   tbb::parallel_for(tbb::blocked_range<int>(0, ref.height), [&](const tbb::blocked_range<int>& rows) {
     FilterStats& local = stats.local();
+    std::vector<std::size_t>& by_object = cap_pixels.local();
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < ref.width; ++i) {
         const PixelSample s = tracer.trace(i, j, &local);
         const std::size_t k = ref.index(i, j);
         ref.cap[k] = s.cap;
+        for (std::uint32_t o : s.cap_objects) ++by_object[o];
         if (s.stencil) {
           ref.stencil[k] = *s.stencil;
           ref.object[k] = s.object;
@@ -69,6 +73,9 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
       }
   });
   for (const FilterStats& s : stats) ref.stats.merge(s);
+  ref.cap_pixels_by_object.assign(objects, 0);
+  for (const std::vector<std::size_t>& by_object : cap_pixels)
+    for (std::size_t o = 0; o < objects; ++o) ref.cap_pixels_by_object[o] += by_object[o];
   ref.trace_ms = elapsed_ms(t1);
   return ref;
 }

@@ -6,6 +6,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -104,6 +105,8 @@ struct PixelReferenceTracer::Impl {
     for (std::size_t o = 0; o < cs.object_count(); ++o) total += cs.mesh(o).triangles.size();
     eye.reserve(total);
     eye_items.reserve(total);
+    lit.reserve(total);
+    light_items.reserve(total);
     const BoundedVec3& l = cs.light(light);
     for (std::size_t o = 0; o < cs.object_count(); ++o) {
       const TriangleMesh& mesh = cs.mesh(o);
@@ -143,7 +146,10 @@ struct PixelReferenceTracer::Impl {
         }
       }
     }
-    eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 1.0);
+    // Half a cell per triangle around the eye: building the grid is a large
+    // part of a small frame, and tracing 1920x1080 is no slower for it
+    // (measured on the bunny).
+    eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 0.5);
     const double light_error = std::max({l.x.e, l.y.e, l.z.e});
     light_grid = std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, light_error, light_items, 1.0);
   }
@@ -367,7 +373,12 @@ struct PixelReferenceTracer::Impl {
     PixelSample out;
     const auto cap_candidates = accelerated ? light_candidates(p.approx()) : light_grid->all();
     for (const auto& entry : cap_candidates)
-      if (cap_crosses(lit[entry.id], p, stats)) ++out.cap;
+      if (cap_crosses(lit[entry.id], p, stats)) {
+        ++out.cap;
+        const std::uint32_t o = lit[entry.id].object;
+        if (std::find(out.cap_objects.begin(), out.cap_objects.end(), o) == out.cap_objects.end())
+          out.cap_objects.push_back(o);
+      }
 
     const auto eye_candidates = accelerated ? eye_grid->candidates(p.estimate(), p.error()) : eye_grid->all();
     const std::optional<Hit> hit = first_hit(eye_candidates, p, accelerated, stats);

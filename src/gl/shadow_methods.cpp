@@ -9,6 +9,7 @@
 #include <optional>
 #include <utility>
 
+#include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
@@ -145,14 +146,30 @@ using SharedWork = ShadowFrameBatch::SharedWork;
 
 class FrameRenderer {
  public:
-  FrameRenderer(const Scene& scene, std::size_t light, ShadowMethod method, const EmulationSettings& settings,
-                SharedWork& shared)
+  // `methods`: one per scene object (non-occluders' entries unused); the
+  // frame reports `label` as its method.
+  FrameRenderer(const Scene& scene, std::size_t light, ShadowMethod label, std::vector<ShadowMethod> methods,
+                const EmulationSettings& settings, SharedWork& shared)
       : scene_(scene),
         light_(light),
-        method_(method),
+        method_(label),
+        methods_(std::move(methods)),
         settings_(settings),
         shared_(shared),
-        fb_(scene.camera.width, scene.camera.height, settings.depth) {}
+        fb_(scene.camera.width, scene.camera.height, settings.depth) {
+    NEARCAP_CHECK(methods_.size() == scene.objects.size());
+    for (std::size_t o = 0; o < methods_.size(); ++o) {
+      if (!scene.objects[o].occluder) continue;
+      any_near_cap_ = any_near_cap_ || uses_near_cap(methods_[o]);
+      any_preload_ = any_preload_ || methods_[o] == ShadowMethod::Preload;
+      any_infinite_zfail_ =
+          any_infinite_zfail_ || (methods_[o] == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
+    }
+    if (any_near_cap_ && any_preload_)
+      throw Error(ErrorKind::Usage,
+                  "preload cannot share a frame with a ZP+ method (preload needs the infinite projection, ZP+ the "
+                  "finite one)");
+  }
 
   ShadowFrame run() {
     ShadowFrame frame;
@@ -160,14 +177,17 @@ class FrameRenderer {
     frame.light = light_;
     frame.width = fb_.width();
     frame.height = fb_.height();
+    for (std::size_t o = 0; o < methods_.size(); ++o)
+      if (scene_.objects[o].occluder) frame.object_methods.push_back({o, methods_[o]});
     const auto t_setup = Clock::now();
-    if (uses_near_cap(method_)) {
+    if (any_near_cap_) {
       if (!shared_.light_frustum) shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
       frame.light_frustum = *shared_.light_frustum;
       if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
     }
-    const bool infinite = method_ == ShadowMethod::Preload ||
-                          (method_ == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
+    // The infinite far plane when a method needs it (preload; Z-fail by
+    // default) and no ZP+ method needs the finite one (section 5.2).
+    const bool infinite = !any_near_cap_ && (any_preload_ || any_infinite_zfail_);
     const Mat4f projection =
         infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
     prepare_objects(projection, frame);
@@ -195,7 +215,7 @@ class FrameRenderer {
     frame.times.depth_ms = depth->ms;
 
     auto t = Clock::now();
-    const bool zpplus = uses_near_cap(method_) && frame.fallback.empty();
+    const bool zpplus = any_near_cap_ && frame.fallback.empty();
     if (zpplus) {
       near_cap_pass(frame);
       frame.near_cap = fb_.stencil();
@@ -206,21 +226,24 @@ class FrameRenderer {
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder) continue;
-      if (method_ == ShadowMethod::ZPass || (method_ == ShadowMethod::ZPPlus && zpplus)) {
+      const ShadowMethod m = methods_[o];
+      if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
         draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
-      } else if (method_ == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
+      } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
         draw(obj, obj.geometry->sides, figure7_program, zpass_state(), frame);
         draw(obj, obj.geometry->corrective, figure7_program, zpass_state(), frame);
-      } else if (method_ == ShadowMethod::Preload) {
+      } else if (m == ShadowMethod::Preload) {
         DrawState preload;
         preload.front = kUncountAlways;
         preload.back = kCountAlways;
         draw_closed_volume(obj, preload, frame);
         draw_closed_volume(obj, zpass_state(), frame);
       } else {
-        // zfail, or a ZP+ method's switch to zfail (case D, or no light frustum).
-        const ZFailFar far =
-            method_ == ShadowMethod::ZFail ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
+        // zfail, or a ZP+ method's switch to zfail (case D, or no light
+        // frustum); Z-fail beside a ZP+ method has the finite projection, so
+        // it clamps as the switch does.
+        const bool own_far = m == ShadowMethod::ZFail && (infinite || settings_.zfail_far != ZFailFar::Infinite);
+        const ZFailFar far = own_far ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
         draw_closed_volume(obj, zfail_state(far), frame);
       }
     }
@@ -276,7 +299,7 @@ class FrameRenderer {
           ++frame.float_cases[static_cast<std::size_t>(c)];
           obj.case_d = obj.case_d || c == QuadCase::D;
         }
-        if (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty())
+        if (methods_[o] == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty())
           frame.zfail_objects.push_back(o);
       }
       if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
@@ -293,7 +316,8 @@ class FrameRenderer {
     s.back = kCountAlways;
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
-      if (!obj.occluder || (method_ == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
+      const ShadowMethod m = methods_[o];
+      if (!obj.occluder || !uses_near_cap(m) || (m == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
       frame.cap_pass += fb_.draw(run_program(shared_.vertices[o], obj.uniforms, near_cap_program),
                                  oriented(s, obj.mirrored), settings_.raster);
     }
@@ -315,6 +339,8 @@ class FrameRenderer {
   const Scene& scene_;
   std::size_t light_;
   ShadowMethod method_;
+  std::vector<ShadowMethod> methods_;
+  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false;
   EmulationSettings settings_;
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
@@ -384,7 +410,24 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 
 ShadowFrame ShadowFrameBatch::render(ShadowMethod method) {
-  return FrameRenderer(scene_, light_, method, settings_, *shared_).run();
+  return FrameRenderer(scene_, light_, method, std::vector<ShadowMethod>(scene_.objects.size(), method), settings_,
+                       *shared_)
+      .run();
+}
+
+ShadowFrame ShadowFrameBatch::render(const std::vector<ShadowMethod>& object_methods) {
+  if (object_methods.size() != scene_.objects.size())
+    throw Error(ErrorKind::Usage, "a method per scene object is needed: " + std::to_string(scene_.objects.size()) +
+                                      " objects, " + std::to_string(object_methods.size()) + " methods");
+  ShadowMethod label = ShadowMethod::ZPass;
+  for (std::size_t o = 0; o < object_methods.size(); ++o)
+    if (scene_.objects[o].occluder) {
+      label = object_methods[o];
+      break;
+    }
+  ShadowFrame frame = FrameRenderer(scene_, light_, label, object_methods, settings_, *shared_).run();
+  frame.mixed = true;
+  return frame;
 }
 
 const LightFrustum& ShadowFrameBatch::light_frustum() {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "nearcap/analysis/conditioning.hpp"
+#include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
@@ -55,6 +56,14 @@ struct SweepRow {
   bool refused = false;           // the float pipeline refused the frame (its float32 transforms are
                                   // degenerate: error (range)); the row's counts are then all 0
   std::size_t zfail_objects = 0;  // occluders switched to Z-fail (case D)
+  // Per occluder, Z-pass against Z-fail: the occluders, those for which Z-pass
+  // is wrong (the exact near-cap of the occluder covers a pixel centre), and,
+  // for the rows that choose per occluder (zpass, zfail, preload and the
+  // engine policies; -1 for the ZP+ methods), the occluders given Z-pass
+  // where it is wrong (false negatives) and Z-fail where Z-pass is right
+  // (false positives).
+  std::size_t occluders = 0, zpass_wrong_occluders = 0;
+  long long false_negatives = -1, false_positives = -1;
   PassWork setup, depth, near_cap, volume;
   double reference_ms = 0;        // the exact reference for this light (shared by its methods)
   double crack_distance_ms = 0;   // measuring this method's wrong pixels not measured before
@@ -72,6 +81,8 @@ struct SweepVariant {
 struct SweepOptions {
   std::vector<gl::ShadowMethod> methods{gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
   std::vector<SweepVariant> variants{SweepVariant{}};
+  // Engine rules run beside the methods, one row each (method = their name).
+  std::vector<EnginePolicy> policies;
   MeshCache* meshes = nullptr;  // shared by the configurations (a path's frames read their mesh once)
 };
 

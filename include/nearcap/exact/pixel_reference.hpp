@@ -55,6 +55,9 @@ namespace nearcap {
 // What the reference knows about one pixel.
 struct PixelSample {
   std::uint32_t cap = 0;
+  // The objects whose front faces [l, p] crosses (each once): the occluders
+  // whose own near-cap covers p.
+  std::vector<std::uint32_t> cap_objects;
   std::optional<std::uint32_t> stencil;  // nothing when no surface is seen
   std::int32_t object = -1;              // the visible object, -1 for none
   FaceIndex face = 0;                    // its visible triangle
@@ -71,6 +74,10 @@ struct PixelReference {
   std::vector<std::uint32_t> stencil;  // kNothingSeen where no surface is seen
   std::vector<std::int32_t> object;    // -1 where no surface is seen
   std::vector<FaceIndex> face;
+  // Per object: the pixels whose near-cap count it contributes to.  Z-pass
+  // is right for an occluder exactly when its count is 0 (its shadow volume
+  // meets no pixel centre of the near rectangle).
+  std::vector<std::size_t> cap_pixels_by_object;
   FilterStats stats;
   double setup_ms = 0, trace_ms = 0;  // building the grids; tracing the pixels
 

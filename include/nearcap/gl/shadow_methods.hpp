@@ -101,6 +101,11 @@ struct ShadowFrame {
   std::vector<std::size_t> zfail_objects;                 // occluders drawn with zfail instead (case D)
   std::string fallback;                                   // why the whole light fell back to zfail, or ""
   LightFrustum light_frustum;                             // ZP+ methods
+  // Each occluder's method (object index, method): all `method` unless the
+  // frame was rendered per occluder (`mixed`, ShadowFrameBatch::render with
+  // a method per object).
+  std::vector<std::pair<std::size_t, ShadowMethod>> object_methods;
+  bool mixed = false;
   DrawCounters depth_pass, cap_pass, volume_pass;
   PassTimes times;
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
@@ -125,6 +130,16 @@ class ShadowFrameBatch {
   ShadowFrameBatch& operator=(const ShadowFrameBatch&) = delete;
 
   ShadowFrame render(ShadowMethod method);
+  // One frame with a method per scene object (entries of non-occluders are
+  // unused), as an engine that decides per occluder draws it: the near-cap
+  // pass for the occluders with a ZP+ method, each occluder's volume by its
+  // method.  The projection is the infinite one when some occluder uses
+  // preload or Z-fail with its default infinite far plane and none uses a
+  // ZP+ method (ZP+'s depth pre-pass needs the finite one; Z-fail then
+  // clamps as the case-D switch does: `switch_clamp`), else the finite one.
+  // Preload beside a ZP+ method is refused (error (usage)).  With every
+  // occluder on one method the frame equals render(method), `mixed` aside.
+  ShadowFrame render(const std::vector<ShadowMethod>& object_methods);
   // ZP+'s light frustum for these settings: computed once per batch (its
   // l_near rule may measure the distance from the light to every occluder
   // triangle) and shared by every ZP+ method rendered.
