@@ -7,10 +7,12 @@
 #      out/near_cap_bunny_wall/;
 #   2. sweeps the bundled camera paths (data/paths/, 430 frames at 160 x 120)
 #      and 200 hard configurations of the sampler through the exact reference
-#      and the five float methods (out/sweep/rows.csv), and writes the report:
-#      out/sweep/report/index.html.
+#      and the five float methods, with the engines' Z-pass / Z-fail rules
+#      (Doom 3, Doom 3 BFG, Ogre, always Z-fail) beside them
+#      (out/sweep/rows.csv), and writes the report: out/sweep/report/index.html.
 # About 3 minutes on 2 cores after the build.  Run again, it continues the
-# sweep where it stopped (--resume) and rewrites the report.
+# sweep where it stopped (--resume; a CSV from other options or an older
+# nearcap is set aside as rows.csv.old) and rewrites the report.
 # Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,10 +36,21 @@ ls -l "$out"
 echo "== nearcap sweep: the bundled camera paths and 200 hard configurations (out/sweep/rows.csv)"
 mkdir -p out/sweep
 resume=()
-[ -e out/sweep/rows.csv ] && resume=(--resume)
 paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
-./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --out out/sweep/rows.csv "${resume[@]}"
+sweep=(./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --policies all --out out/sweep/rows.csv)
+if [ -e out/sweep/rows.csv ]; then
+  resume=(--resume)
+  # Only a sweep of these same options (and this nearcap's columns) resumes.
+  probe=$(mktemp -d)
+  ./build/nearcap sweep --samples 1 --width 2 --height 2 --out "$probe/header.csv" >/dev/null 2>&1
+  if [ "$(head -1 out/sweep/rows.csv)" != "$(head -1 "$probe/header.csv")" ]; then
+    mv out/sweep/rows.csv out/sweep/rows.csv.old
+    resume=()
+  fi
+  rm -rf "$probe"
+fi
+"${sweep[@]}" "${resume[@]}"
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report
 echo "== open out/sweep/report/index.html: speed against error, the paths, cracks against conditioning"

@@ -4,6 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <map>
+#include <sstream>
+#include <vector>
 
 #include "cli_support.hpp"
 
@@ -21,7 +24,7 @@ class Report : public ::testing::Test {
     // A path (cases C and D along it) and a few samples, small.
     const test::CliResult r = test::run_cli(
         "sweep --path data/paths/near_plane_sweep.json --samples 12 --seed 2 "
-        "--width 24 --height 18 --out " +
+        "--width 24 --height 18 --policies all --out " +
             (dir_ / "rows.csv").string(),
         "report_sweep");
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -39,7 +42,7 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
   EXPECT_NE(r.out.find("index.html"), std::string::npos) << r.out;
   const std::string page = test::slurp(out / "index.html");
   for (const char* section : {"Speed against error", "Camera paths", "Cracks against conditioning", "Crack distance",
-                              "Does case D flag", "Hard cases by kind"})
+                              "Does case D flag", "engine rules", "Hard cases by kind"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
   const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
   EXPECT_EQ(manifest["configurations"], 60 + 12 - manifest["rejected"].get<int>());
@@ -51,11 +54,38 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
     EXPECT_GT(plot["points"].get<int>(), 0) << png;
     EXPECT_NE(page.find(plot["file"].get<std::string>()), std::string::npos) << "the page shows " << png;
   }
-  for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "by_kind.csv"})
+  for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "baselines.csv", "by_kind.csv"})
     EXPECT_TRUE(fs::exists(out / table)) << table;
-  // One row per method in the summary, five methods.
+  // One row per method in the summary: five methods and four engine rules.
   const std::string summary = test::slurp(out / "summary.csv");
-  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 6) << summary;
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 10) << summary;
+  // The baselines' confusion table: the same truth for every row, Z-pass
+  // missing all of it, the Z-fail rows none; each row's counts add up.
+  std::istringstream baselines(test::slurp(out / "baselines.csv"));
+  std::string line;
+  std::getline(baselines, line);  // header
+  std::map<std::string, std::vector<long>> by_method;
+  while (std::getline(baselines, line)) {
+    std::istringstream fields(line);
+    std::string name, field;
+    std::getline(fields, name, ',');
+    std::vector<long> v;
+    for (int k = 0; k < 6 && std::getline(fields, field, ','); ++k) v.push_back(std::stol(field));
+    ASSERT_EQ(v.size(), 6u) << line;
+    by_method[name] = v;  // decisions, truth, tp, fn, fp, tn
+  }
+  for (const char* m : {"zpass", "zfail", "preload", "doom3", "doom3-bfg", "ogre", "always-zfail"})
+    ASSERT_TRUE(by_method.count(m)) << m;
+  const long truth = by_method["zpass"][1];
+  EXPECT_GT(truth, 0);
+  for (const auto& [m, v] : by_method) {
+    EXPECT_EQ(v[1], truth) << m;
+    EXPECT_EQ(v[2] + v[3], v[1]) << m;
+    EXPECT_EQ(v[2] + v[3] + v[4] + v[5], v[0]) << m;
+  }
+  EXPECT_EQ(by_method["zpass"][3], truth);
+  EXPECT_EQ(by_method["always-zfail"][3], 0);
+  EXPECT_EQ(by_method["always-zfail"][5], 0);
 }
 
 TEST_F(Report, BadInputIsOneLineAndWritesNothing) {

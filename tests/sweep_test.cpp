@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <map>
 
 #include <filesystem>
@@ -80,6 +81,47 @@ TEST_F(Sweep, WritesOneRowPerConfigurationLightAndMethod) {
   EXPECT_EQ(rows_per_configuration["path:near_plane_sweep:31"], 5);
   EXPECT_LT(rejected, 8);
   EXPECT_NE(r.out.find("68 configurations"), std::string::npos) << r.out;
+}
+
+// Engine rules add a row each; the per-occluder columns agree with the
+// methods' rows of the same configuration.
+TEST_F(Sweep, PoliciesAddRowsWithTheirOccluderDecisions) {
+  const test::CliResult r =
+      test::run_cli(args(path("p.csv")) + " --methods zpass,zfail --policies doom3,ogre", "sweep_policies");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::stringstream in(test::slurp(path("p.csv")));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t method = column("method"), occluders = column("occluders"), truth = column("zpass_wrong_occluders"),
+                    fn = column("false_negatives"), fp = column("false_positives");
+  ASSERT_LT(fp, header.size());
+  std::map<std::string, std::map<std::string, std::vector<std::string>>> rows;  // configuration, method
+  std::size_t wrong_somewhere = 0;
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    if (cells[method] == "rejected") continue;
+    rows[cells[0] + "/" + cells[4]][cells[method]] = cells;
+  }
+  for (const auto& [key, by_method] : rows) {
+    ASSERT_EQ(by_method.size(), 4u) << key;
+    const auto& zpass = by_method.at("zpass");
+    const auto& zfail = by_method.at("zfail");
+    EXPECT_EQ(zpass[fn], zpass[truth]) << key;  // Z-pass misses every occluder that needs Z-fail
+    EXPECT_EQ(zpass[fp], "0") << key;
+    EXPECT_EQ(zfail[fn], "0") << key;
+    EXPECT_EQ(std::stoi(zfail[fp]), std::stoi(zfail[occluders]) - std::stoi(zfail[truth])) << key;
+    for (const char* p : {"doom3", "ogre"}) {
+      const auto& row = by_method.at(p);
+      EXPECT_EQ(row[truth], zpass[truth]) << key << " " << p;
+      EXPECT_LE(std::stoi(row[fn]), std::stoi(row[truth])) << key << " " << p;
+    }
+    wrong_somewhere += zpass[truth] != "0";
+  }
+  EXPECT_GT(wrong_somewhere, 10u);
 }
 
 TEST_F(Sweep, AResumedSweepEqualsAnUninterruptedOne) {
@@ -220,6 +262,7 @@ TEST_F(Sweep, BadInvocationsAreOneLineErrors) {
       {"sweep --out " + out, "nothing to sweep"},
       {"sweep --samples 2 --methods zpass,bogus --out " + out, "'bogus'"},
       {"sweep --samples 2 --kinds grazing,nope --out " + out, "unknown hard-case kind 'nope'"},
+      {"sweep --samples 2 --policies doom3,doom4 --out " + out, "--policies 'doom4'"},
       {"sweep --path data/paths/missing.json --out " + out, "missing.json"},
   };
   for (const auto& [a, fragment] : cases) {

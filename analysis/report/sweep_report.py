@@ -44,7 +44,11 @@ except ImportError:
           "scripts/install-deps.sh installs; or set NEARCAP_PYTHON to a Python that has it)", file=sys.stderr)
     sys.exit(2)
 
-METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload"]
+POLICY_ORDER = ["doom3", "doom3-bfg", "ogre", "always-zfail"]  # engine rules (sweep --policies)
+METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload"] + POLICY_ORDER
+# Per-occluder decision columns (nearcap sweep since the engine baselines); a
+# CSV without them gets no baseline section.
+DECISION_COLUMNS = ["occluders", "zpass_wrong_occluders", "false_negatives", "false_positives"]
 BUCKETS = ["lt_1_512", "1_512", "1_64", "1_8", "1_2", "2", "8"]
 BUCKET_LABELS = ["<1/512", "1/512", "1/64", "1/8", "1/2", "2", "8"]
 CASES = ["A", "B", "C1", "C2", "D"]
@@ -111,6 +115,12 @@ def read_rows(files):
                     for c in ("fragments", "depth_pass", "depth_fail"):
                         r[p + "_" + c] = int(r[p + "_" + c])
                 r["cap_mismatch"] = int(r["cap_mismatch"]) if r["cap_mismatch"] else None
+                for c in DECISION_COLUMNS:
+                    value = r.get(c)
+                    try:
+                        r[c] = int(value) if value not in (None, "") else None
+                    except ValueError:
+                        raise ReportError("parse", f"{name}: line {line}: column '{c}': '{value}' is not an integer")
                 if r["refused"]:
                     refused.append(r)
                     continue
@@ -136,7 +146,8 @@ def methods_of(rows):
 
 def colour(method):
     palette = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
-               "preload": "#9467bd"}
+               "preload": "#9467bd", "doom3": "#8c564b", "doom3-bfg": "#e377c2", "ogre": "#bcbd22",
+               "always-zfail": "#17becf"}
     if method in palette:
         return palette[method]
     # A variant: its method's hue, darker.
@@ -379,6 +390,35 @@ class Report:
                     self.table(["configuration", "light", "cracks", "float D", "fallback"], examples)
         self.sections.append(("Does case D flag the bad configurations?", text))
 
+    # ---- 5b. Z-pass or Z-fail per occluder: the engines' rules ------------------
+    def baselines(self):
+        rows = [r for r in self.rows if r.get("false_negatives") is not None]
+        if not rows:
+            return
+        header = ["method", "occluder decisions", "Z-pass wrong (exact)", "Z-fail where needed",
+                  "false negatives", "false positives", "Z-pass where right", "frames with cracks", "cracks",
+                  "wrong", "mean frame ms", "volume fragments"]
+        body = []
+        for m in self.methods:
+            rs = [r for r in rows if r["method"] == m]
+            if not rs:
+                continue
+            occluders = sum(r["occluders"] for r in rs)
+            truth = sum(r["zpass_wrong_occluders"] for r in rs)
+            fn = sum(r["false_negatives"] for r in rs)
+            fp = sum(r["false_positives"] for r in rs)
+            body.append([m, occluders, truth, truth - fn, fn, fp, occluders - truth - fp,
+                         sum(1 for r in rs if r["cracks"] > 0), sum(r["cracks"] for r in rs),
+                         sum(r["wrong"] for r in rs), fmt(sum(r["frame_ms"] for r in rs) / len(rs)),
+                         sum(r["volume_fragments"] for r in rs)])
+        text = ("<p>Each occluder of each (configuration, light) drawn with Z-pass or Z-fail: by the methods "
+                "themselves (all one or the other) and by the rules shipped engines use "
+                "(<code>nearcap sweep --policies</code>; README, \"Engine baselines\"). The exact truth: Z-pass is "
+                "wrong for an occluder when its own near-cap covers a pixel centre. A false negative is Z-pass "
+                "where it is wrong (a crack an engine ships), a false positive Z-fail where Z-pass is right "
+                "(cost paid for nothing).</p>" + self.table(header, body, "baselines.csv"))
+        self.sections.append(("Z-pass or Z-fail per occluder: engine rules", text))
+
     # ---- 6. sampler by kind ----------------------------------------------------
     def kinds(self):
         sampled = [r for r in self.rows if r["configuration"].startswith("sample:")]
@@ -399,6 +439,7 @@ class Report:
         self.features()
         self.distances()
         self.case_d()
+        self.baselines()
         self.kinds()
         toc = "".join(f'<li><a href="#s{k}">{html.escape(t)}</a></li>' for k, (t, _) in enumerate(self.sections))
         body = "".join(f'<h2 id="s{k}">{html.escape(t)}</h2>{c}' for k, (t, c) in enumerate(self.sections))
