@@ -8,6 +8,7 @@
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/io/scene_file.hpp"
 
@@ -212,6 +213,58 @@ TEST(LightPyramid, ThePaperRatioIsAdmissibleAndNoVertexIsNearer) {
   }
   EXPECT_GE(checked, 80);
   EXPECT_GE(with_l_near, 20);
+}
+
+// The per-occluder pyramid test against the per-pixel truth: an occluder whose
+// own near-cap covers a pixel centre always meets the pyramid; one that meets
+// it and covers no pixel centre is rare (a sliver of shadow between centres).
+TEST(LightPyramid, OccludersMeetingThePyramidAreThoseWithANearCap) {
+  std::size_t meeting = 0, covering = 0, between_centres = 0, scenes = 0;
+  for (analysis::HardCaseKind kind : {analysis::HardCaseKind::SeveralOccluders, analysis::HardCaseKind::EyeInShadow,
+                                      analysis::HardCaseKind::Straddling, analysis::HardCaseKind::LightNearNearPlane,
+                                      analysis::HardCaseKind::Grazing}) {
+    analysis::SamplerSpec spec;
+    spec.seed = 21;
+    spec.kinds = {kind};
+    spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+    const analysis::HardCaseSampler sampler(spec);
+    for (std::uint64_t i = 0; i < 12; ++i) {
+      Scene s;
+      try {
+        s = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+      } catch (const Error&) {
+        continue;  // the sampler may put a light inside an occluder
+      }
+      const CameraSpaceScene cs(s);
+      for (std::size_t light = 0; light < s.lights.size(); ++light) {
+        std::vector<bool> meets;
+        try {
+          meets = occluders_meeting_light_pyramid(cs, light);
+        } catch (const Error& e) {
+          EXPECT_EQ(e.kind(), ErrorKind::Degenerate);  // the light in the near plane
+          continue;
+        }
+        ++scenes;
+        const PixelReference ref = compute_pixel_reference(cs, light);
+        for (std::size_t o = 0; o < s.objects.size(); ++o) {
+          if (!s.objects[o].occluder) {
+            EXPECT_FALSE(meets[o]);
+            continue;
+          }
+          const bool covers = ref.cap_pixels_by_object[o] > 0;
+          if (covers) {
+            EXPECT_TRUE(meets[o]) << to_string(kind) << " sample " << i << " object " << o;
+          }
+          meeting += meets[o];
+          covering += covers;
+          between_centres += meets[o] && !covers;
+        }
+      }
+    }
+  }
+  EXPECT_GT(scenes, 40u);
+  EXPECT_GT(covering, 20u);
+  EXPECT_LE(between_centres * 10, meeting) << between_centres << " of " << meeting;
 }
 
 }  // namespace

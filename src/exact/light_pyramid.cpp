@@ -134,4 +134,76 @@ AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& cs, std::s
   return out;
 }
 
+std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, std::size_t light) {
+  const Frustum& fr = cs.frustum();
+  const RationalVec3& l = cs.exact_light(light);
+  const Rational near(fr.near);
+  const Rational side = l.z + near;
+  if (sgn(side) == 0)
+    throw Error(ErrorKind::Degenerate, "the light lies in the camera's near plane: no light pyramid (l_far = 0)");
+  const int alpha = sgn(side);
+  const Rational l_far = alpha > 0 ? side : Rational(-side);
+  const Rational ralpha(alpha);
+  const std::array<RationalVec3, 4> corners{RationalVec3{Rational(fr.left), Rational(fr.bottom), -near},
+                                            RationalVec3{Rational(fr.right), Rational(fr.bottom), -near},
+                                            RationalVec3{Rational(fr.right), Rational(fr.top), -near},
+                                            RationalVec3{Rational(fr.left), Rational(fr.top), -near}};
+  const RationalVec3 centre{Rational((Rational(fr.left) + Rational(fr.right)) / 2),
+                            Rational((Rational(fr.bottom) + Rational(fr.top)) / 2), -near};
+  const auto planes = side_planes(l, corners, centre);
+  const Vec3d ld{to_double(l.x), to_double(l.y), to_double(l.z)};
+  const double l_far_d = to_double(l_far);
+  std::array<Vec3d, 4> nd;
+  for (int k = 0; k < 4; ++k) nd[k] = {to_double(planes[k].n.x), to_double(planes[k].n.y), to_double(planes[k].n.z)};
+
+  std::vector<bool> meets(cs.object_count(), false);
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    if (!cs.object(o).occluder) continue;
+    const TriangleMesh& mesh = cs.mesh(o);
+    const double err = cs.max_error(o);
+    for (FaceIndex f = 0; f < mesh.triangles.size() && !meets[o]; ++f) {
+      const auto& t = mesh.triangles[f];
+      std::array<Vec3d, 3> v;
+      double mag = std::max({std::fabs(ld.x), std::fabs(ld.y), std::fabs(ld.z), l_far_d});
+      for (int i = 0; i < 3; ++i) {
+        v[i] = cs.vertex_estimate(o, t[i]);
+        mag = std::max({mag, std::fabs(v[i].x), std::fabs(v[i].y), std::fabs(v[i].z)});
+      }
+      // Certainly outside a side plane, behind the light or beyond the near
+      // plane (the same generous bounds as above): not in the pyramid.
+      bool outside = false;
+      for (int k = 0; k < 4 && !outside; ++k) {
+        const double nmag = std::fabs(nd[k].x) + std::fabs(nd[k].y) + std::fabs(nd[k].z);
+        const double bound = nmag * (3 * err + 2 * mag * 0x1p-40);
+        outside = true;
+        for (int i = 0; i < 3 && outside; ++i) outside = dot(nd[k], v[i] - ld) < -bound;
+      }
+      const double axial_bound = 2 * err + mag * 0x1p-40;
+      bool behind = true, beyond = true;
+      for (int i = 0; i < 3; ++i) {
+        const double a = alpha * (ld.z - v[i].z);
+        behind = behind && a < -axial_bound;
+        beyond = beyond && a > l_far_d + axial_bound;
+      }
+      if (outside || behind || beyond) continue;
+      std::vector<RationalVec3> poly{cs.exact_vertex(o, t[0]), cs.exact_vertex(o, t[1]), cs.exact_vertex(o, t[2])};
+      for (const auto& p : planes) {
+        poly = clip(poly, p.n, l);
+        if (poly.empty()) break;
+      }
+      // The clipped polygon is convex and the axial distance linear on it:
+      // it meets 0 < a <= l_far when its largest a is above 0 and its
+      // smallest at most l_far.
+      bool above_apex = false, before_far = false;
+      for (const RationalVec3& p : poly) {
+        const Rational a = ralpha * (l.z - p.z);
+        above_apex = above_apex || sgn(a) > 0;
+        before_far = before_far || a <= l_far;
+      }
+      meets[o] = above_apex && before_far;
+    }
+  }
+  return meets;
+}
+
 }  // namespace nearcap

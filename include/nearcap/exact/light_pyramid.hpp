@@ -26,6 +26,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <vector>
 
 #include "nearcap/exact/camera_space.hpp"
 
@@ -39,5 +40,14 @@ struct AdmissibleLightNear {
 
 // Throws Error(Degenerate) when the light lies in the near plane (l_far = 0).
 AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& scene, std::size_t light);
+
+// Per scene object: does the occluder hold a point of the light pyramid (the
+// light excluded, the rest closed: the side planes and the near rectangle)?
+// Exactly when some point of the near rectangle sees the light through the
+// occluder, so an occluder that meets none has an empty near-cap and Z-pass
+// is exact for it.  False for receivers.  Decided like the above: a double
+// cull, then exact clipping of the remaining triangles until one meets.
+// Throws Error(Degenerate) when the light lies in the near plane.
+std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& scene, std::size_t light);
 
 }  // namespace nearcap
