@@ -56,9 +56,9 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
   }
   for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "baselines.csv", "by_kind.csv"})
     EXPECT_TRUE(fs::exists(out / table)) << table;
-  // One row per method in the summary: five methods and four engine rules.
+  // One row per method in the summary: five methods, four engine rules and the switch policy.
   const std::string summary = test::slurp(out / "summary.csv");
-  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 10) << summary;
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 11) << summary;
   // The baselines' confusion table: the same truth for every row, Z-pass
   // missing all of it, the Z-fail rows none; each row's counts add up.
   std::istringstream baselines(test::slurp(out / "baselines.csv"));
@@ -74,7 +74,7 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
     ASSERT_EQ(v.size(), 6u) << line;
     by_method[name] = v;  // decisions, truth, tp, fn, fp, tn
   }
-  for (const char* m : {"zpass", "zfail", "preload", "doom3", "doom3-bfg", "ogre", "always-zfail"})
+  for (const char* m : {"zpass", "zfail", "preload", "doom3", "doom3-bfg", "ogre", "always-zfail", "policy"})
     ASSERT_TRUE(by_method.count(m)) << m;
   const long truth = by_method["zpass"][1];
   EXPECT_GT(truth, 0);
@@ -122,9 +122,9 @@ TEST_F(Report, BadInputIsOneLineAndWritesNothing) {
 }
 
 TEST(ReportCommand, UnknownSubcommandsAreNamed) {
-  const test::CliResult r = test::run_cli("tune", "tune");
+  const test::CliResult r = test::run_cli("optimize", "optimize");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("unknown subcommand 'tune'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown subcommand 'optimize'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("report"), std::string::npos) << "the list names the report: " << r.err;
 }
 

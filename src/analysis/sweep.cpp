@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -92,12 +93,21 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         std::string name;
         std::optional<gl::ShadowMethod> method;
         std::vector<gl::ShadowMethod> object_methods;
+        double decide_ms = 0;
+        gl::ShadowFrameBatch* batch = nullptr;  // the frame's settings, when not the variant's
       };
       std::vector<Entry> entries;
       for (gl::ShadowMethod m : options.methods) entries.push_back({std::string(to_string(m)), m, {}});
       for (EnginePolicy p : options.policies)
         entries.push_back(
             {std::string(to_string(p)), std::nullopt, object_methods(scene, engine_choices(p, scene, light))});
+      // The switch policy: its decision, and a batch with its settings (its switch clamp).
+      std::unique_ptr<gl::ShadowFrameBatch> policy_batch;
+      if (options.switch_policy) {
+        const PolicyDecision d = decide(*options.switch_policy, cs, light, variant.settings);
+        policy_batch = std::make_unique<gl::ShadowFrameBatch>(scene, light, d.settings);
+        entries.push_back({"policy", std::nullopt, d.object_methods, d.decide_ms, policy_batch.get()});
+      }
       for (const Entry& entry : entries) {
         SweepRow r;
         r.variant = variant.name;
@@ -125,10 +135,12 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         r.exact_cases = exact_cases;
         r.case_disagreements = engine.total(light);
         r.reference_ms = reference_ms;
+        r.decide_ms = entry.decide_ms;
         r.features = features;
         gl::ShadowFrame frame;
         try {
-          frame = entry.method ? batch.render(*entry.method) : batch.render(entry.object_methods);
+          gl::ShadowFrameBatch& b = entry.batch ? *entry.batch : batch;
+          frame = entry.method ? b.render(*entry.method) : b.render(entry.object_methods);
         } catch (const Error& e) {
           if (e.kind() != ErrorKind::Range) throw;
           r.refused = true;  // a GL would draw NaN vertices; the emulation refuses (gl/pipeline.hpp)
@@ -178,7 +190,7 @@ std::string csv_header() {
   for (const char* pass : {"depth", "near_cap", "volume"})
     h += std::string(",") + pass + "_triangles," + pass + "_fragments," + pass + "_depth_pass," + pass +
          "_depth_fail," + pass + "_ms";
-  h += ",setup_ms,frame_ms,reference_ms,crack_distance_ms,replay\n";
+  h += ",setup_ms,frame_ms,decide_ms,reference_ms,crack_distance_ms,replay\n";
   return h;
 }
 
@@ -208,8 +220,8 @@ std::string csv_line(const SweepRow& r) {
     s << ',' << p->triangles << ',' << p->fragments << ',' << p->depth_passed << ',' << p->fragments - p->depth_passed
       << ',' << number(p->ms);
   const double frame_ms = r.setup.ms + r.depth.ms + r.near_cap.ms + r.volume.ms;
-  s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',' << number(r.reference_ms) << ','
-    << number(r.crack_distance_ms) << ',' << csv_field(r.replay) << '\n';
+  s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',' << number(r.decide_ms) << ','
+    << number(r.reference_ms) << ',' << number(r.crack_distance_ms) << ',' << csv_field(r.replay) << '\n';
   return s.str();
 }
 

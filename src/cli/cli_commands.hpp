@@ -23,6 +23,7 @@ void register_frame(CLI::App& app);
 void register_sample(CLI::App& app);
 void register_sweep(CLI::App& app);
 void register_report(CLI::App& app);
+void register_tune(CLI::App& app);
 
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.
@@ -57,6 +58,7 @@ struct EmulationOptions {
   double l_near_scale = 1.0;
   std::string zfail_far = "infinite";
   std::string switch_clamp = "clamp";
+  std::string zpass_far = "finite";
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);

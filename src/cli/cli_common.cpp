@@ -87,6 +87,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp or clamp-far")
       ->check(CLI::IsMember({"clamp", "clamp-far"}))
       ->capture_default_str();
+  cmd.add_option("--zpass-far", o.zpass_far,
+                 "zpass's projection: finite (its own frustum) or infinite (the infinite far plane, as Doom 3 "
+                 "draws; kept finite in a frame with a ZP+ method)")
+      ->check(CLI::IsMember({"finite", "infinite"}))
+      ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
 }
 
@@ -108,6 +113,7 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"l-near-scale", number(o.l_near_scale)},
           {"zfail-far", o.zfail_far},
           {"switch-clamp", o.switch_clamp},
+          {"zpass-far", o.zpass_far},
           {"fma", o.fma ? "1" : "0"}};
 }
 
@@ -170,13 +176,16 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "switch-clamp") {
       need_one_of(spec, name, value, {"clamp", "clamp-far"});
       o.switch_clamp = value;
+    } else if (name == "zpass-far") {
+      need_one_of(spec, name, value, {"finite", "infinite"});
+      o.zpass_far = value;
     } else if (name == "fma") {
       need_one_of(spec, name, value, {"0", "1"});
       o.fma = value == "1";
     } else {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
                                         "' (subpixel-bits, depth, fill-rule, guard-band, light-projection, "
-                                        "l-near, l-near-scale, zfail-far, switch-clamp, fma)");
+                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -218,6 +227,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   s.light_frustum.near_rule = *rule;
   s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
   s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
+  s.zpass_far = *gl::zpass_far_from_string(o.zpass_far);
   return s;
 }
 

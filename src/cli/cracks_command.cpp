@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "cli_commands.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -23,6 +26,7 @@ struct CracksOptions {
   std::string scene;
   std::size_t light = 0;
   std::string method = "all";
+  std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   EmulationOptions emulation;
   std::string out;
   bool table = false;
@@ -94,13 +98,54 @@ void print_table(const std::vector<nlohmann::json>& records) {
   }
 }
 
+// --method: the float methods, and "policy" (the switch policy: a method per
+// occluder); "all" is the five methods and the policy.
+struct MethodChoice {
+  std::vector<gl::ShadowMethod> methods;
+  bool policy = false;
+  std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
+};
+MethodChoice method_choice(const std::string& names) {
+  MethodChoice c;
+  if (names == "all") {
+    c.methods = methods_from("all", "--method");
+    c.policy = true;
+    return c;
+  }
+  std::string rest;
+  std::size_t start = 0;
+  while (start <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', start), names.size());
+    const std::string name = names.substr(start, comma - start);
+    if (name == "policy")
+      c.policy = true;
+    else
+      rest += (rest.empty() ? "" : ",") + name;
+    start = comma + 1;
+  }
+  if (!rest.empty() || !c.policy) c.methods = methods_from(rest, "--method");
+  return c;
+}
+
+nlohmann::json policy_json(const Scene& scene, const analysis::PolicyDecision& d) {
+  nlohmann::json occluders = nlohmann::json::array();
+  for (std::size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].occluder)
+      occluders.push_back(
+          {{"object", o}, {"method", std::string(to_string(d.object_methods[o]))}, {"why", d.reasons[o]}});
+  return occluders;
+}
+
 void run(const CracksOptions& o) {
-  const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
+  const MethodChoice choice = method_choice(o.method);
+  const std::vector<gl::ShadowMethod>& methods = choice.methods;
+  std::optional<analysis::SwitchPolicy> policy;
+  if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);
   const Scene scene = load_scene(o.scene);
   check_light_index(scene, o.light);
   check_memory_estimate(scene, "cracks",
-                        kCracksBytesPerPixel + kCracksBytesPerPixelPerMethod * static_cast<double>(methods.size()),
+                        kCracksBytesPerPixel + kCracksBytesPerPixelPerMethod * static_cast<double>(choice.count()),
                         o.max_memory_gb);
   const CameraSpaceScene cs(scene);
   const auto t0 = std::chrono::steady_clock::now();
@@ -124,21 +169,50 @@ void run(const CracksOptions& o) {
     } catch (const Error& e) {
       // Float32 transforms too degenerate to draw (a clipped vertex at
       // (0, 0, 0, 0)): this method refuses the frame, the others still run.
-      if (e.kind() != ErrorKind::Range || methods.size() == 1) throw;
+      if (e.kind() != ErrorKind::Range || choice.count() == 1) throw;
       records.push_back({{"method", std::string(to_string(m))}, {"refused", e.what()}});
-      if (++refusals == methods.size()) throw;  // no method can draw this frame
+      if (++refusals == choice.count()) throw;  // no method can draw this frame
       continue;
     }
     CrackReport report = judge_frame(frame, ref);
     distances.measure(report);
     records.push_back(record_json(frame, report, case_disagreements));
     if (!o.out.empty()) {
-      const std::string name = methods.size() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
+      const std::string name = choice.count() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
       files.push_back({(dir / name).string(), crack_png(cs, ref, report)});
     }
   }
+  if (policy) {
+    // The policy decides per occluder, then its frame is drawn with the
+    // settings it needs (its switch clamp).
+    const analysis::PolicyDecision d = analysis::decide(*policy, cs, o.light, settings);
+    gl::ShadowFrameBatch policy_batch(scene, o.light, d.settings);
+    gl::ShadowFrame frame;
+    try {
+      frame = policy_batch.render(d.object_methods);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::Range || choice.count() == 1) throw;
+      records.push_back({{"method", "policy"}, {"refused", e.what()}});
+      if (++refusals == choice.count()) throw;
+      frame.width = 0;
+    }
+    if (frame.width > 0) {
+      CrackReport report = judge_frame(frame, ref);
+      distances.measure(report);
+      nlohmann::json r = record_json(frame, report, case_disagreements);
+      r["method"] = "policy";
+      r["occluders"] = policy_json(scene, d);
+      r["decide_ms"] = d.decide_ms;
+      r["crack_probability"] =
+          std::isfinite(d.crack_probability) ? nlohmann::json(d.crack_probability) : nlohmann::json(nullptr);
+      records.push_back(r);
+      if (!o.out.empty())
+        files.push_back(
+            {(dir / (choice.count() == 1 ? "cracks.png" : "cracks-policy.png")).string(), crack_png(cs, ref, report)});
+    }
+  }
   nlohmann::json root;
-  if (methods.size() == 1) {
+  if (choice.count() == 1) {
     root = records.front();
   } else {
     root["methods"] = records;
@@ -154,6 +228,14 @@ void run(const CracksOptions& o) {
   }
   if (o.table) {
     print_table(records);
+    for (const nlohmann::json& r : records)
+      if (r.contains("occluders")) {
+        std::printf("policy (decided in %.3f ms):", r["decide_ms"].get<double>());
+        for (const nlohmann::json& oc : r["occluders"])
+          std::printf("\n  object %zu: %s, %s", oc["object"].get<std::size_t>(),
+                      oc["method"].get<std::string>().c_str(), oc["why"].get<std::string>().c_str());
+        std::printf("\n");
+      }
     const auto drawn =
         std::find_if(records.begin(), records.end(), [](const nlohmann::json& r) { return r.contains("float_cases"); });
     const nlohmann::json& cases = (*drawn)["float_cases"];
@@ -177,7 +259,11 @@ void register_cracks(CLI::App& app) {
   auto o = std::make_shared<CracksOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   add_light_option(*cmd, o->light);
-  cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload or all")
+  cmd->add_option("--method", o->method,
+                  "zpass, zfail, zpplus, zpplus-corrected, preload, policy (a method per occluder, from --policy), "
+                  "comma-separated, or all (the five and the policy)")
+      ->capture_default_str();
+  cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
   add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");

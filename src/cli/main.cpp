@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_sample(app);
   nearcap::cli::register_sweep(app);
   nearcap::cli::register_report(app);
+  nearcap::cli::register_tune(app);
 
   // The subcommand comes first; name an unknown one as such.
   if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");

@@ -102,6 +102,7 @@ struct SweepCommandOptions {
   int width = 0, height = 0;  // 0: each path's own viewport, the sampler's 48 x 36
   std::string methods = "all";
   std::string policies = "none";
+  std::string policy_file = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   EmulationOptions emulation;
   std::vector<std::string> variants;
   std::string out;
@@ -303,19 +304,30 @@ class OrderedWriter {
 // size, ... (interleaved, so that each rank gets easy and hard frames of a
 // path alike) and sends each one's rows to rank 0, which writes every
 // configuration's rows in order.  One process is the world of size 1.
-std::vector<analysis::EnginePolicy> policies_from(const std::string& names) {
+// --policies: engine rules by name, and "policy" (the switch policy); "all"
+// is every engine rule and the policy.
+std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool& switch_policy) {
+  switch_policy = false;
   if (names == "none") return {};
-  if (names == "all") return {analysis::kAllEnginePolicies.begin(), analysis::kAllEnginePolicies.end()};
+  if (names == "all") {
+    switch_policy = true;
+    return {analysis::kAllEnginePolicies.begin(), analysis::kAllEnginePolicies.end()};
+  }
   std::vector<analysis::EnginePolicy> out;
   std::size_t start = 0;
   while (start <= names.size()) {
     const std::size_t comma = std::min(names.find(',', start), names.size());
     const std::string name = names.substr(start, comma - start);
     const auto p = analysis::engine_policy_from_string(name);
-    if (!p)
-      throw Error(ErrorKind::Usage,
-                  "--policies '" + name + "' is not one of doom3, doom3-bfg, ogre, always-zfail (or all, or none)");
-    out.push_back(*p);
+    if (name == "policy") {
+      switch_policy = true;
+    } else if (!p) {
+      throw Error(
+          ErrorKind::Usage,
+          "--policies '" + name + "' is not one of doom3, doom3-bfg, ogre, always-zfail, policy (or all, or none)");
+    } else {
+      out.push_back(*p);
+    }
     start = comma + 1;
   }
   return out;
@@ -326,7 +338,9 @@ void run_sweep(const SweepCommandOptions& o) {
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
-  options.policies = policies_from(o.policies);
+  bool switch_policy = false;
+  options.policies = policies_from(o.policies, switch_policy);
+  if (switch_policy) options.switch_policy = analysis::load_policy(o.policy_file);
   // The options' own choices, then each --variant over them.
   options.variants = {{variant_label(o.emulation), settings_from(o.emulation)}};
   std::set<std::string> names{options.variants.front().name};
@@ -372,7 +386,8 @@ void run_sweep(const SweepCommandOptions& o) {
     mine.push_back(k);
   std::unique_ptr<OrderedWriter> writer;
   if (world.rank() == 0)
-    writer = std::make_unique<OrderedWriter>(o.out, first, total, options.methods.size() + options.policies.size());
+    writer = std::make_unique<OrderedWriter>(
+        o.out, first, total, options.methods.size() + options.policies.size() + (options.switch_policy ? 1 : 0));
   constexpr std::size_t kBlock = 8;  // run together on this rank's cores
   for (std::size_t begin = 0; begin < mine.size(); begin += kBlock) {
     const std::size_t end = std::min(mine.size(), begin + kBlock);
@@ -425,7 +440,9 @@ void register_sweep(CLI::App& app) {
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   cmd->add_option("--policies", o->policies,
                   "engine rules run beside the methods, one row each: comma-separated doom3, doom3-bfg, ogre, "
-                  "always-zfail, or all, or none")
+                  "always-zfail, policy (the switch policy of --policy), or all, or none")
+      ->capture_default_str();
+  cmd->add_option("--policy", o->policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
       ->capture_default_str();
   add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--variant", o->variants,

@@ -161,6 +161,37 @@ std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, st
     if (!cs.object(o).occluder) continue;
     const TriangleMesh& mesh = cs.mesh(o);
     const double err = cs.max_error(o);
+    // The object's box first (its vertex estimates, one pass): certainly
+    // outside one side plane, behind the light or beyond the near plane, it
+    // holds no point of the pyramid and its triangles need no test.
+    {
+      Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+               std::numeric_limits<double>::infinity()};
+      Vec3d hi = -1.0 * lo;
+      for (const auto& t : mesh.triangles)
+        for (VertexIndex v : t) {
+          const Vec3d& p = cs.vertex_estimate(o, v);
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+          }
+        }
+      double mag = std::max({std::fabs(ld.x), std::fabs(ld.y), std::fabs(ld.z), l_far_d});
+      for (int a = 0; a < 3; ++a) mag = std::max({mag, std::fabs(lo[a]), std::fabs(hi[a])});
+      bool outside = false;
+      for (int k = 0; k < 4 && !outside; ++k) {
+        const double nmag = std::fabs(nd[k].x) + std::fabs(nd[k].y) + std::fabs(nd[k].z);
+        const double bound = nmag * (3 * err + 2 * mag * 0x1p-40);
+        outside = true;
+        for (int corner = 0; corner < 8 && outside; ++corner) {
+          const Vec3d p{(corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z};
+          outside = dot(nd[k], p - ld) < -bound;
+        }
+      }
+      const double axial_bound = 2 * err + mag * 0x1p-40;
+      const double a_lo = alpha > 0 ? ld.z - hi.z : lo.z - ld.z, a_hi = alpha > 0 ? ld.z - lo.z : hi.z - ld.z;
+      if (outside || a_hi < -axial_bound || a_lo > l_far_d + axial_bound) continue;
+    }
     for (FaceIndex f = 0; f < mesh.triangles.size() && !meets[o]; ++f) {
       const auto& t = mesh.triangles[f];
       std::array<Vec3d, 3> v;

@@ -162,6 +162,7 @@ class FrameRenderer {
       if (!scene.objects[o].occluder) continue;
       any_near_cap_ = any_near_cap_ || uses_near_cap(methods_[o]);
       any_preload_ = any_preload_ || methods_[o] == ShadowMethod::Preload;
+      any_zpass_ = any_zpass_ || methods_[o] == ShadowMethod::ZPass;
       any_infinite_zfail_ =
           any_infinite_zfail_ || (methods_[o] == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
     }
@@ -187,7 +188,8 @@ class FrameRenderer {
     }
     // The infinite far plane when a method needs it (preload; Z-fail by
     // default) and no ZP+ method needs the finite one (section 5.2).
-    const bool infinite = !any_near_cap_ && (any_preload_ || any_infinite_zfail_);
+    const bool infinite = !any_near_cap_ && (any_preload_ || any_infinite_zfail_ ||
+                                             (any_zpass_ && settings_.zpass_far == ZPassFar::Infinite));
     const Mat4f projection =
         infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
     prepare_objects(projection, frame);
@@ -340,7 +342,7 @@ class FrameRenderer {
   std::size_t light_;
   ShadowMethod method_;
   std::vector<ShadowMethod> methods_;
-  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false;
+  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false, any_zpass_ = false;
   EmulationSettings settings_;
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
@@ -386,6 +388,13 @@ std::string_view to_string(ZFailFar f) {
 
 std::optional<ZFailFar> zfail_far_from_string(std::string_view name) {
   for (ZFailFar f : {ZFailFar::Infinite, ZFailFar::DepthClamp, ZFailFar::DepthClampFar})
+    if (to_string(f) == name) return f;
+  return std::nullopt;
+}
+
+std::string_view to_string(ZPassFar f) { return f == ZPassFar::Finite ? "finite" : "infinite"; }
+std::optional<ZPassFar> zpass_far_from_string(std::string_view name) {
+  for (ZPassFar f : {ZPassFar::Finite, ZPassFar::Infinite})
     if (to_string(f) == name) return f;
   return std::nullopt;
 }

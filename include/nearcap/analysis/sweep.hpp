@@ -13,11 +13,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
@@ -66,6 +68,7 @@ struct SweepRow {
   long long false_negatives = -1, false_positives = -1;
   PassWork setup, depth, near_cap, volume;
   double reference_ms = 0;        // the exact reference for this light (shared by its methods)
+  double decide_ms = 0;           // the switch policy's decision (its row only)
   double crack_distance_ms = 0;   // measuring this method's wrong pixels not measured before
   ConditioningFeatures features;  // this (frame, light), the same for every method
 };
@@ -83,6 +86,8 @@ struct SweepOptions {
   std::vector<SweepVariant> variants{SweepVariant{}};
   // Engine rules run beside the methods, one row each (method = their name).
   std::vector<EnginePolicy> policies;
+  // The switch policy, one row (method "policy") when given.
+  std::optional<SwitchPolicy> switch_policy;
   MeshCache* meshes = nullptr;  // shared by the configurations (a path's frames read their mesh once)
 };
 

@@ -71,6 +71,14 @@ enum class SwitchClamp {
   DepthClamp,     // GL_DEPTH_CLAMP (near and far)
   DepthClampFar,  // far only (GL_AMD_depth_clamp_separate)
 };
+// Z-pass's projection: the finite frustum (the method's own), or the infinite
+// far plane (Everitt and Kilgard; Doom 3 draws everything so): far more depth
+// precision near the camera when the near plane is tiny against the scene.
+// A frame with a ZP+ method keeps the finite one (section 5.2).
+enum class ZPassFar { Finite, Infinite };
+std::string_view to_string(ZPassFar f);  // "finite", "infinite"
+std::optional<ZPassFar> zpass_far_from_string(std::string_view name);
+
 std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far"
 std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name);
 ZFailFar as_zfail_far(SwitchClamp c);
@@ -83,6 +91,7 @@ struct EmulationSettings {
   ZFailFar zfail_far = ZFailFar::Infinite;
   // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps.
   SwitchClamp switch_clamp = SwitchClamp::DepthClamp;
+  ZPassFar zpass_far = ZPassFar::Finite;
 };
 
 struct PassTimes {

@@ -1,0 +1,72 @@
+// nearcap/analysis/policy_fit.hpp — fitting the switch policy's crack model
+// (switch_policy.hpp) on sweep rows, with Ceres.
+//
+// A sample is one (configuration, light) of a sweep CSV with rows for both
+// the policy's capped method (ZP+ corrected) and its fallback (Z-fail) in the
+// variant the policy runs (by default "switch-clamp=clamp-far": the sweep's
+// --switch-clamp clamp-far, the policy's own switch), and a light frustum
+// where the capped method did not fall back: its features (kPolicyFeatures, from
+// the row's conditioning columns) and its label, "the capped method cracks
+// more than the fallback here".  The split is by configuration: a
+// configuration is held out when the FNV-1a hash of its id is 0 mod 5 (about
+// a fifth; the same configuration is on the same side in every sweep).
+//
+// The fit: logistic regression on standardized features (mean and scale from
+// the training samples), Ceres minimizing sum_i rho(2 logloss_i) + sum_k
+// (l2 w_k)^2 with rho Huber's loss (a few mislabeled frames, e.g. depth
+// precision cracks, cannot drag the model; `robust = false` for plain
+// logistic regression).  The threshold: the smallest predicted probability
+// of a training positive, halved (every training crack predicted).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nearcap/analysis/switch_policy.hpp"
+
+namespace nearcap::analysis {
+
+struct PolicySample {
+  std::string configuration;
+  std::size_t light = 0;
+  std::vector<double> x;  // one per kPolicyFeatures, all finite
+  bool crack = false;
+  bool held_out = false;
+};
+
+bool held_out_configuration(const std::string& configuration_id);
+
+// Reads sweep CSVs (nearcap sweep --out); rows of other methods and variants
+// are ignored.  Errors name the file and line.
+std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, gl::ShadowMethod capped,
+                                         gl::ShadowMethod fallback,
+                                         const std::string& variant = "switch-clamp=clamp-far");
+
+struct LogisticFitOptions {
+  bool robust = true;
+  double huber_delta = 2.0;  // on 2 logloss: samples predicted below about exp(-2) of their label
+  double l2 = 0.05;
+};
+struct LogisticFit {
+  std::vector<double> mean, scale, weights;
+  double bias = 0;
+  int iterations = 0;
+  double final_cost = 0;
+};
+// x: samples by features (all finite); y: 0 or 1.
+LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::vector<int>& y,
+                         const LogisticFitOptions& options = {});
+
+// How a model classifies a set of samples.
+struct Confusion {
+  std::size_t samples = 0, positives = 0, true_positives = 0, false_positives = 0;
+};
+Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& samples, bool held_out);
+
+// The whole tuning: the model fitted on the training samples, the threshold,
+// and the provenance (counts, confusion on both sides, the command) in the
+// returned policy.
+SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
+                         const std::string& command, const LogisticFitOptions& options = {});
+
+}  // namespace nearcap::analysis

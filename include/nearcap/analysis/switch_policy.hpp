@@ -1,0 +1,96 @@
+// nearcap/analysis/switch_policy.hpp — the runtime switch policy: per frame,
+// light and occluder, the cheapest method predicted not to crack.
+//
+// The decision, for each occluder under a light:
+//   1. exact where it is cheap: an occluder that meets no point of the light
+//      pyramid (exact/light_pyramid.hpp) has an empty near-cap, so Z-pass is
+//      exact for it: Z-pass;
+//   2. the others get the policy's capped method (ZP+ corrected) unless the
+//      light has no light frustum (the light in the near plane) or the crack
+//      model predicts that ZP+ cracks in this (frame, light): then the
+//      fallback method (Z-fail).  ZP+ corrected still switches its case-D
+//      occluders, clamped as `switch_clamp` says (far only by default: the
+//      stress test shows GL_DEPTH_CLAMP's near clamp breaks the depth test).
+// The crack model is a logistic model on the conditioning features
+// (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
+//   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
+// with x the features below, and a crack predicted when P >= threshold.
+//
+// policy.json (README "The switch policy"): {"format": "nearcap-policy",
+// "version": 1, "capped_method": "zpplus-corrected", "fallback_method":
+// "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
+// "crack_model": {"features": [...],
+// "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
+// t}, "provenance": {...}}.  Every field is checked: an unknown key, a
+// missing one, a wrong type, an unknown feature or method, lengths that
+// disagree, a non-finite number or another version is a one-line
+// error (parse) naming the field.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nearcap/analysis/conditioning.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::analysis {
+
+// The model's inputs, each a transform of a conditioning feature that keeps
+// it in a few units: logs of the quantities that span decades.
+// Logs are floored at 10^-15 (an exact zero would otherwise dominate a fit).
+inline constexpr std::array<std::string_view, 8> kPolicyFeatures{
+    "log_light_near_distance",   // log10 |signed distance of the light to the near plane / near|
+    "log_l_far_over_width",      // log10 l_far / near-rectangle width (tiny near planes: large)
+    "log_delta_over_width",      // log10 of the light's sideways offset / near-rectangle width
+    "log_skew",                  // log10 of the light pyramid's skew
+    "log_cond_light_transform",  // log10 cond(P_l M_l)
+    "log_cap_window_error_px",   // log10 of the near-cap window coordinates' error, pixels
+    "log_coordinate_over_size",  // log10 largest coordinate / scene size
+    "l_near_over_l_far",
+};
+// The feature's value; NaN when the light frustum is undefined.
+double policy_feature(std::string_view name, const ConditioningFeatures& f);
+
+struct CrackModel {
+  std::vector<std::string> features;  // names from kPolicyFeatures
+  std::vector<double> mean, scale, weights;
+  double bias = 0;
+  double threshold = 0.5;
+  // P(crack) for these features; NaN when a feature is NaN.
+  double probability(const ConditioningFeatures& f) const;
+};
+
+struct SwitchPolicy {
+  gl::ShadowMethod capped_method = gl::ShadowMethod::ZPPlusCorrected;
+  gl::ShadowMethod fallback_method = gl::ShadowMethod::ZFail;
+  gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClampFar;
+  gl::ZPassFar zpass_far = gl::ZPassFar::Infinite;
+  CrackModel crack_model;
+  std::string provenance_json = "{}";  // how it was fitted (kept as written)
+};
+
+inline constexpr int kPolicyVersion = 1;
+
+// Reads and checks policy.json text; `source` names it in errors.
+SwitchPolicy parse_policy(const std::string& text, const std::string& source);
+SwitchPolicy load_policy(const std::string& path);
+std::string policy_to_json(const SwitchPolicy& policy);
+
+// The policy's choice for one (scene, light).
+struct PolicyDecision {
+  std::vector<gl::ShadowMethod> object_methods;  // one per scene object (receivers: Z-pass, unused)
+  std::vector<std::string> reasons;              // per object, why ("" for receivers)
+  double crack_probability = 0;                  // the model's, NaN when not asked
+  double decide_ms = 0;                          // the decision's own time
+  // The emulation settings the frame needs (the policy's switch clamp).
+  gl::EmulationSettings settings;
+};
+PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
+                      const gl::EmulationSettings& base);
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,303 @@
+// Fitting the switch policy's crack model with Ceres (see policy_fit.hpp).
+#include "nearcap/analysis/policy_fit.hpp"
+
+#include <ceres/ceres.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+// One line of a CSV written by nearcap sweep: commas, fields quoted when they
+// hold a comma or a quote, quotes doubled.
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    const char c = line[k];
+    if (quoted) {
+      if (c == '"' && k + 1 < line.size() && line[k + 1] == '"') {
+        out.back() += '"';
+        ++k;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        out.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.emplace_back();
+    } else if (c != '\r') {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+double to_number(const std::string& s, const std::string& where) {
+  if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+  if (s == "inf") return std::numeric_limits<double>::infinity();
+  if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used == s.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw Error(ErrorKind::Parse, where + ": '" + s + "' is not a number");
+}
+
+// The logistic sample's cost: 2 logloss as a squared residual.
+struct LogLoss {
+  LogLoss(const std::vector<double>& x, int y) : x_(x), sign_(y ? 1.0 : -1.0) {}
+  template <class T>
+  bool operator()(T const* const* parameters, T* residual) const {
+    const T* w = parameters[0];
+    T z = parameters[1][0];
+    for (std::size_t k = 0; k < x_.size(); ++k) z += w[k] * x_[k];
+    const T m = -sign_ * z;  // logloss = softplus(m), computed stably
+    using std::exp;
+    using std::log;
+    using std::sqrt;
+    // Two branches that agree in value and slope at 0 (a max(m, 0) + abs(m)
+    // form gives the wrong slope there, where every fit starts).
+    const T softplus = m >= T(0) ? m + log(T(1) + exp(-m)) : log(T(1) + exp(m));
+    residual[0] = sqrt(T(2) * softplus);
+    return true;
+  }
+  std::vector<double> x_;
+  double sign_;
+};
+
+struct Ridge {
+  Ridge(std::size_t n, double l2) : n_(n), l2_(l2) {}
+  template <class T>
+  bool operator()(T const* const* parameters, T* residual) const {
+    for (std::size_t k = 0; k < n_; ++k) residual[k] = T(l2_) * parameters[0][k];
+    return true;
+  }
+  std::size_t n_;
+  double l2_;
+};
+
+std::uint32_t fnv1a(const std::string& s) {
+  std::uint32_t h = 2166136261u;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 16777619u;
+  }
+  return h;
+}
+
+}  // namespace
+
+bool held_out_configuration(const std::string& configuration_id) { return fnv1a(configuration_id) % 5 == 0; }
+
+std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, gl::ShadowMethod capped,
+                                         gl::ShadowMethod fallback, const std::string& variant) {
+  struct Pair {
+    std::optional<std::size_t> capped_cracks, fallback_cracks;
+    ConditioningFeatures features;
+    bool capped_fell_back = false;
+  };
+  std::map<std::pair<std::string, std::size_t>, Pair> pairs;
+  const std::string capped_name(gl::to_string(capped)), fallback_name(gl::to_string(fallback));
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, file + ": cannot read");
+    std::string line;
+    if (!std::getline(in, line)) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");
+    const std::vector<std::string> header = csv_fields(line);
+    std::map<std::string, std::size_t> col;
+    for (std::size_t k = 0; k < header.size(); ++k) col[header[k]] = k;
+    const char* needed[] = {"configuration",
+                            "light",
+                            "method",
+                            "variant",
+                            "cracks",
+                            "fallback",
+                            "refused",
+                            "light_frustum_defined",
+                            "light_near_distance",
+                            "l_far_over_width",
+                            "delta_over_width",
+                            "skew",
+                            "cond_light_transform",
+                            "cap_window_error_px",
+                            "coordinate_over_size",
+                            "l_near_over_l_far"};
+    for (const char* c : needed)
+      if (!col.count(c))
+        throw Error(ErrorKind::Parse, file + ": line 1: missing column '" + c +
+                                          "' (not a nearcap sweep CSV, or one from an older nearcap)");
+    std::size_t number = 1;
+    while (std::getline(in, line)) {
+      ++number;
+      if (line.empty()) continue;
+      const std::vector<std::string> f = csv_fields(line);
+      const std::string where = file + ": line " + std::to_string(number);
+      if (f.size() != header.size()) throw Error(ErrorKind::Parse, where + ": wrong number of fields");
+      const std::string& method = f[col["method"]];
+      if ((method != capped_name && method != fallback_name) || f[col["variant"]] != variant ||
+          f[col["refused"]] == "1")
+        continue;
+      Pair& p = pairs[{f[col["configuration"]], static_cast<std::size_t>(to_number(f[col["light"]], where))}];
+      const auto cracks = static_cast<std::size_t>(to_number(f[col["cracks"]], where));
+      if (method == capped_name) {
+        p.capped_cracks = cracks;
+        p.capped_fell_back = !f[col["fallback"]].empty();
+        ConditioningFeatures& c = p.features;
+        c.light_frustum_defined = f[col["light_frustum_defined"]] == "1";
+        c.light_near_distance = to_number(f[col["light_near_distance"]], where);
+        c.l_far_over_width = to_number(f[col["l_far_over_width"]], where);
+        c.delta_over_width = to_number(f[col["delta_over_width"]], where);
+        c.skew = to_number(f[col["skew"]], where);
+        c.cond_light_transform = to_number(f[col["cond_light_transform"]], where);
+        c.cap_window_error_px = to_number(f[col["cap_window_error_px"]], where);
+        c.coordinate_over_size = to_number(f[col["coordinate_over_size"]], where);
+        c.l_near_over_l_far = to_number(f[col["l_near_over_l_far"]], where);
+      } else {
+        p.fallback_cracks = cracks;
+      }
+    }
+  }
+  std::vector<PolicySample> out;
+  for (const auto& [key, p] : pairs) {
+    if (!p.capped_cracks || !p.fallback_cracks || p.capped_fell_back) continue;
+    PolicySample s;
+    s.configuration = key.first;
+    s.light = key.second;
+    bool finite = true;
+    for (std::string_view name : kPolicyFeatures) {
+      s.x.push_back(policy_feature(name, p.features));
+      finite = finite && std::isfinite(s.x.back());
+    }
+    if (!finite) continue;
+    s.crack = *p.capped_cracks > *p.fallback_cracks;
+    s.held_out = held_out_configuration(s.configuration);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::vector<int>& y,
+                         const LogisticFitOptions& options) {
+  if (x.empty() || x.size() != y.size()) throw Error(ErrorKind::Usage, "fit_logistic: no samples, or labels missing");
+  const std::size_t n = x.front().size();
+  LogisticFit fit;
+  fit.mean.assign(n, 0.0);
+  fit.scale.assign(n, 0.0);
+  for (const auto& row : x)
+    for (std::size_t k = 0; k < n; ++k) fit.mean[k] += row[k] / static_cast<double>(x.size());
+  for (const auto& row : x)
+    for (std::size_t k = 0; k < n; ++k)
+      fit.scale[k] += (row[k] - fit.mean[k]) * (row[k] - fit.mean[k]) / static_cast<double>(x.size());
+  for (double& s : fit.scale) s = s > 0 ? std::sqrt(s) : 1.0;
+
+  fit.weights.assign(n, 0.0);
+  ceres::Problem problem;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    std::vector<double> standard(n);
+    for (std::size_t k = 0; k < n; ++k) standard[k] = (x[i][k] - fit.mean[k]) / fit.scale[k];
+    auto* cost = new ceres::DynamicAutoDiffCostFunction<LogLoss, 8>(new LogLoss(standard, y[i]));
+    cost->AddParameterBlock(static_cast<int>(n));
+    cost->AddParameterBlock(1);
+    cost->SetNumResiduals(1);
+    problem.AddResidualBlock(cost, options.robust ? new ceres::HuberLoss(options.huber_delta) : nullptr,
+                             fit.weights.data(), &fit.bias);
+  }
+  if (options.l2 > 0) {
+    auto* ridge = new ceres::DynamicAutoDiffCostFunction<Ridge, 8>(new Ridge(n, options.l2));
+    ridge->AddParameterBlock(static_cast<int>(n));
+    ridge->SetNumResiduals(static_cast<int>(n));
+    problem.AddResidualBlock(ridge, nullptr, fit.weights.data());
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 200;
+  solver.num_threads = 1;  // deterministic
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.final_cost = summary.final_cost;
+  return fit;
+}
+
+Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& samples, bool held_out) {
+  Confusion c;
+  for (const PolicySample& s : samples) {
+    if (s.held_out != held_out) continue;
+    double z = model.bias;
+    for (std::size_t k = 0; k < s.x.size(); ++k) z += model.weights[k] * (s.x[k] - model.mean[k]) / model.scale[k];
+    const bool predicted = 1.0 / (1.0 + std::exp(-z)) >= model.threshold;
+    ++c.samples;
+    c.positives += s.crack;
+    c.true_positives += s.crack && predicted;
+    c.false_positives += !s.crack && predicted;
+  }
+  return c;
+}
+
+SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
+                         const std::string& command, const LogisticFitOptions& options) {
+  std::vector<std::vector<double>> x;
+  std::vector<int> y;
+  for (const PolicySample& s : samples)
+    if (!s.held_out) {
+      x.push_back(s.x);
+      y.push_back(s.crack ? 1 : 0);
+    }
+  if (x.empty())
+    throw Error(ErrorKind::Usage,
+                "no training samples: the rows need both methods in the policy's variant (sweep with "
+                "--switch-clamp clamp-far, or say which with --variant)");
+  const LogisticFit fit = fit_logistic(x, y, options);
+  SwitchPolicy p;
+  p.capped_method = capped;
+  p.fallback_method = fallback;
+  CrackModel& m = p.crack_model;
+  m.features.assign(kPolicyFeatures.begin(), kPolicyFeatures.end());
+  m.mean = fit.mean;
+  m.scale = fit.scale;
+  m.weights = fit.weights;
+  m.bias = fit.bias;
+  // Every training crack predicted: the smallest positive's probability, halved.
+  double lowest = 1.0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (y[i]) {
+      double z = m.bias;
+      for (std::size_t k = 0; k < x[i].size(); ++k) z += m.weights[k] * (x[i][k] - m.mean[k]) / m.scale[k];
+      lowest = std::min(lowest, 1.0 / (1.0 + std::exp(-z)));
+    }
+  m.threshold = std::clamp(lowest / 2, 1e-12, 0.5);
+  const Confusion train = confusion(m, samples, false), held = confusion(m, samples, true);
+  auto side = [](const Confusion& c) {
+    return nlohmann::json{{"samples", c.samples},
+                          {"cracks", c.positives},
+                          {"cracks_predicted", c.true_positives},
+                          {"false_alarms", c.false_positives}};
+  };
+  nlohmann::json prov{{"command", command},
+                      {"split", "held out: FNV-1a(configuration) % 5 == 0"},
+                      {"fit",
+                       {{"iterations", fit.iterations},
+                        {"final_cost", fit.final_cost},
+                        {"robust", options.robust},
+                        {"huber_delta", options.huber_delta},
+                        {"l2", options.l2}}},
+                      {"train", side(train)},
+                      {"held_out", side(held)}};
+  p.provenance_json = prov.dump();
+  return p;
+}
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,256 @@
+// The runtime switch policy (see switch_policy.hpp).
+#include "nearcap/analysis/switch_policy.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "nearcap/error.hpp"
+#include "nearcap/exact/light_pyramid.hpp"
+#include "nearcap/gl/light_frustum.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+using Json = nlohmann::json;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double log10_or_nan(double v) { return std::isfinite(v) ? std::log10(std::max(std::fabs(v), 1e-15)) : kNaN; }
+
+[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
+  throw Error(ErrorKind::Parse, source + ": " + field + ": " + what);
+}
+
+const Json& field(const Json& object, const std::string& key, const std::string& path, const std::string& source) {
+  const auto it = object.find(key);
+  if (it == object.end()) fail(source, path + key, "missing");
+  return *it;
+}
+
+void only_keys(const Json& object, const std::set<std::string>& keys, const std::string& path,
+               const std::string& source) {
+  for (const auto& [key, value] : object.items()) {
+    (void)value;
+    if (!keys.count(key)) fail(source, path + key, "unknown key");
+  }
+}
+
+double finite_number(const Json& v, const std::string& path, const std::string& source) {
+  if (!v.is_number()) fail(source, path, "must be a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) fail(source, path, "must be finite");
+  return d;
+}
+
+std::vector<double> numbers(const Json& v, const std::string& path, const std::string& source) {
+  if (!v.is_array()) fail(source, path, "must be an array of numbers");
+  std::vector<double> out;
+  for (std::size_t k = 0; k < v.size(); ++k)
+    out.push_back(finite_number(v[k], path + "[" + std::to_string(k) + "]", source));
+  return out;
+}
+
+gl::ShadowMethod method_field(const Json& v, const std::string& path, const std::string& source) {
+  if (!v.is_string()) fail(source, path, "must be a method name");
+  const auto m = gl::shadow_method_from_string(v.get<std::string>());
+  if (!m)
+    fail(source, path,
+         "'" + v.get<std::string>() + "' is not a method (zpass, zfail, zpplus, zpplus-corrected, preload)");
+  return *m;
+}
+
+}  // namespace
+
+double policy_feature(std::string_view name, const ConditioningFeatures& f) {
+  if (!f.light_frustum_defined) return kNaN;
+  if (name == "log_light_near_distance") return log10_or_nan(f.light_near_distance);
+  if (name == "log_l_far_over_width") return log10_or_nan(f.l_far_over_width);
+  if (name == "log_delta_over_width") return log10_or_nan(f.delta_over_width);
+  if (name == "log_skew") return log10_or_nan(f.skew);
+  if (name == "log_cond_light_transform") return log10_or_nan(f.cond_light_transform);
+  if (name == "log_cap_window_error_px") return log10_or_nan(f.cap_window_error_px);
+  if (name == "log_coordinate_over_size") return log10_or_nan(f.coordinate_over_size);
+  if (name == "l_near_over_l_far") return f.l_near_over_l_far;
+  throw Error(ErrorKind::Usage, "unknown policy feature '" + std::string(name) + "'");
+}
+
+double CrackModel::probability(const ConditioningFeatures& f) const {
+  double z = bias;
+  for (std::size_t k = 0; k < features.size(); ++k) {
+    const double x = policy_feature(features[k], f);
+    if (!std::isfinite(x)) return kNaN;
+    z += weights[k] * (x - mean[k]) / scale[k];
+  }
+  return 1.0 / (1.0 + std::exp(-z));
+}
+
+SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw Error(ErrorKind::Parse, source + ": not JSON: " + e.what());
+  }
+  if (!j.is_object()) fail(source, "(top level)", "must be an object");
+  only_keys(j,
+            {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "crack_model",
+             "provenance"},
+            "", source);
+  const Json& format = field(j, "format", "", source);
+  if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
+  const Json& version = field(j, "version", "", source);
+  if (!version.is_number_integer()) fail(source, "version", "must be an integer");
+  if (version.get<long long>() != kPolicyVersion)
+    fail(source, "version",
+         std::to_string(version.get<long long>()) + " is not a version this nearcap reads (" +
+             std::to_string(kPolicyVersion) + ")");
+  SwitchPolicy p;
+  p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
+  p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
+  if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
+    fail(source, "fallback_method", "must be zfail or preload (a method right without a near-cap)");
+  if (p.capped_method == gl::ShadowMethod::Preload && gl::uses_near_cap(p.fallback_method))
+    fail(source, "capped_method", "preload cannot share a frame with a ZP+ method");
+  const Json& clamp = field(j, "switch_clamp", "", source);
+  if (!clamp.is_string() || !gl::switch_clamp_from_string(clamp.get<std::string>()))
+    fail(source, "switch_clamp", "must be \"clamp\" or \"clamp-far\"");
+  p.switch_clamp = *gl::switch_clamp_from_string(clamp.get<std::string>());
+  const Json& zpass_far = field(j, "zpass_far", "", source);
+  if (!zpass_far.is_string() || !gl::zpass_far_from_string(zpass_far.get<std::string>()))
+    fail(source, "zpass_far", "must be \"finite\" or \"infinite\"");
+  p.zpass_far = *gl::zpass_far_from_string(zpass_far.get<std::string>());
+  const Json& m = field(j, "crack_model", "", source);
+  if (!m.is_object()) fail(source, "crack_model", "must be an object");
+  only_keys(m, {"features", "mean", "scale", "weights", "bias", "threshold"}, "crack_model.", source);
+  const Json& names = field(m, "features", "crack_model.", source);
+  if (!names.is_array()) fail(source, "crack_model.features", "must be an array of feature names");
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string path = "crack_model.features[" + std::to_string(k) + "]";
+    if (!names[k].is_string()) fail(source, path, "must be a feature name");
+    const std::string name = names[k].get<std::string>();
+    bool known = false;
+    for (std::string_view f : kPolicyFeatures) known = known || f == name;
+    if (!known) fail(source, path, "'" + name + "' is not a policy feature");
+    p.crack_model.features.push_back(name);
+  }
+  p.crack_model.mean = numbers(field(m, "mean", "crack_model.", source), "crack_model.mean", source);
+  p.crack_model.scale = numbers(field(m, "scale", "crack_model.", source), "crack_model.scale", source);
+  p.crack_model.weights = numbers(field(m, "weights", "crack_model.", source), "crack_model.weights", source);
+  const std::size_t n = p.crack_model.features.size();
+  for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"mean", &p.crack_model.mean},
+                                {"scale", &p.crack_model.scale},
+                                {"weights", &p.crack_model.weights}})
+    if (v->size() != n)
+      fail(source, std::string("crack_model.") + name,
+           std::to_string(v->size()) + " values for " + std::to_string(n) + " features");
+  for (std::size_t k = 0; k < n; ++k)
+    if (!(p.crack_model.scale[k] > 0)) fail(source, "crack_model.scale[" + std::to_string(k) + "]", "must be positive");
+  p.crack_model.bias = finite_number(field(m, "bias", "crack_model.", source), "crack_model.bias", source);
+  p.crack_model.threshold =
+      finite_number(field(m, "threshold", "crack_model.", source), "crack_model.threshold", source);
+  if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1))
+    fail(source, "crack_model.threshold", "must be in (0, 1]");
+  if (const auto it = j.find("provenance"); it != j.end()) {
+    if (!it->is_object()) fail(source, "provenance", "must be an object");
+    p.provenance_json = it->dump();
+  }
+  return p;
+}
+
+SwitchPolicy load_policy(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::Io, path + ": cannot read the policy");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_policy(text.str(), path);
+}
+
+std::string policy_to_json(const SwitchPolicy& p) {
+  Json j;
+  j["format"] = "nearcap-policy";
+  j["version"] = kPolicyVersion;
+  j["capped_method"] = std::string(gl::to_string(p.capped_method));
+  j["fallback_method"] = std::string(gl::to_string(p.fallback_method));
+  j["switch_clamp"] = std::string(gl::to_string(p.switch_clamp));
+  j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
+  Json m;
+  m["features"] = p.crack_model.features;
+  m["mean"] = p.crack_model.mean;
+  m["scale"] = p.crack_model.scale;
+  m["weights"] = p.crack_model.weights;
+  m["bias"] = p.crack_model.bias;
+  m["threshold"] = p.crack_model.threshold;
+  j["crack_model"] = m;
+  j["provenance"] = Json::parse(p.provenance_json);
+  return j.dump(1) + "\n";
+}
+
+PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                      const gl::EmulationSettings& base) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene& scene = cs.scene();
+  PolicyDecision d;
+  d.settings = base;
+  d.settings.switch_clamp = policy.switch_clamp;
+  d.settings.zpass_far = policy.zpass_far;
+  d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
+  d.reasons.assign(scene.objects.size(), "");
+  d.crack_probability = kNaN;
+  std::vector<bool> meets;
+  bool degenerate = false;
+  try {
+    meets = occluders_meeting_light_pyramid(cs, light);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Degenerate) throw;
+    degenerate = true;  // the light in the near plane
+  }
+  bool any_capped = false;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (!scene.objects[o].occluder) continue;
+    if (degenerate) {
+      d.object_methods[o] = policy.fallback_method;
+      d.reasons[o] = "the light lies in the near plane: no light frustum";
+    } else if (!meets[o]) {
+      d.reasons[o] = "exact: meets no point of the light pyramid (empty near-cap)";
+    } else {
+      any_capped = true;
+    }
+  }
+  if (any_capped) {
+    gl::ShadowMethod chosen = policy.capped_method;
+    std::string why;
+    if (gl::uses_near_cap(chosen)) {
+      const gl::LightFrustum lf = gl::light_frustum(scene, light, base.light_frustum);
+      if (!lf.defined) {
+        chosen = policy.fallback_method;
+        why = "meets the light pyramid, no light frustum (" + lf.undefined_reason + ")";
+      } else {
+        const ConditioningFeatures f = conditioning_features(cs, light, lf, base.arithmetic);
+        d.crack_probability = policy.crack_model.probability(f);
+        if (!(d.crack_probability < policy.crack_model.threshold)) {
+          chosen = policy.fallback_method;
+          why = "meets the light pyramid, crack predicted (P = " + std::to_string(d.crack_probability) + ")";
+        } else {
+          why = "meets the light pyramid, no crack predicted (P = " + std::to_string(d.crack_probability) + ")";
+        }
+      }
+    } else {
+      why = "meets the light pyramid";
+    }
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder && !degenerate && meets[o]) {
+        d.object_methods[o] = chosen;
+        d.reasons[o] = why;
+      }
+  }
+  d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,165 @@
+// The switch policy (analysis/switch_policy.hpp): its file format checked
+// field by field, the logistic fit recovering known parameters (policy_fit),
+// the documented split, and the decision on scenes built for each branch.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "nearcap/analysis/policy_fit.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/io/scene_builder.hpp"
+#include "nearcap/io/scene_file.hpp"
+
+namespace nearcap {
+namespace {
+
+using analysis::SwitchPolicy;
+
+// Synthetic data from a known logistic model: the fit finds its weights.
+TEST(PolicyFit, RecoversKnownLogisticParameters) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double w0 = 1.5, w1 = -2.0, b = -0.5;
+  std::vector<std::vector<double>> x;
+  std::vector<int> y;
+  for (int i = 0; i < 20000; ++i) {
+    const double a = normal(rng), c = normal(rng);
+    const double p = 1.0 / (1.0 + std::exp(-(w0 * a + w1 * c + b)));
+    x.push_back({a, c});
+    y.push_back(unit(rng) < p ? 1 : 0);
+  }
+  analysis::LogisticFitOptions plain;
+  plain.robust = false;
+  plain.l2 = 0;
+  const analysis::LogisticFit fit = analysis::fit_logistic(x, y, plain);
+  // Weights are on standardized features; the data are standard already.
+  EXPECT_NEAR(fit.weights[0] / fit.scale[0], w0, 0.1);
+  EXPECT_NEAR(fit.weights[1] / fit.scale[1], w1, 0.1);
+  EXPECT_NEAR(fit.bias - fit.weights[0] * fit.mean[0] / fit.scale[0] - fit.weights[1] * fit.mean[1] / fit.scale[1], b,
+              0.1);
+  // The robust loss keeps the direction of the separating plane.
+  const analysis::LogisticFit robust = analysis::fit_logistic(x, y);
+  EXPECT_NEAR(robust.weights[1] / robust.weights[0], fit.weights[1] / fit.weights[0], 0.15);
+  EXPECT_GT(robust.weights[0], 0);
+  EXPECT_LT(robust.weights[1], 0);
+}
+
+TEST(PolicyFit, TheSplitHoldsOutAboutAFifthByConfiguration) {
+  int held = 0;
+  for (int i = 0; i < 5000; ++i) held += analysis::held_out_configuration("sample:1:" + std::to_string(i));
+  EXPECT_GT(held, 850);
+  EXPECT_LT(held, 1150);
+  EXPECT_EQ(analysis::held_out_configuration("path:zoom:3"), analysis::held_out_configuration("path:zoom:3"));
+}
+
+std::string valid_policy() {
+  return R"({"format": "nearcap-policy", "version": 1, "capped_method": "zpplus-corrected",
+  "fallback_method": "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
+  "crack_model": {"features": ["log_skew", "l_near_over_l_far"], "mean": [0, 0.2], "scale": [1, 0.1],
+                  "weights": [1.5, -0.5], "bias": -3, "threshold": 0.01},
+  "provenance": {"command": "test"}})";
+}
+
+TEST(SwitchPolicy, ReadsWhatItWrites) {
+  const SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
+  EXPECT_EQ(p.capped_method, gl::ShadowMethod::ZPPlusCorrected);
+  EXPECT_EQ(p.switch_clamp, gl::SwitchClamp::DepthClampFar);
+  const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
+  EXPECT_EQ(q.crack_model.features, p.crack_model.features);
+  EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
+  EXPECT_EQ(q.crack_model.threshold, p.crack_model.threshold);
+  EXPECT_EQ(q.provenance_json, p.provenance_json);
+}
+
+TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
+  auto replaced = [](const std::string& from, const std::string& to) {
+    std::string s = valid_policy();
+    const std::size_t at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {"{", "not JSON"},
+      {replaced("\"version\": 1", "\"version\": 2"), "version: 2 is not a version"},
+      {replaced("\"version\": 1,", ""), "version: missing"},
+      {replaced("\"format\": \"nearcap-policy\"", "\"format\": \"x\""), "format"},
+      {replaced("\"bias\": -3", "\"bias\": -3, \"extra\": 1"), "crack_model.extra: unknown key"},
+      {replaced("\"mean\": [0, 0.2]", "\"mean\": [0]"), "crack_model.mean: 1 values for 2 features"},
+      {replaced("\"log_skew\"", "\"log_magic\""), "crack_model.features[0]: 'log_magic' is not a policy feature"},
+      {replaced("\"zfail\"", "\"zpplus\""), "fallback_method: must be zfail or preload"},
+      {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""), "capped_method: 'zpplus-improved' is not a method"},
+      {replaced("\"scale\": [1, 0.1]", "\"scale\": [1, 0]"), "crack_model.scale[1]: must be positive"},
+      {replaced("\"threshold\": 0.01", "\"threshold\": 2"), "crack_model.threshold: must be in (0, 1]"},
+      {replaced("\"threshold\": 0.01", "\"threshold\": \"low\""), "crack_model.threshold: must be a number"},
+      {replaced("\"clamp-far\"", "\"clamp-near\""), "switch_clamp"},
+  };
+  for (const auto& [text, fragment] : cases) {
+    try {
+      analysis::parse_policy(text, "p.json");
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Parse) << e.what();
+      const std::string what = e.what();
+      EXPECT_NE(what.find(fragment), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_EQ(what.rfind("p.json: ", 0), 0u) << what;
+    }
+  }
+}
+
+TEST(SwitchPolicy, TheShippedPolicyLoads) {
+  const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+  EXPECT_EQ(p.crack_model.features.size(), analysis::kPolicyFeatures.size());
+  EXPECT_GT(p.crack_model.threshold, 0);
+}
+
+Affine3d translate(double x, double y, double z) {
+  Affine3d a;
+  a.rows[0][3] = x;
+  a.rows[1][3] = y;
+  a.rows[2][3] = z;
+  return a;
+}
+
+Scene box_scene(const Vec3d& eye, const Vec3d& light) {
+  SceneBuilder b("policy scene");
+  b.camera(look_at_camera(eye, {0, 0, 0}, {0, 1, 0}, 60, 0.05, 100, 32, 24));
+  b.light(light);
+  b.object(read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off"));
+  Affine3d ground = translate(0, -20.6, 0);
+  for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
+  b.receiver(read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off"), ground);
+  return b.build();
+}
+
+TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
+  SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
+  {  // far from the shadow: exact Z-pass, the model not asked
+    const Scene s = box_scene({6, 1, 6}, {0, 8, 0});
+    const CameraSpaceScene cs(s);
+    const analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
+    EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZPass);
+    EXPECT_NE(d.reasons[0].find("exact"), std::string::npos) << d.reasons[0];
+    EXPECT_TRUE(std::isnan(d.crack_probability));
+    EXPECT_EQ(d.settings.switch_clamp, gl::SwitchClamp::DepthClampFar);
+  }
+  const Scene s = box_scene({0.1, -1.5, 0.2}, {0, 8, 0});  // the eye in the box's shadow
+  const CameraSpaceScene cs(s);
+  p.crack_model.threshold = 1.0;  // never predicts a crack
+  analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZPPlusCorrected) << d.reasons[0];
+  EXPECT_GT(d.crack_probability, 0);
+  p.crack_model.threshold = 1e-300;  // always predicts one
+  d = analysis::decide(p, cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reasons[0];
+  EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+}
+
+}  // namespace
+}  // namespace nearcap
