@@ -2,18 +2,26 @@
 // field by field, the logistic fit recovering known parameters (policy_fit),
 // the documented split, and the decision on scenes built for each branch.
 #include <gtest/gtest.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
 
 #include <cmath>
 #include <random>
 #include <string>
 
+#include "cli_support.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/mesh_file.hpp"
 #include "nearcap/io/scene_builder.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
+#include "nearcap/judge/crack_map.hpp"
 
 namespace nearcap {
 namespace {
@@ -159,6 +167,76 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
   d = analysis::decide(p, cs, 0, {});
   EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+}
+
+// The shipped policy on the bundled scenes and a bundled path: never more
+// cracks than Z-fail in any frame, and Z-pass's cost where Z-pass is right.
+TEST(SwitchPolicy, TheShippedPolicyNeverCracksMoreThanZFailOnBundledScenes) {
+  const SwitchPolicy policy = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+  std::size_t scenes = 0, exact_zpass = 0;
+  for (const char* name : {"default", "no_near_clip", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane",
+                           "near_cap_bunny_wall", "near_cap_bunny_cut", "twisted", "room", "room_side_light"}) {
+    const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json");
+    const CameraSpaceScene cs(s);
+    const PixelReferenceTracer tracer(cs, 0);
+    const PixelReference ref = compute_pixel_reference(tracer);
+    CrackDistances distances(tracer, ref);
+    CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, gl::ShadowMethod::ZFail), ref);
+    distances.measure(zfail);
+    const analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {});
+    gl::ShadowFrameBatch batch(s, 0, d.settings);
+    CrackReport chosen = judge_frame(batch.render(d.object_methods), ref);
+    distances.measure(chosen);
+    EXPECT_LE(*chosen.cracks, *zfail.cracks) << name;
+    for (std::size_t o = 0; o < s.objects.size(); ++o)
+      if (s.objects[o].occluder && d.object_methods[o] == gl::ShadowMethod::ZPass) {
+        ++exact_zpass;
+        EXPECT_EQ(ref.cap_pixels_by_object[o], 0u) << name << " object " << o;  // Z-pass only where it is right
+      }
+    ++scenes;
+  }
+  EXPECT_EQ(scenes, 11u);
+  EXPECT_GT(exact_zpass, 0u);
+}
+
+// End to end as a user runs it: a sweep, nearcap tune, then the policy it
+// wrote in nearcap cracks.
+TEST(SwitchPolicy, TuneThenCracksFromTheCommandLine) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("nearcap_tune_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string rows = (dir / "rows.csv").string(), policy = (dir / "policy.json").string();
+  ASSERT_EQ(test::run_cli("sweep --samples 120 --seed 8 --kinds tiny-near,far-from-origin,eye-in-shadow --width 16 "
+                          "--height 12 --methods zpplus-corrected,zfail --switch-clamp clamp-far --out " +
+                              rows,
+                          "tune_sweep")
+                .exit_code,
+            0);
+  const test::CliResult tuned = test::run_cli("tune " + rows + " --out " + policy, "tune");
+  ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
+  EXPECT_NE(tuned.out.find("held out:"), std::string::npos) << tuned.out;
+  const SwitchPolicy p = analysis::load_policy(policy);
+  const nlohmann::json provenance = nlohmann::json::parse(p.provenance_json);
+  EXPECT_GT(provenance["train"]["samples"].get<int>(), 50);
+  EXPECT_EQ(provenance["train"]["cracks"], provenance["train"]["cracks_predicted"]);  // every training crack
+  const test::CliResult cracks = test::run_cli(
+      "cracks data/scenes/near_cap_bunny_wall.json --light 0 --method zfail,policy --policy " + policy, "tune_cracks");
+  ASSERT_EQ(cracks.exit_code, 0) << cracks.err;
+  const nlohmann::json record = nlohmann::json::parse(cracks.out);
+  ASSERT_EQ(record["methods"].size(), 2u);
+  const nlohmann::json& chosen = record["methods"][1];
+  EXPECT_EQ(chosen["method"], "policy");
+  ASSERT_EQ(chosen["occluders"].size(), 1u);
+  EXPECT_FALSE(chosen["occluders"][0]["why"].get<std::string>().empty());
+  EXPECT_GE(chosen["decide_ms"].get<double>(), 0.0);
+  // Rows without the policy's variant: a one-line usage error, nothing written.
+  const test::CliResult bad =
+      test::run_cli("tune " + rows + " --variant default --out " + (dir / "never.json").string(), "tune_bad");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("no training samples"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "never.json"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
