@@ -70,7 +70,9 @@ struct LogLoss {
     // Two branches that agree in value and slope at 0 (a max(m, 0) + abs(m)
     // form gives the wrong slope there, where every fit starts).
     const T softplus = m >= T(0) ? m + log(T(1) + exp(-m)) : log(T(1) + exp(m));
-    residual[0] = sqrt(T(2) * softplus);
+    // A floor under the square root: a sample classified beyond doubt has a
+    // softplus that underflows to 0, where the root's slope is infinite.
+    residual[0] = sqrt(T(2) * softplus + T(1e-200));
     return true;
   }
   std::vector<double> x_;
@@ -223,10 +225,16 @@ LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::v
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.max_num_iterations = 200;
+  // Nearly separable data (a few cracks) send the weights far: bounded steps
+  // in standardized units keep every trial point finite.
+  solver.initial_trust_region_radius = 1.0;
+  solver.max_trust_region_radius = 100.0;
+  solver.max_num_consecutive_invalid_steps = 50;
   solver.num_threads = 1;  // deterministic
   solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
+  if (!summary.IsSolutionUsable()) throw Error(ErrorKind::Degenerate, "the logistic fit failed: " + summary.message);
   fit.iterations = static_cast<int>(summary.iterations.size());
   fit.final_cost = summary.final_cost;
   return fit;
