@@ -294,7 +294,8 @@ TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
       {"reference " + b + " --light 0", "--out"},
       {"", "no subcommand"},
       {"bogus", "unknown subcommand 'bogus'"},
-      {"tune x", "unknown subcommand 'tune'"},
+      {"optimize x", "unknown subcommand 'optimize'"},
+      {"tune x", "--out is required"},
       {"classify " + b + " --bogus", "--bogus"},
       {"classify " + b + " extra", "extra"},
       {"cap " + b + " --light 3", "out of range"},
@@ -343,7 +344,7 @@ TEST_F(Reliability, AMethodThatRefusesTheFrameDoesNotStopTheOthers) {
   const test::CliResult all = run("cracks " + path("k.json") + " --light 0");
   ASSERT_EQ(all.exit_code, 0) << all.err;
   const nlohmann::json records = nlohmann::json::parse(all.out)["methods"];
-  ASSERT_EQ(records.size(), 5u);
+  ASSERT_EQ(records.size(), 6u);  // the five methods and the switch policy
   std::size_t refused = 0;
   for (const nlohmann::json& r : records) {
     if (r.contains("refused")) {

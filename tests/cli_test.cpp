@@ -252,7 +252,7 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
   const test::CliResult r = test::run_cli("cracks data/scenes/near_split.json --light 0 --method all", "cracks_all");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j.at("methods").size(), 5u);
+  ASSERT_EQ(j.at("methods").size(), 6u);  // the five methods and the switch policy
   std::set<std::string> names;
   for (const auto& m : j["methods"]) {
     names.insert(m.at("method").get<std::string>());
@@ -263,7 +263,16 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
     EXPECT_EQ(m["wrong"].get<std::size_t>(),
               m["wrong_lit"].get<std::size_t>() + m["wrong_shadowed"].get<std::size_t>());
   }
-  EXPECT_EQ(names, (std::set<std::string>{"zpass", "zfail", "zpplus", "zpplus-corrected", "preload"}));
+  EXPECT_EQ(names, (std::set<std::string>{"zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "policy"}));
+  // The policy's record says which method each occluder got, and why.
+  const auto policy = std::find_if(j["methods"].begin(), j["methods"].end(),
+                                   [](const nlohmann::json& m) { return m["method"] == "policy"; });
+  ASSERT_NE(policy, j["methods"].end());
+  ASSERT_FALSE((*policy)["occluders"].empty());
+  for (const auto& o : (*policy)["occluders"]) {
+    EXPECT_TRUE(o.at("method").is_string());
+    EXPECT_FALSE(o.at("why").get<std::string>().empty());
+  }
 }
 
 TEST(CracksCommand, OutWritesTheImageAndTheRecord) {
