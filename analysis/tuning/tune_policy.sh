@@ -3,7 +3,9 @@
 #   1. a sweep of 20,000 hard cases of the sampler (seed 100, 48 x 36) and of
 #      every bundled camera path (160 x 120) with ZP+ corrected and Z-fail,
 #      the case-D switch clamped at the far plane only (the policy's own);
-#   2. nearcap tune on both: the crack model fitted on the configurations not
+#   2. nearcap tune on both, with the four features that need no pass over the
+#      geometry (the decision stays O(1) per occluder beyond the pyramid
+#      test): the crack model fitted on the configurations not
 #      held out (README "The switch policy"), checked on those that are.
 # About a minute on 2 cores.  Usage: analysis/tuning/tune_policy.sh [BUILD_DIR] [OUT]
 #   (default: build, data/policy.json; the sweeps go to out/tuning/)
@@ -18,4 +20,5 @@ for p in data/paths/*.json; do paths+=(--path "$p"); done
 "$n" sweep --samples 20000 --seed 100 --methods zpplus-corrected,zfail --switch-clamp clamp-far \
   --out out/tuning/samples.csv
 "$n" sweep "${paths[@]}" --methods zpplus-corrected,zfail --switch-clamp clamp-far --out out/tuning/paths.csv
-"$n" tune out/tuning/samples.csv out/tuning/paths.csv --out "$policy"
+"$n" tune out/tuning/samples.csv out/tuning/paths.csv --out "$policy" \
+  --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew

@@ -255,8 +255,24 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
   return c;
 }
 
-SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
-                         const std::string& command, const LogisticFitOptions& options) {
+SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::ShadowMethod capped,
+                         gl::ShadowMethod fallback, const std::string& command, const LogisticFitOptions& options,
+                         const std::vector<std::string>& feature_names) {
+  // The chosen features' columns.
+  std::vector<std::string> names = feature_names;
+  if (names.empty()) names.assign(kPolicyFeatures.begin(), kPolicyFeatures.end());
+  std::vector<std::size_t> columns;
+  for (const std::string& name : names) {
+    const auto it = std::find(kPolicyFeatures.begin(), kPolicyFeatures.end(), name);
+    if (it == kPolicyFeatures.end()) throw Error(ErrorKind::Usage, "'" + name + "' is not a policy feature");
+    columns.push_back(static_cast<std::size_t>(it - kPolicyFeatures.begin()));
+  }
+  std::vector<PolicySample> samples = all_samples;
+  for (PolicySample& s : samples) {
+    std::vector<double> x;
+    for (std::size_t c : columns) x.push_back(s.x[c]);
+    s.x = std::move(x);
+  }
   std::vector<std::vector<double>> x;
   std::vector<int> y;
   for (const PolicySample& s : samples)
@@ -273,7 +289,7 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMet
   p.capped_method = capped;
   p.fallback_method = fallback;
   CrackModel& m = p.crack_model;
-  m.features.assign(kPolicyFeatures.begin(), kPolicyFeatures.end());
+  m.features = names;
   m.mean = fit.mean;
   m.scale = fit.scale;
   m.weights = fit.weights;

@@ -80,6 +80,31 @@ double policy_feature(std::string_view name, const ConditioningFeatures& f) {
   throw Error(ErrorKind::Usage, "unknown policy feature '" + std::string(name) + "'");
 }
 
+bool cheap_policy_feature(std::string_view name) {
+  return name == "log_light_near_distance" || name == "log_l_far_over_width" || name == "log_delta_over_width" ||
+         name == "log_skew";
+}
+
+ConditioningFeatures cheap_conditioning_features(const CameraSpaceScene& cs, std::size_t light) {
+  const Scene& scene = cs.scene();
+  const Frustum& fr = scene.camera.frustum;
+  ConditioningFeatures f;
+  f.light_near_distance = to_double(Rational((cs.exact_light(light).z + Rational(fr.near)) / Rational(fr.near)));
+  // The float light frustum's l_far and offset, as gl::light_frustum has them.
+  const gl::Vec4f delta = gl::light_in_camera_space(scene, light);
+  const float side = delta.z + static_cast<float>(fr.near);
+  f.light_frustum_defined = side != 0.0f;
+  if (!f.light_frustum_defined) return f;
+  const double l_far = std::fabs(static_cast<double>(side));
+  const double width = fr.right - fr.left;
+  const double cx = 0.5 * (fr.left + fr.right), cy = 0.5 * (fr.bottom + fr.top);
+  const double offset = std::hypot(delta.x - cx, delta.y - cy);
+  f.l_far_over_width = l_far / width;
+  f.delta_over_width = offset / width;
+  f.skew = offset / l_far;
+  return f;
+}
+
 double CrackModel::probability(const ConditioningFeatures& f) const {
   double z = bias;
   for (std::size_t k = 0; k < features.size(); ++k) {
@@ -226,12 +251,24 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     gl::ShadowMethod chosen = policy.capped_method;
     std::string why;
     if (gl::uses_near_cap(chosen)) {
-      const gl::LightFrustum lf = gl::light_frustum(scene, light, base.light_frustum);
+      // A model of cheap features alone needs neither the light frustum's
+      // l_near (a pass over the occluders) nor the window errors.
+      bool cheap = true;
+      for (const std::string& name : policy.crack_model.features) cheap = cheap && cheap_policy_feature(name);
+      gl::LightFrustum lf;
+      ConditioningFeatures f;
+      if (cheap) {
+        f = cheap_conditioning_features(cs, light);
+        lf.defined = f.light_frustum_defined;
+        lf.undefined_reason = "the light lies in the camera's near plane (l_far = 0)";
+      } else {
+        lf = gl::light_frustum(scene, light, base.light_frustum);
+        if (lf.defined) f = conditioning_features(cs, light, lf, base.arithmetic);
+      }
       if (!lf.defined) {
         chosen = policy.fallback_method;
         why = "meets the light pyramid, no light frustum (" + lf.undefined_reason + ")";
       } else {
-        const ConditioningFeatures f = conditioning_features(cs, light, lf, base.arithmetic);
         d.crack_probability = policy.crack_model.probability(f);
         if (!(d.crack_probability < policy.crack_model.threshold)) {
           chosen = policy.fallback_method;

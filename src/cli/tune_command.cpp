@@ -1,5 +1,8 @@
 // nearcap tune RESULTS.csv... --out policy.json: fits the switch policy's
 // crack model on sweep rows (analysis/policy_fit.hpp) and writes the policy.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <iostream>
 
 #include "cli_commands.hpp"
@@ -16,13 +19,8 @@ struct TuneOptions {
   std::string fallback = "zfail";
   std::string variant = "switch-clamp=clamp-far";
   bool plain = false;
+  std::string features = "all";
 };
-
-void print_side(const char* name, const analysis::Confusion& c) {
-  std::cout << "  " << name << ": " << c.samples << " (configuration, light) pairs, " << c.positives
-            << " where the capped method cracks more than the fallback; predicted " << c.true_positives << " of them, "
-            << c.false_positives << " false alarms\n";
-}
 
 void run(const TuneOptions& o, const std::string& command) {
   const auto capped = gl::shadow_method_from_string(o.capped);
@@ -35,11 +33,25 @@ void run(const TuneOptions& o, const std::string& command) {
       analysis::policy_samples(o.results, *capped, *fallback, o.variant);
   analysis::LogisticFitOptions fit;
   fit.robust = !o.plain;
-  const analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit);
+  std::vector<std::string> features;
+  if (o.features != "all") {
+    std::size_t start = 0;
+    while (start <= o.features.size()) {
+      const std::size_t comma = std::min(o.features.find(',', start), o.features.size());
+      features.push_back(o.features.substr(start, comma - start));
+      start = comma + 1;
+    }
+  }
+  const analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features);
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
-  print_side("train", analysis::confusion(policy.crack_model, samples, false));
-  print_side("held out", analysis::confusion(policy.crack_model, samples, true));
+  const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
+  for (const auto& [side, label] : {std::pair<const char*, const char*>{"train", "train"}, {"held_out", "held out"}}) {
+    const nlohmann::json& c = provenance[side];
+    std::cout << "  " << label << ": " << c["samples"] << " (configuration, light) pairs, " << c["cracks"]
+              << " where the capped method cracks more than the fallback; predicted " << c["cracks_predicted"]
+              << " of them, " << c["false_alarms"] << " false alarms\n";
+  }
   std::cout << "  threshold " << policy.crack_model.threshold << "\n";
   io::write_output_files({{o.out, analysis::policy_to_json(policy)}});
   std::cout << "tune: wrote " << o.out << "\n";
@@ -61,6 +73,10 @@ void register_tune(CLI::App& app) {
                   "or one of its --variant)")
       ->capture_default_str();
   cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
+  cmd->add_option("--features", o->features,
+                  "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
+                  "log_delta_over_width and log_skew need no pass over the geometry), or all")
+      ->capture_default_str();
   cmd->callback([o] {
     std::string command = "nearcap tune";
     for (const std::string& r : o->results) command += " " + r;
@@ -69,6 +85,7 @@ void register_tune(CLI::App& app) {
     if (o->fallback != "zfail") command += " --fallback " + o->fallback;
     if (o->variant != "switch-clamp=clamp-far") command += " --variant " + o->variant;
     if (o->plain) command += " --plain";
+    if (o->features != "all") command += " --features " + o->features;
     run(*o, command);
   });
 }

@@ -156,43 +156,118 @@ std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, st
   std::array<Vec3d, 4> nd;
   for (int k = 0; k < 4; ++k) nd[k] = {to_double(planes[k].n.x), to_double(planes[k].n.y), to_double(planes[k].n.z)};
 
+  const BoundedVec3& light_b = cs.light(light);
+  const BoundedVec3 centre_b{(BoundedDouble(fr.left) + BoundedDouble(fr.right)) * BoundedDouble(0.5),
+                             (BoundedDouble(fr.bottom) + BoundedDouble(fr.top)) * BoundedDouble(0.5),
+                             BoundedDouble(-fr.near)};
+  auto certain_sign = [](const BoundedDouble& x) {
+    const auto s = x.sign();
+    return s ? static_cast<int>(*s) : 0;  // 0: zero or not certain
+  };
+  auto axis_crosses = [&](const BoundedVec3& a, const BoundedVec3& b, const BoundedVec3& c) {
+    const int sl = certain_sign(orientation_determinant(a, b, c, light_b));
+    const int sc = certain_sign(orientation_determinant(a, b, c, centre_b));
+    if (sl == 0 || sc == 0 || sl == sc) return false;
+    const int e1 = certain_sign(orientation_determinant(light_b, centre_b, a, b));
+    const int e2 = certain_sign(orientation_determinant(light_b, centre_b, b, c));
+    const int e3 = certain_sign(orientation_determinant(light_b, centre_b, c, a));
+    return e1 != 0 && e1 == e2 && e2 == e3;
+  };
+
+  // The same in plain double, as a prefilter only (it never decides).
+  const Vec3d centre_d{centre_b.x.v, centre_b.y.v, centre_b.z.v};
+  auto axis_may_cross = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+    const double sl = orientation_determinant(a, b, c, ld), sc = orientation_determinant(a, b, c, centre_d);
+    if ((sl > 0) == (sc > 0)) return false;
+    const double e1 = orientation_determinant(ld, centre_d, a, b), e2 = orientation_determinant(ld, centre_d, b, c),
+                 e3 = orientation_determinant(ld, centre_d, c, a);
+    return (e1 > 0) == (e2 > 0) && (e2 > 0) == (e3 > 0);
+  };
+
   std::vector<bool> meets(cs.object_count(), false);
   for (std::size_t o = 0; o < cs.object_count(); ++o) {
     if (!cs.object(o).occluder) continue;
     const TriangleMesh& mesh = cs.mesh(o);
     const double err = cs.max_error(o);
-    // The object's box first (its vertex estimates, one pass): certainly
-    // outside one side plane, behind the light or beyond the near plane, it
-    // holds no point of the pyramid and its triangles need no test.
-    {
+    // Boxes first: an object-space box whose image is certainly outside one
+    // side plane, behind the light or beyond the near plane holds no point of
+    // the pyramid, and neither do its triangles.  The image of a box's
+    // corners through view * object_to_world in double holds the exact image
+    // of the box (affine maps keep convex hulls); their rounding is far below
+    // the margin added.
+    const Affine3d& view = cs.scene().camera.view;
+    const Affine3d& model = cs.object(o).object_to_world;
+    // Where a box lies: certainly outside, certainly inside (every point of
+    // it in the pyramid, the light's own point excluded by the margin), or
+    // not decided.
+    enum class Where { Outside, Inside, Unknown };
+    auto where = [&](const Vec3d& blo, const Vec3d& bhi) {
       Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                std::numeric_limits<double>::infinity()};
       Vec3d hi = -1.0 * lo;
-      for (const auto& t : mesh.triangles)
-        for (VertexIndex v : t) {
-          const Vec3d& p = cs.vertex_estimate(o, v);
-          for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], p[a]);
-            hi[a] = std::max(hi[a], p[a]);
-          }
+      double corner_mag = 0;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3d w =
+            model.apply({(corner & 1) ? bhi.x : blo.x, (corner & 2) ? bhi.y : blo.y, (corner & 4) ? bhi.z : blo.z});
+        const Vec3d p = view.apply(w);
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], p[a]);
+          hi[a] = std::max(hi[a], p[a]);
+          corner_mag = std::max({corner_mag, std::fabs(w[a]), std::fabs(p[a])});
         }
+      }
+      const double box_err = err + 0x1p-30 * corner_mag;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] -= box_err;
+        hi[a] += box_err;
+      }
       double mag = std::max({std::fabs(ld.x), std::fabs(ld.y), std::fabs(ld.z), l_far_d});
       for (int a = 0; a < 3; ++a) mag = std::max({mag, std::fabs(lo[a]), std::fabs(hi[a])});
-      bool outside = false;
-      for (int k = 0; k < 4 && !outside; ++k) {
+      bool inside = true;
+      for (int k = 0; k < 4; ++k) {
         const double nmag = std::fabs(nd[k].x) + std::fabs(nd[k].y) + std::fabs(nd[k].z);
         const double bound = nmag * (3 * err + 2 * mag * 0x1p-40);
-        outside = true;
-        for (int corner = 0; corner < 8 && outside; ++corner) {
+        bool outside = true;
+        for (int corner = 0; corner < 8; ++corner) {
           const Vec3d p{(corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z};
-          outside = dot(nd[k], p - ld) < -bound;
+          const double signed_distance = dot(nd[k], p - ld);
+          outside = outside && signed_distance < -bound;
+          inside = inside && signed_distance > bound;
         }
+        if (outside) return Where::Outside;
       }
       const double axial_bound = 2 * err + mag * 0x1p-40;
       const double a_lo = alpha > 0 ? ld.z - hi.z : lo.z - ld.z, a_hi = alpha > 0 ? ld.z - lo.z : hi.z - ld.z;
-      if (outside || a_hi < -axial_bound || a_lo > l_far_d + axial_bound) continue;
+      if (a_hi < -axial_bound || a_lo > l_far_d + axial_bound) return Where::Outside;
+      return inside && a_lo > axial_bound && a_hi < l_far_d - axial_bound ? Where::Inside : Where::Unknown;
+    };
+    const FacePlanes& fp = mesh.face_planes;
+    const bool boxed = fp.plane.size() == mesh.triangles.size() && fp.chunk_faces.size() == mesh.triangles.size() &&
+                       !mesh.triangles.empty();
+    if (boxed) {
+      const Where w = where(fp.box_lo, fp.box_hi);
+      if (w == Where::Outside) continue;
+      if (w == Where::Inside) {
+        meets[o] = true;
+        continue;
+      }
     }
-    for (FaceIndex f = 0; f < mesh.triangles.size() && !meets[o]; ++f) {
+    std::vector<FaceIndex> undecided;
+    for (std::size_t slot = 0; slot < mesh.triangles.size() && !meets[o]; ++slot) {
+      // Chunk by chunk where the chunks exist, else in file order.
+      const std::size_t chunk = slot / FacePlanes::kFacesPerChunk;
+      if (boxed && slot % FacePlanes::kFacesPerChunk == 0) {
+        const Where w = where(fp.chunk_box[chunk][0], fp.chunk_box[chunk][1]);
+        if (w == Where::Inside) {
+          meets[o] = true;  // its faces' points all lie in the pyramid
+          break;
+        }
+        if (w == Where::Outside) {
+          slot += FacePlanes::kFacesPerChunk - 1;  // the whole chunk is outside
+          continue;
+        }
+      }
+      const FaceIndex f = boxed ? fp.chunk_faces[slot] : static_cast<FaceIndex>(slot);
       const auto& t = mesh.triangles[f];
       std::array<Vec3d, 3> v;
       double mag = std::max({std::fabs(ld.x), std::fabs(ld.y), std::fabs(ld.z), l_far_d});
@@ -202,12 +277,20 @@ std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, st
       }
       // Certainly outside a side plane, behind the light or beyond the near
       // plane (the same generous bounds as above): not in the pyramid.
+      // A vertex certainly inside (every side plane, 0 < a <= l_far, with the
+      // same bounds): the occluder meets the pyramid, no exact clipping needed.
       bool outside = false;
+      std::array<bool, 3> vertex_inside{true, true, true};
       for (int k = 0; k < 4 && !outside; ++k) {
         const double nmag = std::fabs(nd[k].x) + std::fabs(nd[k].y) + std::fabs(nd[k].z);
         const double bound = nmag * (3 * err + 2 * mag * 0x1p-40);
         outside = true;
-        for (int i = 0; i < 3 && outside; ++i) outside = dot(nd[k], v[i] - ld) < -bound;
+        for (int i = 0; i < 3; ++i) {
+          const double signed_distance = dot(nd[k], v[i] - ld);
+          outside = outside && signed_distance < -bound;
+          vertex_inside[static_cast<std::size_t>(i)] =
+              vertex_inside[static_cast<std::size_t>(i)] && signed_distance > bound;
+        }
       }
       const double axial_bound = 2 * err + mag * 0x1p-40;
       bool behind = true, beyond = true;
@@ -215,8 +298,27 @@ std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, st
         const double a = alpha * (ld.z - v[i].z);
         behind = behind && a < -axial_bound;
         beyond = beyond && a > l_far_d + axial_bound;
+        vertex_inside[static_cast<std::size_t>(i)] =
+            vertex_inside[static_cast<std::size_t>(i)] && a > axial_bound && a < l_far_d - axial_bound;
       }
       if (outside || behind || beyond) continue;
+      if (vertex_inside[0] || vertex_inside[1] || vertex_inside[2]) {
+        meets[o] = true;
+        break;
+      }
+      // The pyramid's axis, from the light to the near rectangle's centre,
+      // certainly through the triangle's interior (certified orientations):
+      // the crossing point lies in the pyramid.
+      if (axis_may_cross(v[0], v[1], v[2]) &&
+          axis_crosses(cs.vertex(o, t[0]), cs.vertex(o, t[1]), cs.vertex(o, t[2]))) {
+        meets[o] = true;
+        break;
+      }
+      undecided.push_back(f);  // clipped exactly below, if nothing cheaper decides
+    }
+    // Exact clipping of the triangles no filter decided, until one meets.
+    for (std::size_t k = 0; k < undecided.size() && !meets[o]; ++k) {
+      const auto& t = mesh.triangles[undecided[k]];
       std::vector<RationalVec3> poly{cs.exact_vertex(o, t[0]), cs.exact_vertex(o, t[1]), cs.exact_vertex(o, t[2])};
       for (const auto& p : planes) {
         poly = clip(poly, p.n, l);

@@ -66,7 +66,9 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 // The whole tuning: the model fitted on the training samples, the threshold,
 // and the provenance (counts, confusion on both sides, the command) in the
 // returned policy.
+// `features`: names from kPolicyFeatures (all of them when empty).
 SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
-                         const std::string& command, const LogisticFitOptions& options = {});
+                         const std::string& command, const LogisticFitOptions& options = {},
+                         const std::vector<std::string>& features = {});
 
 }  // namespace nearcap::analysis

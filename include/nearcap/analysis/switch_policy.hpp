@@ -55,6 +55,13 @@ inline constexpr std::array<std::string_view, 8> kPolicyFeatures{
 };
 // The feature's value; NaN when the light frustum is undefined.
 double policy_feature(std::string_view name, const ConditioningFeatures& f);
+// The features that need only the light and the camera (no pass over the
+// geometry, no light frustum): a model of these alone decides in O(1).
+bool cheap_policy_feature(std::string_view name);
+// Those features' inputs (light_frustum_defined, light_near_distance,
+// l_far_over_width, delta_over_width, skew; the rest left 0), as
+// conditioning_features computes them.
+ConditioningFeatures cheap_conditioning_features(const CameraSpaceScene& scene, std::size_t light);
 
 struct CrackModel {
   std::vector<std::string> features;  // names from kPolicyFeatures

@@ -27,9 +27,18 @@ inline constexpr FaceIndex kNoFace = 0xffffffffu;
 // doubles, with bounds over the mesh: |exact - stored| <= n_error (each
 // component of n) and d_error; |n_i| <= n_max, |d| <= d_max.  Orientation
 // tests against a point in object space are then n . p - d: no vertex gathers.
+// Also object-space boxes of the triangles' vertices (exact: min and max of
+// the stored doubles), for culls that must not visit every face per frame:
+// the whole mesh's, and one per chunk of kFacesPerChunk faces that lie near
+// each other (the faces in the Morton order of their centroids, cut into
+// runs).
 struct FacePlanes {
+  static constexpr std::size_t kFacesPerChunk = 256;
   std::vector<std::array<double, 4>> plane;  // n.x, n.y, n.z, d
   double n_error = 0, d_error = 0, n_max = 0, d_max = 0;
+  Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};       // empty mesh: both 0
+  std::vector<FaceIndex> chunk_faces;           // every face once, chunk by chunk
+  std::vector<std::array<Vec3d, 2>> chunk_box;  // chunk k: chunk_faces[k * kFacesPerChunk, ...)
 };
 
 struct TriangleMesh {
