@@ -90,6 +90,33 @@ TEST(PolicyFit, SeparableDataStillFit) {
   EXPECT_GT(fit.weights[0], 0);
 }
 
+// Times from known costs with noise and a tenth of outliers (a frame timed
+// while the machine was busy): the robust fit finds the costs, plain least
+// squares is pulled away.
+TEST(PolicyFit, CostModelRecoversKnownCostsDespiteOutliers) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> triangles(1e3, 2e5), fragments(1e4, 2e6), unit(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const double c0 = 0.3, per_mtri = 40.0, per_mfrag = 5.0;
+  std::vector<analysis::CostSample> rows;
+  for (int i = 0; i < 2000; ++i) {
+    analysis::CostSample s;
+    s.triangles = triangles(rng);
+    s.fragments = fragments(rng);
+    s.ms = c0 + per_mtri * s.triangles * 1e-6 + per_mfrag * s.fragments * 1e-6 + noise(rng);
+    if (unit(rng) < 0.1) s.ms += 5 + 20 * unit(rng);  // an outlier
+    s.held_out = i % 5 == 0;
+    rows.push_back(s);
+  }
+  const analysis::CostModel robust = analysis::fit_cost_model(rows);
+  EXPECT_NEAR(robust.intercept_ms, c0, 0.1);
+  EXPECT_NEAR(robust.ms_per_mtriangle, per_mtri, 2.0);
+  EXPECT_NEAR(robust.ms_per_mfragment, per_mfrag, 0.3);
+  const analysis::CostModel plain = analysis::fit_cost_model(rows, false);
+  EXPECT_GT(std::fabs(plain.intercept_ms - c0), 0.5);  // the outliers pull it
+  EXPECT_LT(analysis::median_relative_error(robust, rows, true), 0.05);
+}
+
 TEST(PolicyFit, TheSplitHoldsOutAboutAFifthByConfiguration) {
   int held = 0;
   for (int i = 0; i < 5000; ++i) held += analysis::held_out_configuration("sample:1:" + std::to_string(i));
@@ -110,6 +137,12 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   const SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
   EXPECT_EQ(p.capped_method, gl::ShadowMethod::ZPPlusCorrected);
   EXPECT_EQ(p.switch_clamp, gl::SwitchClamp::DepthClampFar);
+  SwitchPolicy with_costs = p;
+  with_costs.cost_models.push_back({gl::ShadowMethod::ZFail, {0.5, 30, 4}});
+  const SwitchPolicy c = analysis::parse_policy(analysis::policy_to_json(with_costs), "c.json");
+  ASSERT_EQ(c.cost_models.size(), 1u);
+  EXPECT_EQ(c.cost_models[0].first, gl::ShadowMethod::ZFail);
+  EXPECT_EQ(c.cost_models[0].second.ms_per_mtriangle, 30);
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
   EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
@@ -138,6 +171,10 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"threshold\": 0.01", "\"threshold\": 2"), "crack_model.threshold: must be in (0, 1]"},
       {replaced("\"threshold\": 0.01", "\"threshold\": \"low\""), "crack_model.threshold: must be a number"},
       {replaced("\"clamp-far\"", "\"clamp-near\""), "switch_clamp"},
+      {replaced("\"provenance\"", "\"cost_models\": {\"zfast\": {}}, \"provenance\""),
+       "cost_models.zfast: 'zfast' is not a method"},
+      {replaced("\"provenance\"", "\"cost_models\": {\"zfail\": {\"intercept_ms\": 1}}, \"provenance\""),
+       "cost_models.zfail.ms_per_mtriangle: missing"},
   };
   for (const auto& [text, fragment] : cases) {
     try {
@@ -155,6 +192,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
 
 TEST(SwitchPolicy, TheShippedPolicyLoads) {
   const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+  EXPECT_EQ(p.cost_models.size(), 2u);  // the capped and the fallback method
   ASSERT_FALSE(p.crack_model.features.empty());
   for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
     EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;

@@ -55,6 +55,40 @@ double to_number(const std::string& s, const std::string& where) {
   throw Error(ErrorKind::Parse, where + ": '" + s + "' is not a number");
 }
 
+// One row of a sweep CSV: its fields, the header's column indices, and where
+// it is (file and line) for errors.
+struct Row {
+  std::vector<std::string> fields;
+  const std::map<std::string, std::size_t>& column;
+  std::string where;
+};
+// Calls visit for every row of the files, after checking each header holds
+// the needed columns.
+template <class Visit>
+void for_each_row(const std::vector<std::string>& files, std::initializer_list<const char*> needed, Visit&& visit) {
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, file + ": cannot read");
+    std::string line;
+    if (!std::getline(in, line)) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");
+    const std::vector<std::string> header = csv_fields(line);
+    std::map<std::string, std::size_t> column;
+    for (std::size_t k = 0; k < header.size(); ++k) column[header[k]] = k;
+    for (const char* c : needed)
+      if (!column.count(c))
+        throw Error(ErrorKind::Parse, file + ": line 1: missing column '" + c +
+                                          "' (not a nearcap sweep CSV, or one from an older nearcap)");
+    std::size_t number = 1;
+    while (std::getline(in, line)) {
+      ++number;
+      if (line.empty()) continue;
+      Row row{csv_fields(line), column, file + ": line " + std::to_string(number)};
+      if (row.fields.size() != header.size()) throw Error(ErrorKind::Parse, row.where + ": wrong number of fields");
+      visit(row);
+    }
+  }
+}
+
 // The logistic sample's cost: 2 logloss as a squared residual.
 struct LogLoss {
   LogLoss(const std::vector<double>& x, int y) : x_(x), sign_(y ? 1.0 : -1.0) {}
@@ -112,65 +146,38 @@ std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, 
   };
   std::map<std::pair<std::string, std::size_t>, Pair> pairs;
   const std::string capped_name(gl::to_string(capped)), fallback_name(gl::to_string(fallback));
-  for (const std::string& file : files) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(ErrorKind::Io, file + ": cannot read");
-    std::string line;
-    if (!std::getline(in, line)) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");
-    const std::vector<std::string> header = csv_fields(line);
-    std::map<std::string, std::size_t> col;
-    for (std::size_t k = 0; k < header.size(); ++k) col[header[k]] = k;
-    const char* needed[] = {"configuration",
-                            "light",
-                            "method",
-                            "variant",
-                            "cracks",
-                            "fallback",
-                            "refused",
-                            "light_frustum_defined",
-                            "light_near_distance",
-                            "l_far_over_width",
-                            "delta_over_width",
-                            "skew",
-                            "cond_light_transform",
-                            "cap_window_error_px",
-                            "coordinate_over_size",
-                            "l_near_over_l_far"};
-    for (const char* c : needed)
-      if (!col.count(c))
-        throw Error(ErrorKind::Parse, file + ": line 1: missing column '" + c +
-                                          "' (not a nearcap sweep CSV, or one from an older nearcap)");
-    std::size_t number = 1;
-    while (std::getline(in, line)) {
-      ++number;
-      if (line.empty()) continue;
-      const std::vector<std::string> f = csv_fields(line);
-      const std::string where = file + ": line " + std::to_string(number);
-      if (f.size() != header.size()) throw Error(ErrorKind::Parse, where + ": wrong number of fields");
-      const std::string& method = f[col["method"]];
-      if ((method != capped_name && method != fallback_name) || f[col["variant"]] != variant ||
-          f[col["refused"]] == "1")
-        continue;
-      Pair& p = pairs[{f[col["configuration"]], static_cast<std::size_t>(to_number(f[col["light"]], where))}];
-      const auto cracks = static_cast<std::size_t>(to_number(f[col["cracks"]], where));
-      if (method == capped_name) {
-        p.capped_cracks = cracks;
-        p.capped_fell_back = !f[col["fallback"]].empty();
-        ConditioningFeatures& c = p.features;
-        c.light_frustum_defined = f[col["light_frustum_defined"]] == "1";
-        c.light_near_distance = to_number(f[col["light_near_distance"]], where);
-        c.l_far_over_width = to_number(f[col["l_far_over_width"]], where);
-        c.delta_over_width = to_number(f[col["delta_over_width"]], where);
-        c.skew = to_number(f[col["skew"]], where);
-        c.cond_light_transform = to_number(f[col["cond_light_transform"]], where);
-        c.cap_window_error_px = to_number(f[col["cap_window_error_px"]], where);
-        c.coordinate_over_size = to_number(f[col["coordinate_over_size"]], where);
-        c.l_near_over_l_far = to_number(f[col["l_near_over_l_far"]], where);
-      } else {
-        p.fallback_cracks = cracks;
-      }
-    }
-  }
+  for_each_row(
+      files,
+      {"configuration", "light", "method", "variant", "cracks", "fallback", "refused", "light_frustum_defined",
+       "light_near_distance", "l_far_over_width", "delta_over_width", "skew", "cond_light_transform",
+       "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
+      [&](const Row& row) {
+        const auto& f = row.fields;
+        auto col = [&](const char* name) { return row.column.at(name); };
+        const std::string& where = row.where;
+        const std::string& method = f[col("method")];
+        if ((method != capped_name && method != fallback_name) || f[col("variant")] != variant ||
+            f[col("refused")] == "1")
+          return;
+        Pair& p = pairs[{f[col("configuration")], static_cast<std::size_t>(to_number(f[col("light")], where))}];
+        const auto cracks = static_cast<std::size_t>(to_number(f[col("cracks")], where));
+        if (method == capped_name) {
+          p.capped_cracks = cracks;
+          p.capped_fell_back = !f[col("fallback")].empty();
+          ConditioningFeatures& c = p.features;
+          c.light_frustum_defined = f[col("light_frustum_defined")] == "1";
+          c.light_near_distance = to_number(f[col("light_near_distance")], where);
+          c.l_far_over_width = to_number(f[col("l_far_over_width")], where);
+          c.delta_over_width = to_number(f[col("delta_over_width")], where);
+          c.skew = to_number(f[col("skew")], where);
+          c.cond_light_transform = to_number(f[col("cond_light_transform")], where);
+          c.cap_window_error_px = to_number(f[col("cap_window_error_px")], where);
+          c.coordinate_over_size = to_number(f[col("coordinate_over_size")], where);
+          c.l_near_over_l_far = to_number(f[col("l_near_over_l_far")], where);
+        } else {
+          p.fallback_cracks = cracks;
+        }
+      });
   std::vector<PolicySample> out;
   for (const auto& [key, p] : pairs) {
     if (!p.capped_cracks || !p.fallback_cracks || p.capped_fell_back) continue;
@@ -188,6 +195,74 @@ std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, 
     out.push_back(std::move(s));
   }
   return out;
+}
+
+std::vector<CostSample> cost_samples(const std::vector<std::string>& files, gl::ShadowMethod method,
+                                     const std::string& variant) {
+  std::vector<CostSample> out;
+  const std::string name(gl::to_string(method));
+  for_each_row(files,
+               {"configuration", "method", "variant", "refused", "depth_triangles", "near_cap_triangles",
+                "volume_triangles", "depth_fragments", "near_cap_fragments", "volume_fragments", "frame_ms"},
+               [&](const Row& row) {
+                 auto at = [&](const char* c) -> const std::string& { return row.fields[row.column.at(c)]; };
+                 if (at("method") != name || at("variant") != variant || at("refused") == "1") return;
+                 CostSample s;
+                 s.configuration = at("configuration");
+                 for (const char* c : {"depth_triangles", "near_cap_triangles", "volume_triangles"})
+                   s.triangles += to_number(at(c), row.where);
+                 for (const char* c : {"depth_fragments", "near_cap_fragments", "volume_fragments"})
+                   s.fragments += to_number(at(c), row.where);
+                 s.ms = to_number(at("frame_ms"), row.where);
+                 s.held_out = held_out_configuration(s.configuration);
+                 out.push_back(s);
+               });
+  return out;
+}
+
+namespace {
+struct CostResidual {
+  CostResidual(double mtriangles, double mfragments, double ms) : t_(mtriangles), f_(mfragments), ms_(ms) {}
+  template <class T>
+  bool operator()(const T* c, T* residual) const {
+    residual[0] = c[0] + c[1] * t_ + c[2] * f_ - T(ms_);
+    return true;
+  }
+  double t_, f_, ms_;
+};
+}  // namespace
+
+CostModel fit_cost_model(const std::vector<CostSample>& samples, bool robust) {
+  std::array<double, 3> c{0, 0, 0};
+  ceres::Problem problem;
+  std::size_t used = 0;
+  for (const CostSample& s : samples) {
+    if (s.held_out) continue;
+    ++used;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CostResidual, 1, 3>(
+                                 new CostResidual(s.triangles * 1e-6, s.fragments * 1e-6, s.ms)),
+                             robust ? new ceres::CauchyLoss(1.0) : nullptr, c.data());
+  }
+  if (used < 3) throw Error(ErrorKind::Usage, "a cost model needs at least 3 training rows of the method");
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 100;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  if (!summary.IsSolutionUsable()) throw Error(ErrorKind::Degenerate, "the cost fit failed: " + summary.message);
+  return {c[0], c[1], c[2]};
+}
+
+double median_relative_error(const CostModel& model, const std::vector<CostSample>& samples, bool held_out) {
+  std::vector<double> e;
+  for (const CostSample& s : samples)
+    if (s.held_out == held_out && s.ms > 0)
+      e.push_back(std::fabs(model.predict_ms(s.triangles, s.fragments) - s.ms) / s.ms);
+  if (e.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2), e.end());
+  return e[e.size() / 2];
 }
 
 LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::vector<int>& y,
@@ -257,7 +332,8 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 
 SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::ShadowMethod capped,
                          gl::ShadowMethod fallback, const std::string& command, const LogisticFitOptions& options,
-                         const std::vector<std::string>& feature_names) {
+                         const std::vector<std::string>& feature_names,
+                         const std::vector<std::pair<gl::ShadowMethod, std::vector<CostSample>>>& costs) {
   // The chosen features' columns.
   std::vector<std::string> names = feature_names;
   if (names.empty()) names.assign(kPolicyFeatures.begin(), kPolicyFeatures.end());
@@ -320,6 +396,19 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
                         {"l2", options.l2}}},
                       {"train", side(train)},
                       {"held_out", side(held)}};
+  nlohmann::json cost = nlohmann::json::object();
+  for (const auto& [method, rows] : costs) {
+    const CostModel cm = fit_cost_model(rows, options.robust);
+    p.cost_models.emplace_back(method, cm);
+    std::size_t held_rows = 0;
+    for (const CostSample& s : rows) held_rows += s.held_out;
+    cost[std::string(gl::to_string(method))] = {
+        {"rows", rows.size()},
+        {"held_out_rows", held_rows},
+        {"train_median_relative_error", median_relative_error(cm, rows, false)},
+        {"held_out_median_relative_error", median_relative_error(cm, rows, true)}};
+  }
+  if (!costs.empty()) prov["cost"] = cost;
   p.provenance_json = prov.dump();
   return p;
 }

@@ -125,7 +125,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
             {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "crack_model",
-             "provenance"},
+             "cost_models", "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
@@ -181,6 +181,23 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
       finite_number(field(m, "threshold", "crack_model.", source), "crack_model.threshold", source);
   if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1))
     fail(source, "crack_model.threshold", "must be in (0, 1]");
+  if (const auto it = j.find("cost_models"); it != j.end()) {
+    if (!it->is_object()) fail(source, "cost_models", "must be an object of methods");
+    for (const auto& [name, model] : it->items()) {
+      const std::string path = "cost_models." + name;
+      const auto method = gl::shadow_method_from_string(name);
+      if (!method) fail(source, path, "'" + name + "' is not a method");
+      if (!model.is_object()) fail(source, path, "must be an object");
+      only_keys(model, {"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"}, path + ".", source);
+      CostModel cm;
+      cm.intercept_ms = finite_number(field(model, "intercept_ms", path + ".", source), path + ".intercept_ms", source);
+      cm.ms_per_mtriangle =
+          finite_number(field(model, "ms_per_mtriangle", path + ".", source), path + ".ms_per_mtriangle", source);
+      cm.ms_per_mfragment =
+          finite_number(field(model, "ms_per_mfragment", path + ".", source), path + ".ms_per_mfragment", source);
+      p.cost_models.emplace_back(*method, cm);
+    }
+  }
   if (const auto it = j.find("provenance"); it != j.end()) {
     if (!it->is_object()) fail(source, "provenance", "must be an object");
     p.provenance_json = it->dump();
@@ -212,6 +229,14 @@ std::string policy_to_json(const SwitchPolicy& p) {
   m["bias"] = p.crack_model.bias;
   m["threshold"] = p.crack_model.threshold;
   j["crack_model"] = m;
+  if (!p.cost_models.empty()) {
+    Json costs = Json::object();
+    for (const auto& [method, cm] : p.cost_models)
+      costs[std::string(gl::to_string(method))] = {{"intercept_ms", cm.intercept_ms},
+                                                   {"ms_per_mtriangle", cm.ms_per_mtriangle},
+                                                   {"ms_per_mfragment", cm.ms_per_mfragment}};
+    j["cost_models"] = costs;
+  }
   j["provenance"] = Json::parse(p.provenance_json);
   return j.dump(1) + "\n";
 }

@@ -42,7 +42,11 @@ void run(const TuneOptions& o, const std::string& command) {
       start = comma + 1;
     }
   }
-  const analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features);
+  std::vector<std::pair<gl::ShadowMethod, std::vector<analysis::CostSample>>> costs;
+  for (gl::ShadowMethod m : {*capped, *fallback})
+    costs.emplace_back(m, analysis::cost_samples(o.results, m, o.variant));
+  const analysis::SwitchPolicy policy =
+      analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -53,6 +57,13 @@ void run(const TuneOptions& o, const std::string& command) {
               << " of them, " << c["false_alarms"] << " false alarms\n";
   }
   std::cout << "  threshold " << policy.crack_model.threshold << "\n";
+  for (const auto& [method, cm] : policy.cost_models) {
+    const nlohmann::json& c = provenance["cost"][std::string(gl::to_string(method))];
+    std::cout << "  cost of " << gl::to_string(method) << ": " << cm.intercept_ms << " ms + " << cm.ms_per_mtriangle
+              << " ms per million triangles + " << cm.ms_per_mfragment << " ms per million fragments; median error "
+              << c["train_median_relative_error"].get<double>() * 100 << " % (train), "
+              << c["held_out_median_relative_error"].get<double>() * 100 << " % (held out)\n";
+  }
   io::write_output_files({{o.out, analysis::policy_to_json(policy)}});
   std::cout << "tune: wrote " << o.out << "\n";
 }

@@ -57,6 +57,21 @@ struct LogisticFit {
 LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::vector<int>& y,
                          const LogisticFitOptions& options = {});
 
+// A method's work and emulated frame time in one sweep row.
+struct CostSample {
+  std::string configuration;
+  double triangles = 0, fragments = 0, ms = 0;  // all passes
+  bool held_out = false;
+};
+std::vector<CostSample> cost_samples(const std::vector<std::string>& files, gl::ShadowMethod method,
+                                     const std::string& variant = "switch-clamp=clamp-far");
+// Least squares on the training samples (not held out) with a robust loss
+// (Cauchy, scale 1 ms: times are noisy, the sweep runs configurations side by
+// side); `robust = false` for plain least squares.
+CostModel fit_cost_model(const std::vector<CostSample>& samples, bool robust = true);
+// The median of |predicted - measured| / measured over one side of the split.
+double median_relative_error(const CostModel& model, const std::vector<CostSample>& samples, bool held_out);
+
 // How a model classifies a set of samples.
 struct Confusion {
   std::size_t samples = 0, positives = 0, true_positives = 0, false_positives = 0;
@@ -67,8 +82,10 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 // and the provenance (counts, confusion on both sides, the command) in the
 // returned policy.
 // `features`: names from kPolicyFeatures (all of them when empty).
+// `costs`: each method's cost samples, fitted into the policy's cost models.
 SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
                          const std::string& command, const LogisticFitOptions& options = {},
-                         const std::vector<std::string>& features = {});
+                         const std::vector<std::string>& features = {},
+                         const std::vector<std::pair<gl::ShadowMethod, std::vector<CostSample>>>& costs = {});
 
 }  // namespace nearcap::analysis

@@ -21,7 +21,8 @@
 // "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
-// t}, "provenance": {...}}.  Every field is checked: an unknown key, a
+// t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
+// "ms_per_mfragment": b}, ...} (optional), "provenance": {...}}.  Every field is checked: an unknown key, a
 // missing one, a wrong type, an unknown feature or method, lengths that
 // disagree, a non-finite number or another version is a one-line
 // error (parse) naming the field.
@@ -72,12 +73,25 @@ struct CrackModel {
   double probability(const ConditioningFeatures& f) const;
 };
 
+// A method's frame time from its work: time = intercept + a per million
+// triangles drawn (all passes) + b per million fragments rasterized (all
+// passes), fitted by `nearcap tune` on the sweep's emulated times.
+struct CostModel {
+  double intercept_ms = 0, ms_per_mtriangle = 0, ms_per_mfragment = 0;
+  double predict_ms(double triangles, double fragments) const {
+    return intercept_ms + ms_per_mtriangle * triangles * 1e-6 + ms_per_mfragment * fragments * 1e-6;
+  }
+};
+
 struct SwitchPolicy {
   gl::ShadowMethod capped_method = gl::ShadowMethod::ZPPlusCorrected;
   gl::ShadowMethod fallback_method = gl::ShadowMethod::ZFail;
   gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClampFar;
   gl::ZPassFar zpass_far = gl::ZPassFar::Infinite;
   CrackModel crack_model;
+  // Optional: fitted cost models by method (reported; the decision's order
+  // Z-pass < ZP+ corrected < Z-fail does not need them yet).
+  std::vector<std::pair<gl::ShadowMethod, CostModel>> cost_models;
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
