@@ -9,11 +9,12 @@
 #      and 200 hard configurations of the sampler through the exact reference
 #      and the five float methods, with the engines' Z-pass / Z-fail rules
 #      (Doom 3, Doom 3 BFG, Ogre, always Z-fail) and the shipped switch policy
-#      (data/policy.json) beside them (out/sweep/rows.csv), and writes the
-#      report: out/sweep/report/index.html;
+#      (data/policy.json) beside them (out/sweep/rows.csv);
 #   3. tunes a switch policy on the same configurations (ZP+ corrected and
 #      Z-fail with the far-only switch clamp, out/sweep/tuning.csv):
-#      out/sweep/policy.json, and prints how it classifies them.
+#      out/sweep/policy.json, and prints how it classifies them;
+#   4. writes the report, with that policy's fitted models:
+#      out/sweep/report/index.html.
 # About 3 minutes on 2 cores after the build.  Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
@@ -55,12 +56,13 @@ if [ -e out/sweep/rows.csv ]; then
   rm -rf "$probe"
 fi
 "${sweep[@]}" "${resume[@]}"
-echo "== nearcap report out/sweep/rows.csv --out out/sweep/report"
-./build/nearcap report out/sweep/rows.csv --out out/sweep/report
 echo "== nearcap tune: a switch policy fitted on these configurations (out/sweep/policy.json)"
 rm -f out/sweep/tuning.csv
 ./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus-corrected,zfail \
   --switch-clamp clamp-far --out out/sweep/tuning.csv >/dev/null
-./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json
+./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json \
+  --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew
+echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
+./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json
 echo "== open out/sweep/report/index.html: speed against error, the paths, cracks against conditioning,"
 echo "   the engines' rules and the policy"

@@ -36,13 +36,13 @@ fs::path Report::dir_;
 
 TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
   const fs::path out = dir_ / "report";
-  const test::CliResult r =
-      test::run_cli("report " + (dir_ / "rows.csv").string() + " --out " + out.string(), "report");
+  const test::CliResult r = test::run_cli(
+      "report " + (dir_ / "rows.csv").string() + " --out " + out.string() + " --policy data/policy.json", "report");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("index.html"), std::string::npos) << r.out;
   const std::string page = test::slurp(out / "index.html");
   for (const char* section : {"Speed against error", "Camera paths", "Cracks against conditioning", "Crack distance",
-                              "Does case D flag", "engine rules", "Hard cases by kind"})
+                              "Does case D flag", "engine rules", "fitted models", "Hard cases by kind"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
   const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
   EXPECT_EQ(manifest["configurations"], 60 + 12 - manifest["rejected"].get<int>());
@@ -54,7 +54,8 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
     EXPECT_GT(plot["points"].get<int>(), 0) << png;
     EXPECT_NE(page.find(plot["file"].get<std::string>()), std::string::npos) << "the page shows " << png;
   }
-  for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "baselines.csv", "by_kind.csv"})
+  for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "baselines.csv", "by_kind.csv",
+                            "policy_crack_model.csv", "policy_weights.csv", "policy_costs.csv"})
     EXPECT_TRUE(fs::exists(out / table)) << table;
   // One row per method in the summary: five methods, four engine rules and the switch policy.
   const std::string summary = test::slurp(out / "summary.csv");
@@ -111,6 +112,8 @@ TEST_F(Report, BadInputIsOneLineAndWritesNothing) {
        {Case{"report " + bad.string(), "missing column"},
         Case{"report " + (dir_ / "absent.csv").string(), "absent.csv"}, Case{"report " + garbled.string(), "line 2"},
         Case{"report " + dir_.string(), "not a regular file"},
+        Case{"report " + (dir_ / "rows.csv").string() + " --policy " + bad.string(), "not JSON"},
+        Case{"report " + (dir_ / "rows.csv").string() + " --policy " + (dir_ / "nope.json").string(), "nope.json"},
         Case{"report " + (dir_ / "rows.csv").string() + " " + (dir_ / "rows.csv").string(), "a second row"}}) {
     const test::CliResult r = test::run_cli(c.args + " --out " + out.string(), "report_bad");
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;

@@ -162,6 +162,7 @@ class Report:
         self.methods = methods_of(rows)
         self.refused = []
         self.plots, self.sections = [], []
+        self.policy, self.policy_source = None, None
 
     def save(self, fig, name, points):
         fig.savefig(self.out / name, dpi=110, bbox_inches="tight")
@@ -419,6 +420,45 @@ class Report:
                 "(cost paid for nothing).</p>" + self.table(header, body, "baselines.csv"))
         self.sections.append(("Z-pass or Z-fail per occluder: engine rules", text))
 
+    # ---- 5c. the switch policy's fitted models ---------------------------------
+    def policy_models(self):
+        p = self.policy
+        if p is None:
+            return
+        prov = p.get("provenance", {})
+        m = p.get("crack_model", {})
+        text = (f"<p>From <code>{html.escape(self.policy_source)}</code>: occluders that meet no point of the "
+                f"light pyramid get Z-pass (exact); the others {html.escape(str(p.get('capped_method')))} unless "
+                f"the crack model predicts a crack (P &ge; {m.get('threshold', 0):.3g}), then "
+                f"{html.escape(str(p.get('fallback_method')))}. Fitted by <code>"
+                f"{html.escape(str(prov.get('command', '?')))}</code>; split: "
+                f"{html.escape(str(prov.get('split', '?')))}.</p>")
+        body = []
+        for side, label in (("train", "train"), ("held_out", "held out")):
+            c = prov.get(side)
+            if c:
+                body.append([label, c.get("samples"), c.get("cracks"), c.get("cracks_predicted"), c.get("false_alarms")])
+        if body:
+            text += self.table(["split", "(configuration, light) pairs", "capped cracks more than fallback",
+                                "predicted", "false alarms"], body, "policy_crack_model.csv")
+        weights = [[f, fmt(w), fmt(mu), fmt(sd)] for f, w, mu, sd in
+                   zip(m.get("features", []), m.get("weights", []), m.get("mean", []), m.get("scale", []))]
+        if weights:
+            text += "<p>The logistic model on standardized features (bias " + fmt(float(m.get("bias", 0))) + "):</p>"
+            text += self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")
+        costs = []
+        for method, cm in p.get("cost_models", {}).items():
+            errors = prov.get("cost", {}).get(method, {})
+            costs.append([method, fmt(float(cm["intercept_ms"])), fmt(float(cm["ms_per_mtriangle"])),
+                          fmt(float(cm["ms_per_mfragment"])),
+                          fmt(100 * float(errors.get("train_median_relative_error", float("nan")))),
+                          fmt(100 * float(errors.get("held_out_median_relative_error", float("nan"))))])
+        if costs:
+            text += "<p>Cost models (frame time from the work drawn; median relative error in %):</p>"
+            text += self.table(["method", "ms", "ms per M triangles", "ms per M fragments", "train error %",
+                                "held-out error %"], costs, "policy_costs.csv")
+        self.sections.append(("The switch policy's fitted models", text))
+
     # ---- 6. sampler by kind ----------------------------------------------------
     def kinds(self):
         sampled = [r for r in self.rows if r["configuration"].startswith("sample:")]
@@ -440,6 +480,7 @@ class Report:
         self.distances()
         self.case_d()
         self.baselines()
+        self.policy_models()
         self.kinds()
         toc = "".join(f'<li><a href="#s{k}">{html.escape(t)}</a></li>' for k, (t, _) in enumerate(self.sections))
         body = "".join(f'<h2 id="s{k}">{html.escape(t)}</h2>{c}' for k, (t, c) in enumerate(self.sections))
@@ -476,18 +517,32 @@ def fmt(v):
 
 
 def main(argv):
-    args, out = [], None
+    args, out, policy = [], None, None
     k = 0
     while k < len(argv):
         if argv[k] == "--out" and k + 1 < len(argv):
             out = argv[k + 1]
             k += 2
+        elif argv[k] == "--policy" and k + 1 < len(argv):
+            policy = argv[k + 1]
+            k += 2
         else:
             args.append(argv[k])
             k += 1
     if not args or out is None:
-        raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR")
+        raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR [--policy FILE]")
     rows, rejected, refused = read_rows(args)
+    policy_json = None
+    if policy is not None:
+        try:
+            with open(policy) as handle:
+                policy_json = json.load(handle)
+        except OSError as e:
+            raise ReportError("io", f"{policy}: cannot read the policy: {e.strerror}")
+        except ValueError as e:
+            raise ReportError("parse", f"{policy}: not JSON: {e}")
+        if not isinstance(policy_json, dict) or policy_json.get("format") != "nearcap-policy":
+            raise ReportError("parse", f"{policy}: format: not a nearcap policy")
     target = Path(out)
     if target.exists() and not target.is_dir():
         raise ReportError("io", f"{out}: exists and is not a directory")
@@ -498,6 +553,7 @@ def main(argv):
         report = Report(rows, rejected, staging)
         report.refused = refused
         report.sources = args
+        report.policy, report.policy_source = policy_json, policy
         report.write()
         target.mkdir(exist_ok=True)
         for f in sorted(staging.iterdir()):

@@ -37,7 +37,7 @@ std::string python() {
   return "python3";
 }
 
-void run(const std::vector<std::string>& results, const std::string& out) {
+void run(const std::vector<std::string>& results, const std::string& out, const std::string& policy) {
   for (const std::string& r : results) {
     struct stat st {};
     if (::stat(r.c_str(), &st) != 0)
@@ -54,6 +54,10 @@ void run(const std::vector<std::string>& results, const std::string& out) {
   args.insert(args.end(), results.begin(), results.end());
   args.push_back("--out");
   args.push_back(out);
+  if (!policy.empty()) {
+    args.push_back("--policy");
+    args.push_back(policy);
+  }
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -79,9 +83,11 @@ void register_report(CLI::App& app) {
       "the sweep report: DIR/index.html with plots (matplotlib) and tables from one or more `nearcap sweep` CSVs");
   auto results = std::make_shared<std::vector<std::string>>();
   auto out = std::make_shared<std::string>();
+  auto policy = std::make_shared<std::string>();
   cmd->add_option("results", *results, "sweep CSV files (rows of several sweeps or MPI runs are merged)")->required();
   cmd->add_option("--out", *out, "the report's directory (created; its files replaced)")->required();
-  cmd->callback([results, out] { run(*results, *out); });
+  cmd->add_option("--policy", *policy, "a switch policy (nearcap tune) whose fitted models the report shows");
+  cmd->callback([results, out, policy] { run(*results, *out, *policy); });
 }
 
 }  // namespace nearcap::cli
