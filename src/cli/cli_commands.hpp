@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -24,6 +25,7 @@ void register_sample(CLI::App& app);
 void register_sweep(CLI::App& app);
 void register_report(CLI::App& app);
 void register_tune(CLI::App& app);
+void register_fit_l_near(CLI::App& app);
 
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.
@@ -74,6 +76,17 @@ gl::EmulationSettings settings_from(const EmulationOptions& options);
 
 // The methods named by --method/--methods: one name, a comma-separated list,
 // or "all".  Throws Error(Usage) naming an unknown one.
+// The hard-case sampler's options (sample, sweep, fit-l-near).
+struct SamplerOptions {
+  std::uint64_t seed = 1;
+  std::string kinds = "all";
+  int width = 48, height = 36;
+  bool allow_bunny = false;
+};
+
+analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
+// `sizes`: the --width and --height options too.
+void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);
 
 // What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_sweep(app);
   nearcap::cli::register_report(app);
   nearcap::cli::register_tune(app);
+  nearcap::cli::register_fit_l_near(app);
 
   // The subcommand comes first; name an unknown one as such.
   if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");

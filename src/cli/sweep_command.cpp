@@ -37,49 +37,11 @@
 namespace nearcap::cli {
 namespace {
 
-struct SamplerOptions {
-  std::uint64_t seed = 1;
-  std::string kinds = "all";
-  int width = 48, height = 36;
-  bool allow_bunny = false;
-};
-
-analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
-  analysis::SamplerSpec spec;
-  spec.seed = o.seed;
-  if (o.kinds != "all") {
-    spec.kinds.clear();
-    std::stringstream names(o.kinds);
-    std::string name;
-    while (std::getline(names, name, ',')) spec.kinds.push_back(analysis::hard_case_kind_from_string(name));
-  }
-  spec.width = o.width;
-  spec.height = o.height;
-  spec.allow_bunny = o.allow_bunny;
-  // The bundled meshes: NEARCAP_DATA_DIR, or the source tree's data/ this program was built from.
-  const char* data = std::getenv("NEARCAP_DATA_DIR");
-  spec.mesh_directory = (std::filesystem::path(data && *data ? data : NEARCAP_DATA_DIR) / "meshes").string();
-  return spec;
-}
-
 std::string sample_replay(const SamplerOptions& o, std::uint64_t index) {
   std::ostringstream s;
   s << "nearcap sample --seed " << o.seed << " --index " << index << " --kinds " << o.kinds << " --width " << o.width
     << " --height " << o.height << (o.allow_bunny ? " --allow-bunny" : "") << " --out c.json";
   return s.str();
-}
-
-void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
-  cmd.add_option("--seed", o.seed, "the sampler's seed")->capture_default_str();
-  cmd.add_option("--kinds", o.kinds,
-                 "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
-                 "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh) or all")
-      ->capture_default_str();
-  if (sizes) {
-    cmd.add_option("--width", o.width, "viewport width of every configuration")->capture_default_str();
-    cmd.add_option("--height", o.height, "viewport height of every configuration")->capture_default_str();
-  }
-  cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
 }
 
 // ---- nearcap sample --------------------------------------------------------

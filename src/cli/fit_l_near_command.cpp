@@ -1,0 +1,75 @@
+// nearcap fit-l-near: the l_near safety margin fitted with Ceres on a
+// conditioning objective over hard cases of the sampler
+// (analysis/l_near_fit.hpp).
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+#include "cli_commands.hpp"
+#include "nearcap/analysis/l_near_fit.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+struct FitOptions {
+  SamplerOptions sampler;
+  std::uint64_t samples = 2000;
+  EmulationOptions emulation;
+  std::string out;
+};
+
+void run(const FitOptions& o, const std::string& command) {
+  if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
+  const analysis::HardCaseSampler sampler(sampler_spec(o.sampler));
+  std::vector<analysis::KnobConfiguration> configurations;
+  for (std::uint64_t i = 0; i < o.samples; ++i) {
+    const std::string id = "sample:" + std::to_string(o.sampler.seed) + ":" + std::to_string(i);
+    try {
+      const Scene s = parse_scene(sampler.sample(i).scene_json, id, ".");
+      for (std::size_t l = 0; l < s.lights.size(); ++l) configurations.push_back({id, s, l});
+    } catch (const Error&) {
+      // the sweep's "rejected" configurations (a light inside an occluder)
+    }
+  }
+  const gl::LightFrustumChoice choice = settings_from(o.emulation).light_frustum;
+  const analysis::LightNearFit fit = analysis::fit_light_near_scale(configurations, choice);
+  const nlohmann::json j{{"l_near_scale", fit.scale},
+                         {"objective", "mean log10 cond(P_l M_l)"},
+                         {"train",
+                          {{"configurations", fit.train},
+                           {"at_fitted_scale", fit.train_objective},
+                           {"at_scale_1", fit.train_objective_at_one}}},
+                         {"held_out",
+                          {{"configurations", fit.held_out},
+                           {"at_fitted_scale", fit.held_out_objective},
+                           {"at_scale_1", fit.held_out_objective_at_one}}},
+                         {"iterations", fit.iterations},
+                         {"command", command}};
+  std::cout << "fit-l-near: l_near scale " << fit.scale << " (" << fit.iterations << " iterations); mean log10 "
+            << "cond(P_l M_l): train " << fit.train_objective << " (" << fit.train_objective_at_one << " at scale 1, "
+            << fit.train << " configurations), held out " << fit.held_out_objective << " ("
+            << fit.held_out_objective_at_one << " at scale 1, " << fit.held_out << ")\n";
+  if (!o.out.empty()) io::write_output_files({{o.out, j.dump(1) + "\n"}});
+}
+
+}  // namespace
+
+void register_fit_l_near(CLI::App& app) {
+  auto* cmd = app.add_subcommand("fit-l-near",
+                                 "fit the l_near safety margin (--l-near-scale) with Ceres, minimizing the mean "
+                                 "log10 cond(P_l M_l) over hard cases of the sampler (README \"Choosing l_near\")");
+  auto o = std::make_shared<FitOptions>();
+  cmd->add_option("--samples", o->samples, "this many configurations of the sampler")->capture_default_str();
+  add_sampler_options(*cmd, o->sampler, true);
+  add_emulation_options(*cmd, o->emulation);
+  cmd->add_option("--out", o->out, "write the fit as JSON here too");
+  cmd->callback([o] {
+    const std::string command = "nearcap fit-l-near --samples " + std::to_string(o->samples) + " --seed " +
+                                std::to_string(o->sampler.seed) + " --kinds " + o->sampler.kinds;
+    run(*o, command);
+  });
+}
+
+}  // namespace nearcap::cli
