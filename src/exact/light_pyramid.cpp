@@ -48,32 +48,54 @@ std::vector<RationalVec3> clip(const std::vector<RationalVec3>& poly, const Vec3
   return out;
 }
 
-}  // namespace
-
-AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& cs, std::size_t light) {
+// The pyramid of one (scene, light), exactly and in double: the light, the
+// near rectangle's corners and centre, the side planes, alpha and l_far.
+struct Pyramid {
+  explicit Pyramid(const RationalVec3& light) : l(light) {}
+  const RationalVec3& l;
+  int alpha = 1;
+  Rational ralpha, l_far;
+  std::array<SidePlane<Rational>, 4> planes;
+  Vec3d ld;                 // the light in double
+  std::array<Vec3d, 4> nd;  // the side planes' normals in double
+};
+Pyramid make_pyramid(const CameraSpaceScene& cs, std::size_t light, const char* what) {
   const Frustum& fr = cs.frustum();
-  const RationalVec3& l = cs.exact_light(light);
+  Pyramid p(cs.exact_light(light));
   const Rational near(fr.near);
-  const Rational side = l.z + near;
+  const Rational side = p.l.z + near;
   if (sgn(side) == 0)
-    throw Error(ErrorKind::Degenerate, "the light lies in the camera's near plane: no light frustum (l_far = 0)");
-  const int alpha = sgn(side);
-  AdmissibleLightNear out;
-  out.l_far = alpha > 0 ? side : Rational(-side);
-  const Rational ralpha(alpha);
-  auto axial = [&](const RationalVec3& p) { return Rational(ralpha * (l.z - p.z)); };
-
-  // The pyramid, exactly and in double.
+    throw Error(ErrorKind::Degenerate,
+                std::string("the light lies in the camera's near plane: no ") + what + " (l_far = 0)");
+  p.alpha = sgn(side);
+  p.ralpha = Rational(p.alpha);
+  p.l_far = p.alpha > 0 ? side : Rational(-side);
   const std::array<RationalVec3, 4> corners{RationalVec3{Rational(fr.left), Rational(fr.bottom), -near},
                                             RationalVec3{Rational(fr.right), Rational(fr.bottom), -near},
                                             RationalVec3{Rational(fr.right), Rational(fr.top), -near},
                                             RationalVec3{Rational(fr.left), Rational(fr.top), -near}};
   const RationalVec3 centre{Rational((Rational(fr.left) + Rational(fr.right)) / 2),
                             Rational((Rational(fr.bottom) + Rational(fr.top)) / 2), -near};
-  const auto planes = side_planes(l, corners, centre);
-  const Vec3d ld{to_double(l.x), to_double(l.y), to_double(l.z)};
-  std::array<Vec3d, 4> nd;
-  for (int k = 0; k < 4; ++k) nd[k] = {to_double(planes[k].n.x), to_double(planes[k].n.y), to_double(planes[k].n.z)};
+  p.planes = side_planes(p.l, corners, centre);
+  p.ld = {to_double(p.l.x), to_double(p.l.y), to_double(p.l.z)};
+  for (int k = 0; k < 4; ++k)
+    p.nd[k] = {to_double(p.planes[k].n.x), to_double(p.planes[k].n.y), to_double(p.planes[k].n.z)};
+  return p;
+}
+
+}  // namespace
+
+AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& cs, std::size_t light) {
+  const Pyramid pyramid = make_pyramid(cs, light, "light frustum");
+  const RationalVec3& l = pyramid.l;
+  const int alpha = pyramid.alpha;
+  AdmissibleLightNear out;
+  out.l_far = pyramid.l_far;
+  const Rational& ralpha = pyramid.ralpha;
+  auto axial = [&](const RationalVec3& p) { return Rational(ralpha * (l.z - p.z)); };
+  const auto& planes = pyramid.planes;
+  const Vec3d& ld = pyramid.ld;
+  const std::array<Vec3d, 4>& nd = pyramid.nd;
 
   // Double pass: drop triangles certainly outside one side plane, bound the
   // others' axial distance from below, and sort them by that bound.
@@ -136,25 +158,15 @@ AdmissibleLightNear max_admissible_light_near(const CameraSpaceScene& cs, std::s
 
 std::vector<bool> occluders_meeting_light_pyramid(const CameraSpaceScene& cs, std::size_t light) {
   const Frustum& fr = cs.frustum();
-  const RationalVec3& l = cs.exact_light(light);
-  const Rational near(fr.near);
-  const Rational side = l.z + near;
-  if (sgn(side) == 0)
-    throw Error(ErrorKind::Degenerate, "the light lies in the camera's near plane: no light pyramid (l_far = 0)");
-  const int alpha = sgn(side);
-  const Rational l_far = alpha > 0 ? side : Rational(-side);
-  const Rational ralpha(alpha);
-  const std::array<RationalVec3, 4> corners{RationalVec3{Rational(fr.left), Rational(fr.bottom), -near},
-                                            RationalVec3{Rational(fr.right), Rational(fr.bottom), -near},
-                                            RationalVec3{Rational(fr.right), Rational(fr.top), -near},
-                                            RationalVec3{Rational(fr.left), Rational(fr.top), -near}};
-  const RationalVec3 centre{Rational((Rational(fr.left) + Rational(fr.right)) / 2),
-                            Rational((Rational(fr.bottom) + Rational(fr.top)) / 2), -near};
-  const auto planes = side_planes(l, corners, centre);
-  const Vec3d ld{to_double(l.x), to_double(l.y), to_double(l.z)};
+  const Pyramid pyramid = make_pyramid(cs, light, "light pyramid");
+  const RationalVec3& l = pyramid.l;
+  const int alpha = pyramid.alpha;
+  const Rational& l_far = pyramid.l_far;
+  const Rational& ralpha = pyramid.ralpha;
+  const auto& planes = pyramid.planes;
+  const Vec3d& ld = pyramid.ld;
   const double l_far_d = to_double(l_far);
-  std::array<Vec3d, 4> nd;
-  for (int k = 0; k < 4; ++k) nd[k] = {to_double(planes[k].n.x), to_double(planes[k].n.y), to_double(planes[k].n.z)};
+  const std::array<Vec3d, 4>& nd = pyramid.nd;
 
   const BoundedVec3& light_b = cs.light(light);
   const BoundedVec3 centre_b{(BoundedDouble(fr.left) + BoundedDouble(fr.right)) * BoundedDouble(0.5),
