@@ -167,6 +167,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"log_skew\"", "\"log_magic\""), "crack_model.features[0]: 'log_magic' is not a policy feature"},
       {replaced("\"zfail\"", "\"zpplus\""), "fallback_method: must be zfail or preload"},
       {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""), "capped_method: 'zpplus-improved' is not a method"},
+      {replaced("\"zpplus-corrected\"", "\"zpass\""), "capped_method: must not be zpass"},
       {replaced("\"scale\": [1, 0.1]", "\"scale\": [1, 0]"), "crack_model.scale[1]: must be positive"},
       {replaced("\"threshold\": 0.01", "\"threshold\": 2"), "crack_model.threshold: must be in (0, 1]"},
       {replaced("\"threshold\": 0.01", "\"threshold\": \"low\""), "crack_model.threshold: must be a number"},

@@ -140,6 +140,8 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
   if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
     fail(source, "fallback_method", "must be zfail or preload (a method right without a near-cap)");
+  if (p.capped_method == gl::ShadowMethod::ZPass)
+    fail(source, "capped_method", "must not be zpass (it is wrong for the occluders that meet the light pyramid)");
   if (p.capped_method == gl::ShadowMethod::Preload && gl::uses_near_cap(p.fallback_method))
     fail(source, "capped_method", "preload cannot share a frame with a ZP+ method");
   const Json& clamp = field(j, "switch_clamp", "", source);
