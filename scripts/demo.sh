@@ -14,7 +14,9 @@
 #      Z-fail with the far-only switch clamp, out/sweep/tuning.csv):
 #      out/sweep/policy.json, and prints how it classifies them;
 #   4. writes the report, with that policy's fitted models:
-#      out/sweep/report/index.html.
+#      out/sweep/report/index.html;
+#   5. compares the l_near rules and P_l formulations on 300 hard cases where
+#      they matter (one series per variant): out/sweep/variants/index.html.
 # About 3 minutes on 2 cores after the build.  Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
@@ -64,5 +66,14 @@ rm -f out/sweep/tuning.csv
   --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json
+echo "== nearcap sweep --variant ...: the l_near rules and P_l formulations (out/sweep/variants/index.html)"
+rm -f out/sweep/variants.csv
+./build/nearcap sweep --samples 300 --seed 5 \
+  --kinds light-near-plane,straddling,several-occluders,eye-in-shadow,tiny-near \
+  --methods zpplus,zpplus-corrected,zfail --switch-clamp clamp-far \
+  --variant l-near=exact-max --variant l-near=near-clamp --variant l-near-scale=0.5 \
+  --variant light-projection=composed --variant light-projection=rebased \
+  --out out/sweep/variants.csv >/dev/null
+./build/nearcap report out/sweep/variants.csv --out out/sweep/variants
 echo "== open out/sweep/report/index.html: speed against error, the paths, cracks against conditioning,"
-echo "   the engines' rules and the policy"
+echo "   the engines' rules and the policy; out/sweep/variants/index.html: l_near and P_l compared"

@@ -144,6 +144,12 @@ def methods_of(rows):
     return sorted(present, key=lambda m: (order.get(m.split(" [")[0], len(order)), m))
 
 
+def legend(ax, **options):
+    """A legend when the axes have labelled series (matplotlib warns otherwise)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**options)
+
+
 def colour(method):
     palette = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
                "preload": "#9467bd", "doom3": "#8c564b", "doom3-bfg": "#e377c2", "ogre": "#bcbd22",
@@ -212,7 +218,7 @@ class Report:
             ax.set_xlabel("mean emulated frame time per row (ms)")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
-        axes[0].legend(fontsize=8)
+        legend(axes[0], fontsize=8)
         fig.suptitle("speed against error, per method")
         img = self.save(fig, "pareto.png", points)
         header = ["method", "rows", "wrong", "cracks", "rows with cracks", "mean frame ms", "volume frags depth-pass",
@@ -264,7 +270,7 @@ class Report:
                 points += 2 * len(frames)
             axes[0].axhline(1.0, color="k", lw=0.5)
             axes[0].set_ylabel("frame time / Z-pass")
-            axes[0].legend(fontsize=7, ncol=3)
+            legend(axes[0], fontsize=7, ncol=3)
             axes[1].set_yscale("symlog", linthresh=1)
             axes[1].set_ylim(bottom=-0.3)
             axes[1].set_ylabel("cracks")
@@ -278,7 +284,7 @@ class Report:
                 points += len(frames)
             axes[2].set_ylabel("exact quad cases")
             axes[2].set_xlabel("frame")
-            axes[2].legend(fontsize=7, ncol=5)
+            legend(axes[2], fontsize=7, ncol=5)
             fig.suptitle(f"path {name}")
             img = self.save(fig, f"path_{safe(name)}.png", points)
             totals = [[m, sum(r["wrong"] for r in rows if r["method"] == m),
@@ -317,7 +323,7 @@ class Report:
             ax.set_xlabel(("|" + label + "|") if feature == "light_near_distance" else label, fontsize=8)
             ax.set_ylabel("cracks", fontsize=8)
             ax.grid(alpha=0.3)
-        axes.flat[0].legend(fontsize=7)
+        legend(axes.flat[0], fontsize=7)
         for ax in list(axes.flat)[len(FEATURES):]:
             ax.axis("off")
         fig.suptitle("cracks against the conditioning features, one point per (configuration, light, method)")
@@ -340,7 +346,7 @@ class Report:
         ax.set_yscale("symlog", linthresh=1)
         ax.set_xlabel("crack distance: largest proven-constant square half-width (pixels); >= 1/2 is a crack")
         ax.set_ylabel("wrong pixels")
-        ax.legend(fontsize=8)
+        legend(ax, fontsize=8)
         img = self.save(fig, "crack_distance.png", points)
         self.sections.append(("Crack distance", "<p>Wrong pixels by how far the exact status is proven constant "
                                                 "around them: below 1/2 pixel is rasterization noise at a shadow "
