@@ -64,7 +64,7 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
         const PixelSample s = tracer.trace(i, j, &local);
         const std::size_t k = ref.index(i, j);
         ref.cap[k] = s.cap;
-        for (std::uint32_t o : s.cap_objects) ++by_object[o];
+        for (std::size_t c = 0; c < s.cap_objects.size(); ++c) ++by_object[s.cap_objects[c]];
         if (s.stencil) {
           ref.stencil[k] = *s.stencil;
           ref.object[k] = s.object;

@@ -375,9 +375,7 @@ struct PixelReferenceTracer::Impl {
     for (const auto& entry : cap_candidates)
       if (cap_crosses(lit[entry.id], p, stats)) {
         ++out.cap;
-        const std::uint32_t o = lit[entry.id].object;
-        if (std::find(out.cap_objects.begin(), out.cap_objects.end(), o) == out.cap_objects.end())
-          out.cap_objects.push_back(o);
+        out.cap_objects.insert(lit[entry.id].object);
       }
 
     const auto eye_candidates = accelerated ? eye_grid->candidates(p.estimate(), p.error()) : eye_grid->all();

@@ -39,6 +39,7 @@
 // the eye and one around the light (central_grid.hpp) supply the candidates.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -52,12 +53,33 @@
 
 namespace nearcap {
 
+// A few object indices without a heap allocation (the objects a pixel's
+// near-cap segment crosses: one or two in practice), more on the heap.
+class SmallObjectSet {
+ public:
+  void insert(std::uint32_t o) {
+    for (std::size_t k = 0; k < size(); ++k)
+      if ((*this)[k] == o) return;
+    if (inline_count_ < inline_.size())
+      inline_[inline_count_++] = o;
+    else
+      more_.push_back(o);
+  }
+  std::size_t size() const { return inline_count_ + more_.size(); }
+  std::uint32_t operator[](std::size_t k) const { return k < inline_count_ ? inline_[k] : more_[k - inline_count_]; }
+
+ private:
+  std::array<std::uint32_t, 4> inline_{};
+  std::size_t inline_count_ = 0;
+  std::vector<std::uint32_t> more_;
+};
+
 // What the reference knows about one pixel.
 struct PixelSample {
   std::uint32_t cap = 0;
   // The objects whose front faces [l, p] crosses (each once): the occluders
   // whose own near-cap covers p.
-  std::vector<std::uint32_t> cap_objects;
+  SmallObjectSet cap_objects;
   std::optional<std::uint32_t> stencil;  // nothing when no surface is seen
   std::int32_t object = -1;              // the visible object, -1 for none
   FaceIndex face = 0;                    // its visible triangle
