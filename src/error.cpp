@@ -28,6 +28,8 @@ std::string_view to_string(ErrorKind kind) {
       return "gl";
     case ErrorKind::Resource:
       return "resource";
+    case ErrorKind::Unavailable:
+      return "unavailable";
   }
   return "unknown";
 }

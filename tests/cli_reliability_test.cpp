@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli_support.hpp"
+#include "nearcap/raytrace/shadow_ray_tracer.hpp"
 
 namespace nearcap {
 namespace {
@@ -186,7 +187,8 @@ TEST_F(Reliability, AFloat32DegenerateViewIsRefusedByTheFloatPipelineOnly) {
     "frustum":{"left":-0.5,"right":0.5,"bottom":-0.375,"top":0.375,"near":0.5,"far":64},"width":64,"height":48})");
   write_scene("tiny_view.json", j);
   EXPECT_EQ(run("classify " + path("tiny_view.json")).exit_code, 0);
-  for (const char* method : {"zfail", "preload", "zpass", "zpplus", "zpplus-corrected", "all"}) {
+  for (const char* method : {"zfail", "preload", "zpass", "zpplus", "zpplus-corrected", "raytrace", "all"}) {
+    if (std::string(method) == "raytrace" && !raytrace::raytrace_available()) continue;
     const test::CliResult r = run("cracks " + path("tiny_view.json") + " --light 0 --method " + method);
     expect_one_line_error(r, "float32", method);
   }
@@ -344,7 +346,7 @@ TEST_F(Reliability, AMethodThatRefusesTheFrameDoesNotStopTheOthers) {
   const test::CliResult all = run("cracks " + path("k.json") + " --light 0");
   ASSERT_EQ(all.exit_code, 0) << all.err;
   const nlohmann::json records = nlohmann::json::parse(all.out)["methods"];
-  ASSERT_EQ(records.size(), 6u);  // the five methods and the switch policy
+  ASSERT_EQ(records.size(), 7u);  // the five methods, the switch policy and raytrace
   std::size_t refused = 0;
   for (const nlohmann::json& r : records) {
     if (r.contains("refused")) {

@@ -34,6 +34,52 @@ RC_GTEST_PROP(PixelReference, GridsAgreeWithBruteForce, ()) {
       RC_ASSERT(same(tracer.trace(i, j, nullptr), tracer.trace_brute_force(i, j, nullptr)));
 }
 
+// PixelContent::ShadowStatus (first crossing, last shadower first) gives the
+// same surface and the same shadow status as the full count.
+void expect_same_status(const PixelReference& full, const PixelReference& status) {
+  ASSERT_EQ(status.content, PixelContent::ShadowStatus);
+  ASSERT_EQ(full.stencil.size(), status.stencil.size());
+  EXPECT_EQ(full.object, status.object);
+  EXPECT_EQ(full.face, status.face);
+  std::size_t differ = 0, shadowed = 0;
+  for (std::size_t p = 0; p < full.stencil.size(); ++p) {
+    const bool seen = full.stencil[p] != PixelReference::kNothingSeen;
+    EXPECT_EQ(seen, status.stencil[p] != PixelReference::kNothingSeen);
+    if (!seen) continue;
+    shadowed += full.stencil[p] > 0;
+    differ += (full.stencil[p] > 0) != (status.stencil[p] == 1) || status.stencil[p] > 1;
+  }
+  EXPECT_EQ(differ, 0u) << "of " << shadowed << " shadowed pixels";
+}
+
+RC_GTEST_PROP(PixelReference, ShadowStatusAgreesWithTheFullCount, ()) {
+  const auto scene = test::try_parse_scene(test::random_scene_json(*test::random_scene_params()));
+  RC_PRE(scene.has_value());
+  const CameraSpaceScene cs(*scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelReference full = compute_pixel_reference(tracer);
+  const PixelReference status = compute_pixel_reference(tracer, PixelContent::ShadowStatus);
+  RC_ASSERT(full.object == status.object);
+  RC_ASSERT(status.cap_pixels_by_object.empty());
+  for (std::size_t p = 0; p < full.stencil.size(); ++p) {
+    if (full.stencil[p] == PixelReference::kNothingSeen) {
+      RC_ASSERT(status.stencil[p] == PixelReference::kNothingSeen);
+      continue;
+    }
+    RC_ASSERT(status.stencil[p] == (full.stencil[p] > 0 ? 1u : 0u));
+  }
+}
+
+TEST(PixelReference, ShadowStatusAgreesWithTheFullCountOnBundledScenes) {
+  for (const char* name : {"default.json", "eye_in_shadow.json", "twisted.json", "near_cap_bunny_wall.json"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer tracer(cs, 0);
+    expect_same_status(compute_pixel_reference(tracer), compute_pixel_reference(tracer, PixelContent::ShadowStatus));
+  }
+}
+
 RC_GTEST_PROP(PixelReference, InvariantUnderExactTranslation, ()) {
   const test::RandomSceneParams params = *test::random_scene_params();
   const std::array<int, 3> offset = *test::dyadic_offset16(1024);

@@ -15,18 +15,19 @@
 namespace nearcap {
 
 enum class ErrorKind {
-  Io,          // a file is missing, unreadable or unwritable
-  Parse,       // a file is not syntactically what its format says (JSON, OFF, ...)
-  Schema,      // a scene file has unknown keys, wrong types or missing fields
-  NonFinite,   // NaN or infinity where a finite number is required
-  Mesh,        // an occluder is not a closed, consistently outward-oriented 2-manifold
-  Camera,      // degenerate frustum, non-invertible view, zero-pixel viewport
-  Light,       // a light inside or on an occluder, or otherwise unusable
-  Range,       // finite, but too large for the float32 pipeline to represent the scene
-  Degenerate,  // the requested construction is undefined for this configuration
-  Usage,       // a bad command-line argument (light index out of range, ...)
-  Gl,          // no OpenGL context could be made, or the GL reported an error
-  Resource,    // over a documented size or memory limit, or out of memory
+  Io,           // a file is missing, unreadable or unwritable
+  Parse,        // a file is not syntactically what its format says (JSON, OFF, ...)
+  Schema,       // a scene file has unknown keys, wrong types or missing fields
+  NonFinite,    // NaN or infinity where a finite number is required
+  Mesh,         // an occluder is not a closed, consistently outward-oriented 2-manifold
+  Camera,       // degenerate frustum, non-invertible view, zero-pixel viewport
+  Light,        // a light inside or on an occluder, or otherwise unusable
+  Range,        // finite, but too large for the float32 pipeline to represent the scene
+  Degenerate,   // the requested construction is undefined for this configuration
+  Usage,        // a bad command-line argument (light index out of range, ...)
+  Gl,           // no OpenGL context could be made, or the GL reported an error
+  Resource,     // over a documented size or memory limit, or out of memory
+  Unavailable,  // this build lacks what was asked for (nearcap built without Embree)
 };
 
 // Stable lower-case name of a kind ("mesh", "camera", ...), used in messages and

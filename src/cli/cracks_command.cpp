@@ -18,6 +18,7 @@
 #include "nearcap/judge/case_comparison.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
+#include "nearcap/raytrace/shadow_ray_tracer.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -27,6 +28,7 @@ struct CracksOptions {
   std::size_t light = 0;
   std::string method = "all";
   std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
+  std::string shadow_epsilon = "fixed";
   EmulationOptions emulation;
   std::string out;
   bool table = false;
@@ -41,7 +43,7 @@ constexpr double kCracksBytesPerPixelPerMethod = 1;
 
 nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements) {
   nlohmann::json j;
-  j["method"] = std::string(to_string(r.method));
+  j["method"] = r.method;
   j["pixels_seen"] = r.pixels_seen;
   j["wrong"] = r.wrong;
   j["wrong_lit"] = r.wrong_lit;
@@ -98,17 +100,47 @@ void print_table(const std::vector<nlohmann::json>& records) {
   }
 }
 
-// --method: the float methods, and "policy" (the switch policy: a method per
-// occluder); "all" is the five methods and the policy.
+// A ray-traced frame's record: the judged counts, its times and its choice.
+nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport& r, double build_ms,
+                             raytrace::ShadowEpsilon epsilon) {
+  nlohmann::json j;
+  j["method"] = r.method;
+  j["pixels_seen"] = r.pixels_seen;
+  j["wrong"] = r.wrong;
+  j["wrong_lit"] = r.wrong_lit;
+  j["wrong_shadowed"] = r.wrong_shadowed;
+  if (r.cracks) {
+    j["cracks"] = *r.cracks;
+    nlohmann::json buckets = nlohmann::json::object();
+    for (std::size_t k = 0; k < kCrackDistanceLevels; ++k)
+      buckets[std::string(kCrackDistanceNames[k])] = (*r.wrong_by_distance)[k];
+    j["wrong_by_distance"] = buckets;
+  }
+  j["count_mismatch"] = r.count_mismatch;
+  j["cap_mismatch"] = nullptr;
+  j["case_disagreements"] = 0;
+  j["visibility_mismatch"] = r.visibility_mismatch;
+  j["ms"] = build_ms + f.trace_ms;
+  j["pass_ms"] = {{"build", build_ms}, {"trace", f.trace_ms}};
+  j["shadow_epsilon"] = std::string(to_string(epsilon));
+  j["fallback"] = nullptr;
+  return j;
+}
+
+// --method: the float methods, "raytrace" (Embree) and "policy" (the switch
+// policy: a method per occluder); "all" is the five methods, raytrace and the
+// policy.
 struct MethodChoice {
   std::vector<gl::ShadowMethod> methods;
+  bool raytrace = false;
   bool policy = false;
-  std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
+  std::size_t count() const { return methods.size() + (raytrace ? 1 : 0) + (policy ? 1 : 0); }
 };
 MethodChoice method_choice(const std::string& names) {
   MethodChoice c;
   if (names == "all") {
     c.methods = methods_from("all", "--method");
+    c.raytrace = true;
     c.policy = true;
     return c;
   }
@@ -119,11 +151,13 @@ MethodChoice method_choice(const std::string& names) {
     const std::string name = names.substr(start, comma - start);
     if (name == "policy")
       c.policy = true;
+    else if (name == "raytrace")
+      c.raytrace = true;
     else
       rest += (rest.empty() ? "" : ",") + name;
     start = comma + 1;
   }
-  if (!rest.empty() || !c.policy) c.methods = methods_from(rest, "--method");
+  if (!rest.empty() || (!c.policy && !c.raytrace)) c.methods = methods_from(rest, "--method");
   return c;
 }
 
@@ -142,6 +176,10 @@ void run(const CracksOptions& o) {
   std::optional<analysis::SwitchPolicy> policy;
   if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);
+  const auto epsilon = raytrace::shadow_epsilon_from_string(o.shadow_epsilon);
+  if (!epsilon)
+    throw Error(ErrorKind::Usage,
+                "--shadow-epsilon: unknown choice '" + o.shadow_epsilon + "' (fixed, relative, primitive-id)");
   const Scene scene = load_scene(o.scene);
   check_light_index(scene, o.light);
   check_memory_estimate(scene, "cracks",
@@ -211,6 +249,27 @@ void run(const CracksOptions& o) {
             {(dir / (choice.count() == 1 ? "cracks.png" : "cracks-policy.png")).string(), crack_png(cs, ref, report)});
     }
   }
+  if (choice.raytrace) {
+    // Embree, float32: its BVHs built here, its frame judged by status.
+    try {
+      const raytrace::EmbreeScene embree(scene);
+      raytrace::RaytraceSettings rs;
+      rs.epsilon = *epsilon;
+      const raytrace::RaytraceFrame frame = embree.trace(o.light, rs);
+      CrackReport report = judge_raytrace_frame(frame, ref);
+      distances.measure(report);
+      records.push_back(raytrace_json(frame, report, embree.build_ms(), *epsilon));
+      if (!o.out.empty())
+        files.push_back({(dir / (choice.count() == 1 ? "cracks.png" : "cracks-raytrace.png")).string(),
+                         crack_png(cs, ref, report)});
+    } catch (const Error& e) {
+      // Built without Embree, or rays beyond float32: `all` still runs the
+      // rest and says why not.
+      if ((e.kind() != ErrorKind::Unavailable && e.kind() != ErrorKind::Range) || choice.count() == 1) throw;
+      records.push_back({{"method", "raytrace"}, {"refused", e.what()}});
+      if (++refusals == choice.count()) throw;
+    }
+  }
   nlohmann::json root;
   if (choice.count() == 1) {
     root = records.front();
@@ -229,6 +288,11 @@ void run(const CracksOptions& o) {
   if (o.table) {
     print_table(records);
     for (const nlohmann::json& r : records)
+      if (r.contains("shadow_epsilon"))
+        std::printf("raytrace: Embree float32, shadow epsilon %s, BVH %.1f ms, rays %.1f ms\n",
+                    r["shadow_epsilon"].get<std::string>().c_str(), r["pass_ms"]["build"].get<double>(),
+                    r["pass_ms"]["trace"].get<double>());
+    for (const nlohmann::json& r : records)
       if (r.contains("occluders")) {
         std::printf("policy (decided in %.3f ms):", r["decide_ms"].get<double>());
         for (const nlohmann::json& oc : r["occluders"])
@@ -238,12 +302,14 @@ void run(const CracksOptions& o) {
       }
     const auto drawn =
         std::find_if(records.begin(), records.end(), [](const nlohmann::json& r) { return r.contains("float_cases"); });
-    const nlohmann::json& cases = (*drawn)["float_cases"];
-    std::printf("float engine's cases for light %zu:", o.light);
-    for (const char* c : {"A", "B", "C1", "C2", "D"}) std::printf(" %s %zu", c, cases[c].get<std::size_t>());
-    std::printf("\n");
-    std::fflush(stdout);
-    print_case_legend(std::cout);
+    if (drawn != records.end()) {  // a stencil method ran (not raytrace alone)
+      const nlohmann::json& cases = (*drawn)["float_cases"];
+      std::printf("float engine's cases for light %zu:", o.light);
+      for (const char* c : {"A", "B", "C1", "C2", "D"}) std::printf(" %s %zu", c, cases[c].get<std::size_t>());
+      std::printf("\n");
+      std::fflush(stdout);
+      print_case_legend(std::cout);
+    }
   } else
     std::cout << root.dump() << "\n";
 }
@@ -260,10 +326,15 @@ void register_cracks(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   add_light_option(*cmd, o->light);
   cmd->add_option("--method", o->method,
-                  "zpass, zfail, zpplus, zpplus-corrected, preload, policy (a method per occluder, from --policy), "
-                  "comma-separated, or all (the five and the policy)")
+                  "zpass, zfail, zpplus, zpplus-corrected, preload, raytrace (Embree, float32), policy (a method "
+                  "per occluder, from --policy), comma-separated, or all (the five, raytrace and the policy)")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
+      ->capture_default_str();
+  cmd->add_option("--shadow-epsilon", o->shadow_epsilon,
+                  "how raytrace's shadow rays leave their surface: fixed (1e-4 along the normal), relative "
+                  "(1e-5 times the point's largest coordinate), primitive-id (no offset; Embree ignores the "
+                  "starting triangle)")
       ->capture_default_str();
   add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");

@@ -1,6 +1,10 @@
 // The cube-map grid of triangles around a centre (see central_grid.hpp).
 #include "nearcap/exact/central_grid.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -234,9 +238,14 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   all_.reserve(triangles.size());
   for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
 
-  std::vector<Relative> relative;
-  relative.reserve(triangles.size());
-  for (const Triangle& t : triangles) relative.push_back(relative_to(t, centre_, centre_error_));
+  // Building is per triangle and per cell, on all cores; every list keeps
+  // the order a sequential build gives (the grid is the same either way).
+  std::vector<Relative> relative(triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i)
+                        relative[i] = relative_to(triangles[i], centre_, centre_error_);
+                    });
   // The triangles each face has to place: those strictly inside its cone,
   // and those that are not strictly inside one cone (or pass near the
   // centre), which every face places.
@@ -257,23 +266,35 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
     FacePlacement placement;
   };
   std::vector<Placed> placed;
-  auto scratch = std::make_unique<std::array<SmallPolygon, 2>>();
+  std::vector<std::uint32_t> order;
+  std::vector<FacePlacement> placements;
+  tbb::enumerable_thread_specific<std::unique_ptr<std::array<SmallPolygon, 2>>> scratches(
+      [] { return std::make_unique<std::array<SmallPolygon, 2>>(); });
   for (int f = 0; f < 6; ++f) {
     Face& face = faces_[f];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
     std::size_t boxed = 0;
     placed.clear();
-    for (const std::vector<std::uint32_t>* list : {&inside[static_cast<std::size_t>(f)], &anywhere})
-      for (std::uint32_t i : *list) {
-        const FacePlacement p = place(relative[i], f, *scratch);
-        if (p.placement == Placement::Skip) continue;
-        placed.push_back({i, p});
-        if (p.placement != Placement::Boxed) continue;
-        ++boxed;
-        const Box& b = p.box;
-        extent = {std::min(extent.u_lo, b.u_lo), std::max(extent.u_hi, b.u_hi), std::min(extent.v_lo, b.v_lo),
-                  std::max(extent.v_hi, b.v_hi)};
-      }
+    order = inside[static_cast<std::size_t>(f)];
+    order.insert(order.end(), anywhere.begin(), anywhere.end());
+    placements.resize(order.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 512),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        std::array<SmallPolygon, 2>& scratch = *scratches.local();
+                        for (std::size_t k = r.begin(); k < r.end(); ++k)
+                          placements[k] = place(relative[order[k]], f, scratch);
+                      });
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::uint32_t i = order[k];
+      const FacePlacement& p = placements[k];
+      if (p.placement == Placement::Skip) continue;
+      placed.push_back({i, p});
+      if (p.placement != Placement::Boxed) continue;
+      ++boxed;
+      const Box& b = p.box;
+      extent = {std::min(extent.u_lo, b.u_lo), std::max(extent.u_hi, b.u_hi), std::min(extent.v_lo, b.v_lo),
+                std::max(extent.v_hi, b.v_hi)};
+    }
     if (boxed == 0) extent = {-kFaceRange, kFaceRange, -kFaceRange, kFaceRange};
     const double width = std::max(extent.u_hi - extent.u_lo, 1e-300);
     const double height = std::max(extent.v_hi - extent.v_lo, 1e-300);
@@ -325,11 +346,14 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
         for_cells(p.placement.box, [&](std::size_t c) {
           face.entries[fill[c]++] = {triangles[p.index].id, p.placement.axis_lower_bound};
         });
-    for (std::size_t c = 0; c < cell_count; ++c) {
-      for (const Entry& e : whole) face.entries[fill[c]++] = e;
-      std::sort(face.entries.begin() + face.offsets[c], face.entries.begin() + face.offsets[c + 1],
-                [](const Entry& a, const Entry& b) { return a.axis_lower_bound < b.axis_lower_bound; });
-    }
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, cell_count, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t c = r.begin(); c < r.end(); ++c) {
+            for (const Entry& e : whole) face.entries[fill[c]++] = e;
+            std::sort(face.entries.begin() + face.offsets[c], face.entries.begin() + face.offsets[c + 1],
+                      [](const Entry& a, const Entry& b) { return a.axis_lower_bound < b.axis_lower_bound; });
+          }
+        });
     // Directions outside the grid's extent can only lie in whole-face triangles:
     // they sit in an extra last "cell".
     std::sort(whole.begin(), whole.end(),

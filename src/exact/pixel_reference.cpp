@@ -39,9 +39,10 @@ std::size_t PixelReferenceTracer::light() const { return impl_->light; }
 
 namespace {
 
-PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setup_ms) {
+PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setup_ms, PixelContent content) {
   const Scene& scene = tracer.scene().scene();
   PixelReference ref;
+  ref.content = content;
   ref.light = tracer.light();
   ref.width = scene.camera.width;
   ref.height = scene.camera.height;
@@ -59,9 +60,10 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
   tbb::parallel_for(tbb::blocked_range<int>(0, ref.height), [&](const tbb::blocked_range<int>& rows) {
     FilterStats& local = stats.local();
     std::vector<std::size_t>& by_object = cap_pixels.local();
+    std::uint32_t last_shadower = PixelReferenceTracer::Impl::kNoShadower;
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < ref.width; ++i) {
-        const PixelSample s = tracer.trace(i, j, &local);
+        const PixelSample s = tracer.impl().trace(window_pixel_centre(i, j), true, &local, content, &last_shadower);
         const std::size_t k = ref.index(i, j);
         ref.cap[k] = s.cap;
         for (std::size_t c = 0; c < s.cap_objects.size(); ++c) ++by_object[s.cap_objects[c]];
@@ -73,21 +75,24 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
       }
   });
   for (const FilterStats& s : stats) ref.stats.merge(s);
-  ref.cap_pixels_by_object.assign(objects, 0);
-  for (const std::vector<std::size_t>& by_object : cap_pixels)
-    for (std::size_t o = 0; o < objects; ++o) ref.cap_pixels_by_object[o] += by_object[o];
+  if (content == PixelContent::Full) ref.cap_pixels_by_object.assign(objects, 0);
+  if (content == PixelContent::Full)
+    for (const std::vector<std::size_t>& by_object : cap_pixels)
+      for (std::size_t o = 0; o < objects; ++o) ref.cap_pixels_by_object[o] += by_object[o];
   ref.trace_ms = elapsed_ms(t1);
   return ref;
 }
 
 }  // namespace
 
-PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light) {
+PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light, PixelContent content) {
   const auto t0 = std::chrono::steady_clock::now();
   const PixelReferenceTracer tracer(scene, light);
-  return trace_every_pixel(tracer, elapsed_ms(t0));
+  return trace_every_pixel(tracer, elapsed_ms(t0), content);
 }
 
-PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer) { return trace_every_pixel(tracer, 0.0); }
+PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer, PixelContent content) {
+  return trace_every_pixel(tracer, 0.0, content);
+}
 
 }  // namespace nearcap

@@ -17,7 +17,7 @@ namespace nearcap {
 CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref) {
   NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
   CrackReport r;
-  r.method = frame.method;
+  r.method = std::string(to_string(frame.method));
   const std::size_t n = static_cast<std::size_t>(ref.width) * ref.height;
   r.verdict.assign(n, PixelVerdict::NothingSeen);
   for (std::size_t p = 0; p < n; ++p) {
@@ -54,6 +54,37 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
       }
     r.cap_mismatch = mismatches;
   }
+  return r;
+}
+
+CrackReport judge_raytrace_frame(const raytrace::RaytraceFrame& frame, const PixelReference& ref) {
+  NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
+  CrackReport r;
+  r.method = "raytrace";
+  const std::size_t n = static_cast<std::size_t>(ref.width) * ref.height;
+  r.verdict.assign(n, PixelVerdict::NothingSeen);
+  for (std::size_t p = 0; p < n; ++p) {
+    const bool seen = ref.stencil[p] != PixelReference::kNothingSeen;
+    if (seen) ++r.pixels_seen;
+    if (ref.object[p] != frame.object[p]) {
+      r.verdict[p] = PixelVerdict::VisibilityMismatch;
+      ++r.visibility_mismatch;
+      continue;
+    }
+    if (!seen) continue;
+    const bool ref_shadowed = ref.stencil[p] > 0, frame_shadowed = frame.shadowed[p] != 0;
+    PixelVerdict v = PixelVerdict::Right;
+    if (ref_shadowed && !frame_shadowed) {
+      v = PixelVerdict::WrongLit;
+      ++r.wrong_lit;
+    } else if (!ref_shadowed && frame_shadowed) {
+      v = PixelVerdict::WrongShadowed;
+      ++r.wrong_shadowed;
+    }
+    r.verdict[p] = v;
+  }
+  r.wrong = r.wrong_lit + r.wrong_shadowed;
+  r.count_mismatch = r.wrong;
   return r;
 }
 
@@ -151,9 +182,8 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
   char title[200];
   const std::string cracks = report.cracks ? std::to_string(*report.cracks) + " cracks, " : std::string();
   std::snprintf(title, sizeof title, "%s: %zu wrong (%zu lit, %zu shadowed), %s%zu count, %s near-cap",
-                std::string(to_string(report.method)).c_str(), report.wrong, report.wrong_lit, report.wrong_shadowed,
-                cracks.c_str(), report.count_mismatch,
-                report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
+                report.method.c_str(), report.wrong, report.wrong_lit, report.wrong_shadowed, cracks.c_str(),
+                report.count_mismatch, report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
   std::vector<legend::Entry> entries;
   if (report.cracks) {
     entries = {{kWrongLit, "crack, lit: should be in shadow"},

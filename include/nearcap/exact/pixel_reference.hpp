@@ -74,6 +74,17 @@ class SmallObjectSet {
   std::vector<std::uint32_t> more_;
 };
 
+// How much of the reference to compute.
+enum class PixelContent {
+  Full,          // the near-cap count and the stencil count (the default)
+  ShadowStatus,  // what a ray tracer computes: the surface seen and whether
+                 // it is in shadow.  No near-cap count (cap all 0,
+                 // cap_pixels_by_object empty); stencil 1 for a shadowed
+                 // pixel, 0 for a lit one: the crossing search stops at the
+                 // first occluder triangle found, trying first the one that
+                 // shadowed the previous pixel.  Exact like Full.
+};
+
 // What the reference knows about one pixel.
 struct PixelSample {
   std::uint32_t cap = 0;
@@ -90,6 +101,7 @@ struct PixelSample {
 struct PixelReference {
   static constexpr std::uint32_t kNothingSeen = std::numeric_limits<std::uint32_t>::max();
 
+  PixelContent content = PixelContent::Full;
   std::size_t light = 0;
   int width = 0, height = 0;
   std::vector<std::uint32_t> cap;
@@ -139,14 +151,16 @@ class PixelReferenceTracer {
   std::size_t light() const;
 
   struct Impl;  // src/exact/pixel_tracer_impl.hpp
+  const Impl& impl() const { return *impl_; }
 
  private:
   std::unique_ptr<Impl> impl_;
 };
 
 // Every pixel of the camera's viewport, on all cores (TBB).
-PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light);
+PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light,
+                                       PixelContent content = PixelContent::Full);
 // The same with a tracer the caller keeps (for the crack distance).
-PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer);
+PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer, PixelContent content = PixelContent::Full);
 
 }  // namespace nearcap

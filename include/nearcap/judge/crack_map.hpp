@@ -17,6 +17,10 @@
 // occluders out of its near-cap pass (zpplus-corrected's switch to Z-fail for
 // a case-D occluder) its cap is not the whole scene's, and cap_mismatch is
 // not reported.
+//
+// A ray-traced frame (raytrace/shadow_ray_tracer.hpp) has a shadow status per
+// pixel and no count: it is judged by status alone (judge_raytrace_frame), so
+// CountOnly never occurs and count_mismatch equals wrong.
 #pragma once
 
 #include <array>
@@ -30,13 +34,14 @@
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/raytrace/shadow_ray_tracer.hpp"
 
 namespace nearcap {
 
 enum class PixelVerdict : std::uint8_t { NothingSeen, Right, CountOnly, WrongLit, WrongShadowed, VisibilityMismatch };
 
 struct CrackReport {
-  gl::ShadowMethod method = gl::ShadowMethod::ZPass;
+  std::string method;                       // "zpass", ..., "raytrace"
   std::size_t pixels_seen = 0;              // the reference sees a surface
   std::size_t wrong = 0;                    // wrong_lit + wrong_shadowed
   std::size_t wrong_lit = 0;                // lit, should be shadowed
@@ -56,6 +61,7 @@ struct CrackReport {
 };
 
 CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref);
+CrackReport judge_raytrace_frame(const raytrace::RaytraceFrame& frame, const PixelReference& ref);
 
 // The reference's shaded image (reference_images.hpp), dimmed, with each
 // judged pixel filled by its verdict: wrong-lit red, wrong-shadowed cyan,
