@@ -14,6 +14,7 @@ $n reference data/scenes/near_cap_bunny_silhouettes.json --light 0 --out "$work/
 $n reference data/scenes/near_cap_bunny_wall.json --light 0 --out "$work/bunny_wall_reference" >/dev/null
 $n cracks data/scenes/near_cap_bunny_wall.json --light 0 --method zpplus --out "$work/bunny_wall_zpplus" >/dev/null
 $n cracks data/scenes/case_d.json --light 0 --method zpplus-corrected --out "$work/case_d_corrected" >/dev/null
+$n cracks data/scenes/far_grazing.json --light 0 --method raytrace --out "$work/far_grazing_raytrace" >/dev/null
 /usr/bin/python3 analysis/pictures/readme_pictures.py "$work" data/pictures
 # The sweep report's figures: the near-plane sweep path and 100 hard cases.
 $n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv" >/dev/null 2>&1

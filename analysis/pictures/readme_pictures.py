@@ -11,6 +11,9 @@ work directory; this script turns their outputs into small PNGs:
                           around its cracks and enlarged, with nearcap's legend
   cracks_case_d.png       ZP+ corrected on case_d: its switch to Z-fail with
                           GL_DEPTH_CLAMP (cracks.png), with nearcap's legend
+  cracks_raytrace_far.png Embree (float32 ray tracing, fixed shadow epsilon) on
+                          far_grazing: shadow acne 10 km from the origin
+                          (cracks.png), with nearcap's legend
   cases.png               the side quad Q of a silhouette edge and where the
                           near plane cuts it in cases A, B, C1, C2, D
 
@@ -162,6 +165,8 @@ def main():
                   "published ZP+ on near_cap_bunny_wall: its cracks (rings), enlarged", bounding_box_of_marks(wall, 480))
     crack_picture(work / "case_d_corrected" / "cracks.png", out, "cracks_case_d.png",
                   "ZP+ corrected on case_d: the switch to Z-fail with GL_DEPTH_CLAMP", None)
+    crack_picture(work / "far_grazing_raytrace" / "cracks.png", out, "cracks_raytrace_far.png",
+                  "Embree, float32, fixed shadow epsilon, 10 km from the origin: shadow acne", None)
     cases_picture(out)
     for p in sorted(out.glob("*.png")):
         print(f"{p} ({p.stat().st_size // 1024} KB)")
