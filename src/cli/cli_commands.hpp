@@ -26,6 +26,7 @@ void register_sweep(CLI::App& app);
 void register_report(CLI::App& app);
 void register_tune(CLI::App& app);
 void register_fit_l_near(CLI::App& app);
+void register_render(CLI::App& app);  // builds with the real-GL library only (NEARCAP_WITH_RENDER)
 
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.
@@ -55,6 +56,7 @@ struct EmulationOptions {
   std::string depth = "fixed24";
   std::string fill_rule = "bottom-left";
   float guard_band = 1.0f;
+  std::string viewport = "divide";
   std::string light_projection = "paper";
   std::string l_near = "paper-ratio";
   double l_near_scale = 1.0;

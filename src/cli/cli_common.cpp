@@ -70,6 +70,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--guard-band", o.guard_band,
                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
       ->capture_default_str();
+  cmd.add_option("--viewport", o.viewport,
+                 "perspective divide and viewport arithmetic: divide ((x/w + 1) W/2) or llvmpipe (1/w, then "
+                 "fused multiply-add where Mesa fuses: what llvmpipe computes)")
+      ->check(CLI::IsMember({"divide", "llvmpipe"}))
+      ->capture_default_str();
   cmd.add_option("--light-projection", o.light_projection,
                  "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once) or rebased "
                  "(origin at the near rectangle's centre)")
@@ -111,6 +116,7 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"depth", o.depth},
           {"fill-rule", o.fill_rule},
           {"guard-band", number(o.guard_band)},
+          {"viewport", o.viewport},
           {"light-projection", o.light_projection},
           {"l-near", o.l_near},
           {"l-near-scale", number(o.l_near_scale)},
@@ -165,6 +171,9 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       o.fill_rule = value;
     } else if (name == "guard-band") {
       o.guard_band = static_cast<float>(parse_number(spec, name, value));
+    } else if (name == "viewport") {
+      need_one_of(spec, name, value, {"divide", "llvmpipe"});
+      o.viewport = value;
     } else if (name == "light-projection") {
       need_one_of(spec, name, value, {"paper", "glfrustum", "composed", "rebased"});
       o.light_projection = value;
@@ -187,7 +196,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       o.fma = value == "1";
     } else {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
-                                        "' (subpixel-bits, depth, fill-rule, guard-band, light-projection, "
+                                        "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
                                         "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, fma)");
     }
   }
@@ -213,6 +222,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   if (!(o.guard_band >= 1.0f))
     throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
   s.raster.guard_band = o.guard_band;
+  s.raster.viewport = o.viewport == "llvmpipe" ? gl::ViewportArithmetic::Llvmpipe : gl::ViewportArithmetic::Divide;
   s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
   const auto projection = gl::light_projection_from_string(o.light_projection);

@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
   nearcap::cli::register_report(app);
   nearcap::cli::register_tune(app);
   nearcap::cli::register_fit_l_near(app);
+#ifdef NEARCAP_WITH_RENDER
+  nearcap::cli::register_render(app);
+#endif
 
   // The subcommand comes first; name an unknown one as such.
   if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");

@@ -81,6 +81,15 @@ WindowVertex to_window(const Vec4f& c, int width, int height) {
   return {(x + 1.0f) * half_w, (y + 1.0f) * half_h, z * 0.5f + 0.5f};
 }
 
+WindowVertex to_window(const Vec4f& c, int width, int height, ViewportArithmetic arithmetic, bool from_clipper) {
+  if (arithmetic == ViewportArithmetic::Divide) return to_window(c, width, height);
+  const float r = 1.0f / c.w;
+  const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
+  const float x = c.x * r, y = c.y * r, z = c.z * r;
+  if (from_clipper) return {x * half_w + half_w, y * half_h + half_h, z * 0.5f + 0.5f};
+  return {std::fma(x, half_w, half_w), std::fma(y, half_h, half_h), std::fma(z, 0.5f, 0.5f)};
+}
+
 DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state,
                                const RasterSettings& raster) {
   DrawCounters counters;
@@ -103,7 +112,15 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     }
     std::vector<WindowVertex> window(polygon.size());
     for (std::size_t k = 0; k < polygon.size(); ++k) {
-      window[k] = to_window(polygon[k], width_, height_);
+      // A vertex of the input triangle comes back from the clipper unchanged
+      // (bit for bit); any other is one it made.
+      const Vec4f& v = polygon[k];
+      bool original = false;
+      for (std::size_t i = t; i < t + 3 && !original; ++i) {
+        const Vec4f& u = clip_vertices[i];
+        original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;
+      }
+      window[k] = to_window(v, width_, height_, raster.viewport, !original);
       // After clipping every vertex lies within the guard band; only a
       // degenerate homogeneous vertex ((0, 0, 0, 0): an extrusion whose
       // direction rounded to zero) can leave it.  Refused, never rasterized.

@@ -131,6 +131,7 @@ struct ShadowFrameBatch::SharedWork {
     Framebuffer framebuffer;
     DrawCounters counters;
     double ms = 0;
+    std::vector<DrawCall> draws;  // with record_draws
   };
   std::vector<std::vector<ShadowVertex>> vertices;
   std::vector<std::optional<EngineSilhouette>> silhouettes;
@@ -203,16 +204,20 @@ class FrameRenderer {
       const auto t = Clock::now();
       Framebuffer fb(scene_.camera.width, scene_.camera.height, settings_.depth);
       DrawCounters counters;
+      std::vector<DrawCall> draws;
       for (std::size_t o = 0; o < objects_.size(); ++o) {
         DrawState s;
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
-        counters += fb.draw(run_program(shared_.vertices[o], objects_[o].uniforms, extrusion_program),
-                            oriented(s, objects_[o].mirrored), settings_.raster);
+        std::vector<Vec4f> clip = run_program(shared_.vertices[o], objects_[o].uniforms, extrusion_program);
+        counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
+        if (settings_.record_draws)
+          draws.push_back({DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored)});
       }
-      depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t)};
+      depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t), std::move(draws)};
     }
     fb_ = depth->framebuffer;
+    if (settings_.record_draws) frame.draws = depth->draws;
     frame.depth_pass = depth->counters;
     frame.times.depth_ms = depth->ms;
 
@@ -320,16 +325,19 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       const ShadowMethod m = methods_[o];
       if (!obj.occluder || !uses_near_cap(m) || (m == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
-      frame.cap_pass += fb_.draw(run_program(shared_.vertices[o], obj.uniforms, near_cap_program),
-                                 oriented(s, obj.mirrored), settings_.raster);
+      std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, near_cap_program);
+      frame.cap_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
+      if (settings_.record_draws)
+        frame.draws.push_back({DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored)});
     }
   }
 
   template <class Program>
   void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, Program program, const DrawState& s,
             ShadowFrame& frame) {
-    frame.volume_pass +=
-        fb_.draw(run_program(vertices, obj.uniforms, program), oriented(s, obj.mirrored), settings_.raster);
+    std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
+    frame.volume_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
+    if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(clip), oriented(s, obj.mirrored)});
   }
 
   void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {

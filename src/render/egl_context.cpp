@@ -41,7 +41,9 @@ EGLDisplay open_display(std::string& platform) {
   // through libepoxy that aborts before a display exists).
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!has_extension(client, "EGL_EXT_platform_base"))
-    throw Error(ErrorKind::Gl, "EGL: the client library lacks EGL_EXT_platform_base (no headless EGL)");
+    throw Error(ErrorKind::Gl,
+                "EGL: the client library lacks EGL_EXT_platform_base (no headless EGL: no EGL driver was found; "
+                "install libegl1-mesa-dev and libgl1-mesa-dri, as scripts/install-deps.sh does)");
   EGLint major = 0, minor = 0;
   if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
     EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);

@@ -54,6 +54,17 @@ struct DrawState {
   std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
 };
 
+// One draw call as a GL receives it: the clip-space vertices its vertex
+// program wrote (3 per triangle) and the state it was drawn with.  A frame's
+// draw calls (ShadowFrame::draws, with EmulationSettings::record_draws) are
+// what the real-GL renderer replays (render/gl_frame_replay.hpp).
+enum class DrawPass { Depth, NearCap, Volume };
+struct DrawCall {
+  DrawPass pass = DrawPass::Volume;
+  std::vector<Vec4f> clip_vertices;
+  DrawState state;
+};
+
 // What a draw call did: primitives in, after clipping and culling, fragments.
 struct DrawCounters {
   std::uint64_t triangles = 0;   // submitted
@@ -110,5 +121,8 @@ float safe_guard_band(int width, int height, int subpixel_bits);
 // not clamped here: depth clamp, like the depth range, applies to each
 // fragment's interpolated depth (Framebuffer::encode_depth).
 WindowVertex to_window(const Vec4f& clip, int width, int height);
+// The same with the chosen arithmetic; `from_clipper`: the clipper made this
+// vertex (it matters for ViewportArithmetic::Llvmpipe only).
+WindowVertex to_window(const Vec4f& clip, int width, int height, ViewportArithmetic arithmetic, bool from_clipper);
 
 }  // namespace nearcap::gl

@@ -40,6 +40,15 @@ enum class FillRule {
   BottomLeft,  // horizontal edges with the interior above, and left edges: llvmpipe's, in GL window coordinates
 };
 
+// The perspective divide and viewport transform's float32 arithmetic.
+enum class ViewportArithmetic {
+  Divide,    // x_w = (x / w + 1) (W / 2), z_w = (z / w) / 2 + 1/2: the spec's formula, each operation rounded
+  Llvmpipe,  // Mesa's: r = 1 / w once; a vertex from the vertex stage gets
+             // fma(x r, W/2, W/2) (llvmpipe's JIT fuses where the CPU has
+             // FMA), a vertex the clipper made gets (x r) (W/2) + W/2
+             // unfused (Mesa's C clipper); z alike with 1/2, 1/2
+};
+
 // The defaults are llvmpipe's (Mesa 22.3), as observed through a headless EGL
 // context (tests/llvmpipe_rasterizer_test.cpp): 8 sub-pixel bits, pixel
 // centres on a horizontal edge owned by the triangle above it (bottom-left in
@@ -51,6 +60,9 @@ struct RasterSettings {
   // as llvmpipe does; larger: a hardware-style guard band (the pipeline caps
   // it at safe_guard_band() so snapped coordinates stay in range).
   float guard_band = 1.0f;
+  // Divide by default (what every earlier figure used); Llvmpipe is what
+  // Mesa computes (render/gl_frame_replay.hpp measures the difference).
+  ViewportArithmetic viewport = ViewportArithmetic::Divide;
 };
 
 struct Fragment {

@@ -92,6 +92,9 @@ struct EmulationSettings {
   // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps.
   SwitchClamp switch_clamp = SwitchClamp::DepthClamp;
   ZPassFar zpass_far = ZPassFar::Finite;
+  // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
+  // replay; changes nothing else.
+  bool record_draws = false;
 };
 
 struct PassTimes {
@@ -117,6 +120,9 @@ struct ShadowFrame {
   bool mixed = false;
   DrawCounters depth_pass, cap_pass, volume_pass;
   PassTimes times;
+  // With EmulationSettings::record_draws: the frame's draw calls in order
+  // (the depth pre-pass, the near-cap pass, the volumes), as drawn here.
+  std::vector<DrawCall> draws;
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
 };
 

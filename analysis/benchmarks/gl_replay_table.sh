@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The real GL (headless EGL: llvmpipe here) beside the emulation on every
+# bundled scene but the two largest: per method, the stencil pixels where GL
+# and the emulation differ with the spec's viewport arithmetic / with Mesa's
+# (--viewport llvmpipe), and the wrong pixels of GL and of the emulation
+# against the exact reference.  The README's table ("The real GL beside the
+# emulation").  Needs a build (./scripts/build.sh).
+#   ./analysis/benchmarks/gl_replay_table.sh
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+n=./build/nearcap
+methods=(zpass zfail zpplus zpplus-corrected preload)
+echo "| scene | $(IFS='|'; echo "${methods[*]}" | sed 's/|/ | /g') |"
+echo "|---|$(for _ in "${methods[@]}"; do printf -- '---|'; done)"
+for scene in data/scenes/*.json; do
+  name=$(basename "$scene" .json)
+  case "$name" in bunny | armadillo) continue ;; esac
+  divide=$($n render "$scene" --light 0 --compare)
+  llvmpipe=$($n render "$scene" --light 0 --compare --viewport llvmpipe)
+  /usr/bin/python3 - "$name" "$divide" "$llvmpipe" <<'PY'
+import json, sys
+name, a, b = sys.argv[1], json.loads(sys.argv[2])["methods"], json.loads(sys.argv[3])["methods"]
+cells = []
+for x, y in zip(a, b):
+    if "refused" in x:
+        cells.append("refused")
+        continue
+    cells.append("%d / %d (GL %d, emul. %d)" % (x["gl_vs_emulation"], y["gl_vs_emulation"], x["gl_vs_exact"], x["emulation_vs_exact"]))
+print("| %s | %s |" % (name, " | ".join(cells)))
+PY
+done

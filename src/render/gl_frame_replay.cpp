@@ -1,0 +1,218 @@
+// An emulated frame's draw calls on a real OpenGL (see gl_frame_replay.hpp).
+#include "nearcap/render/gl_frame_replay.hpp"
+
+#include <epoxy/gl.h>
+
+#include <chrono>
+#include <string>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap::render {
+namespace {
+
+void check_gl(const char* step) {
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) throw Error(ErrorKind::Gl, std::string("GL error ") + std::to_string(e) + " after " + step);
+}
+
+GLuint compile(GLenum stage, const char* source) {
+  const GLuint shader = glCreateShader(stage);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    glDeleteShader(shader);
+    throw Error(ErrorKind::Gl, std::string("shader compilation failed: ") + log);
+  }
+  return shader;
+}
+
+// The recorded clip-space position, unchanged: the emulation's vertex
+// program already ran in float32.
+const char* const kVertexShader = R"(#version 450 core
+layout(location = 0) in vec4 clip;
+void main() { gl_Position = clip; }
+)";
+const char* const kFragmentShader = R"(#version 450 core
+uniform int object_id;
+layout(location = 0) out int object;
+void main() { object = object_id; }
+)";
+
+GLenum stencil_op(gl::StencilOp op) {
+  switch (op) {
+    case gl::StencilOp::IncrementWrap:
+      return GL_INCR_WRAP;
+    case gl::StencilOp::DecrementWrap:
+      return GL_DECR_WRAP;
+    case gl::StencilOp::Keep:
+      break;
+  }
+  return GL_KEEP;
+}
+
+}  // namespace
+
+GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : width_(width), height_(height) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw Error(ErrorKind::Usage,
+                "frame size " + std::to_string(width) + "x" + std::to_string(height) + " is not 1 to 16384 pixels");
+  far_only_clamp_ = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
+  glGenFramebuffers(1, &framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glGenRenderbuffers(1, &objects_);
+  glBindRenderbuffer(GL_RENDERBUFFER, objects_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_R32I, width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, objects_);
+  glGenRenderbuffers(1, &depth_stencil_);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_stencil_);
+  glRenderbufferStorage(GL_RENDERBUFFER, depth == gl::DepthFormat::Fixed24 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8,
+                        width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_stencil_);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error(ErrorKind::Gl, "the replay's framebuffer object is incomplete");
+
+  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader), fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  program_ = glCreateProgram();
+  glAttachShader(program_, vs);
+  glAttachShader(program_, fs);
+  glLinkProgram(program_);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint linked = 0;
+  glGetProgramiv(program_, GL_LINK_STATUS, &linked);
+  if (!linked) throw Error(ErrorKind::Gl, "the replay's program does not link");
+  object_uniform_ = glGetUniformLocation(program_, "object_id");
+
+  glGenVertexArrays(1, &vertex_array_);
+  glBindVertexArray(vertex_array_);
+  glGenBuffers(1, &buffer_);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+  glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  check_gl("creating the replay");
+}
+
+GlFrameReplay::~GlFrameReplay() {
+  glDeleteBuffers(1, &buffer_);
+  glDeleteVertexArrays(1, &vertex_array_);
+  glDeleteProgram(program_);
+  glDeleteRenderbuffers(1, &depth_stencil_);
+  glDeleteRenderbuffers(1, &objects_);
+  glDeleteFramebuffers(1, &framebuffer_);
+}
+
+ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset) {
+  for (const gl::DrawCall& d : draws)
+    if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp_)
+      throw Error(ErrorKind::Gl, std::string("this frame clamps depth at one plane only, which needs "
+                                             "GL_AMD_depth_clamp_separate; the driver (") +
+                                     reinterpret_cast<const char*>(glGetString(GL_RENDERER)) + ") lacks it");
+  const auto t0 = std::chrono::steady_clock::now();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_MULTISAMPLE);
+  glDisable(GL_SCISSOR_TEST);
+  glFrontFace(GL_CCW);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  const GLint no_object[4] = {-1, -1, -1, -1};
+  glClearBufferiv(GL_COLOR, 0, no_object);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  glUseProgram(program_);
+  glBindVertexArray(vertex_array_);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+
+  ReplayedFrame out;
+  out.width = width_;
+  out.height = height_;
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const gl::DrawCall& d = draws[k];
+    const gl::DrawState& s = d.state;
+    if (s.cull == gl::CullFace::None) {
+      glDisable(GL_CULL_FACE);
+    } else {
+      glEnable(GL_CULL_FACE);
+      glCullFace(s.cull == gl::CullFace::Back ? GL_BACK : GL_FRONT);
+    }
+    if (s.depth_func == gl::DepthFunc::Always) {
+      glDisable(GL_DEPTH_TEST);
+    } else {
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+    }
+    glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
+    glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
+    if (s.depth_clamp_near && s.depth_clamp_far) {
+      glEnable(GL_DEPTH_CLAMP);
+    } else {
+      glDisable(GL_DEPTH_CLAMP);
+      if (far_only_clamp_) {
+        if (s.depth_clamp_far)
+          glEnable(GL_DEPTH_CLAMP_FAR_AMD);
+        else
+          glDisable(GL_DEPTH_CLAMP_FAR_AMD);
+        if (s.depth_clamp_near)
+          glEnable(GL_DEPTH_CLAMP_NEAR_AMD);
+        else
+          glDisable(GL_DEPTH_CLAMP_NEAR_AMD);
+      }
+    }
+    glStencilOpSeparate(GL_FRONT, GL_KEEP, stencil_op(s.front.depth_fail), stencil_op(s.front.depth_pass));
+    glStencilOpSeparate(GL_BACK, GL_KEEP, stencil_op(s.back.depth_fail), stencil_op(s.back.depth_pass));
+    if (volume_depth_offset != 0 && d.pass == gl::DrawPass::Volume) {
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      glPolygonOffset(0.0f, volume_depth_offset);
+    } else {
+      glDisable(GL_POLYGON_OFFSET_FILL);
+    }
+    glUniform1i(object_uniform_, s.object_id);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(d.clip_vertices.size() * sizeof(gl::Vec4f)),
+                 d.clip_vertices.data(), GL_STREAM_DRAW);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(d.clip_vertices.size()));
+    const bool cap_ends =
+        d.pass == gl::DrawPass::NearCap && (k + 1 == draws.size() || draws[k + 1].pass != gl::DrawPass::NearCap);
+    if (cap_ends) {
+      out.near_cap.resize(n);
+      glReadPixels(0, 0, width_, height_, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, out.near_cap.data());
+    }
+  }
+  glFinish();
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.stencil.resize(n);
+  glReadPixels(0, 0, width_, height_, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, out.stencil.data());
+  out.object.resize(n);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, width_, height_, GL_RED_INTEGER, GL_INT, out.object.data());
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  check_gl("replaying a frame");
+  return out;
+}
+
+ReplayComparison compare(const ReplayedFrame& real, const gl::ShadowFrame& emulated) {
+  if (real.width != emulated.width || real.height != emulated.height)
+    throw Error(ErrorKind::Usage, "a replayed frame and an emulated one of different sizes");
+  ReplayComparison c;
+  for (std::size_t p = 0; p < real.stencil.size(); ++p) {
+    if (real.stencil[p] != emulated.stencil[p]) c.stencil_pixels.push_back(p);
+    c.object += real.object[p] != emulated.object[p];
+  }
+  c.stencil = c.stencil_pixels.size();
+  if (!real.near_cap.empty() && real.near_cap.size() == emulated.near_cap.size())
+    for (std::size_t p = 0; p < real.near_cap.size(); ++p) c.near_cap += real.near_cap[p] != emulated.near_cap[p];
+  return c;
+}
+
+}  // namespace nearcap::render

@@ -1,0 +1,217 @@
+// Every stencil method's draw calls, recorded by the emulation, replayed on
+// Mesa's llvmpipe through a headless EGL context: the real stencil buffer
+// and the emulated one, pixel for pixel, on bundled scenes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/gl_frame_replay.hpp"
+
+namespace nearcap {
+namespace {
+
+class GlFrameReplayTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    try {
+      context_ = std::make_unique<render::EglContext>();
+    } catch (const Error& e) {
+      GTEST_SKIP() << "no headless OpenGL here: " << e.what();
+    }
+    if (context_->renderer().find("llvmpipe") == std::string::npos)
+      GTEST_SKIP() << "the emulation models llvmpipe; this context is " << context_->renderer();
+  }
+  std::unique_ptr<render::EglContext> context_;
+};
+
+struct Outcome {
+  render::ReplayComparison differences;
+  std::size_t drawn = 0;  // pixels with a non-zero stencil in the emulation
+};
+
+Outcome replay_and_compare(const Scene& scene, gl::ShadowMethod m, gl::EmulationSettings settings = {}) {
+  settings.record_draws = true;
+  const gl::ShadowFrame emulated = gl::render_shadow_frame(scene, 0, m, settings);
+  EXPECT_FALSE(emulated.draws.empty());
+  render::GlFrameReplay replay(emulated.width, emulated.height, settings.depth);
+  const render::ReplayedFrame real = replay.replay(emulated.draws);
+  Outcome o;
+  o.differences = render::compare(real, emulated);
+  for (std::uint8_t s : emulated.stencil) o.drawn += s != 0;
+  const bool cap_drawn = std::any_of(emulated.draws.begin(), emulated.draws.end(),
+                                     [](const gl::DrawCall& d) { return d.pass == gl::DrawPass::NearCap; });
+  if (cap_drawn) {
+    EXPECT_FALSE(real.near_cap.empty());
+  }
+  return o;
+}
+
+// Recording changes nothing the emulation computes.
+TEST(GlFrameRecording, RecordingLeavesTheFrameAsItWas) {
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_split.json");
+  gl::EmulationSettings recording;
+  recording.record_draws = true;
+  for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+    const gl::ShadowFrame a = gl::render_shadow_frame(scene, 0, m), b = gl::render_shadow_frame(scene, 0, m, recording);
+    EXPECT_EQ(a.stencil, b.stencil);
+    EXPECT_EQ(a.object, b.object);
+    EXPECT_TRUE(a.draws.empty());
+    EXPECT_FALSE(b.draws.empty());
+    EXPECT_EQ(b.draws.front().pass, gl::DrawPass::Depth);
+  }
+}
+
+// The renderer issue's target is 0 stencil differences between llvmpipe and
+// the emulation.  Where it stands: the near-cap pass (no depth test) matches
+// pixel for pixel on every scene and method, and the rest differs on a few
+// pixels per frame (at most 10 here, every one a depth near-tie: the next
+// test), except where GL_DEPTH_CLAMP is on (the case-D switch: below).
+TEST_F(GlFrameReplayTest, LlvmpipeAgreesWithTheEmulationButForDepthNearTies) {
+  std::printf("[ context  ] %s, %s\n", context_->renderer().c_str(), context_->version().c_str());
+  for (const char* name : {"default.json", "no_near_clip.json", "eye_in_shadow.json", "near_split.json", "case_d.json",
+                           "twisted.json", "room.json", "room_side_light.json", "far_grazing.json"}) {
+    const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
+    std::size_t drawn = 0;
+    for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+      gl::EmulationSettings settings;
+      settings.record_draws = true;
+      const gl::ShadowFrame emulated = gl::render_shadow_frame(scene, 0, m, settings);
+      const bool depth_clamp = !emulated.zfail_objects.empty() || !emulated.fallback.empty();
+      // Both viewport arithmetics: the spec's divide, and Mesa's 1/w with FMA.
+      for (gl::ViewportArithmetic v : {gl::ViewportArithmetic::Divide, gl::ViewportArithmetic::Llvmpipe}) {
+        SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(m)) +
+                     (v == gl::ViewportArithmetic::Divide ? ", divide" : ", llvmpipe viewport"));
+        settings.raster.viewport = v;
+        const Outcome o = replay_and_compare(scene, m, settings);
+        EXPECT_EQ(o.differences.near_cap, 0u);
+        if (!depth_clamp) {
+          EXPECT_LE(o.differences.stencil, 10u);
+          EXPECT_LE(o.differences.object, 1u);
+        }
+        drawn += o.drawn;
+      }
+    }
+    EXPECT_GT(drawn, 0u) << name << ": no method drew any shadow";
+  }
+}
+
+// GL_DEPTH_CLAMP: the emulation's model (no near or far clipping, the plane
+// w >= 1e-6 in the near plane's place, each fragment's depth clamped) is not
+// what llvmpipe does where the clamped volume passes near the eye: on
+// case_d, ZP+ corrected's switch to Z-fail with depth clamp differs on more
+// than 10,000 pixels (README "The real GL beside the emulation").  This test
+// shows the difference until the emulation follows Mesa there.
+TEST_F(GlFrameReplayTest, DepthClampIsNotYetModelledAsLlvmpipeDoesIt) {
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/case_d.json");
+  const Outcome clamped = replay_and_compare(scene, gl::ShadowMethod::ZPPlusCorrected);
+  EXPECT_GT(clamped.differences.stencil, 10000u);
+  const Outcome zfail = replay_and_compare(scene, gl::ShadowMethod::ZFail);  // the infinite far plane, no clamp
+  EXPECT_LE(zfail.differences.stencil, 10u);
+}
+
+// Where llvmpipe and the emulation differ today (README "The real GL beside
+// the emulation"): the passes without a depth test match pixel for pixel (the
+// near-cap pass; the depth pre-pass's coverage, object ids), and every
+// differing stencil value of the volume pass is at a depth near-tie: a pixel
+// whose real-GL stencil itself changes when the volume's fragments are moved
+// by 8 units of depth resolution (8 / (2^24 - 1) in window depth) either way (glPolygonOffset).  The emulation
+// interpolates depth from exact barycentrics; llvmpipe from float32 plane
+// equations: they round differently where a volume's side leaves the
+// occluder's surface.
+TEST_F(GlFrameReplayTest, EveryDifferenceIsADepthNearTie) {
+  std::size_t differences = 0, near_ties = 0;
+  for (const char* name :
+       {"default.json", "no_near_clip.json", "near_split.json", "twisted.json", "room.json", "exact_camera.json"}) {
+    const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
+    for (gl::ShadowMethod m : {gl::ShadowMethod::ZPass, gl::ShadowMethod::ZFail, gl::ShadowMethod::ZPPlus}) {
+      SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(m)));
+      gl::EmulationSettings settings;
+      settings.record_draws = true;
+      const gl::ShadowFrame emulated = gl::render_shadow_frame(scene, 0, m, settings);
+      render::GlFrameReplay replay(emulated.width, emulated.height, settings.depth);
+      const render::ReplayedFrame real = replay.replay(emulated.draws);
+      const render::ReplayedFrame nearer = replay.replay(emulated.draws, -8.0f);
+      const render::ReplayedFrame farther = replay.replay(emulated.draws, 8.0f);
+      const render::ReplayComparison c = render::compare(real, emulated);
+      EXPECT_EQ(c.near_cap, 0u);
+      for (std::size_t p : c.stencil_pixels) {
+        ++differences;
+        const bool tie = nearer.stencil[p] != real.stencil[p] || farther.stencil[p] != real.stencil[p];
+        near_ties += tie;
+        EXPECT_TRUE(tie) << "pixel " << p % emulated.width << ", " << p / emulated.width << ": GL "
+                         << int(real.stencil[p]) << ", emulation " << int(emulated.stencil[p]);
+      }
+    }
+  }
+  std::printf("[ replay   ] %zu stencil differences, %zu of them at depth near-ties\n", differences, near_ties);
+  EXPECT_GT(differences, 0u) << "none left: tighten LlvmpipeStencilEqualsTheEmulationOnBundledScenes";
+}
+
+// A frame clamped at the far plane only needs GL_AMD_depth_clamp_separate:
+// without it the replay refuses with an error naming the extension.
+TEST_F(GlFrameReplayTest, FarOnlyClampWithoutTheExtensionIsAClearError) {
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/case_d.json");
+  gl::EmulationSettings s;
+  s.record_draws = true;
+  s.zfail_far = gl::ZFailFar::DepthClampFar;
+  const gl::ShadowFrame emulated = gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail, s);
+  render::GlFrameReplay replay(emulated.width, emulated.height, s.depth);
+  if (replay.has_far_only_clamp()) GTEST_SKIP() << "this driver has GL_AMD_depth_clamp_separate";
+  try {
+    replay.replay(emulated.draws);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Gl);
+    EXPECT_NE(std::string(e.what()).find("GL_AMD_depth_clamp_separate"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
+
+namespace nearcap {
+namespace {
+
+TEST(RenderCommand, CompareGivesOneRecordPerMethod) {
+  const test::CliResult r =
+      test::run_cli("render data/scenes/near_split.json --light 0 --compare --method zpass,zfail", "render");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j.at("renderer").get<std::string>().empty());
+  ASSERT_EQ(j.at("methods").size(), 2u);
+  for (const nlohmann::json& m : j["methods"])
+    for (const char* key : {"gl_vs_emulation", "objects_differ", "near_cap_differ", "gl_vs_exact", "emulation_vs_exact",
+                            "ms", "emulation_ms"})
+      EXPECT_TRUE(m.at(key).is_number()) << key;
+  // Z-pass is wrong where the near plane cuts the shadow, on the real GL too.
+  EXPECT_GT(j["methods"][0]["gl_vs_exact"].get<int>(), 100000);
+}
+
+TEST(RenderCommand, WithoutAnEglDriverItSaysWhatToInstall) {
+  const test::CliResult r = test::run_cli("render data/scenes/default.json --light 0 --compare --method zpass",
+                                          "render_no_egl", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("nearcap: error (gl): EGL", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("libgl1-mesa-dri"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(RenderCommand, WithoutCompareItSaysWhatIsMissing) {
+  const test::CliResult r = test::run_cli("render data/scenes/default.json --light 0", "render_usage");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--compare"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace nearcap
