@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "box_scene.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
@@ -21,32 +22,6 @@ namespace {
 
 using analysis::EnginePolicy;
 
-TriangleMesh unit_box() { return read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off"); }
-
-Affine3d translate(double x, double y, double z) {
-  Affine3d a;
-  a.rows[0][3] = x;
-  a.rows[1][3] = y;
-  a.rows[2][3] = z;
-  return a;
-}
-
-// A box (unit, or scaled by `size` around `centre`), a large receiver below,
-// a light, and the eye where the test puts it, looking at `target`.
-Scene box_scene(const Vec3d& eye, const Vec3d& light, double near = 0.05, const Vec3d& target = {0, 0, 0},
-                const Vec3d& centre = {0, 0, 0}, double size = 1.0) {
-  SceneBuilder b("engine policy scene");
-  b.camera(look_at_camera(eye, target, {0, 1, 0}, 60, near, 100, 64, 48));
-  b.light(light);
-  Affine3d box = translate(centre.x, centre.y, centre.z);
-  for (int k = 0; k < 3; ++k) box.rows[k][k] = size;
-  b.object(unit_box(), box);
-  Affine3d ground = translate(0, -20.6, 0);
-  for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
-  b.receiver(unit_box(), ground);
-  return b.build();
-}
-
 bool zfail(EnginePolicy p, const Scene& s) {
   const auto choices = analysis::engine_choices(p, s, 0);
   EXPECT_EQ(choices.size(), 1u);
@@ -59,7 +34,7 @@ std::size_t cap_pixels(const Scene& s, std::size_t object) {
 }
 
 TEST(EnginePolicies, FarFromTheShadowEveryRuleButAlwaysZFailPicksZPass) {
-  const Scene s = box_scene({6, 1, 6}, {0, 8, 0});
+  const Scene s = test::box_scene({6, 1, 6}, {0, 8, 0});
   EXPECT_EQ(cap_pixels(s, 0), 0u);  // Z-pass is right
   EXPECT_FALSE(zfail(EnginePolicy::Doom3, s));
   EXPECT_FALSE(zfail(EnginePolicy::Doom3BFG, s));
@@ -69,7 +44,7 @@ TEST(EnginePolicies, FarFromTheShadowEveryRuleButAlwaysZFailPicksZPass) {
 
 TEST(EnginePolicies, EyeInTheShadowBelowTheBoxEveryRulePicksZFail) {
   // The eye under the box, the light above: the light-view segment crosses it.
-  const Scene s = box_scene({0.1, -1.5, 0.2}, {0, 8, 0});
+  const Scene s = test::box_scene({0.1, -1.5, 0.2}, {0, 8, 0});
   EXPECT_GT(cap_pixels(s, 0), 0u);  // Z-pass is wrong
   for (EnginePolicy p : analysis::kAllEnginePolicies) EXPECT_TRUE(zfail(p, s)) << to_string(p);
 }
@@ -79,7 +54,10 @@ TEST(EnginePolicies, Doom3SaysZFailNearTheBoxWhereBfgsPreciseTestSaysZPass) {
   // light far out on that side: Doom 3's box grown by 2 znear holds the eye;
   // the view-light segment stays more than 4 znear from every edge of the
   // light-facing face (its diagonal too) and never crosses it.
-  const Scene s = box_scene({-0.53, 0.2, 0.0}, {-8, 0.3, 0.2}, 0.02, {5, 0.2, 0.0});
+  test::BoxSceneOptions o;
+  o.near = 0.02;
+  o.target = {5, 0.2, 0.0};
+  const Scene s = test::box_scene({-0.53, 0.2, 0.0}, {-8, 0.3, 0.2}, o);
   EXPECT_EQ(cap_pixels(s, 0), 0u);
   EXPECT_TRUE(zfail(EnginePolicy::Doom3, s));
   const auto bfg = analysis::engine_choices(EnginePolicy::Doom3BFG, s, 0);
@@ -91,7 +69,11 @@ TEST(EnginePolicies, OgreMissesALightBetweenTheCameraAndTheNearPlane) {
   // light; with the light between the camera and the near plane (d < 0) the
   // two leave nothing between them: Z-pass whatever the caster, here a small
   // box between the light and the near rectangle that shadows it.
-  const Scene s = box_scene({0, 0, 3}, {0, 0, 2.7}, 1.0, {0, 0, 0}, {0, 0, 2.3}, 0.2);
+  test::BoxSceneOptions o;
+  o.near = 1.0;
+  o.centre = {0, 0, 2.3};
+  o.size = 0.2;
+  const Scene s = test::box_scene({0, 0, 3}, {0, 0, 2.7}, o);
   EXPECT_GT(cap_pixels(s, 0), 0u);
   EXPECT_FALSE(zfail(EnginePolicy::Ogre, s));
   EXPECT_TRUE(zfail(EnginePolicy::Doom3, s));

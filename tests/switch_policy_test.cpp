@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 
+#include "box_scene.hpp"
 #include "cli_support.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
@@ -200,23 +201,12 @@ TEST(SwitchPolicy, TheShippedPolicyLoads) {
   EXPECT_GT(p.crack_model.threshold, 0);
 }
 
-Affine3d translate(double x, double y, double z) {
-  Affine3d a;
-  a.rows[0][3] = x;
-  a.rows[1][3] = y;
-  a.rows[2][3] = z;
-  return a;
-}
-
+// The box scene at 32x24 (tests/box_scene.hpp).
 Scene box_scene(const Vec3d& eye, const Vec3d& light) {
-  SceneBuilder b("policy scene");
-  b.camera(look_at_camera(eye, {0, 0, 0}, {0, 1, 0}, 60, 0.05, 100, 32, 24));
-  b.light(light);
-  b.object(read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off"));
-  Affine3d ground = translate(0, -20.6, 0);
-  for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
-  b.receiver(read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off"), ground);
-  return b.build();
+  test::BoxSceneOptions o;
+  o.width = 32;
+  o.height = 24;
+  return test::box_scene(eye, light, o);
 }
 
 TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {

@@ -81,9 +81,8 @@ ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size
   f.delta_over_width = side / width;
   f.skew = side / lf.l_far;
   f.l_near_over_l_far = static_cast<double>(lf.l_near) / lf.l_far;
-  const auto projection = entries(lf.projection);
-  f.cond_projection = condition_number(projection);
-  f.cond_light_transform = condition_number(product(projection, entries(lf.modelview)));
+  f.cond_projection = projection_condition(lf);
+  f.cond_light_transform = light_transform_condition(lf);
 
   // The near-cap pass's window coordinates of occluder vertices, float32 as
   // the vertex program and viewport compute them, against the exact projection.
@@ -119,6 +118,12 @@ ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size
     }
   }
   return f;
+}
+
+double projection_condition(const gl::LightFrustum& lf) { return condition_number(entries(lf.projection)); }
+
+double light_transform_condition(const gl::LightFrustum& lf) {
+  return condition_number(product(entries(lf.projection), entries(lf.modelview)));
 }
 
 }  // namespace nearcap::analysis

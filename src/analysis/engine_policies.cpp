@@ -158,9 +158,10 @@ CameraFrame camera_frame(const Scene& scene, std::size_t light) {
   return c;
 }
 
-OccluderChoice doom3(const SceneObject& o, std::size_t index, const glm::vec3& eye, const glm::vec3& light,
+// `w`: the object's world-space vertices (world_vertices).
+OccluderChoice doom3(const std::vector<glm::vec3>& w, std::size_t index, const glm::vec3& eye, const glm::vec3& light,
                      float stretch) {
-  const Box box = box_of(world_vertices(o)).grown(stretch);
+  const Box box = box_of(w).grown(stretch);
   if (box.contains(eye)) return {index, true, "view in the grown box"};
   if (box.contains(light)) return {index, true, "light in the grown box"};
   if (segment_meets_box(light, eye, box)) return {index, true, "light-view segment crosses the grown box"};
@@ -169,9 +170,9 @@ OccluderChoice doom3(const SceneObject& o, std::size_t index, const glm::vec3& e
 
 OccluderChoice doom3_bfg(const SceneObject& o, std::size_t index, const glm::vec3& eye, const glm::vec3& light,
                          float stretch) {
-  const OccluderChoice coarse = doom3(o, index, eye, light, stretch);
+  const std::vector<glm::vec3> w = world_vertices(o);  // once, for both tests
+  const OccluderChoice coarse = doom3(w, index, eye, light, stretch);
   if (!coarse.zfail) return coarse;
-  const std::vector<glm::vec3> w = world_vertices(o);
   for (const auto& t : o.mesh->triangles) {
     const glm::vec3 &a = w[t[0]], &b = w[t[1]], &c = w[t[2]];
     if (glm::dot(glm::cross(b - a, c - a), light - a) <= 0.0f) continue;  // not facing the light
@@ -231,7 +232,7 @@ std::vector<OccluderChoice> engine_choices(EnginePolicy policy, const Scene& sce
     if (!obj.occluder) continue;
     switch (policy) {
       case EnginePolicy::Doom3:
-        out.push_back(doom3(obj, o, cam.eye, l, 2.0f * cam.near));
+        out.push_back(doom3(world_vertices(obj), o, cam.eye, l, 2.0f * cam.near));
         break;
       case EnginePolicy::Doom3BFG:
         out.push_back(doom3_bfg(obj, o, cam.eye, l, 4.0f * cam.near));

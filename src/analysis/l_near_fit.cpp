@@ -6,31 +6,20 @@
 #include <cmath>
 #include <limits>
 
+#include "ceres_solve.hpp"
+#include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
-#include "nearcap/numeric/singular_values.hpp"
 
 namespace nearcap::analysis {
 namespace {
-
-std::array<std::array<double, 4>, 4> entries(const gl::Mat4f& m) {
-  std::array<std::array<double, 4>, 4> out{};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out[r][c] = m.at(r, c);
-  return out;
-}
 
 // log10 cond(P_l M_l) of one configuration at one scale; NaN without a frustum.
 double log_condition(const KnobConfiguration& k, gl::LightFrustumChoice choice, double scale) {
   choice.near_scale = scale;
   const gl::LightFrustum lf = gl::light_frustum(k.scene, k.light, choice);
   if (!lf.defined) return std::numeric_limits<double>::quiet_NaN();
-  const auto p = entries(lf.projection), m = entries(lf.modelview);
-  std::array<std::array<double, 4>, 4> pm{};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      for (int x = 0; x < 4; ++x) pm[r][c] += p[r][x] * m[x][c];
-  const double cond = condition_number(pm);
+  const double cond = light_transform_condition(lf);
   return std::isfinite(cond) && cond >= 1 ? std::log10(cond) : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -80,14 +69,7 @@ LightNearFit fit_light_near_scale(const std::vector<KnobConfiguration>& configur
         new ceres::NumericDiffCostFunction<Residual, ceres::CENTRAL, 1, 1>(new Residual(*k, choice)), nullptr, &scale);
   problem.SetParameterLowerBound(&scale, 0, 1e-3);
   problem.SetParameterUpperBound(&scale, 0, 1.0);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 100;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  if (!summary.IsSolutionUsable()) throw Error(ErrorKind::Degenerate, "the l_near fit failed: " + summary.message);
+  const ceres::Solver::Summary summary = solve_or_throw(problem, deterministic_solver_options(100), "l_near");
   LightNearFit fit;
   fit.scale = scale;
   fit.iterations = static_cast<int>(summary.iterations.size());

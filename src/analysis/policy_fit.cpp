@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "ceres_solve.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::analysis {
@@ -244,14 +245,7 @@ CostModel fit_cost_model(const std::vector<CostSample>& samples, bool robust) {
                              robust ? new ceres::CauchyLoss(1.0) : nullptr, c.data());
   }
   if (used < 3) throw Error(ErrorKind::Usage, "a cost model needs at least 3 training rows of the method");
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = 100;
-  solver.num_threads = 1;
-  solver.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  if (!summary.IsSolutionUsable()) throw Error(ErrorKind::Degenerate, "the cost fit failed: " + summary.message);
+  solve_or_throw(problem, deterministic_solver_options(100), "cost");
   return {c[0], c[1], c[2]};
 }
 
@@ -297,19 +291,13 @@ LogisticFit fit_logistic(const std::vector<std::vector<double>>& x, const std::v
     ridge->SetNumResiduals(static_cast<int>(n));
     problem.AddResidualBlock(ridge, nullptr, fit.weights.data());
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = 200;
+  ceres::Solver::Options solver = deterministic_solver_options(200);
   // Nearly separable data (a few cracks) send the weights far: bounded steps
   // in standardized units keep every trial point finite.
   solver.initial_trust_region_radius = 1.0;
   solver.max_trust_region_radius = 100.0;
   solver.max_num_consecutive_invalid_steps = 50;
-  solver.num_threads = 1;  // deterministic
-  solver.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  if (!summary.IsSolutionUsable()) throw Error(ErrorKind::Degenerate, "the logistic fit failed: " + summary.message);
+  const ceres::Solver::Summary summary = solve_or_throw(problem, solver, "logistic");
   fit.iterations = static_cast<int>(summary.iterations.size());
   fit.final_cost = summary.final_cost;
   return fit;

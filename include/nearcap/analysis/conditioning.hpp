@@ -61,4 +61,10 @@ ConditioningFeatures conditioning_features(const CameraSpaceScene& scene, std::s
 ConditioningFeatures conditioning_features(const CameraSpaceScene& scene, std::size_t light,
                                            const gl::LightFrustum& light_frustum, gl::Arithmetic arithmetic);
 
+// cond_projection and cond_light_transform of a defined light frustum: the
+// 2-norm condition numbers of P_l and of P_l * M_l (float32 entries,
+// multiplied in double).
+double projection_condition(const gl::LightFrustum& light_frustum);
+double light_transform_condition(const gl::LightFrustum& light_frustum);
+
 }  // namespace nearcap::analysis

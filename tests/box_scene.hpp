@@ -1,0 +1,44 @@
+// A box over a large receiver, a light, and a look-at camera where a test
+// puts them: the scene the engine-policy and switch-policy tests build.
+#pragma once
+
+#include <string>
+
+#include "nearcap/io/mesh_file.hpp"
+#include "nearcap/io/scene_builder.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::test {
+
+inline Affine3d translate(double x, double y, double z) {
+  Affine3d a;
+  a.rows[0][3] = x;
+  a.rows[1][3] = y;
+  a.rows[2][3] = z;
+  return a;
+}
+
+struct BoxSceneOptions {
+  double near = 0.05;
+  Vec3d target{0, 0, 0};
+  Vec3d centre{0, 0, 0};  // the box's centre
+  double size = 1.0;      // the box's edge (data/meshes/box.off is the unit box)
+  int width = 64, height = 48;
+};
+
+// The box (an occluder) and a 40-wide receiver below it (top face at y = -0.6).
+inline Scene box_scene(const Vec3d& eye, const Vec3d& light, const BoxSceneOptions& o = {}) {
+  const TriangleMesh box_mesh = read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off");
+  SceneBuilder b("box scene");
+  b.camera(look_at_camera(eye, o.target, {0, 1, 0}, 60, o.near, 100, o.width, o.height));
+  b.light(light);
+  Affine3d box = translate(o.centre.x, o.centre.y, o.centre.z);
+  for (int k = 0; k < 3; ++k) box.rows[k][k] = o.size;
+  b.object(box_mesh, box);
+  Affine3d ground = translate(0, -20.6, 0);
+  for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
+  b.receiver(box_mesh, ground);
+  return b.build();
+}
+
+}  // namespace nearcap::test
