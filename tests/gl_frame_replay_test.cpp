@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "llvmpipe_fixture.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/egl_context.hpp"
@@ -19,19 +20,7 @@
 namespace nearcap {
 namespace {
 
-class GlFrameReplayTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    try {
-      context_ = std::make_unique<render::EglContext>();
-    } catch (const Error& e) {
-      GTEST_SKIP() << "no headless OpenGL here: " << e.what();
-    }
-    if (context_->renderer().find("llvmpipe") == std::string::npos)
-      GTEST_SKIP() << "the emulation models llvmpipe; this context is " << context_->renderer();
-  }
-  std::unique_ptr<render::EglContext> context_;
-};
+class GlFrameReplayTest : public test::LlvmpipeTest {};
 
 struct Outcome {
   render::ReplayComparison differences;
@@ -76,7 +65,6 @@ TEST(GlFrameRecording, RecordingLeavesTheFrameAsItWas) {
 // pixels per frame (at most 10 here, every one a depth near-tie: the next
 // test), except where GL_DEPTH_CLAMP is on (the case-D switch: below).
 TEST_F(GlFrameReplayTest, LlvmpipeAgreesWithTheEmulationButForDepthNearTies) {
-  std::printf("[ context  ] %s, %s\n", context_->renderer().c_str(), context_->version().c_str());
   for (const char* name : {"default.json", "no_near_clip.json", "eye_in_shadow.json", "near_split.json", "case_d.json",
                            "twisted.json", "room.json", "room_side_light.json", "far_grazing.json"}) {
     const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "llvmpipe_fixture.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/clipping.hpp"
 #include "nearcap/gl/pipeline.hpp"
@@ -69,21 +70,7 @@ std::vector<Triangle> centre_aligned_triangles() {
   return triangles;
 }
 
-class LlvmpipeRasterizer : public ::testing::Test {
- protected:
-  void SetUp() override {
-    try {
-      context_ = std::make_unique<render::EglContext>();
-    } catch (const Error& e) {
-      GTEST_SKIP() << "no headless OpenGL here: " << e.what();
-    }
-    if (context_->renderer().find("llvmpipe") == std::string::npos)
-      GTEST_SKIP() << "the emulation models llvmpipe; this context is " << context_->renderer();
-    std::printf("[ context  ] %s, %s (%s)\n", context_->renderer().c_str(), context_->version().c_str(),
-                context_->platform().c_str());
-  }
-  std::unique_ptr<render::EglContext> context_;
-};
+class LlvmpipeRasterizer : public test::LlvmpipeTest {};
 
 // Describes the first pixel where two coverage images differ.
 std::string first_difference(const Triangle& t, const std::vector<std::uint8_t>& real,

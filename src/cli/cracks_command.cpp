@@ -41,7 +41,9 @@ struct CracksOptions {
 constexpr double kCracksBytesPerPixel = 30;  // 28.5 (one method) to 30.4 (all five) at 2048x2048
 constexpr double kCracksBytesPerPixelPerMethod = 1;
 
-nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements) {
+// What every judged record holds: the method, its wrong pixels and their
+// crack distances, the count and visibility mismatches.
+nlohmann::json judged_json(const CrackReport& r) {
   nlohmann::json j;
   j["method"] = r.method;
   j["pixels_seen"] = r.pixels_seen;
@@ -56,9 +58,14 @@ nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::
     j["wrong_by_distance"] = buckets;
   }
   j["count_mismatch"] = r.count_mismatch;
+  j["visibility_mismatch"] = r.visibility_mismatch;
+  return j;
+}
+
+nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements) {
+  nlohmann::json j = judged_json(r);
   j["cap_mismatch"] = r.cap_mismatch ? nlohmann::json(*r.cap_mismatch) : nlohmann::json(nullptr);
   j["case_disagreements"] = case_disagreements;
-  j["visibility_mismatch"] = r.visibility_mismatch;
   j["ms"] = f.times.total();
   j["pass_ms"] = {{"setup", f.times.setup_ms},
                   {"depth", f.times.depth_ms},
@@ -103,23 +110,9 @@ void print_table(const std::vector<nlohmann::json>& records) {
 // A ray-traced frame's record: the judged counts, its times and its choice.
 nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport& r, double build_ms,
                              raytrace::ShadowEpsilon epsilon) {
-  nlohmann::json j;
-  j["method"] = r.method;
-  j["pixels_seen"] = r.pixels_seen;
-  j["wrong"] = r.wrong;
-  j["wrong_lit"] = r.wrong_lit;
-  j["wrong_shadowed"] = r.wrong_shadowed;
-  if (r.cracks) {
-    j["cracks"] = *r.cracks;
-    nlohmann::json buckets = nlohmann::json::object();
-    for (std::size_t k = 0; k < kCrackDistanceLevels; ++k)
-      buckets[std::string(kCrackDistanceNames[k])] = (*r.wrong_by_distance)[k];
-    j["wrong_by_distance"] = buckets;
-  }
-  j["count_mismatch"] = r.count_mismatch;
+  nlohmann::json j = judged_json(r);
   j["cap_mismatch"] = nullptr;
   j["case_disagreements"] = 0;
-  j["visibility_mismatch"] = r.visibility_mismatch;
   j["ms"] = build_ms + f.trace_ms;
   j["pass_ms"] = {{"build", build_ms}, {"trace", f.trace_ms}};
   j["shadow_epsilon"] = std::string(to_string(epsilon));

@@ -5,32 +5,13 @@
 
 #include <string>
 
+#include "gl_objects.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::render {
 namespace {
 
 bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
-
-void check_gl(const char* step) {
-  const GLenum e = glGetError();
-  if (e != GL_NO_ERROR) throw Error(ErrorKind::Gl, std::string("GL error ") + std::to_string(e) + " after " + step);
-}
-
-GLuint compile(GLenum stage, const char* source) {
-  const GLuint shader = glCreateShader(stage);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw Error(ErrorKind::Gl, std::string("shader compilation failed: ") + log);
-  }
-  return shader;
-}
 
 // Positions arrive in normalized device coordinates, computed exactly on the
 // CPU; the shader passes them through with w = 1.
@@ -62,16 +43,7 @@ CoverageProbe::CoverageProbe(int width, int height) : width_(width), height_(hei
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw Error(ErrorKind::Gl, "the coverage probe's framebuffer object is incomplete");
 
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader), fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-  program_ = glCreateProgram();
-  glAttachShader(program_, vs);
-  glAttachShader(program_, fs);
-  glLinkProgram(program_);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program_, GL_LINK_STATUS, &linked);
-  if (!linked) throw Error(ErrorKind::Gl, "the coverage probe's program does not link");
+  program_ = link_program(kVertexShader, kFragmentShader, "the coverage probe's program");
 
   glGenVertexArrays(1, &vertex_array_);
   glBindVertexArray(vertex_array_);

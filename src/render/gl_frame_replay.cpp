@@ -6,30 +6,11 @@
 #include <chrono>
 #include <string>
 
+#include "gl_objects.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::render {
 namespace {
-
-void check_gl(const char* step) {
-  const GLenum e = glGetError();
-  if (e != GL_NO_ERROR) throw Error(ErrorKind::Gl, std::string("GL error ") + std::to_string(e) + " after " + step);
-}
-
-GLuint compile(GLenum stage, const char* source) {
-  const GLuint shader = glCreateShader(stage);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw Error(ErrorKind::Gl, std::string("shader compilation failed: ") + log);
-  }
-  return shader;
-}
 
 // The recorded clip-space position, unchanged: the emulation's vertex
 // program already ran in float32.
@@ -76,16 +57,7 @@ GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : wid
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw Error(ErrorKind::Gl, "the replay's framebuffer object is incomplete");
 
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader), fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-  program_ = glCreateProgram();
-  glAttachShader(program_, vs);
-  glAttachShader(program_, fs);
-  glLinkProgram(program_);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program_, GL_LINK_STATUS, &linked);
-  if (!linked) throw Error(ErrorKind::Gl, "the replay's program does not link");
+  program_ = link_program(kVertexShader, kFragmentShader, "the replay's program");
   object_uniform_ = glGetUniformLocation(program_, "object_id");
 
   glGenVertexArrays(1, &vertex_array_);
