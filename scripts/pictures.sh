@@ -16,6 +16,10 @@ $n cracks data/scenes/near_cap_bunny_wall.json --light 0 --method zpplus --out "
 $n cracks data/scenes/case_d.json --light 0 --method zpplus-corrected --out "$work/case_d_corrected" >/dev/null
 $n cracks data/scenes/far_grazing.json --light 0 --method raytrace --out "$work/far_grazing_raytrace" >/dev/null
 /usr/bin/python3 analysis/pictures/readme_pictures.py "$work" data/pictures
+# The real GL's lit frames (llvmpipe through headless EGL) of Z-pass and Z-fail.
+$n render data/scenes/near_cap_bunny_wall.json --method zpass,zfail --out "$work/render" >/dev/null
+cp "$work/render/frame-zpass.png" data/pictures/render_zpass.png
+cp "$work/render/frame-zfail.png" data/pictures/render_zfail.png
 # The sweep report's figures: the near-plane sweep path and 100 hard cases.
 $n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv" >/dev/null 2>&1
 $n report "$work/sweep.csv" --out "$work/report" >/dev/null

@@ -16,6 +16,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
+#include "nearcap/render/lit_frame.hpp"
 
 namespace nearcap {
 namespace {
@@ -195,10 +196,81 @@ TEST(RenderCommand, WithoutAnEglDriverItSaysWhatToInstall) {
   EXPECT_TRUE(r.out.empty());
 }
 
-TEST(RenderCommand, WithoutCompareItSaysWhatIsMissing) {
-  const test::CliResult r = test::run_cli("render data/scenes/default.json --light 0", "render_usage");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--compare"), std::string::npos) << r.err;
+TEST(RenderCommand, UsageErrorsNameTheMissingOption) {
+  const test::CliResult lit = test::run_cli("render data/scenes/default.json --light 0", "render_usage");
+  EXPECT_EQ(lit.exit_code, 2);
+  EXPECT_NE(lit.err.find("--out"), std::string::npos) << lit.err;
+  const test::CliResult compare = test::run_cli("render data/scenes/default.json --compare", "render_usage2");
+  EXPECT_EQ(compare.exit_code, 2);
+  EXPECT_NE(compare.err.find("--light"), std::string::npos) << compare.err;
+}
+
+}  // namespace
+}  // namespace nearcap
+
+namespace nearcap {
+namespace {
+
+class LitFrameTest : public test::LlvmpipeTest {};
+
+// The lit frame's light is gated by that light's stencil: where the real
+// stencil is 0 the pixel is exactly as lit as with no shadow volumes at all,
+// where it is not it gets the ambient term only (darker, or as dark where the
+// surface faces away from the light).
+TEST_F(LitFrameTest, EachLightIsAddedWhereItsStencilIsZero) {
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_split.json");
+  gl::EmulationSettings settings;
+  settings.record_draws = true;
+  const gl::ShadowFrame frame = gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail, settings);
+  gl::ShadowFrame unshadowed = frame;  // the depth pre-pass alone: no volume, stencil 0 everywhere
+  unshadowed.draws.erase(std::remove_if(unshadowed.draws.begin(), unshadowed.draws.end(),
+                                        [](const gl::DrawCall& d) { return d.pass != gl::DrawPass::Depth; }),
+                         unshadowed.draws.end());
+  const render::LitFrame lit = render::render_lit_frame(scene, {frame}, settings.depth);
+  const render::LitFrame bright = render::render_lit_frame(scene, {unshadowed}, settings.depth);
+  render::GlFrameReplay replay(frame.width, frame.height, settings.depth);
+  const render::ReplayedFrame stencil = replay.replay(frame.draws);
+  ASSERT_EQ(lit.rgb.size(), static_cast<std::size_t>(frame.width) * frame.height * 3);
+  std::size_t shadowed = 0, darker = 0, lit_equal = 0, lit_pixels = 0;
+  for (int j = 0; j < frame.height; ++j)
+    for (int i = 0; i < frame.width; ++i) {
+      const std::size_t gl_index = static_cast<std::size_t>(j) * frame.width + i;
+      const std::size_t png_index = (static_cast<std::size_t>(frame.height - 1 - j) * frame.width + i) * 3;
+      if (stencil.object[gl_index] < 0) continue;
+      int sum_lit = 0, sum_bright = 0;
+      for (int c = 0; c < 3; ++c) {
+        sum_lit += lit.rgb[png_index + c];
+        sum_bright += bright.rgb[png_index + c];
+      }
+      if (stencil.stencil[gl_index] == 0) {
+        ++lit_pixels;
+        lit_equal += sum_lit == sum_bright;
+      } else {
+        ++shadowed;
+        darker += sum_lit < sum_bright;
+        EXPECT_LE(sum_lit, sum_bright);
+      }
+    }
+  EXPECT_EQ(lit_equal, lit_pixels);
+  EXPECT_GT(shadowed, 10000u);
+  EXPECT_GT(darker, shadowed / 2) << "the shadow darkens what the light reaches";
+}
+
+TEST(RenderCommand, WritesTheLitFrameOfEachMethod) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r =
+      test::run_cli("render data/scenes/room.json --method zpass,zfail --out '" + dir.string() + "'", "render_lit");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"frame-zpass.png", "frame-zfail.png"}) {
+    const std::string png = test::slurp(dir / name);
+    ASSERT_GT(png.size(), 8u) << name;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << name;
+  }
+  EXPECT_EQ(nlohmann::json::parse(test::slurp(dir / "render.json"))["methods"].size(), 2u);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

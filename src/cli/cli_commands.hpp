@@ -37,9 +37,10 @@ struct ExitCode {
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);
 
-// Adds the required --light option: a non-negative integer written in digits
-// ("-1", "1e0", "" and "abc" are usage errors naming the value).
-void add_light_option(CLI::App& cmd, std::size_t& light);
+// Adds the --light option (required unless `required` is false): a
+// non-negative integer written in digits ("-1", "1e0", "" and "abc" are usage
+// errors naming the value).
+CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required = true);
 
 // --max-memory GB, for the commands whose memory grows with the pixel count.
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);

@@ -21,7 +21,7 @@ std::string subcommand_names(const CLI::App& app) {
   return names;
 }
 
-void add_light_option(CLI::App& cmd, std::size_t& light) {
+CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) {
   const CLI::Validator digits(
       [](std::string& value) -> std::string {
         const bool ok = !value.empty() && value.size() <= 9 &&
@@ -29,7 +29,9 @@ void add_light_option(CLI::App& cmd, std::size_t& light) {
         return ok ? std::string() : "'" + value + "' is not a light index (a non-negative integer)";
       },
       "INDEX");
-  cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)")->required()->check(digits);
+  CLI::Option* option = cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)");
+  option->required(required)->check(digits);
+  return option;
 }
 
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {

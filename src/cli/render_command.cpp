@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
@@ -14,6 +15,7 @@
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
+#include "nearcap/render/lit_frame.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -21,6 +23,7 @@ namespace {
 struct RenderOptions {
   std::string scene;
   std::size_t light = 0;
+  bool light_given = false;
   std::string method = "all";
   bool compare = false;
   std::string out;
@@ -38,11 +41,47 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
   return nearcap::encode_pgm16(width, height, top_first);
 }
 
+// Without --compare: the lit frame of each method, every light (or --light
+// K alone), as DIR/frame-METHOD.png.
+void run_lit(const RenderOptions& o) {
+  if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
+  const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
+  gl::EmulationSettings settings = settings_from(o.emulation);
+  settings.record_draws = true;
+  const Scene scene = load_scene(o.scene);
+  if (o.light_given) check_light_index(scene, o.light);
+  check_memory_estimate(scene, "render", 40, o.max_memory_gb);
+  const render::EglContext context;
+  std::vector<std::size_t> lights;
+  for (std::size_t k = 0; k < scene.lights.size(); ++k)
+    if (!o.light_given || k == o.light) lights.push_back(k);
+  std::vector<std::unique_ptr<gl::ShadowFrameBatch>> batches;  // one per light, shared by the methods
+  for (std::size_t k : lights) batches.push_back(std::make_unique<gl::ShadowFrameBatch>(scene, k, settings));
+  nlohmann::json records = nlohmann::json::array();
+  std::vector<io::OutputFile> files;
+  for (gl::ShadowMethod m : methods) {
+    const std::string name(to_string(m));
+    try {
+      std::vector<gl::ShadowFrame> frames;
+      for (const auto& b : batches) frames.push_back(b->render(m));
+      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth);
+      const std::string file = (std::filesystem::path(o.out) / ("frame-" + name + ".png")).string();
+      files.push_back({file, encode_png_rgb(lit.width, lit.height, lit.rgb)});
+      records.push_back({{"method", name}, {"file", file}, {"lights", lights.size()}, {"ms", lit.ms}});
+    } catch (const Error& e) {
+      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.size() == 1) throw;
+      records.push_back({{"method", name}, {"refused", e.what()}});
+    }
+  }
+  nlohmann::json root{{"renderer", context.renderer()}, {"version", context.version()}, {"methods", records}};
+  files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
+  io::write_output_files(files);
+  std::cout << root.dump() << "\n";
+}
+
 void run(const RenderOptions& o) {
-  if (!o.compare)
-    throw Error(ErrorKind::Usage,
-                "nearcap render draws the shadow methods on a real GL to compare them: pass --compare (the lit "
-                "frame and the camera paths are not written yet)");
+  if (!o.compare) return run_lit(o);
+  if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
   const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
@@ -108,18 +147,24 @@ void register_render(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "render",
       "draw the stencil methods on a real OpenGL (headless EGL: llvmpipe, or a GPU's driver) from the emulation's "
-      "own draw calls; with --compare, one JSON record per method: stencil pixels where GL and the emulation "
-      "differ, and wrong pixels of each against the exact reference; with --out DIR, both stencils as 16-bit PGM");
+      "own draw calls: the lit frame with its shadows, every light (or --light K), as DIR/frame-METHOD.png; with "
+      "--compare --light K, one JSON record per method: stencil pixels where GL and the emulation differ, and wrong "
+      "pixels of each against the exact reference (with --out DIR, both stencils as 16-bit PGM)");
   auto o = std::make_shared<RenderOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
-  add_light_option(*cmd, o->light);
+  auto* light = add_light_option(*cmd, o->light, false);
   cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload, comma-separated, or all")
       ->capture_default_str();
   cmd->add_flag("--compare", o->compare, "compare the real GL's stencil with the emulation's and the exact reference");
-  cmd->add_option("--out", o->out, "output directory for the stencils and render.json (created if missing)");
+  cmd->add_option("--out", o->out,
+                  "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
+                  "if missing)");
   add_emulation_options(*cmd, o->emulation);
   add_max_memory_option(*cmd, o->max_memory_gb);
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o, light] {
+    o->light_given = light->count() > 0;
+    run(*o);
+  });
 }
 
 }  // namespace nearcap::cli

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <string>
 
+#include "draw_state.hpp"
 #include "gl_objects.hpp"
 #include "nearcap/error.hpp"
 
@@ -23,18 +24,6 @@ uniform int object_id;
 layout(location = 0) out int object;
 void main() { object = object_id; }
 )";
-
-GLenum stencil_op(gl::StencilOp op) {
-  switch (op) {
-    case gl::StencilOp::IncrementWrap:
-      return GL_INCR_WRAP;
-    case gl::StencilOp::DecrementWrap:
-      return GL_DECR_WRAP;
-    case gl::StencilOp::Keep:
-      break;
-  }
-  return GL_KEEP;
-}
 
 }  // namespace
 
@@ -112,37 +101,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const gl::DrawCall& d = draws[k];
     const gl::DrawState& s = d.state;
-    if (s.cull == gl::CullFace::None) {
-      glDisable(GL_CULL_FACE);
-    } else {
-      glEnable(GL_CULL_FACE);
-      glCullFace(s.cull == gl::CullFace::Back ? GL_BACK : GL_FRONT);
-    }
-    if (s.depth_func == gl::DepthFunc::Always) {
-      glDisable(GL_DEPTH_TEST);
-    } else {
-      glEnable(GL_DEPTH_TEST);
-      glDepthFunc(GL_LESS);
-    }
-    glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
-    glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
-    if (s.depth_clamp_near && s.depth_clamp_far) {
-      glEnable(GL_DEPTH_CLAMP);
-    } else {
-      glDisable(GL_DEPTH_CLAMP);
-      if (far_only_clamp_) {
-        if (s.depth_clamp_far)
-          glEnable(GL_DEPTH_CLAMP_FAR_AMD);
-        else
-          glDisable(GL_DEPTH_CLAMP_FAR_AMD);
-        if (s.depth_clamp_near)
-          glEnable(GL_DEPTH_CLAMP_NEAR_AMD);
-        else
-          glDisable(GL_DEPTH_CLAMP_NEAR_AMD);
-      }
-    }
-    glStencilOpSeparate(GL_FRONT, GL_KEEP, stencil_op(s.front.depth_fail), stencil_op(s.front.depth_pass));
-    glStencilOpSeparate(GL_BACK, GL_KEEP, stencil_op(s.back.depth_fail), stencil_op(s.back.depth_pass));
+    apply_draw_state(s, far_only_clamp_);
     if (volume_depth_offset != 0 && d.pass == gl::DrawPass::Volume) {
       glEnable(GL_POLYGON_OFFSET_FILL);
       glPolygonOffset(0.0f, volume_depth_offset);

@@ -1,0 +1,35 @@
+// nearcap/render/lit_frame.hpp — the lit frame with its shadows, drawn by a
+// real OpenGL as a shadow-volume renderer draws it, from the emulation's own
+// draw calls (render/gl_frame_replay.hpp):
+//   1. the depth pre-pass, writing depth and the ambient colour;
+//   2. per light: the stencil cleared, that light's near-cap and volume
+//      draws (its ShadowFrame::draws, recorded), then every object again
+//      with its diffuse colour for the light, depth test GL_EQUAL (the same
+//      clip-space vertices, so the same depths), stencil test EQUAL 0, added
+//      to the colour (glBlendFunc(GL_ONE, GL_ONE)).
+// Colours are flat per triangle: albedo times (ambient, or the Lambert term
+// of the world-space face normal towards the light from the triangle's
+// centroid, divided by the number of lights); occluders grey, receivers a
+// warm brown.  Needs a current context (EglContext).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::render {
+
+struct LitFrame {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // 8-bit RGB, top row first (as a PNG stores it)
+  double ms = 0;                  // every pass and glFinish (wall clock)
+};
+
+// `light_frames[k]`: the frame of scene light k with one method, recorded
+// (EmulationSettings::record_draws), all with the same projection (one
+// method and settings for every light).  Throws Error(Gl) as GlFrameReplay.
+LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth);
+
+}  // namespace nearcap::render

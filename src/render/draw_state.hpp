@@ -1,0 +1,62 @@
+// An emulated draw call's state set on the real GL (gl/pipeline.hpp's
+// DrawState; render/gl_frame_replay.hpp says how each field maps).  Private
+// to src/render/.  Needs a current context.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include "nearcap/gl/pipeline.hpp"
+
+namespace nearcap::render {
+
+inline GLenum stencil_op(gl::StencilOp op) {
+  switch (op) {
+    case gl::StencilOp::IncrementWrap:
+      return GL_INCR_WRAP;
+    case gl::StencilOp::DecrementWrap:
+      return GL_DECR_WRAP;
+    case gl::StencilOp::Keep:
+      break;
+  }
+  return GL_KEEP;
+}
+
+// Culling, the depth test and writes, depth clamp (far only through
+// GL_AMD_depth_clamp_separate when `far_only_clamp`), the two-sided stencil
+// operations; colour writes follow depth writes (the object ids are written
+// with the depth).
+inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp) {
+  if (s.cull == gl::CullFace::None) {
+    glDisable(GL_CULL_FACE);
+  } else {
+    glEnable(GL_CULL_FACE);
+    glCullFace(s.cull == gl::CullFace::Back ? GL_BACK : GL_FRONT);
+  }
+  if (s.depth_func == gl::DepthFunc::Always) {
+    glDisable(GL_DEPTH_TEST);
+  } else {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+  }
+  glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
+  glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
+  if (s.depth_clamp_near && s.depth_clamp_far) {
+    glEnable(GL_DEPTH_CLAMP);
+  } else {
+    glDisable(GL_DEPTH_CLAMP);
+    if (far_only_clamp) {
+      if (s.depth_clamp_far)
+        glEnable(GL_DEPTH_CLAMP_FAR_AMD);
+      else
+        glDisable(GL_DEPTH_CLAMP_FAR_AMD);
+      if (s.depth_clamp_near)
+        glEnable(GL_DEPTH_CLAMP_NEAR_AMD);
+      else
+        glDisable(GL_DEPTH_CLAMP_NEAR_AMD);
+    }
+  }
+  glStencilOpSeparate(GL_FRONT, GL_KEEP, stencil_op(s.front.depth_fail), stencil_op(s.front.depth_pass));
+  glStencilOpSeparate(GL_BACK, GL_KEEP, stencil_op(s.back.depth_fail), stencil_op(s.back.depth_pass));
+}
+
+}  // namespace nearcap::render

@@ -1,0 +1,190 @@
+// The lit frame on a real GL (see lit_frame.hpp).
+#include "nearcap/render/lit_frame.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "draw_state.hpp"
+#include "gl_objects.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap::render {
+namespace {
+
+const char* const kVertexShader = R"(#version 450 core
+layout(location = 0) in vec4 clip;
+layout(location = 1) in vec3 colour_in;
+out vec3 colour_v;
+void main() { gl_Position = clip; colour_v = colour_in; }
+)";
+const char* const kFragmentShader = R"(#version 450 core
+in vec3 colour_v;
+layout(location = 0) out vec4 colour;
+void main() { colour = vec4(colour_v, 1.0); }
+)";
+
+constexpr float kAmbient = 0.2f;
+
+// Per vertex of object o's depth draw (3 per triangle, mesh order): its
+// triangle's colour, ambient when `light` is null, else the diffuse term.
+std::vector<float> colours(const Scene& scene, std::size_t o, const Vec3d* light, std::size_t lights) {
+  const SceneObject& obj = scene.objects[o];
+  const float albedo[3] = {obj.occluder ? 0.75f : 0.80f, obj.occluder ? 0.75f : 0.55f, obj.occluder ? 0.78f : 0.35f};
+  std::vector<float> out;
+  out.reserve(9 * obj.mesh->triangles.size());
+  for (const auto& t : obj.mesh->triangles) {
+    float k = kAmbient;
+    if (light) {
+      const Vec3d a = obj.object_to_world.apply(obj.mesh->positions[t[0]]),
+                  b = obj.object_to_world.apply(obj.mesh->positions[t[1]]),
+                  c = obj.object_to_world.apply(obj.mesh->positions[t[2]]);
+      const Vec3d n = cross(b - a, c - a), centroid = (1.0 / 3.0) * (a + b + c), to_light = *light - centroid;
+      const double nl = std::sqrt(dot(n, n) * dot(to_light, to_light));
+      // Mirrored objects keep outward normals: the orientation is the mesh's.
+      k = nl > 0 ? static_cast<float>(std::max(0.0, dot(n, to_light) / nl) * (1.0 - kAmbient) /
+                                      static_cast<double>(lights))
+                 : 0.0f;
+    }
+    for (int v = 0; v < 3; ++v)
+      for (float x : albedo) out.push_back(x * k);
+  }
+  return out;
+}
+
+}  // namespace
+
+LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth) {
+  if (light_frames.empty()) throw Error(ErrorKind::Usage, "a lit frame needs at least one light's shadow frame");
+  const int width = scene.camera.width, height = scene.camera.height;
+  const bool far_only_clamp = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
+  for (const gl::ShadowFrame& f : light_frames) {
+    if (f.draws.empty()) throw Error(ErrorKind::Usage, "a lit frame needs recorded draws (record_draws)");
+    for (const gl::DrawCall& d : f.draws)
+      if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp)
+        throw Error(ErrorKind::Gl,
+                    "this frame clamps depth at one plane only, which needs "
+                    "GL_AMD_depth_clamp_separate; the driver lacks it");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[2] = {0, 0};
+  glGenFramebuffers(1, &framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glGenRenderbuffers(1, &colour);
+  glBindRenderbuffer(GL_RENDERBUFFER, colour);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+  glGenRenderbuffers(1, &depth_stencil);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_stencil);
+  glRenderbufferStorage(GL_RENDERBUFFER, depth == gl::DepthFormat::Fixed24 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8,
+                        width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_stencil);
+  const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  const GLuint program = complete ? link_program(kVertexShader, kFragmentShader, "the lit frame's program") : 0;
+  glGenVertexArrays(1, &vertex_array);
+  glBindVertexArray(vertex_array);
+  glGenBuffers(2, buffers);
+  auto release = [&] {
+    glDeleteBuffers(2, buffers);
+    glDeleteVertexArrays(1, &vertex_array);
+    if (program) glDeleteProgram(program);
+    glDeleteRenderbuffers(1, &depth_stencil);
+    glDeleteRenderbuffers(1, &colour);
+    glDeleteFramebuffers(1, &framebuffer);
+  };
+  if (!complete) {
+    release();
+    throw Error(ErrorKind::Gl, "the lit frame's framebuffer object is incomplete");
+  }
+  auto draw = [&](const std::vector<gl::Vec4f>& clip, const std::vector<float>& rgb) {
+    glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(clip.size() * sizeof(gl::Vec4f)), clip.data(),
+                 GL_STREAM_DRAW);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    if (rgb.empty()) {
+      glDisableVertexAttribArray(1);
+      glVertexAttrib3f(1, 0, 0, 0);
+    } else {
+      glBindBuffer(GL_ARRAY_BUFFER, buffers[1]);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(rgb.size() * sizeof(float)), rgb.data(), GL_STREAM_DRAW);
+      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+      glEnableVertexAttribArray(1);
+    }
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(clip.size()));
+  };
+
+  glViewport(0, 0, width, height);
+  glDisable(GL_MULTISAMPLE);
+  glDisable(GL_BLEND);
+  glFrontFace(GL_CCW);
+  glUseProgram(program);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glClearColor(0.05f, 0.06f, 0.09f, 1.0f);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  // 1. The depth pre-pass with the ambient colour.
+  std::vector<const gl::DrawCall*> depth_draws;
+  for (const gl::DrawCall& d : light_frames.front().draws)
+    if (d.pass == gl::DrawPass::Depth) depth_draws.push_back(&d);
+  for (const gl::DrawCall* d : depth_draws) {
+    apply_draw_state(d->state, far_only_clamp);
+    draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
+  }
+  // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
+  for (std::size_t k = 0; k < light_frames.size(); ++k) {
+    glClear(GL_STENCIL_BUFFER_BIT);
+    glStencilFunc(GL_ALWAYS, 0, 0xFF);
+    glDisable(GL_BLEND);
+    for (const gl::DrawCall& d : light_frames[k].draws) {
+      if (d.pass == gl::DrawPass::Depth) continue;
+      apply_draw_state(d.state, far_only_clamp);
+      draw(d.clip_vertices, {});
+    }
+    glDisable(GL_DEPTH_CLAMP);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_EQUAL);
+    glDepthMask(GL_FALSE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glStencilFunc(GL_EQUAL, 0, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    const Vec3d& light = scene.lights[light_frames[k].light].position;
+    for (const gl::DrawCall* d : depth_draws)
+      draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
+  }
+  glFinish();
+  LitFrame out;
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.width = width;
+  out.height = height;
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  glDisable(GL_BLEND);
+  glDisable(GL_STENCIL_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  release();
+  check_gl("drawing the lit frame");
+  out.rgb.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i)
+      for (int c = 0; c < 3; ++c)
+        out.rgb[(static_cast<std::size_t>(height - 1 - j) * width + i) * 3 + c] =
+            rgba[(static_cast<std::size_t>(j) * width + i) * 4 + c];
+  return out;
+}
+
+}  // namespace nearcap::render
