@@ -4,7 +4,8 @@
 #   1. runs every command on data/scenes/near_cap_bunny_wall.json (the Stanford
 #      bunny between a light and the camera's near plane, a wall behind: where
 #      ZP+ as published cracks and its corrections do not), results under
-#      out/near_cap_bunny_wall/;
+#      out/near_cap_bunny_wall/, the real GL's lit frames (headless EGL) in
+#      out/near_cap_bunny_wall/render/;
 #   2. sweeps the bundled camera paths (data/paths/, 430 frames at 160 x 120)
 #      and 200 hard configurations of the sampler through the exact reference
 #      and the five float methods, with the engines' Z-pass / Z-fail rules
@@ -37,7 +38,14 @@ echo "== nearcap reference $scene --light 0 (the exact per-pixel counts; picture
 ./build/nearcap reference "$scene" --light 0 --out "$out" >/dev/null
 echo "== nearcap cracks $scene --light 0 --table (every float method against the exact reference)"
 ./build/nearcap cracks "$scene" --light 0 --table --out "$out"
-echo "== results in $out/: cracks-METHOD.png shows each method's wrong pixels, ringed, with a legend"
+echo "== nearcap render $scene --out $out/render (the real GL, headless: lit frames; and against the emulation)"
+if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected --out "$out/render" >/dev/null; then
+  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected
+else
+  echo "   (no headless OpenGL on this machine: the real-GL part is skipped; the rest does not need it)"
+fi
+echo "== results in $out/: cracks-METHOD.png shows each method's wrong pixels, ringed, with a legend;"
+echo "   render/frame-METHOD.png the real GL's lit frames"
 ls -l "$out"
 
 echo "== nearcap sweep: the bundled camera paths and 200 hard configurations (out/sweep/rows.csv)"
