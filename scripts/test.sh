@@ -25,11 +25,13 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARCAP_SA
   -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-asan
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E '^LlvmpipeRasterizer\.'
-# The tests that drive Mesa through EGL run with every check but leak
+# The tests that drive Mesa through EGL (the rasterizer probe, the frame
+# replay and lit frame, `nearcap render`) run with every check but leak
 # detection: llvmpipe's driver, loaded by EGL and unloaded at eglTerminate,
 # leaves 9 small allocations (720 bytes) whose stacks end inside it.
+egl_tests='^(LlvmpipeRasterizer|GlFrameReplayTest|LitFrameTest|RenderCommand)\.'
+NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E "$egl_tests"
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -R '^LlvmpipeRasterizer\.'
+  ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -R "$egl_tests"
 ./scripts/fuzz.sh "${NEARCAP_FUZZ_SECONDS:-12}"
