@@ -196,6 +196,25 @@ TEST(RenderCommand, WithoutAnEglDriverItSaysWhatToInstall) {
   EXPECT_TRUE(r.out.empty());
 }
 
+TEST(RenderCommand, APathWritesEveryFrameAndItsTime) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_path_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "render --path data/paths/eye_in_shadow.json --method zpass,zfail --out '" + dir.string() + "'", "render_path");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("x Z-pass"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "render.json"));
+  ASSERT_EQ(j["methods"].size(), 2u);
+  for (const nlohmann::json& m : j["methods"]) {
+    ASSERT_EQ(m["frames"].size(), 60u);  // the path's frames
+    EXPECT_GT(m["mean_ms"].get<double>(), 0.0);
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "zfail" / "frame-0059.png"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(RenderCommand, UsageErrorsNameTheMissingOption) {
   const test::CliResult lit = test::run_cli("render data/scenes/default.json --light 0", "render_usage");
   EXPECT_EQ(lit.exit_code, 2);
@@ -203,6 +222,10 @@ TEST(RenderCommand, UsageErrorsNameTheMissingOption) {
   const test::CliResult compare = test::run_cli("render data/scenes/default.json --compare", "render_usage2");
   EXPECT_EQ(compare.exit_code, 2);
   EXPECT_NE(compare.err.find("--light"), std::string::npos) << compare.err;
+  const test::CliResult both =
+      test::run_cli("render data/scenes/default.json --path data/paths/zoom.json --out x", "render_usage3");
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("--path"), std::string::npos) << both.err;
 }
 
 }  // namespace

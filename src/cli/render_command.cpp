@@ -4,11 +4,13 @@
 // reference, one JSON record per method.
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "cli_commands.hpp"
+#include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -22,6 +24,7 @@ namespace {
 
 struct RenderOptions {
   std::string scene;
+  std::string path;  // a camera path instead of a scene
   std::size_t light = 0;
   bool light_given = false;
   std::string method = "all";
@@ -41,46 +44,137 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
   return nearcap::encode_pgm16(width, height, top_first);
 }
 
-// Without --compare: the lit frame of each method, every light (or --light
-// K alone), as DIR/frame-METHOD.png.
+// One lit frame per method of `scene` (every light, or --light K alone):
+// PNG bytes and GL time per method, "refused" where the driver or the float
+// pipeline cannot draw it.
+struct LitFrames {
+  std::vector<std::string> png;  // per method; empty when refused
+  std::vector<double> ms;
+  std::vector<std::string> refused;
+  std::size_t lights = 0;
+};
+
+LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const std::vector<gl::ShadowMethod>& methods,
+                     const gl::EmulationSettings& settings) {
+  LitFrames out;
+  std::vector<std::size_t> lights;
+  for (std::size_t k = 0; k < scene.lights.size(); ++k)
+    if (!o.light_given || k == o.light) lights.push_back(k);
+  out.lights = lights.size();
+  std::vector<std::unique_ptr<gl::ShadowFrameBatch>> batches;  // one per light, shared by the methods
+  for (std::size_t k : lights) batches.push_back(std::make_unique<gl::ShadowFrameBatch>(scene, k, settings));
+  for (gl::ShadowMethod m : methods) {
+    try {
+      std::vector<gl::ShadowFrame> frames;
+      for (const auto& b : batches) frames.push_back(b->render(m));
+      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth);
+      out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
+      out.ms.push_back(lit.ms);
+      out.refused.emplace_back();
+    } catch (const Error& e) {
+      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.size() == 1) throw;
+      out.png.emplace_back();
+      out.ms.push_back(0);
+      out.refused.push_back(e.what());
+    }
+  }
+  return out;
+}
+
+// Without --compare: the lit frame of each method as DIR/frame-METHOD.png,
+// or with --path every frame of the camera path as DIR/METHOD/frame-NNNN.png,
+// with each frame's GL time in DIR/render.json.
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
   const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
-  const Scene scene = load_scene(o.scene);
-  if (o.light_given) check_light_index(scene, o.light);
-  check_memory_estimate(scene, "render", 40, o.max_memory_gb);
+  std::vector<Scene> scenes;
+  if (!o.path.empty()) {
+    const analysis::CameraPath path = analysis::load_camera_path(o.path);
+    for (int f = 0; f < path.frames; ++f)
+      scenes.push_back(
+          parse_scene(analysis::path_frame_json(path, f), path.source + " frame " + std::to_string(f), "."));
+  } else {
+    scenes.push_back(load_scene(o.scene));
+  }
+  for (const Scene& scene : scenes) {
+    if (o.light_given) check_light_index(scene, o.light);
+    check_memory_estimate(scene, "render", 40, o.max_memory_gb);
+  }
   const render::EglContext context;
-  std::vector<std::size_t> lights;
-  for (std::size_t k = 0; k < scene.lights.size(); ++k)
-    if (!o.light_given || k == o.light) lights.push_back(k);
-  std::vector<std::unique_ptr<gl::ShadowFrameBatch>> batches;  // one per light, shared by the methods
-  for (std::size_t k : lights) batches.push_back(std::make_unique<gl::ShadowFrameBatch>(scene, k, settings));
-  nlohmann::json records = nlohmann::json::array();
+  const std::filesystem::path dir(o.out);
   std::vector<io::OutputFile> files;
-  for (gl::ShadowMethod m : methods) {
-    const std::string name(to_string(m));
-    try {
-      std::vector<gl::ShadowFrame> frames;
-      for (const auto& b : batches) frames.push_back(b->render(m));
-      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth);
-      const std::string file = (std::filesystem::path(o.out) / ("frame-" + name + ".png")).string();
-      files.push_back({file, encode_png_rgb(lit.width, lit.height, lit.rgb)});
-      records.push_back({{"method", name}, {"file", file}, {"lights", lights.size()}, {"ms", lit.ms}});
-    } catch (const Error& e) {
-      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.size() == 1) throw;
-      records.push_back({{"method", name}, {"refused", e.what()}});
+  std::vector<nlohmann::json> per_method(methods.size(), nlohmann::json::array());
+  std::vector<double> total_ms(methods.size(), 0);
+  std::vector<std::string> refused(methods.size());
+  std::size_t lights = 0;
+  for (std::size_t f = 0; f < scenes.size(); ++f) {
+    const LitFrames frames = lit_frames(scenes[f], o, methods, settings);
+    lights = frames.lights;
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      const std::string name(to_string(methods[m]));
+      if (!frames.refused[m].empty()) {
+        refused[m] = frames.refused[m];
+        continue;
+      }
+      char frame_name[32];
+      std::snprintf(frame_name, sizeof frame_name, "frame-%04zu.png", f);
+      const std::string file =
+          o.path.empty() ? (dir / ("frame-" + name + ".png")).string() : (dir / name / frame_name).string();
+      files.push_back({file, frames.png[m]});
+      per_method[m].push_back({{"frame", f}, {"file", file}, {"ms", frames.ms[m]}});
+      total_ms[m] += frames.ms[m];
     }
+    if (scenes.size() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.size());
+  }
+  if (scenes.size() > 1) std::fprintf(stderr, "\n");
+  nlohmann::json records = nlohmann::json::array();
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    nlohmann::json r{{"method", std::string(to_string(methods[m]))}, {"lights", lights}};
+    if (!refused[m].empty()) r["refused"] = refused[m];
+    if (!per_method[m].empty()) {
+      r["frames"] = per_method[m];
+      r["mean_ms"] = total_ms[m] / static_cast<double>(per_method[m].size());
+      if (o.path.empty()) {
+        r["file"] = per_method[m][0]["file"];
+        r["ms"] = per_method[m][0]["ms"];
+      }
+    }
+    records.push_back(r);
   }
   nlohmann::json root{{"renderer", context.renderer()}, {"version", context.version()}, {"methods", records}};
-  files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
+  if (!o.path.empty()) root["path"] = o.path;
+  files.push_back({(dir / "render.json").string(), root.dump(1) + "\n"});
   io::write_output_files(files);
-  std::cout << root.dump() << "\n";
+  if (o.path.empty()) {
+    std::cout << root.dump() << "\n";
+  } else {
+    // The summary a person reads: mean GL time per frame, relative to Z-pass's.
+    double zpass_ms = 0;
+    for (const nlohmann::json& r : records)
+      if (r["method"] == "zpass" && r.contains("mean_ms")) zpass_ms = r["mean_ms"].get<double>();
+    std::printf("%s, %zu frames (%s):\n", o.path.c_str(), scenes.size(), context.renderer().c_str());
+    for (const nlohmann::json& r : records) {
+      if (!r.contains("mean_ms")) {
+        std::printf("  %-17s refused: %s\n", r["method"].get<std::string>().c_str(),
+                    r["refused"].get<std::string>().c_str());
+        continue;
+      }
+      const double mean = r["mean_ms"].get<double>();
+      std::printf("  %-17s %8.2f ms per frame", r["method"].get<std::string>().c_str(), mean);
+      if (zpass_ms > 0) std::printf("  (%.2fx Z-pass)", mean / zpass_ms);
+      std::printf("\n");
+    }
+    std::printf("frames in %s/METHOD/, times in %s/render.json\n", o.out.c_str(), o.out.c_str());
+  }
 }
 
 void run(const RenderOptions& o) {
+  if (o.scene.empty() == o.path.empty())
+    throw Error(ErrorKind::Usage, "nearcap render takes a scene file or --path PATH (one of them)");
   if (!o.compare) return run_lit(o);
+  if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
   const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
   gl::EmulationSettings settings = settings_from(o.emulation);
@@ -151,7 +245,8 @@ void register_render(CLI::App& app) {
       "--compare --light K, one JSON record per method: stencil pixels where GL and the emulation differ, and wrong "
       "pixels of each against the exact reference (with --out DIR, both stencils as 16-bit PGM)");
   auto o = std::make_shared<RenderOptions>();
-  cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
+  cmd->add_option("scene", o->scene, "scene file (JSON)");
+  cmd->add_option("--path", o->path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
   auto* light = add_light_option(*cmd, o->light, false);
   cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload, comma-separated, or all")
       ->capture_default_str();
