@@ -103,10 +103,12 @@ void print_table(const std::vector<nlohmann::json>& records) {
       continue;
     }
     const std::string cap = r["cap_mismatch"].is_null() ? "-" : std::to_string(r["cap_mismatch"].get<std::size_t>());
-    std::printf("%-17s %9zu %7zu %7zu %9zu %9zu %8zu %8s %7zu %9zu %9.1f%s\n", r["method"].get<std::string>().c_str(),
+    const std::string cases =
+        r["case_disagreements"].is_null() ? "-" : std::to_string(r["case_disagreements"].get<std::size_t>());
+    std::printf("%-17s %9zu %7zu %7zu %9zu %9zu %8zu %8s %7s %9zu %9.1f%s\n", r["method"].get<std::string>().c_str(),
                 r["pixels_seen"].get<std::size_t>(), r["wrong"].get<std::size_t>(), r["cracks"].get<std::size_t>(),
                 r["wrong_lit"].get<std::size_t>(), r["wrong_shadowed"].get<std::size_t>(),
-                r["count_mismatch"].get<std::size_t>(), cap.c_str(), r["case_disagreements"].get<std::size_t>(),
+                r["count_mismatch"].get<std::size_t>(), cap.c_str(), cases.c_str(),
                 r["visibility_mismatch"].get<std::size_t>(), r["ms"].get<double>(),
                 r["fallback"].is_null() ? "" : "  (fell back to zfail)");
   }
@@ -117,7 +119,7 @@ nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport
                              raytrace::ShadowEpsilon epsilon) {
   nlohmann::json j = judged_json(r);
   j["cap_mismatch"] = nullptr;
-  j["case_disagreements"] = 0;
+  j["case_disagreements"] = nullptr;  // the float engine's cases: not the ray tracer's
   j["ms"] = build_ms + f.trace_ms;
   j["pass_ms"] = {{"build", build_ms}, {"trace", f.trace_ms}};
   j["shadow_epsilon"] = std::string(to_string(epsilon));

@@ -114,8 +114,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       // A vertex of the input triangle comes back from the clipper unchanged
       // (bit for bit); any other is one it made.
+      // Only Mesa's arithmetic tells the two apart.
       const Vec4f& v = polygon[k];
-      bool original = false;
+      bool original = raster.viewport == ViewportArithmetic::Divide;
       for (std::size_t i = t; i < t + 3 && !original; ++i) {
         const Vec4f& u = clip_vertices[i];
         original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;

@@ -32,14 +32,8 @@ CoverageProbe::CoverageProbe(int width, int height) : width_(width), height_(hei
                                       " is not a power of two up to 16384");
   glGenFramebuffers(1, &framebuffer_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  glGenRenderbuffers(1, &colour_);
-  glBindRenderbuffer(GL_RENDERBUFFER, colour_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_);
-  glGenRenderbuffers(1, &depth_stencil_);
-  glBindRenderbuffer(GL_RENDERBUFFER, depth_stencil_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_stencil_);
+  colour_ = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width, height);
+  depth_stencil_ = attach_renderbuffer(GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL_ATTACHMENT, width, height);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw Error(ErrorKind::Gl, "the coverage probe's framebuffer object is incomplete");
 

@@ -34,15 +34,9 @@ GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : wid
   far_only_clamp_ = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
   glGenFramebuffers(1, &framebuffer_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  glGenRenderbuffers(1, &objects_);
-  glBindRenderbuffer(GL_RENDERBUFFER, objects_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_R32I, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, objects_);
-  glGenRenderbuffers(1, &depth_stencil_);
-  glBindRenderbuffer(GL_RENDERBUFFER, depth_stencil_);
-  glRenderbufferStorage(GL_RENDERBUFFER, depth == gl::DepthFormat::Fixed24 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8,
-                        width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_stencil_);
+  objects_ = attach_renderbuffer(GL_R32I, GL_COLOR_ATTACHMENT0, width, height);
+  depth_stencil_ = attach_renderbuffer(depth_stencil_format(depth == gl::DepthFormat::Fixed24),
+                                       GL_DEPTH_STENCIL_ATTACHMENT, width, height);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw Error(ErrorKind::Gl, "the replay's framebuffer object is incomplete");
 

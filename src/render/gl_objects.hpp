@@ -51,4 +51,18 @@ inline GLuint link_program(const char* vertex_source, const char* fragment_sourc
   return program;
 }
 
+// A width x height renderbuffer of `format` attached to the bound
+// framebuffer at `attachment`.
+inline GLuint attach_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
+  GLuint buffer = 0;
+  glGenRenderbuffers(1, &buffer);
+  glBindRenderbuffer(GL_RENDERBUFFER, buffer);
+  glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer);
+  return buffer;
+}
+
+// The depth-stencil format of a depth buffer format (8 stencil bits either way).
+inline GLenum depth_stencil_format(bool fixed24) { return fixed24 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8; }
+
 }  // namespace nearcap::render

@@ -73,15 +73,9 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[2] = {0, 0};
   glGenFramebuffers(1, &framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  glGenRenderbuffers(1, &colour);
-  glBindRenderbuffer(GL_RENDERBUFFER, colour);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-  glGenRenderbuffers(1, &depth_stencil);
-  glBindRenderbuffer(GL_RENDERBUFFER, depth_stencil);
-  glRenderbufferStorage(GL_RENDERBUFFER, depth == gl::DepthFormat::Fixed24 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8,
-                        width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_stencil);
+  colour = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width, height);
+  depth_stencil = attach_renderbuffer(depth_stencil_format(depth == gl::DepthFormat::Fixed24),
+                                      GL_DEPTH_STENCIL_ATTACHMENT, width, height);
   const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
   const GLuint program = complete ? link_program(kVertexShader, kFragmentShader, "the lit frame's program") : 0;
   glGenVertexArrays(1, &vertex_array);
