@@ -13,6 +13,18 @@
 #include "nearcap/error.hpp"
 
 namespace nearcap::cli {
+namespace {
+
+// --light-projection's names, in one place for the option, --variant and errors.
+const std::vector<std::string> kLightProjectionNames{"paper", "glfrustum", "composed", "rebased", "clipped-sides"};
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+}  // namespace
 
 std::string subcommand_names(const CLI::App& app) {
   std::string names;
@@ -78,9 +90,10 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->check(CLI::IsMember({"divide", "llvmpipe"}))
       ->capture_default_str();
   cmd.add_option("--light-projection", o.light_projection,
-                 "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once) or rebased "
-                 "(origin at the near rectangle's centre)")
-      ->check(CLI::IsMember({"paper", "glfrustum", "composed", "rebased"}))
+                 "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once), rebased "
+                 "(origin at the near rectangle's centre) or clipped-sides (no light frustum: the near-cap is the "
+                 "fan over the edges the clipper leaves in the near plane)")
+      ->check(CLI::IsMember(kLightProjectionNames))
       ->capture_default_str();
   cmd.add_option("--l-near", o.l_near,
                  "how ZP+'s light frustum picks l_near: paper-ratio (l_far min(d / d_max, 1/2)), exact-max (the "
@@ -142,11 +155,10 @@ double parse_number(const std::string& spec, const std::string& name, const std:
 }
 
 void need_one_of(const std::string& spec, const std::string& name, const std::string& value,
-                 std::initializer_list<const char*> allowed) {
-  for (const char* a : allowed)
+                 const std::vector<std::string>& allowed) {
+  for (const std::string& a : allowed)
     if (value == a) return;
-  std::string list;
-  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  const std::string list = joined(allowed);
   throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not one of " + list);
 }
 
@@ -177,7 +189,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       need_one_of(spec, name, value, {"divide", "llvmpipe"});
       o.viewport = value;
     } else if (name == "light-projection") {
-      need_one_of(spec, name, value, {"paper", "glfrustum", "composed", "rebased"});
+      need_one_of(spec, name, value, kLightProjectionNames);
       o.light_projection = value;
     } else if (name == "l-near") {
       need_one_of(spec, name, value, {"paper-ratio", "exact-max", "near-clamp"});
@@ -230,7 +242,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto projection = gl::light_projection_from_string(o.light_projection);
   if (!projection)
     throw Error(ErrorKind::Usage,
-                "--light-projection '" + o.light_projection + "' is not one of paper, glfrustum, composed, rebased");
+                "--light-projection '" + o.light_projection + "' is not one of " + joined(kLightProjectionNames));
   s.light_frustum.projection = *projection;
   if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
     throw Error(ErrorKind::Usage,

@@ -34,7 +34,10 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
   return {in.x + t * (out.x - in.x), in.y + t * (out.y - in.y), in.z + t * (out.z - in.z), in.w + t * (out.w - in.w)};
 }
 
-std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min) {
+// One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
+// output vertex whether it lies in plane p (made here, or at distance 0).
+std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min,
+                                std::vector<bool>* on_plane = nullptr) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
   out.reserve(n + 1);
@@ -43,13 +46,17 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
     const Vec4f& b = poly[(k + 1) % n];
     const float da = distance(a, p, g, w_min), db = distance(b, p, g, w_min);
     const bool a_in = da >= 0, b_in = db >= 0;
-    if (a_in) out.push_back(a);
+    if (a_in) {
+      out.push_back(a);
+      if (on_plane) on_plane->push_back(da == 0);
+    }
     if (a_in != b_in) {
       // From the inside vertex towards the outside one.
       if (a_in)
         out.push_back(interpolate(a, b, da / (da - db)));
       else
         out.push_back(interpolate(b, a, db / (db - da)));
+      if (on_plane) on_plane->push_back(true);
     }
   }
   return out;
@@ -60,7 +67,7 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
-  planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
+  if (!settings.skip_near_side) planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
   if (settings.clip_far) planes[count++] = Plane::Far;
   for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
   // Trivial accept: no plane separates any vertex (the common case); trivial
@@ -80,6 +87,16 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
     if (poly.size() < 3) return {};
   }
   return poly;
+}
+
+NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+  NearClippedPolygon out;
+  out.vertices = clip_against({a, b, c}, Plane::Near, 0.0f, 0.0f, &out.on_near_plane);
+  if (out.vertices.size() < 3) {
+    out.vertices.clear();
+    out.on_near_plane.clear();
+  }
+  return out;
 }
 
 }  // namespace nearcap::gl

@@ -54,13 +54,15 @@ std::string_view to_string(LightProjection p) {
       return "composed";
     case LightProjection::Rebased:
       return "rebased";
+    case LightProjection::ClippedSides:
+      return "clipped-sides";
   }
   return "?";
 }
 
 std::optional<LightProjection> light_projection_from_string(std::string_view name) {
-  for (LightProjection p :
-       {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed, LightProjection::Rebased})
+  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed,
+                            LightProjection::Rebased, LightProjection::ClippedSides})
     if (to_string(p) == name) return p;
   return std::nullopt;
 }
@@ -208,7 +210,8 @@ LightFrustum light_frustum(const Scene& scene, std::size_t light, const LightFru
       for (int c = 0; c < 4; ++c)
         for (int k = 0; k < 4; ++k) lf.composed[r][c] += pd[r][k] * md[k][c];
   }
-  if (choice.projection == LightProjection::Paper || choice.projection == LightProjection::Composed) {
+  if (choice.projection == LightProjection::Paper || choice.projection == LightProjection::Composed ||
+      choice.projection == LightProjection::ClippedSides) {
     const float ln = lf.l_near, lfar = lf.l_far;
     p.at(0, 0) = 2.0f * alpha * lfar / width;
     p.at(0, 2) = -2.0f * dx / width;

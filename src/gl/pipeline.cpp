@@ -96,6 +96,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   ClipSettings clip;
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
+  clip.skip_near_side = state.vertices_on_near_plane;
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).
@@ -116,7 +117,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
       // (bit for bit); any other is one it made.
       // Only Mesa's arithmetic tells the two apart.
       const Vec4f& v = polygon[k];
-      bool original = raster.viewport == ViewportArithmetic::Divide;
+      bool original = raster.viewport == ViewportArithmetic::Divide || state.vertices_on_near_plane;
       for (std::size_t i = t; i < t + 3 && !original; ++i) {
         const Vec4f& u = clip_vertices[i];
         original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;

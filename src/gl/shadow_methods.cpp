@@ -12,6 +12,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
+#include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 
 namespace nearcap::gl {
@@ -157,7 +158,8 @@ class FrameRenderer {
         methods_(std::move(methods)),
         settings_(settings),
         shared_(shared),
-        fb_(scene.camera.width, scene.camera.height, settings.depth) {
+        fb_(scene.camera.width, scene.camera.height, settings.depth),
+        clipped_sides_(settings.light_frustum.projection == LightProjection::ClippedSides) {
     NEARCAP_CHECK(methods_.size() == scene.objects.size());
     for (std::size_t o = 0; o < methods_.size(); ++o) {
       if (!scene.objects[o].occluder) continue;
@@ -167,7 +169,7 @@ class FrameRenderer {
       any_infinite_zfail_ =
           any_infinite_zfail_ || (methods_[o] == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
     }
-    if (any_near_cap_ && any_preload_)
+    if (any_near_cap_ && any_preload_ && !clipped_sides_)
       throw Error(ErrorKind::Usage,
                   "preload cannot share a frame with a ZP+ method (preload needs the infinite projection, ZP+ the "
                   "finite one)");
@@ -182,15 +184,20 @@ class FrameRenderer {
     for (std::size_t o = 0; o < methods_.size(); ++o)
       if (scene_.objects[o].occluder) frame.object_methods.push_back({o, methods_[o]});
     const auto t_setup = Clock::now();
-    if (any_near_cap_) {
+    if (any_near_cap_ && !clipped_sides_) {  // clipped-sides needs no light frustum
       if (!shared_.light_frustum) shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
       frame.light_frustum = *shared_.light_frustum;
       if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
     }
     // The infinite far plane when a method needs it (preload; Z-fail by
-    // default) and no ZP+ method needs the finite one (section 5.2).
-    const bool infinite = !any_near_cap_ && (any_preload_ || any_infinite_zfail_ ||
-                                             (any_zpass_ && settings_.zpass_far == ZPassFar::Infinite));
+    // default; Z-pass, and ZP+ with the clipped-sides cap, which is Z-pass
+    // plus a cap clipped by the sides' own projection, when asked) and no
+    // ZP+ method needs the finite one (its light-frustum cap and case-D
+    // switch: section 5.2).
+    const bool finite_required = any_near_cap_ && !clipped_sides_;
+    const bool infinite =
+        !finite_required && (any_preload_ || any_infinite_zfail_ ||
+                             ((any_zpass_ || any_near_cap_) && settings_.zpass_far == ZPassFar::Infinite));
     const Mat4f projection =
         infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
     prepare_objects(projection, frame);
@@ -235,6 +242,8 @@ class FrameRenderer {
       if (!obj.occluder) continue;
       const ShadowMethod m = methods_[o];
       if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
+        draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
+      } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && clipped_sides_) {
         draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
         draw(obj, obj.geometry->sides, figure7_program, zpass_state(), frame);
@@ -306,7 +315,7 @@ class FrameRenderer {
           ++frame.float_cases[static_cast<std::size_t>(c)];
           obj.case_d = obj.case_d || c == QuadCase::D;
         }
-        if (methods_[o] == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty())
+        if (methods_[o] == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty() && !clipped_sides_)
           frame.zfail_objects.push_back(o);
       }
       if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
@@ -315,6 +324,10 @@ class FrameRenderer {
   }
 
   void near_cap_pass(ShadowFrame& frame) {
+    if (clipped_sides_) {
+      clipped_sides_cap_pass(frame);
+      return;
+    }
     DrawState s;
     s.depth_func = DepthFunc::Always;
     s.depth_clamp_near = frame.light_frustum.near_clamped;  // the near-clamp rule: no clipping at l_near
@@ -329,6 +342,29 @@ class FrameRenderer {
       frame.cap_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws)
         frame.draws.push_back({DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored)});
+    }
+  }
+
+  // LightProjection::ClippedSides: per occluder, the fan over the edges the
+  // near plane's clipping leaves of its closed volume (near_plane_cap.hpp),
+  // +1 front, -1 back, no depth test; the same vertex program and uniforms
+  // as its sides, so the fan shares their clipped edges bit for bit.
+  void clipped_sides_cap_pass(ShadowFrame& frame) {
+    DrawState s = zpass_state();
+    s.depth_func = DepthFunc::Always;
+    s.vertices_on_near_plane = true;
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+      const ObjectSetup& obj = objects_[o];
+      if (!obj.occluder || !uses_near_cap(methods_[o])) continue;
+      std::vector<Vec4f> boundary;
+      for (const std::vector<ShadowVertex>* part :
+           {&obj.geometry->sides, &obj.geometry->light_cap, &obj.geometry->dark_cap}) {
+        const std::vector<Vec4f> clip = run_program(*part, obj.uniforms, extrusion_program);
+        boundary.insert(boundary.end(), clip.begin(), clip.end());
+      }
+      std::vector<Vec4f> fan = near_plane_cap_fan(boundary);
+      frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
+      if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored)});
     }
   }
 
@@ -355,6 +391,7 @@ class FrameRenderer {
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
   Framebuffer fb_;
+  bool clipped_sides_;  // LightProjection::ClippedSides: the near-cap from the clipped volume, no light frustum
   std::vector<ObjectSetup> objects_;
 };
 

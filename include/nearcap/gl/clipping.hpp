@@ -25,9 +25,26 @@ struct ClipSettings {
   // place; fragments in front of the near plane get depth 0 after clamping.
   bool clip_near = true;
   float w_min = 1e-6f;
+  // No near-side plane at all (neither near nor w_min): for primitives whose
+  // vertices the near plane's clipping made (the clipped-sides near cap,
+  // gl/near_plane_cap.hpp), which must be cut by the remaining planes exactly
+  // where the polygons they close were cut, and not again at the near plane
+  // they lie on only to within rounding.  Overrides clip_near.
+  bool skip_near_side = false;
 };
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings);
+
+// The first stage of clip_triangle with near clipping: triangle (a, b, c)
+// clipped against the near plane alone, with the same arithmetic (so its
+// vertices are bit for bit the ones clip_triangle passes on to the other
+// planes), and for each vertex whether it lies in the near plane: made by
+// the near plane's intersection, or an input vertex at distance exactly 0.
+struct NearClippedPolygon {
+  std::vector<Vec4f> vertices;  // empty when the whole triangle is in front of the near plane
+  std::vector<bool> on_near_plane;
+};
+NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c);
 
 }  // namespace nearcap::gl

@@ -39,18 +39,25 @@ namespace nearcap::gl {
 
 // How P_l is formed.
 enum class LightProjection {
-  Paper,      // section 3.1's matrix, entries computed directly in float32
-  GlFrustum,  // glFrustum(l, r, b, t, l_near, l_far) of the same pyramid, computed in double, rounded
-  Composed,   // P_l * M_l * MV composed in double (section 3.1's P_l, Delta in double) and rounded
-              // to float32 once per object: one uploaded matrix, P_l the identity
-  Rebased,    // the same pyramid with its origin moved to the near rectangle's centre: M_l is the
-              // translation by -(cx, cy, -near), and P_l acts on u = v - (cx, cy, -near), which is
-              // small near the near plane, so the shear's large terms (the paper's -2 dx / w times
-              // z' = alpha (v_z - Delta_z)) no longer cancel there:
-              //   x = (2/w) (l_far u_x - alpha dx u_z), y = (2/h) (l_far u_y - alpha dy u_z),
-              //   w_clip = l_far - alpha u_z, z = K (alpha u_z - l_far) + L (the paper's K, L)
+  Paper,         // section 3.1's matrix, entries computed directly in float32
+  GlFrustum,     // glFrustum(l, r, b, t, l_near, l_far) of the same pyramid, computed in double, rounded
+  Composed,      // P_l * M_l * MV composed in double (section 3.1's P_l, Delta in double) and rounded
+                 // to float32 once per object: one uploaded matrix, P_l the identity
+  Rebased,       // the same pyramid with its origin moved to the near rectangle's centre: M_l is the
+                 // translation by -(cx, cy, -near), and P_l acts on u = v - (cx, cy, -near), which is
+                 // small near the near plane, so the shear's large terms (the paper's -2 dx / w times
+                 // z' = alpha (v_z - Delta_z)) no longer cancel there:
+                 //   x = (2/w) (l_far u_x - alpha dx u_z), y = (2/h) (l_far u_y - alpha dy u_z),
+                 //   w_clip = l_far - alpha u_z, z = K (alpha u_z - l_far) + L (the paper's K, L)
+  ClippedSides,  // no light frustum at all: the near-cap is the stencil-counted fan over the edges
+                 // the clipper leaves in the near plane when it clips the volume's own sides and
+                 // caps (gl/near_plane_cap.hpp; in the spirit of Usta et al., HPG 2019); the sides
+                 // are the plain Z-pass sides, with no Figure 7 program, corrective quads, case-D
+                 // switch or light-in-the-near-plane fallback, so zpplus and zpplus-corrected draw
+                 // the same frame.  light_frustum() still computes the paper's M_l and P_l for the
+                 // conditioning features; no pass uses them.
 };
-std::string_view to_string(LightProjection p);  // "paper", "glfrustum", "composed", "rebased"
+std::string_view to_string(LightProjection p);  // "paper", "glfrustum", "composed", "rebased", "clipped-sides"
 std::optional<LightProjection> light_projection_from_string(std::string_view name);
 
 // How l_near is chosen.

@@ -50,6 +50,11 @@ struct DrawState {
   bool depth_clamp_near = false;
   bool depth_clamp_far = false;
   bool clip_far = true;  // false with an infinite far plane (w - z is 0 at infinity)
+  // The clipped-sides near cap (near_plane_cap.hpp): its vertices are where
+  // the clipper put the sides' near edges, so no near-side plane cuts them
+  // again (ClipSettings::skip_near_side) and every one counts as the
+  // clipper's own; the real GL draws it with GL_DEPTH_CLAMP.
+  bool vertices_on_near_plane = false;
   StencilOps front, back;
   std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
 };

@@ -30,6 +30,9 @@
 //                     volume again as Z-pass; infinite far plane.
 // When the light lies in the near plane there is no light frustum: both ZP+
 // methods fall back to zfail for the light (ShadowFrame::fallback says so).
+// With LightProjection::ClippedSides (light_frustum.hpp) both ZP+ methods
+// are zpass plus the near-cap fan of gl/near_plane_cap.hpp: no light
+// frustum, so no fallback, no case-D switch and no corrective quads.
 #pragma once
 
 #include <array>
@@ -74,7 +77,9 @@ enum class SwitchClamp {
 // Z-pass's projection: the finite frustum (the method's own), or the infinite
 // far plane (Everitt and Kilgard; Doom 3 draws everything so): far more depth
 // precision near the camera when the near plane is tiny against the scene.
-// A frame with a ZP+ method keeps the finite one (section 5.2).
+// A frame with a ZP+ method keeps the finite one (section 5.2), unless its
+// cap is LightProjection::ClippedSides: that ZP+ is Z-pass plus a cap the
+// sides' own projection clips, and takes this choice like Z-pass.
 enum class ZPassFar { Finite, Infinite };
 std::string_view to_string(ZPassFar f);  // "finite", "infinite"
 std::optional<ZPassFar> zpass_far_from_string(std::string_view name);
@@ -151,8 +156,10 @@ class ShadowFrameBatch {
   // method.  The projection is the infinite one when some occluder uses
   // preload or Z-fail with its default infinite far plane and none uses a
   // ZP+ method (ZP+'s depth pre-pass needs the finite one; Z-fail then
-  // clamps as the case-D switch does: `switch_clamp`), else the finite one.
-  // Preload beside a ZP+ method is refused (error (usage)).  With every
+  // clamps as the case-D switch does: `switch_clamp`), else the finite one;
+  // ZP+ with the clipped-sides cap needs neither and counts as Z-pass.
+  // Preload beside a ZP+ method with a light-frustum cap is refused (error
+  // (usage)).  With every
   // occluder on one method the frame equals render(method), `mixed` aside.
   ShadowFrame render(const std::vector<ShadowMethod>& object_methods);
   // ZP+'s light frustum for these settings: computed once per batch (its

@@ -15,6 +15,9 @@
 //                 near and far clamp; far only needs GL_AMD_depth_clamp_separate
 //                 (GL_DEPTH_CLAMP_FAR_AMD), and a driver without it refuses
 //                 that frame (Error, kind Gl, naming the extension);
+//                 vertices_on_near_plane (the clipped-sides near cap) ->
+//                 GL_DEPTH_CLAMP, so the driver does not cut it again at the
+//                 near plane its vertices lie on only to within rounding;
 //   stencil       test always passing, two-sided ops (glStencilOpSeparate),
 //                 GL_INCR_WRAP / GL_DECR_WRAP;
 //   culling       front faces counter-clockwise, glCullFace as recorded;

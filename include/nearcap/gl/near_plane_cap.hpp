@@ -1,0 +1,59 @@
+// nearcap/gl/near_plane_cap.hpp — the near-cap built in camera space from the
+// shadow volume's own clipped boundary (LightProjection::ClippedSides): no
+// light frustum, no l_near, no case-D switch.
+//
+// The near-cap must add, at each pixel, the number of shadow volumes that
+// contain the point of the near plane seen there (Z-pass misses exactly
+// that count).  That number is the winding number, about the pixel, of the
+// closed curves in which the near plane cuts the volumes' boundaries (sides,
+// light cap, dark cap, outward oriented).  Each boundary triangle clipped
+// against the near plane by the clipper's own arithmetic
+// (clip_to_near_plane) leaves at most one edge a -> b lying in the plane;
+// the near plane closes the clipped volume with a face that runs that edge
+// the other way, so the cap is the fan of triangles (anchor, b, a) over all
+// such edges from any one anchor point, drawn with +1 for front faces and -1 for back faces and no
+// depth test: a stencil-counted polygon fill whose sum at a pixel is that
+// winding number.
+//
+// Why it cannot crack against the sides: an edge a -> b of a side is the
+// same clip-space segment, bit for bit, in the side's clipped polygon and in
+// its fan triangle; both are cut by the remaining planes (far, guard band)
+// with the same arithmetic (the fan skips only the near-side plane:
+// DrawState::vertices_on_near_plane), so they reach the rasterizer with the
+// same window coordinates and the fill rule gives each pixel on that edge to
+// exactly one side of it.  The curves close exactly: a curve vertex is the
+// near plane's cut of a boundary edge, interpolated from that edge's inside
+// vertex by both triangles that share it.  Where Z-pass's sides are right,
+// Z-pass plus this cap is right; the only float error left is where the
+// float sides themselves pass a pixel on the other side from the exact ones.
+//
+// The real GL clips the sides with its own arithmetic, so there the cap and
+// the sides agree only as far as the two clippers do (render/ measures it).
+#pragma once
+
+#include <vector>
+
+#include "nearcap/gl/float_transforms.hpp"
+
+namespace nearcap::gl {
+
+// The edges the near plane's clipping leaves of the closed volumes whose
+// boundary triangles are `boundary_clip_vertices` (3 clip-space vertices per
+// triangle, as the volume's vertex program wrote them: every side, light-cap
+// and dark-cap triangle), 2 vertices per edge, each as the cap runs it (the
+// clipped triangle's edge a -> b as b, a).
+std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices);
+
+// The cap's fan over those edges, 3 clip-space vertices per triangle
+// (anchor, b, a).  Any anchor gives the same winding numbers; the fragments
+// it costs do depend on it: the anchor is the first edge's first vertex with
+// w > 0 (a point of the curve, so a convex cap is tiled without overdraw,
+// and a cap that lies outside the viewport costs no fragment inside it),
+// or the near rectangle's centre (0, 0, -1, 1) when every vertex is at
+// infinity.
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices);
+
+// The same with a given anchor (any point with w > 0).
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor);
+
+}  // namespace nearcap::gl
