@@ -90,9 +90,9 @@ TEST(NearPlaneCap, TheFanCountsOneInsideTheBoxsCrossSectionAndZeroOutside) {
   s.vertices_on_near_plane = true;
   s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
   s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
-  for (bool own_anchor : {true, false}) {
+  for (bool centre : {true, false}) {
     const std::vector<Vec4f> fan =
-        own_anchor ? gl::near_plane_cap_fan(box) : gl::near_plane_cap_fan(box, {0.9f, -0.7f, -1.0f, 1.0f});
+        centre ? gl::near_plane_cap_fan(box) : gl::near_plane_cap_fan(box, {0.9f, -0.7f, -1.0f, 1.0f});
     EXPECT_EQ(fan.size(), 3 * gl::near_plane_cap_edges(box).size() / 2);
     gl::Framebuffer fb(width, height, gl::DepthFormat::Fixed24);
     fb.draw(fan, s, {});
@@ -100,7 +100,7 @@ TEST(NearPlaneCap, TheFanCountsOneInsideTheBoxsCrossSectionAndZeroOutside) {
       for (int i = 0; i < width; ++i) {
         const float x = i + 0.5f, y = j + 0.5f;
         const bool inside = x > 16 && x < 40 && y > 16 && y < 40;
-        EXPECT_EQ(fb.stencil()[fb.index(i, j)], inside ? 1 : 0) << i << ", " << j << " anchor " << own_anchor;
+        EXPECT_EQ(fb.stencil()[fb.index(i, j)], inside ? 1 : 0) << i << ", " << j << " centre " << centre;
       }
   }
   // Entirely beyond the near plane: nothing to cap.
@@ -183,7 +183,12 @@ TEST(NearPlaneCap, NeverWrongerThanZFailOnASliceOfTheHardCaseSampler) {
   spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   const analysis::HardCaseSampler sampler(spec);
   std::size_t frames = 0, capped = 0;
-  for (std::uint64_t i = 0; i < 300; ++i) {
+  // The first 300, and two tiny-near configurations (near 2^-20 and 10^-6)
+  // where a fan anchored on the curve itself was wrong on 68 and 110 more
+  // pixels than Z-fail (near_plane_cap.hpp says why the anchor is the centre).
+  std::vector<std::uint64_t> indices{3119, 8814};
+  for (std::uint64_t i = 0; i < 300; ++i) indices.push_back(i);
+  for (std::uint64_t i : indices) {
     Scene scene;
     try {
       scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");

@@ -37,15 +37,10 @@ std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_ve
   return fan_over(near_plane_cap_edges(boundary_clip_vertices), anchor);
 }
 
+Vec4f near_plane_cap_anchor() { return {0.0f, 0.0f, -1.0f, 1.0f}; }
+
 std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices) {
-  const std::vector<Vec4f> edges = near_plane_cap_edges(boundary_clip_vertices);
-  Vec4f anchor{0.0f, 0.0f, -1.0f, 1.0f};
-  for (const Vec4f& v : edges)
-    if (v.w > 0) {
-      anchor = v;
-      break;
-    }
-  return fan_over(edges, anchor);
+  return near_plane_cap_fan(boundary_clip_vertices, near_plane_cap_anchor());
 }
 
 }  // namespace nearcap::gl
