@@ -11,9 +11,10 @@
 #      and the five float methods, with the engines' Z-pass / Z-fail rules
 #      (Doom 3, Doom 3 BFG, Ogre, always Z-fail) and the shipped switch policy
 #      (data/policy.json) beside them (out/sweep/rows.csv);
-#   3. tunes a switch policy on the same configurations (ZP+ corrected and
-#      Z-fail with the far-only switch clamp, out/sweep/tuning.csv):
-#      out/sweep/policy.json, and prints how it classifies them;
+#   3. tunes a switch policy on the same configurations (ZP+ with the
+#      clipped-sides near-cap and Z-fail, both with the infinite far plane,
+#      out/sweep/tuning.csv), as analysis/tuning/tune_policy.sh tunes the
+#      shipped one: out/sweep/policy.json, and prints how it classifies them;
 #   4. writes the report, with that policy's fitted models:
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
@@ -68,9 +69,10 @@ fi
 "${sweep[@]}" "${resume[@]}"
 echo "== nearcap tune: a switch policy fitted on these configurations (out/sweep/policy.json)"
 rm -f out/sweep/tuning.csv
-./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus-corrected,zfail \
-  --switch-clamp clamp-far --out out/sweep/tuning.csv >/dev/null
-./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json \
+./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus,zfail \
+  --light-projection clipped-sides --zpass-far infinite --out out/sweep/tuning.csv >/dev/null
+./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json --capped zpplus \
+  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides \
   --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json
@@ -81,6 +83,7 @@ rm -f out/sweep/variants.csv
   --methods zpplus,zpplus-corrected,zfail --switch-clamp clamp-far \
   --variant l-near=exact-max --variant l-near=near-clamp --variant l-near-scale=0.5 \
   --variant light-projection=composed --variant light-projection=rebased \
+  --variant light-projection=clipped-sides,zpass-far=infinite \
   --out out/sweep/variants.csv >/dev/null
 ./build/nearcap report out/sweep/variants.csv --out out/sweep/variants
 echo "== open out/sweep/report/index.html: speed against error, the paths, cracks against conditioning,"

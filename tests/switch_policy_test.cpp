@@ -144,6 +144,12 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   ASSERT_EQ(c.cost_models.size(), 1u);
   EXPECT_EQ(c.cost_models[0].first, gl::ShadowMethod::ZFail);
   EXPECT_EQ(c.cost_models[0].second.ms_per_mtriangle, 30);
+  EXPECT_EQ(p.light_projection, gl::LightProjection::Paper);  // version 1: no light_projection, the paper's
+  SwitchPolicy sides = p;
+  sides.light_projection = gl::LightProjection::ClippedSides;
+  const std::string written = analysis::policy_to_json(sides);
+  EXPECT_NE(written.find("\"version\": 2"), std::string::npos) << written;
+  EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
   EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
@@ -160,7 +166,12 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   };
   const std::pair<std::string, std::string> cases[] = {
       {"{", "not JSON"},
-      {replaced("\"version\": 1", "\"version\": 2"), "version: 2 is not a version"},
+      {replaced("\"version\": 1", "\"version\": 3"), "version: 3 is not a version"},
+      {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"light_projection\": \"paper\""),
+       "light_projection: is a version 2 field"},
+      {replaced("\"version\": 1, \"capped_method\"",
+                "\"version\": 2, \"light_projection\": \"sides\", \"capped_method\""),
+       "light_projection: must be paper"},
       {replaced("\"version\": 1,", ""), "version: missing"},
       {replaced("\"format\": \"nearcap-policy\"", "\"format\": \"x\""), "format"},
       {replaced("\"bias\": -3", "\"bias\": -3, \"extra\": 1"), "crack_model.extra: unknown key"},
@@ -194,11 +205,13 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
 
 TEST(SwitchPolicy, TheShippedPolicyLoads) {
   const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
-  EXPECT_EQ(p.cost_models.size(), 2u);  // the capped and the fallback method
-  ASSERT_FALSE(p.crack_model.features.empty());
+  EXPECT_EQ(p.cost_models.size(), 2u);                 // the capped and the fallback method
   for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
     EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;
   EXPECT_GT(p.crack_model.threshold, 0);
+  // Its held-out side: every crack of the capped method beyond the fallback's predicted.
+  const nlohmann::json provenance = nlohmann::json::parse(p.provenance_json);
+  EXPECT_EQ(provenance["held_out"]["cracks"], provenance["held_out"]["cracks_predicted"]);
 }
 
 // The box scene at 32x24 (tests/box_scene.hpp).
@@ -230,6 +243,38 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
   d = analysis::decide(p, cs, 0, {});
   EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+}
+
+// The light in the near plane: no light frustum, so the paper's ZP+ falls
+// back to Z-fail; with the clipped-sides near-cap the capped method stays,
+// and the frame's settings carry the formulation.
+TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
+  const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json");
+  const CameraSpaceScene cs(s);
+  SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
+  p.crack_model.threshold = 1.0;  // never predicts a crack
+  std::size_t occluders = 0;
+  analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
+  for (std::size_t o = 0; o < s.objects.size(); ++o)
+    if (s.objects[o].occluder) {
+      ++occluders;
+      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZFail) << d.reasons[o];
+    }
+  EXPECT_GT(occluders, 0u);
+  p.light_projection = gl::LightProjection::ClippedSides;
+  p.crack_model = {};  // no features, never a crack (what tune writes when nothing cracked in training)
+  p.crack_model.bias = -30;
+  p.crack_model.threshold = 1;
+  d = analysis::decide(p, cs, 0, {});
+  EXPECT_EQ(d.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
+  for (std::size_t o = 0; o < s.objects.size(); ++o)
+    if (s.objects[o].occluder) {
+      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZPPlusCorrected) << d.reasons[o];
+    }
+  const PixelReference ref = compute_pixel_reference(cs, 0);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, gl::ShadowMethod::ZFail), ref);
+  gl::ShadowFrameBatch batch(s, 0, d.settings);
+  EXPECT_LE(judge_frame(batch.render(d.object_methods), ref).wrong, zfail.wrong);
 }
 
 // The shipped policy on the bundled scenes and a bundled path: never more

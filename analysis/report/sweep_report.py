@@ -433,10 +433,18 @@ class Report:
             return
         prov = p.get("provenance", {})
         m = p.get("crack_model", {})
+        capped = html.escape(str(p.get('capped_method')))
+        projection = p.get("light_projection", "paper")
+        if projection != "paper":
+            capped += f" (near-cap: <code>{html.escape(str(projection))}</code>)"
+        if m.get("features"):
+            rule = (f"unless the crack model predicts a crack (P &ge; {m.get('threshold', 0):.3g}), then "
+                    f"{html.escape(str(p.get('fallback_method')))}")
+        else:
+            rule = ("always: no crack model (the capped method never cracked more than "
+                    f"{html.escape(str(p.get('fallback_method')))} in training, so there was nothing to fit)")
         text = (f"<p>From <code>{html.escape(self.policy_source)}</code>: occluders that meet no point of the "
-                f"light pyramid get Z-pass (exact); the others {html.escape(str(p.get('capped_method')))} unless "
-                f"the crack model predicts a crack (P &ge; {m.get('threshold', 0):.3g}), then "
-                f"{html.escape(str(p.get('fallback_method')))}. Fitted by <code>"
+                f"light pyramid get Z-pass (exact); the others {capped} {rule}. Fitted by <code>"
                 f"{html.escape(str(prov.get('command', '?')))}</code>; split: "
                 f"{html.escape(str(prov.get('split', '?')))}.</p>")
         body = []
@@ -451,7 +459,9 @@ class Report:
                    zip(m.get("features", []), m.get("weights", []), m.get("mean", []), m.get("scale", []))]
         if weights:
             text += "<p>The logistic model on standardized features (bias " + fmt(float(m.get("bias", 0))) + "):</p>"
-            text += self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")
+        else:
+            text += "<p>No logistic model: no feature, no weight.</p>"
+        text += self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")
         costs = []
         for method, cm in p.get("cost_models", {}).items():
             errors = prov.get("cost", {}).get(method, {})

@@ -308,7 +308,8 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
   for (const PolicySample& s : samples) {
     if (s.held_out != held_out) continue;
     double z = model.bias;
-    for (std::size_t k = 0; k < s.x.size(); ++k) z += model.weights[k] * (s.x[k] - model.mean[k]) / model.scale[k];
+    for (std::size_t k = 0; k < model.weights.size(); ++k)
+      z += model.weights[k] * (s.x[k] - model.mean[k]) / model.scale[k];
     const bool predicted = 1.0 / (1.0 + std::exp(-z)) >= model.threshold;
     ++c.samples;
     c.positives += s.crack;
@@ -348,25 +349,42 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
     throw Error(ErrorKind::Usage,
                 "no training samples: the rows need both methods in the policy's variant (sweep with "
                 "--switch-clamp clamp-far, or say which with --variant)");
-  const LogisticFit fit = fit_logistic(x, y, options);
   SwitchPolicy p;
   p.capped_method = capped;
   p.fallback_method = fallback;
   CrackModel& m = p.crack_model;
-  m.features = names;
-  m.mean = fit.mean;
-  m.scale = fit.scale;
-  m.weights = fit.weights;
-  m.bias = fit.bias;
-  // Every training crack predicted: the smallest positive's probability, halved.
-  double lowest = 1.0;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (y[i]) {
-      double z = m.bias;
-      for (std::size_t k = 0; k < x[i].size(); ++k) z += m.weights[k] * (x[i][k] - m.mean[k]) / m.scale[k];
-      lowest = std::min(lowest, 1.0 / (1.0 + std::exp(-z)));
-    }
-  m.threshold = std::clamp(lowest / 2, 1e-12, 0.5);
+  const bool any_crack = std::find(y.begin(), y.end(), 1) != y.end();
+  nlohmann::json fit_json;
+  if (any_crack) {
+    const LogisticFit fit = fit_logistic(x, y, options);
+    m.features = names;
+    m.mean = fit.mean;
+    m.scale = fit.scale;
+    m.weights = fit.weights;
+    m.bias = fit.bias;
+    // Every training crack predicted: the smallest positive's probability, halved.
+    double lowest = 1.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (y[i]) {
+        double z = m.bias;
+        for (std::size_t k = 0; k < x[i].size(); ++k) z += m.weights[k] * (x[i][k] - m.mean[k]) / m.scale[k];
+        lowest = std::min(lowest, 1.0 / (1.0 + std::exp(-z)));
+      }
+    m.threshold = std::clamp(lowest / 2, 1e-12, 0.5);
+    fit_json = {{"iterations", fit.iterations},
+                {"final_cost", fit.final_cost},
+                {"robust", options.robust},
+                {"huber_delta", options.huber_delta},
+                {"l2", options.l2}};
+  } else {
+    // No training pair where the capped method cracks more than the
+    // fallback: nothing to separate, no fit.  A model without features
+    // whose probability, 1 / (1 + e^30), is below any threshold: it never
+    // predicts a crack (the held-out side below says whether that holds).
+    m.bias = -30;
+    m.threshold = 1;
+    fit_json = {{"none", "no training pair where the capped method cracks more than the fallback"}};
+  }
   const Confusion train = confusion(m, samples, false), held = confusion(m, samples, true);
   auto side = [](const Confusion& c) {
     return nlohmann::json{{"samples", c.samples},
@@ -376,12 +394,7 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
   };
   nlohmann::json prov{{"command", command},
                       {"split", "held out: FNV-1a(configuration) % 5 == 0"},
-                      {"fit",
-                       {{"iterations", fit.iterations},
-                        {"final_cost", fit.final_cost},
-                        {"robust", options.robust},
-                        {"huber_delta", options.huber_delta},
-                        {"l2", options.l2}}},
+                      {"fit", fit_json},
                       {"train", side(train)},
                       {"held_out", side(held)}};
   nlohmann::json cost = nlohmann::json::object();

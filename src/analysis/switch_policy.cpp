@@ -124,18 +124,25 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   }
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
-            {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "crack_model",
-             "cost_models", "provenance"},
+            {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
+             "crack_model", "cost_models", "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
   const Json& version = field(j, "version", "", source);
   if (!version.is_number_integer()) fail(source, "version", "must be an integer");
-  if (version.get<long long>() != kPolicyVersion)
+  const long long file_version = version.get<long long>();
+  if (file_version < 1 || file_version > kPolicyVersion)
     fail(source, "version",
-         std::to_string(version.get<long long>()) + " is not a version this nearcap reads (" +
-             std::to_string(kPolicyVersion) + ")");
+         std::to_string(file_version) + " is not a version this nearcap reads (1 to " + std::to_string(kPolicyVersion) +
+             ")");
   SwitchPolicy p;
+  if (const auto it = j.find("light_projection"); it != j.end()) {
+    if (file_version < 2) fail(source, "light_projection", "is a version 2 field (this file says version 1)");
+    if (!it->is_string() || !gl::light_projection_from_string(it->get<std::string>()))
+      fail(source, "light_projection", "must be paper, glfrustum, composed, rebased or clipped-sides");
+    p.light_projection = *gl::light_projection_from_string(it->get<std::string>());
+  }
   p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
   p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
   if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
@@ -223,6 +230,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["fallback_method"] = std::string(gl::to_string(p.fallback_method));
   j["switch_clamp"] = std::string(gl::to_string(p.switch_clamp));
   j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
+  j["light_projection"] = std::string(gl::to_string(p.light_projection));
   Json m;
   m["features"] = p.crack_model.features;
   m["mean"] = p.crack_model.mean;
@@ -251,6 +259,11 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.settings = base;
   d.settings.switch_clamp = policy.switch_clamp;
   d.settings.zpass_far = policy.zpass_far;
+  d.settings.light_frustum.projection = policy.light_projection;
+  // The clipped-sides near-cap needs no light frustum: ZP+ with it stays
+  // right where the paper's frustum is undefined.
+  const bool frustum_free =
+      gl::uses_near_cap(policy.capped_method) && policy.light_projection == gl::LightProjection::ClippedSides;
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
   d.reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;
@@ -265,7 +278,10 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   bool any_capped = false;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     if (!scene.objects[o].occluder) continue;
-    if (degenerate) {
+    if (degenerate && frustum_free) {
+      d.object_methods[o] = policy.capped_method;
+      d.reasons[o] = "the light lies in the near plane: the clipped-sides near-cap needs no light frustum";
+    } else if (degenerate) {
       d.object_methods[o] = policy.fallback_method;
       d.reasons[o] = "the light lies in the near plane: no light frustum";
     } else if (!meets[o]) {
@@ -292,7 +308,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
         lf = gl::light_frustum(scene, light, base.light_frustum);
         if (lf.defined) f = conditioning_features(cs, light, lf, base.arithmetic);
       }
-      if (!lf.defined) {
+      if (!lf.defined && !frustum_free) {
         chosen = policy.fallback_method;
         why = "meets the light pyramid, no light frustum (" + lf.undefined_reason + ")";
       } else {

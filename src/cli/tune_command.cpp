@@ -20,6 +20,7 @@ struct TuneOptions {
   std::string variant = "switch-clamp=clamp-far";
   bool plain = false;
   std::string features = "all";
+  std::string light_projection = "paper";
 };
 
 void run(const TuneOptions& o, const std::string& command) {
@@ -45,8 +46,12 @@ void run(const TuneOptions& o, const std::string& command) {
   std::vector<std::pair<gl::ShadowMethod, std::vector<analysis::CostSample>>> costs;
   for (gl::ShadowMethod m : {*capped, *fallback})
     costs.emplace_back(m, analysis::cost_samples(o.results, m, o.variant));
-  const analysis::SwitchPolicy policy =
-      analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
+  const auto projection = gl::light_projection_from_string(o.light_projection);
+  if (!projection)
+    throw Error(ErrorKind::Usage, "--light-projection '" + o.light_projection +
+                                      "' is not one of paper, glfrustum, composed, rebased, clipped-sides");
+  analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
+  policy.light_projection = *projection;
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -56,7 +61,10 @@ void run(const TuneOptions& o, const std::string& command) {
               << " where the capped method cracks more than the fallback; predicted " << c["cracks_predicted"]
               << " of them, " << c["false_alarms"] << " false alarms\n";
   }
-  std::cout << "  threshold " << policy.crack_model.threshold << "\n";
+  if (policy.crack_model.features.empty())
+    std::cout << "  no crack model: the capped method never cracked more than the fallback in training\n";
+  else
+    std::cout << "  threshold " << policy.crack_model.threshold << "\n";
   for (const auto& [method, cm] : policy.cost_models) {
     const nlohmann::json& c = provenance["cost"][std::string(gl::to_string(method))];
     std::cout << "  cost of " << gl::to_string(method) << ": " << cm.intercept_ms << " ms + " << cm.ms_per_mtriangle
@@ -84,6 +92,11 @@ void register_tune(CLI::App& app) {
                   "or one of its --variant)")
       ->capture_default_str();
   cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
+  cmd->add_option("--light-projection", o->light_projection,
+                  "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): paper, "
+                  "glfrustum, composed, rebased or clipped-sides (no light frustum; README \"P_l formulations\")")
+      ->check(CLI::IsMember({"paper", "glfrustum", "composed", "rebased", "clipped-sides"}))
+      ->capture_default_str();
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), or all")
@@ -97,6 +110,7 @@ void register_tune(CLI::App& app) {
     if (o->variant != "switch-clamp=clamp-far") command += " --variant " + o->variant;
     if (o->plain) command += " --plain";
     if (o->features != "all") command += " --features " + o->features;
+    if (o->light_projection != "paper") command += " --light-projection " + o->light_projection;
     run(*o, command);
   });
 }

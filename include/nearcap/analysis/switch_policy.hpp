@@ -11,14 +11,19 @@
 //      fallback method (Z-fail).  ZP+ corrected still switches its case-D
 //      occluders, clamped as `switch_clamp` says (far only by default: the
 //      stress test shows GL_DEPTH_CLAMP's near clamp breaks the depth test).
+//      With `light_projection` clipped-sides the capped ZP+ needs no light
+//      frustum (gl/near_plane_cap.hpp): a light in the near plane keeps it,
+//      for every occluder (the pyramid test cannot tell them apart there).
 // The crack model is a logistic model on the conditioning features
 // (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
 //   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
 // with x the features below, and a crack predicted when P >= threshold.
 //
 // policy.json (README "The switch policy"): {"format": "nearcap-policy",
-// "version": 1, "capped_method": "zpplus-corrected", "fallback_method":
+// "version": 2, "capped_method": "zpplus-corrected", "fallback_method":
 // "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
+// "light_projection": "paper" (version 2; version 1 files, which lack it,
+// are read as "paper"),
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
@@ -88,6 +93,7 @@ struct SwitchPolicy {
   gl::ShadowMethod fallback_method = gl::ShadowMethod::ZFail;
   gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClampFar;
   gl::ZPassFar zpass_far = gl::ZPassFar::Infinite;
+  gl::LightProjection light_projection = gl::LightProjection::Paper;  // the capped ZP+'s near-cap
   CrackModel crack_model;
   // Optional: fitted cost models by method (reported; the decision's order
   // Z-pass < ZP+ corrected < Z-fail does not need them yet).
@@ -95,7 +101,7 @@ struct SwitchPolicy {
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
-inline constexpr int kPolicyVersion = 1;
+inline constexpr int kPolicyVersion = 2;  // written; 1 and 2 are read
 
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);
