@@ -107,6 +107,60 @@ TEST(NearPlaneCap, TheFanCountsOneInsideTheBoxsCrossSectionAndZeroOutside) {
   EXPECT_TRUE(gl::near_plane_cap_fan(box_in_clip_space(projection, -0.5f, 0.25f, -0.25f, 0.5f, -3.0f, -2.0f)).empty());
 }
 
+// Loops of edges (as the cap runs them) far from the viewport: their
+// winding about it, and nothing once an edge comes near.
+TEST(NearPlaneCap, TheWindingOfCurvesOutsideTheViewportIsOneNumber) {
+  // A counter-clockwise square of half-size h around (cx, cy), NDC, at w.
+  auto square = [](float cx, float cy, float h, float w, bool ccw) {
+    const Vec4f c[4] = {{(cx - h) * w, (cy - h) * w, -w, w},
+                        {(cx + h) * w, (cy - h) * w, -w, w},
+                        {(cx + h) * w, (cy + h) * w, -w, w},
+                        {(cx - h) * w, (cy + h) * w, -w, w}};
+    std::vector<Vec4f> edges;
+    for (int k = 0; k < 4; ++k) {
+      const Vec4f &a = c[k], &b = c[(k + 1) % 4];
+      if (ccw)
+        edges.insert(edges.end(), {a, b});
+      else
+        edges.insert(edges.end(), {b, a});
+    }
+    return edges;
+  };
+  EXPECT_EQ(gl::near_plane_cap_constant_winding(square(0, 0, 30, 1e-6f, true), 0.1, 0.1), 1);
+  EXPECT_EQ(gl::near_plane_cap_constant_winding(square(3, -2, 40, 2.0f, false), 0.1, 0.1), -1);
+  EXPECT_EQ(gl::near_plane_cap_constant_winding(square(20, 5, 3, 1.0f, true), 0.1, 0.1), 0);
+  EXPECT_FALSE(gl::near_plane_cap_constant_winding(square(0, 0, 0.5f, 1.0f, true), 0.1, 0.1));   // in the viewport
+  EXPECT_FALSE(gl::near_plane_cap_constant_winding(square(0, 0, 1.05f, 1.0f, true), 0.1, 0.1));  // within the margin
+  // Through infinity: a finite vertex far to the right, rays up and down
+  // from it, closed by the arc at infinity on the right: the viewport is
+  // outside it.  Mirrored to the left around the other way, it is inside.
+  const std::vector<Vec4f> right{{8, 0, -1, 1}, {0, -1, 0, 0}, {0, -1, 0, 0}, {1, 0, 0, 0},
+                                 {1, 0, 0, 0},  {0, 1, 0, 0},  {0, 1, 0, 0},  {8, 0, -1, 1}};
+  EXPECT_EQ(gl::near_plane_cap_constant_winding(right, 0.1, 0.1), 0);
+  const std::vector<Vec4f> around{{8, 0, -1, 1}, {0, 1, 0, 0},  {0, 1, 0, 0},  {-1, 0, 0, 0},
+                                  {-1, 0, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}, {8, 0, -1, 1}};
+  EXPECT_EQ(gl::near_plane_cap_constant_winding(around, 0.1, 0.1), 1);
+  // Rasterized, the shortcut's full-viewport triangles give what the fan gives.
+  gl::DrawState s;
+  s.depth_func = gl::DepthFunc::Always;
+  s.vertices_on_near_plane = true;
+  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
+  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  for (const std::vector<Vec4f>& edges : {square(0, 0, 30, 1e-6f, true), square(3, -2, 40, 2.0f, false), around}) {
+    std::vector<Vec4f> fan, full;
+    for (std::size_t e = 0; e + 1 < edges.size(); e += 2)
+      fan.insert(fan.end(), {gl::near_plane_cap_anchor(), edges[e], edges[e + 1]});
+    const int c = *gl::near_plane_cap_constant_winding(edges, 0.1, 0.1);
+    gl::Framebuffer by_fan(32, 24, gl::DepthFormat::Fixed24), by_count(32, 24, gl::DepthFormat::Fixed24);
+    by_fan.draw(fan, s, {});
+    const Vec4f a{-1, -1, -1, 1}, b{3, -1, -1, 1}, d{-1, 3, -1, 1};
+    for (int k = 0; k < std::abs(c); ++k) full.insert(full.end(), {a, c > 0 ? b : d, c > 0 ? d : b});
+    by_count.draw(full, s, {});
+    EXPECT_EQ(by_fan.stencil(), by_count.stencil()) << "winding " << c;
+    EXPECT_EQ(by_fan.stencil()[0], static_cast<std::uint8_t>(c));
+  }
+}
+
 gl::EmulationSettings clipped_sides(gl::ZPassFar far = gl::ZPassFar::Infinite) {
   gl::EmulationSettings s;
   s.light_frustum.projection = gl::LightProjection::ClippedSides;

@@ -362,7 +362,7 @@ class FrameRenderer {
         const std::vector<Vec4f> clip = run_program(*part, obj.uniforms, extrusion_program);
         boundary.insert(boundary.end(), clip.begin(), clip.end());
       }
-      std::vector<Vec4f> fan = near_plane_cap_fan(boundary);
+      std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height);
       frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored)});
     }
