@@ -2,8 +2,12 @@
 #include "nearcap/gl/near_plane_cap.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <map>
 
 #include "nearcap/gl/clipping.hpp"
 
@@ -85,19 +89,29 @@ bool meets_box(double px, double py, double dx, double dy, double t_end, double 
   return true;
 }
 
-// Does the clip-space edge p -> q (w >= 0 at both ends, so along it) come
-// into the NDC box?  A vertex at infinity (w = 0) is the direction (x, y):
-// the edge from a finite vertex is a ray, between two such an arc at
-// infinity, which no finite box meets.
-bool edge_meets_box(const Vec4f& p, const Vec4f& q, double bx, double by) {
+// Does the clip-space edge p -> q come into the NDC box?  The edge is the
+// arc of positive combinations (1 - t) p + t q, as the clipper interpolates
+// it; only its part with w > 0 is ever drawn.  A part running out to w = 0
+// leaves along the direction (x, y) of its crossing there, so it is a ray.
+bool hemisphere_edge_meets_box(const Vec4f& p, const Vec4f& q, double bx, double by) {
   if (p.w > 0 && q.w > 0) {
     const double px = double{p.x} / p.w, py = double{p.y} / p.w;
     return meets_box(px, py, double{q.x} / q.w - px, double{q.y} / q.w - py, 1.0, bx, by);
   }
-  const double inf = std::numeric_limits<double>::infinity();
-  if (p.w > 0) return meets_box(double{p.x} / p.w, double{p.y} / p.w, q.x, q.y, inf, bx, by);
-  if (q.w > 0) return meets_box(double{q.x} / q.w, double{q.y} / q.w, p.x, p.y, inf, bx, by);
-  return false;
+  if (!(p.w > 0) && !(q.w > 0)) return false;  // at infinity or behind: never drawn
+  const Vec4f& in = p.w > 0 ? p : q;
+  const Vec4f& out = p.w > 0 ? q : p;
+  const double t = double{in.w} / (double{in.w} - double{out.w});  // where w reaches 0
+  const double dx = in.x + t * (double{out.x} - in.x), dy = in.y + t * (double{out.y} - in.y);
+  return meets_box(double{in.x} / in.w, double{in.y} / in.w, dx, dy, std::numeric_limits<double>::infinity(), bx, by);
+}
+
+// The same, or its part behind (w < 0) the antipodal box: the fans'
+// counts are relative to the anchors' antipodes, so a curve passing there
+// is as near as one passing through the viewport.
+bool edge_meets_box(const Vec4f& p, const Vec4f& q, double bx, double by) {
+  const Vec4f np{-p.x, -p.y, -p.z, -p.w}, nq{-q.x, -q.y, -q.z, -q.w};
+  return hemisphere_edge_meets_box(p, q, bx, by) || hemisphere_edge_meets_box(np, nq, bx, by);
 }
 
 bool finite(const Vec4f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.w); }
@@ -108,14 +122,18 @@ std::optional<int> near_plane_cap_constant_winding(const std::vector<Vec4f>& edg
   int winding = 0;
   for (std::size_t e = 0; e + 1 < edges.size(); e += 2) {
     const Vec4f &p = edges[e], &q = edges[e + 1];
-    if (!finite(p) || !finite(q) || p.w < 0 || q.w < 0) return std::nullopt;
-    if ((p.w == 0 && p.x == 0 && p.y == 0) || (q.w == 0 && q.x == 0 && q.y == 0)) return std::nullopt;
+    if (!finite(p) || !finite(q)) return std::nullopt;
+    // A vertex on the axis x = y = 0 but not in the viewport (at infinity,
+    // or the antipode behind): the fan's count would depend on its anchor.
+    if ((p.x == 0 && p.y == 0 && !(p.w > 0)) || (q.x == 0 && q.y == 0 && !(q.w > 0))) return std::nullopt;
     if (edge_meets_box(p, q, 1 + margin_x, 1 + margin_y)) return std::nullopt;
-    // Crossings of the half-line y = 0, x > 0 from the centre, on the
-    // hemisphere w >= 0 (so at infinity too): where y changes sign (half
-    // open), the crossing's x has the sign of p x q = x_p y_q - y_p x_q
-    // upward and the opposite downward.  Float products are exact in
-    // double, and their difference has the right sign.
+    // Crossings of the half great circle y = 0, x > 0 from the centre (0, 0,
+    // 1) through infinity to the antipode of the fan's anchor (0, 0, -1) (in
+    // (x, y, w)), where the fan from the centre counts from: where y
+    // changes sign along the edge (half open), the crossing's x has the sign
+    // of p x q = x_p y_q - y_p x_q upward and the opposite downward, whatever
+    // w is there.  Float products are exact in double, and their difference
+    // has the right sign.
     const double side = double{p.x} * double{q.y} - double{p.y} * double{q.x};
     if (p.y <= 0 && q.y > 0 && side > 0) ++winding;  // upward, the centre on its left
     if (p.y > 0 && q.y <= 0 && side < 0) --winding;  // downward, the centre on its right
@@ -123,22 +141,131 @@ std::optional<int> near_plane_cap_constant_winding(const std::vector<Vec4f>& edg
   return winding;
 }
 
-std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height) {
-  const std::vector<Vec4f> edges = near_plane_cap_edges(boundary_clip_vertices);
-  const double mx = 0.1 + 16.0 / std::max(width, 1), my = 0.1 + 16.0 / std::max(height, 1);
-  if (const std::optional<int> c = near_plane_cap_constant_winding(edges, mx, my)) {
-    // |c| triangles over the viewport (the clipper trims them to it).
-    const Vec4f a{-1.0f, -1.0f, -1.0f, 1.0f}, b{3.0f, -1.0f, -1.0f, 1.0f}, d{-1.0f, 3.0f, -1.0f, 1.0f};
-    std::vector<Vec4f> out;
-    for (int k = 0; k < std::abs(*c); ++k) {
-      if (*c > 0)
-        out.insert(out.end(), {a, b, d});
-      else
-        out.insert(out.end(), {a, d, b});
+std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& edges) {
+  // Vertices are matched bit for bit: the clipper made both ends of a curve
+  // vertex's two edges from the same boundary edge, so they are equal.
+  using Key = std::array<std::uint32_t, 4>;
+  auto key = [](const Vec4f& v) {
+    Key k;
+    std::memcpy(k.data(), &v, sizeof k);
+    return k;
+  };
+  const std::size_t n = edges.size() / 2;
+  std::map<Key, std::vector<std::size_t>> leaving;  // edges by their first vertex
+  for (std::size_t e = 0; e < n; ++e) leaving[key(edges[2 * e])].push_back(e);
+  std::vector<bool> used(n, false);
+  std::vector<std::vector<Vec4f>> loops;
+  std::vector<Vec4f> rest;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (used[start]) continue;
+    std::vector<std::size_t> walk{start};
+    used[start] = true;
+    const Key first = key(edges[2 * start]);
+    bool closed = false;
+    while (true) {
+      const Key at = key(edges[2 * walk.back() + 1]);
+      if (at == first) {
+        closed = true;
+        break;
+      }
+      std::vector<std::size_t>& out = leaving[at];
+      while (!out.empty() && used[out.back()]) out.pop_back();
+      if (out.empty()) break;  // not closed (cannot happen for a closed volume): kept with the rest
+      walk.push_back(out.back());
+      used[out.back()] = true;
+      out.pop_back();
     }
-    return out;
+    std::vector<Vec4f>& into = closed ? loops.emplace_back() : rest;
+    for (std::size_t e : walk) into.insert(into.end(), {edges[2 * e], edges[2 * e + 1]});
   }
-  return fan_over(edges, near_plane_cap_anchor(edges));
+  if (!rest.empty()) loops.push_back(std::move(rest));
+  return loops;
+}
+
+namespace {
+
+// Edges [begin, end) of `run` (2 vertices each, consecutive), simplified:
+// the chord from the first vertex to the last where the closed
+// run-and-chord-back has one count over the viewport
+// (near_plane_cap_constant_winding: every edge and the chord away from it),
+// that count added to `constant`; else each half the same way.
+void simplify_run(const std::vector<Vec4f>& run, std::size_t begin, std::size_t end, double mx, double my,
+                  int& constant, std::vector<Vec4f>& out) {
+  if (end - begin >= 2) {
+    std::vector<Vec4f> closed(run.begin() + 2 * begin, run.begin() + 2 * end);
+    const Vec4f u = run[2 * begin], v = run[2 * end - 1];
+    closed.insert(closed.end(), {v, u});
+    if (const std::optional<int> c = near_plane_cap_constant_winding(closed, mx, my)) {
+      constant += *c;
+      out.insert(out.end(), {u, v});
+      return;
+    }
+    const std::size_t mid = begin + (end - begin) / 2;
+    simplify_run(run, begin, mid, mx, my, constant, out);
+    simplify_run(run, mid, end, mx, my, constant, out);
+    return;
+  }
+  out.insert(out.end(), run.begin() + 2 * begin, run.begin() + 2 * end);
+}
+
+// A loop that comes into the viewport, with each run of consecutive edges
+// that stays away from it simplified (simplify_run): the fan over a run is
+// the fan over its chord plus the fan over the closed run-and-chord-back,
+// whose count is one number over the viewport.  The loop's edges near the
+// viewport, which the sides share bit for bit, are kept as they are.
+std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, double mx, double my, int& constant) {
+  const std::size_t n = loop.size() / 2;
+  std::vector<bool> far(n);
+  std::size_t first_near = n;
+  for (std::size_t e = 0; e < n; ++e) {
+    far[e] =
+        finite(loop[2 * e]) && finite(loop[2 * e + 1]) && !edge_meets_box(loop[2 * e], loop[2 * e + 1], 1 + mx, 1 + my);
+    if (!far[e] && first_near == n) first_near = e;
+  }
+  if (first_near == n) return loop;
+  std::vector<Vec4f> out;
+  // Walk once around from a near edge, so that no run wraps past the start.
+  for (std::size_t k = 0; k < n;) {
+    const std::size_t e = (first_near + k) % n;
+    if (!far[e]) {
+      out.insert(out.end(), {loop[2 * e], loop[2 * e + 1]});
+      ++k;
+      continue;
+    }
+    std::vector<Vec4f> run;
+    for (; k < n && far[(first_near + k) % n]; ++k) {
+      const std::size_t f = (first_near + k) % n;
+      run.insert(run.end(), {loop[2 * f], loop[2 * f + 1]});
+    }
+    simplify_run(run, 0, run.size() / 2, mx, my, constant, out);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height) {
+  const double mx = 0.1 + 16.0 / std::max(width, 1), my = 0.1 + 16.0 / std::max(height, 1);
+  std::vector<Vec4f> out;
+  int constant = 0;  // the loops that stay outside the viewport, together
+  for (const std::vector<Vec4f>& loop : near_plane_cap_loops(near_plane_cap_edges(boundary_clip_vertices))) {
+    if (const std::optional<int> c = near_plane_cap_constant_winding(loop, mx, my)) {
+      constant += *c;
+      continue;
+    }
+    const Vec4f anchor = near_plane_cap_anchor(loop);
+    const std::vector<Vec4f> fan = fan_over(shortened_loop(loop, mx, my, constant), anchor);
+    out.insert(out.end(), fan.begin(), fan.end());
+  }
+  // |constant| triangles over the viewport (the clipper trims them to it).
+  const Vec4f a{-1.0f, -1.0f, -1.0f, 1.0f}, b{3.0f, -1.0f, -1.0f, 1.0f}, d{-1.0f, 3.0f, -1.0f, 1.0f};
+  for (int k = 0; k < std::abs(constant); ++k) {
+    if (constant > 0)
+      out.insert(out.end(), {a, b, d});
+    else
+      out.insert(out.end(), {a, d, b});
+  }
+  return out;
 }
 
 }  // namespace nearcap::gl
