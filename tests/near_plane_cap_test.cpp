@@ -161,6 +161,50 @@ TEST(NearPlaneCap, TheWindingOfCurvesOutsideTheViewportIsOneNumber) {
   }
 }
 
+// Edges in any order come back as their closed loops; the pass draws the
+// same counts as the plain fan over them, with fewer fragments when a loop
+// strays far outside the viewport.
+TEST(NearPlaneCap, LoopsAndTheirShortcutsCountWhatTheFanCounts) {
+  // Loop 1: a square around part of the viewport that runs far out to the
+  // right (vertices 20 viewports away); loop 2: a small square inside.
+  const std::vector<Vec4f> big{{-0.5f, -0.5f, -1, 1}, {20, -0.5f, -1, 1},   {20, -0.5f, -1, 1}, {20, 0.5f, -1, 1},
+                               {20, 0.5f, -1, 1},     {30, 8, -1, 1},       {30, 8, -1, 1},     {-0.5f, 0.5f, -1, 1},
+                               {-0.5f, 0.5f, -1, 1},  {-0.5f, -0.5f, -1, 1}};
+  const std::vector<Vec4f> small{{0.6f, -0.8f, -1, 1}, {0.8f, -0.8f, -1, 1}, {0.8f, -0.8f, -1, 1},
+                                 {0.8f, -0.6f, -1, 1}, {0.8f, -0.6f, -1, 1}, {0.6f, -0.6f, -1, 1},
+                                 {0.6f, -0.6f, -1, 1}, {0.6f, -0.8f, -1, 1}};
+  std::vector<Vec4f> shuffled;
+  for (std::size_t e = 0; e < 5; ++e) {
+    shuffled.insert(shuffled.end(), {big[2 * ((3 * e) % 5)], big[2 * ((3 * e) % 5) + 1]});
+    if (e < 4) shuffled.insert(shuffled.end(), {small[2 * e], small[2 * e + 1]});
+  }
+  const std::vector<std::vector<Vec4f>> loops = gl::near_plane_cap_loops(shuffled);
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_EQ(loops[0].size() + loops[1].size(), shuffled.size());
+  gl::DrawState s;
+  s.depth_func = gl::DepthFunc::Always;
+  s.vertices_on_near_plane = true;
+  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
+  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  // Boundary triangles whose near edges these are: each edge a -> b of the
+  // cap is the edge b -> a, lying in the near plane, of a triangle (b, a, x)
+  // beyond it.
+  std::vector<Vec4f> boundary;
+  for (std::size_t e = 0; e + 1 < shuffled.size(); e += 2) {
+    const Vec4f &a = shuffled[e], &b = shuffled[e + 1];
+    boundary.insert(boundary.end(), {b, a, {0.5f * (a.x + b.x), 0.5f * (a.y + b.y), 0.5f, 1.0f}});
+  }
+  ASSERT_EQ(gl::near_plane_cap_edges(boundary).size(), shuffled.size());
+  gl::Framebuffer by_fan(64, 48, gl::DepthFormat::Fixed24), by_pass(64, 48, gl::DepthFormat::Fixed24);
+  const gl::DrawCounters fan = by_fan.draw(gl::near_plane_cap_fan(boundary), s, {});
+  const gl::DrawCounters pass = by_pass.draw(gl::near_plane_cap_triangles(boundary, 64, 48), s, {});
+  EXPECT_EQ(by_fan.stencil(), by_pass.stencil());
+  EXPECT_LT(pass.fragments, fan.fragments);
+  EXPECT_EQ(by_pass.stencil()[by_pass.index(54, 7)], 1);   // inside the small square
+  EXPECT_EQ(by_pass.stencil()[by_pass.index(8, 8)], 0);    // outside both
+  EXPECT_EQ(by_pass.stencil()[by_pass.index(24, 24)], 1);  // inside the big one
+}
+
 gl::EmulationSettings clipped_sides(gl::ZPassFar far = gl::ZPassFar::Infinite) {
   gl::EmulationSettings s;
   s.light_frustum.projection = gl::LightProjection::ClippedSides;
