@@ -150,6 +150,18 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   const std::string written = analysis::policy_to_json(sides);
   EXPECT_NE(written.find("\"version\": 2"), std::string::npos) << written;
   EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
+  EXPECT_TRUE(analysis::parse_policy(written, "s.json").exact_zpass);
+  sides.exact_zpass = false;
+  EXPECT_FALSE(analysis::parse_policy(analysis::policy_to_json(sides), "s.json").exact_zpass);
+  sides.capped_method = gl::ShadowMethod::ZFail;
+  sides.fallback_method = gl::ShadowMethod::Preload;
+  try {
+    analysis::parse_policy(analysis::policy_to_json(sides), "s.json");
+    ADD_FAILURE() << "exact_zpass false accepted without a ZP+ capped method";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("exact_zpass: false needs a ZP+ capped method"), std::string::npos)
+        << e.what();
+  }
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
   EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
@@ -172,6 +184,10 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"version\": 1, \"capped_method\"",
                 "\"version\": 2, \"light_projection\": \"sides\", \"capped_method\""),
        "light_projection: must be paper"},
+      {replaced("\"version\": 1, \"capped_method\"", "\"version\": 2, \"exact_zpass\": 0, \"capped_method\""),
+       "exact_zpass: must be true or false"},
+      {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"exact_zpass\": false"),
+       "exact_zpass: is a version 2 field"},
       {replaced("\"version\": 1,", ""), "version: missing"},
       {replaced("\"format\": \"nearcap-policy\"", "\"format\": \"x\""), "format"},
       {replaced("\"bias\": -3", "\"bias\": -3, \"extra\": 1"), "crack_model.extra: unknown key"},
@@ -304,7 +320,11 @@ TEST(SwitchPolicy, TheShippedPolicyNeverCracksMoreThanZFailOnBundledScenes) {
     ++scenes;
   }
   EXPECT_EQ(scenes, 11u);
-  EXPECT_GT(exact_zpass, 0u);
+  if (policy.exact_zpass) {
+    EXPECT_GT(exact_zpass, 0u);
+  } else {
+    EXPECT_EQ(exact_zpass, 0u);  // no test: the capped method everywhere
+  }
 }
 
 // End to end as a user runs it: a sweep, nearcap tune, then the policy it

@@ -9,7 +9,9 @@
 #      test), on the configurations not held out (README "The switch
 #      policy"), checked on those that are.  Where ZP+ never cracks more than
 #      Z-fail in training there is nothing to fit, and the policy has no
-#      crack model: Z-pass where the near-cap is empty (exact), ZP+ elsewhere.
+#      crack model; nor an exact Z-pass test (--no-exact-zpass): ZP+ with this
+#      cap is Z-pass, fragment for fragment, wherever the near-cap is empty
+#      in the viewport, and right where that test's float Z-pass is not.
 # About a minute on 2 cores.  Usage: analysis/tuning/tune_policy.sh [BUILD_DIR] [OUT]
 #   (default: build, data/policy.json; the sweeps go to out/tuning/)
 set -euo pipefail
@@ -25,5 +27,5 @@ choices=(--light-projection clipped-sides --zpass-far infinite)
 "$n" sweep "${paths[@]}" --methods zpplus,zfail "${choices[@]}" --out out/tuning/paths.csv
 "$n" tune out/tuning/samples.csv out/tuning/paths.csv --out "$policy" --capped zpplus \
   --variant light-projection=clipped-sides,zpass-far=infinite \
-  --light-projection clipped-sides \
+  --light-projection clipped-sides --no-exact-zpass \
   --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew

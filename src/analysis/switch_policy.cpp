@@ -125,7 +125,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
             {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
-             "crack_model", "cost_models", "provenance"},
+             "exact_zpass", "crack_model", "cost_models", "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
@@ -143,6 +143,11 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
       fail(source, "light_projection", "must be paper, glfrustum, composed, rebased or clipped-sides");
     p.light_projection = *gl::light_projection_from_string(it->get<std::string>());
   }
+  if (const auto it = j.find("exact_zpass"); it != j.end()) {
+    if (file_version < 2) fail(source, "exact_zpass", "is a version 2 field (this file says version 1)");
+    if (!it->is_boolean()) fail(source, "exact_zpass", "must be true or false");
+    p.exact_zpass = it->get<bool>();
+  }
   p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
   p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
   if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
@@ -151,6 +156,8 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     fail(source, "capped_method", "must not be zpass (it is wrong for the occluders that meet the light pyramid)");
   if (p.capped_method == gl::ShadowMethod::Preload && gl::uses_near_cap(p.fallback_method))
     fail(source, "capped_method", "preload cannot share a frame with a ZP+ method");
+  if (!p.exact_zpass && !gl::uses_near_cap(p.capped_method))
+    fail(source, "exact_zpass", "false needs a ZP+ capped method (zpplus or zpplus-corrected)");
   const Json& clamp = field(j, "switch_clamp", "", source);
   if (!clamp.is_string() || !gl::switch_clamp_from_string(clamp.get<std::string>()))
     fail(source, "switch_clamp", "must be \"clamp\" or \"clamp-far\"");
@@ -231,6 +238,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["switch_clamp"] = std::string(gl::to_string(p.switch_clamp));
   j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
   j["light_projection"] = std::string(gl::to_string(p.light_projection));
+  j["exact_zpass"] = p.exact_zpass;
   Json m;
   m["features"] = p.crack_model.features;
   m["mean"] = p.crack_model.mean;
@@ -267,6 +275,18 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
   d.reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;
+  if (!policy.exact_zpass) {
+    // No per-occluder test: the capped method everywhere (with the
+    // clipped-sides cap that is Z-pass plus the cap its own clipped sides
+    // leave, nothing where they leave none).
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder) {
+        d.object_methods[o] = policy.capped_method;
+        d.reasons[o] = "every occluder (no exact Z-pass test)";
+      }
+    d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return d;
+  }
   std::vector<bool> meets;
   bool degenerate = false;
   try {

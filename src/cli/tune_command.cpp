@@ -21,6 +21,7 @@ struct TuneOptions {
   bool plain = false;
   std::string features = "all";
   std::string light_projection = "paper";
+  bool no_exact_zpass = false;
 };
 
 void run(const TuneOptions& o, const std::string& command) {
@@ -52,6 +53,13 @@ void run(const TuneOptions& o, const std::string& command) {
                                       "' is not one of paper, glfrustum, composed, rebased, clipped-sides");
   analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
   policy.light_projection = *projection;
+  if (o.no_exact_zpass) {
+    if (*projection != gl::LightProjection::ClippedSides)
+      throw Error(ErrorKind::Usage,
+                  "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
+                  "near-cap is empty)");
+    policy.exact_zpass = false;
+  }
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -97,6 +105,9 @@ void register_tune(CLI::App& app) {
                   "glfrustum, composed, rebased or clipped-sides (no light frustum; README \"P_l formulations\")")
       ->check(CLI::IsMember({"paper", "glfrustum", "composed", "rebased", "clipped-sides"}))
       ->capture_default_str();
+  cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,
+                "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "
+                "clipped-sides, which is Z-pass wherever its sides leave no cap in the viewport)");
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), or all")
@@ -111,6 +122,7 @@ void register_tune(CLI::App& app) {
     if (o->plain) command += " --plain";
     if (o->features != "all") command += " --features " + o->features;
     if (o->light_projection != "paper") command += " --light-projection " + o->light_projection;
+    if (o->no_exact_zpass) command += " --no-exact-zpass";
     run(*o, command);
   });
 }

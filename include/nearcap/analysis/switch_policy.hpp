@@ -14,6 +14,9 @@
 //      With `light_projection` clipped-sides the capped ZP+ needs no light
 //      frustum (gl/near_plane_cap.hpp): a light in the near plane keeps it,
 //      for every occluder (the pyramid test cannot tell them apart there).
+// With `exact_zpass` false there is no step 1 and no model: the capped
+// method for every occluder (README "The switch policy" measures why the
+// shipped policy does so).
 // The crack model is a logistic model on the conditioning features
 // (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
 //   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
@@ -22,8 +25,8 @@
 // policy.json (README "The switch policy"): {"format": "nearcap-policy",
 // "version": 2, "capped_method": "zpplus-corrected", "fallback_method":
 // "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
-// "light_projection": "paper" (version 2; version 1 files, which lack it,
-// are read as "paper"),
+// "light_projection": "paper", "exact_zpass": true (version 2; version 1
+// files, which lack them, are read as "paper" and true),
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
@@ -94,6 +97,11 @@ struct SwitchPolicy {
   gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClampFar;
   gl::ZPassFar zpass_far = gl::ZPassFar::Infinite;
   gl::LightProjection light_projection = gl::LightProjection::Paper;  // the capped ZP+'s near-cap
+  // Step 1 (exact Z-pass where the near-cap is empty).  false: every
+  // occluder gets the capped method, no test at all; right for ZP+ with the
+  // clipped-sides cap, which draws no cap where its float sides leave none
+  // in the viewport and is then Z-pass, fragment for fragment.
+  bool exact_zpass = true;
   CrackModel crack_model;
   // Optional: fitted cost models by method (reported; the decision's order
   // Z-pass < ZP+ corrected < Z-fail does not need them yet).
