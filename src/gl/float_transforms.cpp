@@ -59,14 +59,15 @@ Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic) {
   return out;
 }
 
-Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic) {
+float transform_row(const Mat4f& m, int r, const Vec4f& v, Arithmetic arithmetic) {
   const float in[4] = {v.x, v.y, v.z, v.w};
-  float out[4];
-  for (int r = 0; r < 4; ++r) {
-    const float row[4] = {m.at(r, 0), m.at(r, 1), m.at(r, 2), m.at(r, 3)};
-    out[r] = dot4(row, in, arithmetic);
-  }
-  return {out[0], out[1], out[2], out[3]};
+  const float row[4] = {m.at(r, 0), m.at(r, 1), m.at(r, 2), m.at(r, 3)};
+  return dot4(row, in, arithmetic);
+}
+
+Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic) {
+  return {transform_row(m, 0, v, arithmetic), transform_row(m, 1, v, arithmetic), transform_row(m, 2, v, arithmetic),
+          transform_row(m, 3, v, arithmetic)};
 }
 
 }  // namespace nearcap::gl

@@ -268,4 +268,29 @@ std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_c
   return out;
 }
 
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w) {
+  double row[4], magnitude[4];
+  for (int k = 0; k < 4; ++k) {
+    row[k] = double{m.at(2, k)} + double{m.at(3, k)};
+    magnitude[k] = std::fabs(double{m.at(2, k)}) + std::fabs(double{m.at(3, k)});
+  }
+  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest, bound = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const double c[4] = {(corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z, w};
+    double value = 0, size = 0;
+    for (int k = 0; k < 4; ++k) {
+      value += row[k] * c[k];
+      size += magnitude[k] * std::fabs(c[k]);
+    }
+    lowest = std::min(lowest, value);
+    highest = std::max(highest, value);
+    bound = std::max(bound, size);
+  }
+  const double margin = 1e-5 * bound;
+  if (!std::isfinite(lowest) || !std::isfinite(highest) || !std::isfinite(margin)) return 0;
+  if (lowest > margin) return 1;
+  if (highest < -margin) return -1;
+  return 0;
+}
+
 }  // namespace nearcap::gl

@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -43,6 +44,15 @@ float determinant3(const Mat4f& m) {
   return m.at(0, 0) * (m.at(1, 1) * m.at(2, 2) - m.at(1, 2) * m.at(2, 1)) -
          m.at(0, 1) * (m.at(1, 0) * m.at(2, 2) - m.at(1, 2) * m.at(2, 0)) +
          m.at(0, 2) * (m.at(1, 0) * m.at(2, 1) - m.at(1, 1) * m.at(2, 0));
+}
+
+std::pair<Vec3d, Vec3d> bounding_box(const TriangleMesh& mesh) {
+  Vec3d lo = mesh.positions.empty() ? Vec3d{} : mesh.positions[0], hi = lo;
+  for (const Vec3d& p : mesh.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return {lo, hi};
 }
 
 Mat4f identity_matrix() {
@@ -139,7 +149,8 @@ struct ShadowFrameBatch::SharedWork {
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
   std::optional<LightFrustum> light_frustum;
-  double silhouette_ms = 0;  // computing silhouettes and geometry, once
+  std::vector<std::optional<std::pair<Vec3d, Vec3d>>> boxes;  // object-space mesh bounds (clipped-sides cap)
+  double silhouette_ms = 0;                                   // computing silhouettes and geometry, once
 };
 
 namespace {
@@ -356,13 +367,38 @@ class FrameRenderer {
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || !uses_near_cap(methods_[o])) continue;
+      // Only parts that may reach the near plane: the mesh's points (light
+      // cap), its directions from the light (dark cap), and the sides
+      // between them unless both lie strictly on one side.
+      if (!shared_.boxes[o]) shared_.boxes[o] = bounding_box(*scene_.objects[o].mesh);
+      const auto& [lo, hi] = *shared_.boxes[o];
+      const Vec4f& l = obj.uniforms.light_position;
+      const Vec3d light{l.x, l.y, l.z};
+      const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0);
+      const int directions = near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0);
       std::vector<Vec4f> boundary;
-      for (const std::vector<ShadowVertex>* part :
-           {&obj.geometry->sides, &obj.geometry->light_cap, &obj.geometry->dark_cap}) {
-        const std::vector<Vec4f> clip = run_program(*part, obj.uniforms, extrusion_program);
-        boundary.insert(boundary.end(), clip.begin(), clip.end());
+      for (const auto& [part, needed] :
+           {std::pair{&obj.geometry->sides, points == 0 || directions == 0 || points != directions},
+            std::pair{&obj.geometry->light_cap, points == 0}, std::pair{&obj.geometry->dark_cap, directions == 0}}) {
+        if (!needed) continue;
+        // The whole program only for the triangles that reach the near
+        // plane: its z and w rows alone decide that, bit for bit.
+        const Mat4f& mvp = obj.uniforms.modelview_projection;
+        for (std::size_t t = 0; t + 2 < part->size(); t += 3) {
+          bool beyond = true;
+          for (std::size_t k = t; k < t + 3 && beyond; ++k) {
+            const Vec4f in = extrusion_input(obj.uniforms, (*part)[k]);
+            beyond = transform_row(mvp, 2, in, obj.uniforms.arithmetic) +
+                         transform_row(mvp, 3, in, obj.uniforms.arithmetic) >
+                     0;
+          }
+          if (beyond) continue;
+          for (std::size_t k = t; k < t + 3; ++k) boundary.push_back(extrusion_program(obj.uniforms, (*part)[k]));
+        }
       }
+      if (boundary.empty()) continue;  // nothing reaches the near plane: no cap, no draw call
       std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height);
+      if (fan.empty()) continue;
       frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored)});
     }
@@ -460,6 +496,7 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
     : scene_(scene), light_(light), settings_(settings), shared_(std::make_unique<SharedWork>()) {
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
+  shared_->boxes.resize(scene.objects.size());
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 

@@ -3,10 +3,13 @@
 
 namespace nearcap::gl {
 
+Vec4f extrusion_input(const ShadowUniforms& u, const ShadowVertex& v) {
+  if (v.w == 0.0f) return {v.x - u.light_position.x, v.y - u.light_position.y, v.z - u.light_position.z, 0.0f};
+  return {v.x, v.y, v.z, 1.0f};
+}
+
 Vec4f extrusion_program(const ShadowUniforms& u, const ShadowVertex& v) {
-  Vec4f p{v.x, v.y, v.z, 1.0f};
-  if (v.w == 0.0f) p = {v.x - u.light_position.x, v.y - u.light_position.y, v.z - u.light_position.z, 0.0f};
-  return transform(u.modelview_projection, p, u.arithmetic);
+  return transform(u.modelview_projection, extrusion_input(u, v), u.arithmetic);
 }
 
 Vec4f figure7_program(const ShadowUniforms& u, const ShadowVertex& v) {

@@ -37,5 +37,7 @@ Mat4f infinite_frustum_matrix(const Frustum& f);
 Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic = Arithmetic::Separate);
 
 Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic = Arithmetic::Separate);
+// One row of transform(m, v), bit for bit (row 0 to 3: x, y, z, w).
+float transform_row(const Mat4f& m, int row, const Vec4f& v, Arithmetic arithmetic = Arithmetic::Separate);
 
 }  // namespace nearcap::gl

@@ -107,4 +107,14 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // formulations"); `twisted`'s 4.3 M -> 0.
 std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height);
 
+// Which side of the near plane (clip z + w) the points (w = 1) or the
+// directions (w = 0) of the object-space box [lo, hi] all lie on under the
+// float32 transform m: +1 all strictly beyond it, -1 all strictly in front,
+// 0 when some straddle or come too close to call (a margin of 1e-5 of the
+// products' magnitude, far above the vertex program's float32 rounding).
+// A part of a volume (light cap: the mesh's points; dark cap: its
+// directions from the light; sides: both) whose boxes are all strictly on
+// one side leaves no edge in the near plane, so the pass skips it.
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w);
+
 }  // namespace nearcap::gl

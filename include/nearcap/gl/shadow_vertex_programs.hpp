@@ -35,6 +35,9 @@ struct ShadowUniforms {
 // The plain program (Z-pass, Z-fail, ZP+ as published): w = 0 extrudes,
 // anything else is the point (x, y, z, 1).
 Vec4f extrusion_program(const ShadowUniforms& u, const ShadowVertex& v);
+// What that program transforms: (x, y, z, 1), or (x - light, 0) for w = 0;
+// extrusion_program(u, v) is transform(u.modelview_projection, this).
+Vec4f extrusion_input(const ShadowUniforms& u, const ShadowVertex& v);
 
 // Figure 7, line by line: extrude for w = 0 or 4, stick for w = 2, transform by
 // the camera; a movable vertex (w < 1.5) that the near plane clips
