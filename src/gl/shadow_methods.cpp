@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <utility>
 
 #include "nearcap/check.hpp"
@@ -376,22 +377,36 @@ class FrameRenderer {
       const Vec3d light{l.x, l.y, l.z};
       const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0);
       const int directions = near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0);
+      // z + w of each mesh vertex as a point and as a direction from the
+      // light, once per mesh vertex: bit for bit what the program computes
+      // for it in any triangle (the same input, its z and w rows).
+      const TriangleMesh& mesh = *scene_.objects[o].mesh;
+      const Mat4f& mvp = obj.uniforms.modelview_projection;
+      auto near_distance = [&](const ShadowVertex& v) {
+        const Vec4f in = extrusion_input(obj.uniforms, v);
+        return transform_row(mvp, 2, in, obj.uniforms.arithmetic) + transform_row(mvp, 3, in, obj.uniforms.arithmetic);
+      };
+      // Both bounds strictly on one side: no part reaches the near plane.
+      const bool sides_needed = points == 0 || directions == 0 || points != directions;
+      if (!sides_needed) continue;
+      std::vector<float> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
+      for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3d& p = mesh.positions[v];
+        const float x = static_cast<float>(p.x), y = static_cast<float>(p.y), z = static_cast<float>(p.z);
+        as_point[v] = near_distance({x, y, z, 1.0f});
+        as_direction[v] = near_distance({x, y, z, 0.0f});
+      }
+      const ShadowVolumeGeometry& g = *obj.geometry;
       std::vector<Vec4f> boundary;
-      for (const auto& [part, needed] :
-           {std::pair{&obj.geometry->sides, points == 0 || directions == 0 || points != directions},
-            std::pair{&obj.geometry->light_cap, points == 0}, std::pair{&obj.geometry->dark_cap, directions == 0}}) {
+      for (const auto& [part, index, needed] :
+           {std::tuple{&g.sides, &g.sides_vertex, true}, std::tuple{&g.light_cap, &g.light_cap_vertex, points == 0},
+            std::tuple{&g.dark_cap, &g.dark_cap_vertex, directions == 0}}) {
         if (!needed) continue;
-        // The whole program only for the triangles that reach the near
-        // plane: its z and w rows alone decide that, bit for bit.
-        const Mat4f& mvp = obj.uniforms.modelview_projection;
+        // The whole program only for the triangles that reach the near plane.
         for (std::size_t t = 0; t + 2 < part->size(); t += 3) {
           bool beyond = true;
-          for (std::size_t k = t; k < t + 3 && beyond; ++k) {
-            const Vec4f in = extrusion_input(obj.uniforms, (*part)[k]);
-            beyond = transform_row(mvp, 2, in, obj.uniforms.arithmetic) +
-                         transform_row(mvp, 3, in, obj.uniforms.arithmetic) >
-                     0;
-          }
+          for (std::size_t k = t; k < t + 3 && beyond; ++k)
+            beyond = ((*part)[k].w == 0.0f ? as_direction : as_point)[(*index)[k]] > 0;
           if (beyond) continue;
           for (std::size_t k = t; k < t + 3; ++k) boundary.push_back(extrusion_program(obj.uniforms, (*part)[k]));
         }

@@ -21,13 +21,19 @@ ShadowVolumeGeometry shadow_volume_geometry(const TriangleMesh& mesh, const Engi
     const Vec3d& a = mesh.positions[silhouette.edges[k].a];
     const Vec3d& d = mesh.positions[silhouette.edges[k].d];
     add_quad(g.sides, at(d, 1), at(a, 1), at(a, 0), at(d, 0));
+    const VertexIndex ia = silhouette.edges[k].a, id = silhouette.edges[k].d;
+    g.sides_vertex.insert(g.sides_vertex.end(), {id, ia, ia, id, ia, id});
     if (silhouette.cases[k] == QuadCase::C1) add_quad(g.corrective, at(a, 2), at(a, 1), at(d, 1), at(d, 2));
     if (silhouette.cases[k] == QuadCase::C2) add_quad(g.corrective, at(a, 0), at(a, 4), at(d, 4), at(d, 0));
   }
   for (FaceIndex f = 0; f < mesh.triangle_count(); ++f) {
     const bool front = silhouette.facing[f] == Facing::Front;
     auto& cap = front ? g.light_cap : g.dark_cap;
-    for (VertexIndex v : mesh.triangles[f]) cap.push_back(at(mesh.positions[v], front ? 1.0f : 0.0f));
+    auto& index = front ? g.light_cap_vertex : g.dark_cap_vertex;
+    for (VertexIndex v : mesh.triangles[f]) {
+      cap.push_back(at(mesh.positions[v], front ? 1.0f : 0.0f));
+      index.push_back(v);
+    }
   }
   return g;
 }

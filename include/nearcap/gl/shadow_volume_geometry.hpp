@@ -12,6 +12,9 @@
 //              {(A,2) (A,1) (D,1) (D,2)}, case C2 {(A,0) (A,4) (D,4) (D,0)};
 //   light_cap  the light-front-facing triangles, w = 1;
 //   dark_cap   the other triangles, w = 0 (extruded to infinity), same winding.
+// Beside sides, light_cap and dark_cap, the mesh vertex each of their
+// vertices comes from (what a pass that needs a per-vertex value only once
+// per mesh vertex indexes by: the clipped-sides near-cap).
 #pragma once
 
 #include <cstddef>
@@ -27,6 +30,7 @@ struct ShadowVolumeGeometry {
   std::vector<ShadowVertex> corrective;
   std::vector<ShadowVertex> light_cap;
   std::vector<ShadowVertex> dark_cap;
+  std::vector<VertexIndex> sides_vertex, light_cap_vertex, dark_cap_vertex;
 };
 
 ShadowVolumeGeometry shadow_volume_geometry(const TriangleMesh& mesh, const EngineSilhouette& silhouette);
