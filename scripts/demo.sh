@@ -72,7 +72,7 @@ rm -f out/sweep/tuning.csv
 ./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus,zfail \
   --light-projection clipped-sides --zpass-far infinite --out out/sweep/tuning.csv >/dev/null
 ./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json --capped zpplus \
-  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides \
+  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides --no-exact-zpass \
   --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json

@@ -443,8 +443,11 @@ class Report:
         else:
             rule = ("always: no crack model (the capped method never cracked more than "
                     f"{html.escape(str(p.get('fallback_method')))} in training, so there was nothing to fit)")
-        text = (f"<p>From <code>{html.escape(self.policy_source)}</code>: occluders that meet no point of the "
-                f"light pyramid get Z-pass (exact); the others {capped} {rule}. Fitted by <code>"
+        if p.get("exact_zpass", True):
+            who = "occluders that meet no point of the light pyramid get Z-pass (exact); the others"
+        else:
+            who = "every occluder (no exact Z-pass test) gets"
+        text = (f"<p>From <code>{html.escape(self.policy_source)}</code>: {who} {capped} {rule}. Fitted by <code>"
                 f"{html.escape(str(prov.get('command', '?')))}</code>; split: "
                 f"{html.escape(str(prov.get('split', '?')))}.</p>")
         body = []
