@@ -111,6 +111,38 @@ void expect_far_rectangle_is_the_near_rectangle(const Scene& scene, const LightF
     }
 }
 
+// The infinite projection's depth row: exact puts a point at infinity on
+// the far plane (z = w bit for bit, so far clipping keeps it), each nudge
+// just inside it by its margin.
+TEST(InfiniteProjection, EachNudgePutsInfinityWhereItSays) {
+  Frustum f;
+  f.left = -0.4;
+  f.right = 0.4;
+  f.bottom = -0.3;
+  f.top = 0.3;
+  f.near = 0.5;
+  f.far = 100;
+  const Vec4f direction{0.3f, -0.2f, -1.0f, 0.0f};  // away from the eye, at infinity
+  auto ndc_z = [&](InfiniteFar nudge) {
+    const Vec4f c = transform(infinite_frustum_matrix(f, nudge), direction);
+    return double{c.z} / c.w;
+  };
+  const Vec4f exact = transform(infinite_frustum_matrix(f), direction);
+  EXPECT_EQ(exact.z, exact.w);
+  EXPECT_NEAR(ndc_z(InfiniteFar::Epsilon), 1 - std::ldexp(1.0, -22), 1e-9);
+  EXPECT_NEAR(ndc_z(InfiniteFar::Doom3), 0.999, 1e-7);
+  EXPECT_LT(ndc_z(InfiniteFar::OneUlp), 1.0);
+  EXPECT_GT(ndc_z(InfiniteFar::OneUlp), 1 - std::ldexp(1.0, -22));
+  // The near plane stays where it is (z = -w at z_eye = -near; epsilon's
+  // (eps - 2) n keeps it there) for all but doom3, which moves it to NDC
+  // -1.001 (a sliver in front of the near plane is no longer clipped).
+  for (InfiniteFar nudge : {InfiniteFar::Exact, InfiniteFar::Epsilon, InfiniteFar::Doom3, InfiniteFar::OneUlp}) {
+    const Vec4f c = transform(infinite_frustum_matrix(f, nudge), {0, 0, -0.5f, 1});
+    EXPECT_NEAR(double{c.z} / c.w, nudge == InfiniteFar::Doom3 ? -1.001 : -1.0, 1e-6) << to_string(nudge);
+    EXPECT_EQ(infinite_far_from_string(to_string(nudge)), nudge);
+  }
+}
+
 TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
   for (LightProjection p :
        {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed, LightProjection::Rebased}) {

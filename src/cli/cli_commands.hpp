@@ -64,6 +64,7 @@ struct EmulationOptions {
   std::string zfail_far = "infinite";
   std::string switch_clamp = "clamp";
   std::string zpass_far = "finite";
+  std::string infinite_far = "exact";
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);

@@ -115,6 +115,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "draws; kept finite in a frame with a ZP+ method)")
       ->check(CLI::IsMember({"finite", "infinite"}))
       ->capture_default_str();
+  cmd.add_option("--infinite-far", o.infinite_far,
+                 "the infinite projection's depth row: exact (-1, -2 near), epsilon (Everitt and Kilgard's 2^-22 "
+                 "margin), doom3 (-0.999) or one-ulp (-(1 - 2^-23))")
+      ->check(CLI::IsMember({"exact", "epsilon", "doom3", "one-ulp"}))
+      ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
 }
 
@@ -138,6 +143,7 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"zfail-far", o.zfail_far},
           {"switch-clamp", o.switch_clamp},
           {"zpass-far", o.zpass_far},
+          {"infinite-far", o.infinite_far},
           {"fma", o.fma ? "1" : "0"}};
 }
 
@@ -205,13 +211,16 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "zpass-far") {
       need_one_of(spec, name, value, {"finite", "infinite"});
       o.zpass_far = value;
+    } else if (name == "infinite-far") {
+      need_one_of(spec, name, value, {"exact", "epsilon", "doom3", "one-ulp"});
+      o.infinite_far = value;
     } else if (name == "fma") {
       need_one_of(spec, name, value, {"0", "1"});
       o.fma = value == "1";
     } else {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
                                         "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
-                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, fma)");
+                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -255,6 +264,11 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
   s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
   s.zpass_far = *gl::zpass_far_from_string(o.zpass_far);
+  const auto infinite_far = gl::infinite_far_from_string(o.infinite_far);
+  if (!infinite_far)
+    throw Error(ErrorKind::Usage,
+                "--infinite-far '" + o.infinite_far + "' is not one of exact, epsilon, doom3, one-ulp");
+  s.infinite_far = *infinite_far;
   return s;
 }
 

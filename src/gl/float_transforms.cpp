@@ -41,10 +41,47 @@ Mat4f frustum_matrix(const Frustum& f) {
   return m;
 }
 
-Mat4f infinite_frustum_matrix(const Frustum& f) {
+std::string_view to_string(InfiniteFar f) {
+  switch (f) {
+    case InfiniteFar::Exact:
+      return "exact";
+    case InfiniteFar::Epsilon:
+      return "epsilon";
+    case InfiniteFar::Doom3:
+      return "doom3";
+    case InfiniteFar::OneUlp:
+      return "one-ulp";
+  }
+  return "?";
+}
+
+std::optional<InfiniteFar> infinite_far_from_string(std::string_view name) {
+  for (InfiniteFar f : {InfiniteFar::Exact, InfiniteFar::Epsilon, InfiniteFar::Doom3, InfiniteFar::OneUlp})
+    if (to_string(f) == name) return f;
+  return std::nullopt;
+}
+
+Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge) {
   Mat4f m = frustum_matrix(f);
-  m.at(2, 2) = -1.0f;
-  m.at(2, 3) = static_cast<float>(-2 * f.near);
+  double zz = -1, zw = -2 * f.near;
+  switch (nudge) {
+    case InfiniteFar::Exact:
+      break;
+    case InfiniteFar::Epsilon: {
+      const double eps = std::ldexp(1.0, -22);
+      zz = eps - 1;
+      zw = (eps - 2) * f.near;
+      break;
+    }
+    case InfiniteFar::Doom3:
+      zz = -0.999;
+      break;
+    case InfiniteFar::OneUlp:
+      zz = -(1 - std::ldexp(1.0, -23));
+      break;
+  }
+  m.at(2, 2) = static_cast<float>(zz);
+  m.at(2, 3) = static_cast<float>(zw);
   return m;
 }
 

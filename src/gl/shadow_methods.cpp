@@ -210,8 +210,8 @@ class FrameRenderer {
     const bool infinite =
         !finite_required && (any_preload_ || any_infinite_zfail_ ||
                              ((any_zpass_ || any_near_cap_) && settings_.zpass_far == ZPassFar::Infinite));
-    const Mat4f projection =
-        infinite ? infinite_frustum_matrix(scene_.camera.frustum) : frustum_matrix(scene_.camera.frustum);
+    const Mat4f projection = infinite ? infinite_frustum_matrix(scene_.camera.frustum, settings_.infinite_far)
+                                      : frustum_matrix(scene_.camera.frustum);
     prepare_objects(projection, frame);
     // Every method's setup includes the silhouettes and volume geometry, also
     // when an earlier method of the batch computed them.

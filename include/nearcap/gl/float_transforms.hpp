@@ -6,6 +6,8 @@
 #pragma once
 
 #include <array>
+#include <optional>
+#include <string_view>
 
 #include "nearcap/scene/scene.hpp"
 
@@ -31,8 +33,21 @@ Mat4f to_mat4f(const Affine3d& a);
 // glFrustum(left, right, bottom, top, near, far), computed in double and
 // rounded to float32 (what an application computing in double uploads).
 Mat4f frustum_matrix(const Frustum& f);
-// The same with the far plane at infinity (Everitt and Kilgard 2002).
-Mat4f infinite_frustum_matrix(const Frustum& f);
+// The far plane at infinity (Everitt and Kilgard 2002), with the nudges
+// shipped code puts in its depth row so that w = 0 vertices land just
+// inside the far plane instead of on it (where rounding could clip them):
+//   exact    z_clip = -z - 2n: a point at infinity has z = w, depth 1;
+//   epsilon  (eps - 1) z + (eps - 2) n, eps = 2^-22 (Everitt and Kilgard's
+//            and Lengyel's epsilon for 24-bit depth): depth 1 - eps/2 there;
+//   doom3    -0.999 z - 2n (Doom 3 and BFG, "crunches the Z range slightly
+//            so w=0 vertexes do not rasterize right at the wraparound point");
+//   one-ulp  -(1 - 2^-23) z - 2n: the smallest float32 nudge below -1.
+// Every finite point's depth moves too (the nudged rows are not the exact
+// projection's): the choice trades depth at infinity for depth precision.
+enum class InfiniteFar { Exact, Epsilon, Doom3, OneUlp };
+std::string_view to_string(InfiniteFar f);  // "exact", "epsilon", "doom3", "one-ulp"
+std::optional<InfiniteFar> infinite_far_from_string(std::string_view name);
+Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge = InfiniteFar::Exact);
 // a * b in float32 (each entry a dot product in the reference order).
 Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic = Arithmetic::Separate);
 

@@ -97,6 +97,9 @@ struct EmulationSettings {
   // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps.
   SwitchClamp switch_clamp = SwitchClamp::DepthClamp;
   ZPassFar zpass_far = ZPassFar::Finite;
+  // The infinite projection's depth row (float_transforms.hpp), wherever a
+  // frame draws with the far plane at infinity.
+  InfiniteFar infinite_far = InfiniteFar::Exact;
   // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
   // replay; changes nothing else.
   bool record_draws = false;
