@@ -180,11 +180,33 @@ TEST(RenderCommand, CompareGivesOneRecordPerMethod) {
   EXPECT_FALSE(j.at("renderer").get<std::string>().empty());
   ASSERT_EQ(j.at("methods").size(), 2u);
   for (const nlohmann::json& m : j["methods"])
-    for (const char* key : {"gl_vs_emulation", "objects_differ", "near_cap_differ", "gl_vs_exact", "emulation_vs_exact",
-                            "ms", "emulation_ms"})
+    for (const char* key : {"gl_vs_emulation", "objects_differ", "near_cap_differ", "gl_vs_exact", "cracks",
+                            "emulation_vs_exact", "ms", "emulation_ms"})
       EXPECT_TRUE(m.at(key).is_number()) << key;
   // Z-pass is wrong where the near plane cuts the shadow, on the real GL too.
   EXPECT_GT(j["methods"][0]["gl_vs_exact"].get<int>(), 100000);
+  EXPECT_GT(j["methods"][0]["cracks"].get<int>(), 10000);
+  EXPECT_EQ(j["methods"][1]["cracks"], 0);
+}
+
+// The shipped switch policy on the real GL, where the paper's corrected ZP+
+// switches to Z-fail with depth clamp (case D): as right as Z-fail there,
+// the emulation's pixel for pixel, and the record says each occluder's method.
+TEST(RenderCommand, ThePolicyOnTheRealGl) {
+  const test::CliResult r =
+      test::run_cli("render data/scenes/case_d.json --light 0 --compare --method zfail,policy", "render_policy");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("methods").size(), 2u);
+  const nlohmann::json &zfail = j["methods"][0], &policy = j["methods"][1];
+  EXPECT_EQ(policy["method"], "policy");
+  EXPECT_LE(policy["gl_vs_exact"].get<int>(), zfail["gl_vs_exact"].get<int>());
+  EXPECT_EQ(policy["cracks"], 0);
+  EXPECT_EQ(policy["gl_vs_emulation"], 0);
+  ASSERT_EQ(policy.at("occluders").size(), 1u);
+  EXPECT_FALSE(policy["occluders"][0]["why"].get<std::string>().empty());
 }
 
 TEST(RenderCommand, WithoutAnEglDriverItSaysWhatToInstall) {

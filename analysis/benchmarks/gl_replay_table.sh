@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
-methods=(zpass zfail zpplus zpplus-corrected preload)
+methods=(zpass zfail zpplus zpplus-corrected preload policy)
 echo "| scene | $(IFS='|'; echo "${methods[*]}" | sed 's/|/ | /g') |"
 echo "|---|$(for _ in "${methods[@]}"; do printf -- '---|'; done)"
 for scene in data/scenes/*.json; do

@@ -8,12 +8,15 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_commands.hpp"
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
@@ -28,6 +31,7 @@ struct RenderOptions {
   std::size_t light = 0;
   bool light_given = false;
   std::string method = "all";
+  std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   bool compare = false;
   std::string out;
   EmulationOptions emulation;
@@ -44,6 +48,64 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
   return nearcap::encode_pgm16(width, height, top_first);
 }
 
+// What --method names: stencil methods, and "policy" (the switch policy's
+// method per occluder, with the settings it needs); "all" is the five and
+// the policy.
+struct RenderMethods {
+  std::vector<gl::ShadowMethod> methods;
+  std::optional<analysis::SwitchPolicy> policy;
+  std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
+  std::string name(std::size_t k) const { return k < methods.size() ? std::string(to_string(methods[k])) : "policy"; }
+};
+
+RenderMethods render_methods(const RenderOptions& o) {
+  RenderMethods r;
+  bool policy = o.method == "all";
+  std::string rest = o.method == "all" ? "all" : "";
+  if (o.method != "all") {
+    std::size_t start = 0;
+    while (start <= o.method.size()) {
+      const std::size_t comma = std::min(o.method.find(',', start), o.method.size());
+      const std::string name = o.method.substr(start, comma - start);
+      if (name == "policy")
+        policy = true;
+      else
+        rest += (rest.empty() ? "" : ",") + name;
+      start = comma + 1;
+    }
+  }
+  if (!rest.empty() || !policy) r.methods = methods_from(rest, "--method");
+  if (policy) r.policy = analysis::load_policy(o.policy);
+  return r;
+}
+
+// The frames of one scene and light, method by method (k indexes
+// RenderMethods: the policy last), sharing a batch for the fixed methods.
+class FrameSource {
+ public:
+  FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
+              const gl::EmulationSettings& settings)
+      : scene_(scene), light_(light), methods_(methods), settings_(settings), batch_(scene, light, settings) {}
+  gl::ShadowFrame frame(std::size_t k) {
+    if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
+    if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
+    decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_);
+    decision_.settings.record_draws = settings_.record_draws;
+    gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
+    return batch.render(decision_.object_methods);
+  }
+  const analysis::PolicyDecision& decision() const { return decision_; }
+
+ private:
+  const Scene& scene_;
+  std::size_t light_;
+  const RenderMethods& methods_;
+  gl::EmulationSettings settings_;
+  gl::ShadowFrameBatch batch_;
+  std::unique_ptr<CameraSpaceScene> cs_;
+  analysis::PolicyDecision decision_;
+};
+
 // One lit frame per method of `scene` (every light, or --light K alone):
 // PNG bytes and GL time per method, "refused" where the driver or the float
 // pipeline cannot draw it.
@@ -54,25 +116,25 @@ struct LitFrames {
   std::size_t lights = 0;
 };
 
-LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const std::vector<gl::ShadowMethod>& methods,
+LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMethods& methods,
                      const gl::EmulationSettings& settings) {
   LitFrames out;
   std::vector<std::size_t> lights;
   for (std::size_t k = 0; k < scene.lights.size(); ++k)
     if (!o.light_given || k == o.light) lights.push_back(k);
   out.lights = lights.size();
-  std::vector<std::unique_ptr<gl::ShadowFrameBatch>> batches;  // one per light, shared by the methods
-  for (std::size_t k : lights) batches.push_back(std::make_unique<gl::ShadowFrameBatch>(scene, k, settings));
-  for (gl::ShadowMethod m : methods) {
+  std::vector<std::unique_ptr<FrameSource>> sources;  // one per light, shared by the methods
+  for (std::size_t k : lights) sources.push_back(std::make_unique<FrameSource>(scene, k, methods, settings));
+  for (std::size_t m = 0; m < methods.count(); ++m) {
     try {
       std::vector<gl::ShadowFrame> frames;
-      for (const auto& b : batches) frames.push_back(b->render(m));
+      for (const auto& source : sources) frames.push_back(source->frame(m));
       const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
       out.ms.push_back(lit.ms);
       out.refused.emplace_back();
     } catch (const Error& e) {
-      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.size() == 1) throw;
+      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.count() == 1) throw;
       out.png.emplace_back();
       out.ms.push_back(0);
       out.refused.push_back(e.what());
@@ -86,7 +148,7 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const std::vect
 // with each frame's GL time in DIR/render.json.
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
-  const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
+  const RenderMethods methods = render_methods(o);
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   std::vector<Scene> scenes;
@@ -105,15 +167,15 @@ void run_lit(const RenderOptions& o) {
   const render::EglContext context;
   const std::filesystem::path dir(o.out);
   std::vector<io::OutputFile> files;
-  std::vector<nlohmann::json> per_method(methods.size(), nlohmann::json::array());
-  std::vector<double> total_ms(methods.size(), 0);
-  std::vector<std::string> refused(methods.size());
+  std::vector<nlohmann::json> per_method(methods.count(), nlohmann::json::array());
+  std::vector<double> total_ms(methods.count(), 0);
+  std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
   for (std::size_t f = 0; f < scenes.size(); ++f) {
     const LitFrames frames = lit_frames(scenes[f], o, methods, settings);
     lights = frames.lights;
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      const std::string name(to_string(methods[m]));
+    for (std::size_t m = 0; m < methods.count(); ++m) {
+      const std::string name = methods.name(m);
       if (!frames.refused[m].empty()) {
         refused[m] = frames.refused[m];
         continue;
@@ -130,8 +192,8 @@ void run_lit(const RenderOptions& o) {
   }
   if (scenes.size() > 1) std::fprintf(stderr, "\n");
   nlohmann::json records = nlohmann::json::array();
-  for (std::size_t m = 0; m < methods.size(); ++m) {
-    nlohmann::json r{{"method", std::string(to_string(methods[m]))}, {"lights", lights}};
+  for (std::size_t m = 0; m < methods.count(); ++m) {
+    nlohmann::json r{{"method", methods.name(m)}, {"lights", lights}};
     if (!refused[m].empty()) r["refused"] = refused[m];
     if (!per_method[m].empty()) {
       r["frames"] = per_method[m];
@@ -176,7 +238,7 @@ void run(const RenderOptions& o) {
   if (!o.compare) return run_lit(o);
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
-  const std::vector<gl::ShadowMethod> methods = methods_from(o.method, "--method");
+  const RenderMethods methods = render_methods(o);
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   const Scene scene = load_scene(o.scene);
@@ -184,23 +246,25 @@ void run(const RenderOptions& o) {
   check_memory_estimate(scene, "render", 40, o.max_memory_gb);
   const render::EglContext context;  // before the exact work: no GL, no point
   const CameraSpaceScene cs(scene);
-  const PixelReference ref = compute_pixel_reference(cs, o.light);
+  const PixelReferenceTracer tracer(cs, o.light);
+  const PixelReference ref = compute_pixel_reference(tracer);
+  CrackDistances distances(tracer, ref);
 
   nlohmann::json records = nlohmann::json::array();
   std::vector<io::OutputFile> files;
-  gl::ShadowFrameBatch batch(scene, o.light, settings);
+  FrameSource source(scene, o.light, methods, settings);
   render::GlFrameReplay replay(scene.camera.width, scene.camera.height, settings.depth);
-  for (gl::ShadowMethod m : methods) {
-    const std::string name(to_string(m));
+  for (std::size_t m = 0; m < methods.count(); ++m) {
+    const std::string name = methods.name(m);
     gl::ShadowFrame frame;
     render::ReplayedFrame real;
     try {
-      frame = batch.render(m);
+      frame = source.frame(m);
       real = replay.replay(frame.draws);
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.
-      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.size() == 1) throw;
+      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.count() == 1) throw;
       records.push_back({{"method", name}, {"refused", e.what()}});
       continue;
     }
@@ -210,15 +274,27 @@ void run(const RenderOptions& o) {
     as_drawn.stencil = real.stencil;
     as_drawn.object = real.object;
     if (!real.near_cap.empty()) as_drawn.near_cap = real.near_cap;
-    const CrackReport drawn = judge_frame(as_drawn, ref);
-    records.push_back({{"method", name},
-                       {"gl_vs_emulation", diff.stencil},
-                       {"objects_differ", diff.object},
-                       {"near_cap_differ", diff.near_cap},
-                       {"gl_vs_exact", drawn.wrong},
-                       {"emulation_vs_exact", emulated.wrong},
-                       {"ms", real.ms},
-                       {"emulation_ms", frame.times.total()}});
+    CrackReport drawn = judge_frame(as_drawn, ref);
+    distances.measure(drawn);
+    nlohmann::json record{{"method", name},
+                          {"gl_vs_emulation", diff.stencil},
+                          {"objects_differ", diff.object},
+                          {"near_cap_differ", diff.near_cap},
+                          {"gl_vs_exact", drawn.wrong},
+                          {"cracks", *drawn.cracks},
+                          {"emulation_vs_exact", emulated.wrong},
+                          {"ms", real.ms},
+                          {"emulation_ms", frame.times.total()}};
+    if (m >= methods.methods.size()) {
+      nlohmann::json occluders = nlohmann::json::array();
+      for (std::size_t obj = 0; obj < scene.objects.size(); ++obj)
+        if (scene.objects[obj].occluder)
+          occluders.push_back({{"object", obj},
+                               {"method", std::string(to_string(source.decision().object_methods[obj]))},
+                               {"why", source.decision().reasons[obj]}});
+      record["occluders"] = occluders;
+    }
+    records.push_back(record);
     if (!o.out.empty()) {
       const std::filesystem::path dir(o.out);
       files.push_back(
@@ -248,7 +324,11 @@ void register_render(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)");
   cmd->add_option("--path", o->path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
   auto* light = add_light_option(*cmd, o->light, false);
-  cmd->add_option("--method", o->method, "zpass, zfail, zpplus, zpplus-corrected, preload, comma-separated, or all")
+  cmd->add_option("--method", o->method,
+                  "zpass, zfail, zpplus, zpplus-corrected, preload, policy (a method per occluder, from --policy), "
+                  "comma-separated, or all (the five and the policy)")
+      ->capture_default_str();
+  cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
   cmd->add_flag("--compare", o->compare, "compare the real GL's stencil with the emulation's and the exact reference");
   cmd->add_option("--out", o->out,
