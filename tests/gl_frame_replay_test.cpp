@@ -13,6 +13,7 @@
 #include "cli_support.hpp"
 #include "llvmpipe_fixture.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
@@ -315,6 +316,39 @@ TEST(RenderCommand, WritesTheLitFrameOfEachMethod) {
     EXPECT_EQ(png.substr(1, 3), "PNG") << name;
   }
   EXPECT_EQ(nlohmann::json::parse(test::slurp(dir / "render.json"))["methods"].size(), 2u);
+  std::filesystem::remove_all(dir);
+}
+
+// --stencil: each light's real stencil beside the lit frame, the emulation's
+// but for the depth near-ties the comparison above explains.
+TEST(RenderCommand, TheLitFramesStencilsPerLight) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_st_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "render data/scenes/near_split.json --method zfail --stencil --out '" + dir.string() + "'", "render_stencil");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int width = 0, height = 0;
+  const std::vector<std::uint16_t> real =
+      decode_pgm16(test::slurp(dir / "stencil-zfail-light-0.pgm"), "stencil", &width, &height);
+  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_split.json");
+  ASSERT_EQ(width, scene.camera.width);
+  ASSERT_EQ(height, scene.camera.height);
+  const gl::ShadowFrame emulated = gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail);
+  std::size_t differ = 0, shadowed = 0;
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const std::uint16_t v = real[static_cast<std::size_t>(height - 1 - j) * width + i];  // PGM: top row first
+      differ += v != emulated.stencil[emulated.index(i, j)];
+      shadowed += v != 0;
+    }
+  EXPECT_GT(shadowed, 10000u);
+  EXPECT_LE(differ, 8u);
+  const test::CliResult both = test::run_cli(
+      "render data/scenes/near_split.json --light 0 --compare --stencil --method zfail", "render_stencil_usage");
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("--stencil goes with the lit frames"), std::string::npos) << both.err;
   std::filesystem::remove_all(dir);
 }
 

@@ -33,6 +33,7 @@ struct RenderOptions {
   std::string method = "all";
   std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   bool compare = false;
+  bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
   std::string out;
   EmulationOptions emulation;
   double max_memory_gb = 0;
@@ -110,7 +111,9 @@ class FrameSource {
 // PNG bytes and GL time per method, "refused" where the driver or the float
 // pipeline cannot draw it.
 struct LitFrames {
-  std::vector<std::string> png;  // per method; empty when refused
+  std::vector<std::string> png;                       // per method; empty when refused
+  std::vector<std::vector<std::string>> stencil_pgm;  // per method, per light (with --stencil)
+  std::vector<std::size_t> light_index;               // the scene lights drawn
   std::vector<double> ms;
   std::vector<std::string> refused;
   std::size_t lights = 0;
@@ -123,19 +126,23 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
   for (std::size_t k = 0; k < scene.lights.size(); ++k)
     if (!o.light_given || k == o.light) lights.push_back(k);
   out.lights = lights.size();
+  out.light_index = lights;
   std::vector<std::unique_ptr<FrameSource>> sources;  // one per light, shared by the methods
   for (std::size_t k : lights) sources.push_back(std::make_unique<FrameSource>(scene, k, methods, settings));
   for (std::size_t m = 0; m < methods.count(); ++m) {
     try {
       std::vector<gl::ShadowFrame> frames;
       for (const auto& source : sources) frames.push_back(source->frame(m));
-      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth);
+      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth, o.stencil);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
+      std::vector<std::string>& pgms = out.stencil_pgm.emplace_back();
+      for (const std::vector<std::uint8_t>& st : lit.stencils) pgms.push_back(stencil_pgm(lit.width, lit.height, st));
       out.ms.push_back(lit.ms);
       out.refused.emplace_back();
     } catch (const Error& e) {
       if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.count() == 1) throw;
       out.png.emplace_back();
+      out.stencil_pgm.emplace_back();
       out.ms.push_back(0);
       out.refused.push_back(e.what());
     }
@@ -185,7 +192,16 @@ void run_lit(const RenderOptions& o) {
       const std::string file =
           o.path.empty() ? (dir / ("frame-" + name + ".png")).string() : (dir / name / frame_name).string();
       files.push_back({file, frames.png[m]});
-      per_method[m].push_back({{"frame", f}, {"file", file}, {"ms", frames.ms[m]}});
+      nlohmann::json entry{{"frame", f}, {"file", file}, {"ms", frames.ms[m]}};
+      for (std::size_t k = 0; k < frames.stencil_pgm[m].size(); ++k) {
+        const std::string light = "light-" + std::to_string(frames.light_index[k]);
+        std::snprintf(frame_name, sizeof frame_name, "stencil-%04zu-", f);
+        const std::string stencil_file = o.path.empty() ? (dir / ("stencil-" + name + "-" + light + ".pgm")).string()
+                                                        : (dir / name / (frame_name + light + ".pgm")).string();
+        files.push_back({stencil_file, frames.stencil_pgm[m][k]});
+        entry["stencils"].push_back(stencil_file);
+      }
+      per_method[m].push_back(entry);
       total_ms[m] += frames.ms[m];
     }
     if (scenes.size() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.size());
@@ -236,6 +252,8 @@ void run(const RenderOptions& o) {
   if (o.scene.empty() == o.path.empty())
     throw Error(ErrorKind::Usage, "nearcap render takes a scene file or --path PATH (one of them)");
   if (!o.compare) return run_lit(o);
+  if (o.stencil)
+    throw Error(ErrorKind::Usage, "--stencil goes with the lit frames; with --compare, --out DIR writes both stencils");
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
   const RenderMethods methods = render_methods(o);
@@ -331,6 +349,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
   cmd->add_flag("--compare", o->compare, "compare the real GL's stencil with the emulation's and the exact reference");
+  cmd->add_flag("--stencil", o->stencil,
+                "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
+                "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
   cmd->add_option("--out", o->out,
                   "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
                   "if missing)");

@@ -57,7 +57,8 @@ std::vector<float> colours(const Scene& scene, std::size_t o, const Vec3d* light
 
 }  // namespace
 
-LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth) {
+LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
+                          bool read_stencils) {
   if (light_frames.empty()) throw Error(ErrorKind::Usage, "a lit frame needs at least one light's shadow frame");
   const int width = scene.camera.width, height = scene.camera.height;
   const bool far_only_clamp = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
@@ -69,6 +70,8 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
                     "this frame clamps depth at one plane only, which needs "
                     "GL_AMD_depth_clamp_separate; the driver lacks it");
   }
+  LitFrame out;
+  double read_ms = 0;  // reading the stencils back, left out of the frame's time
   const auto t0 = std::chrono::steady_clock::now();
   GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[2] = {0, 0};
   glGenFramebuffers(1, &framebuffer);
@@ -143,6 +146,13 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       apply_draw_state(d.state, far_only_clamp);
       draw(d.clip_vertices, {});
     }
+    if (read_stencils) {
+      const auto r0 = std::chrono::steady_clock::now();
+      std::vector<std::uint8_t>& st = out.stencils.emplace_back(static_cast<std::size_t>(width) * height);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, st.data());
+      read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
+    }
     glDisable(GL_DEPTH_CLAMP);
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
@@ -158,8 +168,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
   }
   glFinish();
-  LitFrame out;
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - read_ms;
   out.width = width;
   out.height = height;
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);

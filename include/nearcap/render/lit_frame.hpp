@@ -24,12 +24,16 @@ namespace nearcap::render {
 struct LitFrame {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // 8-bit RGB, top row first (as a PNG stores it)
-  double ms = 0;                  // every pass and glFinish (wall clock)
+  double ms = 0;                  // every pass and glFinish (wall clock), reading the stencils back excluded
+  // With read_stencils: each light's stencil as its volumes left it (row 0
+  // at the bottom, like ShadowFrame::stencil), one per light frame.
+  std::vector<std::vector<std::uint8_t>> stencils;
 };
 
 // `light_frames[k]`: the frame of scene light k with one method, recorded
 // (EmulationSettings::record_draws), all with the same projection (one
 // method and settings for every light).  Throws Error(Gl) as GlFrameReplay.
-LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth);
+LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
+                          bool read_stencils = false);
 
 }  // namespace nearcap::render
