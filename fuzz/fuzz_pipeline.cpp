@@ -38,6 +38,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const nearcap::PixelReference ref = nearcap::compute_pixel_reference(cs, light);
       for (nearcap::gl::ShadowMethod m : nearcap::gl::kAllShadowMethods)
         (void)nearcap::judge_frame(nearcap::gl::render_shadow_frame(scene, light, m), ref);
+      // ZP+ with the near-cap built from its clipped sides (its loops, their
+      // shortcuts and the exact windings), on both projections.
+      nearcap::gl::EmulationSettings sides;
+      sides.light_frustum.projection = nearcap::gl::LightProjection::ClippedSides;
+      for (nearcap::gl::ZPassFar far : {nearcap::gl::ZPassFar::Finite, nearcap::gl::ZPassFar::Infinite}) {
+        sides.zpass_far = far;
+        (void)nearcap::judge_frame(
+            nearcap::gl::render_shadow_frame(scene, light, nearcap::gl::ShadowMethod::ZPPlus, sides), ref);
+      }
     }
   } catch (const nearcap::Error&) {
   }
