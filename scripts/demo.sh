@@ -40,8 +40,8 @@ echo "== nearcap reference $scene --light 0 (the exact per-pixel counts; picture
 echo "== nearcap cracks $scene --light 0 --table (every float method against the exact reference)"
 ./build/nearcap cracks "$scene" --light 0 --table --out "$out"
 echo "== nearcap render $scene --out $out/render (the real GL, headless: lit frames; and against the emulation)"
-if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected --out "$out/render" >/dev/null; then
-  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected
+if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected,policy --out "$out/render" >/dev/null; then
+  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected,policy
 else
   echo "   (no headless OpenGL on this machine: the real-GL part is skipped; the rest does not need it)"
 fi
