@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <ostream>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -92,6 +94,24 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
 // `sizes`: the --width and --height options too.
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);
+// --method of cracks and render: the stencil methods, and two names that are
+// not one: "policy" (the switch policy, a method per occluder) and
+// "raytrace" (Embree).  "all" is every stencil method, the policy and
+// raytrace.
+struct MethodChoice {
+  std::vector<gl::ShadowMethod> methods;
+  bool raytrace = false;
+  bool policy = false;
+  std::size_t count() const { return methods.size() + (raytrace ? 1 : 0) + (policy ? 1 : 0); }
+};
+MethodChoice method_choice(const std::string& names);
+// The policy's method per occluder and why, as a JSON array of
+// {"object", "method", "why"}.
+nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyDecision& d);
+// The names --light-projection and --infinite-far take, for the options of
+// every command that has them.
+const std::vector<std::string>& light_projection_names();
+const std::vector<std::string>& infinite_far_names();
 
 // What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.
 void print_case_legend(std::ostream& out);

@@ -15,9 +15,6 @@
 namespace nearcap::cli {
 namespace {
 
-// --light-projection's names, in one place for the option, --variant and errors.
-const std::vector<std::string> kLightProjectionNames{"paper", "glfrustum", "composed", "rebased", "clipped-sides"};
-
 std::string joined(const std::vector<std::string>& names) {
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -93,7 +90,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once), rebased "
                  "(origin at the near rectangle's centre) or clipped-sides (no light frustum: the near-cap is the "
                  "fan over the edges the clipper leaves in the near plane)")
-      ->check(CLI::IsMember(kLightProjectionNames))
+      ->check(CLI::IsMember(light_projection_names()))
       ->capture_default_str();
   cmd.add_option("--l-near", o.l_near,
                  "how ZP+'s light frustum picks l_near: paper-ratio (l_far min(d / d_max, 1/2)), exact-max (the "
@@ -118,7 +115,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--infinite-far", o.infinite_far,
                  "the infinite projection's depth row: exact (-1, -2 near), epsilon (Everitt and Kilgard's 2^-22 "
                  "margin), doom3 (-0.999) or one-ulp (-(1 - 2^-23))")
-      ->check(CLI::IsMember({"exact", "epsilon", "doom3", "one-ulp"}))
+      ->check(CLI::IsMember(infinite_far_names()))
       ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
 }
@@ -195,7 +192,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       need_one_of(spec, name, value, {"divide", "llvmpipe"});
       o.viewport = value;
     } else if (name == "light-projection") {
-      need_one_of(spec, name, value, kLightProjectionNames);
+      need_one_of(spec, name, value, light_projection_names());
       o.light_projection = value;
     } else if (name == "l-near") {
       need_one_of(spec, name, value, {"paper-ratio", "exact-max", "near-clamp"});
@@ -212,7 +209,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       need_one_of(spec, name, value, {"finite", "infinite"});
       o.zpass_far = value;
     } else if (name == "infinite-far") {
-      need_one_of(spec, name, value, {"exact", "epsilon", "doom3", "one-ulp"});
+      need_one_of(spec, name, value, infinite_far_names());
       o.infinite_far = value;
     } else if (name == "fma") {
       need_one_of(spec, name, value, {"0", "1"});
@@ -251,7 +248,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto projection = gl::light_projection_from_string(o.light_projection);
   if (!projection)
     throw Error(ErrorKind::Usage,
-                "--light-projection '" + o.light_projection + "' is not one of " + joined(kLightProjectionNames));
+                "--light-projection '" + o.light_projection + "' is not one of " + joined(light_projection_names()));
   s.light_frustum.projection = *projection;
   if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
     throw Error(ErrorKind::Usage,
@@ -267,7 +264,7 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto infinite_far = gl::infinite_far_from_string(o.infinite_far);
   if (!infinite_far)
     throw Error(ErrorKind::Usage,
-                "--infinite-far '" + o.infinite_far + "' is not one of exact, epsilon, doom3, one-ulp");
+                "--infinite-far '" + o.infinite_far + "' is not one of " + joined(infinite_far_names()));
   s.infinite_far = *infinite_far;
   return s;
 }
@@ -301,6 +298,50 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
     cmd.add_option("--height", o.height, "viewport height of every configuration")->capture_default_str();
   }
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
+}
+
+const std::vector<std::string>& light_projection_names() {
+  static const std::vector<std::string> names{"paper", "glfrustum", "composed", "rebased", "clipped-sides"};
+  return names;
+}
+
+const std::vector<std::string>& infinite_far_names() {
+  static const std::vector<std::string> names{"exact", "epsilon", "doom3", "one-ulp"};
+  return names;
+}
+
+MethodChoice method_choice(const std::string& names) {
+  MethodChoice c;
+  if (names == "all") {
+    c.methods = methods_from("all", "--method");
+    c.raytrace = true;
+    c.policy = true;
+    return c;
+  }
+  std::string rest;
+  std::size_t start = 0;
+  while (start <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', start), names.size());
+    const std::string name = names.substr(start, comma - start);
+    if (name == "policy")
+      c.policy = true;
+    else if (name == "raytrace")
+      c.raytrace = true;
+    else
+      rest += (rest.empty() ? "" : ",") + name;
+    start = comma + 1;
+  }
+  if (!rest.empty() || (!c.policy && !c.raytrace)) c.methods = methods_from(rest, "--method");
+  return c;
+}
+
+nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyDecision& d) {
+  nlohmann::json occluders = nlohmann::json::array();
+  for (std::size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].occluder)
+      occluders.push_back(
+          {{"object", o}, {"method", std::string(to_string(d.object_methods[o]))}, {"why", d.reasons[o]}});
+  return occluders;
 }
 
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option) {

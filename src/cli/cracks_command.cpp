@@ -127,49 +127,6 @@ nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport
   return j;
 }
 
-// --method: the float methods, "raytrace" (Embree) and "policy" (the switch
-// policy: a method per occluder); "all" is the five methods, raytrace and the
-// policy.
-struct MethodChoice {
-  std::vector<gl::ShadowMethod> methods;
-  bool raytrace = false;
-  bool policy = false;
-  std::size_t count() const { return methods.size() + (raytrace ? 1 : 0) + (policy ? 1 : 0); }
-};
-MethodChoice method_choice(const std::string& names) {
-  MethodChoice c;
-  if (names == "all") {
-    c.methods = methods_from("all", "--method");
-    c.raytrace = true;
-    c.policy = true;
-    return c;
-  }
-  std::string rest;
-  std::size_t start = 0;
-  while (start <= names.size()) {
-    const std::size_t comma = std::min(names.find(',', start), names.size());
-    const std::string name = names.substr(start, comma - start);
-    if (name == "policy")
-      c.policy = true;
-    else if (name == "raytrace")
-      c.raytrace = true;
-    else
-      rest += (rest.empty() ? "" : ",") + name;
-    start = comma + 1;
-  }
-  if (!rest.empty() || (!c.policy && !c.raytrace)) c.methods = methods_from(rest, "--method");
-  return c;
-}
-
-nlohmann::json policy_json(const Scene& scene, const analysis::PolicyDecision& d) {
-  nlohmann::json occluders = nlohmann::json::array();
-  for (std::size_t o = 0; o < scene.objects.size(); ++o)
-    if (scene.objects[o].occluder)
-      occluders.push_back(
-          {{"object", o}, {"method", std::string(to_string(d.object_methods[o]))}, {"why", d.reasons[o]}});
-  return occluders;
-}
-
 void run(const CracksOptions& o) {
   const MethodChoice choice = method_choice(o.method);
   const std::vector<gl::ShadowMethod>& methods = choice.methods;
@@ -240,7 +197,7 @@ void run(const CracksOptions& o) {
       distances.measure(report);
       nlohmann::json r = record_json(frame, report, case_disagreements);
       r["method"] = "policy";
-      r["occluders"] = policy_json(scene, d);
+      r["occluders"] = policy_occluders_json(scene, d);
       r["decide_ms"] = d.decide_ms;
       r["crack_probability"] =
           std::isfinite(d.crack_probability) ? nlohmann::json(d.crack_probability) : nlohmann::json(nullptr);

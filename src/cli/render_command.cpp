@@ -60,23 +60,14 @@ struct RenderMethods {
 };
 
 RenderMethods render_methods(const RenderOptions& o) {
+  const MethodChoice choice = method_choice(o.method);
+  if (choice.raytrace && o.method != "all")
+    throw Error(ErrorKind::Usage,
+                "--method raytrace: nearcap render draws the stencil methods and the policy (the "
+                "ray tracer has no stencil; nearcap cracks runs it)");
   RenderMethods r;
-  bool policy = o.method == "all";
-  std::string rest = o.method == "all" ? "all" : "";
-  if (o.method != "all") {
-    std::size_t start = 0;
-    while (start <= o.method.size()) {
-      const std::size_t comma = std::min(o.method.find(',', start), o.method.size());
-      const std::string name = o.method.substr(start, comma - start);
-      if (name == "policy")
-        policy = true;
-      else
-        rest += (rest.empty() ? "" : ",") + name;
-      start = comma + 1;
-    }
-  }
-  if (!rest.empty() || !policy) r.methods = methods_from(rest, "--method");
-  if (policy) r.policy = analysis::load_policy(o.policy);
+  r.methods = choice.methods;
+  if (choice.policy) r.policy = analysis::load_policy(o.policy);
   return r;
 }
 
@@ -303,15 +294,7 @@ void run(const RenderOptions& o) {
                           {"emulation_vs_exact", emulated.wrong},
                           {"ms", real.ms},
                           {"emulation_ms", frame.times.total()}};
-    if (m >= methods.methods.size()) {
-      nlohmann::json occluders = nlohmann::json::array();
-      for (std::size_t obj = 0; obj < scene.objects.size(); ++obj)
-        if (scene.objects[obj].occluder)
-          occluders.push_back({{"object", obj},
-                               {"method", std::string(to_string(source.decision().object_methods[obj]))},
-                               {"why", source.decision().reasons[obj]}});
-      record["occluders"] = occluders;
-    }
+    if (m >= methods.methods.size()) record["occluders"] = policy_occluders_json(scene, source.decision());
     records.push_back(record);
     if (!o.out.empty()) {
       const std::filesystem::path dir(o.out);

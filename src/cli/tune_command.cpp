@@ -49,8 +49,7 @@ void run(const TuneOptions& o, const std::string& command) {
     costs.emplace_back(m, analysis::cost_samples(o.results, m, o.variant));
   const auto projection = gl::light_projection_from_string(o.light_projection);
   if (!projection)
-    throw Error(ErrorKind::Usage, "--light-projection '" + o.light_projection +
-                                      "' is not one of paper, glfrustum, composed, rebased, clipped-sides");
+    throw Error(ErrorKind::Usage, "--light-projection '" + o.light_projection + "' is not a formulation");
   analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
   policy.light_projection = *projection;
   if (o.no_exact_zpass) {
@@ -103,7 +102,7 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--light-projection", o->light_projection,
                   "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): paper, "
                   "glfrustum, composed, rebased or clipped-sides (no light frustum; README \"P_l formulations\")")
-      ->check(CLI::IsMember({"paper", "glfrustum", "composed", "rebased", "clipped-sides"}))
+      ->check(CLI::IsMember(light_projection_names()))
       ->capture_default_str();
   cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,
                 "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "

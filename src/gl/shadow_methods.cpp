@@ -3,7 +3,6 @@
 
 #include <glm/glm.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -45,15 +44,6 @@ float determinant3(const Mat4f& m) {
   return m.at(0, 0) * (m.at(1, 1) * m.at(2, 2) - m.at(1, 2) * m.at(2, 1)) -
          m.at(0, 1) * (m.at(1, 0) * m.at(2, 2) - m.at(1, 2) * m.at(2, 0)) +
          m.at(0, 2) * (m.at(1, 0) * m.at(2, 1) - m.at(1, 1) * m.at(2, 0));
-}
-
-std::pair<Vec3d, Vec3d> bounding_box(const TriangleMesh& mesh) {
-  Vec3d lo = mesh.positions.empty() ? Vec3d{} : mesh.positions[0], hi = lo;
-  for (const Vec3d& p : mesh.positions) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  return {lo, hi};
 }
 
 Mat4f identity_matrix() {
@@ -150,8 +140,7 @@ struct ShadowFrameBatch::SharedWork {
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
   std::optional<LightFrustum> light_frustum;
-  std::vector<std::optional<std::pair<Vec3d, Vec3d>>> boxes;  // object-space mesh bounds (clipped-sides cap)
-  double silhouette_ms = 0;                                   // computing silhouettes and geometry, once
+  double silhouette_ms = 0;  // computing silhouettes and geometry, once
 };
 
 namespace {
@@ -371,8 +360,8 @@ class FrameRenderer {
       // Only parts that may reach the near plane: the mesh's points (light
       // cap), its directions from the light (dark cap), and the sides
       // between them unless both lie strictly on one side.
-      if (!shared_.boxes[o]) shared_.boxes[o] = bounding_box(*scene_.objects[o].mesh);
-      const auto& [lo, hi] = *shared_.boxes[o];
+      const TriangleMesh& mesh = *scene_.objects[o].mesh;
+      const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;  // the triangles' vertices
       const Vec4f& l = obj.uniforms.light_position;
       const Vec3d light{l.x, l.y, l.z};
       const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0);
@@ -380,7 +369,6 @@ class FrameRenderer {
       // z + w of each mesh vertex as a point and as a direction from the
       // light, once per mesh vertex: bit for bit what the program computes
       // for it in any triangle (the same input, its z and w rows).
-      const TriangleMesh& mesh = *scene_.objects[o].mesh;
       const Mat4f& mvp = obj.uniforms.modelview_projection;
       auto near_distance = [&](const ShadowVertex& v) {
         const Vec4f in = extrusion_input(obj.uniforms, v);
@@ -511,7 +499,6 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
     : scene_(scene), light_(light), settings_(settings), shared_(std::make_unique<SharedWork>()) {
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
-  shared_->boxes.resize(scene.objects.size());
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 
