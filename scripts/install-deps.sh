@@ -11,6 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev libtbb-dev
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libepoxy-dev
+  libglfw3-dev xvfb xauth
   libembree-dev
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib

@@ -25,3 +25,8 @@ $n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$
 $n report "$work/sweep.csv" --out "$work/report" >/dev/null
 cp "$work/report/path_near_plane_sweep.png" data/pictures/report_near_plane_sweep.png
 cp "$work/report/pareto.png" data/pictures/report_pareto.png
+# The viewer (nearcap view under Xvfb): case D's depth-clamp switch on the
+# real GL, and the shipped policy, each with its crack overlay.
+view="xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy"
+eval "$view --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png" >/dev/null 2>&1
+eval "$view --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png" >/dev/null 2>&1

@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 const std::map<std::string, int> kLayer = {{"", 0},       {"numeric", 1},  {"scene", 2},    {"exact", 3},
                                            {"io", 4},     {"gl", 5},       {"raytrace", 6}, {"judge", 7},
-                                           {"render", 8}, {"analysis", 9}, {"cli", 10}};
+                                           {"render", 8}, {"analysis", 9}, {"view", 10},    {"cli", 11}};
 
 // "exact" for include/nearcap/exact/x.hpp and src/exact/x.cpp; "" for the root.
 std::string layer_of(const fs::path& relative) {

@@ -29,6 +29,7 @@ void register_report(CLI::App& app);
 void register_tune(CLI::App& app);
 void register_fit_l_near(CLI::App& app);
 void register_render(CLI::App& app);  // builds with the real-GL library only (NEARCAP_WITH_RENDER)
+void register_view(CLI::App& app);    // the same, with GLFW
 
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.

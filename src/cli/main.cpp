@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_fit_l_near(app);
 #ifdef NEARCAP_WITH_RENDER
   nearcap::cli::register_render(app);
+  nearcap::cli::register_view(app);
 #endif
 
   // The subcommand comes first; name an unknown one as such.

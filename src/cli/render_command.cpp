@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli_commands.hpp"
+#include "frame_source.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
@@ -48,55 +49,6 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
           stencil[static_cast<std::size_t>(j) * width + i];
   return nearcap::encode_pgm16(width, height, top_first);
 }
-
-// What --method names: stencil methods, and "policy" (the switch policy's
-// method per occluder, with the settings it needs); "all" is the five and
-// the policy.
-struct RenderMethods {
-  std::vector<gl::ShadowMethod> methods;
-  std::optional<analysis::SwitchPolicy> policy;
-  std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
-  std::string name(std::size_t k) const { return k < methods.size() ? std::string(to_string(methods[k])) : "policy"; }
-};
-
-RenderMethods render_methods(const RenderOptions& o) {
-  const MethodChoice choice = method_choice(o.method);
-  if (choice.raytrace && o.method != "all")
-    throw Error(ErrorKind::Usage,
-                "--method raytrace: nearcap render draws the stencil methods and the policy (the "
-                "ray tracer has no stencil; nearcap cracks runs it)");
-  RenderMethods r;
-  r.methods = choice.methods;
-  if (choice.policy) r.policy = analysis::load_policy(o.policy);
-  return r;
-}
-
-// The frames of one scene and light, method by method (k indexes
-// RenderMethods: the policy last), sharing a batch for the fixed methods.
-class FrameSource {
- public:
-  FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
-              const gl::EmulationSettings& settings)
-      : scene_(scene), light_(light), methods_(methods), settings_(settings), batch_(scene, light, settings) {}
-  gl::ShadowFrame frame(std::size_t k) {
-    if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
-    if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
-    decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_);
-    decision_.settings.record_draws = settings_.record_draws;
-    gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
-    return batch.render(decision_.object_methods);
-  }
-  const analysis::PolicyDecision& decision() const { return decision_; }
-
- private:
-  const Scene& scene_;
-  std::size_t light_;
-  const RenderMethods& methods_;
-  gl::EmulationSettings settings_;
-  gl::ShadowFrameBatch batch_;
-  std::unique_ptr<CameraSpaceScene> cs_;
-  analysis::PolicyDecision decision_;
-};
 
 // One lit frame per method of `scene` (every light, or --light K alone):
 // PNG bytes and GL time per method, "refused" where the driver or the float
@@ -146,7 +98,7 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
 // with each frame's GL time in DIR/render.json.
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
-  const RenderMethods methods = render_methods(o);
+  const RenderMethods methods = render_methods(o.method, o.policy, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   std::vector<Scene> scenes;
@@ -247,7 +199,7 @@ void run(const RenderOptions& o) {
     throw Error(ErrorKind::Usage, "--stencil goes with the lit frames; with --compare, --out DIR writes both stencils");
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
-  const RenderMethods methods = render_methods(o);
+  const RenderMethods methods = render_methods(o.method, o.policy, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   const Scene scene = load_scene(o.scene);

@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <optional>
 
-#include "legend.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/io/image_io.hpp"
+#include "nearcap/judge/legend.hpp"
 #include "nearcap/judge/reference_images.hpp"
 
 namespace nearcap {

@@ -1,5 +1,5 @@
 // Legend strips (see legend.hpp).
-#include "legend.hpp"
+#include "nearcap/judge/legend.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,10 +21,10 @@ struct Canvas {
         std::copy(c.begin(), c.end(), &rgb[3 * (static_cast<std::size_t>(y) * width + x)]);
   }
   // stb_easy_font's quads, scaled, at (x, y) (top left), pixel centres inside a quad filled.
-  void text(int x, int y, const std::string& s, int scale) {
+  void text(int x, int y, const std::string& s, int scale, const Rgb& ink = kInk) {
     std::vector<char> chars(s.begin(), s.end());
     chars.push_back('\0');
-    static char buffer[64 * 1024];
+    thread_local char buffer[64 * 1024];
     const int quads = stb_easy_font_print(0, 0, chars.data(), nullptr, buffer, sizeof buffer);
     const float* v = reinterpret_cast<const float*>(buffer);
     for (int q = 0; q < quads; ++q) {
@@ -37,10 +37,12 @@ struct Canvas {
         ymax = std::max(ymax, quad[4 * k + 1]);
       }
       fill(x + static_cast<int>(std::lround(xmin * scale)), y + static_cast<int>(std::lround(ymin * scale)),
-           x + static_cast<int>(std::lround(xmax * scale)), y + static_cast<int>(std::lround(ymax * scale)), kInk);
+           x + static_cast<int>(std::lround(xmax * scale)), y + static_cast<int>(std::lround(ymax * scale)), ink);
     }
   }
 };
+
+}  // namespace
 
 int text_width(const std::string& s) {
   std::vector<char> chars(s.begin(), s.end());
@@ -48,7 +50,9 @@ int text_width(const std::string& s) {
   return stb_easy_font_width(chars.data());
 }
 
-}  // namespace
+void draw_text(Image& image, int x, int y, const std::string& text, int scale, const Rgb& ink) {
+  Canvas{image.width, image.height, image.rgb}.text(x, y, text, scale, ink);
+}
 
 Image with_legend(const Image& image, const std::string& title, const std::vector<Entry>& entries) {
   const int scale = image.width >= 480 ? 2 : 1;

@@ -1,0 +1,34 @@
+// The real-GL commands' frames (see frame_source.hpp).
+#include "frame_source.hpp"
+
+#include "cli_commands.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap::cli {
+
+RenderMethods render_methods(const std::string& method, const std::string& policy_file, const std::string& command) {
+  const MethodChoice choice = method_choice(method);
+  if (choice.raytrace && method != "all")
+    throw Error(ErrorKind::Usage, "--method raytrace: nearcap " + command +
+                                      " draws the stencil methods and the policy (the ray tracer has no stencil; "
+                                      "nearcap cracks runs it)");
+  RenderMethods r;
+  r.methods = choice.methods;
+  if (choice.policy) r.policy = analysis::load_policy(policy_file);
+  return r;
+}
+
+FrameSource::FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
+                         const gl::EmulationSettings& settings)
+    : scene_(scene), light_(light), methods_(methods), settings_(settings), batch_(scene, light, settings) {}
+
+gl::ShadowFrame FrameSource::frame(std::size_t k) {
+  if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
+  if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
+  decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_);
+  decision_.settings.record_draws = settings_.record_draws;
+  gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
+  return batch.render(decision_.object_methods);
+}
+
+}  // namespace nearcap::cli

@@ -1,0 +1,53 @@
+// The real-GL commands' frames (nearcap render, nearcap view): what --method
+// names among the stencil methods and the switch policy, and each light's
+// emulated frame per method, with its recorded draws for the real GL.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::cli {
+
+// What --method names: stencil methods, and "policy" (the switch policy's
+// method per occluder, with the settings it needs); "all" is the five and
+// the policy.
+struct RenderMethods {
+  std::vector<gl::ShadowMethod> methods;
+  std::optional<analysis::SwitchPolicy> policy;
+  std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
+  std::string name(std::size_t k) const { return k < methods.size() ? std::string(to_string(methods[k])) : "policy"; }
+};
+
+// `command` names the command in the refusal of raytrace (no stencil).
+// Throws Error(Usage) for an unknown name, what load_policy throws.
+RenderMethods render_methods(const std::string& method, const std::string& policy_file, const std::string& command);
+
+// The frames of one scene and light, method by method (k indexes
+// RenderMethods: the policy last), sharing a batch for the fixed methods.
+class FrameSource {
+ public:
+  FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
+              const gl::EmulationSettings& settings);
+  gl::ShadowFrame frame(std::size_t k);
+  // The policy's last decision (after frame(k) of the policy).
+  const analysis::PolicyDecision& decision() const { return decision_; }
+
+ private:
+  const Scene& scene_;
+  std::size_t light_;
+  const RenderMethods& methods_;
+  gl::EmulationSettings settings_;
+  gl::ShadowFrameBatch batch_;
+  std::unique_ptr<CameraSpaceScene> cs_;
+  analysis::PolicyDecision decision_;
+};
+
+}  // namespace nearcap::cli
