@@ -47,6 +47,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         (void)nearcap::judge_frame(
             nearcap::gl::render_shadow_frame(scene, light, nearcap::gl::ShadowMethod::ZPPlus, sides), ref);
       }
+      // Reversed-Z (the reversed depth mapping, a float depth buffer): every
+      // method, the clipped-sides cap included.
+      nearcap::gl::EmulationSettings reversed;
+      reversed.depth = nearcap::gl::DepthFormat::Float32;
+      reversed.depth_mapping = nearcap::gl::DepthMapping::Reversed;
+      for (nearcap::gl::ShadowMethod m : nearcap::gl::kAllShadowMethods)
+        (void)nearcap::judge_frame(nearcap::gl::render_shadow_frame(scene, light, m, reversed), ref);
+      sides.depth = reversed.depth;
+      sides.depth_mapping = reversed.depth_mapping;
+      (void)nearcap::judge_frame(
+          nearcap::gl::render_shadow_frame(scene, light, nearcap::gl::ShadowMethod::ZPPlus, sides), ref);
     }
   } catch (const nearcap::Error&) {
   }

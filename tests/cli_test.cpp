@@ -311,7 +311,8 @@ TEST(CracksCommand, TableNamesEveryMethod) {
 TEST(CracksCommand, BadArgumentsAreUsageErrorsAndWriteNothing) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_cracks_bad_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
-  for (const std::string args : {"--method zpass+", "--subpixel-bits 40", "--l-near-scale 2"}) {
+  for (const std::string args : {"--method zpass+", "--subpixel-bits 40", "--l-near-scale 2",
+                                 "--depth-mapping reversed --infinite-far epsilon", "--depth-mapping inverted"}) {
     const test::CliResult r = test::run_cli(
         "cracks data/scenes/near_split.json --light 0 " + args + " --out '" + dir.string() + "'", "cracks_bad");
     EXPECT_EQ(r.exit_code, 2) << args;

@@ -68,6 +68,7 @@ struct EmulationOptions {
   std::string switch_clamp = "clamp";
   std::string zpass_far = "finite";
   std::string infinite_far = "exact";
+  std::string depth_mapping = "standard";
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);

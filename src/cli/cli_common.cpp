@@ -117,6 +117,12 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "margin), doom3 (-0.999) or one-ulp (-(1 - 2^-23))")
       ->check(CLI::IsMember(infinite_far_names()))
       ->capture_default_str();
+  cmd.add_option("--depth-mapping", o.depth_mapping,
+                 "the camera's depth: standard (GL's -1..1 clip depth, near at 0, GL_LESS) or reversed "
+                 "(glClipControl GL_ZERO_TO_ONE, near at 1, far or infinity at 0, GL_GREATER: with --depth float32, "
+                 "reversed-Z)")
+      ->check(CLI::IsMember({"standard", "reversed"}))
+      ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
 }
 
@@ -141,7 +147,8 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"switch-clamp", o.switch_clamp},
           {"zpass-far", o.zpass_far},
           {"infinite-far", o.infinite_far},
-          {"fma", o.fma ? "1" : "0"}};
+          {"fma", o.fma ? "1" : "0"},
+          {"depth-mapping", o.depth_mapping}};
 }
 
 double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
@@ -214,10 +221,14 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "fma") {
       need_one_of(spec, name, value, {"0", "1"});
       o.fma = value == "1";
+    } else if (name == "depth-mapping") {
+      need_one_of(spec, name, value, {"standard", "reversed"});
+      o.depth_mapping = value;
     } else {
-      throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
-                                        "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
-                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, fma)");
+      throw Error(ErrorKind::Usage,
+                  "--variant '" + spec + "': unknown choice '" + name +
+                      "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
+                      "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, depth-mapping, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -266,6 +277,13 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
     throw Error(ErrorKind::Usage,
                 "--infinite-far '" + o.infinite_far + "' is not one of " + joined(infinite_far_names()));
   s.infinite_far = *infinite_far;
+  const auto mapping = gl::depth_mapping_from_string(o.depth_mapping);
+  if (!mapping) throw Error(ErrorKind::Usage, "--depth-mapping '" + o.depth_mapping + "' is not standard or reversed");
+  s.depth_mapping = *mapping;
+  if (s.depth_mapping == gl::DepthMapping::Reversed && s.infinite_far != gl::InfiniteFar::Exact)
+    throw Error(ErrorKind::Usage, "--infinite-far " + o.infinite_far +
+                                      " nudges the standard depth row; --depth-mapping reversed puts infinity at "
+                                      "depth 0 exactly (use --infinite-far exact)");
   return s;
 }
 

@@ -10,14 +10,14 @@ namespace {
 
 enum class Plane { Near, WMin, Far, Left, Right, Bottom, Top };
 
-float distance(const Vec4f& v, Plane p, float g, float w_min) {
+float distance(const Vec4f& v, Plane p, float g, float w_min, DepthMapping m) {
   switch (p) {
     case Plane::Near:
-      return v.z + v.w;
+      return near_plane_distance(v, m);
     case Plane::WMin:
       return v.w - w_min;
     case Plane::Far:
-      return v.w - v.z;
+      return far_plane_distance(v, m);
     case Plane::Left:
       return v.x + g * v.w;
     case Plane::Right:
@@ -36,7 +36,7 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
 
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
-std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min,
+std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min, DepthMapping m,
                                 std::vector<bool>* on_plane = nullptr) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
@@ -44,7 +44,7 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
   for (std::size_t k = 0; k < n; ++k) {
     const Vec4f& a = poly[k];
     const Vec4f& b = poly[(k + 1) % n];
-    const float da = distance(a, p, g, w_min), db = distance(b, p, g, w_min);
+    const float da = distance(a, p, g, w_min, m), db = distance(b, p, g, w_min, m);
     const bool a_in = da >= 0, b_in = db >= 0;
     if (a_in) {
       out.push_back(a);
@@ -74,24 +74,25 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   // reject: one plane has all three outside (clipping would leave nothing).
   bool all_inside = true;
   for (std::size_t k = 0; k < count; ++k) {
-    const float da = distance(a, planes[k], settings.guard_band, settings.w_min),
-                db = distance(b, planes[k], settings.guard_band, settings.w_min),
-                dc = distance(c, planes[k], settings.guard_band, settings.w_min);
+    const DepthMapping m = settings.depth_mapping;
+    const float da = distance(a, planes[k], settings.guard_band, settings.w_min, m),
+                db = distance(b, planes[k], settings.guard_band, settings.w_min, m),
+                dc = distance(c, planes[k], settings.guard_band, settings.w_min, m);
     if (da < 0 && db < 0 && dc < 0) return {};
     all_inside = all_inside && da >= 0 && db >= 0 && dc >= 0;
   }
   std::vector<Vec4f> poly{a, b, c};
   if (all_inside) return poly;
   for (std::size_t k = 0; k < count; ++k) {
-    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min);
+    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping);
     if (poly.size() < 3) return {};
   }
   return poly;
 }
 
-NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
   NearClippedPolygon out;
-  out.vertices = clip_against({a, b, c}, Plane::Near, 0.0f, 0.0f, &out.on_near_plane);
+  out.vertices = clip_against({a, b, c}, Plane::Near, 0.0f, 0.0f, mapping, &out.on_near_plane);
   if (out.vertices.size() < 3) {
     out.vertices.clear();
     out.on_near_plane.clear();

@@ -2,6 +2,9 @@
 #include "nearcap/gl/float_transforms.hpp"
 
 #include <cmath>
+#include <string>
+
+#include "nearcap/error.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -29,7 +32,15 @@ Mat4f to_mat4f(const Affine3d& a) {
   return m;
 }
 
-Mat4f frustum_matrix(const Frustum& f) {
+std::string_view to_string(DepthMapping m) { return m == DepthMapping::Standard ? "standard" : "reversed"; }
+
+std::optional<DepthMapping> depth_mapping_from_string(std::string_view name) {
+  for (DepthMapping m : {DepthMapping::Standard, DepthMapping::Reversed})
+    if (to_string(m) == name) return m;
+  return std::nullopt;
+}
+
+Mat4f frustum_matrix(const Frustum& f, DepthMapping mapping) {
   Mat4f m;
   m.at(0, 0) = static_cast<float>(2 * f.near / (f.right - f.left));
   m.at(0, 2) = static_cast<float>((f.right + f.left) / (f.right - f.left));
@@ -37,6 +48,10 @@ Mat4f frustum_matrix(const Frustum& f) {
   m.at(1, 2) = static_cast<float>((f.top + f.bottom) / (f.top - f.bottom));
   m.at(2, 2) = static_cast<float>(-(f.far + f.near) / (f.far - f.near));
   m.at(2, 3) = static_cast<float>(-2 * f.far * f.near / (f.far - f.near));
+  if (mapping == DepthMapping::Reversed) {
+    m.at(2, 2) = static_cast<float>(f.near / (f.far - f.near));
+    m.at(2, 3) = static_cast<float>(f.far * f.near / (f.far - f.near));
+  }
   m.at(3, 2) = -1.0f;
   return m;
 }
@@ -61,8 +76,17 @@ std::optional<InfiniteFar> infinite_far_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge) {
+Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge, DepthMapping mapping) {
   Mat4f m = frustum_matrix(f);
+  if (mapping == DepthMapping::Reversed) {
+    if (nudge != InfiniteFar::Exact)
+      throw Error(ErrorKind::Usage, "--infinite-far " + std::string(to_string(nudge)) +
+                                        " nudges the standard depth row; the reversed mapping puts infinity at depth "
+                                        "0 exactly (use --infinite-far exact)");
+    m.at(2, 2) = 0.0f;
+    m.at(2, 3) = static_cast<float>(f.near);
+    return m;
+  }
   double zz = -1, zw = -2 * f.near;
   switch (nudge) {
     case InfiniteFar::Exact:

@@ -23,13 +23,15 @@ std::vector<Vec4f> fan_over(const std::vector<Vec4f>& edges, const Vec4f& anchor
 
 }  // namespace
 
-std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices) {
+std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping) {
   std::vector<Vec4f> edges;
   for (std::size_t t = 0; t + 2 < boundary_clip_vertices.size(); t += 3) {
     const Vec4f &a = boundary_clip_vertices[t], &b = boundary_clip_vertices[t + 1], &c = boundary_clip_vertices[t + 2];
     // Only a triangle that reaches the near plane leaves an edge in it.
-    if ((a.z + a.w > 0) && (b.z + b.w > 0) && (c.z + c.w > 0)) continue;
-    const NearClippedPolygon poly = clip_to_near_plane(a, b, c);
+    if (near_plane_distance(a, mapping) > 0 && near_plane_distance(b, mapping) > 0 &&
+        near_plane_distance(c, mapping) > 0)
+      continue;
+    const NearClippedPolygon poly = clip_to_near_plane(a, b, c, mapping);
     const std::size_t n = poly.vertices.size();
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t next = (k + 1) % n;
@@ -41,13 +43,14 @@ std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_
   return edges;
 }
 
-std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor) {
-  return fan_over(near_plane_cap_edges(boundary_clip_vertices), anchor);
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor,
+                                      DepthMapping mapping) {
+  return fan_over(near_plane_cap_edges(boundary_clip_vertices, mapping), anchor);
 }
 
-Vec4f near_plane_cap_anchor() { return {0.0f, 0.0f, -1.0f, 1.0f}; }
+Vec4f near_plane_cap_anchor(DepthMapping mapping) { return {0.0f, 0.0f, near_plane_z(1.0f, mapping), 1.0f}; }
 
-Vec4f near_plane_cap_anchor(const std::vector<Vec4f>& edges) {
+Vec4f near_plane_cap_anchor(const std::vector<Vec4f>& edges, DepthMapping mapping) {
   double sx = 0, sy = 0;
   std::size_t n = 0;
   for (const Vec4f& v : edges)
@@ -56,14 +59,14 @@ Vec4f near_plane_cap_anchor(const std::vector<Vec4f>& edges) {
       sy += double{v.y} / v.w;
       ++n;
     }
-  if (n == 0) return near_plane_cap_anchor();
-  return {static_cast<float>(std::clamp(sx / n, -1.0, 1.0)), static_cast<float>(std::clamp(sy / n, -1.0, 1.0)), -1.0f,
-          1.0f};
+  if (n == 0) return near_plane_cap_anchor(mapping);
+  return {static_cast<float>(std::clamp(sx / n, -1.0, 1.0)), static_cast<float>(std::clamp(sy / n, -1.0, 1.0)),
+          near_plane_z(1.0f, mapping), 1.0f};
 }
 
-std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices) {
-  const std::vector<Vec4f> edges = near_plane_cap_edges(boundary_clip_vertices);
-  return fan_over(edges, near_plane_cap_anchor(edges));
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping) {
+  const std::vector<Vec4f> edges = near_plane_cap_edges(boundary_clip_vertices, mapping);
+  return fan_over(edges, near_plane_cap_anchor(edges, mapping));
 }
 
 namespace {
@@ -244,21 +247,23 @@ std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, double mx, dou
 
 }  // namespace
 
-std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height) {
+std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
+                                            DepthMapping mapping) {
   const double mx = 0.1 + 16.0 / std::max(width, 1), my = 0.1 + 16.0 / std::max(height, 1);
   std::vector<Vec4f> out;
   int constant = 0;  // the loops that stay outside the viewport, together
-  for (const std::vector<Vec4f>& loop : near_plane_cap_loops(near_plane_cap_edges(boundary_clip_vertices))) {
+  for (const std::vector<Vec4f>& loop : near_plane_cap_loops(near_plane_cap_edges(boundary_clip_vertices, mapping))) {
     if (const std::optional<int> c = near_plane_cap_constant_winding(loop, mx, my)) {
       constant += *c;
       continue;
     }
-    const Vec4f anchor = near_plane_cap_anchor(loop);
+    const Vec4f anchor = near_plane_cap_anchor(loop, mapping);
     const std::vector<Vec4f> fan = fan_over(shortened_loop(loop, mx, my, constant), anchor);
     out.insert(out.end(), fan.begin(), fan.end());
   }
   // |constant| triangles over the viewport (the clipper trims them to it).
-  const Vec4f a{-1.0f, -1.0f, -1.0f, 1.0f}, b{3.0f, -1.0f, -1.0f, 1.0f}, d{-1.0f, 3.0f, -1.0f, 1.0f};
+  const float z = near_plane_z(1.0f, mapping);
+  const Vec4f a{-1.0f, -1.0f, z, 1.0f}, b{3.0f, -1.0f, z, 1.0f}, d{-1.0f, 3.0f, z, 1.0f};
   for (int k = 0; k < std::abs(constant); ++k) {
     if (constant > 0)
       out.insert(out.end(), {a, b, d});
@@ -268,10 +273,11 @@ std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_c
   return out;
 }
 
-int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w) {
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
   double row[4], magnitude[4];
+  const double z_sign = mapping == DepthMapping::Standard ? 1.0 : -1.0;  // z + w, or w - z
   for (int k = 0; k < 4; ++k) {
-    row[k] = double{m.at(2, k)} + double{m.at(3, k)};
+    row[k] = z_sign * double{m.at(2, k)} + double{m.at(3, k)};
     magnitude[k] = std::fabs(double{m.at(2, k)}) + std::fabs(double{m.at(3, k)});
   }
   double lowest = std::numeric_limits<double>::infinity(), highest = -lowest, bound = 0;

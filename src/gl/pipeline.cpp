@@ -56,7 +56,7 @@ Framebuffer::Framebuffer(int width, int height, DepthFormat format)
   clear_objects();
 }
 
-void Framebuffer::clear_depth() { std::fill(depth_.begin(), depth_.end(), encode_depth(1.0f)); }
+void Framebuffer::clear_depth(float value) { std::fill(depth_.begin(), depth_.end(), encode_depth(value)); }
 void Framebuffer::clear_stencil() { std::fill(stencil_.begin(), stencil_.end(), std::uint8_t{0}); }
 void Framebuffer::clear_objects() { std::fill(objects_.begin(), objects_.end(), -1); }
 
@@ -75,19 +75,22 @@ float safe_guard_band(int width, int height, int subpixel_bits) {
   return static_cast<float>(std::min(8192.0, std::max(1.0, std::floor(g))));
 }
 
-WindowVertex to_window(const Vec4f& c, int width, int height) {
+WindowVertex to_window(const Vec4f& c, int width, int height, DepthMapping mapping) {
   const float x = c.x / c.w, y = c.y / c.w, z = c.z / c.w;
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
-  return {(x + 1.0f) * half_w, (y + 1.0f) * half_h, z * 0.5f + 0.5f};
+  // GL_ZERO_TO_ONE's depth viewport scale 1 and offset 0: z/w itself.
+  return {(x + 1.0f) * half_w, (y + 1.0f) * half_h, mapping == DepthMapping::Standard ? z * 0.5f + 0.5f : z};
 }
 
-WindowVertex to_window(const Vec4f& c, int width, int height, ViewportArithmetic arithmetic, bool from_clipper) {
-  if (arithmetic == ViewportArithmetic::Divide) return to_window(c, width, height);
+WindowVertex to_window(const Vec4f& c, int width, int height, ViewportArithmetic arithmetic, bool from_clipper,
+                       DepthMapping mapping) {
+  if (arithmetic == ViewportArithmetic::Divide) return to_window(c, width, height, mapping);
   const float r = 1.0f / c.w;
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
   const float x = c.x * r, y = c.y * r, z = c.z * r;
-  if (from_clipper) return {x * half_w + half_w, y * half_h + half_h, z * 0.5f + 0.5f};
-  return {std::fma(x, half_w, half_w), std::fma(y, half_h, half_h), std::fma(z, 0.5f, 0.5f)};
+  const bool standard = mapping == DepthMapping::Standard;
+  if (from_clipper) return {x * half_w + half_w, y * half_h + half_h, standard ? z * 0.5f + 0.5f : z};
+  return {std::fma(x, half_w, half_w), std::fma(y, half_h, half_h), standard ? std::fma(z, 0.5f, 0.5f) : z};
 }
 
 DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state,
@@ -97,6 +100,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
   clip.skip_near_side = state.vertices_on_near_plane;
+  clip.depth_mapping = state.depth_mapping;
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).
@@ -122,7 +126,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
         const Vec4f& u = clip_vertices[i];
         original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;
       }
-      window[k] = to_window(v, width_, height_, raster.viewport, !original);
+      window[k] = to_window(v, width_, height_, raster.viewport, !original, state.depth_mapping);
       // After clipping every vertex lies within the guard band; only a
       // degenerate homogeneous vertex ((0, 0, 0, 0): an extrusion whose
       // direction rounded to zero) can leave it.  Refused, never rasterized.
@@ -149,7 +153,8 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   // Fragments: horizontal bands in parallel, each band seeing every triangle
   // in submission order, so every pixel gets its fragments in GL's order and
   // the result does not depend on the number of threads.
-  const bool test_depth = state.depth_func == DepthFunc::Less;
+  const bool test_depth = state.depth_func != DepthFunc::Always;
+  const bool greater = state.depth_func == DepthFunc::Greater;
   const bool needs_depth = test_depth || state.depth_write;
   constexpr int kBandRows = 32;
   const int bands = (height_ + kBandRows - 1) / kBandRows;
@@ -177,7 +182,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
                   const std::size_t p = index(f.x, f.y);
                   const std::uint32_t z =
                       needs_depth ? encode_depth(f.depth) : 0;  // the near-cap pass neither tests nor writes
-                  const bool pass = !test_depth || z < depth_[p];
+                  const bool pass = !test_depth || (greater ? z > depth_[p] : z < depth_[p]);
                   fragments[1] += pass;
                   const StencilOps& ops = f.front ? state.front : state.back;
                   stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);

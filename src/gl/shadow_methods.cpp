@@ -199,8 +199,9 @@ class FrameRenderer {
     const bool infinite =
         !finite_required && (any_preload_ || any_infinite_zfail_ ||
                              ((any_zpass_ || any_near_cap_) && settings_.zpass_far == ZPassFar::Infinite));
-    const Mat4f projection = infinite ? infinite_frustum_matrix(scene_.camera.frustum, settings_.infinite_far)
-                                      : frustum_matrix(scene_.camera.frustum);
+    const Mat4f projection =
+        infinite ? infinite_frustum_matrix(scene_.camera.frustum, settings_.infinite_far, settings_.depth_mapping)
+                 : frustum_matrix(scene_.camera.frustum, settings_.depth_mapping);
     prepare_objects(projection, frame);
     // Every method's setup includes the silhouettes and volume geometry, also
     // when an earlier method of the batch computed them.
@@ -211,10 +212,11 @@ class FrameRenderer {
     if (!depth) {
       const auto t = Clock::now();
       Framebuffer fb(scene_.camera.width, scene_.camera.height, settings_.depth);
+      if (settings_.depth_mapping == DepthMapping::Reversed) fb.clear_depth(0.0f);
       DrawCounters counters;
       std::vector<DrawCall> draws;
       for (std::size_t o = 0; o < objects_.size(); ++o) {
-        DrawState s;
+        DrawState s = camera_state({});
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
         std::vector<Vec4f> clip = run_program(shared_.vertices[o], objects_[o].uniforms, extrusion_program);
@@ -281,6 +283,7 @@ class FrameRenderer {
       obj.uniforms.modelview_projection = multiply(projection, modelview, ar);
       obj.uniforms.light_position = light_in_object_space(so, scene_.lights[light_].position);
       obj.uniforms.arithmetic = ar;
+      obj.uniforms.depth_mapping = settings_.depth_mapping;
       if (frame.light_frustum.defined && settings_.light_frustum.projection == LightProjection::Composed) {
         // P_l * M_l * MV in double, rounded once: the whole light transform is one uploaded matrix.
         obj.uniforms.light_modelview =
@@ -351,9 +354,10 @@ class FrameRenderer {
   // +1 front, -1 back, no depth test; the same vertex program and uniforms
   // as its sides, so the fan shares their clipped edges bit for bit.
   void clipped_sides_cap_pass(ShadowFrame& frame) {
-    DrawState s = zpass_state();
+    DrawState s = camera_state(zpass_state());
     s.depth_func = DepthFunc::Always;
     s.vertices_on_near_plane = true;
+    const DepthMapping mapping = settings_.depth_mapping;
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || !uses_near_cap(methods_[o])) continue;
@@ -364,15 +368,20 @@ class FrameRenderer {
       const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;  // the triangles' vertices
       const Vec4f& l = obj.uniforms.light_position;
       const Vec3d light{l.x, l.y, l.z};
-      const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0);
-      const int directions = near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0);
-      // z + w of each mesh vertex as a point and as a direction from the
-      // light, once per mesh vertex: bit for bit what the program computes
-      // for it in any triangle (the same input, its z and w rows).
+      const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0, mapping);
+      const int directions =
+          near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0, mapping);
+      // z + w (w - z reversed) of each mesh vertex as a point and as a
+      // direction from the light, once per mesh vertex: bit for bit what the
+      // program computes for it in any triangle (the same input, its z and w
+      // rows) and the clipper then computes from them.
       const Mat4f& mvp = obj.uniforms.modelview_projection;
       auto near_distance = [&](const ShadowVertex& v) {
         const Vec4f in = extrusion_input(obj.uniforms, v);
-        return transform_row(mvp, 2, in, obj.uniforms.arithmetic) + transform_row(mvp, 3, in, obj.uniforms.arithmetic);
+        Vec4f clip;
+        clip.z = transform_row(mvp, 2, in, obj.uniforms.arithmetic);
+        clip.w = transform_row(mvp, 3, in, obj.uniforms.arithmetic);
+        return near_plane_distance(clip, mapping);
       };
       // Both bounds strictly on one side: no part reaches the near plane.
       const bool sides_needed = points == 0 || directions == 0 || points != directions;
@@ -400,7 +409,7 @@ class FrameRenderer {
         }
       }
       if (boundary.empty()) continue;  // nothing reaches the near plane: no cap, no draw call
-      std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height);
+      std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, mapping);
       if (fan.empty()) continue;
       frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored)});
@@ -411,8 +420,17 @@ class FrameRenderer {
   void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, Program program, const DrawState& s,
             ShadowFrame& frame) {
     std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
-    frame.volume_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
-    if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(clip), oriented(s, obj.mirrored)});
+    const DrawState state = oriented(camera_state(s), obj.mirrored);
+    frame.volume_pass += fb_.draw(clip, state, settings_.raster);
+    if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(clip), state});
+  }
+
+  // A camera pass's state in the frame's depth mapping: the reversed
+  // mapping's clip planes, and GL_GREATER for GL_LESS.
+  DrawState camera_state(DrawState s) const {
+    s.depth_mapping = settings_.depth_mapping;
+    if (s.depth_mapping == DepthMapping::Reversed && s.depth_func == DepthFunc::Less) s.depth_func = DepthFunc::Greater;
+    return s;
   }
 
   void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {

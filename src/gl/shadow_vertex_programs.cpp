@@ -20,9 +20,10 @@ Vec4f figure7_program(const ShadowUniforms& u, const ShadowVertex& v) {
   }
   if (v.w == 2.0f) eye.w = 1.0f;                               // lines 13-15
   eye = transform(u.modelview_projection, eye, u.arithmetic);  // line 18
-  if (v.w < 1.5f && (eye.w <= 0.0f || eye.z < -eye.w)) {       // lines 21-23
-    eye = near_cap_program(u, v);                              // lines 26-29
-    eye.z = -eye.w;                                            // line 30
+  const bool standard = u.depth_mapping == DepthMapping::Standard;
+  if (v.w < 1.5f && (eye.w <= 0.0f || (standard ? eye.z < -eye.w : eye.z > eye.w))) {  // lines 21-23
+    eye = near_cap_program(u, v);                                                      // lines 26-29
+    eye.z = standard ? -eye.w : eye.w;                                                 // line 30
   }
   return eye;
 }

@@ -5,9 +5,25 @@
 
 #include <epoxy/gl.h>
 
+#include <vector>
+
 #include "nearcap/gl/pipeline.hpp"
 
 namespace nearcap::render {
+
+// The depth a frame's depth buffer is cleared to: 0 when its depth pre-pass
+// draws with the reversed mapping (near at 1), else 1.
+inline double cleared_depth(const std::vector<gl::DrawCall>& draws) {
+  for (const gl::DrawCall& d : draws)
+    if (d.pass == gl::DrawPass::Depth) return d.state.depth_mapping == gl::DepthMapping::Reversed ? 0.0 : 1.0;
+  return 1.0;
+}
+
+// glClipControl for a depth mapping (GL 4.5): the reversed mapping's
+// GL_ZERO_TO_ONE, or GL's default.
+inline void apply_depth_mapping(gl::DepthMapping m) {
+  glClipControl(GL_LOWER_LEFT, m == gl::DepthMapping::Reversed ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+}
 
 inline GLenum stencil_op(gl::StencilOp op) {
   switch (op) {
@@ -21,7 +37,7 @@ inline GLenum stencil_op(gl::StencilOp op) {
   return GL_KEEP;
 }
 
-// Culling, the depth test and writes, depth clamp (far only through
+// Culling, the clip control (the depth mapping), the depth test and writes, depth clamp (far only through
 // GL_AMD_depth_clamp_separate when `far_only_clamp`), the two-sided stencil
 // operations; colour writes follow depth writes (the object ids are written
 // with the depth).
@@ -36,8 +52,9 @@ inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp) {
     glDisable(GL_DEPTH_TEST);
   } else {
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    glDepthFunc(s.depth_func == gl::DepthFunc::Greater ? GL_GREATER : GL_LESS);
   }
+  apply_depth_mapping(s.depth_mapping);
   glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
   glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
   if ((s.depth_clamp_near && s.depth_clamp_far) || s.vertices_on_near_plane) {

@@ -76,7 +76,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glDepthMask(GL_TRUE);
   glStencilMask(0xFF);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glClearDepth(1.0);
+  glClearDepth(cleared_depth(draws));
   glClearStencil(0);
   glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   const GLint no_object[4] = {-1, -1, -1, -1};
@@ -122,6 +122,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glReadPixels(0, 0, width_, height_, GL_RED_INTEGER, GL_INT, out.object.data());
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_POLYGON_OFFSET_FILL);
+  apply_depth_mapping(gl::DepthMapping::Standard);
   check_gl("replaying a frame");
   return out;
 }

@@ -123,7 +123,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   glStencilMask(0xFF);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glClearColor(0.05f, 0.06f, 0.09f, 1.0f);
-  glClearDepth(1.0);
+  glClearDepth(cleared_depth(light_frames.front().draws));
   glClearStencil(0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   glEnable(GL_STENCIL_TEST);
@@ -157,6 +157,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_EQUAL);
+    if (!depth_draws.empty()) apply_depth_mapping(depth_draws.front()->state.depth_mapping);
     glDepthMask(GL_FALSE);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glStencilFunc(GL_EQUAL, 0, 0xFF);
@@ -179,6 +180,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   glDisable(GL_STENCIL_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
+  apply_depth_mapping(gl::DepthMapping::Standard);
   release();
   check_gl("drawing the lit frame");
   out.rgb.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);

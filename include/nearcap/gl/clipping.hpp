@@ -3,7 +3,8 @@
 //
 // Planes, as distances d(v) >= 0 inside: near z + w, far w - z (left out with
 // an infinite far plane, where w - z is exactly 0 at infinity, or with depth
-// clamp), and a guard band |x|, |y| <= g w
+// clamp), and a guard band |x|, |y| <= g w; with the reversed depth mapping
+// (float_transforms.hpp: GL_ZERO_TO_ONE) near w - z and far z
 // (g = 1 clips to the view volume; hardware uses a wide band so that x and y
 // are rarely clipped).  Sutherland-Hodgman, one plane after the other; an
 // intersection is interpolated from the INSIDE vertex towards the outside one
@@ -16,6 +17,17 @@
 #include "nearcap/gl/float_transforms.hpp"
 
 namespace nearcap::gl {
+
+// The camera's near and far planes as distances (>= 0 inside), and the z of
+// the near plane's points, for a depth mapping: each one float operation,
+// the one the clipper does.
+inline float near_plane_distance(const Vec4f& v, DepthMapping m) {
+  return m == DepthMapping::Standard ? v.z + v.w : v.w - v.z;
+}
+inline float far_plane_distance(const Vec4f& v, DepthMapping m) {
+  return m == DepthMapping::Standard ? v.w - v.z : v.z;
+}
+inline float near_plane_z(float w, DepthMapping m) { return m == DepthMapping::Standard ? -w : w; }
 
 struct ClipSettings {
   bool clip_far = true;     // false: depth clamp
@@ -31,6 +43,7 @@ struct ClipSettings {
   // where the polygons they close were cut, and not again at the near plane
   // they lie on only to within rounding.  Overrides clip_near.
   bool skip_near_side = false;
+  DepthMapping depth_mapping = DepthMapping::Standard;  // which planes are near and far
 };
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.
@@ -45,6 +58,7 @@ struct NearClippedPolygon {
   std::vector<Vec4f> vertices;  // empty when the whole triangle is in front of the near plane
   std::vector<bool> on_near_plane;
 };
-NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c);
+NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c,
+                                      DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

@@ -30,9 +30,28 @@ enum class Arithmetic { Separate, Fused };
 
 // An affine double map rounded entry by entry to float32.
 Mat4f to_mat4f(const Affine3d& a);
+
+// How the camera's depth leaves clip space:
+//   standard  GL's default, glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE):
+//             the near plane is z = -w, the far plane z = w, window depth
+//             z_w = (z/w) / 2 + 1/2: near 0, far 1, tested GL_LESS;
+//   reversed  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) with a projection
+//             whose depth row sends the near plane to 1 and the far plane
+//             (or infinity) to 0: the near plane is z = w, the far plane
+//             z = 0, z_w = z/w, cleared to 0, tested GL_GREATER.  With a
+//             float depth buffer the dense floats near 0 meet the distant
+//             depths, which a near plane far below the scene's size pushes
+//             towards 1 in the standard mapping (Reed 2015; Lapidous and
+//             Jiao 1999).
+enum class DepthMapping { Standard, Reversed };
+std::string_view to_string(DepthMapping m);  // "standard", "reversed"
+std::optional<DepthMapping> depth_mapping_from_string(std::string_view name);
+
 // glFrustum(left, right, bottom, top, near, far), computed in double and
 // rounded to float32 (what an application computing in double uploads).
-Mat4f frustum_matrix(const Frustum& f);
+// Reversed: the depth row (0, 0, n/(f-n), f n/(f-n)), so that z/w is 1 at
+// the near plane and 0 at the far one.
+Mat4f frustum_matrix(const Frustum& f, DepthMapping mapping = DepthMapping::Standard);
 // The far plane at infinity (Everitt and Kilgard 2002), with the nudges
 // shipped code puts in its depth row so that w = 0 vertices land just
 // inside the far plane instead of on it (where rounding could clip them):
@@ -44,10 +63,15 @@ Mat4f frustum_matrix(const Frustum& f);
 //   one-ulp  -(1 - 2^-23) z - 2n: the smallest float32 nudge below -1.
 // Every finite point's depth moves too (the nudged rows are not the exact
 // projection's): the choice trades depth at infinity for depth precision.
+// Reversed: the depth row (0, 0, 0, n): z = n w_eye, z/w = n / -z_eye, 1 at
+// the near plane and exactly 0 at infinity (the far plane z = 0, which
+// clipping keeps); the nudges are the standard row's and are refused there
+// (Error(Usage)).
 enum class InfiniteFar { Exact, Epsilon, Doom3, OneUlp };
 std::string_view to_string(InfiniteFar f);  // "exact", "epsilon", "doom3", "one-ulp"
 std::optional<InfiniteFar> infinite_far_from_string(std::string_view name);
-Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge = InfiniteFar::Exact);
+Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge = InfiniteFar::Exact,
+                              DepthMapping mapping = DepthMapping::Standard);
 // a * b in float32 (each entry a dot product in the reference order).
 Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic = Arithmetic::Separate);
 

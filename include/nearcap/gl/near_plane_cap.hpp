@@ -43,7 +43,8 @@ namespace nearcap::gl {
 // triangle, as the volume's vertex program wrote them: every side, light-cap
 // and dark-cap triangle), 2 vertices per edge, each as the cap runs it (the
 // clipped triangle's edge a -> b as b, a).
-std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices);
+std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices,
+                                        DepthMapping mapping = DepthMapping::Standard);
 
 // The fan's anchor.  Any anchor gives the same winding numbers in exact
 // arithmetic; the fragments the fan costs depend on it (a convex cap
@@ -59,16 +60,21 @@ std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_
 // point of the near plane with w = 1 inside the viewport, where w dominates
 // every cut: the mean, in NDC, of the curve's vertices inside the viewport
 // (inside the cap when the cap is convex), or the centre (0, 0, -1, 1) when
-// none is.
-Vec4f near_plane_cap_anchor();                                 // the centre
-Vec4f near_plane_cap_anchor(const std::vector<Vec4f>& edges);  // for these edges
+// none is (z = w = 1 with the reversed depth mapping).  Every function here
+// takes the depth mapping (float_transforms.hpp) that says which clip plane
+// is the near plane.
+Vec4f near_plane_cap_anchor(DepthMapping mapping = DepthMapping::Standard);  // the centre
+// for these edges
+Vec4f near_plane_cap_anchor(const std::vector<Vec4f>& edges, DepthMapping mapping = DepthMapping::Standard);
 
 // The cap's fan over those edges from near_plane_cap_anchor(edges), 3
 // clip-space vertices per triangle (anchor, b, a).
-std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices);
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices,
+                                      DepthMapping mapping = DepthMapping::Standard);
 
 // The same with a given anchor (any point with w > 0).
-std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor);
+std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor,
+                                      DepthMapping mapping = DepthMapping::Standard);
 
 // Where the near plane cuts the volumes only outside the viewport (the
 // `twisted` scene: curves 10 to 40 viewports wide around it), the fan draws
@@ -105,9 +111,10 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // 10,000 hard cases: the plain fan's wrong pixels, cap and count mismatches
 // in every configuration, near-cap fragments 6.7 M -> 4.6 M (README "P_l
 // formulations"); `twisted`'s 4.3 M -> 0.
-std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height);
+std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
+                                            DepthMapping mapping = DepthMapping::Standard);
 
-// Which side of the near plane (clip z + w) the points (w = 1) or the
+// Which side of the near plane (clip z + w; w - z reversed) the points (w = 1) or the
 // directions (w = 0) of the object-space box [lo, hi] all lie on under the
 // float32 transform m: +1 all strictly beyond it, -1 all strictly in front,
 // 0 when some straddle or come too close to call (a margin of 1e-5 of the
@@ -115,6 +122,7 @@ std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_c
 // A part of a volume (light cap: the mesh's points; dark cap: its
 // directions from the light; sides: both) whose boxes are all strictly on
 // one side leaves no edge in the near plane, so the pass skips it.
-int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w);
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
+                           DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

@@ -5,7 +5,8 @@
 //
 // Everything after the vertex stage follows the GL rules as far as they fix
 // the result: homogeneous clipping (clipping.hpp), x_w = (x/w + 1) (W/2),
-// y_w = (y/w + 1) (H/2), z_w = (z/w) / 2 + 1/2 (glDepthRange(0, 1)), each a
+// y_w = (y/w + 1) (H/2), z_w = (z/w) / 2 + 1/2 (glDepthRange(0, 1); z/w with
+// the reversed depth mapping's GL_ZERO_TO_ONE), each a
 // float32 operation in that order; every fragment's depth is clamped to
 // [0, 1] before the test (with depth clamp that is what keeps it in range);
 // rasterization by rasterizer.hpp; the depth test compares the fragment's
@@ -31,7 +32,8 @@ enum class DepthFormat {
 };
 
 enum class CullFace { None, Back, Front };
-enum class DepthFunc { Always, Less };
+// Less: the standard depth mapping's test; Greater: the reversed mapping's.
+enum class DepthFunc { Always, Less, Greater };
 enum class StencilOp { Keep, IncrementWrap, DecrementWrap };
 
 // glStencilOpSeparate(face, GL_KEEP, depth_fail, depth_pass).
@@ -44,6 +46,9 @@ struct DrawState {
   CullFace cull = CullFace::None;
   DepthFunc depth_func = DepthFunc::Less;  // Always: the depth test is disabled
   bool depth_write = false;
+  // glClipControl's depth mode, with the matching projection: which clip
+  // planes are the near and far ones, and the window depth (float_transforms.hpp).
+  DepthMapping depth_mapping = DepthMapping::Standard;
   // GL_DEPTH_CLAMP sets both: no near and no far clipping, depth clamped.
   // GL_AMD_depth_clamp_separate sets one of them (GL_DEPTH_CLAMP_FAR_AMD:
   // clipped at the near plane as usual, clamped at the far one).
@@ -91,8 +96,9 @@ class Framebuffer {
   DepthFormat depth_format() const { return format_; }
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width_ + i; }
 
-  // glClear of each buffer (depth 1.0, stencil 0, object -1).
-  void clear_depth();
+  // glClear of each buffer (depth 1.0 or `value`: 0 for the reversed
+  // mapping; stencil 0, object -1).
+  void clear_depth(float value = 1.0f);
   void clear_stencil();
   void clear_objects();
 
@@ -125,9 +131,10 @@ float safe_guard_band(int width, int height, int subpixel_bits);
 // Perspective divide and viewport transform of one clip-space vertex.  z is
 // not clamped here: depth clamp, like the depth range, applies to each
 // fragment's interpolated depth (Framebuffer::encode_depth).
-WindowVertex to_window(const Vec4f& clip, int width, int height);
+WindowVertex to_window(const Vec4f& clip, int width, int height, DepthMapping mapping = DepthMapping::Standard);
 // The same with the chosen arithmetic; `from_clipper`: the clipper made this
 // vertex (it matters for ViewportArithmetic::Llvmpipe only).
-WindowVertex to_window(const Vec4f& clip, int width, int height, ViewportArithmetic arithmetic, bool from_clipper);
+WindowVertex to_window(const Vec4f& clip, int width, int height, ViewportArithmetic arithmetic, bool from_clipper,
+                       DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

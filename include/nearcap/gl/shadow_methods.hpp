@@ -100,6 +100,11 @@ struct EmulationSettings {
   // The infinite projection's depth row (float_transforms.hpp), wherever a
   // frame draws with the far plane at infinity.
   InfiniteFar infinite_far = InfiniteFar::Exact;
+  // The camera's depth mapping (float_transforms.hpp): standard, or reversed
+  // (GL_ZERO_TO_ONE, near at depth 1, tested GL_GREATER), for every camera
+  // pass; a light-frustum near-cap pass (no depth test) keeps its own
+  // standard clip space, as an application switching glClipControl around it.
+  DepthMapping depth_mapping = DepthMapping::Standard;
   // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
   // replay; changes nothing else.
   bool record_draws = false;

@@ -30,6 +30,8 @@ struct ShadowUniforms {
   Mat4f light_projection;
   Vec4f light_position;  // object space
   Arithmetic arithmetic = Arithmetic::Separate;
+  // The camera's depth mapping: which clip plane is its near plane (Figure 7's test and counterparts).
+  DepthMapping depth_mapping = DepthMapping::Standard;
 };
 
 // The plain program (Z-pass, Z-fail, ZP+ as published): w = 0 extrudes,
@@ -43,6 +45,8 @@ Vec4f extrusion_input(const ShadowUniforms& u, const ShadowVertex& v);
 // the camera; a movable vertex (w < 1.5) that the near plane clips
 // (w_clip <= 0 or z_clip < -w_clip) is re-transformed through the light
 // frustum and pushed onto the near plane (z = -w): its near-cap counterpart.
+// With the reversed depth mapping the test is z_clip > w_clip and the
+// counterpart's z is w.
 Vec4f figure7_program(const ShadowUniforms& u, const ShadowVertex& v);
 
 // The near-cap pass: P_l * (light_modelview * (x, y, z, 1)), the two products

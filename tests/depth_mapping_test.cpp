@@ -1,0 +1,185 @@
+// The camera's depth mapping (gl/float_transforms.hpp DepthMapping): the
+// reversed matrices, the clipper's planes and window depth under
+// GL_ZERO_TO_ONE, and what reversed-Z with a float depth buffer does where a
+// tiny near plane exhausts the standard mapping's depth: the sampler's
+// tiny-near configurations, on which Z-fail is wrong on hundreds of pixels
+// with either standard depth buffer and on 2 with reversed-Z.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/crack_distance.hpp"
+#include "nearcap/gl/clipping.hpp"
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
+#include "nearcap/judge/crack_map.hpp"
+
+namespace nearcap {
+namespace {
+
+using gl::DepthMapping;
+using gl::Vec4f;
+
+const std::string kScenes = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/";
+
+float window_depth(const gl::Mat4f& m, const Vec4f& eye, DepthMapping mapping) {
+  return gl::to_window(gl::transform(m, eye), 64, 48, mapping).z;
+}
+
+TEST(DepthMapping, ReversedMatricesSendTheNearPlaneToOneAndTheFarPlaneToZero) {
+  Frustum f;
+  f.left = -0.5;
+  f.right = 0.5;
+  f.bottom = -0.375;
+  f.top = 0.375;
+  f.near = 0.25;
+  f.far = 64;
+  const gl::Mat4f finite = gl::frustum_matrix(f, DepthMapping::Reversed);
+  EXPECT_NEAR(window_depth(finite, {0, 0, -0.25f, 1}, DepthMapping::Reversed), 1.0f, 1e-6f);
+  EXPECT_NEAR(window_depth(finite, {0, 0, -64, 1}, DepthMapping::Reversed), 0.0f, 1e-6f);
+  const gl::Mat4f infinite = gl::infinite_frustum_matrix(f, gl::InfiniteFar::Exact, DepthMapping::Reversed);
+  EXPECT_EQ(window_depth(infinite, {0, 0, -0.25f, 1}, DepthMapping::Reversed), 1.0f);
+  // A point at infinity: z = 0 exactly, on the far plane z >= 0 (kept), depth 0.
+  const Vec4f at_infinity = gl::transform(infinite, {0.1f, 0.2f, -1, 0});
+  EXPECT_EQ(at_infinity.z, 0.0f);
+  EXPECT_EQ(gl::far_plane_distance(at_infinity, DepthMapping::Reversed), 0.0f);
+  // Depth n / -z_eye: farther is smaller, and a float keeps it to 2^-24 relative.
+  const float d1 = window_depth(infinite, {0, 0, -1000, 1}, DepthMapping::Reversed);
+  const float d2 = window_depth(infinite, {0, 0, -1000.001f, 1}, DepthMapping::Reversed);
+  EXPECT_GT(d1, d2);
+  EXPECT_NEAR(d1, 0.25f / 1000, 1e-9f);
+  // The standard mapping's nudges belong to its depth row.
+  EXPECT_THROW(gl::infinite_frustum_matrix(f, gl::InfiniteFar::Epsilon, DepthMapping::Reversed), Error);
+  // The x and y rows are the standard matrix's, bit for bit.
+  const gl::Mat4f standard = gl::frustum_matrix(f);
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(finite.at(0, c), standard.at(0, c));
+    EXPECT_EQ(finite.at(1, c), standard.at(1, c));
+    EXPECT_EQ(finite.at(3, c), standard.at(3, c));
+  }
+}
+
+TEST(DepthMapping, TheClipperCutsAtTheMappingsNearPlane) {
+  Frustum f;
+  f.near = 0.5;
+  f.far = 100;
+  // A triangle from behind the eye to well beyond the near plane: both
+  // mappings cut it at z_eye = -near, where x and y agree to rounding.
+  const Vec4f eye[3] = {{-0.2f, -0.2f, 1, 1}, {0.3f, -0.1f, -3, 1}, {0, 0.3f, -3, 1}};
+  for (DepthMapping m : {DepthMapping::Standard, DepthMapping::Reversed}) {
+    const gl::Mat4f p = gl::infinite_frustum_matrix(f, gl::InfiniteFar::Exact, m);
+    gl::ClipSettings s;
+    s.clip_far = false;
+    s.depth_mapping = m;
+    const auto poly =
+        gl::clip_triangle(gl::transform(p, eye[0]), gl::transform(p, eye[1]), gl::transform(p, eye[2]), s);
+    ASSERT_EQ(poly.size(), 4u);
+    std::size_t on_near = 0;
+    for (const Vec4f& v : poly) {
+      EXPECT_GE(gl::near_plane_distance(v, m), 0.0f);
+      if (std::fabs(v.w - 0.5f) < 1e-6f) {
+        ++on_near;
+        EXPECT_NEAR(gl::to_window(v, 64, 48, m).z, m == DepthMapping::Standard ? 0.0f : 1.0f, 1e-6f);
+      }
+    }
+    EXPECT_EQ(on_near, 2u);
+  }
+}
+
+struct Tally {
+  std::size_t frames = 0, wrong = 0, cracks = 0;
+};
+
+// Z-fail on the first 100 tiny-near configurations of the sampler (seed 5:
+// near planes from 2^-10 down to 10^-6 with scenes of size 1), judged
+// against the exact reference with crack distances.
+Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl::ShadowMethod method) {
+  analysis::SamplerSpec spec;
+  spec.seed = 5;
+  spec.kinds = {analysis::HardCaseKind::TinyNear};
+  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  gl::EmulationSettings settings;
+  settings.depth = depth;
+  settings.depth_mapping = mapping;
+  settings.light_frustum.projection = gl::LightProjection::ClippedSides;
+  Tally t;
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+    } catch (const Error&) {
+      continue;  // the sampler's rejections
+    }
+    const CameraSpaceScene cs(scene);
+    for (std::size_t light = 0; light < scene.lights.size(); ++light) {
+      const PixelReferenceTracer tracer(cs, light);
+      const PixelReference ref = compute_pixel_reference(tracer);
+      CrackReport r = judge_frame(gl::render_shadow_frame(scene, light, method, settings), ref);
+      CrackDistances(tracer, ref).measure(r);
+      ++t.frames;
+      t.wrong += r.wrong;
+      t.cracks += *r.cracks;
+    }
+  }
+  return t;
+}
+
+// README "Reversed-Z": the figures of `nearcap sweep --samples 100 --seed 5
+// --kinds tiny-near` with each variant.
+TEST(DepthMapping, ReversedFloatDepthIsRightWhereTinyNearPlanesExhaustTheStandardMapping) {
+  const Tally fixed =
+      zfail_on_tiny_near_planes(gl::DepthFormat::Fixed24, DepthMapping::Standard, gl::ShadowMethod::ZFail);
+  const Tally floating =
+      zfail_on_tiny_near_planes(gl::DepthFormat::Float32, DepthMapping::Standard, gl::ShadowMethod::ZFail);
+  const Tally reversed =
+      zfail_on_tiny_near_planes(gl::DepthFormat::Float32, DepthMapping::Reversed, gl::ShadowMethod::ZFail);
+  EXPECT_GE(fixed.frames, 90u);
+  // The standard mapping puts every depth beyond a tiny near plane within a
+  // few float32 spacings of 1: the same wrong pixels with either buffer.
+  EXPECT_GT(fixed.wrong, 500u);
+  EXPECT_GT(fixed.cracks, 100u);
+  EXPECT_GT(floating.wrong, 500u);
+  // Reversed-Z: the float's dense values near 0 meet the distant depths.
+  EXPECT_LE(reversed.wrong, 2u);
+  EXPECT_EQ(reversed.cracks, 0u);
+  // ZP+ with the clipped-sides cap (the shipped policy's method) the same.
+  const Tally capped =
+      zfail_on_tiny_near_planes(gl::DepthFormat::Float32, DepthMapping::Reversed, gl::ShadowMethod::ZPPlus);
+  EXPECT_LE(capped.wrong, 2u);
+  EXPECT_EQ(capped.cracks, 0u);
+  std::printf("[ tiny-near ] Z-fail wrong (cracks): fixed24 %zu (%zu), float32 %zu (%zu), reversed float32 %zu (%zu)\n",
+              fixed.wrong, fixed.cracks, floating.wrong, floating.cracks, reversed.wrong, reversed.cracks);
+}
+
+// On the bundled scenes reversed-Z is as right as the standard mapping for
+// every method but where GL_DEPTH_CLAMP is on (the case-D switch, whose
+// model is known not to be llvmpipe's: README "The real GL beside the
+// emulation").
+TEST(DepthMapping, OnTheBundledScenesReversedIsNeverWronger) {
+  for (const char* name :
+       {"default.json", "no_near_clip.json", "eye_in_shadow.json", "near_split.json", "twisted.json", "room.json",
+        "room_side_light.json", "far_grazing.json", "exact_camera.json", "near_cap_bunny_wall.json"}) {
+    const Scene scene = load_scene(kScenes + name);
+    const CameraSpaceScene cs(scene);
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    gl::EmulationSettings reversed;
+    reversed.depth = gl::DepthFormat::Float32;
+    reversed.depth_mapping = DepthMapping::Reversed;
+    for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+      const gl::ShadowFrame a = gl::render_shadow_frame(scene, 0, m),
+                            b = gl::render_shadow_frame(scene, 0, m, reversed);
+      if (!a.zfail_objects.empty() || !a.fallback.empty()) continue;  // depth clamp
+      EXPECT_LE(judge_frame(b, ref).wrong, judge_frame(a, ref).wrong) << name << ", " << gl::to_string(m);
+      EXPECT_EQ(b.object, a.object) << name << ": the depth pre-pass sees the same objects";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
