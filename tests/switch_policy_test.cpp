@@ -148,7 +148,8 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   SwitchPolicy sides = p;
   sides.light_projection = gl::LightProjection::ClippedSides;
   const std::string written = analysis::policy_to_json(sides);
-  EXPECT_NE(written.find("\"version\": 2"), std::string::npos) << written;
+  EXPECT_NE(written.find("\"version\": 3"), std::string::npos) << written;
+  EXPECT_EQ(written.find("\"depth"), std::string::npos) << "unset version-3 fields are not written: " << written;
   EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
   EXPECT_TRUE(analysis::parse_policy(written, "s.json").exact_zpass);
   sides.exact_zpass = false;
@@ -162,6 +163,14 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
     EXPECT_NE(std::string(e.what()).find("exact_zpass: false needs a ZP+ capped method"), std::string::npos)
         << e.what();
   }
+  // Version 3: the depth buffer and mapping, read back; the frames decided with them.
+  SwitchPolicy reversed = p;
+  reversed.depth = gl::DepthFormat::Float32;
+  reversed.depth_mapping = gl::DepthMapping::Reversed;
+  const SwitchPolicy r = analysis::parse_policy(analysis::policy_to_json(reversed), "r.json");
+  EXPECT_EQ(r.depth, gl::DepthFormat::Float32);
+  EXPECT_EQ(r.depth_mapping, gl::DepthMapping::Reversed);
+  EXPECT_FALSE(p.depth.has_value());
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
   EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
@@ -178,7 +187,14 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   };
   const std::pair<std::string, std::string> cases[] = {
       {"{", "not JSON"},
-      {replaced("\"version\": 1", "\"version\": 3"), "version: 3 is not a version"},
+      {replaced("\"version\": 1", "\"version\": 4"), "version: 4 is not a version"},
+      {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"depth\": \"float32\""),
+       "depth: is a version 3 field (this file says version 1)"},
+      {replaced("\"version\": 1, \"capped_method\"", "\"version\": 3, \"depth\": \"float16\", \"capped_method\""),
+       "depth: must be \"fixed24\" or \"float32\""},
+      {replaced("\"version\": 1, \"capped_method\"",
+                "\"version\": 3, \"depth_mapping\": \"inverted\", \"capped_method\""),
+       "depth_mapping: must be \"standard\" or \"reversed\""},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"light_projection\": \"paper\""),
        "light_projection: is a version 2 field"},
       {replaced("\"version\": 1, \"capped_method\"",
@@ -291,12 +307,27 @@ TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, gl::ShadowMethod::ZFail), ref);
   gl::ShadowFrameBatch batch(s, 0, d.settings);
   EXPECT_LE(judge_frame(batch.render(d.object_methods), ref).wrong, zfail.wrong);
+  // Version 3: the policy's depth buffer and mapping reach the frame's
+  // settings, with the exact infinite row the reversed mapping needs.
+  p.depth = gl::DepthFormat::Float32;
+  p.depth_mapping = gl::DepthMapping::Reversed;
+  gl::EmulationSettings nudged;
+  nudged.infinite_far = gl::InfiniteFar::Doom3;
+  d = analysis::decide(p, cs, 0, nudged);
+  EXPECT_EQ(d.settings.depth, gl::DepthFormat::Float32);
+  EXPECT_EQ(d.settings.depth_mapping, gl::DepthMapping::Reversed);
+  EXPECT_EQ(d.settings.infinite_far, gl::InfiniteFar::Exact);
+  gl::ShadowFrameBatch reversed(s, 0, d.settings);
+  EXPECT_LE(judge_frame(reversed.render(d.object_methods), ref).wrong, zfail.wrong);
 }
 
 // The shipped policy on the bundled scenes and a bundled path: never more
 // cracks than Z-fail in any frame, and Z-pass's cost where Z-pass is right.
-TEST(SwitchPolicy, TheShippedPolicyNeverCracksMoreThanZFailOnBundledScenes) {
-  const SwitchPolicy policy = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+// Both shipped policies: data/policy.json and data/policy-reversed-z.json.
+class ShippedPolicy : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ShippedPolicy, NeverCracksMoreThanZFailOnBundledScenes) {
+  const SwitchPolicy policy = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/" + GetParam());
   std::size_t scenes = 0, exact_zpass = 0;
   for (const char* name : {"default", "no_near_clip", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane",
                            "near_cap_bunny_wall", "near_cap_bunny_cut", "twisted", "room", "room_side_light"}) {
@@ -325,6 +356,22 @@ TEST(SwitchPolicy, TheShippedPolicyNeverCracksMoreThanZFailOnBundledScenes) {
   } else {
     EXPECT_EQ(exact_zpass, 0u);  // no test: the capped method everywhere
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(DataFiles, ShippedPolicy, ::testing::Values("policy.json", "policy-reversed-z.json"),
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           return std::string(param.param) == "policy.json" ? std::string("Standard")
+                                                                            : std::string("ReversedZ");
+                         });
+
+TEST(SwitchPolicy, TheReversedZPolicyDrawsWithAFloatBufferAndTheReversedMapping) {
+  const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy-reversed-z.json");
+  EXPECT_EQ(p.depth, gl::DepthFormat::Float32);
+  EXPECT_EQ(p.depth_mapping, gl::DepthMapping::Reversed);
+  const SwitchPolicy standard = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+  EXPECT_FALSE(standard.depth.has_value());
+  EXPECT_EQ(p.capped_method, standard.capped_method);
+  EXPECT_EQ(p.light_projection, standard.light_projection);
 }
 
 // End to end as a user runs it: a sweep, nearcap tune, then the policy it

@@ -12,20 +12,40 @@
 #      crack model; nor an exact Z-pass test (--no-exact-zpass): ZP+ with this
 #      cap is Z-pass, fragment for fragment, wherever the near-cap is empty
 #      in the viewport, and right where that test's float Z-pass is not.
-# About a minute on 2 cores.  Usage: analysis/tuning/tune_policy.sh [BUILD_DIR] [OUT]
-#   (default: build, data/policy.json; the sweeps go to out/tuning/)
+#   3. with --reversed-z: the same with reversed-Z (a float depth buffer and
+#      the reversed depth mapping, README "Reversed-Z") in the sweeps and
+#      the policy: data/policy-reversed-z.json.
+# About a minute on 2 cores.  Usage:
+#   analysis/tuning/tune_policy.sh [--reversed-z] [BUILD_DIR] [OUT]
+#   (default: build, data/policy.json or data/policy-reversed-z.json; the sweeps go to out/tuning/)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+reversed=0
+if [ "${1:-}" = "--reversed-z" ]; then
+  reversed=1
+  shift
+fi
 n=${1:-build}/nearcap
-policy=${2:-data/policy.json}
-mkdir -p out/tuning
-rm -f out/tuning/samples.csv out/tuning/paths.csv
+choices=(--light-projection clipped-sides --zpass-far infinite)
+variant=light-projection=clipped-sides,zpass-far=infinite
+depth=()
+if [ "$reversed" = 1 ]; then
+  policy=${2:-data/policy-reversed-z.json}
+  choices+=(--depth float32 --depth-mapping reversed)
+  variant=depth=float32,light-projection=clipped-sides,zpass-far=infinite,depth-mapping=reversed
+  depth=(--depth float32 --depth-mapping reversed)
+  work=out/tuning/reversed-z
+else
+  policy=${2:-data/policy.json}
+  work=out/tuning
+fi
+mkdir -p "$work"
+rm -f "$work/samples.csv" "$work/paths.csv"
 paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
-choices=(--light-projection clipped-sides --zpass-far infinite)
-"$n" sweep --samples 20000 --seed 100 --methods zpplus,zfail "${choices[@]}" --out out/tuning/samples.csv
-"$n" sweep "${paths[@]}" --methods zpplus,zfail "${choices[@]}" --out out/tuning/paths.csv
-"$n" tune out/tuning/samples.csv out/tuning/paths.csv --out "$policy" --capped zpplus \
-  --variant light-projection=clipped-sides,zpass-far=infinite \
-  --light-projection clipped-sides --no-exact-zpass \
+"$n" sweep --samples 20000 --seed 100 --methods zpplus,zfail "${choices[@]}" --out "$work/samples.csv"
+"$n" sweep "${paths[@]}" --methods zpplus,zfail "${choices[@]}" --out "$work/paths.csv"
+"$n" tune "$work/samples.csv" "$work/paths.csv" --out "$policy" --capped zpplus \
+  --variant "$variant" \
+  --light-projection clipped-sides --no-exact-zpass "${depth[@]}" \
   --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew

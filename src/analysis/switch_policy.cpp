@@ -125,7 +125,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
             {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
-             "exact_zpass", "crack_model", "cost_models", "provenance"},
+             "exact_zpass", "depth", "depth_mapping", "crack_model", "cost_models", "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
@@ -147,6 +147,21 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     if (file_version < 2) fail(source, "exact_zpass", "is a version 2 field (this file says version 1)");
     if (!it->is_boolean()) fail(source, "exact_zpass", "must be true or false");
     p.exact_zpass = it->get<bool>();
+  }
+  if (const auto it = j.find("depth"); it != j.end()) {
+    if (file_version < 3)
+      fail(source, "depth", "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
+    if (!it->is_string() || (*it != "fixed24" && *it != "float32"))
+      fail(source, "depth", "must be \"fixed24\" or \"float32\"");
+    p.depth = *it == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
+  }
+  if (const auto it = j.find("depth_mapping"); it != j.end()) {
+    if (file_version < 3)
+      fail(source, "depth_mapping",
+           "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
+    if (!it->is_string() || !gl::depth_mapping_from_string(it->get<std::string>()))
+      fail(source, "depth_mapping", "must be \"standard\" or \"reversed\"");
+    p.depth_mapping = *gl::depth_mapping_from_string(it->get<std::string>());
   }
   p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
   p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
@@ -239,6 +254,8 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
   j["light_projection"] = std::string(gl::to_string(p.light_projection));
   j["exact_zpass"] = p.exact_zpass;
+  if (p.depth) j["depth"] = *p.depth == gl::DepthFormat::Fixed24 ? "fixed24" : "float32";
+  if (p.depth_mapping) j["depth_mapping"] = std::string(gl::to_string(*p.depth_mapping));
   Json m;
   m["features"] = p.crack_model.features;
   m["mean"] = p.crack_model.mean;
@@ -268,6 +285,12 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.settings.switch_clamp = policy.switch_clamp;
   d.settings.zpass_far = policy.zpass_far;
   d.settings.light_frustum.projection = policy.light_projection;
+  if (policy.depth) d.settings.depth = *policy.depth;
+  if (policy.depth_mapping) {
+    d.settings.depth_mapping = *policy.depth_mapping;
+    // The reversed row puts infinity at depth 0 exactly; the nudges are the standard row's.
+    if (*policy.depth_mapping == gl::DepthMapping::Reversed) d.settings.infinite_far = gl::InfiniteFar::Exact;
+  }
   // The clipped-sides near-cap needs no light frustum: ZP+ with it stays
   // right where the paper's frustum is undefined.
   const bool frustum_free =

@@ -22,6 +22,11 @@ FrameSource::FrameSource(const Scene& scene, std::size_t light, const RenderMeth
                          const gl::EmulationSettings& settings)
     : scene_(scene), light_(light), methods_(methods), settings_(settings), batch_(scene, light, settings) {}
 
+gl::DepthFormat FrameSource::depth(std::size_t k) const {
+  if (k < methods_.methods.size() || !methods_.policy->depth) return settings_.depth;
+  return *methods_.policy->depth;
+}
+
 gl::ShadowFrame FrameSource::frame(std::size_t k) {
   if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
   if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);

@@ -37,6 +37,9 @@ class FrameSource {
   FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
               const gl::EmulationSettings& settings);
   gl::ShadowFrame frame(std::size_t k);
+  // The depth buffer method k's frames are drawn with: the settings', or the
+  // policy's own (a version-3 policy may name one).
+  gl::DepthFormat depth(std::size_t k) const;
   // The policy's last decision (after frame(k) of the policy).
   const analysis::PolicyDecision& decision() const { return decision_; }
 

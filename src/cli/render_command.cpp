@@ -76,7 +76,7 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
     try {
       std::vector<gl::ShadowFrame> frames;
       for (const auto& source : sources) frames.push_back(source->frame(m));
-      const render::LitFrame lit = render::render_lit_frame(scene, frames, settings.depth, o.stencil);
+      const render::LitFrame lit = render::render_lit_frame(scene, frames, sources.front()->depth(m), o.stencil);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
       std::vector<std::string>& pgms = out.stencil_pgm.emplace_back();
       for (const std::vector<std::uint8_t>& st : lit.stencils) pgms.push_back(stencil_pgm(lit.width, lit.height, st));
@@ -214,14 +214,19 @@ void run(const RenderOptions& o) {
   nlohmann::json records = nlohmann::json::array();
   std::vector<io::OutputFile> files;
   FrameSource source(scene, o.light, methods, settings);
-  render::GlFrameReplay replay(scene.camera.width, scene.camera.height, settings.depth);
+  std::unique_ptr<render::GlFrameReplay> replay;  // made for each depth buffer the methods need
+  gl::DepthFormat replay_depth = settings.depth;
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);
     gl::ShadowFrame frame;
     render::ReplayedFrame real;
     try {
       frame = source.frame(m);
-      real = replay.replay(frame.draws);
+      if (!replay || replay_depth != source.depth(m)) {
+        replay_depth = source.depth(m);
+        replay = std::make_unique<render::GlFrameReplay>(scene.camera.width, scene.camera.height, replay_depth);
+      }
+      real = replay->replay(frame.draws);
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.

@@ -22,6 +22,8 @@ struct TuneOptions {
   std::string features = "all";
   std::string light_projection = "paper";
   bool no_exact_zpass = false;
+  std::string depth;          // "": not written
+  std::string depth_mapping;  // "": not written
 };
 
 void run(const TuneOptions& o, const std::string& command) {
@@ -59,6 +61,8 @@ void run(const TuneOptions& o, const std::string& command) {
                   "near-cap is empty)");
     policy.exact_zpass = false;
   }
+  if (!o.depth.empty()) policy.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
+  if (!o.depth_mapping.empty()) policy.depth_mapping = *gl::depth_mapping_from_string(o.depth_mapping);
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -107,6 +111,14 @@ void register_tune(CLI::App& app) {
   cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,
                 "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "
                 "clipped-sides, which is Z-pass wherever its sides leave no cap in the viewport)");
+  cmd->add_option("--depth", o->depth,
+                  "the depth buffer the policy's frames use, written to the policy (the rows' variant should have "
+                  "it): fixed24 or float32; not given, the caller's")
+      ->check(CLI::IsMember({"fixed24", "float32"}));
+  cmd->add_option("--depth-mapping", o->depth_mapping,
+                  "the camera's depth mapping the policy's frames use, written to the policy: standard or reversed "
+                  "(with --depth float32: reversed-Z); not given, the caller's")
+      ->check(CLI::IsMember({"standard", "reversed"}));
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), or all")
@@ -122,6 +134,8 @@ void register_tune(CLI::App& app) {
     if (o->features != "all") command += " --features " + o->features;
     if (o->light_projection != "paper") command += " --light-projection " + o->light_projection;
     if (o->no_exact_zpass) command += " --no-exact-zpass";
+    if (!o->depth.empty()) command += " --depth " + o->depth;
+    if (!o->depth_mapping.empty()) command += " --depth-mapping " + o->depth_mapping;
     run(*o, command);
   });
 }

@@ -259,12 +259,14 @@ class Viewer {
     refused_.clear();
     lit_ = {};
     try {
+      gl::DepthFormat depth = settings_.depth;
       for (std::size_t k = 0; k < shown_.lights.size(); ++k) {
         if (light_choice_ >= 0 && static_cast<int>(k) != light_choice_) continue;
         FrameSource source(shown_, k, methods_, settings_);
         frames_.push_back(source.frame(method_));
+        depth = source.depth(method_);
       }
-      lit_ = render::render_lit_frame(shown_, frames_, settings_.depth, true);
+      lit_ = render::render_lit_frame(shown_, frames_, depth, true);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) throw;
       refused_ = e.what();

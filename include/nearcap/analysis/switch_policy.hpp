@@ -38,6 +38,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -102,6 +103,11 @@ struct SwitchPolicy {
   // clipped-sides cap, which draws no cap where its float sides leave none
   // in the viewport and is then Z-pass, fragment for fragment.
   bool exact_zpass = true;
+  // Version 3, optional: the depth buffer and the camera's depth mapping the
+  // policy's frames are drawn with (reversed-Z: float32 and reversed, with
+  // the exact infinite far row); absent, the caller's settings.
+  std::optional<gl::DepthFormat> depth;
+  std::optional<gl::DepthMapping> depth_mapping;
   CrackModel crack_model;
   // Optional: fitted cost models by method (reported; the decision's order
   // Z-pass < ZP+ corrected < Z-fail does not need them yet).
@@ -109,7 +115,7 @@ struct SwitchPolicy {
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
-inline constexpr int kPolicyVersion = 2;  // written; 1 and 2 are read
+inline constexpr int kPolicyVersion = 3;  // written; 1 to 3 are read
 
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);
