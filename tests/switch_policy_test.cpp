@@ -170,7 +170,10 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   const SwitchPolicy r = analysis::parse_policy(analysis::policy_to_json(reversed), "r.json");
   EXPECT_EQ(r.depth, gl::DepthFormat::Float32);
   EXPECT_EQ(r.depth_mapping, gl::DepthMapping::Reversed);
+  EXPECT_FALSE(r.near_plane.has_value());
   EXPECT_FALSE(p.depth.has_value());
+  reversed.near_plane = gl::NearPlane::Tight;
+  EXPECT_EQ(analysis::parse_policy(analysis::policy_to_json(reversed), "t.json").near_plane, gl::NearPlane::Tight);
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
   EXPECT_EQ(q.crack_model.weights, p.crack_model.weights);
@@ -195,6 +198,8 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"version\": 1, \"capped_method\"",
                 "\"version\": 3, \"depth_mapping\": \"inverted\", \"capped_method\""),
        "depth_mapping: must be \"standard\" or \"reversed\""},
+      {replaced("\"version\": 1, \"capped_method\"", "\"version\": 3, \"near_plane\": \"far\", \"capped_method\""),
+       "near_plane: must be \"scene\" or \"tight\""},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"light_projection\": \"paper\""),
        "light_projection: is a version 2 field"},
       {replaced("\"version\": 1, \"capped_method\"",
@@ -319,6 +324,8 @@ TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   EXPECT_EQ(d.settings.infinite_far, gl::InfiniteFar::Exact);
   gl::ShadowFrameBatch reversed(s, 0, d.settings);
   EXPECT_LE(judge_frame(reversed.render(d.object_methods), ref).wrong, zfail.wrong);
+  p.near_plane = gl::NearPlane::Tight;
+  EXPECT_EQ(analysis::decide(p, cs, 0, {}).settings.near_plane, gl::NearPlane::Tight);
 }
 
 // The shipped policy on the bundled scenes and a bundled path: never more
@@ -358,13 +365,16 @@ TEST_P(ShippedPolicy, NeverCracksMoreThanZFailOnBundledScenes) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(DataFiles, ShippedPolicy, ::testing::Values("policy.json", "policy-reversed-z.json"),
+INSTANTIATE_TEST_SUITE_P(DataFiles, ShippedPolicy,
+                         ::testing::Values("policy.json", "policy-reversed-z.json", "policy-tight-near.json"),
                          [](const ::testing::TestParamInfo<const char*>& param) {
-                           return std::string(param.param) == "policy.json" ? std::string("Standard")
-                                                                            : std::string("ReversedZ");
+                           const std::string name(param.param);
+                           return name == "policy.json"              ? std::string("Standard")
+                                  : name == "policy-reversed-z.json" ? std::string("ReversedZ")
+                                                                     : std::string("TightNear");
                          });
 
-TEST(SwitchPolicy, TheReversedZPolicyDrawsWithAFloatBufferAndTheReversedMapping) {
+TEST(SwitchPolicy, TheAlternativePoliciesCarryTheirDepthChoices) {
   const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy-reversed-z.json");
   EXPECT_EQ(p.depth, gl::DepthFormat::Float32);
   EXPECT_EQ(p.depth_mapping, gl::DepthMapping::Reversed);
@@ -372,6 +382,10 @@ TEST(SwitchPolicy, TheReversedZPolicyDrawsWithAFloatBufferAndTheReversedMapping)
   EXPECT_FALSE(standard.depth.has_value());
   EXPECT_EQ(p.capped_method, standard.capped_method);
   EXPECT_EQ(p.light_projection, standard.light_projection);
+  const SwitchPolicy tight = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy-tight-near.json");
+  EXPECT_EQ(tight.near_plane, gl::NearPlane::Tight);
+  EXPECT_FALSE(tight.depth.has_value());
+  EXPECT_FALSE(standard.near_plane.has_value());
 }
 
 // End to end as a user runs it: a sweep, nearcap tune, then the policy it

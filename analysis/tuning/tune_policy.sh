@@ -13,28 +13,37 @@
 #      cap is Z-pass, fragment for fragment, wherever the near-cap is empty
 #      in the viewport, and right where that test's float Z-pass is not.
 #   3. with --reversed-z: the same with reversed-Z (a float depth buffer and
-#      the reversed depth mapping, README "Reversed-Z") in the sweeps and
-#      the policy: data/policy-reversed-z.json.
+#      the reversed depth mapping) in the sweeps and the policy:
+#      data/policy-reversed-z.json; with --tight-near: the same with the
+#      tight near plane, data/policy-tight-near.json (README "Depth
+#      precision").
 # About a minute on 2 cores.  Usage:
-#   analysis/tuning/tune_policy.sh [--reversed-z] [BUILD_DIR] [OUT]
-#   (default: build, data/policy.json or data/policy-reversed-z.json; the sweeps go to out/tuning/)
+#   analysis/tuning/tune_policy.sh [--reversed-z|--tight-near] [BUILD_DIR] [OUT]
+#   (default: build, data/policy.json, data/policy-reversed-z.json or
+#   data/policy-tight-near.json; the sweeps go to out/tuning/)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-reversed=0
-if [ "${1:-}" = "--reversed-z" ]; then
-  reversed=1
+cure=none
+if [ "${1:-}" = "--reversed-z" ] || [ "${1:-}" = "--tight-near" ]; then
+  cure=${1#--}
   shift
 fi
 n=${1:-build}/nearcap
 choices=(--light-projection clipped-sides --zpass-far infinite)
 variant=light-projection=clipped-sides,zpass-far=infinite
 depth=()
-if [ "$reversed" = 1 ]; then
+if [ "$cure" = reversed-z ]; then
   policy=${2:-data/policy-reversed-z.json}
   choices+=(--depth float32 --depth-mapping reversed)
   variant=depth=float32,light-projection=clipped-sides,zpass-far=infinite,depth-mapping=reversed
   depth=(--depth float32 --depth-mapping reversed)
   work=out/tuning/reversed-z
+elif [ "$cure" = tight-near ]; then
+  policy=${2:-data/policy-tight-near.json}
+  choices+=(--near-plane tight)
+  variant=light-projection=clipped-sides,zpass-far=infinite,near-plane=tight
+  depth=(--near-plane tight)
+  work=out/tuning/tight-near
 else
   policy=${2:-data/policy.json}
   work=out/tuning

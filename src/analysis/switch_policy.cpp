@@ -125,7 +125,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
             {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
-             "exact_zpass", "depth", "depth_mapping", "crack_model", "cost_models", "provenance"},
+             "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
@@ -162,6 +162,13 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     if (!it->is_string() || !gl::depth_mapping_from_string(it->get<std::string>()))
       fail(source, "depth_mapping", "must be \"standard\" or \"reversed\"");
     p.depth_mapping = *gl::depth_mapping_from_string(it->get<std::string>());
+  }
+  if (const auto it = j.find("near_plane"); it != j.end()) {
+    if (file_version < 3)
+      fail(source, "near_plane", "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
+    if (!it->is_string() || !gl::near_plane_from_string(it->get<std::string>()))
+      fail(source, "near_plane", "must be \"scene\" or \"tight\"");
+    p.near_plane = *gl::near_plane_from_string(it->get<std::string>());
   }
   p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
   p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
@@ -256,6 +263,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["exact_zpass"] = p.exact_zpass;
   if (p.depth) j["depth"] = *p.depth == gl::DepthFormat::Fixed24 ? "fixed24" : "float32";
   if (p.depth_mapping) j["depth_mapping"] = std::string(gl::to_string(*p.depth_mapping));
+  if (p.near_plane) j["near_plane"] = std::string(gl::to_string(*p.near_plane));
   Json m;
   m["features"] = p.crack_model.features;
   m["mean"] = p.crack_model.mean;
@@ -286,6 +294,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.settings.zpass_far = policy.zpass_far;
   d.settings.light_frustum.projection = policy.light_projection;
   if (policy.depth) d.settings.depth = *policy.depth;
+  if (policy.near_plane) d.settings.near_plane = *policy.near_plane;
   if (policy.depth_mapping) {
     d.settings.depth_mapping = *policy.depth_mapping;
     // The reversed row puts infinity at depth 0 exactly; the nudges are the standard row's.

@@ -69,6 +69,7 @@ struct EmulationOptions {
   std::string zpass_far = "finite";
   std::string infinite_far = "exact";
   std::string depth_mapping = "standard";
+  std::string near_plane = "scene";
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);

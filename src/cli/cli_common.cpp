@@ -123,6 +123,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "reversed-Z)")
       ->check(CLI::IsMember({"standard", "reversed"}))
       ->capture_default_str();
+  cmd.add_option("--near-plane", o.near_plane,
+                 "the camera's near plane: scene (the scene file's) or tight (moved out to half the depth of the "
+                 "nearest point in view, when farther: the same image, more depth precision)")
+      ->check(CLI::IsMember({"scene", "tight"}))
+      ->capture_default_str();
   cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
 }
 
@@ -148,7 +153,8 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"zpass-far", o.zpass_far},
           {"infinite-far", o.infinite_far},
           {"fma", o.fma ? "1" : "0"},
-          {"depth-mapping", o.depth_mapping}};
+          {"depth-mapping", o.depth_mapping},
+          {"near-plane", o.near_plane}};
 }
 
 double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
@@ -224,11 +230,14 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "depth-mapping") {
       need_one_of(spec, name, value, {"standard", "reversed"});
       o.depth_mapping = value;
+    } else if (name == "near-plane") {
+      need_one_of(spec, name, value, {"scene", "tight"});
+      o.near_plane = value;
     } else {
-      throw Error(ErrorKind::Usage,
-                  "--variant '" + spec + "': unknown choice '" + name +
-                      "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
-                      "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, depth-mapping, fma)");
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
+                                        "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
+                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, "
+                                        "depth-mapping, near-plane, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -280,6 +289,9 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto mapping = gl::depth_mapping_from_string(o.depth_mapping);
   if (!mapping) throw Error(ErrorKind::Usage, "--depth-mapping '" + o.depth_mapping + "' is not standard or reversed");
   s.depth_mapping = *mapping;
+  const auto near_plane = gl::near_plane_from_string(o.near_plane);
+  if (!near_plane) throw Error(ErrorKind::Usage, "--near-plane '" + o.near_plane + "' is not scene or tight");
+  s.near_plane = *near_plane;
   if (s.depth_mapping == gl::DepthMapping::Reversed && s.infinite_far != gl::InfiniteFar::Exact)
     throw Error(ErrorKind::Usage, "--infinite-far " + o.infinite_far +
                                       " nudges the standard depth row; --depth-mapping reversed puts infinity at "

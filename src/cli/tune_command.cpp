@@ -24,6 +24,7 @@ struct TuneOptions {
   bool no_exact_zpass = false;
   std::string depth;          // "": not written
   std::string depth_mapping;  // "": not written
+  std::string near_plane;     // "": not written
 };
 
 void run(const TuneOptions& o, const std::string& command) {
@@ -63,6 +64,7 @@ void run(const TuneOptions& o, const std::string& command) {
   }
   if (!o.depth.empty()) policy.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
   if (!o.depth_mapping.empty()) policy.depth_mapping = *gl::depth_mapping_from_string(o.depth_mapping);
+  if (!o.near_plane.empty()) policy.near_plane = *gl::near_plane_from_string(o.near_plane);
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -119,6 +121,10 @@ void register_tune(CLI::App& app) {
                   "the camera's depth mapping the policy's frames use, written to the policy: standard or reversed "
                   "(with --depth float32: reversed-Z); not given, the caller's")
       ->check(CLI::IsMember({"standard", "reversed"}));
+  cmd->add_option("--near-plane", o->near_plane,
+                  "the camera's near plane the policy's frames use, written to the policy: scene or tight; not "
+                  "given, the caller's")
+      ->check(CLI::IsMember({"scene", "tight"}));
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), or all")
@@ -136,6 +142,7 @@ void register_tune(CLI::App& app) {
     if (o->no_exact_zpass) command += " --no-exact-zpass";
     if (!o->depth.empty()) command += " --depth " + o->depth;
     if (!o->depth_mapping.empty()) command += " --depth-mapping " + o->depth_mapping;
+    if (!o->near_plane.empty()) command += " --near-plane " + o->near_plane;
     run(*o, command);
   });
 }

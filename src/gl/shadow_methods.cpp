@@ -513,17 +513,39 @@ ZFailFar as_zfail_far(SwitchClamp c) {
 
 bool uses_near_cap(ShadowMethod m) { return m == ShadowMethod::ZPPlus || m == ShadowMethod::ZPPlusCorrected; }
 
+namespace {
+
+std::unique_ptr<Scene> with_tight_near_plane(const Scene& scene, const EmulationSettings& settings, double& ms) {
+  if (settings.near_plane != NearPlane::Tight) return nullptr;
+  const auto t = Clock::now();
+  auto tight = std::make_unique<Scene>(scene);
+  tight->camera.frustum = tight_frustum(scene);
+  ms = ms_since(t);
+  return tight;
+}
+
+}  // namespace
+
 ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const EmulationSettings& settings)
-    : scene_(scene), light_(light), settings_(settings), shared_(std::make_unique<SharedWork>()) {
+    : tight_(with_tight_near_plane(scene, settings, tight_ms_)),
+      scene_(tight_ ? *tight_ : scene),
+      scene_near_(scene.camera.frustum.near),
+      light_(light),
+      settings_(settings),
+      shared_(std::make_unique<SharedWork>()) {
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 
 ShadowFrame ShadowFrameBatch::render(ShadowMethod method) {
-  return FrameRenderer(scene_, light_, method, std::vector<ShadowMethod>(scene_.objects.size(), method), settings_,
-                       *shared_)
-      .run();
+  ShadowFrame frame = FrameRenderer(scene_, light_, method, std::vector<ShadowMethod>(scene_.objects.size(), method),
+                                    settings_, *shared_)
+                          .run();
+  frame.near = scene_.camera.frustum.near;
+  frame.near_moved = frame.near != scene_near_;
+  frame.times.setup_ms += tight_ms_;
+  return frame;
 }
 
 ShadowFrame ShadowFrameBatch::render(const std::vector<ShadowMethod>& object_methods) {
@@ -538,6 +560,9 @@ ShadowFrame ShadowFrameBatch::render(const std::vector<ShadowMethod>& object_met
     }
   ShadowFrame frame = FrameRenderer(scene_, light_, label, object_methods, settings_, *shared_).run();
   frame.mixed = true;
+  frame.near = scene_.camera.frustum.near;
+  frame.near_moved = frame.near != scene_near_;
+  frame.times.setup_ms += tight_ms_;
   return frame;
 }
 

@@ -44,7 +44,7 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
     if (frame.stencil[p] != exact) ++r.count_mismatch;
   }
   r.wrong = r.wrong_lit + r.wrong_shadowed;
-  if (!frame.near_cap.empty() && frame.zfail_objects.empty()) {
+  if (!frame.near_cap.empty() && frame.zfail_objects.empty() && !frame.near_moved) {
     r.cap_wrong.assign(n, false);
     std::size_t mismatches = 0;
     for (std::size_t p = 0; p < n; ++p)

@@ -108,6 +108,7 @@ struct SwitchPolicy {
   // the exact infinite far row); absent, the caller's settings.
   std::optional<gl::DepthFormat> depth;
   std::optional<gl::DepthMapping> depth_mapping;
+  std::optional<gl::NearPlane> near_plane;  // the tight near plane, or the scene's
   CrackModel crack_model;
   // Optional: fitted cost models by method (reported; the decision's order
   // Z-pass < ZP+ corrected < Z-fail does not need them yet).

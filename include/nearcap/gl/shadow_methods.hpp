@@ -47,6 +47,7 @@
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/gl/pipeline.hpp"
+#include "nearcap/gl/tight_near_plane.hpp"
 
 namespace nearcap::gl {
 
@@ -105,6 +106,9 @@ struct EmulationSettings {
   // pass; a light-frustum near-cap pass (no depth test) keeps its own
   // standard clip space, as an application switching glClipControl around it.
   DepthMapping depth_mapping = DepthMapping::Standard;
+  // The camera's near plane: the scene's, or pushed out to half the depth
+  // of the nearest point in view (tight_near_plane.hpp).
+  NearPlane near_plane = NearPlane::Scene;
   // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
   // replay; changes nothing else.
   bool record_draws = false;
@@ -136,6 +140,10 @@ struct ShadowFrame {
   // With EmulationSettings::record_draws: the frame's draw calls in order
   // (the depth pre-pass, the near-cap pass, the volumes), as drawn here.
   std::vector<DrawCall> draws;
+  // The near plane the frame was drawn with (NearPlane::Tight may move it
+  // out: then its near_cap is not the scene camera's and is not judged).
+  double near = 0;
+  bool near_moved = false;
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
 };
 
@@ -178,7 +186,10 @@ class ShadowFrameBatch {
   struct SharedWork;  // src/gl/shadow_methods.cpp
 
  private:
+  double tight_ms_ = 0;           // finding the tight near plane, in every frame's setup time (before tight_)
+  std::unique_ptr<Scene> tight_;  // the scene with the tight near plane (NearPlane::Tight)
   const Scene& scene_;
+  double scene_near_;  // the scene file's near plane
   std::size_t light_;
   EmulationSettings settings_;
   std::unique_ptr<SharedWork> shared_;

@@ -15,8 +15,9 @@
 // A method's near-cap pass (ZP+) is compared with the reference's cap count
 // (mod 256) on every pixel of the viewport: cap_mismatch.  When a method left
 // occluders out of its near-cap pass (zpplus-corrected's switch to Z-fail for
-// a case-D occluder) its cap is not the whole scene's, and cap_mismatch is
-// not reported.
+// a case-D occluder), or drew with another near plane than the scene's
+// (gl::NearPlane::Tight), its cap is not the reference's, and cap_mismatch
+// is not reported.
 //
 // A ray-traced frame (raytrace/shadow_ray_tracer.hpp) has a shadow status per
 // pixel and no count: it is judged by status alone (judge_raytrace_frame), so

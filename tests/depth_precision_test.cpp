@@ -1,14 +1,16 @@
-// The camera's depth mapping (gl/float_transforms.hpp DepthMapping): the
-// reversed matrices, the clipper's planes and window depth under
-// GL_ZERO_TO_ONE, and what reversed-Z with a float depth buffer does where a
-// tiny near plane exhausts the standard mapping's depth: the sampler's
-// tiny-near configurations, on which Z-fail is wrong on hundreds of pixels
-// with either standard depth buffer and on 2 with reversed-Z.
+// Depth precision and its two cures.  The camera's depth mapping
+// (gl/float_transforms.hpp DepthMapping): the reversed matrices, the
+// clipper's planes and window depth under GL_ZERO_TO_ONE; the tight near
+// plane (gl/tight_near_plane.hpp); and what each does where a tiny near
+// plane exhausts the standard mapping's depth: the sampler's tiny-near
+// configurations, on which Z-fail is wrong on hundreds of pixels with either
+// standard depth buffer and on 2 with reversed-Z or the tight near plane.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "box_scene.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/crack_distance.hpp"
@@ -98,7 +100,8 @@ struct Tally {
 // Z-fail on the first 100 tiny-near configurations of the sampler (seed 5:
 // near planes from 2^-10 down to 10^-6 with scenes of size 1), judged
 // against the exact reference with crack distances.
-Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl::ShadowMethod method) {
+Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl::ShadowMethod method,
+                                gl::NearPlane near_plane = gl::NearPlane::Scene) {
   analysis::SamplerSpec spec;
   spec.seed = 5;
   spec.kinds = {analysis::HardCaseKind::TinyNear};
@@ -107,6 +110,7 @@ Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl:
   gl::EmulationSettings settings;
   settings.depth = depth;
   settings.depth_mapping = mapping;
+  settings.near_plane = near_plane;
   settings.light_frustum.projection = gl::LightProjection::ClippedSides;
   Tally t;
   for (std::uint64_t i = 0; i < 100; ++i) {
@@ -153,8 +157,16 @@ TEST(DepthMapping, ReversedFloatDepthIsRightWhereTinyNearPlanesExhaustTheStandar
       zfail_on_tiny_near_planes(gl::DepthFormat::Float32, DepthMapping::Reversed, gl::ShadowMethod::ZPPlus);
   EXPECT_LE(capped.wrong, 2u);
   EXPECT_EQ(capped.cracks, 0u);
-  std::printf("[ tiny-near ] Z-fail wrong (cracks): fixed24 %zu (%zu), float32 %zu (%zu), reversed float32 %zu (%zu)\n",
-              fixed.wrong, fixed.cracks, floating.wrong, floating.cracks, reversed.wrong, reversed.cracks);
+  // The tight near plane, with the standard mapping and a 24-bit buffer.
+  const Tally tight = zfail_on_tiny_near_planes(gl::DepthFormat::Fixed24, DepthMapping::Standard,
+                                                gl::ShadowMethod::ZFail, gl::NearPlane::Tight);
+  EXPECT_LE(tight.wrong, 2u);
+  EXPECT_EQ(tight.cracks, 0u);
+  std::printf(
+      "[ tiny-near ] Z-fail wrong (cracks): fixed24 %zu (%zu), float32 %zu (%zu), reversed float32 %zu (%zu), tight "
+      "near plane %zu (%zu)\n",
+      fixed.wrong, fixed.cracks, floating.wrong, floating.cracks, reversed.wrong, reversed.cracks, tight.wrong,
+      tight.cracks);
 }
 
 // On the bundled scenes reversed-Z is as right as the standard mapping for
@@ -177,6 +189,63 @@ TEST(DepthMapping, OnTheBundledScenesReversedIsNeverWronger) {
       if (!a.zfail_objects.empty() || !a.fallback.empty()) continue;  // depth clamp
       EXPECT_LE(judge_frame(b, ref).wrong, judge_frame(a, ref).wrong) << name << ", " << gl::to_string(m);
       EXPECT_EQ(b.object, a.object) << name << ": the depth pre-pass sees the same objects";
+    }
+  }
+}
+
+TEST(TightNearPlane, MovesTheNearPlaneToHalfTheNearestDepthInViewKeepingTheFieldOfView) {
+  // The eye at (0, 0, 5) looking down -z (60 degrees vertically, near 0.05)
+  // at the unit box; the receiver's top face (y = -0.6) runs under the eye,
+  // so the nearest point in view is where the view's bottom plane, widened
+  // by 1 %, meets it: depth 0.6 / (1.01 tan 30 degrees).
+  test::BoxSceneOptions o;
+  Scene scene = test::box_scene({0, 0, 5}, {0, 5, 0}, o);
+  const Frustum f = scene.camera.frustum;
+  const Frustum tight = gl::tight_frustum(scene);
+  const double nearest = 0.6 / (1.01 * std::tan(M_PI / 6));
+  EXPECT_NEAR(tight.near, 0.5 * nearest, 1e-9);
+  EXPECT_NEAR(tight.left / tight.near, f.left / f.near, 1e-12);
+  EXPECT_NEAR(tight.top / tight.near, f.top / f.near, 1e-12);
+  EXPECT_EQ(tight.far, f.far);
+  // Never nearer the eye than the scene's near plane.
+  scene.camera.frustum.near = 0.9;
+  scene.camera.frustum.left *= 18;
+  scene.camera.frustum.right *= 18;
+  scene.camera.frustum.bottom *= 18;
+  scene.camera.frustum.top *= 18;
+  EXPECT_EQ(gl::tight_frustum(scene).near, 0.9);
+  // Nothing in view (the eye looking away from everything): unchanged.
+  const Scene away = test::box_scene({0, 30, 5}, {0, 5, 0}, [] {
+    test::BoxSceneOptions up;
+    up.target = {0, 60, 6};  // looking up, away from the box and the ground
+    return up;
+  }());
+  EXPECT_EQ(gl::tight_frustum(away).near, away.camera.frustum.near);
+}
+
+// The same image: no point in view is clipped by the moved near plane, so
+// the depth pre-pass sees the same objects, and a ZP+ frame's cap, drawn for
+// another near plane, is not judged against the scene's.
+TEST(TightNearPlane, TheFrameSeesWhatTheScenesCameraSees) {
+  for (const char* name : {"default.json", "near_split.json", "twisted.json", "room.json", "eye_in_shadow.json",
+                           "near_cap_bunny_wall.json"}) {
+    const Scene scene = load_scene(kScenes + name);
+    const CameraSpaceScene cs(scene);
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    gl::EmulationSettings tight;
+    tight.near_plane = gl::NearPlane::Tight;
+    for (gl::ShadowMethod m : {gl::ShadowMethod::ZFail, gl::ShadowMethod::ZPPlus}) {
+      const gl::ShadowFrame a = gl::render_shadow_frame(scene, 0, m), b = gl::render_shadow_frame(scene, 0, m, tight);
+      EXPECT_EQ(judge_frame(b, ref).visibility_mismatch, judge_frame(a, ref).visibility_mismatch) << name;
+      EXPECT_FALSE(a.near_moved);
+      EXPECT_EQ(a.near, scene.camera.frustum.near);
+      if (b.near_moved) {
+        EXPECT_GT(b.near, scene.camera.frustum.near) << name;
+        EXPECT_FALSE(judge_frame(b, ref).cap_mismatch.has_value()) << name;
+      }
+      if (m == gl::ShadowMethod::ZFail) {
+        EXPECT_LE(judge_frame(b, ref).wrong, judge_frame(a, ref).wrong) << name;
+      }
     }
   }
 }

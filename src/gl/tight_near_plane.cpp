@@ -1,0 +1,81 @@
+// The tight near plane (see tight_near_plane.hpp).
+#include "nearcap/gl/tight_near_plane.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace nearcap::gl {
+namespace {
+
+// A plane through the eye, a . p >= 0 inside.
+using Plane = std::array<double, 3>;
+
+std::vector<Vec3d> clipped(std::vector<Vec3d> poly, const Plane& plane) {
+  std::vector<Vec3d> out;
+  const std::size_t n = poly.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3d &a = poly[k], &b = poly[(k + 1) % n];
+    const double da = plane[0] * a.x + plane[1] * a.y + plane[2] * a.z,
+                 db = plane[0] * b.x + plane[1] * b.y + plane[2] * b.z;
+    if (da >= 0) out.push_back(a);
+    if ((da >= 0) != (db >= 0)) {
+      const double t = da / (da - db);
+      out.push_back(a + t * (b - a));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string_view to_string(NearPlane p) { return p == NearPlane::Scene ? "scene" : "tight"; }
+
+std::optional<NearPlane> near_plane_from_string(std::string_view name) {
+  for (NearPlane p : {NearPlane::Scene, NearPlane::Tight})
+    if (to_string(p) == name) return p;
+  return std::nullopt;
+}
+
+Frustum tight_frustum(const Scene& scene) {
+  const Frustum& f = scene.camera.frustum;
+  // The side planes at depth 1 (x = left / near ... at z = -1), widened by 1 %.
+  const double w = 1.01, l = w * f.left / f.near, r = w * f.right / f.near, b = w * f.bottom / f.near,
+               t = w * f.top / f.near;
+  const std::array<Plane, 5> planes{{
+      {1, 0, l},    // x >= l (-z):  x + l z >= 0
+      {-1, 0, -r},  // x <= r (-z)
+      {0, 1, b},
+      {0, -1, -t},
+      {0, 0, -1},  // in front of the eye: -z >= 0
+  }};
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const SceneObject& o : scene.objects) {
+    std::vector<Vec3d> camera(o.mesh->positions.size());
+    for (std::size_t v = 0; v < camera.size(); ++v)
+      camera[v] = scene.camera.view.apply(o.object_to_world.apply(o.mesh->positions[v]));
+    for (const auto& tri : o.mesh->triangles) {
+      std::vector<Vec3d> poly{camera[tri[0]], camera[tri[1]], camera[tri[2]]};
+      for (const Plane& p : planes) {
+        poly = clipped(poly, p);
+        if (poly.empty()) break;
+      }
+      for (const Vec3d& p : poly) nearest = std::min(nearest, -p.z);
+    }
+  }
+  Frustum out = f;
+  if (!std::isfinite(nearest)) return out;                   // nothing in view
+  const double near = std::min(0.5 * nearest, 0.5 * f.far);  // never beyond the far plane
+  if (!std::isfinite(near) || !(near > f.near)) return out;
+  const double s = near / f.near;
+  out.left *= s;
+  out.right *= s;
+  out.bottom *= s;
+  out.top *= s;
+  out.near = near;
+  return out;
+}
+
+}  // namespace nearcap::gl
