@@ -122,4 +122,11 @@ void print_case_legend(std::ostream& out);
 // Throws Error(Usage) when `light` is not an index of scene.lights.
 void check_light_index(const Scene& scene, std::size_t light);
 
+// Runs `python script args...` with the Python that has matplotlib
+// (NEARCAP_PYTHON, else /usr/bin/python3, Debian's, else python3 on the
+// PATH) and returns its exit status (what the script printed stays on
+// stdout and stderr); `what` names the script in the error when Python
+// cannot be started (Error(Io), naming the packages to install).
+int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what);
+
 }  // namespace nearcap::cli

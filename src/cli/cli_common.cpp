@@ -1,9 +1,13 @@
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <initializer_list>
 #include <sstream>
@@ -11,6 +15,8 @@
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
+
+extern char** environ;
 
 namespace nearcap::cli {
 namespace {
@@ -406,6 +412,25 @@ void check_light_index(const Scene& scene, std::size_t light) {
     throw Error(ErrorKind::Usage, scene.source + ": --light " + std::to_string(light) +
                                       " is out of range (the scene has " + std::to_string(scene.lights.size()) +
                                       " light(s))");
+}
+
+int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
+  const char* env = std::getenv("NEARCAP_PYTHON");
+  const std::string py = env && *env ? env : (::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
+  std::vector<std::string> all{py, script};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = ::posix_spawnp(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ);
+  if (spawned != 0)
+    throw Error(ErrorKind::Io, py + ": cannot run Python for " + what + ": " + std::strerror(spawned) +
+                                   " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
 }  // namespace nearcap::cli

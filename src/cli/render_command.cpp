@@ -35,6 +35,8 @@ struct RenderOptions {
   std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   bool compare = false;
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
+  bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
+  bool one_sided_stencil = false;
   std::string out;
   EmulationOptions emulation;
   double max_memory_gb = 0;
@@ -58,6 +60,7 @@ struct LitFrames {
   std::vector<std::vector<std::string>> stencil_pgm;  // per method, per light (with --stencil)
   std::vector<std::size_t> light_index;               // the scene lights drawn
   std::vector<double> ms;
+  std::vector<render::LitFramePasses> passes;  // with --bench
   std::vector<std::string> refused;
   std::size_t lights = 0;
 };
@@ -76,7 +79,12 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
     try {
       std::vector<gl::ShadowFrame> frames;
       for (const auto& source : sources) frames.push_back(source->frame(m));
-      const render::LitFrame lit = render::render_lit_frame(scene, frames, sources.front()->depth(m), o.stencil);
+      render::LitFrameOptions options;
+      options.read_stencils = o.stencil;
+      options.pass_times = o.bench;
+      options.one_sided_stencil = o.one_sided_stencil;
+      const render::LitFrame lit = render::render_lit_frame(scene, frames, sources.front()->depth(m), options);
+      out.passes.push_back(lit.passes);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
       std::vector<std::string>& pgms = out.stencil_pgm.emplace_back();
       for (const std::vector<std::uint8_t>& st : lit.stencils) pgms.push_back(stencil_pgm(lit.width, lit.height, st));
@@ -87,6 +95,7 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
       out.png.emplace_back();
       out.stencil_pgm.emplace_back();
       out.ms.push_back(0);
+      out.passes.emplace_back();
       out.refused.push_back(e.what());
     }
   }
@@ -121,6 +130,13 @@ void run_lit(const RenderOptions& o) {
   std::vector<double> total_ms(methods.count(), 0);
   std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
+  // --bench: one row per frame and method, and the passes' totals.
+  const std::string stencil_sides = o.one_sided_stencil ? "one-sided" : "two-sided";
+  std::string bench_csv = "frame,method,stencil,ms,depth_ms,stencil_ms,lit_ms\n";
+  std::vector<render::LitFramePasses> pass_totals(methods.count());
+  // --bench: the first frame once untimed, so that no method's first frame
+  // pays for the driver's first use (shader compilation, allocations).
+  if (o.bench) (void)lit_frames(scenes.front(), o, methods, settings);
   for (std::size_t f = 0; f < scenes.size(); ++f) {
     const LitFrames frames = lit_frames(scenes[f], o, methods, settings);
     lights = frames.lights;
@@ -143,6 +159,17 @@ void run_lit(const RenderOptions& o) {
                                                         : (dir / name / (frame_name + light + ".pgm")).string();
         files.push_back({stencil_file, frames.stencil_pgm[m][k]});
         entry["stencils"].push_back(stencil_file);
+      }
+      if (o.bench) {
+        const render::LitFramePasses& p = frames.passes[m];
+        entry["passes"] = {{"depth_ms", p.depth_ms}, {"stencil_ms", p.stencil_ms}, {"lit_ms", p.lit_ms}};
+        char row[256];
+        std::snprintf(row, sizeof row, "%zu,%s,%s,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(), stencil_sides.c_str(),
+                      frames.ms[m], p.depth_ms, p.stencil_ms, p.lit_ms);
+        bench_csv += row;
+        pass_totals[m].depth_ms += p.depth_ms;
+        pass_totals[m].stencil_ms += p.stencil_ms;
+        pass_totals[m].lit_ms += p.lit_ms;
       }
       per_method[m].push_back(entry);
       total_ms[m] += frames.ms[m];
@@ -167,6 +194,7 @@ void run_lit(const RenderOptions& o) {
   nlohmann::json root{{"renderer", context.renderer()}, {"version", context.version()}, {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
   files.push_back({(dir / "render.json").string(), root.dump(1) + "\n"});
+  if (o.bench) files.push_back({(dir / "bench.csv").string(), bench_csv});
   io::write_output_files(files);
   if (o.path.empty()) {
     std::cout << root.dump() << "\n";
@@ -185,9 +213,28 @@ void run_lit(const RenderOptions& o) {
       const double mean = r["mean_ms"].get<double>();
       std::printf("  %-17s %8.2f ms per frame", r["method"].get<std::string>().c_str(), mean);
       if (zpass_ms > 0) std::printf("  (%.2fx Z-pass)", mean / zpass_ms);
+      if (o.bench) {
+        const std::size_t m = static_cast<std::size_t>(&r - &records[0]);
+        const double n = static_cast<double>(per_method[m].size());
+        std::printf("  depth %.2f + stencil %.2f + lit %.2f ms", pass_totals[m].depth_ms / n,
+                    pass_totals[m].stencil_ms / n, pass_totals[m].lit_ms / n);
+      }
       std::printf("\n");
     }
     std::printf("frames in %s/METHOD/, times in %s/render.json\n", o.out.c_str(), o.out.c_str());
+  }
+  if (o.bench) {
+    std::printf("bench: %s/bench.csv (%s stencil, a glFinish after each pass)\n", o.out.c_str(), stencil_sides.c_str());
+    if (!o.path.empty()) {
+      const std::string png = (dir / "bench.png").string();
+      const int status = run_python_script(std::string(NEARCAP_ANALYSIS_DIR) + "/report/render_bench.py",
+                                           {(dir / "bench.csv").string(), png,
+                                            std::filesystem::path(o.path).stem().string() + " (" + context.renderer() +
+                                                ", " + stencil_sides + " stencil)"},
+                                           "the bench plot");
+      if (status != 0) throw ExitCode{status};
+      std::printf("bench: %s (frame time relative to Z-pass, per frame)\n", png.c_str());
+    }
   }
 }
 
@@ -195,6 +242,8 @@ void run(const RenderOptions& o) {
   if (o.scene.empty() == o.path.empty())
     throw Error(ErrorKind::Usage, "nearcap render takes a scene file or --path PATH (one of them)");
   if (!o.compare) return run_lit(o);
+  if (o.bench || o.one_sided_stencil)
+    throw Error(ErrorKind::Usage, "--bench and --one-sided-stencil go with the lit frames, not --compare");
   if (o.stencil)
     throw Error(ErrorKind::Usage, "--stencil goes with the lit frames; with --compare, --out DIR writes both stencils");
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
@@ -292,6 +341,13 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--stencil", o->stencil,
                 "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
                 "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
+  cmd->add_flag("--bench", o->bench,
+                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes): "
+                "the breakdown on stdout, DIR/bench.csv, and along a path DIR/bench.png (each frame's time "
+                "relative to Z-pass, as the paper's Figures 9-11)");
+  cmd->add_flag("--one-sided-stencil", o->one_sided_stencil,
+                "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "
+                "without two-sided stencil does: the same stencil, twice the vertex work");
   cmd->add_option("--out", o->out,
                   "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
                   "if missing)");

@@ -6,9 +6,7 @@
 // analysis/report/sweep_report.py this program was built from.  The Python:
 // NEARCAP_PYTHON, else /usr/bin/python3 (where Debian's python3-matplotlib
 // lives), else python3 on the PATH.
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,8 +17,6 @@
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
 
-extern char** environ;
-
 namespace nearcap::cli {
 namespace {
 
@@ -28,13 +24,6 @@ std::string report_script() {
   const char* env = std::getenv("NEARCAP_REPORT_SCRIPT");
   if (env && *env) return env;
   return std::string(NEARCAP_ANALYSIS_DIR) + "/report/sweep_report.py";
-}
-
-std::string python() {
-  const char* env = std::getenv("NEARCAP_PYTHON");
-  if (env && *env) return env;
-  if (::access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
-  return "python3";
 }
 
 void run(const std::vector<std::string>& results, const std::string& out, const std::string& policy) {
@@ -49,30 +38,17 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
     throw Error(ErrorKind::Io, script +
                                    ": the report script is missing (set NEARCAP_REPORT_SCRIPT to "
                                    "analysis/report/sweep_report.py of a nearcap source tree)");
-  const std::string py = python();
-  std::vector<std::string> args{py, script};
-  args.insert(args.end(), results.begin(), results.end());
+  std::vector<std::string> args(results.begin(), results.end());
   args.push_back("--out");
   args.push_back(out);
   if (!policy.empty()) {
     args.push_back("--policy");
     args.push_back(policy);
   }
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = ::posix_spawnp(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ);
-  if (spawned != 0)
-    throw Error(ErrorKind::Io, py + ": cannot run Python for the report: " + std::strerror(spawned) +
-                                   " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR)
-      throw Error(ErrorKind::Io, "waiting for the report script: " + std::string(std::strerror(errno)));
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  const int status = run_python_script(script, args, "the report");
+  if (status == 0) return;
   // The script printed its own one-line error; exit with its code.
-  throw ExitCode{WIFEXITED(status) ? WEXITSTATUS(status) : 1};
+  throw ExitCode{status};
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ std::vector<float> colours(const Scene& scene, std::size_t o, const Vec3d* light
 }  // namespace
 
 LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
-                          bool read_stencils) {
+                          const LitFrameOptions& options) {
+  const bool read_stencils = options.read_stencils;
   if (light_frames.empty()) throw Error(ErrorKind::Usage, "a lit frame needs at least one light's shadow frame");
   const int width = scene.camera.width, height = scene.camera.height;
   const bool far_only_clamp = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
@@ -96,7 +97,17 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     release();
     throw Error(ErrorKind::Gl, "the lit frame's framebuffer object is incomplete");
   }
-  auto draw = [&](const std::vector<gl::Vec4f>& clip, const std::vector<float>& rgb) {
+  gl::StencilOps second_ops;  // the back faces' operations, for a one-sided stencil's second draw
+  // With pass_times: glFinish, and the wall time since the last mark added to `into`.
+  auto mark = std::chrono::steady_clock::now();
+  auto pass_done = [&](double& into) {
+    if (!options.pass_times) return;
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    into += std::chrono::duration<double, std::milli>(now - mark).count();
+    mark = now;
+  };
+  auto draw = [&](const std::vector<gl::Vec4f>& clip, const std::vector<float>& rgb, int times = 1) {
     glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(clip.size() * sizeof(gl::Vec4f)), clip.data(),
                  GL_STREAM_DRAW);
@@ -112,6 +123,13 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       glEnableVertexAttribArray(1);
     }
     glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(clip.size()));
+    for (int k = 1; k < times; ++k) {
+      // The one-sided stencil's second draw: the other facing, the other operations.
+      glCullFace(GL_FRONT);
+      glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, stencil_op(second_ops.depth_fail),
+                          stencil_op(second_ops.depth_pass));
+      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(clip.size()));
+    }
   };
 
   glViewport(0, 0, width, height);
@@ -136,6 +154,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     apply_draw_state(d->state, far_only_clamp);
     draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
   }
+  pass_done(out.passes.depth_ms);
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     glClear(GL_STENCIL_BUFFER_BIT);
@@ -144,14 +163,29 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     for (const gl::DrawCall& d : light_frames[k].draws) {
       if (d.pass == gl::DrawPass::Depth) continue;
       apply_draw_state(d.state, far_only_clamp);
-      draw(d.clip_vertices, {});
+      const bool two_sided =
+          d.state.cull == gl::CullFace::None &&
+          (d.state.front.depth_fail != d.state.back.depth_fail || d.state.front.depth_pass != d.state.back.depth_pass);
+      if (!options.one_sided_stencil || !two_sided) {
+        draw(d.clip_vertices, {});
+        continue;
+      }
+      // Front faces (back culled) with the front operations, then back faces.
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, stencil_op(d.state.front.depth_fail),
+                          stencil_op(d.state.front.depth_pass));
+      second_ops = d.state.back;
+      draw(d.clip_vertices, {}, 2);
     }
+    pass_done(out.passes.stencil_ms);
     if (read_stencils) {
       const auto r0 = std::chrono::steady_clock::now();
       std::vector<std::uint8_t>& st = out.stencils.emplace_back(static_cast<std::size_t>(width) * height);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, st.data());
       read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
+      mark = std::chrono::steady_clock::now();  // the read is no pass
     }
     glDisable(GL_DEPTH_CLAMP);
     glDisable(GL_CULL_FACE);
@@ -167,6 +201,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
       draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
+    pass_done(out.passes.lit_ms);
   }
   glFinish();
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - read_ms;

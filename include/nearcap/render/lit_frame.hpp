@@ -21,10 +21,33 @@
 
 namespace nearcap::render {
 
+// How to draw and time it.
+struct LitFrameOptions {
+  // Each light's stencil read back (LitFrame::stencils), outside the timing.
+  bool read_stencils = false;
+  // glFinish after each pass and its wall time in LitFrame::passes (the
+  // extra synchronisation is in LitFrame::ms too).
+  bool pass_times = false;
+  // Each draw that counts front and back faces differently as two one-sided
+  // draws (back faces culled with the front operations, then front faces
+  // culled with the back ones), as GL without two-sided stencil draws it:
+  // the same stencil, twice the vertex work (the paper's speed argument
+  // assumes two-sided stencil).
+  bool one_sided_stencil = false;
+};
+
+// Wall time per pass (with LitFrameOptions::pass_times): the depth pre-pass
+// with the ambient term, every light's stencil pass (near-cap and volumes),
+// every light's additive diffuse pass.
+struct LitFramePasses {
+  double depth_ms = 0, stencil_ms = 0, lit_ms = 0;
+};
+
 struct LitFrame {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // 8-bit RGB, top row first (as a PNG stores it)
   double ms = 0;                  // every pass and glFinish (wall clock), reading the stencils back excluded
+  LitFramePasses passes;          // with LitFrameOptions::pass_times
   // With read_stencils: each light's stencil as its volumes left it (row 0
   // at the bottom, like ShadowFrame::stencil), one per light frame.
   std::vector<std::vector<std::uint8_t>> stencils;
@@ -34,6 +57,12 @@ struct LitFrame {
 // (EmulationSettings::record_draws), all with the same projection (one
 // method and settings for every light).  Throws Error(Gl) as GlFrameReplay.
 LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
-                          bool read_stencils = false);
+                          const LitFrameOptions& options);
+inline LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames,
+                                 gl::DepthFormat depth, bool read_stencils = false) {
+  LitFrameOptions o;
+  o.read_stencils = read_stencils;
+  return render_lit_frame(scene, light_frames, depth, o);
+}
 
 }  // namespace nearcap::render
