@@ -30,3 +30,7 @@ cp "$work/report/pareto.png" data/pictures/report_pareto.png
 view="xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy"
 eval "$view --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png" >/dev/null 2>&1
 eval "$view --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png" >/dev/null 2>&1
+# The real GL's per-frame times along the near-plane sweep, relative to Z-pass.
+$n render --path data/paths/near_plane_sweep.json --method zpass,zfail,zpplus-corrected,policy --bench \
+  --out "$work/bench" >/dev/null 2>&1
+cp "$work/bench/bench.png" data/pictures/render_bench_near_plane_sweep.png
