@@ -4,6 +4,7 @@
 // reference, one JSON record per method.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -225,7 +226,11 @@ void run_lit(const RenderOptions& o) {
   }
   if (o.bench) {
     std::printf("bench: %s/bench.csv (%s stencil, a glFinish after each pass)\n", o.out.c_str(), stencil_sides.c_str());
-    if (!o.path.empty()) {
+    const bool has_zpass =
+        std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
+    if (!o.path.empty() && !has_zpass)
+      std::printf("bench: no bench.png (its times are relative to Z-pass's: add zpass to --method)\n");
+    if (!o.path.empty() && has_zpass) {
       const std::string png = (dir / "bench.png").string();
       const int status = run_python_script(std::string(NEARCAP_ANALYSIS_DIR) + "/report/render_bench.py",
                                            {(dir / "bench.csv").string(), png,
