@@ -173,6 +173,9 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   EXPECT_FALSE(r.near_plane.has_value());
   EXPECT_FALSE(p.depth.has_value());
   reversed.near_plane = gl::NearPlane::Tight;
+  reversed.capped_method = gl::ShadowMethod::ZPPlus;
+  EXPECT_THROW(analysis::parse_policy(analysis::policy_to_json(reversed), "t.json"), Error);  // with the exact test
+  reversed.exact_zpass = false;
   EXPECT_EQ(analysis::parse_policy(analysis::policy_to_json(reversed), "t.json").near_plane, gl::NearPlane::Tight);
   const SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
   EXPECT_EQ(q.crack_model.features, p.crack_model.features);
@@ -325,7 +328,10 @@ TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   gl::ShadowFrameBatch reversed(s, 0, d.settings);
   EXPECT_LE(judge_frame(reversed.render(d.object_methods), ref).wrong, zfail.wrong);
   p.near_plane = gl::NearPlane::Tight;
+  p.exact_zpass = false;  // the exact test decides for the scene's near plane
   EXPECT_EQ(analysis::decide(p, cs, 0, {}).settings.near_plane, gl::NearPlane::Tight);
+  p.exact_zpass = true;
+  EXPECT_THROW(analysis::decide(p, cs, 0, {}), Error);
 }
 
 // The shipped policy on the bundled scenes and a bundled path: never more

@@ -83,6 +83,16 @@ TEST(FlyCamera, TurnsLeftAboutItsStartingUpAndUpAboutItsRight) {
   camera.turn(0, 30);  // look up: forward gains +sin 30 along the old up
   EXPECT_NEAR(dot(camera.forward(), up0), std::sin(M_PI / 6) + dot(f0, up0) * std::cos(M_PI / 6), 1e-9);
   camera.turn(0, -30);
+  // Pitched, then yawed: the horizon stays level (right stays horizontal).
+  camera.turn(0, 30);
+  const double elevation = dot(camera.forward(), up0);
+  camera.turn(90, 0);
+  const Affine3d pitched = camera.view();
+  const Vec3d right{pitched.rows[0][0], pitched.rows[0][1], pitched.rows[0][2]};
+  EXPECT_NEAR(dot(right, up0), 0, 1e-12);
+  EXPECT_NEAR(dot(camera.forward(), up0), elevation, 1e-12);  // turning left keeps the elevation
+  camera.turn(-90, 0);
+  camera.turn(0, -30);
   // 72 turns of 5 degrees: back where it started, the eye unmoved.
   for (int k = 0; k < 72; ++k) camera.turn(5, 0);
   const Affine3d v = camera.view();

@@ -180,6 +180,9 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     fail(source, "capped_method", "preload cannot share a frame with a ZP+ method");
   if (!p.exact_zpass && !gl::uses_near_cap(p.capped_method))
     fail(source, "exact_zpass", "false needs a ZP+ capped method (zpplus or zpplus-corrected)");
+  if (p.near_plane == gl::NearPlane::Tight && p.exact_zpass)
+    fail(source, "near_plane",
+         "tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
   const Json& clamp = field(j, "switch_clamp", "", source);
   if (!clamp.is_string() || !gl::switch_clamp_from_string(clamp.get<std::string>()))
     fail(source, "switch_clamp", "must be \"clamp\" or \"clamp-far\"");
@@ -307,6 +310,10 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
   d.reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;
+  if (policy.exact_zpass && d.settings.near_plane == gl::NearPlane::Tight)
+    throw Error(ErrorKind::Usage,
+                "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
+                "one: a tight near plane needs a policy with exact_zpass false");
   if (!policy.exact_zpass) {
     // No per-occluder test: the capped method everywhere (with the
     // clipped-sides cap that is Z-pass plus the cap its own clipped sides

@@ -41,9 +41,12 @@ std::optional<NearPlane> near_plane_from_string(std::string_view name) {
 
 Frustum tight_frustum(const Scene& scene) {
   const Frustum& f = scene.camera.frustum;
-  // The side planes at depth 1 (x = left / near ... at z = -1), widened by 1 %.
-  const double w = 1.01, l = w * f.left / f.near, r = w * f.right / f.near, b = w * f.bottom / f.near,
-               t = w * f.top / f.near;
+  // The side planes at depth 1 (x = left / near ... at z = -1), each moved
+  // out by half a percent of the window's width or height (an off-axis
+  // window too; 1 % of a centred window's half-width).
+  const double l0 = f.left / f.near, r0 = f.right / f.near, b0 = f.bottom / f.near, t0 = f.top / f.near;
+  const double l = l0 - 0.005 * (r0 - l0), r = r0 + 0.005 * (r0 - l0), b = b0 - 0.005 * (t0 - b0),
+               t = t0 + 0.005 * (t0 - b0);
   const std::array<Plane, 5> planes{{
       {1, 0, l},    // x >= l (-z):  x + l z >= 0
       {-1, 0, -r},  // x <= r (-z)

@@ -24,7 +24,7 @@ struct Canvas {
   void text(int x, int y, const std::string& s, int scale, const Rgb& ink = kInk) {
     std::vector<char> chars(s.begin(), s.end());
     chars.push_back('\0');
-    thread_local char buffer[64 * 1024];
+    alignas(float) thread_local char buffer[64 * 1024];
     const int quads = stb_easy_font_print(0, 0, chars.data(), nullptr, buffer, sizeof buffer);
     const float* v = reinterpret_cast<const float*>(buffer);
     for (int q = 0; q < quads; ++q) {

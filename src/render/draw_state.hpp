@@ -19,6 +19,16 @@ inline double cleared_depth(const std::vector<gl::DrawCall>& draws) {
   return 1.0;
 }
 
+// No depth clamp of any kind (GL_DEPTH_CLAMP, and the separate AMD ones
+// where the driver has them).
+inline void disable_depth_clamps(bool far_only_clamp) {
+  glDisable(GL_DEPTH_CLAMP);
+  if (far_only_clamp) {
+    glDisable(GL_DEPTH_CLAMP_FAR_AMD);
+    glDisable(GL_DEPTH_CLAMP_NEAR_AMD);
+  }
+}
+
 // glClipControl for a depth mapping (GL 4.5): the reversed mapping's
 // GL_ZERO_TO_ONE, or GL's default.
 inline void apply_depth_mapping(gl::DepthMapping m) {
@@ -62,11 +72,16 @@ inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp) {
   } else {
     glDisable(GL_DEPTH_CLAMP);
     if (far_only_clamp) {
-      if (s.depth_clamp_far)
+      // GL_DEPTH_CLAMP_NEAR_AMD and _FAR_AMD name the planes of depth 0 and
+      // 1; with the reversed mapping the camera's far plane is depth 0.
+      const bool reversed = s.depth_mapping == gl::DepthMapping::Reversed;
+      const bool clamp_depth_one = reversed ? s.depth_clamp_near : s.depth_clamp_far;
+      const bool clamp_depth_zero = reversed ? s.depth_clamp_far : s.depth_clamp_near;
+      if (clamp_depth_one)
         glEnable(GL_DEPTH_CLAMP_FAR_AMD);
       else
         glDisable(GL_DEPTH_CLAMP_FAR_AMD);
-      if (s.depth_clamp_near)
+      if (clamp_depth_zero)
         glEnable(GL_DEPTH_CLAMP_NEAR_AMD);
       else
         glDisable(GL_DEPTH_CLAMP_NEAR_AMD);

@@ -120,7 +120,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   out.object.resize(n);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, width_, height_, GL_RED_INTEGER, GL_INT, out.object.data());
-  glDisable(GL_DEPTH_CLAMP);
+  disable_depth_clamps(far_only_clamp_);
   glDisable(GL_POLYGON_OFFSET_FILL);
   apply_depth_mapping(gl::DepthMapping::Standard);
   check_gl("replaying a frame");

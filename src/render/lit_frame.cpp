@@ -187,7 +187,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
       mark = std::chrono::steady_clock::now();  // the read is no pass
     }
-    glDisable(GL_DEPTH_CLAMP);
+    disable_depth_clamps(far_only_clamp);
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_EQUAL);

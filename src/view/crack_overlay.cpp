@@ -39,7 +39,7 @@ CrackOverlayResult judge_overlay_job(const CrackOverlayJob& job) {
         out.marks[p] = std::max(out.marks[p], m);
       }
     }
-  } catch (const Error& e) {
+  } catch (const std::exception& e) {  // nearcap::Error, or running out of memory: the viewer goes on
     out.error = e.what();
   }
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

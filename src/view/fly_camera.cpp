@@ -48,6 +48,7 @@ void FlyCamera::move(double forward, double right, double up) {
 void FlyCamera::turn(double yaw_degrees, double pitch_degrees) {
   const double yaw = yaw_degrees * (M_PI / 180.0), pitch = pitch_degrees * (M_PI / 180.0);
   right_ = rotated(right_, yaw_axis_, yaw);
+  up_ = rotated(up_, yaw_axis_, yaw);
   back_ = rotated(back_, yaw_axis_, yaw);
   up_ = rotated(up_, right_, pitch);
   back_ = rotated(back_, right_, pitch);

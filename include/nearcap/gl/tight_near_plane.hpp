@@ -7,7 +7,8 @@
 // such point (as engines fit near and far planes to the scene's bounds).
 // Here: d = the smallest camera-space depth (-z) of the scene's triangles
 // clipped, in double, to the view pyramid (the four side planes through the
-// eye, widened by 1 %, and z < 0; the far plane ignored), and the near plane
+// eye, each moved out by half a percent of the window's size, and z < 0;
+// the far plane ignored), and the near plane
 // moves to d / 2 when that is farther than the scene's; left, right, bottom
 // and top scale with it, so the field of view and every pixel's ray stay the
 // same.  The half margin is many orders of magnitude above double's
