@@ -302,6 +302,10 @@ TEST(ViewCommandErrors, AnUnknownKeyIsAUsageErrorBeforeAnyWindow) {
       test::run_cli("view data/scenes/room.json --keys 'w fly'", "view_badkey", "env -u DISPLAY -u WAYLAND_DISPLAY");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("key 2 'fly'"), std::string::npos) << r.err;
+  const auto step =
+      test::run_cli("view data/scenes/room.json --step -1", "view_badstep", "env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(step.exit_code, 2) << step.err;
+  EXPECT_NE(step.err.find("--step: must be a positive distance"), std::string::npos) << step.err;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <iostream>
@@ -423,7 +424,15 @@ void register_view(CLI::App& app) {
   cmd->add_option("--screenshot", o->screenshot,
                   "after the key sequence, write the window's pixels as PNG to FILE and exit");
   cmd->add_option("--out", o->out, "directory where the p key saves views (view-NNN.json)")->capture_default_str();
-  cmd->add_option("--step", o->step, "distance of one move (default: 1/50 of the scene's diagonal)");
+  cmd->add_option("--step", o->step, "distance of one move (default: 1/50 of the scene's diagonal)")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            char* end = nullptr;
+            const double d = std::strtod(v.c_str(), &end);
+            return end != v.c_str() && *end == '\0' && d > 0 && std::isfinite(d) ? std::string()
+                                                                                 : "must be a positive distance";
+          },
+          "DISTANCE"));
   add_emulation_options(*cmd, o->emulation);
   add_max_memory_option(*cmd, o->max_memory_gb);
   cmd->callback([o, light] {
