@@ -100,11 +100,7 @@ CameraPath load_camera_path(const std::string& file) {
     *value = root[key].get<int>();
   }
   // Mesh paths made absolute, so that a frame's text is a scene file anywhere.
-  const std::filesystem::path base_dir = std::filesystem::absolute(std::filesystem::path(p.scene_file).parent_path());
-  for (Json& o : base.at("objects")) {
-    std::filesystem::path mesh(o.at("mesh").get<std::string>());
-    if (mesh.is_relative()) o["mesh"] = (base_dir / mesh).lexically_normal().string();
-  }
+  base = Json::parse(with_absolute_mesh_paths(base.dump(), p.scene_file));
   base.erase("camera");
   base.erase("description");
   p.base_scene_json = base.dump();

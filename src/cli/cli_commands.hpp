@@ -111,10 +111,12 @@ MethodChoice method_choice(const std::string& names);
 // The policy's method per occluder and why, as a JSON array of
 // {"object", "method", "why"}.
 nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyDecision& d);
-// The names --light-projection and --infinite-far take, for the options of
-// every command that has them.
+// The names --light-projection, --infinite-far, --depth-mapping and
+// --near-plane take, for the options of every command that has them.
 const std::vector<std::string>& light_projection_names();
 const std::vector<std::string>& infinite_far_names();
+const std::vector<std::string>& depth_mapping_names();
+const std::vector<std::string>& near_plane_names();
 
 // What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.
 void print_case_legend(std::ostream& out);

@@ -127,14 +127,15 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "the camera's depth: standard (GL's -1..1 clip depth, near at 0, GL_LESS) or reversed "
                  "(glClipControl GL_ZERO_TO_ONE, near at 1, far or infinity at 0, GL_GREATER: with --depth float32, "
                  "reversed-Z)")
-      ->check(CLI::IsMember({"standard", "reversed"}))
+      ->check(CLI::IsMember(depth_mapping_names()))
       ->capture_default_str();
   cmd.add_option("--near-plane", o.near_plane,
                  "the camera's near plane: scene (the scene file's) or tight (moved out to half the depth of the "
                  "nearest point in view, when farther: the same image, more depth precision)")
-      ->check(CLI::IsMember({"scene", "tight"}))
+      ->check(CLI::IsMember(near_plane_names()))
       ->capture_default_str();
-  cmd.add_flag("--fma", o.fma, "vertex transforms with fused multiply-add");
+  cmd.add_flag("--fma", o.fma,
+               "vertex transforms with fused multiply-add (a GPU that fuses; llvmpipe's GLSL fma() does not)");
 }
 
 namespace {
@@ -234,10 +235,10 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       need_one_of(spec, name, value, {"0", "1"});
       o.fma = value == "1";
     } else if (name == "depth-mapping") {
-      need_one_of(spec, name, value, {"standard", "reversed"});
+      need_one_of(spec, name, value, depth_mapping_names());
       o.depth_mapping = value;
     } else if (name == "near-plane") {
-      need_one_of(spec, name, value, {"scene", "tight"});
+      need_one_of(spec, name, value, near_plane_names());
       o.near_plane = value;
     } else {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
@@ -338,6 +339,18 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
 
 const std::vector<std::string>& light_projection_names() {
   static const std::vector<std::string> names{"paper", "glfrustum", "composed", "rebased", "clipped-sides"};
+  return names;
+}
+
+const std::vector<std::string>& depth_mapping_names() {
+  static const std::vector<std::string> names{std::string(gl::to_string(gl::DepthMapping::Standard)),
+                                              std::string(gl::to_string(gl::DepthMapping::Reversed))};
+  return names;
+}
+
+const std::vector<std::string>& near_plane_names() {
+  static const std::vector<std::string> names{std::string(gl::to_string(gl::NearPlane::Scene)),
+                                              std::string(gl::to_string(gl::NearPlane::Tight))};
   return names;
 }
 

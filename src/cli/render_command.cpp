@@ -38,6 +38,7 @@ struct RenderOptions {
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
   bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
   bool one_sided_stencil = false;
+  std::string vertex_stage = "glsl";  // render::VertexStage
   std::string out;
   EmulationOptions emulation;
   double max_memory_gb = 0;
@@ -66,8 +67,8 @@ struct LitFrames {
   std::size_t lights = 0;
 };
 
-LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMethods& methods,
-                     const gl::EmulationSettings& settings) {
+LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, const RenderOptions& o,
+                     const RenderMethods& methods, const gl::EmulationSettings& settings) {
   LitFrames out;
   std::vector<std::size_t> lights;
   for (std::size_t k = 0; k < scene.lights.size(); ++k)
@@ -84,7 +85,8 @@ LitFrames lit_frames(const Scene& scene, const RenderOptions& o, const RenderMet
       options.read_stencils = o.stencil;
       options.pass_times = o.bench;
       options.one_sided_stencil = o.one_sided_stencil;
-      const render::LitFrame lit = render::render_lit_frame(scene, frames, sources.front()->depth(m), options);
+      options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
+      const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
       out.passes.push_back(lit.passes);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
       std::vector<std::string>& pgms = out.stencil_pgm.emplace_back();
@@ -137,9 +139,10 @@ void run_lit(const RenderOptions& o) {
   std::vector<render::LitFramePasses> pass_totals(methods.count());
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
-  if (o.bench) (void)lit_frames(scenes.front(), o, methods, settings);
+  render::LitFrameRenderer renderer;  // its programs kept from frame to frame
+  if (o.bench) (void)lit_frames(renderer, scenes.front(), o, methods, settings);
   for (std::size_t f = 0; f < scenes.size(); ++f) {
-    const LitFrames frames = lit_frames(scenes[f], o, methods, settings);
+    const LitFrames frames = lit_frames(renderer, scenes[f], o, methods, settings);
     lights = frames.lights;
     for (std::size_t m = 0; m < methods.count(); ++m) {
       const std::string name = methods.name(m);
@@ -192,7 +195,10 @@ void run_lit(const RenderOptions& o) {
     }
     records.push_back(r);
   }
-  nlohmann::json root{{"renderer", context.renderer()}, {"version", context.version()}, {"methods", records}};
+  nlohmann::json root{{"renderer", context.renderer()},
+                      {"version", context.version()},
+                      {"vertex_stage", o.vertex_stage},
+                      {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
   files.push_back({(dir / "render.json").string(), root.dump(1) + "\n"});
   if (o.bench) files.push_back({(dir / "bench.csv").string(), bench_csv});
@@ -280,7 +286,7 @@ void run(const RenderOptions& o) {
         replay_depth = source.depth(m);
         replay = std::make_unique<render::GlFrameReplay>(scene.camera.width, scene.camera.height, replay_depth);
       }
-      real = replay->replay(frame.draws);
+      real = replay->replay(frame.draws, 0, *render::vertex_stage_from_string(o.vertex_stage));
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.
@@ -315,7 +321,10 @@ void run(const RenderOptions& o) {
                        stencil_pgm(frame.width, frame.height, frame.stencil)});
     }
   }
-  nlohmann::json root{{"renderer", context.renderer()}, {"version", context.version()}, {"methods", records}};
+  nlohmann::json root{{"renderer", context.renderer()},
+                      {"version", context.version()},
+                      {"vertex_stage", o.vertex_stage},
+                      {"methods", records}};
   if (!o.out.empty()) {
     files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
     io::write_output_files(files);
@@ -329,7 +338,8 @@ void register_render(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "render",
       "draw the stencil methods on a real OpenGL (headless EGL: llvmpipe, or a GPU's driver) from the emulation's "
-      "own draw calls: the lit frame with its shadows, every light (or --light K), as DIR/frame-METHOD.png; with "
+      "own draw calls, each volume built by the GL's GLSL vertex programs: the lit frame with its shadows, every light "
+      "(or --light K), as DIR/frame-METHOD.png; with "
       "--compare --light K, one JSON record per method: stencil pixels where GL and the emulation differ, and wrong "
       "pixels of each against the exact reference (with --out DIR, both stencils as 16-bit PGM)");
   auto o = std::make_shared<RenderOptions>();
@@ -353,6 +363,13 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--one-sided-stencil", o->one_sided_stencil,
                 "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "
                 "without two-sided stencil does: the same stencil, twice the vertex work");
+  cmd->add_option("--vertex-stage", o->vertex_stage,
+                  "where each draw's clip-space vertices come from: glsl (the GL's own GLSL vertex programs, "
+                  "Figure 7 among them, on the object-space vertices) or recorded (the emulation's float32 "
+                  "results, uploaded)")
+      ->check(CLI::IsMember({std::string(render::to_string(render::VertexStage::Glsl)),
+                             std::string(render::to_string(render::VertexStage::Recorded))}))
+      ->capture_default_str();
   cmd->add_option("--out", o->out,
                   "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
                   "if missing)");

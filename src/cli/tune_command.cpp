@@ -120,11 +120,11 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--depth-mapping", o->depth_mapping,
                   "the camera's depth mapping the policy's frames use, written to the policy: standard or reversed "
                   "(with --depth float32: reversed-Z); not given, the caller's")
-      ->check(CLI::IsMember({"standard", "reversed"}));
+      ->check(CLI::IsMember(depth_mapping_names()));
   cmd->add_option("--near-plane", o->near_plane,
                   "the camera's near plane the policy's frames use, written to the policy: scene or tight; not "
                   "given, the caller's")
-      ->check(CLI::IsMember({"scene", "tight"}));
+      ->check(CLI::IsMember(near_plane_names()));
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), or all")

@@ -53,20 +53,7 @@ struct ViewOptions {
 // The scene file's JSON with its mesh paths made absolute, so that a saved
 // view is a scene file wherever it is written.
 Json scene_json_with_absolute_meshes(const std::string& path) {
-  Json root;
-  try {
-    root = Json::parse(io::read_input_file(path, "scene file"));
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(ErrorKind::Parse, path + ": malformed JSON: " + e.what());
-  }
-  const std::filesystem::path base = std::filesystem::absolute(std::filesystem::path(path).parent_path());
-  if (root.is_object() && root.contains("objects") && root["objects"].is_array())
-    for (Json& o : root["objects"])
-      if (o.is_object() && o.contains("mesh") && o["mesh"].is_string()) {
-        const std::filesystem::path mesh(o["mesh"].get<std::string>());
-        if (mesh.is_relative()) o["mesh"] = (base / mesh).lexically_normal().string();
-      }
-  return root;
+  return Json::parse(with_absolute_mesh_paths(io::read_input_file(path, "scene file"), path));
 }
 
 // The camera in the scene format's exact form: the view matrix and the frustum.
@@ -140,6 +127,8 @@ class Viewer {
     std::fprintf(stderr, "nearcap view: %s on %s\nkeys: %s\n", options_.scene.c_str(), window.renderer().c_str(),
                  view::key_help().c_str());
     window_ = &window;
+    render::LitFrameRenderer renderer;  // in the window's context, its programs kept between frames
+    renderer_ = &renderer;
     dirty_ = true;
     while (!window.closed()) {
       std::vector<view::ViewerInput> inputs = window.poll(script_.empty() && !dirty_ ? 0.05 : 0);
@@ -267,7 +256,9 @@ class Viewer {
         frames_.push_back(source.frame(method_));
         depth = source.depth(method_);
       }
-      lit_ = render::render_lit_frame(shown_, frames_, depth, true);
+      render::LitFrameOptions options;
+      options.read_stencils = true;
+      lit_ = renderer_->render(shown_, frames_, depth, options);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) throw;
       refused_ = e.what();
@@ -388,6 +379,7 @@ class Viewer {
   std::deque<view::ViewerInput> script_;
 
   view::ViewerWindow* window_ = nullptr;
+  render::LitFrameRenderer* renderer_ = nullptr;
   std::size_t method_ = 0;
   int light_choice_ = -1;  // -1: every light
   bool show_cracks_ = false, show_status_ = true, dirty_ = true;

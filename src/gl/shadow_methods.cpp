@@ -83,10 +83,28 @@ DrawState oriented(DrawState s, bool mirrored) {
 }
 
 template <class Program>
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
+std::vector<Vec4f> run_each(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
   std::vector<Vec4f> out(in.size());
   for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
   return out;
+}
+
+std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program) {
+  switch (program) {
+    case VertexProgram::Extrusion:
+      return run_each(in, u, extrusion_program);
+    case VertexProgram::Figure7:
+      return run_each(in, u, figure7_program);
+    case VertexProgram::NearCap:
+      return run_each(in, u, near_cap_program);
+  }
+  return {};
+}
+
+// A recorded draw call whose vertices `program` made from `in`.
+DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
+                      const std::vector<ShadowVertex>& in, const ShadowUniforms& u) {
+  return {pass, std::move(clip), s, VertexProgramRun{program, in, u}};
 }
 
 std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
@@ -219,10 +237,12 @@ class FrameRenderer {
         DrawState s = camera_state({});
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
-        std::vector<Vec4f> clip = run_program(shared_.vertices[o], objects_[o].uniforms, extrusion_program);
+        const ShadowUniforms& u = objects_[o].uniforms;
+        std::vector<Vec4f> clip = run_program(shared_.vertices[o], u, VertexProgram::Extrusion);
         counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
-          draws.push_back({DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored)});
+          draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),
+                                       VertexProgram::Extrusion, shared_.vertices[o], u));
       }
       depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t), std::move(draws)};
     }
@@ -245,12 +265,12 @@ class FrameRenderer {
       if (!obj.occluder) continue;
       const ShadowMethod m = methods_[o];
       if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
-        draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
+        draw(obj, obj.geometry->sides, VertexProgram::Extrusion, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && clipped_sides_) {
-        draw(obj, obj.geometry->sides, extrusion_program, zpass_state(), frame);
+        draw(obj, obj.geometry->sides, VertexProgram::Extrusion, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
-        draw(obj, obj.geometry->sides, figure7_program, zpass_state(), frame);
-        draw(obj, obj.geometry->corrective, figure7_program, zpass_state(), frame);
+        draw(obj, obj.geometry->sides, VertexProgram::Figure7, zpass_state(), frame);
+        draw(obj, obj.geometry->corrective, VertexProgram::Figure7, zpass_state(), frame);
       } else if (m == ShadowMethod::Preload) {
         DrawState preload;
         preload.front = kUncountAlways;
@@ -342,10 +362,11 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       const ShadowMethod m = methods_[o];
       if (!obj.occluder || !uses_near_cap(m) || (m == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
-      std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, near_cap_program);
+      std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, VertexProgram::NearCap);
       frame.cap_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws)
-        frame.draws.push_back({DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored)});
+        frame.draws.push_back(program_draw(DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored),
+                                           VertexProgram::NearCap, shared_.vertices[o], obj.uniforms));
     }
   }
 
@@ -412,17 +433,18 @@ class FrameRenderer {
       std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, mapping);
       if (fan.empty()) continue;
       frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
-      if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored)});
+      if (settings_.record_draws)
+        frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored), std::nullopt});
     }
   }
 
-  template <class Program>
-  void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, Program program, const DrawState& s,
-            ShadowFrame& frame) {
+  void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, VertexProgram program,
+            const DrawState& s, ShadowFrame& frame) {
     std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
     const DrawState state = oriented(camera_state(s), obj.mirrored);
     frame.volume_pass += fb_.draw(clip, state, settings_.raster);
-    if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(clip), state});
+    if (settings_.record_draws)
+      frame.draws.push_back(program_draw(DrawPass::Volume, std::move(clip), state, program, vertices, obj.uniforms));
   }
 
   // A camera pass's state in the frame's depth mapping: the reversed
@@ -434,9 +456,9 @@ class FrameRenderer {
   }
 
   void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {
-    draw(obj, obj.geometry->sides, extrusion_program, s, frame);
-    draw(obj, obj.geometry->light_cap, extrusion_program, s, frame);
-    draw(obj, obj.geometry->dark_cap, extrusion_program, s, frame);
+    draw(obj, obj.geometry->sides, VertexProgram::Extrusion, s, frame);
+    draw(obj, obj.geometry->light_cap, VertexProgram::Extrusion, s, frame);
+    draw(obj, obj.geometry->dark_cap, VertexProgram::Extrusion, s, frame);
   }
 
   const Scene& scene_;

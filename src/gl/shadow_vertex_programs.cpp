@@ -33,4 +33,28 @@ Vec4f near_cap_program(const ShadowUniforms& u, const ShadowVertex& v) {
   return transform(u.light_projection, light_frame, u.arithmetic);
 }
 
+std::string_view to_string(VertexProgram p) {
+  switch (p) {
+    case VertexProgram::Extrusion:
+      return "extrusion";
+    case VertexProgram::Figure7:
+      return "figure7";
+    case VertexProgram::NearCap:
+      return "near-cap";
+  }
+  return "?";
+}
+
+Vec4f run_vertex_program(VertexProgram p, const ShadowUniforms& u, const ShadowVertex& v) {
+  switch (p) {
+    case VertexProgram::Extrusion:
+      return extrusion_program(u, v);
+    case VertexProgram::Figure7:
+      return figure7_program(u, v);
+    case VertexProgram::NearCap:
+      return near_cap_program(u, v);
+  }
+  return {};
+}
+
 }  // namespace nearcap::gl

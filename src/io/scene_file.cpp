@@ -399,6 +399,23 @@ std::size_t MeshCache::reads() const {
   return reads_;
 }
 
+std::string with_absolute_mesh_paths(const std::string& json_text, const std::string& scene_file) {
+  Json root;
+  try {
+    root = Json::parse(json_text);
+  } catch (const Json::exception& e) {
+    throw Error(ErrorKind::Parse, scene_file + ": malformed JSON: " + e.what());
+  }
+  const std::filesystem::path base = std::filesystem::absolute(std::filesystem::path(scene_file).parent_path());
+  if (root.is_object() && root.contains("objects") && root["objects"].is_array())
+    for (Json& o : root["objects"])
+      if (o.is_object() && o.contains("mesh") && o["mesh"].is_string()) {
+        const std::filesystem::path mesh(o["mesh"].get<std::string>());
+        if (mesh.is_relative()) o["mesh"] = (base / mesh).lexically_normal().string();
+      }
+  return root.dump();
+}
+
 Scene load_scene(const std::string& path) {
   const std::string text = io::read_input_file(path, "scene file");
   const std::string base = std::filesystem::path(path).parent_path().string();

@@ -13,12 +13,6 @@
 namespace nearcap::render {
 namespace {
 
-// The recorded clip-space position, unchanged: the emulation's vertex
-// program already ran in float32.
-const char* const kVertexShader = R"(#version 450 core
-layout(location = 0) in vec4 clip;
-void main() { gl_Position = clip; }
-)";
 const char* const kFragmentShader = R"(#version 450 core
 uniform int object_id;
 layout(location = 0) out int object;
@@ -40,8 +34,7 @@ GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : wid
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw Error(ErrorKind::Gl, "the replay's framebuffer object is incomplete");
 
-  program_ = link_program(kVertexShader, kFragmentShader, "the replay's program");
-  object_uniform_ = glGetUniformLocation(program_, "object_id");
+  programs_ = std::make_unique<ShadowPrograms>(kFragmentShader, "the replay's program");
 
   glGenVertexArrays(1, &vertex_array_);
   glBindVertexArray(vertex_array_);
@@ -55,13 +48,14 @@ GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : wid
 GlFrameReplay::~GlFrameReplay() {
   glDeleteBuffers(1, &buffer_);
   glDeleteVertexArrays(1, &vertex_array_);
-  glDeleteProgram(program_);
+  programs_.reset();
   glDeleteRenderbuffers(1, &depth_stencil_);
   glDeleteRenderbuffers(1, &objects_);
   glDeleteFramebuffers(1, &framebuffer_);
 }
 
-ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset) {
+ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset,
+                                    VertexStage stage) {
   for (const gl::DrawCall& d : draws)
     if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp_)
       throw Error(ErrorKind::Gl, std::string("this frame clamps depth at one plane only, which needs "
@@ -83,7 +77,6 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glClearBufferiv(GL_COLOR, 0, no_object);
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glUseProgram(program_);
   glBindVertexArray(vertex_array_);
   glBindBuffer(GL_ARRAY_BUFFER, buffer_);
 
@@ -102,10 +95,10 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
     } else {
       glDisable(GL_POLYGON_OFFSET_FILL);
     }
-    glUniform1i(object_uniform_, s.object_id);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(d.clip_vertices.size() * sizeof(gl::Vec4f)),
-                 d.clip_vertices.data(), GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(d.clip_vertices.size()));
+    const ShadowProgramUse use = programs_->use(d, stage);
+    glUniform1i(glGetUniformLocation(use.program, "object_id"), s.object_id);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(use.count * sizeof(gl::Vec4f)), use.vertices, GL_STREAM_DRAW);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
     const bool cap_ends =
         d.pass == gl::DrawPass::NearCap && (k + 1 == draws.size() || draws[k + 1].pass != gl::DrawPass::NearCap);
     if (cap_ends) {

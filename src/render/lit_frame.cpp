@@ -11,16 +11,11 @@
 #include "draw_state.hpp"
 #include "gl_objects.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::render {
 namespace {
 
-const char* const kVertexShader = R"(#version 450 core
-layout(location = 0) in vec4 clip;
-layout(location = 1) in vec3 colour_in;
-out vec3 colour_v;
-void main() { gl_Position = clip; colour_v = colour_in; }
-)";
 const char* const kFragmentShader = R"(#version 450 core
 in vec3 colour_v;
 layout(location = 0) out vec4 colour;
@@ -57,8 +52,20 @@ std::vector<float> colours(const Scene& scene, std::size_t o, const Vec3d* light
 
 }  // namespace
 
+LitFrameRenderer::LitFrameRenderer()
+    : programs_(std::make_unique<ShadowPrograms>(kFragmentShader, "the lit frame's program")) {}
+
+LitFrameRenderer::~LitFrameRenderer() = default;
+
 LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
                           const LitFrameOptions& options) {
+  LitFrameRenderer renderer;
+  return renderer.render(scene, light_frames, depth, options);
+}
+
+LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames,
+                                  gl::DepthFormat depth, const LitFrameOptions& options) {
+  ShadowPrograms& programs = *programs_;
   const bool read_stencils = options.read_stencils;
   if (light_frames.empty()) throw Error(ErrorKind::Usage, "a lit frame needs at least one light's shadow frame");
   const int width = scene.camera.width, height = scene.camera.height;
@@ -73,7 +80,6 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   }
   LitFrame out;
   double read_ms = 0;  // reading the stencils back, left out of the frame's time
-  const auto t0 = std::chrono::steady_clock::now();
   GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[2] = {0, 0};
   glGenFramebuffers(1, &framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -81,14 +87,12 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   depth_stencil = attach_renderbuffer(depth_stencil_format(depth == gl::DepthFormat::Fixed24),
                                       GL_DEPTH_STENCIL_ATTACHMENT, width, height);
   const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  const GLuint program = complete ? link_program(kVertexShader, kFragmentShader, "the lit frame's program") : 0;
   glGenVertexArrays(1, &vertex_array);
   glBindVertexArray(vertex_array);
   glGenBuffers(2, buffers);
   auto release = [&] {
     glDeleteBuffers(2, buffers);
     glDeleteVertexArrays(1, &vertex_array);
-    if (program) glDeleteProgram(program);
     glDeleteRenderbuffers(1, &depth_stencil);
     glDeleteRenderbuffers(1, &colour);
     glDeleteFramebuffers(1, &framebuffer);
@@ -97,6 +101,15 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     release();
     throw Error(ErrorKind::Gl, "the lit frame's framebuffer object is incomplete");
   }
+  // Every program the frame needs, linked before the clock starts.
+  try {
+    for (const gl::ShadowFrame& f : light_frames)
+      for (const gl::DrawCall& d : f.draws) programs.prepare(d, options.vertex_stage);
+  } catch (...) {
+    release();
+    throw;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
   gl::StencilOps second_ops;  // the back faces' operations, for a one-sided stencil's second draw
   // With pass_times: glFinish, and the wall time since the last mark added to `into`.
   auto mark = std::chrono::steady_clock::now();
@@ -107,10 +120,10 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     into += std::chrono::duration<double, std::milli>(now - mark).count();
     mark = now;
   };
-  auto draw = [&](const std::vector<gl::Vec4f>& clip, const std::vector<float>& rgb, int times = 1) {
+  auto draw = [&](const gl::DrawCall& d, const std::vector<float>& rgb, int times = 1) {
+    const ShadowProgramUse use = programs.use(d, options.vertex_stage);
     glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(clip.size() * sizeof(gl::Vec4f)), clip.data(),
-                 GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(use.count * sizeof(gl::Vec4f)), use.vertices, GL_STREAM_DRAW);
     glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
     glEnableVertexAttribArray(0);
     if (rgb.empty()) {
@@ -122,13 +135,13 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
       glEnableVertexAttribArray(1);
     }
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(clip.size()));
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
     for (int k = 1; k < times; ++k) {
       // The one-sided stencil's second draw: the other facing, the other operations.
       glCullFace(GL_FRONT);
       glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, stencil_op(second_ops.depth_fail),
                           stencil_op(second_ops.depth_pass));
-      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(clip.size()));
+      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
     }
   };
 
@@ -136,7 +149,6 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
   glDisable(GL_MULTISAMPLE);
   glDisable(GL_BLEND);
   glFrontFace(GL_CCW);
-  glUseProgram(program);
   glDepthMask(GL_TRUE);
   glStencilMask(0xFF);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -152,7 +164,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     if (d.pass == gl::DrawPass::Depth) depth_draws.push_back(&d);
   for (const gl::DrawCall* d : depth_draws) {
     apply_draw_state(d->state, far_only_clamp);
-    draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
+    draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
   }
   pass_done(out.passes.depth_ms);
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
@@ -167,7 +179,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
           d.state.cull == gl::CullFace::None &&
           (d.state.front.depth_fail != d.state.back.depth_fail || d.state.front.depth_pass != d.state.back.depth_pass);
       if (!options.one_sided_stencil || !two_sided) {
-        draw(d.clip_vertices, {});
+        draw(d, {});
         continue;
       }
       // Front faces (back culled) with the front operations, then back faces.
@@ -176,7 +188,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
       glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, stencil_op(d.state.front.depth_fail),
                           stencil_op(d.state.front.depth_pass));
       second_ops = d.state.back;
-      draw(d.clip_vertices, {}, 2);
+      draw(d, {}, 2);
     }
     pass_done(out.passes.stencil_ms);
     if (read_stencils) {
@@ -200,7 +212,7 @@ LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>
     glBlendFunc(GL_ONE, GL_ONE);
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
-      draw(d->clip_vertices, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
+      draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
     pass_done(out.passes.lit_ms);
   }
   glFinish();

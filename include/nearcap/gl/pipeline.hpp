@@ -18,11 +18,13 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "nearcap/gl/clipping.hpp"
 #include "nearcap/gl/float_transforms.hpp"
 #include "nearcap/gl/rasterizer.hpp"
+#include "nearcap/gl/shadow_vertex_programs.hpp"
 
 namespace nearcap::gl {
 
@@ -68,11 +70,21 @@ struct DrawState {
 // program wrote (3 per triangle) and the state it was drawn with.  A frame's
 // draw calls (ShadowFrame::draws, with EmulationSettings::record_draws) are
 // what the real-GL renderer replays (render/gl_frame_replay.hpp).
+// Where a vertex program made the clip-space vertices, `vertex_stage` says
+// which program, its object-space inputs and uniforms: what a GPU runs to
+// build the same vertices itself (render/glsl_shadow_programs.hpp).  Absent
+// where the CPU built them (the clipped-sides near cap's fan).
 enum class DrawPass { Depth, NearCap, Volume };
+struct VertexProgramRun {
+  VertexProgram program = VertexProgram::Extrusion;
+  std::vector<ShadowVertex> inputs;  // clip_vertices[k] = run_vertex_program(program, uniforms, inputs[k])
+  ShadowUniforms uniforms;
+};
 struct DrawCall {
   DrawPass pass = DrawPass::Volume;
   std::vector<Vec4f> clip_vertices;
   DrawState state;
+  std::optional<VertexProgramRun> vertex_stage;
 };
 
 // What a draw call did: primitives in, after clipping and culling, fragments.

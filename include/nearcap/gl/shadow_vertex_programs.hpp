@@ -14,6 +14,8 @@
 // chosen Arithmetic: products summed left to right, separately rounded or fused.
 #pragma once
 
+#include <string_view>
+
 #include "nearcap/gl/float_transforms.hpp"
 
 namespace nearcap::gl {
@@ -53,5 +55,12 @@ Vec4f figure7_program(const ShadowUniforms& u, const ShadowVertex& v);
 // of Figure 7's lines 28-29, so a counterpart and the cap's own vertex agree
 // bit for bit.
 Vec4f near_cap_program(const ShadowUniforms& u, const ShadowVertex& v);
+
+// The three programs by name, for what runs them elsewhere (the real GL's
+// GLSL versions, render/glsl_shadow_programs.hpp): "extrusion", "figure7",
+// "near-cap".
+enum class VertexProgram { Extrusion, Figure7, NearCap };
+std::string_view to_string(VertexProgram p);
+Vec4f run_vertex_program(VertexProgram p, const ShadowUniforms& u, const ShadowVertex& v);
 
 }  // namespace nearcap::gl

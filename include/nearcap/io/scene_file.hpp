@@ -47,4 +47,10 @@ class MeshCache {
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory,
                   MeshCache* cache = nullptr);
 
+// Scene JSON text with each object's relative mesh path made absolute
+// (against the directory of `scene_file`, where the text came from), so that
+// the text describes the same scene from anywhere; nothing else changes.
+// Malformed JSON: Error(Parse) naming `scene_file`.
+std::string with_absolute_mesh_paths(const std::string& json_text, const std::string& scene_file);
+
 }  // namespace nearcap

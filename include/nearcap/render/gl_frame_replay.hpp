@@ -3,10 +3,13 @@
 //
 // The emulation (gl/shadow_methods.hpp, with EmulationSettings::record_draws)
 // keeps each draw call's clip-space vertices, float32 as its vertex program
-// computed them, and its state.  GlFrameReplay uploads those vertices
-// unchanged (a pass-through vertex shader: gl_Position is the recorded
-// vec4) and sets the same state, so that clipping, rasterization, the depth
-// test and the stencil operations are the driver's own:
+// computed them, the program's object-space inputs and uniforms, and its
+// state.  GlFrameReplay uploads those vertices unchanged (VertexStage::
+// Recorded: a pass-through vertex shader, gl_Position is the recorded vec4)
+// or has the GL's own GLSL programs compute them from the inputs
+// (VertexStage::Glsl, render/glsl_shadow_programs.hpp), and sets the same
+// state, so that clipping, rasterization, the depth test and the stencil
+// operations are the driver's own:
 //   framebuffer   GL_DEPTH24_STENCIL8 (GL_DEPTH32F_STENCIL8 for the float32
 //                 depth format) and an R32I object-id attachment, cleared to
 //                 depth 1, stencil 0, object -1; viewport the whole frame;
@@ -31,10 +34,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::render {
 
@@ -56,8 +61,10 @@ class GlFrameReplay {
   // Runs `draws` (ShadowFrame::draws) from cleared buffers and reads back.
   // `volume_depth_offset`: a polygon offset (glPolygonOffset(0, units), in
   // units of the depth buffer's resolution) on the volume pass's fragments,
-  // a probe for depth ties: 0 replays the frame as recorded.
-  ReplayedFrame replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset = 0);
+  // a probe for depth ties: 0 replays the frame as recorded.  `stage`: the
+  // recorded clip-space vertices, or the GLSL programs run on the GL.
+  ReplayedFrame replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset = 0,
+                       VertexStage stage = VertexStage::Recorded);
 
   // True when the driver clamps depth at the far plane only.
   bool has_far_only_clamp() const { return far_only_clamp_; }
@@ -65,8 +72,8 @@ class GlFrameReplay {
  private:
   int width_, height_;
   bool far_only_clamp_ = false;
-  unsigned framebuffer_ = 0, objects_ = 0, depth_stencil_ = 0, program_ = 0, vertex_array_ = 0, buffer_ = 0;
-  int object_uniform_ = -1;
+  unsigned framebuffer_ = 0, objects_ = 0, depth_stencil_ = 0, vertex_array_ = 0, buffer_ = 0;
+  std::unique_ptr<ShadowPrograms> programs_;
 };
 
 // Where a replayed frame and the emulated one differ.

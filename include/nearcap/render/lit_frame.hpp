@@ -1,6 +1,9 @@
 // nearcap/render/lit_frame.hpp — the lit frame with its shadows, drawn by a
 // real OpenGL as a shadow-volume renderer draws it, from the emulation's own
 // draw calls (render/gl_frame_replay.hpp):
+// Each draw's clip-space vertices are computed by the GL's own GLSL vertex
+// programs from the draw's object-space inputs and uniforms (LitFrameOptions::
+// vertex_stage), or uploaded as the emulation computed them.
 //   1. the depth pre-pass, writing depth and the ambient colour;
 //   2. per light: the stencil cleared, that light's near-cap and volume
 //      draws (its ShadowFrame::draws, recorded), then every object again
@@ -14,9 +17,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/render/glsl_shadow_programs.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::render {
@@ -34,6 +39,10 @@ struct LitFrameOptions {
   // the same stencil, twice the vertex work (the paper's speed argument
   // assumes two-sided stencil).
   bool one_sided_stencil = false;
+  // Where each draw's clip-space vertices come from: the GL's GLSL programs
+  // on the object-space vertices (the default, as a renderer builds its
+  // volumes), or the emulation's recorded results (render/glsl_shadow_programs.hpp).
+  VertexStage vertex_stage = VertexStage::Glsl;
 };
 
 // Wall time per pass (with LitFrameOptions::pass_times): the depth pre-pass
@@ -53,9 +62,27 @@ struct LitFrame {
   std::vector<std::vector<std::uint8_t>> stencils;
 };
 
-// `light_frames[k]`: the frame of scene light k with one method, recorded
-// (EmulationSettings::record_draws), all with the same projection (one
-// method and settings for every light).  Throws Error(Gl) as GlFrameReplay.
+// Draws lit frames in the current context, keeping its GLSL programs
+// between frames (as a renderer links its programs once: a program's first
+// draw on llvmpipe compiles its machine code, which no frame should pay).
+class LitFrameRenderer {
+ public:
+  LitFrameRenderer();
+  ~LitFrameRenderer();
+  LitFrameRenderer(const LitFrameRenderer&) = delete;
+  LitFrameRenderer& operator=(const LitFrameRenderer&) = delete;
+
+  // `light_frames[k]`: the frame of scene light k with one method, recorded
+  // (EmulationSettings::record_draws), all with the same projection (one
+  // method and settings for every light).  Throws Error(Gl) as GlFrameReplay.
+  LitFrame render(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
+                  const LitFrameOptions& options);
+
+ private:
+  std::unique_ptr<ShadowPrograms> programs_;
+};
+
+// One frame with a renderer of its own (its programs compiled for it).
 LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames, gl::DepthFormat depth,
                           const LitFrameOptions& options);
 inline LitFrame render_lit_frame(const Scene& scene, const std::vector<gl::ShadowFrame>& light_frames,

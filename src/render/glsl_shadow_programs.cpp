@@ -1,0 +1,213 @@
+// The shadow passes' vertex programs in GLSL (see glsl_shadow_programs.hpp).
+#include "nearcap/render/glsl_shadow_programs.hpp"
+
+#include <epoxy/gl.h>
+
+#include <string>
+
+#include "gl_objects.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap::render {
+namespace {
+
+// Common to every program: the inputs, the uniforms and the float32
+// arithmetic of gl/float_transforms.cpp (dot4, transform) and
+// gl/shadow_vertex_programs.cpp, in the same order.
+const char* const kCommon = R"(
+layout(location = 0) in vec4 vertex_in;
+layout(location = 1) in vec3 colour_in;
+out vec3 colour_v;
+uniform mat4 modelview_projection;  // uploaded transposed: m[r] is row r
+uniform mat4 light_modelview;
+uniform mat4 light_projection;
+uniform vec4 light_position;        // object space
+uniform bool reversed;              // the camera's reversed depth mapping
+
+float dot4(vec4 a, vec4 b) {
+  precise float r = a.x * b.x;
+#if FUSED
+  r = fma(a.y, b.y, r);
+  r = fma(a.z, b.z, r);
+  r = fma(a.w, b.w, r);
+#else
+  r = r + a.y * b.y;
+  r = r + a.z * b.z;
+  r = r + a.w * b.w;
+#endif
+  return r;
+}
+
+vec4 transform(mat4 m, vec4 v) { return vec4(dot4(m[0], v), dot4(m[1], v), dot4(m[2], v), dot4(m[3], v)); }
+
+vec4 extrusion_program(vec4 v) {
+  precise vec4 p = v.w == 0.0 ? vec4(v.xyz - light_position.xyz, 0.0) : vec4(v.xyz, 1.0);
+  return transform(modelview_projection, p);
+}
+
+vec4 near_cap_program(vec4 v) {
+  return transform(light_projection, transform(light_modelview, vec4(v.xyz, 1.0)));
+}
+
+// The paper's Figure 7.
+vec4 figure7_program(vec4 v) {
+  precise vec4 eye = v;
+  if (v.w == 0.0 || v.w == 4.0) eye = vec4(eye.xyz - light_position.xyz, 0.0);
+  if (v.w == 2.0) eye.w = 1.0;
+  eye = transform(modelview_projection, eye);
+  if (v.w < 1.5 && (eye.w <= 0.0 || (reversed ? eye.z > eye.w : eye.z < -eye.w))) {
+    eye = near_cap_program(v);
+    eye.z = reversed ? eye.w : -eye.w;
+  }
+  return eye;
+}
+
+vec4 pass_through(vec4 v) { return v; }
+
+void main() {
+  gl_Position = PROGRAM(vertex_in);
+  colour_v = colour_in;
+}
+)";
+
+std::size_t slot(std::optional<gl::VertexProgram> p, gl::Arithmetic a) {
+  return 2 * (p ? 1 + static_cast<std::size_t>(*p) : 0) + (a == gl::Arithmetic::Fused ? 1 : 0);
+}
+
+void set_matrix(GLuint program, const char* name, const gl::Mat4f& m) {
+  glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_TRUE, m.m.data());
+}
+
+}  // namespace
+
+std::string_view to_string(VertexStage s) { return s == VertexStage::Recorded ? "recorded" : "glsl"; }
+
+std::optional<VertexStage> vertex_stage_from_string(std::string_view name) {
+  for (VertexStage s : {VertexStage::Recorded, VertexStage::Glsl})
+    if (to_string(s) == name) return s;
+  return std::nullopt;
+}
+
+std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic) {
+  std::string name = "pass_through";
+  if (program) {
+    name = std::string(gl::to_string(*program)) + "_program";
+    if (*program == gl::VertexProgram::NearCap) name = "near_cap_program";
+  }
+  return std::string("#version 450 core\n#define FUSED ") + (arithmetic == gl::Arithmetic::Fused ? "1" : "0") +
+         "\n#define PROGRAM " + name + "\n" + kCommon;
+}
+
+ShadowPrograms::ShadowPrograms(std::string fragment_source, std::string what)
+    : fragment_source_(std::move(fragment_source)), what_(std::move(what)) {}
+
+ShadowPrograms::~ShadowPrograms() {
+  for (unsigned p : programs_)
+    if (p) glDeleteProgram(p);
+  if (capture_buffer_) glDeleteBuffers(1, &capture_buffer_);
+  if (capture_vertices_) glDeleteBuffers(1, &capture_vertices_);
+  if (capture_array_) glDeleteVertexArrays(1, &capture_array_);
+  if (capture_target_) glDeleteRenderbuffers(1, &capture_target_);
+  if (capture_framebuffer_) glDeleteFramebuffers(1, &capture_framebuffer_);
+}
+
+unsigned ShadowPrograms::program(std::optional<gl::VertexProgram> p, gl::Arithmetic a) {
+  unsigned& out = programs_[slot(p, a)];
+  if (out) return out;
+  const std::string vertex = glsl_vertex_shader(p, a);
+  const GLuint vs = compile_shader(GL_VERTEX_SHADER, vertex.c_str());
+  const GLuint fs = compile_shader(GL_FRAGMENT_SHADER, fragment_source_.c_str());
+  const GLuint linked = glCreateProgram();
+  glAttachShader(linked, vs);
+  glAttachShader(linked, fs);
+  const char* captured[] = {"gl_Position"};
+  glTransformFeedbackVaryings(linked, 1, captured, GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(linked);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(linked, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetProgramInfoLog(linked, sizeof log, nullptr, log);
+    glDeleteProgram(linked);
+    throw Error(ErrorKind::Gl, what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") +
+                                   " vertex program) does not link: " + log);
+  }
+  out = linked;
+  return out;
+}
+
+void ShadowPrograms::prepare(const gl::DrawCall& d, VertexStage stage) {
+  if (stage == VertexStage::Recorded || !d.vertex_stage)
+    program(std::nullopt, gl::Arithmetic::Separate);
+  else
+    program(d.vertex_stage->program, d.vertex_stage->uniforms.arithmetic);
+}
+
+ShadowProgramUse ShadowPrograms::use(const gl::DrawCall& d, VertexStage stage) {
+  ShadowProgramUse u;
+  if (stage == VertexStage::Recorded || !d.vertex_stage) {
+    u.program = program(std::nullopt, gl::Arithmetic::Separate);
+    glUseProgram(u.program);
+    u.vertices = d.clip_vertices.empty() ? nullptr : &d.clip_vertices.front().x;
+    u.count = d.clip_vertices.size();
+    return u;
+  }
+  const gl::VertexProgramRun& run = *d.vertex_stage;
+  u.program = program(run.program, run.uniforms.arithmetic);
+  glUseProgram(u.program);
+  set_matrix(u.program, "modelview_projection", run.uniforms.modelview_projection);
+  set_matrix(u.program, "light_modelview", run.uniforms.light_modelview);
+  set_matrix(u.program, "light_projection", run.uniforms.light_projection);
+  const gl::Vec4f& l = run.uniforms.light_position;
+  glUniform4f(glGetUniformLocation(u.program, "light_position"), l.x, l.y, l.z, l.w);
+  glUniform1i(glGetUniformLocation(u.program, "reversed"), run.uniforms.depth_mapping == gl::DepthMapping::Reversed);
+  static_assert(sizeof(gl::ShadowVertex) == 4 * sizeof(float));
+  u.vertices = run.inputs.empty() ? nullptr : &run.inputs.front().x;
+  u.count = run.inputs.size();
+  return u;
+}
+
+std::vector<gl::Vec4f> ShadowPrograms::capture(const gl::DrawCall& d) {
+  GLint previous_array = 0, previous_framebuffer = 0;
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &previous_array);
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
+  if (!capture_array_) {
+    glGenVertexArrays(1, &capture_array_);
+    glGenBuffers(1, &capture_vertices_);
+    glGenBuffers(1, &capture_buffer_);
+    // A draw needs a complete framebuffer even with rasterization discarded
+    // (a surfaceless context has none): 1x1, never written.
+    glGenFramebuffers(1, &capture_framebuffer_);
+    glBindFramebuffer(GL_FRAMEBUFFER, capture_framebuffer_);
+    capture_target_ = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, 1, 1);
+  }
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, capture_framebuffer_);
+  const ShadowProgramUse u = use(d, VertexStage::Glsl);
+  std::vector<gl::Vec4f> out(u.count);
+  if (u.count == 0) return out;
+  const auto bytes = static_cast<GLsizeiptr>(u.count * sizeof(gl::Vec4f));
+  glBindVertexArray(capture_array_);
+  glBindBuffer(GL_ARRAY_BUFFER, capture_vertices_);
+  glBufferData(GL_ARRAY_BUFFER, bytes, u.vertices, GL_STREAM_DRAW);
+  glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glVertexAttrib3f(1, 0, 0, 0);
+  glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, capture_buffer_);
+  glBufferData(GL_TRANSFORM_FEEDBACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
+  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, capture_buffer_);
+  glEnable(GL_RASTERIZER_DISCARD);
+  glBeginTransformFeedback(GL_TRIANGLES);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(u.count - u.count % 3));
+  glEndTransformFeedback();
+  glDisable(GL_RASTERIZER_DISCARD);
+  glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, bytes, out.data());
+  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+  glBindVertexArray(static_cast<GLuint>(previous_array));
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_framebuffer));
+  check_gl("capturing a vertex program's output");
+  return out;
+}
+
+}  // namespace nearcap::render
