@@ -301,7 +301,8 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   EXPECT_NE(r.out.find("depth "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" + stencil "), std::string::npos) << r.out;
   const std::string csv = test::slurp(dir / "two" / "bench.csv");
-  EXPECT_EQ(csv.rfind("frame,method,stencil,ms,depth_ms,stencil_ms,lit_ms\n", 0), 0u) << csv.substr(0, 80);
+  EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms\n", 0), 0u)
+      << csv.substr(0, 80);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 60);  // the header, 60 frames of 2 methods
   EXPECT_NE(csv.find("\n59,zpplus,two-sided,"), std::string::npos);
   EXPECT_GT(std::filesystem::file_size(dir / "two" / "bench.png"), 1000u);
@@ -315,11 +316,12 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
     }
   const test::CliResult one = test::run_cli(
       "render --path data/paths/eye_in_shadow.json --method zpass --bench "
-      "--one-sided-stencil --stencil --out '" +
+      "--one-sided-stencil --side-strips --stencil --out '" +
           (dir / "one").string() + "'",
       "render_bench");
   ASSERT_EQ(one.exit_code, 0) << one.err;
-  EXPECT_NE(test::slurp(dir / "one" / "bench.csv").find("\n0,zpass,one-sided,"), std::string::npos);
+  EXPECT_NE(test::slurp(dir / "one" / "bench.csv").find("\n0,zpass,one-sided,glsl,side-strips,"), std::string::npos);
+  EXPECT_NE(csv.find("\n0,zpass,two-sided,glsl,triangles,"), std::string::npos);
   const test::CliResult compare =
       test::run_cli("render data/scenes/default.json --light 0 --compare --bench", "render_bench");
   EXPECT_EQ(compare.exit_code, 2);

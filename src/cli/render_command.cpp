@@ -38,6 +38,7 @@ struct RenderOptions {
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
   bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
   bool one_sided_stencil = false;
+  bool side_strips = false;
   std::string vertex_stage = "glsl";  // render::VertexStage
   std::string out;
   EmulationOptions emulation;
@@ -86,6 +87,7 @@ LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, con
       options.pass_times = o.bench;
       options.one_sided_stencil = o.one_sided_stencil;
       options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
+      options.side_strips = o.side_strips;
       const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
       out.passes.push_back(lit.passes);
       out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
@@ -135,7 +137,8 @@ void run_lit(const RenderOptions& o) {
   std::size_t lights = 0;
   // --bench: one row per frame and method, and the passes' totals.
   const std::string stencil_sides = o.one_sided_stencil ? "one-sided" : "two-sided";
-  std::string bench_csv = "frame,method,stencil,ms,depth_ms,stencil_ms,lit_ms\n";
+  const std::string layout = o.side_strips ? "side-strips" : "triangles";
+  std::string bench_csv = "frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms\n";
   std::vector<render::LitFramePasses> pass_totals(methods.count());
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
@@ -168,8 +171,8 @@ void run_lit(const RenderOptions& o) {
         const render::LitFramePasses& p = frames.passes[m];
         entry["passes"] = {{"depth_ms", p.depth_ms}, {"stencil_ms", p.stencil_ms}, {"lit_ms", p.lit_ms}};
         char row[256];
-        std::snprintf(row, sizeof row, "%zu,%s,%s,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(), stencil_sides.c_str(),
-                      frames.ms[m], p.depth_ms, p.stencil_ms, p.lit_ms);
+        std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(), stencil_sides.c_str(),
+                      o.vertex_stage.c_str(), layout.c_str(), frames.ms[m], p.depth_ms, p.stencil_ms, p.lit_ms);
         bench_csv += row;
         pass_totals[m].depth_ms += p.depth_ms;
         pass_totals[m].stencil_ms += p.stencil_ms;
@@ -231,7 +234,8 @@ void run_lit(const RenderOptions& o) {
     std::printf("frames in %s/METHOD/, times in %s/render.json\n", o.out.c_str(), o.out.c_str());
   }
   if (o.bench) {
-    std::printf("bench: %s/bench.csv (%s stencil, a glFinish after each pass)\n", o.out.c_str(), stencil_sides.c_str());
+    std::printf("bench: %s/bench.csv (%s stencil, vertex stage %s, %s, a glFinish after each pass)\n", o.out.c_str(),
+                stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str());
     const bool has_zpass =
         std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
     if (!o.path.empty() && !has_zpass)
@@ -253,8 +257,9 @@ void run(const RenderOptions& o) {
   if (o.scene.empty() == o.path.empty())
     throw Error(ErrorKind::Usage, "nearcap render takes a scene file or --path PATH (one of them)");
   if (!o.compare) return run_lit(o);
-  if (o.bench || o.one_sided_stencil)
-    throw Error(ErrorKind::Usage, "--bench and --one-sided-stencil go with the lit frames, not --compare");
+  if (o.bench || o.one_sided_stencil || o.side_strips)
+    throw Error(ErrorKind::Usage,
+                "--bench, --one-sided-stencil and --side-strips go with the lit frames, not --compare");
   if (o.stencil)
     throw Error(ErrorKind::Usage, "--stencil goes with the lit frames; with --compare, --out DIR writes both stencils");
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
@@ -363,6 +368,9 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--one-sided-stencil", o->one_sided_stencil,
                 "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "
                 "without two-sided stencil does: the same stencil, twice the vertex work");
+  cmd->add_flag("--side-strips", o->side_strips,
+                "draw the volumes' sides as triangle strips along the silhouette's chains (the paper's layout for "
+                "ZP+'s sides; the same triangles), caps and corrective quads as independent triangles");
   cmd->add_option("--vertex-stage", o->vertex_stage,
                   "where each draw's clip-space vertices come from: glsl (the GL's own GLSL vertex programs, "
                   "Figure 7 among them, on the object-space vertices) or recorded (the emulation's float32 "

@@ -103,8 +103,8 @@ std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const Shadow
 
 // A recorded draw call whose vertices `program` made from `in`.
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
-                      const std::vector<ShadowVertex>& in, const ShadowUniforms& u) {
-  return {pass, std::move(clip), s, VertexProgramRun{program, in, u}};
+                      GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u) {
+  return {pass, std::move(clip), s, VertexProgramRun{program, part, in, u}};
 }
 
 std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
@@ -242,7 +242,7 @@ class FrameRenderer {
         counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
           draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),
-                                       VertexProgram::Extrusion, shared_.vertices[o], u));
+                                       VertexProgram::Extrusion, GeometryPart::Mesh, shared_.vertices[o], u));
       }
       depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t), std::move(draws)};
     }
@@ -265,12 +265,12 @@ class FrameRenderer {
       if (!obj.occluder) continue;
       const ShadowMethod m = methods_[o];
       if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
-        draw(obj, obj.geometry->sides, VertexProgram::Extrusion, zpass_state(), frame);
+        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && clipped_sides_) {
-        draw(obj, obj.geometry->sides, VertexProgram::Extrusion, zpass_state(), frame);
+        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
-        draw(obj, obj.geometry->sides, VertexProgram::Figure7, zpass_state(), frame);
-        draw(obj, obj.geometry->corrective, VertexProgram::Figure7, zpass_state(), frame);
+        draw(obj, GeometryPart::Sides, VertexProgram::Figure7, zpass_state(), frame);
+        draw(obj, GeometryPart::Corrective, VertexProgram::Figure7, zpass_state(), frame);
       } else if (m == ShadowMethod::Preload) {
         DrawState preload;
         preload.front = kUncountAlways;
@@ -366,7 +366,8 @@ class FrameRenderer {
       frame.cap_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
       if (settings_.record_draws)
         frame.draws.push_back(program_draw(DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored),
-                                           VertexProgram::NearCap, shared_.vertices[o], obj.uniforms));
+                                           VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o],
+                                           obj.uniforms));
     }
   }
 
@@ -438,13 +439,18 @@ class FrameRenderer {
     }
   }
 
-  void draw(const ObjectSetup& obj, const std::vector<ShadowVertex>& vertices, VertexProgram program,
-            const DrawState& s, ShadowFrame& frame) {
+  void draw(const ObjectSetup& obj, GeometryPart part, VertexProgram program, const DrawState& s, ShadowFrame& frame) {
+    const ShadowVolumeGeometry& g = *obj.geometry;
+    const std::vector<ShadowVertex>& vertices = part == GeometryPart::Sides        ? g.sides
+                                                : part == GeometryPart::Corrective ? g.corrective
+                                                : part == GeometryPart::LightCap   ? g.light_cap
+                                                                                   : g.dark_cap;
     std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
     const DrawState state = oriented(camera_state(s), obj.mirrored);
     frame.volume_pass += fb_.draw(clip, state, settings_.raster);
     if (settings_.record_draws)
-      frame.draws.push_back(program_draw(DrawPass::Volume, std::move(clip), state, program, vertices, obj.uniforms));
+      frame.draws.push_back(
+          program_draw(DrawPass::Volume, std::move(clip), state, program, part, vertices, obj.uniforms));
   }
 
   // A camera pass's state in the frame's depth mapping: the reversed
@@ -456,9 +462,9 @@ class FrameRenderer {
   }
 
   void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {
-    draw(obj, obj.geometry->sides, VertexProgram::Extrusion, s, frame);
-    draw(obj, obj.geometry->light_cap, VertexProgram::Extrusion, s, frame);
-    draw(obj, obj.geometry->dark_cap, VertexProgram::Extrusion, s, frame);
+    draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, s, frame);
+    draw(obj, GeometryPart::LightCap, VertexProgram::Extrusion, s, frame);
+    draw(obj, GeometryPart::DarkCap, VertexProgram::Extrusion, s, frame);
   }
 
   const Scene& scene_;

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "draw_state.hpp"
 #include "gl_objects.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::render {
@@ -80,7 +82,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   }
   LitFrame out;
   double read_ms = 0;  // reading the stencils back, left out of the frame's time
-  GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[2] = {0, 0};
+  GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[3] = {0, 0, 0};
   glGenFramebuffers(1, &framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   colour = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width, height);
@@ -89,9 +91,9 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
   glGenVertexArrays(1, &vertex_array);
   glBindVertexArray(vertex_array);
-  glGenBuffers(2, buffers);
+  glGenBuffers(3, buffers);
   auto release = [&] {
-    glDeleteBuffers(2, buffers);
+    glDeleteBuffers(3, buffers);
     glDeleteVertexArrays(1, &vertex_array);
     glDeleteRenderbuffers(1, &depth_stencil);
     glDeleteRenderbuffers(1, &colour);
@@ -102,9 +104,15 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     throw Error(ErrorKind::Gl, "the lit frame's framebuffer object is incomplete");
   }
   // Every program the frame needs, linked before the clock starts.
+  // With side_strips, each sides draw's strip indices, built before it too.
+  std::map<const gl::DrawCall*, std::vector<std::uint32_t>> strips;
   try {
     for (const gl::ShadowFrame& f : light_frames)
-      for (const gl::DrawCall& d : f.draws) programs.prepare(d, options.vertex_stage);
+      for (const gl::DrawCall& d : f.draws) {
+        programs.prepare(d, options.vertex_stage);
+        if (options.side_strips && d.vertex_stage && d.vertex_stage->part == gl::GeometryPart::Sides)
+          strips[&d] = gl::side_strip_indices(d.vertex_stage->inputs);
+      }
   } catch (...) {
     release();
     throw;
@@ -135,17 +143,31 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
       glEnableVertexAttribArray(1);
     }
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
+    const auto strip = strips.find(&d);
+    auto submit = [&] {
+      if (strip == strips.end()) {
+        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
+      } else {
+        glDrawElements(GL_TRIANGLE_STRIP, static_cast<GLsizei>(strip->second.size()), GL_UNSIGNED_INT, nullptr);
+      }
+    };
+    if (strip != strips.end()) {
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[2]);
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(strip->second.size() * sizeof(std::uint32_t)),
+                   strip->second.data(), GL_STREAM_DRAW);
+    }
+    submit();
     for (int k = 1; k < times; ++k) {
       // The one-sided stencil's second draw: the other facing, the other operations.
       glCullFace(GL_FRONT);
       glStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, stencil_op(second_ops.depth_fail),
                           stencil_op(second_ops.depth_pass));
-      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));
+      submit();
     }
   };
 
   glViewport(0, 0, width, height);
+  glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);  // gl::kStripRestart ends a strip
   glDisable(GL_MULTISAMPLE);
   glDisable(GL_BLEND);
   glFrontFace(GL_CCW);
@@ -225,6 +247,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
   glDisable(GL_BLEND);
   glDisable(GL_STENCIL_TEST);
+  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   apply_depth_mapping(gl::DepthMapping::Standard);

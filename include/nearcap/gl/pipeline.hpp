@@ -75,8 +75,13 @@ struct DrawState {
 // build the same vertices itself (render/glsl_shadow_programs.hpp).  Absent
 // where the CPU built them (the clipped-sides near cap's fan).
 enum class DrawPass { Depth, NearCap, Volume };
+// Which part of the shadow volume (shadow_volume_geometry.hpp) a draw's
+// inputs are: the mesh itself (depth pre-pass, near-cap pass), the sides
+// (quads, 6 vertices each), the corrective quads, the light or dark cap.
+enum class GeometryPart { Mesh, Sides, Corrective, LightCap, DarkCap };
 struct VertexProgramRun {
   VertexProgram program = VertexProgram::Extrusion;
+  GeometryPart part = GeometryPart::Mesh;
   std::vector<ShadowVertex> inputs;  // clip_vertices[k] = run_vertex_program(program, uniforms, inputs[k])
   ShadowUniforms uniforms;
 };

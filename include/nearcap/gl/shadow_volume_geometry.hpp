@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "nearcap/gl/engine_classification.hpp"
@@ -34,5 +35,16 @@ struct ShadowVolumeGeometry {
 };
 
 ShadowVolumeGeometry shadow_volume_geometry(const TriangleMesh& mesh, const EngineSilhouette& silhouette);
+
+// The sides as triangle strips along the silhouette's chains (the paper's
+// vertex layout for ZP+'s sides): indices into `sides` (6 vertices a quad,
+// as above), each chain of quads for edges A->D, D->E, ... as
+// [A1 A0 D1 D0 E1 E0 ...] (2 indices a quad, 2 more a chain), chains
+// separated by kStripRestart (GL_PRIMITIVE_RESTART_FIXED_INDEX).  A quad
+// follows another when its A is bit for bit the other's D.  The strip's
+// triangles are the quads' own, vertex for vertex and in the same winding:
+// (A1 A0 D1) and, odd, GL's (D1 A0 D0).
+constexpr std::uint32_t kStripRestart = 0xFFFFFFFFu;
+std::vector<std::uint32_t> side_strip_indices(const std::vector<ShadowVertex>& sides);
 
 }  // namespace nearcap::gl

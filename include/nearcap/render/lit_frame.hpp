@@ -43,6 +43,12 @@ struct LitFrameOptions {
   // on the object-space vertices (the default, as a renderer builds its
   // volumes), or the emulation's recorded results (render/glsl_shadow_programs.hpp).
   VertexStage vertex_stage = VertexStage::Glsl;
+  // The sides as triangle strips along the silhouette's chains
+  // (gl::side_strip_indices, built before the clock starts, as a renderer
+  // builds them with its silhouettes): the paper's layout for ZP+'s sides,
+  // the same triangles; caps, corrective quads and the mesh stay
+  // independent triangles.
+  bool side_strips = false;
 };
 
 // Wall time per pass (with LitFrameOptions::pass_times): the depth pre-pass
