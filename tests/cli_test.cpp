@@ -286,6 +286,34 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
   }
 }
 
+// Where a tiny near plane exhausts the depth buffer the policy's record
+// says so (depth_limited, with a note naming the fixes); elsewhere it says
+// it is not.
+TEST(CracksCommand, ThePolicysRecordSaysWhereTheDepthBufferIsTheLimit) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_depth_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string scene = (dir / "tiny.json").string();
+  const test::CliResult sampled =
+      test::run_cli("sample --seed 5 --index 1 --kinds tiny-near --width 48 --height 36 --out '" + scene + "'", "s");
+  ASSERT_EQ(sampled.exit_code, 0) << sampled.err;
+  const test::CliResult r = test::run_cli("cracks '" + scene + "' --light 0 --method zfail,policy", "cracks_depth");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("methods").size(), 2u);
+  EXPECT_GT(j["methods"][0].at("cracks").get<int>(), 0) << "Z-fail itself cracks here";
+  const nlohmann::json& policy = j["methods"][1];
+  EXPECT_TRUE(policy.at("depth_limited").get<bool>());
+  EXPECT_NE(policy.at("depth_note").get<std::string>().find("--near-plane tight"), std::string::npos);
+  const test::CliResult fixed =
+      test::run_cli("cracks '" + scene + "' --light 0 --method policy --policy data/policy-tight-near.json", "c");
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  const auto k = nlohmann::json::parse(fixed.out);  // one method: its record alone
+  EXPECT_FALSE(k.at("depth_limited").get<bool>());
+  EXPECT_EQ(k.at("cracks").get<int>(), 0);
+  EXPECT_FALSE(k.contains("depth_note"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CracksCommand, OutWritesTheImageAndTheRecord) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_cracks_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);

@@ -8,10 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "box_scene.hpp"
+#include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/gl/clipping.hpp"
@@ -252,6 +255,93 @@ TEST(TightNearPlane, TheFrameSeesWhatTheScenesCameraSees) {
     }
   }
   EXPECT_GT(moved, 0u) << "no bundled frame moved its near plane: the checks above checked nothing";
+}
+
+}  // namespace
+}  // namespace nearcap
+
+namespace nearcap {
+namespace {
+
+// One depth step over the scene's size (analysis/conditioning.hpp): 2^-24
+// D^2 / n for the standard mapping, so it scales as 1/n; reversed-Z with a
+// float buffer at most 2^-23 D, independent of n.
+TEST(DepthLimited, TheDepthStepFollowsTheMappingsFormula) {
+  const Scene scene = load_scene(kScenes + "default.json");
+  const CameraSpaceScene cs(scene);
+  const double n = scene.camera.frustum.near;
+  const double standard = analysis::depth_step_over_size(cs);
+  EXPECT_EQ(standard, analysis::depth_step_over_size(cs, n, gl::DepthFormat::Fixed24, DepthMapping::Standard));
+  EXPECT_DOUBLE_EQ(analysis::depth_step_over_size(cs, n / 1024, gl::DepthFormat::Fixed24, DepthMapping::Standard),
+                   1024 * standard);
+  EXPECT_EQ(analysis::depth_step_over_size(cs, n, gl::DepthFormat::Float32, DepthMapping::Standard), standard);
+  const double reversed = analysis::depth_step_over_size(cs, n, gl::DepthFormat::Float32, DepthMapping::Reversed);
+  EXPECT_EQ(reversed, analysis::depth_step_over_size(cs, n / 1024, gl::DepthFormat::Float32, DepthMapping::Reversed));
+  EXPECT_LT(reversed, standard);
+  EXPECT_LT(standard, analysis::kDepthLimitedStep);
+}
+
+// Where no method is right (tiny near planes exhaust the 24-bit depth
+// buffer), the policy's record says so: on the first 100 tiny-near
+// configurations of seed 5 every (configuration, light) where Z-fail cracks
+// is flagged depth-limited, with the fixes named; the alternative policies,
+// drawn with reversed-Z or the tight near plane, flag none of them, nor
+// does the shipped one on any bundled scene.
+TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
+  const std::string data = std::string(NEARCAP_SOURCE_DIR) + "/data/";
+  const analysis::SwitchPolicy shipped = analysis::load_policy(data + "policy.json");
+  const analysis::SwitchPolicy reversed = analysis::load_policy(data + "policy-reversed-z.json");
+  const analysis::SwitchPolicy tight = analysis::load_policy(data + "policy-tight-near.json");
+  analysis::SamplerSpec spec;
+  spec.seed = 5;
+  spec.kinds = {analysis::HardCaseKind::TinyNear};
+  spec.mesh_directory = data + "meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  std::size_t frames = 0, flagged = 0, cracking = 0, cracking_unflagged = 0, cracks = 0, alternatives_flagged = 0;
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+    } catch (const Error&) {
+      continue;  // the sampler's rejections
+    }
+    const CameraSpaceScene cs(scene);
+    for (std::size_t light = 0; light < scene.lights.size(); ++light) {
+      const analysis::PolicyDecision d = analysis::decide(shipped, cs, light, {});
+      const PixelReferenceTracer tracer(cs, light);
+      const PixelReference ref = compute_pixel_reference(tracer);
+      CrackReport r = judge_frame(gl::render_shadow_frame(scene, light, gl::ShadowMethod::ZFail), ref);
+      CrackDistances(tracer, ref).measure(r);
+      ++frames;
+      flagged += d.depth_limited;
+      cracks += *r.cracks;
+      if (*r.cracks > 0) {
+        ++cracking;
+        cracking_unflagged += !d.depth_limited;
+      }
+      if (d.depth_limited) {
+        EXPECT_NE(d.depth_note.find("--depth-mapping reversed"), std::string::npos) << d.depth_note;
+      } else {
+        EXPECT_TRUE(d.depth_note.empty());
+      }
+      alternatives_flagged += analysis::decide(reversed, cs, light, {}).depth_limited;
+      alternatives_flagged += analysis::decide(tight, cs, light, {}).depth_limited;
+    }
+  }
+  std::printf(
+      "[ depth    ] %zu frames: %zu flagged depth-limited; Z-fail cracks in %zu (%zu cracks), %zu of them "
+      "unflagged\n",
+      frames, flagged, cracking, cracks, cracking_unflagged);
+  EXPECT_GT(cracking, 5u);
+  EXPECT_EQ(cracking_unflagged, 0u);
+  EXPECT_LT(flagged, frames);
+  EXPECT_EQ(alternatives_flagged, 0u);
+  for (const char* name : {"default.json", "near_split.json", "eye_in_shadow.json", "case_d.json", "room.json",
+                           "exact_camera.json", "light_on_near_plane.json"}) {
+    const Scene scene = load_scene(kScenes + name);
+    const CameraSpaceScene cs(scene);
+    EXPECT_FALSE(analysis::decide(shipped, cs, 0, {}).depth_limited) << name;
+  }
 }
 
 }  // namespace

@@ -61,6 +61,7 @@ FEATURES = [
     ("cond_projection", "cond(P_l)"),
     ("cond_light_transform", "cond(P_l M_l)"),
     ("coordinate_over_size", "largest coordinate / scene size"),
+    ("depth_step_over_size", "24-bit depth step at the farthest point / scene size"),
     ("cap_window_error_px", "near-cap window error (px)"),
     ("cap_window_error_ulp", "near-cap window error (ulp)"),
 ]

@@ -33,6 +33,22 @@ double float_ulp(double x) {
   return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
 }
 
+double scene_diagonal(const Scene& scene) {
+  Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3d hi = -1.0 * lo;
+  auto add = [&](const Vec3d& p) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  };
+  for (const SceneObject& o : scene.objects)
+    for (const Vec3d& v : o.mesh->positions) add(o.object_to_world.apply(v));
+  for (const Light& l : scene.lights) add(l.position);
+  return std::sqrt(dot(hi - lo, hi - lo));
+}
+
 double coordinate_over_size(const Scene& scene) {
   double largest = 0;
   Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
@@ -54,6 +70,23 @@ double coordinate_over_size(const Scene& scene) {
 
 }  // namespace
 
+double depth_step_over_size(const CameraSpaceScene& cs) {
+  return depth_step_over_size(cs, cs.scene().camera.frustum.near, gl::DepthFormat::Fixed24, gl::DepthMapping::Standard);
+}
+
+double depth_step_over_size(const CameraSpaceScene& cs, double near, gl::DepthFormat format, gl::DepthMapping mapping) {
+  double farthest = 0;
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    const TriangleMesh& mesh = cs.mesh(o);
+    for (VertexIndex v = 0; v < mesh.positions.size(); ++v) farthest = std::max(farthest, -cs.vertex_estimate(o, v).z);
+  }
+  const double diagonal = scene_diagonal(cs.scene());
+  if (!(farthest > near) || !(diagonal > 0)) return kNaN;
+  if (mapping == gl::DepthMapping::Reversed && format == gl::DepthFormat::Float32)
+    return std::ldexp(farthest, -23) / diagonal;
+  return std::ldexp(farthest * farthest / near, -24) / diagonal;
+}
+
 ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size_t light,
                                            const gl::LightFrustumChoice& choice, gl::Arithmetic arithmetic) {
   return conditioning_features(cs, light, gl::light_frustum(cs.scene(), light, choice), arithmetic);
@@ -68,6 +101,7 @@ ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size
   f.light_near_distance =
       nearcap::to_double(Rational((cs.exact_light(light).z + Rational(fr.near)) / Rational(fr.near)));
   f.coordinate_over_size = coordinate_over_size(scene);
+  f.depth_step_over_size = depth_step_over_size(cs);
 
   f.light_frustum_defined = lf.defined;
   if (!lf.defined) {

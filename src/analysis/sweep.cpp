@@ -103,8 +103,10 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
             {std::string(to_string(p)), std::nullopt, object_methods(scene, engine_choices(p, scene, light))});
       // The switch policy: its decision, and a batch with its settings (its switch clamp).
       std::unique_ptr<gl::ShadowFrameBatch> policy_batch;
+      gl::EmulationSettings policy_settings;
       if (options.switch_policy) {
         const PolicyDecision d = decide(*options.switch_policy, cs, light, variant.settings);
+        policy_settings = d.settings;
         policy_batch = std::make_unique<gl::ShadowFrameBatch>(scene, light, d.settings);
         entries.push_back({"policy", std::nullopt, d.object_methods, d.decide_ms, policy_batch.get()});
       }
@@ -162,6 +164,8 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         r.crack_distance_ms = distances.ms() - measured_before;
         r.cap_mismatch = report.cap_mismatch ? static_cast<long long>(*report.cap_mismatch) : -1;
         r.visibility_mismatch = report.visibility_mismatch;
+        const gl::EmulationSettings& drawn = entry.batch ? policy_settings : variant.settings;
+        r.depth_limited = depth_step_over_size(cs, frame.near, drawn.depth, drawn.depth_mapping) >= kDepthLimitedStep;
         r.fallback = frame.fallback;
         r.zfail_objects = frame.zfail_objects.size();
         r.setup = {0, 0, 0, frame.times.setup_ms};
@@ -185,8 +189,9 @@ std::string csv_header() {
        "false_positives";
   for (std::string_view name : kCrackDistanceNames) h += ",wrong_r_" + distance_column(name);
   h += ",light_frustum_defined,light_near_distance,l_far_over_width,delta_over_width,skew,l_near_over_l_far,"
-       "cond_projection,cond_light_transform,coordinate_over_size,cap_window_error_px,cap_window_error_ulp,"
-       "cap_vertices";
+       "cond_projection,cond_light_transform,coordinate_over_size,depth_step_over_size,cap_window_error_px,"
+       "cap_window_error_ulp,"
+       "cap_vertices,depth_limited";
   for (const char* pass : {"depth", "near_cap", "volume"})
     h += std::string(",") + pass + "_triangles," + pass + "_fragments," + pass + "_depth_pass," + pass +
          "_depth_fail," + pass + "_ms";
@@ -211,11 +216,11 @@ std::string csv_line(const SweepRow& r) {
   for (std::size_t n : r.wrong_by_distance) s << ',' << n;
   const ConditioningFeatures& f = r.features;
   s << ',' << (f.light_frustum_defined ? 1 : 0);
-  for (double v :
-       {f.light_near_distance, f.l_far_over_width, f.delta_over_width, f.skew, f.l_near_over_l_far, f.cond_projection,
-        f.cond_light_transform, f.coordinate_over_size, f.cap_window_error_px, f.cap_window_error_ulp})
+  for (double v : {f.light_near_distance, f.l_far_over_width, f.delta_over_width, f.skew, f.l_near_over_l_far,
+                   f.cond_projection, f.cond_light_transform, f.coordinate_over_size, f.depth_step_over_size,
+                   f.cap_window_error_px, f.cap_window_error_ulp})
     s << ',' << scientific(v);
-  s << ',' << f.cap_vertices;
+  s << ',' << f.cap_vertices << ',' << (r.depth_limited ? 1 : 0);
   for (const PassWork* p : {&r.depth, &r.near_cap, &r.volume})
     s << ',' << p->triangles << ',' << p->fragments << ',' << p->depth_passed << ',' << p->fragments - p->depth_passed
       << ',' << number(p->ms);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -307,6 +308,20 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   // right where the paper's frustum is undefined.
   const bool frustum_free =
       gl::uses_near_cap(policy.capped_method) && policy.light_projection == gl::LightProjection::ClippedSides;
+  const double near =
+      d.settings.near_plane == gl::NearPlane::Tight ? gl::tight_frustum(scene).near : scene.camera.frustum.near;
+  d.depth_step_over_size = depth_step_over_size(cs, near, d.settings.depth, d.settings.depth_mapping);
+  d.depth_limited = d.depth_step_over_size >= kDepthLimitedStep;
+  if (d.depth_limited) {
+    char note[512];
+    std::snprintf(note, sizeof note,
+                  "depth-limited: one depth step spans %.3g of the scene's size at its farthest point (near plane "
+                  "%.3g): surfaces that close share a depth value, and no method is guaranteed right (Z-fail "
+                  "cracks in about a third of such sampled frames); reversed-Z with a float depth buffer (--depth "
+                  "float32 --depth-mapping reversed) or the tight near plane (--near-plane tight) fixes it",
+                  d.depth_step_over_size, near);
+    d.depth_note = note;
+  }
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
   d.reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;

@@ -199,6 +199,8 @@ void run(const CracksOptions& o) {
       r["method"] = "policy";
       r["occluders"] = policy_occluders_json(scene, d);
       r["decide_ms"] = d.decide_ms;
+      r["depth_limited"] = d.depth_limited;
+      if (d.depth_limited) r["depth_note"] = d.depth_note;
       r["crack_probability"] =
           std::isfinite(d.crack_probability) ? nlohmann::json(d.crack_probability) : nlohmann::json(nullptr);
       records.push_back(r);

@@ -316,7 +316,11 @@ void run(const RenderOptions& o) {
                           {"emulation_vs_exact", emulated.wrong},
                           {"ms", real.ms},
                           {"emulation_ms", frame.times.total()}};
-    if (m >= methods.methods.size()) record["occluders"] = policy_occluders_json(scene, source.decision());
+    if (m >= methods.methods.size()) {
+      record["occluders"] = policy_occluders_json(scene, source.decision());
+      record["depth_limited"] = source.decision().depth_limited;
+      if (source.decision().depth_limited) record["depth_note"] = source.decision().depth_note;
+    }
     records.push_back(record);
     if (!o.out.empty()) {
       const std::filesystem::path dir(o.out);

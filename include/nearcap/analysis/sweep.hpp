@@ -71,6 +71,10 @@ struct SweepRow {
   double decide_ms = 0;           // the switch policy's decision (its row only)
   double crack_distance_ms = 0;   // measuring this method's wrong pixels not measured before
   ConditioningFeatures features;  // this (frame, light), the same for every method
+  // The row's frame is depth-limited (conditioning.hpp, kDepthLimitedStep)
+  // with its own near plane, depth format and mapping: no method is
+  // guaranteed right there.
+  bool depth_limited = false;
 };
 
 // A named set of the float pipeline's choices (P_l formulation, l_near scale,
