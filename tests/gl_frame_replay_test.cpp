@@ -301,7 +301,10 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   EXPECT_NE(r.out.find("depth "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" + stencil "), std::string::npos) << r.out;
   const std::string csv = test::slurp(dir / "two" / "bench.csv");
-  EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms\n", 0), 0u)
+  EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,"
+                      "gpu_stencil_ms,gpu_lit_ms\n",
+                      0),
+            0u)
       << csv.substr(0, 80);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 60);  // the header, 60 frames of 2 methods
   EXPECT_NE(csv.find("\n59,zpplus,two-sided,"), std::string::npos);
@@ -312,6 +315,7 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
       const nlohmann::json& p = f["passes"];
       const double sum = p["depth_ms"].get<double>() + p["stencil_ms"].get<double>() + p["lit_ms"].get<double>();
       EXPECT_GT(p["stencil_ms"].get<double>(), 0.0);
+      EXPECT_GT(p["gpu_stencil_ms"].get<double>(), 0.0);      // the timer query ran (what it measures is the driver's)
       EXPECT_LE(sum, f["ms"].get<double>() * 1.0001 + 1e-3);  // the passes lie within the frame's time
     }
   const test::CliResult one = test::run_cli(

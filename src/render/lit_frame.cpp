@@ -119,14 +119,25 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   }
   const auto t0 = std::chrono::steady_clock::now();
   gl::StencilOps second_ops;  // the back faces' operations, for a one-sided stencil's second draw
-  // With pass_times: glFinish, and the wall time since the last mark added to `into`.
+  // With pass_times: a GL_TIME_ELAPSED query around each pass (pass_begin,
+  // pass_done), then glFinish, and the wall time since the last mark and the
+  // query's time added to `into` and `gpu_into`.
   auto mark = std::chrono::steady_clock::now();
-  auto pass_done = [&](double& into) {
+  GLuint timer = 0;
+  if (options.pass_times) glGenQueries(1, &timer);
+  auto pass_begin = [&] {
+    if (options.pass_times) glBeginQuery(GL_TIME_ELAPSED, timer);
+  };
+  auto pass_done = [&](double& into, double& gpu_into) {
     if (!options.pass_times) return;
+    glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     const auto now = std::chrono::steady_clock::now();
     into += std::chrono::duration<double, std::milli>(now - mark).count();
     mark = now;
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
+    gpu_into += static_cast<double>(ns) * 1e-6;
   };
   auto draw = [&](const gl::DrawCall& d, const std::vector<float>& rgb, int times = 1) {
     const ShadowProgramUse use = programs.use(d, options.vertex_stage);
@@ -166,6 +177,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     }
   };
 
+  pass_begin();
   glViewport(0, 0, width, height);
   glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);  // gl::kStripRestart ends a strip
   glDisable(GL_MULTISAMPLE);
@@ -188,9 +200,10 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     apply_draw_state(d->state, far_only_clamp);
     draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
   }
-  pass_done(out.passes.depth_ms);
+  pass_done(out.passes.depth_ms, out.passes.gpu_depth_ms);
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
+    pass_begin();
     glClear(GL_STENCIL_BUFFER_BIT);
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     glDisable(GL_BLEND);
@@ -212,7 +225,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       second_ops = d.state.back;
       draw(d, {}, 2);
     }
-    pass_done(out.passes.stencil_ms);
+    pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);
     if (read_stencils) {
       const auto r0 = std::chrono::steady_clock::now();
       std::vector<std::uint8_t>& st = out.stencils.emplace_back(static_cast<std::size_t>(width) * height);
@@ -221,6 +234,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
       mark = std::chrono::steady_clock::now();  // the read is no pass
     }
+    pass_begin();
     disable_depth_clamps(far_only_clamp);
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
@@ -235,10 +249,11 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
       draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
-    pass_done(out.passes.lit_ms);
+    pass_done(out.passes.lit_ms, out.passes.gpu_lit_ms);
   }
   glFinish();
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - read_ms;
+  if (timer) glDeleteQueries(1, &timer);
   out.width = width;
   out.height = height;
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);

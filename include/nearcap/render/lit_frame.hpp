@@ -51,11 +51,15 @@ struct LitFrameOptions {
   bool side_strips = false;
 };
 
-// Wall time per pass (with LitFrameOptions::pass_times): the depth pre-pass
+// Wall time per pass (with LitFrameOptions::pass_times), and the GL's timer
+// queries around the same passes: the depth pre-pass
 // with the ambient term, every light's stencil pass (near-cap and volumes),
 // every light's additive diffuse pass.
 struct LitFramePasses {
   double depth_ms = 0, stencil_ms = 0, lit_ms = 0;
+  // The same passes by GL_TIME_ELAPSED queries: a GPU's own time; llvmpipe's
+  // queries do not measure its rasterization (far below the wall clock).
+  double gpu_depth_ms = 0, gpu_stencil_ms = 0, gpu_lit_ms = 0;
 };
 
 struct LitFrame {
