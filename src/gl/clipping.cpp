@@ -37,7 +37,7 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
 std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min, DepthMapping m,
-                                std::vector<bool>* on_plane = nullptr) {
+                                std::vector<bool>* on_plane = nullptr, bool from_outside = false) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
   out.reserve(n + 1);
@@ -51,8 +51,11 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
       if (on_plane) on_plane->push_back(da == 0);
     }
     if (a_in != b_in) {
-      // From the inside vertex towards the outside one.
-      if (a_in)
+      // From the inside vertex towards the outside one, or (Mesa's
+      // draw_pipe_clip.c interp) from the outside one towards the inside.
+      if (from_outside)
+        out.push_back(a_in ? interpolate(b, a, db / (db - da)) : interpolate(a, b, da / (da - db)));
+      else if (a_in)
         out.push_back(interpolate(a, b, da / (da - db)));
       else
         out.push_back(interpolate(b, a, db / (db - da)));
@@ -70,6 +73,15 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   if (!settings.skip_near_side) planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
   if (settings.clip_far) planes[count++] = Plane::Far;
   for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
+  if (settings.mesa) {
+    // Mesa's plane order (draw_context.c): right, left, top, bottom, near, far.
+    std::array<Plane, 6> ordered{};
+    std::size_t n = 0;
+    for (Plane p : {Plane::Right, Plane::Left, Plane::Top, Plane::Bottom, Plane::Near, Plane::WMin, Plane::Far})
+      for (std::size_t k = 0; k < count; ++k)
+        if (planes[k] == p) ordered[n++] = p;
+    planes = ordered;
+  }
   // Trivial accept: no plane separates any vertex (the common case); trivial
   // reject: one plane has all three outside (clipping would leave nothing).
   bool all_inside = true;
@@ -84,7 +96,8 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   std::vector<Vec4f> poly{a, b, c};
   if (all_inside) return poly;
   for (std::size_t k = 0; k < count; ++k) {
-    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping);
+    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping, nullptr,
+                        settings.mesa);
     if (poly.size() < 3) return {};
   }
   return poly;

@@ -68,6 +68,12 @@ std::uint32_t Framebuffer::encode_depth(float z) const {
   return bits;
 }
 
+std::uint32_t Framebuffer::encode_depth_llvmpipe(float z) const {
+  if (format_ != DepthFormat::Fixed24) return encode_depth(z);
+  // lp_build_clamped_float_to_unsigned_norm: a float32 product, rounded to nearest even.
+  return static_cast<std::uint32_t>(std::nearbyintf(std::clamp(z, 0.0f, 1.0f) * 16777215.0f));
+}
+
 float safe_guard_band(int width, int height, int subpixel_bits) {
   // |x_w| <= (g + 1) W / 2 must stay below 2^30 / 2^bits, with a factor 2 of margin.
   const double limit = std::ldexp(1.0, 29 - subpixel_bits);
@@ -101,6 +107,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   clip.clip_far = state.clip_far && !state.depth_clamp_far;
   clip.skip_near_side = state.vertices_on_near_plane;
   clip.depth_mapping = state.depth_mapping;
+  clip.mesa = raster.mesa_clipper;
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).
@@ -139,8 +146,12 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     }
     // The clipped polygon is drawn as a fan from its first vertex, as Mesa's
     // clipper emits it; every piece has the facing of the whole.
+    bool clipped_here = polygon.size() != 3;
+    for (std::size_t k = 0; k < 3 && !clipped_here; ++k)
+      clipped_here = std::memcmp(&polygon[k], &clip_vertices[t + k], sizeof(Vec4f)) != 0;
     for (std::size_t k = 1; k + 1 < window.size(); ++k) {
-      const std::array<WindowVertex, 3> tri{window[0], window[k], window[k + 1]};
+      std::array<WindowVertex, 3> tri{window[0], window[k], window[k + 1]};
+      if (raster.mesa_clipper && clipped_here) tri = {window[k], window[k + 1], window[0]};
       const int orientation = snapped_orientation(tri, raster.subpixel_bits);
       if (orientation == 0 || culled(state.cull, orientation > 0)) {
         ++counters.culled;
@@ -156,6 +167,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   const bool test_depth = state.depth_func != DepthFunc::Always;
   const bool greater = state.depth_func == DepthFunc::Greater;
   const bool needs_depth = test_depth || state.depth_write;
+  const bool llvmpipe_depth = raster.depth == DepthInterpolation::Llvmpipe;
   constexpr int kBandRows = 32;
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
@@ -180,8 +192,10 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
                 [&](const Fragment& f) {
                   ++fragments[0];
                   const std::size_t p = index(f.x, f.y);
-                  const std::uint32_t z =
-                      needs_depth ? encode_depth(f.depth) : 0;  // the near-cap pass neither tests nor writes
+                  // The near-cap pass neither tests nor writes depth.
+                  const std::uint32_t z = !needs_depth     ? 0
+                                          : llvmpipe_depth ? encode_depth_llvmpipe(f.depth)
+                                                           : encode_depth(f.depth);
                   const bool pass = !test_depth || (greater ? z > depth_[p] : z < depth_[p]);
                   fragments[1] += pass;
                   const StencilOps& ops = f.front ? state.front : state.back;

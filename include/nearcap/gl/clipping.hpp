@@ -8,8 +8,9 @@
 // (g = 1 clips to the view volume; hardware uses a wide band so that x and y
 // are rarely clipped).  Sutherland-Hodgman, one plane after the other; an
 // intersection is interpolated from the INSIDE vertex towards the outside one
-// with t = d_in / (d_in - d_out), as Mesa's clipper does, so an edge shared by
-// two triangles is cut at the same point from both sides.
+// with t = d_in / (d_in - d_out), so an edge shared by two triangles is cut
+// at the same point from both sides.  Mesa's clipper interpolates from the
+// outside vertex, in its own plane order: ClipSettings::mesa.
 #pragma once
 
 #include <vector>
@@ -44,6 +45,12 @@ struct ClipSettings {
   // they lie on only to within rounding.  Overrides clip_near.
   bool skip_near_side = false;
   DepthMapping depth_mapping = DepthMapping::Standard;  // which planes are near and far
+  // Mesa's clipper (draw_pipe_clip.c, draw_context.c) instead: the planes in
+  // its order (right, left, top, bottom, near, far) and each intersection
+  // interpolated from the OUTSIDE vertex, out + t (in - out) with
+  // t = d_out / (d_out - d_in).  An edge shared by two triangles is still
+  // cut at the same point from both sides.
+  bool mesa = false;
 };
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.

@@ -122,6 +122,9 @@ class Framebuffer {
   // The stored depth as a comparable integer: the 24-bit value, or the bits of
   // the non-negative float (whose order is the integers' order).
   std::uint32_t encode_depth(float z_window) const;
+  // The same as llvmpipe converts it (RasterSettings::depth Llvmpipe): the
+  // 24-bit value by a float32 product rounded to nearest even.
+  std::uint32_t encode_depth_llvmpipe(float z_window) const;
   const std::vector<std::uint32_t>& depth() const { return depth_; }
   const std::vector<std::uint8_t>& stencil() const { return stencil_; }
   const std::vector<std::int32_t>& objects() const { return objects_; }

@@ -49,6 +49,24 @@ enum class ViewportArithmetic {
              // unfused (Mesa's C clipper); z alike with 1/2, 1/2
 };
 
+// How a fragment's depth is computed from the triangle's three window z.
+enum class DepthInterpolation {
+  Exact,     // from the exact barycentrics of the snapped vertices, rounded
+             // once to float32; 24-bit depth as lrint(z * (2^24 - 1)) in double
+  Llvmpipe,  // Mesa's (22.3, lp_state_setup.c init_args/calc_coef4,
+             // lp_bld_interp.c, lp_bld_depth.c): a float32 plane from the
+             // unsnapped window vertices, v0 and v1 swapped for a
+             // counter-clockwise triangle (their negative area), each
+             // operation rounded: c = 1/2, dx01 = x0 - x1, dy01 = y0 - y1,
+             // dx20 = x2 - x0, dy20 = y2 - y0, ooa = 1 / (dx01 dy20 - dy01 dx20),
+             // dzdx = (z0 - z1)(dy20 ooa) - (z2 - z0)(dy01 ooa),
+             // dzdy = (z2 - z0)(dx01 ooa) - (z0 - z1)(dx20 ooa),
+             // a0 = z0 - (dzdx (x0 - c) + dzdy (y0 - c)); at pixel (i, j)
+             // z = fma(dzdy, j, fma(dzdx, i, a0)) (llvm.fmuladd, fused where
+             // the CPU has FMA), clamped to [0, 1]; 24-bit depth as
+             // round-to-nearest-even of the float32 product z * (2^24 - 1)
+};
+
 // The defaults are llvmpipe's (Mesa 22.3), as observed through a headless EGL
 // context (tests/llvmpipe_rasterizer_test.cpp): 8 sub-pixel bits, pixel
 // centres on a horizontal edge owned by the triangle above it (bottom-left in
@@ -63,7 +81,39 @@ struct RasterSettings {
   // Divide by default (what every earlier figure used); Llvmpipe is what
   // Mesa computes (render/gl_frame_replay.hpp measures the difference).
   ViewportArithmetic viewport = ViewportArithmetic::Divide;
+  // Exact by default (every earlier figure); Llvmpipe follows Mesa's depth
+  // plane (render/gl_frame_replay.hpp measures the difference).
+  DepthInterpolation depth = DepthInterpolation::Exact;
+  // Mesa's clipper (ClipSettings::mesa) and its fan order for a clipped
+  // polygon (emit_poly: triangle i is (v[i-1], v[i], v[0])); false: the
+  // clipper of clipping.hpp and the fan (v[0], v[i-1], v[i]).
+  bool mesa_clipper = false;
 };
+
+// The float32 plane of a triangle's window z as llvmpipe sets it up
+// (DepthInterpolation::Llvmpipe), for `v` in submission order.
+struct LlvmpipeDepthPlane {
+  float a0 = 0, dzdx = 0, dzdy = 0;
+  float at(int i, int j) const {
+    const float z = std::fma(dzdy, static_cast<float>(j), std::fma(dzdx, static_cast<float>(i), a0));
+    return std::clamp(z + 0.0f, 0.0f, 1.0f);
+  }
+};
+inline LlvmpipeDepthPlane llvmpipe_depth_plane(std::array<WindowVertex, 3> v, bool counter_clockwise) {
+  if (counter_clockwise) std::swap(v[0], v[1]);
+  const float c = 0.5f;
+  const float x0c = v[0].x - c, y0c = v[0].y - c;
+  const float dx01 = v[0].x - v[1].x, dy01 = v[0].y - v[1].y, dx20 = v[2].x - v[0].x, dy20 = v[2].y - v[0].y;
+  const float e = dx01 * dy20, f = dy01 * dx20;
+  const float ooa = 1.0f / (e - f);
+  const float dx20o = dx20 * ooa, dy20o = dy20 * ooa, dx01o = dx01 * ooa, dy01o = dy01 * ooa;
+  const float da01 = v[0].z - v[1].z, da20 = v[2].z - v[0].z;
+  LlvmpipeDepthPlane p;
+  p.dzdx = (da01 * dy20o) - (da20 * dy01o);
+  p.dzdy = (da20 * dx01o) - (da01 * dx20o);
+  p.a0 = v[0].z - ((p.dzdx * x0c) + (p.dzdy * y0c));
+  return p;
+}
 
 struct Fragment {
   int x = 0, y = 0;  // pixel column, row from the bottom
@@ -131,6 +181,8 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
   std::int64_t area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
   if (area == 0) return false;
   const bool front = area > 0;
+  const bool llvmpipe_depth = settings.depth == DepthInterpolation::Llvmpipe;
+  const LlvmpipeDepthPlane plane = llvmpipe_depth ? llvmpipe_depth_plane(v, front) : LlvmpipeDepthPlane{};
   if (!front) {  // make it counter-clockwise for coverage
     std::swap(p[1], p[2]);
     std::swap(z[1], z[2]);
@@ -157,7 +209,7 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
   for (std::int64_t j = j0; j <= j1; ++j) {
     const std::int64_t py = j * one + half;
     std::int64_t lo = 0, hi = width - 1;
-    std::array<std::int64_t, 3> C;
+    std::array<std::int64_t, 3> C{};
     for (int k = 0; k < 3 && lo <= hi; ++k) {
       const FixedPoint& a = p[k];
       const FixedPoint& b = p[(k + 1) % 3];
@@ -169,6 +221,12 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
         hi = std::min(hi, detail::floor_div(-need, -B[k]));
       else if (need > 0)
         hi = lo - 1;  // a horizontal edge with the row outside
+    }
+    if (llvmpipe_depth) {
+      for (std::int64_t i = lo; i <= hi; ++i)
+        emit(Fragment{static_cast<int>(i), static_cast<int>(j), plane.at(static_cast<int>(i), static_cast<int>(j)),
+                      front});
+      continue;
     }
     for (std::int64_t i = lo; i <= hi; ++i) {
       // Barycentric weight of vertex k is the edge function opposite to it.
