@@ -36,21 +36,41 @@ TEST(Clipping, CrossingTheNearPlaneCutsThere) {
 }
 
 TEST(Clipping, SharedEdgeIsCutAtTheSamePointFromBothSides) {
-  // Two triangles sharing edge (p, q), which crosses the near plane, listed
-  // in opposite directions: the cut point must be bit-identical.
-  const Vec4f p{0.3f, 0.1f, 0.7f, 1.3f}, q{-0.2f, 0.4f, -2.9f, 0.6f};
-  const Vec4f r{0.9f, -0.5f, 0.2f, 1.1f}, s{-0.8f, -0.7f, 0.1f, 1.2f};
-  const auto first = clip_triangle(p, q, r, {});
-  const auto second = clip_triangle(q, p, s, {});
-  std::vector<Vec4f> cut_first, cut_second;
-  for (const Vec4f& v : first)
-    if (std::fabs(v.z + v.w) < 1e-5f) cut_first.push_back(v);
-  for (const Vec4f& v : second)
-    if (std::fabs(v.z + v.w) < 1e-5f) cut_second.push_back(v);
-  bool shared = false;
-  for (const Vec4f& u : cut_first)
-    for (const Vec4f& v : cut_second) shared |= u.x == v.x && u.y == v.y && u.z == v.z && u.w == v.w;
-  EXPECT_TRUE(shared);
+  for (bool mesa : {false, true}) {
+    // Two triangles sharing edge (p, q), which crosses the near plane, listed
+    // in opposite directions: the cut point must be bit-identical (with either clipper).
+    ClipSettings settings;
+    settings.mesa = mesa;
+    const Vec4f p{0.3f, 0.1f, 0.7f, 1.3f}, q{-0.2f, 0.4f, -2.9f, 0.6f};
+    const Vec4f r{0.9f, -0.5f, 0.2f, 1.1f}, s{-0.8f, -0.7f, 0.1f, 1.2f};
+    const auto first = clip_triangle(p, q, r, settings);
+    const auto second = clip_triangle(q, p, s, settings);
+    std::vector<Vec4f> cut_first, cut_second;
+    for (const Vec4f& v : first)
+      if (std::fabs(v.z + v.w) < 1e-5f) cut_first.push_back(v);
+    for (const Vec4f& v : second)
+      if (std::fabs(v.z + v.w) < 1e-5f) cut_second.push_back(v);
+    bool shared = false;
+    for (const Vec4f& u : cut_first)
+      for (const Vec4f& v : cut_second) shared |= u.x == v.x && u.y == v.y && u.z == v.z && u.w == v.w;
+    EXPECT_TRUE(shared) << (mesa ? "mesa" : "inside");
+  }
+}
+
+// Mesa's clipper (draw_pipe_clip.c) cuts from the outside vertex:
+// out + t (in - out), t = d_out / (d_out - d_in), each operation in float32.
+TEST(Clipping, MesasClipperCutsFromTheOutsideVertex) {
+  const Vec4f in{0.3f, 0.1f, 0.7f, 1.3f}, out{-0.2f, 0.4f, -2.9f, 0.6f}, third{0.9f, -0.5f, 0.2f, 1.1f};
+  ClipSettings settings;
+  settings.mesa = true;
+  const float d_in = in.z + in.w, d_out = out.z + out.w;
+  const float t = d_out / (d_out - d_in);
+  const Vec4f expected{out.x + t * (in.x - out.x), out.y + t * (in.y - out.y), out.z + t * (in.z - out.z),
+                       out.w + t * (in.w - out.w)};
+  bool found = false;
+  for (const Vec4f& v : clip_triangle(in, out, third, settings))
+    found |= v.x == expected.x && v.y == expected.y && v.z == expected.z && v.w == expected.w;
+  EXPECT_TRUE(found);
 }
 
 TEST(Clipping, FarPlaneOnlyWhenAsked) {

@@ -280,6 +280,25 @@ TEST(RenderCommand, CompareGivesOneRecordPerMethod) {
   EXPECT_EQ(j["methods"][1]["cracks"], 0);
 }
 
+// The llvmpipe model from the command line: exact_camera's ground ties,
+// 307 stencil differences with the defaults, none with the model.
+TEST(RenderCommand, TheLlvmpipeModelOptions) {
+  const std::string base = "render data/scenes/exact_camera.json --light 0 --compare --method zpass,zfail";
+  const test::CliResult defaults = test::run_cli(base, "render_model");
+  if (defaults.exit_code == 2 && defaults.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << defaults.err;
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
+  const test::CliResult model =
+      test::run_cli(base + " --viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa", "render_model");
+  ASSERT_EQ(model.exit_code, 0) << model.err;
+  const nlohmann::json a = nlohmann::json::parse(defaults.out), b = nlohmann::json::parse(model.out);
+  EXPECT_GT(a["methods"][0]["gl_vs_emulation"].get<int>(), 100);
+  for (const nlohmann::json& m : b["methods"]) EXPECT_EQ(m["gl_vs_emulation"], 0) << m;
+  const test::CliResult bad = test::run_cli(base + " --clipper gl", "render_model");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--clipper"), std::string::npos) << bad.err;
+}
+
 // The shipped switch policy on the real GL, where the paper's corrected ZP+
 // switches to Z-fail with depth clamp (case D): as right as Z-fail there,
 // the emulation's pixel for pixel, and the record says each occluder's method.

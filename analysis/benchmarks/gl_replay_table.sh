@@ -2,8 +2,9 @@
 # The real GL (headless EGL: llvmpipe here) beside the emulation on every
 # bundled scene but the two largest: per method, the stencil pixels where GL
 # and the emulation differ with the spec's viewport arithmetic / with Mesa's
-# (--viewport llvmpipe), and the wrong pixels of GL and of the emulation
-# against the exact reference.  The README's table ("The real GL beside the
+# (--viewport llvmpipe) / with the whole llvmpipe model (--viewport llvmpipe
+# --depth-interpolation llvmpipe --clipper mesa), and the wrong pixels of GL
+# and of the emulation against the exact reference.  The README's table ("The real GL beside the
 # emulation").  Needs a build (./scripts/build.sh).
 #   ./analysis/benchmarks/gl_replay_table.sh
 set -euo pipefail
@@ -17,15 +18,18 @@ for scene in data/scenes/*.json; do
   case "$name" in bunny | armadillo) continue ;; esac
   divide=$($n render "$scene" --light 0 --compare)
   llvmpipe=$($n render "$scene" --light 0 --compare --viewport llvmpipe)
-  /usr/bin/python3 - "$name" "$divide" "$llvmpipe" <<'PY'
+  model=$($n render "$scene" --light 0 --compare --viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa)
+  /usr/bin/python3 - "$name" "$divide" "$llvmpipe" "$model" <<'PY'
 import json, sys
-name, a, b = sys.argv[1], json.loads(sys.argv[2])["methods"], json.loads(sys.argv[3])["methods"]
+name = sys.argv[1]
+a, b, c = (json.loads(sys.argv[k])["methods"] for k in (2, 3, 4))
 cells = []
-for x, y in zip(a, b):
+for x, y, z in zip(a, b, c):
     if "refused" in x:
         cells.append("refused")
         continue
-    cells.append("%d / %d (GL %d, emul. %d)" % (x["gl_vs_emulation"], y["gl_vs_emulation"], x["gl_vs_exact"], x["emulation_vs_exact"]))
+    cells.append("%d / %d / %d (GL %d, emul. %d)" % (x["gl_vs_emulation"], y["gl_vs_emulation"], z["gl_vs_emulation"],
+                                                      x["gl_vs_exact"], x["emulation_vs_exact"]))
 print("| %s | %s |" % (name, " | ".join(cells)))
 PY
 done

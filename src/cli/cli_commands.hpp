@@ -61,6 +61,8 @@ struct EmulationOptions {
   std::string fill_rule = "bottom-left";
   float guard_band = 1.0f;
   std::string viewport = "divide";
+  std::string depth_interpolation = "exact";
+  std::string clipper = "inside";
   std::string light_projection = "paper";
   std::string l_near = "paper-ratio";
   double l_near_scale = 1.0;

@@ -92,6 +92,17 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "fused multiply-add where Mesa fuses: what llvmpipe computes)")
       ->check(CLI::IsMember({"divide", "llvmpipe"}))
       ->capture_default_str();
+  cmd.add_option("--depth-interpolation", o.depth_interpolation,
+                 "a fragment's depth: exact (from exact barycentrics, rounded once) or llvmpipe (Mesa's float32 "
+                 "plane and 24-bit conversion)")
+      ->check(CLI::IsMember({"exact", "llvmpipe"}))
+      ->capture_default_str();
+  cmd.add_option("--clipper", o.clipper,
+                 "the clipper's arithmetic: inside (intersections from the inside vertex) or mesa (Mesa's plane "
+                 "order, from the outside vertex, its fan order); --viewport llvmpipe --depth-interpolation llvmpipe "
+                 "--clipper mesa is the llvmpipe model")
+      ->check(CLI::IsMember({"inside", "mesa"}))
+      ->capture_default_str();
   cmd.add_option("--light-projection", o.light_projection,
                  "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once), rebased "
                  "(origin at the near rectangle's centre) or clipped-sides (no light frustum: the near-cap is the "
@@ -152,6 +163,8 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"fill-rule", o.fill_rule},
           {"guard-band", number(o.guard_band)},
           {"viewport", o.viewport},
+          {"depth-interpolation", o.depth_interpolation},
+          {"clipper", o.clipper},
           {"light-projection", o.light_projection},
           {"l-near", o.l_near},
           {"l-near-scale", number(o.l_near_scale)},
@@ -211,6 +224,12 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "viewport") {
       need_one_of(spec, name, value, {"divide", "llvmpipe"});
       o.viewport = value;
+    } else if (name == "depth-interpolation") {
+      need_one_of(spec, name, value, {"exact", "llvmpipe"});
+      o.depth_interpolation = value;
+    } else if (name == "clipper") {
+      need_one_of(spec, name, value, {"inside", "mesa"});
+      o.clipper = value;
     } else if (name == "light-projection") {
       need_one_of(spec, name, value, light_projection_names());
       o.light_projection = value;
@@ -241,10 +260,12 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       need_one_of(spec, name, value, near_plane_names());
       o.near_plane = value;
     } else {
-      throw Error(ErrorKind::Usage, "--variant '" + spec + "': unknown choice '" + name +
-                                        "' (subpixel-bits, depth, fill-rule, guard-band, viewport, light-projection, "
-                                        "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, "
-                                        "depth-mapping, near-plane, fma)");
+      throw Error(ErrorKind::Usage,
+                  "--variant '" + spec + "': unknown choice '" + name +
+                      "' (subpixel-bits, depth, fill-rule, guard-band, viewport, depth-interpolation, clipper, "
+                      "light-projection, "
+                      "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, "
+                      "depth-mapping, near-plane, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -270,6 +291,9 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
     throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
   s.raster.guard_band = o.guard_band;
   s.raster.viewport = o.viewport == "llvmpipe" ? gl::ViewportArithmetic::Llvmpipe : gl::ViewportArithmetic::Divide;
+  s.raster.depth =
+      o.depth_interpolation == "llvmpipe" ? gl::DepthInterpolation::Llvmpipe : gl::DepthInterpolation::Exact;
+  s.raster.mesa_clipper = o.clipper == "mesa";
   s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
   const auto projection = gl::light_projection_from_string(o.light_projection);
