@@ -73,6 +73,19 @@ TEST(Clipping, MesasClipperCutsFromTheOutsideVertex) {
   EXPECT_TRUE(found);
 }
 
+// Mesa's DIFFERENT_SIGNS (x y <= 0 and x != y) also fires between a vertex
+// exactly on the plane and one inside: a near-duplicate vertex the inside
+// clipper does not make.
+TEST(Clipping, MesasClipperDuplicatesAVertexOnThePlane) {
+  const Vec4f on{0.1f, 0.2f, -1.0f, 1.0f}, in{0.3f, -0.1f, 0.2f, 1.2f}, out{-0.2f, 0.1f, -3.0f, 0.5f};
+  ClipSettings mesa;
+  mesa.mesa = true;
+  const std::vector<Vec4f> ours = clip_triangle(on, in, out, {}), theirs = clip_triangle(on, in, out, mesa);
+  EXPECT_EQ(ours.size(), 4u);
+  EXPECT_EQ(theirs.size(), 5u);
+  EXPECT_TRUE(theirs[0].x == on.x && theirs[1].x == on.x && theirs[1].z == on.z && theirs[1].w == on.w);
+}
+
 TEST(Clipping, FarPlaneOnlyWhenAsked) {
   const Vec4f a{0, 0, 5, 1}, b{0.1f, 0, 5, 1}, c{0, 0.1f, 5, 1};  // beyond far (z > w)
   EXPECT_TRUE(clip_triangle(a, b, c, {}).empty());

@@ -37,7 +37,7 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
 std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min, DepthMapping m,
-                                std::vector<bool>* on_plane = nullptr, bool from_outside = false) {
+                                std::vector<bool>* on_plane = nullptr, bool mesa = false) {
   std::vector<Vec4f> out;
   const std::size_t n = poly.size();
   out.reserve(n + 1);
@@ -50,12 +50,20 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
       out.push_back(a);
       if (on_plane) on_plane->push_back(da == 0);
     }
+    if (mesa) {
+      // draw_pipe_clip.c: a new vertex wherever DIFFERENT_SIGNS (a product
+      // <= 0 and the distances differ: a vertex exactly on the plane next to
+      // one inside makes a near-duplicate too), interpolated from the vertex
+      // outside (or, coming back in, the earlier one).
+      if (da * db <= 0.0f && da - db != 0.0f) {
+        out.push_back(db < 0 ? interpolate(b, a, db / (db - da)) : interpolate(a, b, da / (da - db)));
+        if (on_plane) on_plane->push_back(true);
+      }
+      continue;
+    }
     if (a_in != b_in) {
-      // From the inside vertex towards the outside one, or (Mesa's
-      // draw_pipe_clip.c interp) from the outside one towards the inside.
-      if (from_outside)
-        out.push_back(a_in ? interpolate(b, a, db / (db - da)) : interpolate(a, b, da / (da - db)));
-      else if (a_in)
+      // From the inside vertex towards the outside one.
+      if (a_in)
         out.push_back(interpolate(a, b, da / (da - db)));
       else
         out.push_back(interpolate(b, a, db / (db - da)));
@@ -96,6 +104,14 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   std::vector<Vec4f> poly{a, b, c};
   if (all_inside) return poly;
   for (std::size_t k = 0; k < count; ++k) {
+    if (settings.mesa) {
+      // Mesa clips only at the planes some input vertex is outside (its clipmask).
+      const DepthMapping m = settings.depth_mapping;
+      const float g = settings.guard_band, w = settings.w_min;
+      if (!(distance(a, planes[k], g, w, m) < 0 || distance(b, planes[k], g, w, m) < 0 ||
+            distance(c, planes[k], g, w, m) < 0))
+        continue;
+    }
     poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping, nullptr,
                         settings.mesa);
     if (poly.size() < 3) return {};

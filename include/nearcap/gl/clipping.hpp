@@ -45,11 +45,14 @@ struct ClipSettings {
   // they lie on only to within rounding.  Overrides clip_near.
   bool skip_near_side = false;
   DepthMapping depth_mapping = DepthMapping::Standard;  // which planes are near and far
-  // Mesa's clipper (draw_pipe_clip.c, draw_context.c) instead: the planes in
-  // its order (right, left, top, bottom, near, far) and each intersection
-  // interpolated from the OUTSIDE vertex, out + t (in - out) with
-  // t = d_out / (d_out - d_in).  An edge shared by two triangles is still
-  // cut at the same point from both sides.
+  // Mesa's clipper (draw_pipe_clip.c, draw_context.c) instead: only the
+  // planes some input vertex is outside, in its order (right, left, top,
+  // bottom, near, far); a new vertex wherever the distances d_prev, d of an
+  // edge have d_prev d <= 0 and differ (so also next to a vertex exactly on
+  // the plane), interpolated from the OUTSIDE vertex, out + t (in - out)
+  // with t = d_out / (d_out - d_in) (coming back in: from the earlier
+  // vertex).  An edge shared by two triangles is still cut at the same
+  // point from both sides.
   bool mesa = false;
 };
 
