@@ -57,20 +57,27 @@ TEST(Clipping, SharedEdgeIsCutAtTheSamePointFromBothSides) {
   }
 }
 
-// Mesa's clipper (draw_pipe_clip.c) cuts from the outside vertex:
-// out + t (in - out), t = d_out / (d_out - d_in), each operation in float32.
-TEST(Clipping, MesasClipperCutsFromTheOutsideVertex) {
-  const Vec4f in{0.3f, 0.1f, 0.7f, 1.3f}, out{-0.2f, 0.4f, -2.9f, 0.6f}, third{0.9f, -0.5f, 0.2f, 1.1f};
+// Mesa's clipper (draw_pipe_clip.c, 22.3) cuts from the endpoint nearer
+// the plane: c + t (o - c), t = d_c / (d_c - d_o), each operation in float32.
+TEST(Clipping, MesasClipperCutsFromTheEndpointNearerThePlane) {
   ClipSettings settings;
   settings.mesa = true;
-  const float d_in = in.z + in.w, d_out = out.z + out.w;
-  const float t = d_out / (d_out - d_in);
-  const Vec4f expected{out.x + t * (in.x - out.x), out.y + t * (in.y - out.y), out.z + t * (in.z - out.z),
-                       out.w + t * (in.w - out.w)};
-  bool found = false;
-  for (const Vec4f& v : clip_triangle(in, out, third, settings))
-    found |= v.x == expected.x && v.y == expected.y && v.z == expected.z && v.w == expected.w;
-  EXPECT_TRUE(found);
+  const Vec4f third{0.9f, -0.5f, 0.2f, 1.1f};
+  // Inside nearer (d = 2 against -2.5), then outside nearer (d = 2 against -0.5).
+  for (const Vec4f out : {Vec4f{-0.2f, 0.4f, -3.0f, 0.5f}, Vec4f{-0.2f, 0.4f, -1.0f, 0.5f}}) {
+    const Vec4f in{0.3f, 0.1f, 0.7f, 1.3f};
+    const float d_in = in.z + in.w, d_out = out.z + out.w;
+    const bool from_out = -d_out < d_in;
+    const Vec4f& c = from_out ? out : in;
+    const Vec4f& o = from_out ? in : out;
+    const float d_c = from_out ? d_out : d_in, d_o = from_out ? d_in : d_out;
+    const float t = d_c / (d_c - d_o);
+    const Vec4f expected{c.x + t * (o.x - c.x), c.y + t * (o.y - c.y), c.z + t * (o.z - c.z), c.w + t * (o.w - c.w)};
+    bool found = false;
+    for (const Vec4f& v : clip_triangle(in, out, third, settings))
+      found |= v.x == expected.x && v.y == expected.y && v.z == expected.z && v.w == expected.w;
+    EXPECT_TRUE(found) << (from_out ? "from the outside vertex" : "from the inside vertex");
+  }
 }
 
 // Mesa's DIFFERENT_SIGNS (x y <= 0 and x != y) also fires between a vertex

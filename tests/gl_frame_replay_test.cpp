@@ -148,17 +148,18 @@ TEST_F(GlFrameReplayTest, EveryDifferenceIsADepthNearTie) {
 
 // The llvmpipe model: Mesa's viewport arithmetic (ViewportArithmetic::
 // Llvmpipe), its clipper and fan order (RasterSettings::mesa_clipper) and its
-// float32 depth plane (DepthInterpolation::Llvmpipe) turn the depth
-// near-ties of the exact interpolation into agreement: over 54 frames (11
-// scenes, every method, depth clamp aside) 1,077 stencil differences with
-// the exact depth fall to 19, and exact_camera's ground ties (the box's
-// shadow sides running along the ground it rests on: 307 per Z-pass frame)
-// to none.
+// float32 depth plane (DepthInterpolation::Llvmpipe), read in Mesa's source,
+// predict llvmpipe's stencil pixel for pixel: on 11 bundled scenes and every
+// method, the depth clamp's switch included, no difference, where the exact
+// interpolation with the spec's clipper differs on over a thousand pixels
+// (exact_camera's ground ties: 307 per Z-pass frame; the depth clamp's
+// switch on case_d: over 20,000).
 TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
-  std::size_t exact_differences = 0, model_differences = 0, frames = 0, camera_differences = 0;
-  for (const char* name : {"default.json", "no_near_clip.json", "near_split.json", "twisted.json", "room.json",
-                           "exact_camera.json", "room_side_light.json", "near_cap_bunny_silhouettes.json",
-                           "near_cap_bunny_wall.json", "eye_in_shadow.json", "far_grazing.json"}) {
+  std::size_t exact_differences = 0, model_differences = 0, frames = 0;
+  for (const char* name :
+       {"default.json", "no_near_clip.json", "near_split.json", "twisted.json", "room.json", "exact_camera.json",
+        "room_side_light.json", "near_cap_bunny_silhouettes.json", "near_cap_bunny_wall.json", "eye_in_shadow.json",
+        "far_grazing.json", "case_d.json", "light_on_near_plane.json"}) {
     const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
     for (gl::ShadowMethod m : gl::kAllShadowMethods) {
       SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(m)));
@@ -166,7 +167,6 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
       settings.record_draws = true;
       settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
       const gl::ShadowFrame exact = gl::render_shadow_frame(scene, 0, m, settings);
-      if (!exact.zfail_objects.empty() || !exact.fallback.empty()) continue;  // depth clamp: not modelled
       settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
       settings.raster.mesa_clipper = true;
       const gl::ShadowFrame modelled = gl::render_shadow_frame(scene, 0, m, settings);
@@ -176,16 +176,15 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
       exact_differences += render::compare(real, exact).stencil;
       model_differences += c.stencil;
       EXPECT_EQ(c.near_cap, 0u);
-      EXPECT_LE(c.stencil, 3u);
-      if (std::string(name) == "exact_camera.json") camera_differences += c.stencil;
+      EXPECT_EQ(c.stencil, 0u);
+      EXPECT_EQ(c.object, 0u);
       ++frames;
     }
   }
   std::printf("[ replay   ] %zu frames: %zu stencil differences with the exact depth, %zu with the llvmpipe model\n",
               frames, exact_differences, model_differences);
   EXPECT_GT(exact_differences, 1000u);
-  EXPECT_LE(model_differences, 19u);
-  EXPECT_EQ(camera_differences, 0u);
+  EXPECT_EQ(model_differences, 0u);
 }
 
 // The reversed depth mapping with a float depth buffer (reversed-Z:

@@ -51,12 +51,15 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
       if (on_plane) on_plane->push_back(da == 0);
     }
     if (mesa) {
-      // draw_pipe_clip.c: a new vertex wherever DIFFERENT_SIGNS (a product
-      // <= 0 and the distances differ: a vertex exactly on the plane next to
-      // one inside makes a near-duplicate too), interpolated from the vertex
-      // outside (or, coming back in, the earlier one).
+      // draw_pipe_clip.c (22.3): a new vertex wherever DIFFERENT_SIGNS (a
+      // product <= 0 and the distances differ: a vertex exactly on the plane
+      // next to one inside makes a near-duplicate too).
       if (da * db <= 0.0f && da - db != 0.0f) {
-        out.push_back(db < 0 ? interpolate(b, a, db / (db - da)) : interpolate(a, b, da / (da - db)));
+        // From the endpoint nearer the plane (on a tie, the inside one).
+        if (db < 0)  // going out
+          out.push_back(-db < da ? interpolate(b, a, db / (db - da)) : interpolate(a, b, -da / (db - da)));
+        else  // coming back in
+          out.push_back(-da < db ? interpolate(a, b, da / (da - db)) : interpolate(b, a, -db / (da - db)));
         if (on_plane) on_plane->push_back(true);
       }
       continue;

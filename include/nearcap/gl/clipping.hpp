@@ -10,7 +10,7 @@
 // intersection is interpolated from the INSIDE vertex towards the outside one
 // with t = d_in / (d_in - d_out), so an edge shared by two triangles is cut
 // at the same point from both sides.  Mesa's clipper interpolates from the
-// outside vertex, in its own plane order: ClipSettings::mesa.
+// endpoint nearer the plane, in its own plane order: ClipSettings::mesa.
 #pragma once
 
 #include <vector>
@@ -49,10 +49,9 @@ struct ClipSettings {
   // planes some input vertex is outside, in its order (right, left, top,
   // bottom, near, far); a new vertex wherever the distances d_prev, d of an
   // edge have d_prev d <= 0 and differ (so also next to a vertex exactly on
-  // the plane), interpolated from the OUTSIDE vertex, out + t (in - out)
-  // with t = d_out / (d_out - d_in) (coming back in: from the earlier
-  // vertex).  An edge shared by two triangles is still cut at the same
-  // point from both sides.
+  // the plane), interpolated from the endpoint NEARER the plane (on a tie
+  // the inside one), c + t (o - c) with t = d_c / (d_c - d_o).  An edge
+  // shared by two triangles is still cut at the same point from both sides.
   bool mesa = false;
 };
 
