@@ -12,6 +12,7 @@
 
 #include "cli_support.hpp"
 #include "llvmpipe_fixture.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -185,6 +186,58 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
               frames, exact_differences, model_differences);
   EXPECT_GT(exact_differences, 1000u);
   EXPECT_EQ(model_differences, 0u);
+}
+
+// The llvmpipe model on a slice of the hard-case sampler (the first 60
+// configurations of seed 7, every kind, every light and method): the
+// frames the float pipeline draws, replayed on llvmpipe.
+TEST_F(GlFrameReplayTest, TheLlvmpipeModelOnASliceOfTheSampler) {
+  analysis::SamplerSpec spec;
+  spec.seed = 7;
+  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  std::size_t frames = 0, differing_frames = 0, differences = 0, default_differences = 0;
+  for (std::uint64_t i = 0; i < 60; ++i) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+    } catch (const Error&) {
+      continue;  // the sampler's rejections
+    }
+    for (std::size_t light = 0; light < scene.lights.size(); ++light)
+      for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+        gl::EmulationSettings settings;
+        settings.record_draws = true;
+        settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
+        gl::ShadowFrame exact, modelled;
+        try {
+          exact = gl::render_shadow_frame(scene, light, m, settings);
+          settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
+          settings.raster.mesa_clipper = true;
+          modelled = gl::render_shadow_frame(scene, light, m, settings);
+        } catch (const Error& e) {
+          if (e.kind() != ErrorKind::Range) throw;
+          continue;  // refused (degenerate float32 transforms)
+        }
+        render::GlFrameReplay replay(exact.width, exact.height, settings.depth);
+        if (!replay.has_far_only_clamp() &&
+            std::any_of(exact.draws.begin(), exact.draws.end(),
+                        [](const gl::DrawCall& d) { return d.state.depth_clamp_far != d.state.depth_clamp_near; }))
+          continue;
+        const render::ReplayedFrame real = replay.replay(exact.draws);
+        const std::size_t c = render::compare(real, modelled).stencil;
+        default_differences += render::compare(real, exact).stencil;
+        differences += c;
+        differing_frames += c > 0;
+        ++frames;
+      }
+  }
+  std::printf(
+      "[ replay   ] sampler slice: %zu frames, %zu stencil differences with the llvmpipe model (%zu frames), "
+      "%zu with the defaults\n",
+      frames, differences, differing_frames, default_differences);
+  EXPECT_GT(frames, 200u);
+  EXPECT_EQ(differences, 0u);
 }
 
 // The reversed depth mapping with a float depth buffer (reversed-Z:
