@@ -32,27 +32,27 @@ Triangle canonical(Triangle t) {
   return t;
 }
 
-// GL's triangle strips with primitive restart: triangle i of a strip is
-// (s_i, s_i+1, s_i+2) for even i, (s_i+1, s_i, s_i+2) for odd i.
+// GL's triangle strips with primitive restart, as index triples in GL's
+// vertex order: triangle i of a strip is (s_i, s_i+1, s_i+2) for even i,
+// (s_i+1, s_i, s_i+2) for odd i.
+std::vector<std::array<std::uint32_t, 3>> strip_triangle_indices(const std::vector<std::uint32_t>& idx) {
+  std::vector<std::array<std::uint32_t, 3>> out;
+  std::size_t begin = 0;
+  for (std::size_t k = 0; k <= idx.size(); ++k) {
+    if (k < idx.size() && idx[k] != gl::kStripRestart) continue;
+    for (std::size_t i = begin; i + 2 < k; ++i) {
+      const bool even = (i - begin) % 2 == 0;
+      out.push_back({idx[even ? i : i + 1], idx[even ? i + 1 : i], idx[i + 2]});
+    }
+    begin = k + 1;
+  }
+  return out;
+}
+
 std::vector<Triangle> strip_triangles(const std::vector<gl::ShadowVertex>& v, const std::vector<std::uint32_t>& idx) {
   std::vector<Triangle> out;
-  std::vector<std::uint32_t> strip;
-  auto flush = [&] {
-    for (std::size_t i = 0; i + 2 < strip.size(); ++i) {
-      const std::uint32_t a = strip[i], b = strip[i + 1], c = strip[i + 2];
-      out.push_back(i % 2 == 0 ? Triangle{as_array(v[a]), as_array(v[b]), as_array(v[c])}
-                               : Triangle{as_array(v[b]), as_array(v[a]), as_array(v[c])});
-    }
-    strip.clear();
-  };
-  for (std::uint32_t i : idx) {
-    if (i == gl::kStripRestart) {
-      flush();
-    } else {
-      strip.push_back(i);
-    }
-  }
-  flush();
+  for (const auto& t : strip_triangle_indices(idx))
+    out.push_back({as_array(v[t[0]]), as_array(v[t[1]]), as_array(v[t[2]])});
   return out;
 }
 
@@ -108,22 +108,7 @@ class SideStripsTest : public test::LlvmpipeTest {};
 // each method drawing Z-pass sides).
 std::vector<gl::Vec4f> in_strip_order(const std::vector<gl::Vec4f>& v, const std::vector<std::uint32_t>& idx) {
   std::vector<gl::Vec4f> out;
-  std::vector<std::uint32_t> strip;
-  auto flush = [&] {
-    for (std::size_t i = 0; i + 2 < strip.size(); ++i) {
-      const std::uint32_t a = strip[i], b = strip[i + 1], c = strip[i + 2];
-      out.insert(out.end(), {v[i % 2 == 0 ? a : b], v[i % 2 == 0 ? b : a], v[c]});
-    }
-    strip.clear();
-  };
-  for (std::uint32_t i : idx) {
-    if (i == gl::kStripRestart) {
-      flush();
-    } else {
-      strip.push_back(i);
-    }
-  }
-  flush();
+  for (const auto& t : strip_triangle_indices(idx)) out.insert(out.end(), {v[t[0]], v[t[1]], v[t[2]]});
   return out;
 }
 

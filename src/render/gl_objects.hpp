@@ -33,20 +33,25 @@ inline GLuint compile_shader(GLenum stage, const char* source) {
 }
 
 // A program of a vertex and a fragment shader; `what` names it in the error.
-inline GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& what) {
+// `captured`: a vertex output transform feedback may capture (or null).
+inline GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& what,
+                           const char* captured = nullptr) {
   const GLuint vs = compile_shader(GL_VERTEX_SHADER, vertex_source);
   const GLuint fs = compile_shader(GL_FRAGMENT_SHADER, fragment_source);
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
   glAttachShader(program, fs);
+  if (captured) glTransformFeedbackVaryings(program, 1, &captured, GL_INTERLEAVED_ATTRIBS);
   glLinkProgram(program);
   glDeleteShader(vs);
   glDeleteShader(fs);
   GLint linked = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &linked);
   if (!linked) {
+    char log[1024] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
     glDeleteProgram(program);
-    throw Error(ErrorKind::Gl, what + " does not link");
+    throw Error(ErrorKind::Gl, what + " does not link: " + log);
   }
   return program;
 }

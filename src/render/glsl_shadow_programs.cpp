@@ -115,26 +115,9 @@ unsigned ShadowPrograms::program(std::optional<gl::VertexProgram> p, gl::Arithme
   unsigned& out = programs_[slot(p, a)];
   if (out) return out;
   const std::string vertex = glsl_vertex_shader(p, a);
-  const GLuint vs = compile_shader(GL_VERTEX_SHADER, vertex.c_str());
-  const GLuint fs = compile_shader(GL_FRAGMENT_SHADER, fragment_source_.c_str());
-  const GLuint linked = glCreateProgram();
-  glAttachShader(linked, vs);
-  glAttachShader(linked, fs);
-  const char* captured[] = {"gl_Position"};
-  glTransformFeedbackVaryings(linked, 1, captured, GL_INTERLEAVED_ATTRIBS);
-  glLinkProgram(linked);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(linked, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    glGetProgramInfoLog(linked, sizeof log, nullptr, log);
-    glDeleteProgram(linked);
-    throw Error(ErrorKind::Gl, what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") +
-                                   " vertex program) does not link: " + log);
-  }
-  out = linked;
+  out = link_program(vertex.c_str(), fragment_source_.c_str(),
+                     what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") + " vertex program)",
+                     "gl_Position");
   return out;
 }
 
