@@ -13,6 +13,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
+#include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 
@@ -408,6 +409,11 @@ class FrameRenderer {
       // Both bounds strictly on one side: no part reaches the near plane.
       const bool sides_needed = points == 0 || directions == 0 || points != directions;
       if (!sides_needed) continue;
+      // Nothing of the occluder in the light pyramid: an empty cap.
+      if (settings_.cull_light_pyramid && certainly_misses_light_pyramid(scene_, o, scene_.lights[light_].position,
+                                                                         light_pyramid_margin(scene_.camera.width),
+                                                                         light_pyramid_margin(scene_.camera.height)))
+        continue;
       std::vector<float> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
       for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         const Vec3d& p = mesh.positions[v];

@@ -109,6 +109,11 @@ struct EmulationSettings {
   // The camera's near plane: the scene's, or pushed out to half the depth
   // of the nearest point in view (tight_near_plane.hpp).
   NearPlane near_plane = NearPlane::Scene;
+  // The clipped-sides cap pass skips an occluder that certainly holds no
+  // point of the light pyramid (light_pyramid_cull.hpp): an empty cap, so
+  // the same frame, without evaluating z + w at its every vertex.  Off only
+  // to check that claim (tests/light_pyramid_cull_test.cpp).
+  bool cull_light_pyramid = true;
   // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
   // replay; changes nothing else.
   bool record_draws = false;

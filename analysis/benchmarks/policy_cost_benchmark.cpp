@@ -1,0 +1,163 @@
+// The switch policy's cost against issue 12's targets, measured frame by frame
+// in one process: where Z-pass is right (every occluder's exact near-cap
+// empty) the policy's frame against Z-pass's (target: within 5 %), elsewhere
+// against ZP+ corrected's (no more).  The sweep measures each method's frame
+// in its own batch among many others, so its times carry the order and the
+// allocation of each batch; here both frames of a pair are drawn alternately
+// (the policy first on every other pair), each from a fresh batch, the
+// policy's decision included, and summed over the pairs.
+//
+// Configurations: the first 600 of the hard-case sampler, seed 7 (the
+// sweep's held-out set; NEARCAP_BENCH_POLICY_SAMPLES for another count),
+// 48x36, and every frame of the seven bundled paths at their own size; the
+// shipped policy (data/policy.json; NEARCAP_BENCH_POLICY for
+// another).  Counters: policy_over_base (the ratio), pairs, and the
+// fragments' ratio.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Pair {
+  std::shared_ptr<const nearcap::Scene> scene;
+  std::shared_ptr<const nearcap::CameraSpaceScene> cs;
+  std::size_t light = 0;
+  bool zpass_right = false;
+};
+
+struct Setup {
+  nearcap::analysis::SwitchPolicy policy;
+  std::vector<Pair> pairs;
+};
+
+void add_pairs(const std::string& json, const std::string& name, Setup& out) {
+  std::shared_ptr<nearcap::Scene> scene;
+  try {
+    scene = std::make_shared<nearcap::Scene>(nearcap::parse_scene(json, name, "."));
+  } catch (const nearcap::Error&) {
+    return;  // the sampler's bad input: a light inside an occluder
+  }
+  auto cs = std::make_shared<nearcap::CameraSpaceScene>(*scene);
+  for (std::size_t light = 0; light < scene->lights.size(); ++light) {
+    try {
+      const nearcap::PixelReference ref = nearcap::compute_pixel_reference(*cs, light);
+      bool right = true;
+      for (std::size_t o = 0; o < scene->objects.size(); ++o)
+        right = right && !(scene->objects[o].occluder && ref.cap_pixels_by_object[o] > 0);
+      // Frames the float pipeline refuses are left out, as the sweep's report leaves them.
+      nearcap::gl::ShadowFrameBatch(*scene, light).render(nearcap::gl::ShadowMethod::ZPass);
+      out.pairs.push_back({scene, cs, light, right});
+    } catch (const nearcap::Error&) {
+    }
+  }
+}
+
+nearcap::analysis::SwitchPolicy shipped_policy() {
+  const char* policy = std::getenv("NEARCAP_BENCH_POLICY");
+  return nearcap::analysis::load_policy(policy ? policy : std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
+}
+
+const Setup& sampler_setup() {
+  static const Setup s = [] {
+    Setup out;
+    out.policy = shipped_policy();
+    const char* count = std::getenv("NEARCAP_BENCH_POLICY_SAMPLES");
+    const std::uint64_t samples = count ? std::strtoull(count, nullptr, 10) : 600;
+    nearcap::analysis::SamplerSpec spec;
+    spec.seed = 7;
+    spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+    const nearcap::analysis::HardCaseSampler sampler(spec);
+    for (std::uint64_t k = 0; k < samples; ++k)
+      add_pairs(sampler.sample(k).scene_json, "sample " + std::to_string(k), out);
+    return out;
+  }();
+  return s;
+}
+
+const Setup& paths_setup() {
+  static const Setup s = [] {
+    Setup out;
+    out.policy = shipped_policy();
+    for (const char* name :
+         {"bunny_orbit", "eye_in_shadow", "fly_around", "looking_at", "looking_away", "near_plane_sweep", "zoom"}) {
+      const nearcap::analysis::CameraPath path =
+          nearcap::analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
+      for (int frame = 0; frame < path.frames; ++frame)
+        add_pairs(nearcap::analysis::path_frame_json(path, frame),
+                  std::string(name) + " frame " + std::to_string(frame), out);
+    }
+    return out;
+  }();
+  return s;
+}
+
+// range(0): 1 where Z-pass is right (against Z-pass), 0 elsewhere (against
+// ZP+ corrected); range(1): 1 with the near-cap pass's light-pyramid filter
+// (gl/light_pyramid_cull.hpp, the default), 0 without it; range(2): 0 the
+// hard-case sampler, 1 every frame of the seven bundled camera paths.
+void BM_PolicyCost(benchmark::State& state) {
+  const bool right = state.range(0) == 1;
+  const bool cull = state.range(1) == 1;
+  const bool paths = state.range(2) == 1;
+  const auto base_method = right ? nearcap::gl::ShadowMethod::ZPass : nearcap::gl::ShadowMethod::ZPPlusCorrected;
+  state.SetLabel(std::string(right ? "where Z-pass is right, against zpass" : "elsewhere, against zpplus-corrected") +
+                 (cull ? "" : "; no light-pyramid filter") + (paths ? "; bundled paths" : "; hard cases"));
+  const Setup& s = paths ? paths_setup() : sampler_setup();
+  double policy_ms = 0, base_ms = 0, policy_fragments = 0, base_fragments = 0;
+  std::size_t pairs = 0;
+  for (auto _ : state) {
+    std::size_t k = 0;
+    for (const Pair& p : s.pairs) {
+      if (p.zpass_right != right) continue;
+      auto draw_base = [&] {
+        const auto t0 = Clock::now();
+        nearcap::gl::ShadowFrameBatch batch(*p.scene, p.light);
+        const nearcap::gl::ShadowFrame f = batch.render(base_method);
+        base_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        base_fragments += static_cast<double>(f.volume_pass.fragments + f.cap_pass.fragments);
+        benchmark::DoNotOptimize(f.stencil.data());
+      };
+      auto draw_policy = [&] {
+        const auto t0 = Clock::now();
+        nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, *p.cs, p.light, {});
+        d.settings.cull_light_pyramid = cull;
+        nearcap::gl::ShadowFrameBatch batch(*p.scene, p.light, d.settings);
+        const nearcap::gl::ShadowFrame f = batch.render(d.object_methods);
+        policy_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        policy_fragments += static_cast<double>(f.volume_pass.fragments + f.cap_pass.fragments);
+        benchmark::DoNotOptimize(f.stencil.data());
+      };
+      if (k++ % 2 == 0) {
+        draw_base();
+        draw_policy();
+      } else {
+        draw_policy();
+        draw_base();
+      }
+    }
+    pairs = k;
+  }
+  state.counters["pairs"] = static_cast<double>(pairs);
+  state.counters["policy_over_base"] = base_ms > 0 ? policy_ms / base_ms : 0;
+  state.counters["fragments_over_base"] = base_fragments > 0 ? policy_fragments / base_fragments : 0;
+}
+
+}  // namespace
+
+BENCHMARK(BM_PolicyCost)->ArgsProduct({{1, 0}, {1, 0}, {0, 1}})->Unit(benchmark::kMillisecond)->MinTime(3.0);
