@@ -41,8 +41,9 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("index.html"), std::string::npos) << r.out;
   const std::string page = test::slurp(out / "index.html");
-  for (const char* section : {"Speed against error", "Camera paths", "Cracks against conditioning", "Crack distance",
-                              "Does case D flag", "engine rules", "fitted models", "Hard cases by kind"})
+  for (const char* section :
+       {"Speed against error", "Camera paths", "Cracks against conditioning", "Crack distance", "Does case D flag",
+        "engine rules", "fitted models", "The policy&#x27;s cost", "Hard cases by kind"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
   const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
   EXPECT_EQ(manifest["configurations"], 60 + 12 - manifest["rejected"].get<int>());
@@ -55,8 +56,12 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
     EXPECT_NE(page.find(plot["file"].get<std::string>()), std::string::npos) << "the page shows " << png;
   }
   for (const char* table : {"summary.csv", "crack_distance.csv", "case_d.csv", "baselines.csv", "by_kind.csv",
-                            "policy_crack_model.csv", "policy_weights.csv", "policy_costs.csv"})
+                            "policy_crack_model.csv", "policy_weights.csv", "policy_costs.csv", "policy_cost.csv"})
     EXPECT_TRUE(fs::exists(out / table)) << table;
+  // The policy's cost: the pairs where Z-pass is right against Z-pass, the others against ZP+ corrected.
+  const std::string cost = test::slurp(out / "policy_cost.csv");
+  EXPECT_NE(cost.find("\nZ-pass right,"), std::string::npos) << cost;
+  EXPECT_NE(cost.find(",zpass,"), std::string::npos) << cost;
   // One row per method in the summary: five methods, four engine rules and the switch policy.
   const std::string summary = test::slurp(out / "summary.csv");
   EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 11) << summary;
