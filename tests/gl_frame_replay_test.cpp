@@ -414,7 +414,7 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   EXPECT_NE(r.out.find("depth "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" + stencil "), std::string::npos) << r.out;
   const std::string csv = test::slurp(dir / "two" / "bench.csv");
-  EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,"
+  EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,"
                       "gpu_stencil_ms,gpu_lit_ms\n",
                       0),
             0u)

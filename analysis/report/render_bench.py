@@ -4,8 +4,8 @@ one line per method, along a camera path (the ZP+ paper's Figures 9-11).
 
 Usage: render_bench.py BENCH.csv OUT.png [TITLE]
 BENCH.csv is what `nearcap render --path PATH --bench --out DIR` writes:
-frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,
-gpu_stencil_ms,gpu_lit_ms.  Errors are one line on
+frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,
+gpu_depth_ms,gpu_stencil_ms,gpu_lit_ms.  Errors are one line on
 stderr, exit code 2.
 """
 import csv

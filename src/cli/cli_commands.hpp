@@ -72,6 +72,7 @@ struct EmulationOptions {
   std::string infinite_far = "exact";
   std::string depth_mapping = "standard";
   std::string near_plane = "scene";
+  std::string volume_culling = "none";
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);

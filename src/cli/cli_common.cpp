@@ -145,6 +145,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
                  "nearest point in view, when farther: the same image, more depth precision)")
       ->check(CLI::IsMember(near_plane_names()))
       ->capture_default_str();
+  cmd.add_option("--volume-culling", o.volume_culling,
+                 "each occluder's draws limited to where its volume can change a pixel: none, scissor (glScissor), "
+                 "depth-bounds (GL_EXT_depth_bounds_test) or both; the same stencil, fewer fragments")
+      ->check(CLI::IsMember(gl::volume_culling_names()))
+      ->capture_default_str();
   cmd.add_flag("--fma", o.fma,
                "vertex transforms with fused multiply-add (a GPU that fuses; llvmpipe's GLSL fma() does not)");
 }
@@ -174,7 +179,8 @@ std::vector<std::pair<std::string, std::string>> option_values(const EmulationOp
           {"infinite-far", o.infinite_far},
           {"fma", o.fma ? "1" : "0"},
           {"depth-mapping", o.depth_mapping},
-          {"near-plane", o.near_plane}};
+          {"near-plane", o.near_plane},
+          {"volume-culling", o.volume_culling}};
 }
 
 double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
@@ -259,13 +265,16 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "near-plane") {
       need_one_of(spec, name, value, near_plane_names());
       o.near_plane = value;
+    } else if (name == "volume-culling") {
+      need_one_of(spec, name, value, gl::volume_culling_names());
+      o.volume_culling = value;
     } else {
       throw Error(ErrorKind::Usage,
                   "--variant '" + spec + "': unknown choice '" + name +
                       "' (subpixel-bits, depth, fill-rule, guard-band, viewport, depth-interpolation, clipper, "
                       "light-projection, "
                       "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, "
-                      "depth-mapping, near-plane, fma)");
+                      "depth-mapping, near-plane, volume-culling, fma)");
     }
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
@@ -323,6 +332,11 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   const auto near_plane = gl::near_plane_from_string(o.near_plane);
   if (!near_plane) throw Error(ErrorKind::Usage, "--near-plane '" + o.near_plane + "' is not scene or tight");
   s.near_plane = *near_plane;
+  const auto culling = gl::volume_culling_from_string(o.volume_culling);
+  if (!culling)
+    throw Error(ErrorKind::Usage,
+                "--volume-culling '" + o.volume_culling + "' is not one of " + joined(gl::volume_culling_names()));
+  s.volume_culling = *culling;
   if (s.depth_mapping == gl::DepthMapping::Reversed && s.infinite_far != gl::InfiniteFar::Exact)
     throw Error(ErrorKind::Usage, "--infinite-far " + o.infinite_far +
                                       " nudges the standard depth row; --depth-mapping reversed puts infinity at "

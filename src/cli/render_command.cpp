@@ -139,8 +139,9 @@ void run_lit(const RenderOptions& o) {
   const std::string stencil_sides = o.one_sided_stencil ? "one-sided" : "two-sided";
   const std::string layout = o.side_strips ? "side-strips" : "triangles";
   std::string bench_csv =
-      "frame,method,stencil,vertex_stage,layout,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,gpu_stencil_ms,"
+      "frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,gpu_stencil_ms,"
       "gpu_lit_ms\n";
+  const std::string culling(gl::to_string(settings.volume_culling));
   std::vector<render::LitFramePasses> pass_totals(methods.count());
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
@@ -175,9 +176,9 @@ void run_lit(const RenderOptions& o) {
             {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
             {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
         char row[256];
-        std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
-                      stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), frames.ms[m], p.depth_ms,
-                      p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms);
+        std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
+                      stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), frames.ms[m],
+                      p.depth_ms, p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms);
         bench_csv += row;
         pass_totals[m].depth_ms += p.depth_ms;
         pass_totals[m].stencil_ms += p.stencil_ms;
@@ -243,8 +244,10 @@ void run_lit(const RenderOptions& o) {
     std::printf("frames in %s/METHOD/, times in %s/render.json\n", o.out.c_str(), o.out.c_str());
   }
   if (o.bench) {
-    std::printf("bench: %s/bench.csv (%s stencil, vertex stage %s, %s, a glFinish after each pass)\n", o.out.c_str(),
-                stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str());
+    std::printf(
+        "bench: %s/bench.csv (%s stencil, vertex stage %s, %s, volume culling %s, a glFinish after each "
+        "pass)\n",
+        o.out.c_str(), stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str());
     const bool has_zpass =
         std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
     if (!o.path.empty() && !has_zpass)

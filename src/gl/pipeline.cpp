@@ -40,6 +40,7 @@ DrawCounters& DrawCounters::operator+=(const DrawCounters& o) {
   culled += o.culled;
   rasterized += o.rasterized;
   fragments += o.fragments;
+  bounds_culled += o.bounds_culled;
   depth_passed += o.depth_passed;
   return *this;
 }
@@ -180,9 +181,23 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
     for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
   }
-  using Counts = std::array<std::uint64_t, 2>;  // fragments, depth test passed
+  // Volume culling: fragments outside the scissor, or where the stored
+  // depth (decoded to window depth) lies outside the depth bounds, are
+  // dropped before the stencil test and counted apart.
+  const bool scissor = state.scissor.has_value();
+  const PixelRect rect = scissor ? *state.scissor : PixelRect{0, 0, width_, height_};
+  const bool depth_bounds = state.depth_bounds.has_value();
+  const std::array<double, 2> bounds = depth_bounds ? *state.depth_bounds : std::array<double, 2>{0.0, 1.0};
+  const bool fixed24 = format_ == DepthFormat::Fixed24;
+  auto stored_depth = [&](std::uint32_t z) {
+    if (fixed24) return static_cast<double>(z) / 16777215.0;
+    float f;
+    std::memcpy(&f, &z, sizeof f);
+    return double{f};
+  };
+  using Counts = std::array<std::uint64_t, 3>;  // fragments, depth test passed, dropped by the bounds
   const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, bands), Counts{0, 0},
+      tbb::blocked_range<int>(0, bands), Counts{0, 0, 0},
       [&](const tbb::blocked_range<int>& range, Counts fragments) {
         for (int b = range.begin(); b != range.end(); ++b) {
           const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
@@ -190,8 +205,14 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
             rasterize_triangle_with(
                 triangles[t], width_, height_, raster,
                 [&](const Fragment& f) {
-                  ++fragments[0];
                   const std::size_t p = index(f.x, f.y);
+                  if ((scissor && !rect.contains(f.x, f.y)) ||
+                      (depth_bounds &&
+                       !(stored_depth(depth_[p]) >= bounds[0] && stored_depth(depth_[p]) <= bounds[1]))) {
+                    ++fragments[2];
+                    return;
+                  }
+                  ++fragments[0];
                   // The near-cap pass neither tests nor writes depth.
                   const std::uint32_t z = !needs_depth     ? 0
                                           : llvmpipe_depth ? encode_depth_llvmpipe(f.depth)
@@ -210,10 +231,11 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
         return fragments;
       },
       [](const Counts& a, const Counts& b) {
-        return Counts{a[0] + b[0], a[1] + b[1]};
+        return Counts{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
       });
   counters.fragments = counts[0];
   counters.depth_passed = counts[1];
+  counters.bounds_culled = counts[2];
   return counters;
 }
 

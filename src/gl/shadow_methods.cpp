@@ -16,6 +16,7 @@
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
+#include "nearcap/gl/volume_bounds.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -31,6 +32,8 @@ struct ObjectSetup {
   const EngineSilhouette* silhouette = nullptr;  // in the batch's shared work
   const ShadowVolumeGeometry* geometry = nullptr;
   bool case_d = false;
+  std::optional<VolumeBounds> bounds;  // EmulationSettings::volume_culling
+  std::size_t index = 0;               // in the scene's objects
 };
 
 Vec4f light_in_object_space(const SceneObject& obj, const Vec3d& light) {
@@ -300,6 +303,7 @@ class FrameRenderer {
     for (std::size_t o = 0; o < scene_.objects.size(); ++o) {
       const SceneObject& so = scene_.objects[o];
       ObjectSetup obj;
+      obj.index = o;
       const Mat4f modelview = multiply(view, to_mat4f(so.object_to_world), ar);
       obj.uniforms.modelview_projection = multiply(projection, modelview, ar);
       obj.uniforms.light_position = light_in_object_space(so, scene_.lights[light_].position);
@@ -334,6 +338,9 @@ class FrameRenderer {
           shared_.silhouette_ms += ms;
           computed_here_ms_ += ms;
         }
+        if (settings_.volume_culling != VolumeCulling::None)
+          obj.bounds =
+              shadow_volume_bounds(scene_, o, scene_.lights[light_].position, projection, settings_.depth_mapping);
         obj.silhouette = &*shared_.silhouettes[o];
         obj.geometry = &*shared_.geometry[o];
         for (QuadCase c : obj.silhouette->cases) {
@@ -364,9 +371,9 @@ class FrameRenderer {
       const ShadowMethod m = methods_[o];
       if (!obj.occluder || !uses_near_cap(m) || (m == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
       std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, VertexProgram::NearCap);
-      frame.cap_pass += fb_.draw(clip, oriented(s, obj.mirrored), settings_.raster);
+      frame.cap_pass += fb_.draw(clip, bounded(oriented(s, obj.mirrored), obj), settings_.raster);
       if (settings_.record_draws)
-        frame.draws.push_back(program_draw(DrawPass::NearCap, std::move(clip), oriented(s, obj.mirrored),
+        frame.draws.push_back(program_draw(DrawPass::NearCap, std::move(clip), bounded(oriented(s, obj.mirrored), obj),
                                            VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o],
                                            obj.uniforms));
     }
@@ -439,9 +446,9 @@ class FrameRenderer {
       if (boundary.empty()) continue;  // nothing reaches the near plane: no cap, no draw call
       std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, mapping);
       if (fan.empty()) continue;
-      frame.cap_pass += fb_.draw(fan, oriented(s, obj.mirrored), settings_.raster);
-      if (settings_.record_draws)
-        frame.draws.push_back({DrawPass::NearCap, std::move(fan), oriented(s, obj.mirrored), std::nullopt});
+      const DrawState state = bounded(oriented(s, obj.mirrored), obj);
+      frame.cap_pass += fb_.draw(fan, state, settings_.raster);
+      if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), state, std::nullopt});
     }
   }
 
@@ -452,11 +459,24 @@ class FrameRenderer {
                                                 : part == GeometryPart::LightCap   ? g.light_cap
                                                                                    : g.dark_cap;
     std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
-    const DrawState state = oriented(camera_state(s), obj.mirrored);
+    const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
     frame.volume_pass += fb_.draw(clip, state, settings_.raster);
     if (settings_.record_draws)
       frame.draws.push_back(
           program_draw(DrawPass::Volume, std::move(clip), state, program, part, vertices, obj.uniforms));
+  }
+
+  // Volume culling: the occluder's scissor and depth bounds on a state of
+  // its draws (all of them, so that the counts they drop add to 0; no depth
+  // bounds for Z-pass where its region meets the near plane: volume_bounds.hpp).
+  DrawState bounded(DrawState s, const ObjectSetup& obj) const {
+    if (!obj.bounds) return s;
+    const VolumeCulling c = settings_.volume_culling;
+    if (c == VolumeCulling::Scissor || c == VolumeCulling::Both) s.scissor = obj.bounds->scissor;
+    const bool zpass = methods_[obj.index] == ShadowMethod::ZPass;
+    if ((c == VolumeCulling::DepthBounds || c == VolumeCulling::Both) && !(zpass && obj.bounds->meets_near_plane))
+      s.depth_bounds = std::array<double, 2>{obj.bounds->depth_min, obj.bounds->depth_max};
+    return s;
   }
 
   // A camera pass's state in the frame's depth mapping: the reversed
@@ -527,6 +547,26 @@ std::optional<ZFailFar> zfail_far_from_string(std::string_view name) {
     if (to_string(f) == name) return f;
   return std::nullopt;
 }
+
+std::string_view to_string(VolumeCulling c) {
+  switch (c) {
+    case VolumeCulling::None:
+      return "none";
+    case VolumeCulling::Scissor:
+      return "scissor";
+    case VolumeCulling::DepthBounds:
+      return "depth-bounds";
+    case VolumeCulling::Both:
+      return "both";
+  }
+  return "none";
+}
+std::optional<VolumeCulling> volume_culling_from_string(std::string_view name) {
+  for (VolumeCulling c : {VolumeCulling::None, VolumeCulling::Scissor, VolumeCulling::DepthBounds, VolumeCulling::Both})
+    if (name == to_string(c)) return c;
+  return std::nullopt;
+}
+std::vector<std::string> volume_culling_names() { return {"none", "scissor", "depth-bounds", "both"}; }
 
 std::string_view to_string(ZPassFar f) { return f == ZPassFar::Finite ? "finite" : "infinite"; }
 std::optional<ZPassFar> zpass_far_from_string(std::string_view name) {

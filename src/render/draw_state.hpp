@@ -5,8 +5,11 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
+#include <string>
 #include <vector>
 
+#include "nearcap/error.hpp"
 #include "nearcap/gl/pipeline.hpp"
 
 namespace nearcap::render {
@@ -47,11 +50,52 @@ inline GLenum stencil_op(gl::StencilOp op) {
   return GL_KEEP;
 }
 
+// Volume culling (gl/volume_bounds.hpp): the scissor test, and the depth
+// bounds test where the driver has GL_EXT_depth_bounds_test
+// (`depth_bounds_test`; a frame that needs it is refused before, by
+// check_depth_bounds).
+inline void apply_volume_culling(const gl::DrawState& s, bool depth_bounds_test) {
+  if (s.scissor) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(s.scissor->x0, s.scissor->y0, std::max(0, s.scissor->x1 - s.scissor->x0),
+              std::max(0, s.scissor->y1 - s.scissor->y0));
+  } else {
+    glDisable(GL_SCISSOR_TEST);
+  }
+  if (!depth_bounds_test) return;
+  if (s.depth_bounds) {
+    glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
+    glDepthBoundsEXT((*s.depth_bounds)[0], (*s.depth_bounds)[1]);
+  } else {
+    glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
+  }
+}
+
+inline void disable_volume_culling(bool depth_bounds_test) {
+  glDisable(GL_SCISSOR_TEST);
+  if (depth_bounds_test) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
+}
+
+// Does the current context's driver have GL_EXT_depth_bounds_test?
+inline bool has_depth_bounds_test() { return epoxy_has_gl_extension("GL_EXT_depth_bounds_test"); }
+
+// Throws Error(Gl) when a draw culls by depth bounds and the driver lacks them.
+inline void check_depth_bounds(const std::vector<gl::DrawCall>& draws, bool depth_bounds_test) {
+  if (depth_bounds_test) return;
+  for (const gl::DrawCall& d : draws)
+    if (d.state.depth_bounds)
+      throw Error(ErrorKind::Gl, std::string("--volume-culling depth-bounds (or both) needs GL_EXT_depth_bounds_test; "
+                                             "the driver (") +
+                                     reinterpret_cast<const char*>(glGetString(GL_RENDERER)) +
+                                     ") lacks it: use --volume-culling scissor");
+}
+
 // Culling, the clip control (the depth mapping), the depth test and writes, depth clamp (far only through
 // GL_AMD_depth_clamp_separate when `far_only_clamp`), the two-sided stencil
-// operations; colour writes follow depth writes (the object ids are written
-// with the depth).
-inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp) {
+// operations, volume culling; colour writes follow depth writes (the object
+// ids are written with the depth).
+inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp, bool depth_bounds_test) {
+  apply_volume_culling(s, depth_bounds_test);
   if (s.cull == gl::CullFace::None) {
     glDisable(GL_CULL_FACE);
   } else {

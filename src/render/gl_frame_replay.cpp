@@ -61,11 +61,13 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
       throw Error(ErrorKind::Gl, std::string("this frame clamps depth at one plane only, which needs "
                                              "GL_AMD_depth_clamp_separate; the driver (") +
                                      reinterpret_cast<const char*>(glGetString(GL_RENDERER)) + ") lacks it");
+  const bool depth_bounds_test = has_depth_bounds_test();
+  check_depth_bounds(draws, depth_bounds_test);
   const auto t0 = std::chrono::steady_clock::now();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   glViewport(0, 0, width_, height_);
   glDisable(GL_MULTISAMPLE);
-  glDisable(GL_SCISSOR_TEST);
+  disable_volume_culling(depth_bounds_test);
   glFrontFace(GL_CCW);
   glDepthMask(GL_TRUE);
   glStencilMask(0xFF);
@@ -88,7 +90,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const gl::DrawCall& d = draws[k];
     const gl::DrawState& s = d.state;
-    apply_draw_state(s, far_only_clamp_);
+    apply_draw_state(s, far_only_clamp_, depth_bounds_test);
     if (volume_depth_offset != 0 && d.pass == gl::DrawPass::Volume) {
       glEnable(GL_POLYGON_OFFSET_FILL);
       glPolygonOffset(0.0f, volume_depth_offset);
@@ -106,6 +108,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
       glReadPixels(0, 0, width_, height_, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, out.near_cap.data());
     }
   }
+  disable_volume_culling(depth_bounds_test);
   glFinish();
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   out.stencil.resize(n);

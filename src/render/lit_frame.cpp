@@ -80,6 +80,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
                     "this frame clamps depth at one plane only, which needs "
                     "GL_AMD_depth_clamp_separate; the driver lacks it");
   }
+  const bool depth_bounds_test = has_depth_bounds_test();
+  for (const gl::ShadowFrame& f : light_frames) check_depth_bounds(f.draws, depth_bounds_test);
   LitFrame out;
   double read_ms = 0;  // reading the stencils back, left out of the frame's time
   GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[3] = {0, 0, 0};
@@ -197,19 +199,20 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   for (const gl::DrawCall& d : light_frames.front().draws)
     if (d.pass == gl::DrawPass::Depth) depth_draws.push_back(&d);
   for (const gl::DrawCall* d : depth_draws) {
-    apply_draw_state(d->state, far_only_clamp);
+    apply_draw_state(d->state, far_only_clamp, depth_bounds_test);
     draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
   }
   pass_done(out.passes.depth_ms, out.passes.gpu_depth_ms);
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
+    disable_volume_culling(depth_bounds_test);  // glClear honours the scissor
     glClear(GL_STENCIL_BUFFER_BIT);
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     glDisable(GL_BLEND);
     for (const gl::DrawCall& d : light_frames[k].draws) {
       if (d.pass == gl::DrawPass::Depth) continue;
-      apply_draw_state(d.state, far_only_clamp);
+      apply_draw_state(d.state, far_only_clamp, depth_bounds_test);
       const bool two_sided =
           d.state.cull == gl::CullFace::None &&
           (d.state.front.depth_fail != d.state.back.depth_fail || d.state.front.depth_pass != d.state.back.depth_pass);
@@ -236,6 +239,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     }
     pass_begin();
     disable_depth_clamps(far_only_clamp);
+    disable_volume_culling(depth_bounds_test);
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_EQUAL);

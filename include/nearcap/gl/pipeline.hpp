@@ -44,6 +44,14 @@ struct StencilOps {
   StencilOp depth_pass = StencilOp::Keep;
 };
 
+// Pixels [x0, x1) x [y0, y1) in GL window coordinates (row 0 at the bottom).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x0 >= x1 || y0 >= y1; }
+  bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+  bool operator==(const PixelRect& o) const { return x0 == o.x0 && y0 == o.y0 && x1 == o.x1 && y1 == o.y1; }
+};
+
 struct DrawState {
   CullFace cull = CullFace::None;
   DepthFunc depth_func = DepthFunc::Less;  // Always: the depth test is disabled
@@ -63,6 +71,12 @@ struct DrawState {
   // clipper's own; the real GL draws it with GL_DEPTH_CLAMP.
   bool vertices_on_near_plane = false;
   StencilOps front, back;
+  // Volume culling (volume_bounds.hpp): glScissor's rectangle and
+  // glDepthBoundsEXT's range (window depth, inclusive), where set.  A
+  // fragment outside either is dropped before the stencil test; the depth
+  // bounds test reads the depth stored at the pixel, not the fragment's.
+  std::optional<PixelRect> scissor;
+  std::optional<std::array<double, 2>> depth_bounds;
   std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
 };
 
@@ -94,12 +108,13 @@ struct DrawCall {
 
 // What a draw call did: primitives in, after clipping and culling, fragments.
 struct DrawCounters {
-  std::uint64_t triangles = 0;   // submitted
-  std::uint64_t clipped = 0;     // entirely clipped away
-  std::uint64_t culled = 0;      // culled by facing, or dropped for zero snapped area
-  std::uint64_t rasterized = 0;  // triangles (after clipping's fan) that reached coverage
-  std::uint64_t fragments = 0;
-  std::uint64_t depth_passed = 0;  // fragments that passed the depth test (all of them when it is off)
+  std::uint64_t triangles = 0;      // submitted
+  std::uint64_t clipped = 0;        // entirely clipped away
+  std::uint64_t culled = 0;         // culled by facing, or dropped for zero snapped area
+  std::uint64_t rasterized = 0;     // triangles (after clipping's fan) that reached coverage
+  std::uint64_t fragments = 0;      // that reached the stencil test
+  std::uint64_t bounds_culled = 0;  // dropped by the scissor or depth bounds test
+  std::uint64_t depth_passed = 0;   // fragments that passed the depth test (all of them when it is off)
   std::uint64_t depth_failed() const { return fragments - depth_passed; }
   DrawCounters& operator+=(const DrawCounters& o);
 };

@@ -89,6 +89,16 @@ std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far"
 std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name);
 ZFailFar as_zfail_far(SwitchClamp c);
 
+// Volume culling (volume_bounds.hpp): each occluder's draws limited to the
+// scissor rectangle, the depth bounds, or both, of the region its volume
+// can change; the final stencil is the same (timing options of the paper's
+// speed argument; the real GL needs GL_EXT_depth_bounds_test for depth
+// bounds).
+enum class VolumeCulling { None, Scissor, DepthBounds, Both };
+std::string_view to_string(VolumeCulling c);  // "none", "scissor", "depth-bounds", "both"
+std::optional<VolumeCulling> volume_culling_from_string(std::string_view name);
+std::vector<std::string> volume_culling_names();
+
 struct EmulationSettings {
   RasterSettings raster;
   DepthFormat depth = DepthFormat::Fixed24;
@@ -114,6 +124,7 @@ struct EmulationSettings {
   // the same frame, without evaluating z + w at its every vertex.  Off only
   // to check that claim (tests/light_pyramid_cull_test.cpp).
   bool cull_light_pyramid = true;
+  VolumeCulling volume_culling = VolumeCulling::None;
   // Keep every draw call of each frame (ShadowFrame::draws), for a real GL to
   // replay; changes nothing else.
   bool record_draws = false;

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Scissor culling of the shadow volumes on the real GL (headless EGL:
+# llvmpipe here; llvmpipe has no GL_EXT_depth_bounds_test, so depth bounds
+# run in the emulation only): every bundled camera path drawn with --bench
+# (a glFinish after each pass), without and with --volume-culling scissor,
+# for Z-pass, Z-fail, ZP+ corrected and the shipped policy.  Per path and
+# method: the stencil pass's mean time, none -> scissor, the median over
+# REPEATS runs (default 3); and the policy's whole frame relative to
+# Z-pass's, both with the scissor.  The README's table ("Scissor and depth
+# bounds").  Needs a build.
+#   REPEATS=3 ./analysis/benchmarks/render_culling_table.sh [OUT_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+n=./build/nearcap
+out=${1:-$(mktemp -d)}
+repeats=${REPEATS:-3}
+echo "| path | Z-pass stencil | Z-fail stencil | ZP+ corrected stencil | policy stencil | policy frame / Z-pass (scissor) |"
+echo "|---|---:|---:|---:|---:|---:|"
+for path in data/paths/*.json; do
+  name=$(basename "$path" .json)
+  for r in $(seq 1 "$repeats"); do
+    for culling in none scissor; do
+      $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench --volume-culling "$culling" \
+        --out "$out/$culling/$name/$r" >/dev/null 2>&1
+    done
+  done
+  /usr/bin/python3 - "$name" "$out" "$repeats" <<'PY'
+import csv, statistics, sys
+name, root, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
+def means(culling, column):
+    runs = []
+    for r in range(1, repeats + 1):
+        per = {}
+        with open("%s/%s/%s/%d/bench.csv" % (root, culling, name, r)) as f:
+            for row in csv.DictReader(f):
+                per.setdefault(row["method"], []).append(float(row[column]))
+        runs.append({m: sum(v) / len(v) for m, v in per.items()})
+    return {m: statistics.median(run[m] for run in runs) for m in runs[0]}
+plain, scissor = means("none", "stencil_ms"), means("scissor", "stencil_ms")
+frame = means("scissor", "ms")
+cells = ["%.2f → %.2f ms" % (plain[m], scissor[m]) for m in ("zpass", "zfail", "zpplus-corrected", "policy")]
+cells.append("%.2f×" % (frame["policy"] / frame["zpass"]))
+print("| %s | %s |" % (name, " | ".join(cells)))
+PY
+done

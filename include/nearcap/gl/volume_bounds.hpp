@@ -1,0 +1,54 @@
+// nearcap/gl/volume_bounds.hpp — where one occluder's shadow volume can
+// change a pixel: the scissor rectangle and the depth-bounds range of volume
+// culling (EmulationSettings::volume_culling, the paper's speed argument's
+// last two options).
+//
+// All of one occluder's draws (its near-cap, sides, caps, corrective quads,
+// the preload pass) add at a pixel a net count that is 0 unless the visible
+// surface point s there lies in the occluder's shadow volume V (for every
+// method but Z-pass, which also counts -1 where the near plane's point q
+// there lies in V).  Stencil increments wrap, so dropping every
+// fragment of those draws at a pixel where both lie outside V leaves the
+// final stencil as it was.  The scissor test drops the pixels outside a
+// rectangle, the depth bounds test (GL_EXT_depth_bounds_test) those whose
+// stored depth lies outside a range, both before the stencil test.
+//
+// Both come from a convex region R that holds V ∩ B, B the box of every
+// object and of the near rectangle (s and q lie in B):
+//     R = hull(Q ∪ (l + T (Q - l))),
+// Q the occluder's object-space box mapped to world space (8 corners), l the
+// light, T = max |b - l| / dist(l, Q) over B's corners: V lies in
+// {l + t (p - l) : p in Q, t >= 1}, and a point of B in it has t <= T.  The
+// bounds are those of R in front of the near plane (its corners there and
+// the near plane's cuts of every pair of corners across it) in window
+// coordinates, computed in double through the frame's float32 projection,
+// widened by 2 pixels and by 2^-16 of depth plus 8 steps of a 24-bit buffer:
+// far above the float pipeline's own error in a surface's depth or a
+// volume's edge.  Nothing is bounded where the light lies in or on Q's box.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "nearcap/gl/float_transforms.hpp"
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::gl {
+
+struct VolumeBounds {
+  PixelRect scissor;                    // may be empty: no pixel of the viewport can change
+  double depth_min = 0, depth_max = 1;  // window depth, within [0, 1]
+  // R reaches the near plane.  Then Z-pass (no near-cap) counts -1 where
+  // the near plane's point q lies in V and s does not: a count the depth
+  // bounds, which test s alone, would drop, so Z-pass draws keep none.
+  bool meets_near_plane = false;
+};
+
+// The bounds of scene.objects[object]'s shadow volume from `light` (world
+// space), for the frame drawn with `projection` (camera space to clip
+// space, as uploaded) in `mapping`; nothing when R is unbounded.
+std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t object, const Vec3d& light,
+                                                 const Mat4f& projection, DepthMapping mapping);
+
+}  // namespace nearcap::gl
