@@ -186,7 +186,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
          "tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
   const Json& clamp = field(j, "switch_clamp", "", source);
   if (!clamp.is_string() || !gl::switch_clamp_from_string(clamp.get<std::string>()))
-    fail(source, "switch_clamp", "must be \"clamp\" or \"clamp-far\"");
+    fail(source, "switch_clamp", "must be \"clamp\", \"clamp-far\" or \"far-cap\"");
   p.switch_clamp = *gl::switch_clamp_from_string(clamp.get<std::string>());
   const Json& zpass_far = field(j, "zpass_far", "", source);
   if (!zpass_far.is_string() || !gl::zpass_far_from_string(zpass_far.get<std::string>()))

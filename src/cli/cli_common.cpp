@@ -117,12 +117,14 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--l-near-scale", o.l_near_scale, "l_near multiplied by this safety margin in (0, 1]")
       ->capture_default_str();
   cmd.add_option("--zfail-far", o.zfail_far,
-                 "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP) or clamp-far (far plane only)")
-      ->check(CLI::IsMember({"infinite", "clamp", "clamp-far"}))
+                 "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP), clamp-far (far plane only) or far-cap (ZF+: "
+                 "no clamp, the far-plane cap of the clipped volume)")
+      ->check(CLI::IsMember({"infinite", "clamp", "clamp-far", "far-cap"}))
       ->capture_default_str();
   cmd.add_option("--switch-clamp", o.switch_clamp,
-                 "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp or clamp-far")
-      ->check(CLI::IsMember({"clamp", "clamp-far"}))
+                 "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp, clamp-far or far-cap "
+                 "(ZF+: no clamp, the far-plane cap)")
+      ->check(CLI::IsMember({"clamp", "clamp-far", "far-cap"}))
       ->capture_default_str();
   cmd.add_option("--zpass-far", o.zpass_far,
                  "zpass's projection: finite (its own frustum) or infinite (the infinite far plane, as Doom 3 "
@@ -245,10 +247,10 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
     } else if (name == "l-near-scale") {
       o.l_near_scale = parse_number(spec, name, value);
     } else if (name == "zfail-far") {
-      need_one_of(spec, name, value, {"infinite", "clamp", "clamp-far"});
+      need_one_of(spec, name, value, {"infinite", "clamp", "clamp-far", "far-cap"});
       o.zfail_far = value;
     } else if (name == "switch-clamp") {
-      need_one_of(spec, name, value, {"clamp", "clamp-far"});
+      need_one_of(spec, name, value, {"clamp", "clamp-far", "far-cap"});
       o.switch_clamp = value;
     } else if (name == "zpass-far") {
       need_one_of(spec, name, value, {"finite", "infinite"});

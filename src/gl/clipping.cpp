@@ -81,8 +81,9 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
+  if (settings.far_first && settings.clip_far) planes[count++] = Plane::Far;
   if (!settings.skip_near_side) planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
-  if (settings.clip_far) planes[count++] = Plane::Far;
+  if (settings.clip_far && !settings.far_first) planes[count++] = Plane::Far;
   for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
   if (settings.mesa) {
     // Mesa's plane order (draw_context.c): right, left, top, bottom, near, far.
@@ -125,6 +126,16 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
 NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
   NearClippedPolygon out;
   out.vertices = clip_against({a, b, c}, Plane::Near, 0.0f, 0.0f, mapping, &out.on_near_plane);
+  if (out.vertices.size() < 3) {
+    out.vertices.clear();
+    out.on_near_plane.clear();
+  }
+  return out;
+}
+
+NearClippedPolygon clip_to_far_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
+  NearClippedPolygon out;
+  out.vertices = clip_against({a, b, c}, Plane::Far, 0.0f, 0.0f, mapping, &out.on_near_plane);
   if (out.vertices.size() < 3) {
     out.vertices.clear();
     out.on_near_plane.clear();

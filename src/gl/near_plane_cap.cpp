@@ -23,15 +23,21 @@ std::vector<Vec4f> fan_over(const std::vector<Vec4f>& edges, const Vec4f& anchor
 
 }  // namespace
 
-std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping) {
+namespace {
+
+// The edges one plane's clipping stage leaves, as the cap closing the
+// clipped volume runs them: the near plane's (clip_to_near_plane), or the
+// far plane's (clip_to_far_plane), each the first stage.
+std::vector<Vec4f> plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping, bool far) {
   std::vector<Vec4f> edges;
+  auto distance = [&](const Vec4f& v) {
+    return far ? far_plane_distance(v, mapping) : near_plane_distance(v, mapping);
+  };
   for (std::size_t t = 0; t + 2 < boundary_clip_vertices.size(); t += 3) {
     const Vec4f &a = boundary_clip_vertices[t], &b = boundary_clip_vertices[t + 1], &c = boundary_clip_vertices[t + 2];
-    // Only a triangle that reaches the near plane leaves an edge in it.
-    if (near_plane_distance(a, mapping) > 0 && near_plane_distance(b, mapping) > 0 &&
-        near_plane_distance(c, mapping) > 0)
-      continue;
-    const NearClippedPolygon poly = clip_to_near_plane(a, b, c, mapping);
+    // Only a triangle that reaches the plane leaves an edge in it.
+    if (distance(a) > 0 && distance(b) > 0 && distance(c) > 0) continue;
+    const NearClippedPolygon poly = far ? clip_to_far_plane(a, b, c, mapping) : clip_to_near_plane(a, b, c, mapping);
     const std::size_t n = poly.vertices.size();
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t next = (k + 1) % n;
@@ -41,6 +47,19 @@ std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_
     }
   }
   return edges;
+}
+
+// The far plane's z at w = 1.
+float far_plane_z(DepthMapping m) { return m == DepthMapping::Standard ? 1.0f : 0.0f; }
+
+}  // namespace
+
+std::vector<Vec4f> near_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping) {
+  return plane_cap_edges(boundary_clip_vertices, mapping, false);
+}
+
+std::vector<Vec4f> far_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices, DepthMapping mapping) {
+  return plane_cap_edges(boundary_clip_vertices, mapping, true);
 }
 
 std::vector<Vec4f> near_plane_cap_fan(const std::vector<Vec4f>& boundary_clip_vertices, const Vec4f& anchor,
@@ -247,23 +266,26 @@ std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, double mx, dou
 
 }  // namespace
 
-std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
-                                            DepthMapping mapping) {
+namespace {
+
+// The cap's triangles over `edges` (near_plane_cap_triangles), every vertex
+// the pass adds (anchors, the viewport's triangles) at z = plane_z w.
+std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width, int height, float plane_z) {
   const double mx = 0.1 + 16.0 / std::max(width, 1), my = 0.1 + 16.0 / std::max(height, 1);
   std::vector<Vec4f> out;
   int constant = 0;  // the loops that stay outside the viewport, together
-  for (const std::vector<Vec4f>& loop : near_plane_cap_loops(near_plane_cap_edges(boundary_clip_vertices, mapping))) {
+  for (const std::vector<Vec4f>& loop : near_plane_cap_loops(edges)) {
     if (const std::optional<int> c = near_plane_cap_constant_winding(loop, mx, my)) {
       constant += *c;
       continue;
     }
-    const Vec4f anchor = near_plane_cap_anchor(loop, mapping);
+    Vec4f anchor = near_plane_cap_anchor(loop);
+    anchor.z = plane_z;
     const std::vector<Vec4f> fan = fan_over(shortened_loop(loop, mx, my, constant), anchor);
     out.insert(out.end(), fan.begin(), fan.end());
   }
   // |constant| triangles over the viewport (the clipper trims them to it).
-  const float z = near_plane_z(1.0f, mapping);
-  const Vec4f a{-1.0f, -1.0f, z, 1.0f}, b{3.0f, -1.0f, z, 1.0f}, d{-1.0f, 3.0f, z, 1.0f};
+  const Vec4f a{-1.0f, -1.0f, plane_z, 1.0f}, b{3.0f, -1.0f, plane_z, 1.0f}, d{-1.0f, 3.0f, plane_z, 1.0f};
   for (int k = 0; k < std::abs(constant); ++k) {
     if (constant > 0)
       out.insert(out.end(), {a, b, d});
@@ -273,11 +295,26 @@ std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_c
   return out;
 }
 
-int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
+}  // namespace
+
+std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
+                                            DepthMapping mapping) {
+  return cap_triangles_over(near_plane_cap_edges(boundary_clip_vertices, mapping), width, height,
+                            near_plane_z(1.0f, mapping));
+}
+
+std::vector<Vec4f> far_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
+                                           DepthMapping mapping) {
+  return cap_triangles_over(far_plane_cap_edges(boundary_clip_vertices, mapping), width, height, far_plane_z(mapping));
+}
+
+namespace {
+
+// The side of the plane z_sign z + w_sign w = 0 (clip space) the box lies on.
+int plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, double z_sign, double w_sign) {
   double row[4], magnitude[4];
-  const double z_sign = mapping == DepthMapping::Standard ? 1.0 : -1.0;  // z + w, or w - z
   for (int k = 0; k < 4; ++k) {
-    row[k] = z_sign * double{m.at(2, k)} + double{m.at(3, k)};
+    row[k] = z_sign * double{m.at(2, k)} + w_sign * double{m.at(3, k)};
     magnitude[k] = std::fabs(double{m.at(2, k)}) + std::fabs(double{m.at(3, k)});
   }
   double lowest = std::numeric_limits<double>::infinity(), highest = -lowest, bound = 0;
@@ -297,6 +334,19 @@ int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, dou
   if (lowest > margin) return 1;
   if (highest < -margin) return -1;
   return 0;
+}
+
+}  // namespace
+
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
+  // z + w, or w - z reversed
+  return plane_side_of_box(m, lo, hi, w, mapping == DepthMapping::Standard ? 1.0 : -1.0, 1.0);
+}
+
+int far_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
+  // w - z, or z reversed
+  return mapping == DepthMapping::Standard ? plane_side_of_box(m, lo, hi, w, -1.0, 1.0)
+                                           : plane_side_of_box(m, lo, hi, w, 1.0, 0.0);
 }
 
 }  // namespace nearcap::gl

@@ -105,8 +105,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   DrawCounters counters;
   ClipSettings clip;
   clip.clip_near = !state.depth_clamp_near;
-  clip.clip_far = state.clip_far && !state.depth_clamp_far;
+  clip.clip_far = state.clip_far && !state.depth_clamp_far && !state.vertices_on_far_plane;
   clip.skip_near_side = state.vertices_on_near_plane;
+  clip.far_first = state.far_first || state.vertices_on_far_plane;
   clip.depth_mapping = state.depth_mapping;
   clip.mesa = raster.mesa_clipper;
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
@@ -129,7 +130,8 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
       // (bit for bit); any other is one it made.
       // Only Mesa's arithmetic tells the two apart.
       const Vec4f& v = polygon[k];
-      bool original = raster.viewport == ViewportArithmetic::Divide || state.vertices_on_near_plane;
+      bool original =
+          raster.viewport == ViewportArithmetic::Divide || state.vertices_on_near_plane || state.vertices_on_far_plane;
       for (std::size_t i = t; i < t + 3 && !original; ++i) {
         const Vec4f& u = clip_vertices[i];
         original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;

@@ -141,6 +141,7 @@ DrawState zfail_state(ZFailFar far) {
   s.back = kCountOnFail;
   s.depth_clamp_near = far == ZFailFar::DepthClamp;
   s.depth_clamp_far = far == ZFailFar::DepthClamp || far == ZFailFar::DepthClampFar;
+  s.far_first = far == ZFailFar::FarCap;
   return s;
 }
 
@@ -288,6 +289,8 @@ class FrameRenderer {
         const bool own_far = m == ShadowMethod::ZFail && (infinite || settings_.zfail_far != ZFailFar::Infinite);
         const ZFailFar far = own_far ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
         draw_closed_volume(obj, zfail_state(far), frame);
+        // ZF+: the far plane's cap, where there is a far plane.
+        if (far == ZFailFar::FarCap && !infinite) far_plane_cap(obj, frame);
       }
     }
     frame.times.volume_ms = ms_since(t);
@@ -452,6 +455,44 @@ class FrameRenderer {
     }
   }
 
+  // ZF+ (ZFailFar::FarCap): the far-plane cap of the occluder's closed
+  // volume (near_plane_cap.hpp), from the clip-space vertices its faces are
+  // drawn with; it closes the volume behind every visible surface, so it is
+  // drawn without a depth test and counted as Z-fail counts faces behind the
+  // surface (back +1, front -1).
+  void far_plane_cap(const ObjectSetup& obj, ShadowFrame& frame) {
+    const ShadowVolumeGeometry& g = *obj.geometry;
+    // Only the parts that may reach the far plane (as the near cap's pass):
+    // the mesh's points (light cap), its directions from the light (dark
+    // cap), the sides between them unless both lie strictly on one side.
+    const TriangleMesh& mesh = *scene_.objects[obj.index].mesh;
+    const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;
+    const Vec4f& l = obj.uniforms.light_position;
+    const Vec3d light{l.x, l.y, l.z};
+    const Mat4f& mvp = obj.uniforms.modelview_projection;
+    const int points = far_plane_side_of_box(mvp, lo, hi, 1.0, settings_.depth_mapping);
+    const int directions = far_plane_side_of_box(mvp, lo - light, hi - light, 0.0, settings_.depth_mapping);
+    const bool sides = points == 0 || directions == 0 || points != directions;
+    std::vector<Vec4f> boundary;
+    for (const auto& [part, needed] :
+         {std::pair{&g.sides, sides}, std::pair{&g.light_cap, points == 0}, std::pair{&g.dark_cap, directions == 0}}) {
+      if (!needed) continue;
+      const std::vector<Vec4f> clip = run_program(*part, obj.uniforms, VertexProgram::Extrusion);
+      boundary.insert(boundary.end(), clip.begin(), clip.end());
+    }
+    std::vector<Vec4f> cap =
+        far_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, settings_.depth_mapping);
+    if (cap.empty()) return;
+    DrawState s = camera_state({});
+    s.depth_func = DepthFunc::Always;
+    s.front = kUncountAlways;
+    s.back = kCountAlways;
+    s.vertices_on_far_plane = true;
+    const DrawState state = bounded(oriented(s, obj.mirrored), obj);
+    frame.volume_pass += fb_.draw(cap, state, settings_.raster);
+    if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(cap), state, std::nullopt});
+  }
+
   void draw(const ObjectSetup& obj, GeometryPart part, VertexProgram program, const DrawState& s, ShadowFrame& frame) {
     const ShadowVolumeGeometry& g = *obj.geometry;
     const std::vector<ShadowVertex>& vertices = part == GeometryPart::Sides        ? g.sides
@@ -538,12 +579,14 @@ std::string_view to_string(ZFailFar f) {
       return "clamp";
     case ZFailFar::DepthClampFar:
       return "clamp-far";
+    case ZFailFar::FarCap:
+      return "far-cap";
   }
   return "?";
 }
 
 std::optional<ZFailFar> zfail_far_from_string(std::string_view name) {
-  for (ZFailFar f : {ZFailFar::Infinite, ZFailFar::DepthClamp, ZFailFar::DepthClampFar})
+  for (ZFailFar f : {ZFailFar::Infinite, ZFailFar::DepthClamp, ZFailFar::DepthClampFar, ZFailFar::FarCap})
     if (to_string(f) == name) return f;
   return std::nullopt;
 }
@@ -577,12 +620,20 @@ std::optional<ZPassFar> zpass_far_from_string(std::string_view name) {
 
 std::string_view to_string(SwitchClamp c) { return to_string(as_zfail_far(c)); }
 std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name) {
-  for (SwitchClamp c : {SwitchClamp::DepthClamp, SwitchClamp::DepthClampFar})
+  for (SwitchClamp c : {SwitchClamp::DepthClamp, SwitchClamp::DepthClampFar, SwitchClamp::FarCap})
     if (to_string(c) == name) return c;
   return std::nullopt;
 }
 ZFailFar as_zfail_far(SwitchClamp c) {
-  return c == SwitchClamp::DepthClamp ? ZFailFar::DepthClamp : ZFailFar::DepthClampFar;
+  switch (c) {
+    case SwitchClamp::DepthClamp:
+      return ZFailFar::DepthClamp;
+    case SwitchClamp::DepthClampFar:
+      return ZFailFar::DepthClampFar;
+    case SwitchClamp::FarCap:
+      break;
+  }
+  return ZFailFar::FarCap;
 }
 
 bool uses_near_cap(ShadowMethod m) { return m == ShadowMethod::ZPPlus || m == ShadowMethod::ZPPlusCorrected; }

@@ -111,7 +111,7 @@ inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp, bool d
   apply_depth_mapping(s.depth_mapping);
   glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
   glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
-  if ((s.depth_clamp_near && s.depth_clamp_far) || s.vertices_on_near_plane) {
+  if ((s.depth_clamp_near && s.depth_clamp_far) || s.vertices_on_near_plane || s.vertices_on_far_plane) {
     glEnable(GL_DEPTH_CLAMP);
   } else {
     glDisable(GL_DEPTH_CLAMP);

@@ -44,6 +44,10 @@ struct ClipSettings {
   // where the polygons they close were cut, and not again at the near plane
   // they lie on only to within rounding.  Overrides clip_near.
   bool skip_near_side = false;
+  // The far plane first, then the near plane (ZF+'s volumes and far cap,
+  // near_plane_cap.hpp: their far edges then come from the input vertices,
+  // as the near cap's near edges do).
+  bool far_first = false;
   DepthMapping depth_mapping = DepthMapping::Standard;  // which planes are near and far
   // Mesa's clipper (draw_pipe_clip.c, draw_context.c) instead: only the
   // planes some input vertex is outside, in its order (right, left, top,
@@ -69,5 +73,12 @@ struct NearClippedPolygon {
 };
 NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c,
                                       DepthMapping mapping = DepthMapping::Standard);
+
+// The first stage of clip_triangle with ClipSettings::far_first: triangle
+// (a, b, c) clipped against the far plane alone, with the same arithmetic;
+// `on_near_plane` then says which vertices lie in the FAR plane (made by its
+// intersection, or an input vertex at distance exactly 0).  For ZF+'s far cap.
+NearClippedPolygon clip_to_far_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c,
+                                     DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

@@ -114,6 +114,24 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
                                             DepthMapping mapping = DepthMapping::Standard);
 
+// ZF+ (the paper's section 5.2 alternative, the far-plane counterpart of
+// ZP+), built the same way: Z-fail with a finite far plane and no depth
+// clamp misses, at each pixel, the count of the volumes that hold the
+// far-plane point behind it: the winding number of the curves the far
+// plane's clipping stage leaves of the volumes' boundaries.  ZF+'s volumes
+// are clipped at the far plane first (DrawState::far_first; the near plane
+// then cuts away only the far plane's half behind the eye), so each edge
+// (clip_to_far_plane) is bit for bit a face's far edge, and the curves close
+// in the oriented projective far plane as the near cap's do.  The edges (as
+// the cap closing the clipped volume runs them) and the cap's triangles,
+// drawn like the near-cap's (every added vertex at the far plane's z) with
+// Z-fail's counts (DrawState::vertices_on_far_plane: no far plane cuts
+// them again; the near plane and x, y as the faces').
+std::vector<Vec4f> far_plane_cap_edges(const std::vector<Vec4f>& boundary_clip_vertices,
+                                       DepthMapping mapping = DepthMapping::Standard);
+std::vector<Vec4f> far_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
+                                           DepthMapping mapping = DepthMapping::Standard);
+
 // Which side of the near plane (clip z + w; w - z reversed) the points (w = 1) or the
 // directions (w = 0) of the object-space box [lo, hi] all lie on under the
 // float32 transform m: +1 all strictly beyond it, -1 all strictly in front,
@@ -124,5 +142,9 @@ std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_c
 // one side leaves no edge in the near plane, so the pass skips it.
 int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
                            DepthMapping mapping = DepthMapping::Standard);
+// The same for the far plane (w - z; z reversed): +1 all strictly in front
+// of it (inside), -1 all strictly beyond.
+int far_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
+                          DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

@@ -70,6 +70,13 @@ struct DrawState {
   // again (ClipSettings::skip_near_side) and every one counts as the
   // clipper's own; the real GL draws it with GL_DEPTH_CLAMP.
   bool vertices_on_near_plane = false;
+  // ZF+ (near_plane_cap.hpp): its volumes clipped at the far plane first
+  // (ClipSettings::far_first), and its far-plane cap, whose vertices are
+  // where that stage put the volumes' far edges, not cut at the far plane
+  // again (the real GL clips in its own order, and draws the cap with
+  // GL_DEPTH_CLAMP).
+  bool far_first = false;
+  bool vertices_on_far_plane = false;
   StencilOps front, back;
   // Volume culling (volume_bounds.hpp): glScissor's rectangle and
   // glDepthBoundsEXT's range (window depth, inclusive), where set.  A

@@ -63,8 +63,10 @@ enum class ZFailFar {
   Infinite,       // infinite far plane (Everitt and Kilgard); its own depth pre-pass
   DepthClamp,     // the finite frustum with GL_DEPTH_CLAMP (NV_depth_clamp: near and far)
   DepthClampFar,  // the finite frustum, clamped at the far plane only (GL_AMD_depth_clamp_separate)
+  FarCap,         // ZF+: the finite frustum, no clamp, and the far-plane cap its clipped volume leaves
+                  // (near_plane_cap.hpp: far_plane_cap_triangles), counted as Z-fail counts back faces
 };
-std::string_view to_string(ZFailFar f);  // "infinite", "clamp", "clamp-far"
+std::string_view to_string(ZFailFar f);  // "infinite", "clamp", "clamp-far", "far-cap"
 std::optional<ZFailFar> zfail_far_from_string(std::string_view name);
 
 // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps
@@ -74,6 +76,7 @@ std::optional<ZFailFar> zfail_far_from_string(std::string_view name);
 enum class SwitchClamp {
   DepthClamp,     // GL_DEPTH_CLAMP (near and far)
   DepthClampFar,  // far only (GL_AMD_depth_clamp_separate)
+  FarCap,         // no clamp: ZF+, the far-plane cap (section 5.2's alternative)
 };
 // Z-pass's projection: the finite frustum (the method's own), or the infinite
 // far plane (Everitt and Kilgard; Doom 3 draws everything so): far more depth
@@ -85,7 +88,7 @@ enum class ZPassFar { Finite, Infinite };
 std::string_view to_string(ZPassFar f);  // "finite", "infinite"
 std::optional<ZPassFar> zpass_far_from_string(std::string_view name);
 
-std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far"
+std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far", "far-cap"
 std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name);
 ZFailFar as_zfail_far(SwitchClamp c);
 
