@@ -60,7 +60,8 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
     if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp_)
       throw Error(ErrorKind::Gl, std::string("this frame clamps depth at one plane only, which needs "
                                              "GL_AMD_depth_clamp_separate; the driver (") +
-                                     reinterpret_cast<const char*>(glGetString(GL_RENDERER)) + ") lacks it");
+                                     reinterpret_cast<const char*>(glGetString(GL_RENDERER)) +
+                                     ") lacks it: use far-cap (ZF+) for clamp-far");
   const bool depth_bounds_test = has_depth_bounds_test();
   check_depth_bounds(draws, depth_bounds_test);
   const auto t0 = std::chrono::steady_clock::now();

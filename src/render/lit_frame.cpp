@@ -78,7 +78,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp)
         throw Error(ErrorKind::Gl,
                     "this frame clamps depth at one plane only, which needs "
-                    "GL_AMD_depth_clamp_separate; the driver lacks it");
+                    "GL_AMD_depth_clamp_separate; the driver lacks it: use far-cap (ZF+) for clamp-far "
+                    "(--zfail-far, --switch-clamp)");
   }
   const bool depth_bounds_test = has_depth_bounds_test();
   for (const gl::ShadowFrame& f : light_frames) check_depth_bounds(f.draws, depth_bounds_test);
