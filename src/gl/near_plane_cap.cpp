@@ -206,6 +206,106 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 
 namespace {
 
+// The viewport's area (NDC: 4 in all) that the fan from `anchor` over
+// `edges` covers, counted once per triangle: each triangle clipped to the
+// square in double; a triangle with a vertex at or behind infinity (w <= 0)
+// counts the whole viewport.  An estimate of the fragments a choice costs.
+double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor) {
+  double total = 0;
+  for (std::size_t e = 0; e + 1 < edges.size(); e += 2) {
+    const Vec4f* tri[3] = {&anchor, &edges[e], &edges[e + 1]};
+    std::vector<std::array<double, 2>> poly;
+    bool finite_triangle = true;
+    for (const Vec4f* v : tri) {
+      if (!(v->w > 0)) {
+        finite_triangle = false;
+        break;
+      }
+      poly.push_back({double{v->x} / v->w, double{v->y} / v->w});
+    }
+    if (!finite_triangle) {
+      total += 4.0;
+      continue;
+    }
+    // Sutherland-Hodgman against x >= -1, x <= 1, y >= -1, y <= 1.
+    for (int plane = 0; plane < 4 && !poly.empty(); ++plane) {
+      const int axis = plane / 2;
+      const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // sign * p[axis] + 1 >= 0
+      std::vector<std::array<double, 2>> next;
+      for (std::size_t k = 0; k < poly.size(); ++k) {
+        const auto& a = poly[k];
+        const auto& b = poly[(k + 1) % poly.size()];
+        const double da = sign * a[axis] + 1, db = sign * b[axis] + 1;
+        if (da >= 0) next.push_back(a);
+        if ((da >= 0) != (db >= 0)) {
+          const double t = da / (da - db);
+          next.push_back({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])});
+        }
+      }
+      poly = std::move(next);
+    }
+    double area = 0;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const auto& a = poly[k];
+      const auto& b = poly[(k + 1) % poly.size()];
+      area += a[0] * b[1] - a[1] * b[0];
+    }
+    total += 0.5 * std::fabs(area);
+  }
+  return total;
+}
+
+// A path around the viewport in place of a whole run of edges away from it:
+// from the run's first vertex u to its last v through 1 to 4 corners of the
+// box |x|, |y| <= 1 + 2 margin (w = 1, z = plane_z), such that the run and
+// the path back count 0 over the viewport.  The fan over it draws the
+// wedges of the cap's own side of the viewport, where chords that follow a
+// run circling the viewport far away cost wedges all around it, and a chord
+// past its other side |count| triangles over all of it (`fly_around` frame
+// 38: 34,468 fragments where the cap covers 5,420 pixels).  The count of
+// the run with a candidate path back is computed once in full
+// (near_plane_cap_constant_winding); the others' from it and the small
+// closed polygon of the two paths.  Nothing when no path avoids the margin.
+std::optional<std::vector<Vec4f>> detour(const std::vector<Vec4f>& run, double mx, double my, float plane_z) {
+  const Vec4f u = run.front(), v = run.back();
+  const float bx = static_cast<float>(1 + 2 * mx), by = static_cast<float>(1 + 2 * my);
+  const std::array<Vec4f, 4> corner{Vec4f{-bx, -by, plane_z, 1.0f}, Vec4f{bx, -by, plane_z, 1.0f},
+                                    Vec4f{bx, by, plane_z, 1.0f}, Vec4f{-bx, by, plane_z, 1.0f}};
+  auto backwards = [](const std::vector<Vec4f>& path, std::vector<Vec4f>& edges) {
+    for (std::size_t k = path.size() - 1; k > 0; --k) edges.insert(edges.end(), {path[k], path[k - 1]});
+  };
+  std::optional<std::vector<Vec4f>> base;  // a path whose count with the run is known
+  int base_count = 0;
+  for (int count = 1; count <= 4; ++count)
+    for (int first = 0; first < 4; ++first)
+      for (int step : {1, 3}) {  // counter-clockwise, clockwise
+        std::vector<Vec4f> path{u};
+        for (int k = 0; k < count; ++k) path.push_back(corner[(first + k * step) % 4]);
+        path.push_back(v);
+        std::optional<int> c;
+        if (!base) {
+          std::vector<Vec4f> closed = run;
+          backwards(path, closed);
+          c = near_plane_cap_constant_winding(closed, mx, my);
+          if (c) {
+            base = path;
+            base_count = *c;
+          }
+        } else {
+          std::vector<Vec4f> closed;
+          for (std::size_t k = 0; k + 1 < base->size(); ++k) closed.insert(closed.end(), {(*base)[k], (*base)[k + 1]});
+          backwards(path, closed);
+          if (const std::optional<int> between = near_plane_cap_constant_winding(closed, mx, my))
+            c = base_count + *between;
+        }
+        if (!c || *c != 0) continue;
+        std::vector<Vec4f> edges;
+        for (std::size_t k = 0; k + 1 < path.size(); ++k) edges.insert(edges.end(), {path[k], path[k + 1]});
+        return edges;
+      }
+  return std::nullopt;
+}
+
 // Edges [begin, end) of `run` (2 vertices each, consecutive), simplified:
 // the chord from the first vertex to the last where the closed
 // run-and-chord-back has one count over the viewport
@@ -235,7 +335,8 @@ void simplify_run(const std::vector<Vec4f>& run, std::size_t begin, std::size_t 
 // the fan over its chord plus the fan over the closed run-and-chord-back,
 // whose count is one number over the viewport.  The loop's edges near the
 // viewport, which the sides share bit for bit, are kept as they are.
-std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, double mx, double my, int& constant) {
+std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, const Vec4f& anchor, double mx, double my,
+                                  float plane_z, int& constant) {
   const std::size_t n = loop.size() / 2;
   std::vector<bool> far(n);
   std::size_t first_near = n;
@@ -259,7 +360,21 @@ std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, double mx, dou
       const std::size_t f = (first_near + k) % n;
       run.insert(run.end(), {loop[2 * f], loop[2 * f + 1]});
     }
-    simplify_run(run, 0, run.size() / 2, mx, my, constant, out);
+    // The chords (and their count over the viewport), or a detour around
+    // it: whichever the fan covers less of the viewport with.
+    std::vector<Vec4f> chords;
+    int count = 0;
+    simplify_run(run, 0, run.size() / 2, mx, my, count, chords);
+    if (count != 0) {
+      if (const std::optional<std::vector<Vec4f>> around = detour(run, mx, my, plane_z)) {
+        if (fan_area(*around, anchor) < fan_area(chords, anchor) + 4.0 * std::abs(count)) {
+          out.insert(out.end(), around->begin(), around->end());
+          continue;
+        }
+      }
+    }
+    constant += count;
+    out.insert(out.end(), chords.begin(), chords.end());
   }
   return out;
 }
@@ -281,7 +396,21 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
     }
     Vec4f anchor = near_plane_cap_anchor(loop);
     anchor.z = plane_z;
-    const std::vector<Vec4f> fan = fan_over(shortened_loop(loop, mx, my, constant), anchor);
+    const std::vector<Vec4f> shortened = shortened_loop(loop, anchor, mx, my, plane_z, constant);
+    // Any anchor gives the same counts; of the mean and a 5 x 5 grid of
+    // points of the viewport, all with w = 1 (as well conditioned:
+    // near_plane_cap_anchor), the one whose fan covers the least of it.
+    double least = fan_area(shortened, anchor);
+    constexpr float kGrid[5] = {-1.0f + 0x1p-10f, -0.5f, 0.0f, 0.5f, 1.0f - 0x1p-10f};
+    for (int k = 0; k < 25; ++k) {
+      const Vec4f candidate{kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f};
+      const double area = fan_area(shortened, candidate);
+      if (area < least) {
+        least = area;
+        anchor = candidate;
+      }
+    }
+    const std::vector<Vec4f> fan = fan_over(shortened, anchor);
     out.insert(out.end(), fan.begin(), fan.end());
   }
   // |constant| triangles over the viewport (the clipper trims them to it).

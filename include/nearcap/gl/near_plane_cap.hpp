@@ -103,7 +103,16 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // the loops' sum is 0, the common case); every other loop its fan, after
 // each run of its edges that stays away from the viewport is replaced by
 // chords where the closed run-and-chords-back has a constant count there
-// (added to c), halving the run until it does.  The margin,
+// (added to c), halving the run until it does, or, where that count is not
+// 0 and it covers less, by a detour through corners of a box around the
+// viewport on the run's own side (count 0: no triangle over the viewport);
+// the fan's anchor is then the mean above or a point of a 5 x 5 grid over
+// the viewport, whichever fan covers the least of it (estimated in double:
+// each triangle clipped to the viewport).  Measured: the same wrong pixels
+// and count mismatches in every row of 14,800 hard cases and the seven
+// paths (seeds 5, 7, 11 at 160x120, 21 tight near plane, 22 reversed-Z, 23
+// the llvmpipe model, 24 ZF+), near-cap fragments 6.6 % (hard cases) and 8.8 %
+// (paths) fewer; `fly_around` frame 38 34,468 -> 5,420.  The margin,
 // a twentieth of the viewport plus 8 pixels, keeps the shortcut away from
 // edges the float pipeline might still rasterize inside the viewport (its
 // cuts of far-away, ill-conditioned vertices move them); the fan would
