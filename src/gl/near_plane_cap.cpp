@@ -209,10 +209,13 @@ namespace {
 // The viewport's area (NDC: 4 in all) that the fan from `anchor` over
 // `edges` covers, counted once per triangle: each triangle clipped to the
 // square in double; a triangle with a vertex at or behind infinity (w <= 0)
-// counts the whole viewport.  An estimate of the fragments a choice costs.
-double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor, double* net = nullptr) {
+// counts the whole viewport.  An estimate of the fragments a choice costs;
+// `net`: the signed sum's magnitude (the region filled); past `limit` it
+// stops counting.
+double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor, double* net = nullptr,
+                double limit = std::numeric_limits<double>::infinity()) {
   double total = 0, signed_total = 0;
-  for (std::size_t e = 0; e + 1 < edges.size(); e += 2) {
+  for (std::size_t e = 0; e + 1 < edges.size() && !(total > limit); e += 2) {
     const Vec4f* tri[3] = {&anchor, &edges[e], &edges[e + 1]};
     std::vector<std::array<double, 2>> poly;
     bool finite_triangle = true;
@@ -410,7 +413,7 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
     constexpr float kGrid[5] = {-1.0f + 0x1p-10f, -0.5f, 0.0f, 0.5f, 1.0f - 0x1p-10f};
     for (int k = 0; k < 25 && !(least - net < 0.08); ++k) {
       const Vec4f candidate{kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f};
-      const double area = fan_area(shortened, candidate);
+      const double area = fan_area(shortened, candidate, nullptr, least);  // stops once above the least
       if (area < least) {
         least = area;
         anchor = candidate;
