@@ -9,6 +9,7 @@
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
+#include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
 
@@ -28,8 +29,8 @@ Scene box_scene(const std::string& centre, double half, double near) {
 }
 
 bool misses(const Scene& s) {
-  return gl::certainly_misses_light_pyramid(s, 0, s.lights[0].position, gl::light_pyramid_margin(400),
-                                            gl::light_pyramid_margin(400));
+  return gl::certainly_misses_light_pyramid(s, 0, s.lights[0].position, gl::near_plane_cap_margin(400),
+                                            gl::near_plane_cap_margin(400));
 }
 
 TEST(LightPyramidCull, SkipsOnlyWithTheMarginToSpare) {
@@ -85,9 +86,9 @@ TEST(LightPyramidCull, AgreesWithTheExactPyramidAndChangesNoFrame) {
       bool any_skipped = false;
       for (std::size_t o = 0; o < s.objects.size(); ++o) {
         if (!s.objects[o].occluder) continue;
-        const bool skip =
-            gl::certainly_misses_light_pyramid(s, o, s.lights[light].position, gl::light_pyramid_margin(s.camera.width),
-                                               gl::light_pyramid_margin(s.camera.height));
+        const bool skip = gl::certainly_misses_light_pyramid(s, o, s.lights[light].position,
+                                                             gl::near_plane_cap_margin(s.camera.width),
+                                                             gl::near_plane_cap_margin(s.camera.height));
         if (skip) {
           EXPECT_FALSE(meets[o]) << "sample " << k << " light " << light << " object " << o;
         }

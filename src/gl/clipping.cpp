@@ -123,9 +123,13 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   return poly;
 }
 
-NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
+namespace {
+
+// The first clipping stage alone, against plane p, with the flags of the
+// vertices that lie in it.
+NearClippedPolygon clip_first_stage(const Vec4f& a, const Vec4f& b, const Vec4f& c, Plane p, DepthMapping mapping) {
   NearClippedPolygon out;
-  out.vertices = clip_against({a, b, c}, Plane::Near, 0.0f, 0.0f, mapping, &out.on_near_plane);
+  out.vertices = clip_against({a, b, c}, p, 0.0f, 0.0f, mapping, &out.on_near_plane);
   if (out.vertices.size() < 3) {
     out.vertices.clear();
     out.on_near_plane.clear();
@@ -133,14 +137,14 @@ NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4
   return out;
 }
 
+}  // namespace
+
+NearClippedPolygon clip_to_near_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
+  return clip_first_stage(a, b, c, Plane::Near, mapping);
+}
+
 NearClippedPolygon clip_to_far_plane(const Vec4f& a, const Vec4f& b, const Vec4f& c, DepthMapping mapping) {
-  NearClippedPolygon out;
-  out.vertices = clip_against({a, b, c}, Plane::Far, 0.0f, 0.0f, mapping, &out.on_near_plane);
-  if (out.vertices.size() < 3) {
-    out.vertices.clear();
-    out.on_near_plane.clear();
-  }
-  return out;
+  return clip_first_stage(a, b, c, Plane::Far, mapping);
 }
 
 }  // namespace nearcap::gl

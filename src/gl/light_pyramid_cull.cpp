@@ -15,8 +15,6 @@ constexpr double kFloatAllowance = 0x1p-16;
 
 }  // namespace
 
-double light_pyramid_margin(int pixels) { return 0.1 + 16.0 / std::max(pixels, 1); }
-
 bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, const Vec3d& light, double margin_x,
                                     double margin_y) {
   const SceneObject& obj = scene.objects.at(object);

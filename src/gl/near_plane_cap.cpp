@@ -392,7 +392,7 @@ namespace {
 // The cap's triangles over `edges` (near_plane_cap_triangles), every vertex
 // the pass adds (anchors, the viewport's triangles) at z = plane_z w.
 std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width, int height, float plane_z) {
-  const double mx = 0.1 + 16.0 / std::max(width, 1), my = 0.1 + 16.0 / std::max(height, 1);
+  const double mx = near_plane_cap_margin(width), my = near_plane_cap_margin(height);
   std::vector<Vec4f> out;
   int constant = 0;  // the loops that stay outside the viewport, together
   for (const std::vector<Vec4f>& loop : near_plane_cap_loops(edges)) {
@@ -435,6 +435,8 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
 
 }  // namespace
 
+double near_plane_cap_margin(int pixels) { return 0.1 + 16.0 / std::max(pixels, 1); }
+
 std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
                                             DepthMapping mapping) {
   return cap_triangles_over(near_plane_cap_edges(boundary_clip_vertices, mapping), width, height,
@@ -446,13 +448,11 @@ std::vector<Vec4f> far_plane_cap_triangles(const std::vector<Vec4f>& boundary_cl
   return cap_triangles_over(far_plane_cap_edges(boundary_clip_vertices, mapping), width, height, far_plane_z(mapping));
 }
 
-namespace {
-
-// The side of the plane z_sign z + w_sign w = 0 (clip space) the box lies on.
-int plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, double z_sign, double w_sign) {
+int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
   double row[4], magnitude[4];
+  const double z_sign = mapping == DepthMapping::Standard ? 1.0 : -1.0;  // z + w, or w - z
   for (int k = 0; k < 4; ++k) {
-    row[k] = z_sign * double{m.at(2, k)} + w_sign * double{m.at(3, k)};
+    row[k] = z_sign * double{m.at(2, k)} + double{m.at(3, k)};
     magnitude[k] = std::fabs(double{m.at(2, k)}) + std::fabs(double{m.at(3, k)});
   }
   double lowest = std::numeric_limits<double>::infinity(), highest = -lowest, bound = 0;
@@ -472,19 +472,6 @@ int plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w
   if (lowest > margin) return 1;
   if (highest < -margin) return -1;
   return 0;
-}
-
-}  // namespace
-
-int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
-  // z + w, or w - z reversed
-  return plane_side_of_box(m, lo, hi, w, mapping == DepthMapping::Standard ? 1.0 : -1.0, 1.0);
-}
-
-int far_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w, DepthMapping mapping) {
-  // w - z, or z reversed
-  return mapping == DepthMapping::Standard ? plane_side_of_box(m, lo, hi, w, -1.0, 1.0)
-                                           : plane_side_of_box(m, lo, hi, w, 1.0, 0.0);
 }
 
 }  // namespace nearcap::gl

@@ -191,11 +191,17 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   const bool depth_bounds = state.depth_bounds.has_value();
   const std::array<double, 2> bounds = depth_bounds ? *state.depth_bounds : std::array<double, 2>{0.0, 1.0};
   const bool fixed24 = format_ == DepthFormat::Fixed24;
-  auto stored_depth = [&](std::uint32_t z) {
-    if (fixed24) return static_cast<double>(z) / 16777215.0;
-    float f;
-    std::memcpy(&f, &z, sizeof f);
-    return double{f};
+  // The stored depth, decoded to window depth, within the bounds.
+  auto in_bounds = [&](std::uint32_t z) {
+    double stored;
+    if (fixed24) {
+      stored = static_cast<double>(z) / 16777215.0;
+    } else {
+      float f;
+      std::memcpy(&f, &z, sizeof f);
+      stored = f;
+    }
+    return stored >= bounds[0] && stored <= bounds[1];
   };
   using Counts = std::array<std::uint64_t, 3>;  // fragments, depth test passed, dropped by the bounds
   const Counts counts = tbb::parallel_reduce(
@@ -208,9 +214,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
                 triangles[t], width_, height_, raster,
                 [&](const Fragment& f) {
                   const std::size_t p = index(f.x, f.y);
-                  if ((scissor && !rect.contains(f.x, f.y)) ||
-                      (depth_bounds &&
-                       !(stored_depth(depth_[p]) >= bounds[0] && stored_depth(depth_[p]) <= bounds[1]))) {
+                  if ((scissor && !rect.contains(f.x, f.y)) || (depth_bounds && !in_bounds(depth_[p]))) {
                     ++fragments[2];
                     return;
                   }

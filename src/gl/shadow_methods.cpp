@@ -288,9 +288,12 @@ class FrameRenderer {
         // it clamps as the switch does.
         const bool own_far = m == ShadowMethod::ZFail && (infinite || settings_.zfail_far != ZFailFar::Infinite);
         const ZFailFar far = own_far ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
-        draw_closed_volume(obj, zfail_state(far), frame);
-        // ZF+: the far plane's cap, where there is a far plane.
-        if (far == ZFailFar::FarCap && !infinite) far_plane_cap(obj, frame);
+        // ZF+: the far plane's cap, where there is a far plane, from the
+        // clip-space vertices the volume was drawn with.
+        const bool far_cap = far == ZFailFar::FarCap && !infinite;
+        std::vector<Vec4f> boundary;
+        draw_closed_volume(obj, zfail_state(far), frame, far_cap ? &boundary : nullptr);
+        if (far_cap) far_plane_cap(obj, boundary, frame);
       }
     }
     frame.times.volume_ms = ms_since(t);
@@ -421,8 +424,8 @@ class FrameRenderer {
       if (!sides_needed) continue;
       // Nothing of the occluder in the light pyramid: an empty cap.
       if (settings_.cull_light_pyramid && certainly_misses_light_pyramid(scene_, o, scene_.lights[light_].position,
-                                                                         light_pyramid_margin(scene_.camera.width),
-                                                                         light_pyramid_margin(scene_.camera.height)))
+                                                                         near_plane_cap_margin(scene_.camera.width),
+                                                                         near_plane_cap_margin(scene_.camera.height)))
         continue;
       std::vector<float> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
       for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
@@ -456,30 +459,11 @@ class FrameRenderer {
   }
 
   // ZF+ (ZFailFar::FarCap): the far-plane cap of the occluder's closed
-  // volume (near_plane_cap.hpp), from the clip-space vertices its faces are
-  // drawn with; it closes the volume behind every visible surface, so it is
-  // drawn without a depth test and counted as Z-fail counts faces behind the
-  // surface (back +1, front -1).
-  void far_plane_cap(const ObjectSetup& obj, ShadowFrame& frame) {
-    const ShadowVolumeGeometry& g = *obj.geometry;
-    // Only the parts that may reach the far plane (as the near cap's pass):
-    // the mesh's points (light cap), its directions from the light (dark
-    // cap), the sides between them unless both lie strictly on one side.
-    const TriangleMesh& mesh = *scene_.objects[obj.index].mesh;
-    const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;
-    const Vec4f& l = obj.uniforms.light_position;
-    const Vec3d light{l.x, l.y, l.z};
-    const Mat4f& mvp = obj.uniforms.modelview_projection;
-    const int points = far_plane_side_of_box(mvp, lo, hi, 1.0, settings_.depth_mapping);
-    const int directions = far_plane_side_of_box(mvp, lo - light, hi - light, 0.0, settings_.depth_mapping);
-    const bool sides = points == 0 || directions == 0 || points != directions;
-    std::vector<Vec4f> boundary;
-    for (const auto& [part, needed] :
-         {std::pair{&g.sides, sides}, std::pair{&g.light_cap, points == 0}, std::pair{&g.dark_cap, directions == 0}}) {
-      if (!needed) continue;
-      const std::vector<Vec4f> clip = run_program(*part, obj.uniforms, VertexProgram::Extrusion);
-      boundary.insert(boundary.end(), clip.begin(), clip.end());
-    }
+  // volume (near_plane_cap.hpp) over `boundary`, the clip-space vertices its
+  // faces were drawn with; it closes the volume behind every visible
+  // surface, so it is drawn without a depth test and counted as Z-fail
+  // counts faces behind the surface (back +1, front -1).
+  void far_plane_cap(const ObjectSetup& obj, const std::vector<Vec4f>& boundary, ShadowFrame& frame) {
     std::vector<Vec4f> cap =
         far_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, settings_.depth_mapping);
     if (cap.empty()) return;
@@ -493,7 +477,9 @@ class FrameRenderer {
     if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(cap), state, std::nullopt});
   }
 
-  void draw(const ObjectSetup& obj, GeometryPart part, VertexProgram program, const DrawState& s, ShadowFrame& frame) {
+  // `keep`: where to append the clip-space vertices too.
+  void draw(const ObjectSetup& obj, GeometryPart part, VertexProgram program, const DrawState& s, ShadowFrame& frame,
+            std::vector<Vec4f>* keep = nullptr) {
     const ShadowVolumeGeometry& g = *obj.geometry;
     const std::vector<ShadowVertex>& vertices = part == GeometryPart::Sides        ? g.sides
                                                 : part == GeometryPart::Corrective ? g.corrective
@@ -502,6 +488,7 @@ class FrameRenderer {
     std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
     const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
     frame.volume_pass += fb_.draw(clip, state, settings_.raster);
+    if (keep) keep->insert(keep->end(), clip.begin(), clip.end());
     if (settings_.record_draws)
       frame.draws.push_back(
           program_draw(DrawPass::Volume, std::move(clip), state, program, part, vertices, obj.uniforms));
@@ -528,10 +515,11 @@ class FrameRenderer {
     return s;
   }
 
-  void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame) {
-    draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, s, frame);
-    draw(obj, GeometryPart::LightCap, VertexProgram::Extrusion, s, frame);
-    draw(obj, GeometryPart::DarkCap, VertexProgram::Extrusion, s, frame);
+  void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame,
+                          std::vector<Vec4f>* keep = nullptr) {
+    draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, s, frame, keep);
+    draw(obj, GeometryPart::LightCap, VertexProgram::Extrusion, s, frame, keep);
+    draw(obj, GeometryPart::DarkCap, VertexProgram::Extrusion, s, frame, keep);
   }
 
   const Scene& scene_;
@@ -604,12 +592,18 @@ std::string_view to_string(VolumeCulling c) {
   }
   return "none";
 }
+constexpr VolumeCulling kVolumeCullings[] = {VolumeCulling::None, VolumeCulling::Scissor, VolumeCulling::DepthBounds,
+                                             VolumeCulling::Both};
 std::optional<VolumeCulling> volume_culling_from_string(std::string_view name) {
-  for (VolumeCulling c : {VolumeCulling::None, VolumeCulling::Scissor, VolumeCulling::DepthBounds, VolumeCulling::Both})
+  for (VolumeCulling c : kVolumeCullings)
     if (name == to_string(c)) return c;
   return std::nullopt;
 }
-std::vector<std::string> volume_culling_names() { return {"none", "scissor", "depth-bounds", "both"}; }
+std::vector<std::string> volume_culling_names() {
+  std::vector<std::string> names;
+  for (VolumeCulling c : kVolumeCullings) names.emplace_back(to_string(c));
+  return names;
+}
 
 std::string_view to_string(ZPassFar f) { return f == ZPassFar::Finite ? "finite" : "infinite"; }
 std::optional<ZPassFar> zpass_far_from_string(std::string_view name) {

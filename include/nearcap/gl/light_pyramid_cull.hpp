@@ -34,14 +34,11 @@ namespace nearcap::gl {
 
 // True when scene.objects[object] certainly holds no point of the light
 // pyramid of `light` (world space) over scene.camera's near rectangle grown
-// by margin_x, margin_y (NDC units on each side), with the float allowances
+// by margin_x, margin_y (NDC units on each side; the near-cap pass passes
+// near_plane_cap_margin), with the float allowances
 // above; false when it may (or the object has no face chunks, or the light
 // lies within rounding of the near plane).
 bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, const Vec3d& light, double margin_x,
                                     double margin_y);
-
-// The margin the near-cap pass uses: a twentieth of the viewport plus 8
-// pixels, in NDC units (2 / 20 + 16 / width; the same for height).
-double light_pyramid_margin(int pixels);
 
 }  // namespace nearcap::gl

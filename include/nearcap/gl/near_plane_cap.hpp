@@ -111,7 +111,7 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // each triangle clipped to the viewport).  Measured: the same wrong pixels
 // and count mismatches in every row of 14,800 hard cases and the seven
 // paths (seeds 5, 7, 11 at 160x120, 21 tight near plane, 22 reversed-Z, 23
-// the llvmpipe model, 24 ZF+), near-cap fragments 6.6 % (hard cases) and 8.8 %
+// the llvmpipe model, 24 ZF+), near-cap fragments 6.6 % (hard cases) and 8.5 %
 // (paths) fewer; `fly_around` frame 38 34,468 -> 5,420.  The margin,
 // a twentieth of the viewport plus 8 pixels, keeps the shortcut away from
 // edges the float pipeline might still rasterize inside the viewport (its
@@ -122,6 +122,8 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // formulations"); `twisted`'s 4.3 M -> 0.
 std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
                                             DepthMapping mapping = DepthMapping::Standard);
+// That margin in NDC units for a viewport `pixels` wide (or high): 2 / 20 + 16 / pixels.
+double near_plane_cap_margin(int pixels);
 
 // ZF+ (the paper's section 5.2 alternative, the far-plane counterpart of
 // ZP+), built the same way: Z-fail with a finite far plane and no depth
@@ -151,9 +153,5 @@ std::vector<Vec4f> far_plane_cap_triangles(const std::vector<Vec4f>& boundary_cl
 // one side leaves no edge in the near plane, so the pass skips it.
 int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
                            DepthMapping mapping = DepthMapping::Standard);
-// The same for the far plane (w - z; z reversed): +1 all strictly in front
-// of it (inside), -1 all strictly beyond.
-int far_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
-                          DepthMapping mapping = DepthMapping::Standard);
 
 }  // namespace nearcap::gl

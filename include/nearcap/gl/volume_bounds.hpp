@@ -14,17 +14,20 @@
 // stored depth lies outside a range, both before the stencil test.
 //
 // Both come from a convex region R that holds V ∩ B, B the box of every
-// object and of the near rectangle (s and q lie in B):
-//     R = hull(Q ∪ (l + T (Q - l))),
-// Q the occluder's object-space box mapped to world space (8 corners), l the
-// light, T = max |b - l| / dist(l, Q) over B's corners: V lies in
-// {l + t (p - l) : p in Q, t >= 1}, and a point of B in it has t <= T.  The
-// bounds are those of R in front of the near plane (its corners there and
-// the near plane's cuts of every pair of corners across it) in window
-// coordinates, computed in double through the frame's float32 projection,
-// widened by 2 pixels and by 2^-16 of depth plus 8 steps of a 24-bit buffer:
-// far above the float pipeline's own error in a surface's depth or a
-// volume's edge.  Nothing is bounded where the light lies in or on Q's box.
+// object and of the near rectangle (s and q lie in B): the polytope bounded
+// by B's six planes, the facets of the cone from the light l through Q (the
+// occluder's object-space box mapped to world space: the planes through l
+// and an edge of Q with all of Q on one side) and the plane across l's axis
+// to Q through Q's nearest corner (V lies in {l + t (p - l) : p in Q,
+// t >= 1}).  Its vertices, by enumerating every triple of its at most 19
+// planes in double; those in front of the near plane and the near plane's
+// cuts of every pair of them, through the frame's float32 projection in
+// double, give the rectangle and the range.  Allowances for the float
+// pipeline's own error in a surface's depth or a volume's edge: every plane
+// moved out by 2^-20 of the largest coordinate (float32 rounding of
+// positions and matrices: tenths of a unit at 3e6), the rectangle widened by
+// 2 pixels, the range by 2^-16 plus 8 steps of a 24-bit buffer.  Nothing is
+// bounded where the light lies in or on Q's box.
 #pragma once
 
 #include <cstddef>
