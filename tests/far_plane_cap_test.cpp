@@ -148,27 +148,42 @@ TEST(FarPlaneCap, OnASliceOfTheSampler) {
   EXPECT_LE(far_cap_wrong * 10, clamp_far_wrong * 11);
 }
 
-// On llvmpipe (no GL_AMD_depth_clamp_separate, so no far-only clamp): ZP+
-// corrected's case-D switch with the far cap is the emulation's frame pixel
-// for pixel, and right but for a pixel.
+// On llvmpipe: ZP+ corrected's case-D switch with the far cap is the
+// emulation's frame pixel for pixel, and right but for a pixel; so is its
+// switch with far-only clamp, which llvmpipe (no GL_AMD_depth_clamp_separate)
+// draws with GL_DEPTH_CLAMP and the near plane as a gl_ClipDistance (with
+// the llvmpipe model's clipper), where GL_DEPTH_CLAMP alone is wrong on
+// thousands of pixels.
 class FarPlaneCapGlTest : public test::LlvmpipeTest {};
 
 TEST_F(FarPlaneCapGlTest, TheCaseDSwitchOnLlvmpipe) {
-  for (const char* name : {"case_d.json", "light_on_near_plane.json"}) {
-    SCOPED_TRACE(name);
-    const Judged j = judged(name);
-    gl::EmulationSettings s;
-    s.record_draws = true;
-    s.switch_clamp = gl::SwitchClamp::FarCap;
-    const gl::ShadowFrame f = gl::render_shadow_frame(j.scene, 0, gl::ShadowMethod::ZPPlusCorrected, s);
-    ASSERT_TRUE(!f.zfail_objects.empty() || !f.fallback.empty());  // the switch: case D, or no light frustum
-    render::GlFrameReplay replay(f.width, f.height, s.depth);
-    const render::ReplayedFrame real = replay.replay(f.draws);
-    EXPECT_EQ(render::compare(real, f).stencil, 0u);
-    gl::ShadowFrame as_real = f;
-    as_real.stencil = real.stencil;
-    EXPECT_LE(judge_frame(as_real, j.ref).wrong, 1u);
-  }
+  for (const char* name : {"case_d.json", "light_on_near_plane.json"})
+    for (gl::SwitchClamp clamp :
+         {gl::SwitchClamp::FarCap, gl::SwitchClamp::DepthClampFar, gl::SwitchClamp::DepthClamp}) {
+      SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(clamp)));
+      const Judged j = judged(name);
+      gl::EmulationSettings s;
+      s.record_draws = true;
+      s.switch_clamp = clamp;
+      if (clamp != gl::SwitchClamp::FarCap) {
+        s.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
+        s.raster.depth = gl::DepthInterpolation::Llvmpipe;
+        s.raster.mesa_clipper = true;
+      }
+      const gl::ShadowFrame f = gl::render_shadow_frame(j.scene, 0, gl::ShadowMethod::ZPPlusCorrected, s);
+      ASSERT_TRUE(!f.zfail_objects.empty() || !f.fallback.empty());  // the switch: case D, or no light frustum
+      render::GlFrameReplay replay(f.width, f.height, s.depth);
+      if (clamp == gl::SwitchClamp::DepthClampFar && replay.has_far_only_clamp()) continue;
+      const render::ReplayedFrame real = replay.replay(f.draws);
+      EXPECT_EQ(render::compare(real, f).stencil, 0u);
+      gl::ShadowFrame as_real = f;
+      as_real.stencil = real.stencil;
+      const std::size_t wrong = judge_frame(as_real, j.ref).wrong;
+      if (clamp == gl::SwitchClamp::DepthClamp)
+        EXPECT_GT(wrong, 1000u);
+      else
+        EXPECT_LE(wrong, 1u);
+    }
 }
 
 }  // namespace

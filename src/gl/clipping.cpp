@@ -34,17 +34,30 @@ Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
   return {in.x + t * (out.x - in.x), in.y + t * (out.y - in.y), in.z + t * (out.z - in.z), in.w + t * (out.w - in.w)};
 }
 
+// A vertex with the distance the clipper carries for a gl_ClipDistance plane
+// (ClipSettings::depth_plane_as_clip_distance; unused otherwise).
+struct ClipVertex {
+  Vec4f p;
+  float clip_distance = 0;
+};
+
+ClipVertex interpolate(const ClipVertex& in, const ClipVertex& out, float t) {
+  return {interpolate(in.p, out.p, t), in.clip_distance + t * (out.clip_distance - in.clip_distance)};
+}
+
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
-std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g, float w_min, DepthMapping m,
-                                std::vector<bool>* on_plane = nullptr, bool mesa = false) {
-  std::vector<Vec4f> out;
+// `carried`: plane p's distance is the vertex's clip_distance.
+std::vector<ClipVertex> clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w_min, DepthMapping m,
+                                     std::vector<bool>* on_plane = nullptr, bool mesa = false, bool carried = false) {
+  std::vector<ClipVertex> out;
   const std::size_t n = poly.size();
   out.reserve(n + 1);
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec4f& a = poly[k];
-    const Vec4f& b = poly[(k + 1) % n];
-    const float da = distance(a, p, g, w_min, m), db = distance(b, p, g, w_min, m);
+    const ClipVertex& a = poly[k];
+    const ClipVertex& b = poly[(k + 1) % n];
+    const float da = carried ? a.clip_distance : distance(a.p, p, g, w_min, m);
+    const float db = carried ? b.clip_distance : distance(b.p, p, g, w_min, m);
     const bool a_in = da >= 0, b_in = db >= 0;
     if (a_in) {
       out.push_back(a);
@@ -81,11 +94,19 @@ std::vector<Vec4f> clip_against(const std::vector<Vec4f>& poly, Plane p, float g
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
-  if (settings.far_first && settings.clip_far) planes[count++] = Plane::Far;
-  if (!settings.skip_near_side) planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
-  if (settings.clip_far && !settings.far_first) planes[count++] = Plane::Far;
-  for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
-  if (settings.mesa) {
+  // Mesa with one depth side clamped through GL_DEPTH_CLAMP and a
+  // gl_ClipDistance plane: the x and y planes, then that plane (`carried`).
+  const bool carried = settings.mesa && settings.depth_plane_as_clip_distance;
+  if (carried) {
+    for (Plane p : {Plane::Right, Plane::Left, Plane::Top, Plane::Bottom}) planes[count++] = p;
+    planes[count++] = settings.clip_near ? Plane::Near : Plane::Far;
+  } else {
+    if (settings.far_first && settings.clip_far) planes[count++] = Plane::Far;
+    if (!settings.skip_near_side) planes[count++] = settings.clip_near ? Plane::Near : Plane::WMin;
+    if (settings.clip_far && !settings.far_first) planes[count++] = Plane::Far;
+    for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
+  }
+  if (settings.mesa && !carried) {
     // Mesa's plane order (draw_context.c): right, left, top, bottom, near, far.
     std::array<Plane, 6> ordered{};
     std::size_t n = 0;
@@ -96,6 +117,7 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   }
   // Trivial accept: no plane separates any vertex (the common case); trivial
   // reject: one plane has all three outside (clipping would leave nothing).
+  // At the input vertices a carried distance is the plane's own.
   bool all_inside = true;
   for (std::size_t k = 0; k < count; ++k) {
     const DepthMapping m = settings.depth_mapping;
@@ -105,8 +127,12 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
     if (da < 0 && db < 0 && dc < 0) return {};
     all_inside = all_inside && da >= 0 && db >= 0 && dc >= 0;
   }
-  std::vector<Vec4f> poly{a, b, c};
-  if (all_inside) return poly;
+  if (all_inside) return {a, b, c};
+  std::vector<ClipVertex> poly{{a}, {b}, {c}};
+  if (carried) {
+    const Plane p = planes[count - 1];
+    for (ClipVertex& v : poly) v.clip_distance = distance(v.p, p, 0.0f, 0.0f, settings.depth_mapping);
+  }
   for (std::size_t k = 0; k < count; ++k) {
     if (settings.mesa) {
       // Mesa clips only at the planes some input vertex is outside (its clipmask).
@@ -117,10 +143,12 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
         continue;
     }
     poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping, nullptr,
-                        settings.mesa);
+                        settings.mesa, carried && k + 1 == count);
     if (poly.size() < 3) return {};
   }
-  return poly;
+  std::vector<Vec4f> out(poly.size());
+  for (std::size_t k = 0; k < poly.size(); ++k) out[k] = poly[k].p;
+  return out;
 }
 
 namespace {
@@ -129,11 +157,13 @@ namespace {
 // vertices that lie in it.
 NearClippedPolygon clip_first_stage(const Vec4f& a, const Vec4f& b, const Vec4f& c, Plane p, DepthMapping mapping) {
   NearClippedPolygon out;
-  out.vertices = clip_against({a, b, c}, p, 0.0f, 0.0f, mapping, &out.on_near_plane);
-  if (out.vertices.size() < 3) {
-    out.vertices.clear();
+  const std::vector<ClipVertex> poly = clip_against({{a}, {b}, {c}}, p, 0.0f, 0.0f, mapping, &out.on_near_plane);
+  if (poly.size() < 3) {
     out.on_near_plane.clear();
+    return out;
   }
+  out.vertices.reserve(poly.size());
+  for (const ClipVertex& v : poly) out.vertices.push_back(v.p);
   return out;
 }
 

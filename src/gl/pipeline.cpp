@@ -110,6 +110,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   clip.far_first = state.far_first || state.vertices_on_far_plane;
   clip.depth_mapping = state.depth_mapping;
   clip.mesa = raster.mesa_clipper;
+  // One depth side clamped: drawn on llvmpipe (no GL_AMD_depth_clamp_separate)
+  // with GL_DEPTH_CLAMP and the other plane as a gl_ClipDistance.
+  clip.depth_plane_as_clip_distance = one_sided_depth_clamp(state);
   clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).

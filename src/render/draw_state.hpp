@@ -22,10 +22,20 @@ inline double cleared_depth(const std::vector<gl::DrawCall>& draws) {
   return 1.0;
 }
 
-// No depth clamp of any kind (GL_DEPTH_CLAMP, and the separate AMD ones
-// where the driver has them).
+// Does `s` clamp one depth side through GL_DEPTH_CLAMP with the other plane
+// as gl_ClipDistance[0] (the driver lacks GL_AMD_depth_clamp_separate,
+// `far_only_clamp` false)?  Its program then writes the distance
+// (ShadowPrograms::use's clip_distance).
+inline bool clamps_by_clip_distance(const gl::DrawState& s, bool far_only_clamp) {
+  return !far_only_clamp && gl::one_sided_depth_clamp(s);
+}
+
+// No depth clamp of any kind (GL_DEPTH_CLAMP, the user clip plane that
+// stands in for a one-sided clamp, and the separate AMD ones where the
+// driver has them).
 inline void disable_depth_clamps(bool far_only_clamp) {
   glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_CLIP_DISTANCE0);
   if (far_only_clamp) {
     glDisable(GL_DEPTH_CLAMP_FAR_AMD);
     glDisable(GL_DEPTH_CLAMP_NEAR_AMD);
@@ -90,10 +100,12 @@ inline void check_depth_bounds(const std::vector<gl::DrawCall>& draws, bool dept
                                      ") lacks it: use --volume-culling scissor");
 }
 
-// Culling, the clip control (the depth mapping), the depth test and writes, depth clamp (far only through
-// GL_AMD_depth_clamp_separate when `far_only_clamp`), the two-sided stencil
-// operations, volume culling; colour writes follow depth writes (the object
-// ids are written with the depth).
+// Culling, the clip control (the depth mapping), the depth test and writes,
+// depth clamp (one side only through GL_AMD_depth_clamp_separate when
+// `far_only_clamp`, else through GL_DEPTH_CLAMP with the other plane clipped
+// as gl_ClipDistance[0]), the two-sided stencil operations, volume culling;
+// colour writes follow depth writes (the object ids are written with the
+// depth).
 inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp, bool depth_bounds_test) {
   apply_volume_culling(s, depth_bounds_test);
   if (s.cull == gl::CullFace::None) {
@@ -111,7 +123,12 @@ inline void apply_draw_state(const gl::DrawState& s, bool far_only_clamp, bool d
   apply_depth_mapping(s.depth_mapping);
   glDepthMask(s.depth_write ? GL_TRUE : GL_FALSE);
   glColorMaski(0, s.depth_write, s.depth_write, s.depth_write, s.depth_write);
-  if ((s.depth_clamp_near && s.depth_clamp_far) || s.vertices_on_near_plane || s.vertices_on_far_plane) {
+  if (clamps_by_clip_distance(s, far_only_clamp))
+    glEnable(GL_CLIP_DISTANCE0);
+  else
+    glDisable(GL_CLIP_DISTANCE0);
+  if ((s.depth_clamp_near && s.depth_clamp_far) || s.vertices_on_near_plane || s.vertices_on_far_plane ||
+      clamps_by_clip_distance(s, far_only_clamp)) {
     glEnable(GL_DEPTH_CLAMP);
   } else {
     glDisable(GL_DEPTH_CLAMP);

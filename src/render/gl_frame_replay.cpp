@@ -56,12 +56,6 @@ GlFrameReplay::~GlFrameReplay() {
 
 ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset,
                                     VertexStage stage) {
-  for (const gl::DrawCall& d : draws)
-    if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp_)
-      throw Error(ErrorKind::Gl, std::string("this frame clamps depth at one plane only, which needs "
-                                             "GL_AMD_depth_clamp_separate; the driver (") +
-                                     reinterpret_cast<const char*>(glGetString(GL_RENDERER)) +
-                                     ") lacks it: use far-cap (ZF+) for clamp-far");
   const bool depth_bounds_test = has_depth_bounds_test();
   check_depth_bounds(draws, depth_bounds_test);
   const auto t0 = std::chrono::steady_clock::now();
@@ -98,7 +92,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
     } else {
       glDisable(GL_POLYGON_OFFSET_FILL);
     }
-    const ShadowProgramUse use = programs_->use(d, stage);
+    const ShadowProgramUse use = programs_->use(d, stage, clamps_by_clip_distance(s, far_only_clamp_));
     glUniform1i(glGetUniformLocation(use.program, "object_id"), s.object_id);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(use.count * sizeof(gl::Vec4f)), use.vertices, GL_STREAM_DRAW);
     glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(use.count));

@@ -64,14 +64,27 @@ vec4 figure7_program(vec4 v) {
 
 vec4 pass_through(vec4 v) { return v; }
 
+#if CLIP_DISTANCE
+// One depth side clamped without GL_AMD_depth_clamp_separate: GL_DEPTH_CLAMP,
+// and the plane that still clips as a user clip distance, (a z + b w) with
+// a = +-1 and b = 0 or 1: one rounding, the clipper's own z + w, w - z or z.
+out float gl_ClipDistance[1];
+uniform vec2 clip_plane;
+#endif
+
 void main() {
   gl_Position = PROGRAM(vertex_in);
+#if CLIP_DISTANCE
+  precise float distance = clip_plane.x * gl_Position.z + clip_plane.y * gl_Position.w;
+  gl_ClipDistance[0] = distance;
+#endif
   colour_v = colour_in;
 }
 )";
 
-std::size_t slot(std::optional<gl::VertexProgram> p, gl::Arithmetic a) {
-  return 2 * (p ? 1 + static_cast<std::size_t>(*p) : 0) + (a == gl::Arithmetic::Fused ? 1 : 0);
+std::size_t slot(std::optional<gl::VertexProgram> p, gl::Arithmetic a, bool clip_distance) {
+  return 4 * (p ? 1 + static_cast<std::size_t>(*p) : 0) + 2 * (a == gl::Arithmetic::Fused ? 1 : 0) +
+         (clip_distance ? 1 : 0);
 }
 
 void set_matrix(GLuint program, const char* name, const gl::Mat4f& m) {
@@ -88,14 +101,15 @@ std::optional<VertexStage> vertex_stage_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic) {
+std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic,
+                               bool clip_distance) {
   std::string name = "pass_through";
   if (program) {
     name = std::string(gl::to_string(*program)) + "_program";
     if (*program == gl::VertexProgram::NearCap) name = "near_cap_program";
   }
   return std::string("#version 450 core\n#define FUSED ") + (arithmetic == gl::Arithmetic::Fused ? "1" : "0") +
-         "\n#define PROGRAM " + name + "\n" + kCommon;
+         "\n#define CLIP_DISTANCE " + (clip_distance ? "1" : "0") + "\n#define PROGRAM " + name + "\n" + kCommon;
 }
 
 ShadowPrograms::ShadowPrograms(std::string fragment_source, std::string what)
@@ -111,35 +125,47 @@ ShadowPrograms::~ShadowPrograms() {
   if (capture_framebuffer_) glDeleteFramebuffers(1, &capture_framebuffer_);
 }
 
-unsigned ShadowPrograms::program(std::optional<gl::VertexProgram> p, gl::Arithmetic a) {
-  unsigned& out = programs_[slot(p, a)];
+unsigned ShadowPrograms::program(std::optional<gl::VertexProgram> p, gl::Arithmetic a, bool clip_distance) {
+  unsigned& out = programs_[slot(p, a, clip_distance)];
   if (out) return out;
-  const std::string vertex = glsl_vertex_shader(p, a);
+  const std::string vertex = glsl_vertex_shader(p, a, clip_distance);
   out = link_program(vertex.c_str(), fragment_source_.c_str(),
                      what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") + " vertex program)",
                      "gl_Position");
   return out;
 }
 
-void ShadowPrograms::prepare(const gl::DrawCall& d, VertexStage stage) {
+void ShadowPrograms::prepare(const gl::DrawCall& d, VertexStage stage, bool clip_distance) {
   if (stage == VertexStage::Recorded || !d.vertex_stage)
-    program(std::nullopt, gl::Arithmetic::Separate);
+    program(std::nullopt, gl::Arithmetic::Separate, clip_distance);
   else
-    program(d.vertex_stage->program, d.vertex_stage->uniforms.arithmetic);
+    program(d.vertex_stage->program, d.vertex_stage->uniforms.arithmetic, clip_distance);
 }
 
-ShadowProgramUse ShadowPrograms::use(const gl::DrawCall& d, VertexStage stage) {
+ShadowProgramUse ShadowPrograms::use(const gl::DrawCall& d, VertexStage stage, bool clip_distance) {
   ShadowProgramUse u;
+  // The plane that still clips: the near one when the far side clamps.
+  auto set_clip_plane = [&] {
+    if (!clip_distance) return;
+    const bool near = !d.state.depth_clamp_near;
+    const bool reversed = d.state.depth_mapping == gl::DepthMapping::Reversed;
+    // near: z + w (reversed: w - z); far: w - z (reversed: z).
+    const float a = near != reversed ? 1.0f : -1.0f;
+    const float b = near || !reversed ? 1.0f : 0.0f;
+    glUniform2f(glGetUniformLocation(u.program, "clip_plane"), a, b);
+  };
   if (stage == VertexStage::Recorded || !d.vertex_stage) {
-    u.program = program(std::nullopt, gl::Arithmetic::Separate);
+    u.program = program(std::nullopt, gl::Arithmetic::Separate, clip_distance);
     glUseProgram(u.program);
+    set_clip_plane();
     u.vertices = d.clip_vertices.empty() ? nullptr : &d.clip_vertices.front().x;
     u.count = d.clip_vertices.size();
     return u;
   }
   const gl::VertexProgramRun& run = *d.vertex_stage;
-  u.program = program(run.program, run.uniforms.arithmetic);
+  u.program = program(run.program, run.uniforms.arithmetic, clip_distance);
   glUseProgram(u.program);
+  set_clip_plane();
   set_matrix(u.program, "modelview_projection", run.uniforms.modelview_projection);
   set_matrix(u.program, "light_modelview", run.uniforms.light_modelview);
   set_matrix(u.program, "light_projection", run.uniforms.light_projection);

@@ -72,15 +72,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   if (light_frames.empty()) throw Error(ErrorKind::Usage, "a lit frame needs at least one light's shadow frame");
   const int width = scene.camera.width, height = scene.camera.height;
   const bool far_only_clamp = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
-  for (const gl::ShadowFrame& f : light_frames) {
+  for (const gl::ShadowFrame& f : light_frames)
     if (f.draws.empty()) throw Error(ErrorKind::Usage, "a lit frame needs recorded draws (record_draws)");
-    for (const gl::DrawCall& d : f.draws)
-      if (d.state.depth_clamp_far != d.state.depth_clamp_near && !far_only_clamp)
-        throw Error(ErrorKind::Gl,
-                    "this frame clamps depth at one plane only, which needs "
-                    "GL_AMD_depth_clamp_separate; the driver lacks it: use far-cap (ZF+) for clamp-far "
-                    "(--zfail-far, --switch-clamp)");
-  }
   const bool depth_bounds_test = has_depth_bounds_test();
   for (const gl::ShadowFrame& f : light_frames) check_depth_bounds(f.draws, depth_bounds_test);
   LitFrame out;
@@ -112,7 +105,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   try {
     for (const gl::ShadowFrame& f : light_frames)
       for (const gl::DrawCall& d : f.draws) {
-        programs.prepare(d, options.vertex_stage);
+        programs.prepare(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
         if (options.side_strips && d.vertex_stage && d.vertex_stage->part == gl::GeometryPart::Sides)
           strips[&d] = gl::side_strip_indices(d.vertex_stage->inputs);
       }
@@ -143,7 +136,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     gpu_into += static_cast<double>(ns) * 1e-6;
   };
   auto draw = [&](const gl::DrawCall& d, const std::vector<float>& rgb, int times = 1) {
-    const ShadowProgramUse use = programs.use(d, options.vertex_stage);
+    const ShadowProgramUse use =
+        programs.use(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
     glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(use.count * sizeof(gl::Vec4f)), use.vertices, GL_STREAM_DRAW);
     glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);

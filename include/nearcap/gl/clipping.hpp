@@ -57,6 +57,17 @@ struct ClipSettings {
   // the inside one), c + t (o - c) with t = d_c / (d_c - d_o).  An edge
   // shared by two triangles is still cut at the same point from both sides.
   bool mesa = false;
+  // With mesa: one depth clamp side done as the renderer does it on a driver
+  // without GL_AMD_depth_clamp_separate (render/draw_state.hpp):
+  // GL_DEPTH_CLAMP, and the plane that still clips (near when only the far
+  // side clamps, far when only the near side does) as gl_ClipDistance[0]
+  // written by the vertex program with the same one float operation.  Mesa
+  // clips a user plane after the view volume's, and reads its distance from
+  // the vertex, so at a vertex the x and y planes made it is the distance
+  // interpolated like the position (c + t (o - c)), not the distance of the
+  // interpolated position.  No w >= w_min plane: the x and y planes keep
+  // w > 0.  Without mesa this changes nothing (the spec clips the same plane).
+  bool depth_plane_as_clip_distance = false;
 };
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.

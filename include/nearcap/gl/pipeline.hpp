@@ -61,7 +61,9 @@ struct DrawState {
   DepthMapping depth_mapping = DepthMapping::Standard;
   // GL_DEPTH_CLAMP sets both: no near and no far clipping, depth clamped.
   // GL_AMD_depth_clamp_separate sets one of them (GL_DEPTH_CLAMP_FAR_AMD:
-  // clipped at the near plane as usual, clamped at the far one).
+  // clipped at the near plane as usual, clamped at the far one); without
+  // it, GL_DEPTH_CLAMP and the other plane as a gl_ClipDistance
+  // (one_sided_depth_clamp, below).
   bool depth_clamp_near = false;
   bool depth_clamp_far = false;
   bool clip_far = true;  // false with an infinite far plane (w - z is 0 at infinity)
@@ -86,6 +88,14 @@ struct DrawState {
   std::optional<std::array<double, 2>> depth_bounds;
   std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
 };
+// Depth clamped at one plane only (near or far), clipped at the other: what
+// GL_AMD_depth_clamp_separate does, and what the renderer does without it
+// with GL_DEPTH_CLAMP and the other plane as a gl_ClipDistance
+// (render/draw_state.hpp; ClipSettings::depth_plane_as_clip_distance).
+// Not for the caps whose vertices lie on a plane (drawn with GL_DEPTH_CLAMP).
+inline bool one_sided_depth_clamp(const DrawState& s) {
+  return s.depth_clamp_near != s.depth_clamp_far && !s.vertices_on_near_plane && !s.vertices_on_far_plane;
+}
 
 // One draw call as a GL receives it: the clip-space vertices its vertex
 // program wrote (3 per triangle) and the state it was drawn with.  A frame's

@@ -15,9 +15,13 @@
 //                 depth 1, stencil 0, object -1; viewport the whole frame;
 //   depth         DepthFunc::Less -> GL_LESS, Always -> the depth test off;
 //                 glDepthMask from depth_write; GL_DEPTH_CLAMP when both
-//                 near and far clamp; far only needs GL_AMD_depth_clamp_separate
-//                 (GL_DEPTH_CLAMP_FAR_AMD), and a driver without it refuses
-//                 that frame (Error, kind Gl, naming the extension);
+//                 near and far clamp; one side only (far-only clamp, the
+//                 near-clamp l_near rule's cap) through
+//                 GL_AMD_depth_clamp_separate where the driver has it, else
+//                 GL_DEPTH_CLAMP with the plane that still clips as
+//                 gl_ClipDistance[0] (the vertex program writes z + w, w - z
+//                 or z; the llvmpipe model's clipper clips it as Mesa does a
+//                 user plane: gl::ClipSettings::depth_plane_as_clip_distance);
 //                 vertices_on_near_plane (the clipped-sides near cap) ->
 //                 GL_DEPTH_CLAMP, so the driver does not cut it again at the
 //                 near plane its vertices lie on only to within rounding;
@@ -66,7 +70,8 @@ class GlFrameReplay {
   ReplayedFrame replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset = 0,
                        VertexStage stage = VertexStage::Recorded);
 
-  // True when the driver clamps depth at the far plane only.
+  // True when the driver has GL_AMD_depth_clamp_separate (one-sided depth
+  // clamp in fixed function; without it, GL_DEPTH_CLAMP and a clip distance).
   bool has_far_only_clamp() const { return far_only_clamp_; }
 
  private:

@@ -37,8 +37,13 @@ enum class VertexStage { Recorded, Glsl };
 std::string_view to_string(VertexStage s);  // "recorded", "glsl"
 std::optional<VertexStage> vertex_stage_from_string(std::string_view name);
 
-// The vertex shader's source: `program`'s (nullopt: pass-through) with `arithmetic`.
-std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic);
+// The vertex shader's source: `program`'s (nullopt: pass-through) with
+// `arithmetic`; with `clip_distance`, it also writes gl_ClipDistance[0], the
+// distance to the depth plane that still clips where one side is clamped
+// through GL_DEPTH_CLAMP (gl::one_sided_depth_clamp on a driver without
+// GL_AMD_depth_clamp_separate; render/draw_state.hpp).
+std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic,
+                               bool clip_distance = false);
 
 // What to upload for one draw, and with which program.
 struct ShadowProgramUse {
@@ -58,9 +63,11 @@ class ShadowPrograms {
 
   // glUseProgram of the program that gives `d`'s vertices under `stage`, its
   // uniforms set; returns it with the vertices to upload as attribute 0.
-  ShadowProgramUse use(const gl::DrawCall& d, VertexStage stage);
+  // `clip_distance`: the variant that writes gl_ClipDistance[0] for d.state's
+  // unclamped depth plane (glsl_vertex_shader).
+  ShadowProgramUse use(const gl::DrawCall& d, VertexStage stage, bool clip_distance = false);
   // Compiles and links the program `d` needs under `stage` now (not during a timed frame).
-  void prepare(const gl::DrawCall& d, VertexStage stage);
+  void prepare(const gl::DrawCall& d, VertexStage stage, bool clip_distance = false);
 
   // The GL's gl_Position for each of `d`'s vertices under VertexStage::Glsl,
   // captured by transform feedback with rasterization discarded: what the
@@ -68,9 +75,9 @@ class ShadowPrograms {
   std::vector<gl::Vec4f> capture(const gl::DrawCall& d);
 
  private:
-  unsigned program(std::optional<gl::VertexProgram> p, gl::Arithmetic a);
+  unsigned program(std::optional<gl::VertexProgram> p, gl::Arithmetic a, bool clip_distance);
   std::string fragment_source_, what_;
-  std::array<unsigned, 8> programs_{};  // [1 + program][arithmetic]: 0 pass-through
+  std::array<unsigned, 16> programs_{};  // [1 + program][arithmetic][clip distance]: 0 pass-through
   unsigned capture_buffer_ = 0, capture_vertices_ = 0, capture_array_ = 0, capture_framebuffer_ = 0,
            capture_target_ = 0;
 };
