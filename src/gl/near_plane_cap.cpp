@@ -206,59 +206,209 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 
 namespace {
 
-// The viewport's area (NDC: 4 in all) that the fan from `anchor` over
-// `edges` covers, counted once per triangle: each triangle clipped to the
-// square in double; a triangle with a vertex at or behind infinity (w <= 0)
-// counts the whole viewport.  An estimate of the fragments a choice costs;
-// `net`: the signed sum's magnitude (the region filled); past `limit` it
-// stops counting.
+// The viewport's area (NDC: 4 in all) that triangle (a, b, c) covers,
+// clipped to the square in double; a triangle with a vertex at or behind
+// infinity (w <= 0) counts the whole viewport, its signed area unknown (NaN).
+double triangle_area_in_viewport(const Vec4f& a, const Vec4f& b, const Vec4f& c, double& signed_area) {
+  // Sutherland-Hodgman against x >= -1, x <= 1, y >= -1, y <= 1: at most 7 vertices.
+  using Polygon = std::array<std::array<double, 2>, 8>;
+  Polygon poly{}, next{};
+  std::size_t size = 0;
+  for (const Vec4f* v : {&a, &b, &c}) {
+    if (!(v->w > 0)) {
+      signed_area = std::numeric_limits<double>::quiet_NaN();
+      return 4.0;
+    }
+    poly[size++] = {double{v->x} / v->w, double{v->y} / v->w};
+  }
+  for (int plane = 0; plane < 4 && size > 0; ++plane) {
+    const int axis = plane / 2;
+    const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // sign * p[axis] + 1 >= 0
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < size; ++k) {
+      const auto& p = poly[k];
+      const auto& q = poly[(k + 1) % size];
+      const double dp = sign * p[axis] + 1, dq = sign * q[axis] + 1;
+      if (dp >= 0) next[kept++] = p;
+      if ((dp >= 0) != (dq >= 0)) {
+        const double t = dp / (dp - dq);
+        next[kept++] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+      }
+    }
+    std::swap(poly, next);
+    size = kept;
+  }
+  double area = 0;
+  for (std::size_t k = 0; k < size; ++k) {
+    const auto& p = poly[k];
+    const auto& q = poly[(k + 1) % size];
+    area += p[0] * q[1] - p[1] * q[0];
+  }
+  signed_area = 0.5 * area;
+  return std::fabs(signed_area);
+}
+
+// The viewport's area that the fan from `anchor` over `edges` covers,
+// counted once per triangle (triangle_area_in_viewport): an estimate of the
+// fragments a choice costs; `net`: the signed sum's magnitude (the region
+// filled); past `limit` it stops counting.
 double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor, double* net = nullptr,
                 double limit = std::numeric_limits<double>::infinity()) {
   double total = 0, signed_total = 0;
   for (std::size_t e = 0; e + 1 < edges.size() && !(total > limit); e += 2) {
-    const Vec4f* tri[3] = {&anchor, &edges[e], &edges[e + 1]};
-    std::vector<std::array<double, 2>> poly;
-    bool finite_triangle = true;
-    for (const Vec4f* v : tri) {
-      if (!(v->w > 0)) {
-        finite_triangle = false;
-        break;
-      }
-      poly.push_back({double{v->x} / v->w, double{v->y} / v->w});
-    }
-    if (!finite_triangle) {
-      total += 4.0;
-      signed_total = std::numeric_limits<double>::quiet_NaN();  // not known
-      continue;
-    }
-    // Sutherland-Hodgman against x >= -1, x <= 1, y >= -1, y <= 1.
-    for (int plane = 0; plane < 4 && !poly.empty(); ++plane) {
-      const int axis = plane / 2;
-      const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // sign * p[axis] + 1 >= 0
-      std::vector<std::array<double, 2>> next;
-      for (std::size_t k = 0; k < poly.size(); ++k) {
-        const auto& a = poly[k];
-        const auto& b = poly[(k + 1) % poly.size()];
-        const double da = sign * a[axis] + 1, db = sign * b[axis] + 1;
-        if (da >= 0) next.push_back(a);
-        if ((da >= 0) != (db >= 0)) {
-          const double t = da / (da - db);
-          next.push_back({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])});
-        }
-      }
-      poly = std::move(next);
-    }
-    double area = 0;
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-      const auto& a = poly[k];
-      const auto& b = poly[(k + 1) % poly.size()];
-      area += a[0] * b[1] - a[1] * b[0];
-    }
-    total += 0.5 * std::fabs(area);
-    signed_total += 0.5 * area;
+    double signed_area = 0;
+    total += triangle_area_in_viewport(anchor, edges[e], edges[e + 1], signed_area);
+    signed_total += signed_area;
   }
   if (net) *net = std::fabs(signed_total);
   return total;
+}
+
+// A fan with an anchor per edge: a loop that no single anchor fans without
+// drawing much of the viewport twice (a curve that winds across it) split
+// into runs of edges, each run fanned from its own anchor (all at w = 1).
+// Where edge e's anchor a_e gives way to a_{e+1} at vertex v (the end of e,
+// the start of e + 1), a glue triangle (a_e, v, a_{e+1}) closes the gap, and
+// for each such switch a triangle (s, a_e, a_{e+1}) from the reference anchor
+// s = a_0 closes the polygon of the anchors: the triangles' boundaries then
+// sum to the loop's edges alone.  So every pixel gets the single fan from s's
+// count: fanning edge (v, w) from a instead of s adds triangles (a, v, s) and
+// (a, s, w), exactly so in the oriented projective plane when a, s, v and w
+// lie in one open hemisphere (else it may add the whole plane once), which
+// holds when v and w have w > 0 like the anchors; an edge with an endpoint at
+// or behind infinity keeps s, and switches happen only at vertices in the
+// viewport.  The loop must be a chain of finite vertices (each edge's end bit
+// for bit the next one's start); else nothing.
+//
+// The anchors are chosen by dynamic programming over the loop, for each of
+// the first `references` anchors as s: the cost of an edge is its
+// triangle's area in the viewport, of a switch its glue and closing
+// triangles' areas.  Switches are tried at the vertices in the viewport
+// where the anchor that fans the edge alone with the least area changes
+// (there the glue's area needs no clipping), and, on loops of 64 edges at
+// most, at every vertex with w > 0 between that anchor, its predecessor's
+// and the first two.  Returns the triangles, `area` their total in the
+// viewport.
+std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& loop, const std::vector<Vec4f>& anchors,
+                                                     std::size_t references, double& area) {
+  const std::size_t n = loop.size() / 2, count = anchors.size();
+  if (n < 3 || count < 2 || count > 255 || references > count) return std::nullopt;
+  for (std::size_t e = 0; e < n; ++e) {
+    const Vec4f& v = loop[2 * e];
+    if (!finite(v) || std::memcmp(&loop[2 * ((e + n - 1) % n) + 1], &v, sizeof(Vec4f)) != 0) return std::nullopt;
+  }
+  struct Point {
+    double x, y;
+  };
+  std::vector<Point> start(n);
+  std::vector<bool> inside(n), behind(n);
+  for (std::size_t e = 0; e < n; ++e) {
+    const Vec4f& v = loop[2 * e];
+    behind[e] = !(v.w > 0) || !(loop[2 * e + 1].w > 0);
+    start[e] = v.w > 0 ? Point{double{v.x} / v.w, double{v.y} / v.w} : Point{0, 0};
+    inside[e] = v.w > 0 && std::fabs(start[e].x) <= 1 && std::fabs(start[e].y) <= 1;
+  }
+  std::vector<Point> a(count);
+  for (std::size_t k = 0; k < count; ++k)
+    a[k] = {double{anchors[k].x} / anchors[k].w, double{anchors[k].y} / anchors[k].w};
+  // edge_area[e * count + k]: edge e's triangle from anchor k; preferred[e]: the anchor giving the least.
+  std::vector<double> edge_area(n * count);
+  std::vector<std::size_t> preferred(n, 0);
+  for (std::size_t e = 0; e < n; ++e)
+    for (std::size_t k = 0; k < count; ++k) {
+      double unused = 0;
+      double& area_k = edge_area[e * count + k];
+      area_k = triangle_area_in_viewport(anchors[k], loop[2 * e], loop[2 * e + 1], unused);
+      if (area_k < edge_area[e * count + preferred[e]]) preferred[e] = k;
+    }
+  // A switch from anchor j to k at vertex v: the glue triangle's area
+  // |cross(a_k - a_j, v - a_j)| / 2 = |dx v.y - dy v.x + c| / 2, linear in v;
+  // tried only at vertices in the viewport where the preferred anchor changes.
+  struct Glue {
+    double dx, dy, c;
+  };
+  std::vector<Glue> glue(count * count);
+  for (std::size_t j = 0; j < count; ++j)
+    for (std::size_t k = 0; k < count; ++k) {
+      const double dx = a[k].x - a[j].x, dy = a[k].y - a[j].y;
+      glue[j * count + k] = {dx, dy, dy * a[j].x - dx * a[j].y};
+    }
+  auto closing = [&](std::size_t r, std::size_t j, std::size_t k) {
+    return 0.5 * std::fabs((a[j].x - a[r].x) * (a[k].y - a[r].y) - (a[j].y - a[r].y) * (a[k].x - a[r].x));
+  };
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const bool short_loop = n <= 64;
+  double best = kNone;
+  std::vector<std::uint8_t> best_choice, choice(n * count);  // choice[e * count + k]: edge e - 1's anchor
+  std::vector<double> cost(count), next(count);
+  std::size_t best_last = 0;
+  for (std::size_t s = 0; s < references; ++s) {
+    std::fill(cost.begin(), cost.end(), kNone);
+    cost[s] = edge_area[s];  // edge 0's anchor: s (and so for an edge behind, below)
+    for (std::size_t e = 1; e < n; ++e) {
+      const Point& v = start[e];
+      // In the viewport: any two anchors where the preferred one changes;
+      // elsewhere on a short loop: between the candidates.
+      const bool switch_inside = inside[e] && preferred[e] != preferred[e - 1];
+      const bool switch_outside = !inside[e] && short_loop && loop[2 * e].w > 0;
+      auto candidate = [&](std::size_t i) { return i == preferred[e] || i == preferred[e - 1] || i < 2; };
+      for (std::size_t k = 0; k < count; ++k) {
+        double c = cost[k];
+        std::size_t from = k;
+        if (switch_inside || (switch_outside && candidate(k)))
+          for (std::size_t j = 0; j < count; ++j) {
+            if (j == k || !(cost[j] < c) || (switch_outside && !candidate(j))) continue;
+            const Glue& g = glue[j * count + k];
+            double unused = 0;
+            const double glue_area = switch_inside
+                                         ? 0.5 * std::fabs(g.dx * v.y - g.dy * v.x + g.c)
+                                         : triangle_area_in_viewport(anchors[j], loop[2 * e], anchors[k], unused);
+            const double switched = cost[j] + glue_area + closing(s, j, k);
+            if (switched < c) {
+              c = switched;
+              from = j;
+            }
+          }
+        next[k] = behind[e] && k != s ? kNone : c + edge_area[e * count + k];
+        choice[e * count + k] = static_cast<std::uint8_t>(from);
+      }
+      std::swap(cost, next);
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      const Glue& g = glue[k * count + s];
+      // Back to s at vertex 0 (its closing triangle is degenerate).
+      double total = cost[k], unused = 0;
+      if (k != s) {
+        if (inside[0])
+          total += 0.5 * std::fabs(g.dx * start[0].y - g.dy * start[0].x + g.c);
+        else if (short_loop && loop[0].w > 0)
+          total += triangle_area_in_viewport(anchors[k], loop[0], anchors[s], unused);
+        else
+          total = kNone;
+      }
+      if (total < best) {
+        best = total;
+        best_last = k;
+        best_choice = choice;
+      }
+    }
+  }
+  if (!(best < kNone)) return std::nullopt;
+  std::vector<std::size_t> k(n);
+  k[n - 1] = best_last;
+  for (std::size_t e = n - 1; e > 0; --e) k[e - 1] = best_choice[e * count + k[e]];
+  const std::size_t s = k[0];
+  std::vector<Vec4f> out;
+  out.reserve(3 * n);
+  for (std::size_t e = 0; e < n; ++e) out.insert(out.end(), {anchors[k[e]], loop[2 * e], loop[2 * e + 1]});
+  for (std::size_t e = 0; e < n; ++e) {
+    const std::size_t f = (e + 1) % n;
+    if (k[e] == k[f]) continue;
+    out.insert(out.end(), {anchors[k[e]], loop[2 * e + 1], anchors[k[f]]});
+    if (k[e] != s && k[f] != s) out.insert(out.end(), {anchors[s], anchors[k[e]], anchors[k[f]]});
+  }
+  area = best;
+  return out;
 }
 
 // A path around the viewport in place of a whole run of edges away from it:
@@ -417,6 +567,22 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
       if (area < least) {
         least = area;
         anchor = candidate;
+      }
+    }
+    // Where the best single fan still draws 256 fragments or more twice
+    // (its area beyond the region it fills): an anchor per run of edges,
+    // from that one, the centre and the grid, referred to one of the first
+    // two.  Below that the search costs more time than it saves.
+    constexpr double kRunsWorthTrying = 256;  // fragments
+    if (!((least - net) * 0.25 * width * height < kRunsWorthTrying)) {
+      std::vector<Vec4f> anchors{anchor, {0.0f, 0.0f, plane_z, 1.0f}};
+      for (int k = 0; k < 25; ++k)
+        if (k != 12) anchors.push_back({kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f});
+      double area = 0;
+      if (std::optional<std::vector<Vec4f>> runs = anchor_per_run_fan(shortened, anchors, 2, area);
+          runs && area < least) {
+        out.insert(out.end(), runs->begin(), runs->end());
+        continue;
       }
     }
     const std::vector<Vec4f> fan = fan_over(shortened, anchor);
