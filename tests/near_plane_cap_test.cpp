@@ -250,7 +250,7 @@ TEST(NearPlaneCap, ADetourAroundTheViewportWhereTheCurveCirclesIt) {
 // fragments with the infinite far plane where the paper's cap draws 14,262)
 // and fly_around frame 20 (a short loop around the viewport twice, zigzags
 // across it: 44,033 where the paper's draws 30,693).  An anchor per
-// run of edges draws a fifth to a quarter less, with the single fan's
+// run of edges draws a quarter to a third less, with the single fan's
 // counts: no wrong pixel, the near-cap pass as close to the exact cap.
 TEST(NearPlaneCap, AnAnchorPerRunWhereTheCurveWindsAcrossTheViewport) {
   for (const auto& [name, frame, mismatches] :

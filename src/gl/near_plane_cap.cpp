@@ -283,12 +283,11 @@ double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor, double* ne
 // The anchors are chosen by dynamic programming over the loop, for each of
 // the first `references` anchors as s: the cost of an edge is its
 // triangle's area in the viewport, of a switch its glue and closing
-// triangles' areas.  Switches are tried at the vertices in the viewport
-// where the anchor that fans the edge alone with the least area changes
-// (there the glue's area needs no clipping), and, on loops of 64 edges at
-// most, at every vertex with w > 0 between that anchor, its predecessor's
-// and the first two.  Returns the triangles, `area` their total in the
-// viewport.
+// triangles' areas.  Switches between any two anchors are tried at the
+// vertices in the viewport where the preferred anchor (the one that fans
+// the edge alone with the least area) changes, and at every other vertex
+// with w > 0 between the edge's preferred anchor, its predecessor's and the
+// first two.  Returns the triangles, `area` their total in the viewport.
 std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& loop, const std::vector<Vec4f>& anchors,
                                                      std::size_t references, double& area) {
   const std::size_t n = loop.size() / 2, count = anchors.size();
@@ -337,7 +336,6 @@ std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& l
     return 0.5 * std::fabs((a[j].x - a[r].x) * (a[k].y - a[r].y) - (a[j].y - a[r].y) * (a[k].x - a[r].x));
   };
   constexpr double kNone = std::numeric_limits<double>::infinity();
-  const bool short_loop = n <= 64;
   double best = kNone;
   std::vector<std::uint8_t> best_choice, choice(n * count);  // choice[e * count + k]: edge e - 1's anchor
   std::vector<double> cost(count), next(count);
@@ -347,22 +345,21 @@ std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& l
     cost[s] = edge_area[s];  // edge 0's anchor: s (and so for an edge behind, below)
     for (std::size_t e = 1; e < n; ++e) {
       const Point& v = start[e];
-      // In the viewport: any two anchors where the preferred one changes;
-      // elsewhere on a short loop: between the candidates.
-      const bool switch_inside = inside[e] && preferred[e] != preferred[e - 1];
-      const bool switch_outside = !inside[e] && short_loop && loop[2 * e].w > 0;
+      // In the viewport where the preferred anchor changes: any two anchors;
+      // at any other vertex with w > 0: between the candidates.
+      const bool switch_any = inside[e] && preferred[e] != preferred[e - 1];
+      const bool switch_candidates = !switch_any && loop[2 * e].w > 0;
       auto candidate = [&](std::size_t i) { return i == preferred[e] || i == preferred[e - 1] || i < 2; };
       for (std::size_t k = 0; k < count; ++k) {
         double c = cost[k];
         std::size_t from = k;
-        if (switch_inside || (switch_outside && candidate(k)))
+        if (switch_any || (switch_candidates && candidate(k)))
           for (std::size_t j = 0; j < count; ++j) {
-            if (j == k || !(cost[j] < c) || (switch_outside && !candidate(j))) continue;
+            if (j == k || !(cost[j] < c) || (switch_candidates && !candidate(j))) continue;
             const Glue& g = glue[j * count + k];
             double unused = 0;
-            const double glue_area = switch_inside
-                                         ? 0.5 * std::fabs(g.dx * v.y - g.dy * v.x + g.c)
-                                         : triangle_area_in_viewport(anchors[j], loop[2 * e], anchors[k], unused);
+            const double glue_area = inside[e] ? 0.5 * std::fabs(g.dx * v.y - g.dy * v.x + g.c)
+                                               : triangle_area_in_viewport(anchors[j], loop[2 * e], anchors[k], unused);
             const double switched = cost[j] + glue_area + closing(s, j, k);
             if (switched < c) {
               c = switched;
@@ -381,7 +378,7 @@ std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& l
       if (k != s) {
         if (inside[0])
           total += 0.5 * std::fabs(g.dx * start[0].y - g.dy * start[0].x + g.c);
-        else if (short_loop && loop[0].w > 0)
+        else if (loop[0].w > 0)
           total += triangle_area_in_viewport(anchors[k], loop[0], anchors[s], unused);
         else
           total = kNone;

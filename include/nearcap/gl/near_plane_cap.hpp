@@ -112,7 +112,7 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // 256 fragments or more twice, an anchor per run of the loop's edges
 // (chosen by dynamic programming; glue triangles where the anchor changes
 // and a fan over the anchors' polygon keep the count: `near_plane_sweep`
-// frame 44 23,424 -> 17,964 fragments, the same wrong pixels and count
+// frame 44 23,424 -> 16,188 fragments, the same wrong pixels and count
 // mismatches in every row of 19,500 hard cases and the paths).  Measured
 // before that: the same wrong pixels
 // and count mismatches in every row of 14,800 hard cases and the seven
