@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -45,6 +46,50 @@ Outcome replay_and_compare(const Scene& scene, gl::ShadowMethod m, gl::Emulation
     EXPECT_FALSE(real.near_cap.empty());
   }
   return o;
+}
+
+// A frame recorded with the spec's arithmetic (the given settings, llvmpipe's
+// viewport) and drawn again under the llvmpipe model (its depth
+// interpolation, Mesa's clipper); nothing where the float32 transforms are
+// refused.
+struct ExactAndModelled {
+  gl::ShadowFrame exact, modelled;
+};
+
+std::optional<ExactAndModelled> render_exact_and_modelled(const Scene& scene, std::size_t light, gl::ShadowMethod m,
+                                                          gl::EmulationSettings settings) {
+  settings.record_draws = true;
+  settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
+  ExactAndModelled f;
+  try {
+    f.exact = gl::render_shadow_frame(scene, light, m, settings);
+    settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
+    settings.raster.mesa_clipper = true;
+    f.modelled = gl::render_shadow_frame(scene, light, m, settings);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Range) throw;
+    return std::nullopt;  // refused (degenerate float32 transforms)
+  }
+  return f;
+}
+
+// The hard-case sampler's first `count` configurations of seed 7 that it
+// does not reject, each as a scene.
+template <typename Visit>
+void for_each_sampled_scene(std::uint64_t count, Visit visit) {
+  analysis::SamplerSpec spec;
+  spec.seed = 7;
+  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
+  const analysis::HardCaseSampler sampler(spec);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    Scene scene;
+    try {
+      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+    } catch (const Error&) {
+      continue;  // the sampler's rejections
+    }
+    visit(scene, i);
+  }
 }
 
 // Recording changes nothing the emulation computes.
@@ -192,42 +237,21 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
 // configurations of seed 7, every kind, every light and method): the
 // frames the float pipeline draws, replayed on llvmpipe.
 TEST_F(GlFrameReplayTest, TheLlvmpipeModelOnASliceOfTheSampler) {
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
   std::size_t frames = 0, differing_frames = 0, differences = 0, default_differences = 0;
-  for (std::uint64_t i = 0; i < 60; ++i) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // the sampler's rejections
-    }
+  for_each_sampled_scene(60, [&](const Scene& scene, std::uint64_t) {
     for (std::size_t light = 0; light < scene.lights.size(); ++light)
       for (gl::ShadowMethod m : gl::kAllShadowMethods) {
-        gl::EmulationSettings settings;
-        settings.record_draws = true;
-        settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
-        gl::ShadowFrame exact, modelled;
-        try {
-          exact = gl::render_shadow_frame(scene, light, m, settings);
-          settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
-          settings.raster.mesa_clipper = true;
-          modelled = gl::render_shadow_frame(scene, light, m, settings);
-        } catch (const Error& e) {
-          if (e.kind() != ErrorKind::Range) throw;
-          continue;  // refused (degenerate float32 transforms)
-        }
-        render::GlFrameReplay replay(exact.width, exact.height, settings.depth);
-        const render::ReplayedFrame real = replay.replay(exact.draws);
-        const std::size_t c = render::compare(real, modelled).stencil;
-        default_differences += render::compare(real, exact).stencil;
+        const std::optional<ExactAndModelled> f = render_exact_and_modelled(scene, light, m, {});
+        if (!f) continue;
+        render::GlFrameReplay replay(f->exact.width, f->exact.height, gl::EmulationSettings{}.depth);
+        const render::ReplayedFrame real = replay.replay(f->exact.draws);
+        const std::size_t c = render::compare(real, f->modelled).stencil;
+        default_differences += render::compare(real, f->exact).stencil;
         differences += c;
         differing_frames += c > 0;
         ++frames;
       }
-  }
+  });
   std::printf(
       "[ replay   ] sampler slice: %zu frames, %zu stencil differences with the llvmpipe model (%zu frames), "
       "%zu with the defaults\n",
@@ -296,8 +320,6 @@ TEST_F(GlFrameReplayTest, OneSidedDepthClampThroughAClipDistance) {
   auto check = [&](const Scene& scene, std::size_t light, const std::string& what) {
     for (int variant = 0; variant < 4; ++variant) {
       gl::EmulationSettings settings;
-      settings.record_draws = true;
-      settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
       gl::ShadowMethod m = gl::ShadowMethod::ZFail;
       if (variant == 0) settings.zfail_far = gl::ZFailFar::DepthClampFar;
       if (variant == 1) {
@@ -310,22 +332,14 @@ TEST_F(GlFrameReplayTest, OneSidedDepthClampThroughAClipDistance) {
       }
       SCOPED_TRACE(what + ", light " + std::to_string(light) + ", " + std::string(gl::to_string(m)) + ", variant " +
                    std::to_string(variant));
-      gl::ShadowFrame exact, modelled;
-      try {
-        exact = gl::render_shadow_frame(scene, light, m, settings);
-        settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
-        settings.raster.mesa_clipper = true;
-        modelled = gl::render_shadow_frame(scene, light, m, settings);
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Range) throw;
-        continue;  // refused (degenerate float32 transforms)
-      }
-      for (const gl::DrawCall& d : exact.draws) one_sided_draws += gl::one_sided_depth_clamp(d.state);
-      render::GlFrameReplay replay(exact.width, exact.height, settings.depth);
+      const std::optional<ExactAndModelled> f = render_exact_and_modelled(scene, light, m, settings);
+      if (!f) continue;
+      for (const gl::DrawCall& d : f->exact.draws) one_sided_draws += gl::one_sided_depth_clamp(d.state);
+      render::GlFrameReplay replay(f->exact.width, f->exact.height, settings.depth);
       if (replay.has_far_only_clamp()) GTEST_SKIP() << "this driver has GL_AMD_depth_clamp_separate";
-      const render::ReplayedFrame real = replay.replay(exact.draws);
-      const render::ReplayComparison c = render::compare(real, modelled);
-      exact_differences += render::compare(real, exact).stencil;
+      const render::ReplayedFrame real = replay.replay(f->exact.draws);
+      const render::ReplayComparison c = render::compare(real, f->modelled);
+      exact_differences += render::compare(real, f->exact).stencil;
       model_differences += c.stencil;
       EXPECT_EQ(c.near_cap, 0u);
       EXPECT_EQ(c.stencil, 0u);
@@ -338,20 +352,10 @@ TEST_F(GlFrameReplayTest, OneSidedDepthClampThroughAClipDistance) {
                            "eye_in_shadow.json", "far_grazing.json", "case_d.json", "light_on_near_plane.json"})
     check(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name), 0, name);
   // The hard-case sampler's first 60 configurations of seed 7, every light.
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
-  for (std::uint64_t i = 0; i < 60; ++i) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // the sampler's rejections
-    }
+  for_each_sampled_scene(60, [&](const Scene& scene, std::uint64_t i) {
     for (std::size_t light = 0; light < scene.lights.size(); ++light)
       check(scene, light, "sample " + std::to_string(i));
-  }
+  });
   std::printf(
       "[ replay   ] one-sided depth clamp: %zu frames (%zu draws clamped at one side), %zu stencil differences with "
       "the spec's clipper, %zu with the llvmpipe model\n",

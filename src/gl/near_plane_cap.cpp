@@ -206,33 +206,30 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 
 namespace {
 
-// The viewport's area (NDC: 4 in all) that triangle (a, b, c) covers,
-// clipped to the square in double; a triangle with a vertex at or behind
-// infinity (w <= 0) counts the whole viewport, its signed area unknown (NaN).
+// The viewport's area (NDC: 4 in all) that triangle (a, b, c) covers: the
+// triangle clipped in homogeneous space (x, y, w) to -w <= x, y <= w, in
+// double, so that a triangle with a vertex at or behind infinity (w <= 0)
+// counts the part of it the rasterizer draws (the region with w > 0);
+// `signed_area`: that part's signed area (counter-clockwise positive, as
+// the rasterizer sees it).
 double triangle_area_in_viewport(const Vec4f& a, const Vec4f& b, const Vec4f& c, double& signed_area) {
-  // Sutherland-Hodgman against x >= -1, x <= 1, y >= -1, y <= 1: at most 7 vertices.
-  using Polygon = std::array<std::array<double, 2>, 8>;
+  // Sutherland-Hodgman against x + w, w - x, y + w, w - y >= 0: at most 7 vertices.
+  using Polygon = std::array<std::array<double, 3>, 8>;
   Polygon poly{}, next{};
   std::size_t size = 0;
-  for (const Vec4f* v : {&a, &b, &c}) {
-    if (!(v->w > 0)) {
-      signed_area = std::numeric_limits<double>::quiet_NaN();
-      return 4.0;
-    }
-    poly[size++] = {double{v->x} / v->w, double{v->y} / v->w};
-  }
+  for (const Vec4f* v : {&a, &b, &c}) poly[size++] = {double{v->x}, double{v->y}, double{v->w}};
   for (int plane = 0; plane < 4 && size > 0; ++plane) {
     const int axis = plane / 2;
-    const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // sign * p[axis] + 1 >= 0
+    const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // sign * p[axis] + p.w >= 0
     std::size_t kept = 0;
     for (std::size_t k = 0; k < size; ++k) {
       const auto& p = poly[k];
       const auto& q = poly[(k + 1) % size];
-      const double dp = sign * p[axis] + 1, dq = sign * q[axis] + 1;
+      const double dp = sign * p[axis] + p[2], dq = sign * q[axis] + q[2];
       if (dp >= 0) next[kept++] = p;
       if ((dp >= 0) != (dq >= 0)) {
         const double t = dp / (dp - dq);
-        next[kept++] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+        next[kept++] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
       }
     }
     std::swap(poly, next);
@@ -242,7 +239,8 @@ double triangle_area_in_viewport(const Vec4f& a, const Vec4f& b, const Vec4f& c,
   for (std::size_t k = 0; k < size; ++k) {
     const auto& p = poly[k];
     const auto& q = poly[(k + 1) % size];
-    area += p[0] * q[1] - p[1] * q[0];
+    if (!(p[2] > 0) || !(q[2] > 0)) continue;  // a corner on w = 0 (x = y = w = 0): no area
+    area += (p[0] / p[2]) * (q[1] / q[2]) - (p[1] / p[2]) * (q[0] / q[2]);
   }
   signed_area = 0.5 * area;
   return std::fabs(signed_area);
@@ -262,150 +260,6 @@ double fan_area(const std::vector<Vec4f>& edges, const Vec4f& anchor, double* ne
   }
   if (net) *net = std::fabs(signed_total);
   return total;
-}
-
-// A fan with an anchor per edge: a loop that no single anchor fans without
-// drawing much of the viewport twice (a curve that winds across it) split
-// into runs of edges, each run fanned from its own anchor (all at w = 1).
-// Where edge e's anchor a_e gives way to a_{e+1} at vertex v (the end of e,
-// the start of e + 1), a glue triangle (a_e, v, a_{e+1}) closes the gap, and
-// for each such switch a triangle (s, a_e, a_{e+1}) from the reference anchor
-// s = a_0 closes the polygon of the anchors: the triangles' boundaries then
-// sum to the loop's edges alone.  So every pixel gets the single fan from s's
-// count: fanning edge (v, w) from a instead of s adds triangles (a, v, s) and
-// (a, s, w), exactly so in the oriented projective plane when a, s, v and w
-// lie in one open hemisphere (else it may add the whole plane once), which
-// holds when v and w have w > 0 like the anchors; an edge with an endpoint at
-// or behind infinity keeps s, and switches happen only at vertices in the
-// viewport.  The loop must be a chain of finite vertices (each edge's end bit
-// for bit the next one's start); else nothing.
-//
-// The anchors are chosen by dynamic programming over the loop, for each of
-// the first `references` anchors as s: the cost of an edge is its
-// triangle's area in the viewport, of a switch its glue and closing
-// triangles' areas.  Switches between any two anchors are tried at the
-// vertices in the viewport where the preferred anchor (the one that fans
-// the edge alone with the least area) changes, and at every other vertex
-// with w > 0 between the edge's preferred anchor, its predecessor's and the
-// first two.  Returns the triangles, `area` their total in the viewport.
-std::optional<std::vector<Vec4f>> anchor_per_run_fan(const std::vector<Vec4f>& loop, const std::vector<Vec4f>& anchors,
-                                                     std::size_t references, double& area) {
-  const std::size_t n = loop.size() / 2, count = anchors.size();
-  if (n < 3 || count < 2 || count > 255 || references > count) return std::nullopt;
-  for (std::size_t e = 0; e < n; ++e) {
-    const Vec4f& v = loop[2 * e];
-    if (!finite(v) || std::memcmp(&loop[2 * ((e + n - 1) % n) + 1], &v, sizeof(Vec4f)) != 0) return std::nullopt;
-  }
-  struct Point {
-    double x, y;
-  };
-  std::vector<Point> start(n);
-  std::vector<bool> inside(n), behind(n);
-  for (std::size_t e = 0; e < n; ++e) {
-    const Vec4f& v = loop[2 * e];
-    behind[e] = !(v.w > 0) || !(loop[2 * e + 1].w > 0);
-    start[e] = v.w > 0 ? Point{double{v.x} / v.w, double{v.y} / v.w} : Point{0, 0};
-    inside[e] = v.w > 0 && std::fabs(start[e].x) <= 1 && std::fabs(start[e].y) <= 1;
-  }
-  std::vector<Point> a(count);
-  for (std::size_t k = 0; k < count; ++k)
-    a[k] = {double{anchors[k].x} / anchors[k].w, double{anchors[k].y} / anchors[k].w};
-  // edge_area[e * count + k]: edge e's triangle from anchor k; preferred[e]: the anchor giving the least.
-  std::vector<double> edge_area(n * count);
-  std::vector<std::size_t> preferred(n, 0);
-  for (std::size_t e = 0; e < n; ++e)
-    for (std::size_t k = 0; k < count; ++k) {
-      double unused = 0;
-      double& area_k = edge_area[e * count + k];
-      area_k = triangle_area_in_viewport(anchors[k], loop[2 * e], loop[2 * e + 1], unused);
-      if (area_k < edge_area[e * count + preferred[e]]) preferred[e] = k;
-    }
-  // A switch from anchor j to k at vertex v: the glue triangle's area
-  // |cross(a_k - a_j, v - a_j)| / 2 = |dx v.y - dy v.x + c| / 2, linear in v;
-  // tried only at vertices in the viewport where the preferred anchor changes.
-  struct Glue {
-    double dx, dy, c;
-  };
-  std::vector<Glue> glue(count * count);
-  for (std::size_t j = 0; j < count; ++j)
-    for (std::size_t k = 0; k < count; ++k) {
-      const double dx = a[k].x - a[j].x, dy = a[k].y - a[j].y;
-      glue[j * count + k] = {dx, dy, dy * a[j].x - dx * a[j].y};
-    }
-  auto closing = [&](std::size_t r, std::size_t j, std::size_t k) {
-    return 0.5 * std::fabs((a[j].x - a[r].x) * (a[k].y - a[r].y) - (a[j].y - a[r].y) * (a[k].x - a[r].x));
-  };
-  constexpr double kNone = std::numeric_limits<double>::infinity();
-  double best = kNone;
-  std::vector<std::uint8_t> best_choice, choice(n * count);  // choice[e * count + k]: edge e - 1's anchor
-  std::vector<double> cost(count), next(count);
-  std::size_t best_last = 0;
-  for (std::size_t s = 0; s < references; ++s) {
-    std::fill(cost.begin(), cost.end(), kNone);
-    cost[s] = edge_area[s];  // edge 0's anchor: s (and so for an edge behind, below)
-    for (std::size_t e = 1; e < n; ++e) {
-      const Point& v = start[e];
-      // In the viewport where the preferred anchor changes: any two anchors;
-      // at any other vertex with w > 0: between the candidates.
-      const bool switch_any = inside[e] && preferred[e] != preferred[e - 1];
-      const bool switch_candidates = !switch_any && loop[2 * e].w > 0;
-      auto candidate = [&](std::size_t i) { return i == preferred[e] || i == preferred[e - 1] || i < 2; };
-      for (std::size_t k = 0; k < count; ++k) {
-        double c = cost[k];
-        std::size_t from = k;
-        if (switch_any || (switch_candidates && candidate(k)))
-          for (std::size_t j = 0; j < count; ++j) {
-            if (j == k || !(cost[j] < c) || (switch_candidates && !candidate(j))) continue;
-            const Glue& g = glue[j * count + k];
-            double unused = 0;
-            const double glue_area = inside[e] ? 0.5 * std::fabs(g.dx * v.y - g.dy * v.x + g.c)
-                                               : triangle_area_in_viewport(anchors[j], loop[2 * e], anchors[k], unused);
-            const double switched = cost[j] + glue_area + closing(s, j, k);
-            if (switched < c) {
-              c = switched;
-              from = j;
-            }
-          }
-        next[k] = behind[e] && k != s ? kNone : c + edge_area[e * count + k];
-        choice[e * count + k] = static_cast<std::uint8_t>(from);
-      }
-      std::swap(cost, next);
-    }
-    for (std::size_t k = 0; k < count; ++k) {
-      const Glue& g = glue[k * count + s];
-      // Back to s at vertex 0 (its closing triangle is degenerate).
-      double total = cost[k], unused = 0;
-      if (k != s) {
-        if (inside[0])
-          total += 0.5 * std::fabs(g.dx * start[0].y - g.dy * start[0].x + g.c);
-        else if (loop[0].w > 0)
-          total += triangle_area_in_viewport(anchors[k], loop[0], anchors[s], unused);
-        else
-          total = kNone;
-      }
-      if (total < best) {
-        best = total;
-        best_last = k;
-        best_choice = choice;
-      }
-    }
-  }
-  if (!(best < kNone)) return std::nullopt;
-  std::vector<std::size_t> k(n);
-  k[n - 1] = best_last;
-  for (std::size_t e = n - 1; e > 0; --e) k[e - 1] = best_choice[e * count + k[e]];
-  const std::size_t s = k[0];
-  std::vector<Vec4f> out;
-  out.reserve(3 * n);
-  for (std::size_t e = 0; e < n; ++e) out.insert(out.end(), {anchors[k[e]], loop[2 * e], loop[2 * e + 1]});
-  for (std::size_t e = 0; e < n; ++e) {
-    const std::size_t f = (e + 1) % n;
-    if (k[e] == k[f]) continue;
-    out.insert(out.end(), {anchors[k[e]], loop[2 * e + 1], anchors[k[f]]});
-    if (k[e] != s && k[f] != s) out.insert(out.end(), {anchors[s], anchors[k[e]], anchors[k[f]]});
-  }
-  area = best;
-  return out;
 }
 
 // A path around the viewport in place of a whole run of edges away from it:
@@ -457,6 +311,243 @@ std::optional<std::vector<Vec4f>> detour(const std::vector<Vec4f>& run, double m
         return edges;
       }
   return std::nullopt;
+}
+
+// A polygon cut into triangles of its own vertices (all with w > 0), an ear
+// at a time: each triangle (a, v, b) of consecutive vertices taken off
+// leaves the polygon with the edge a -> b in place of a -> v -> b, so the
+// triangles' boundaries and what is left sum to its edges, whatever the
+// choices (made in double, in the w > 0 chart: a vertex whose triangle turns
+// the polygon's way and holds no other vertex, of which only a reflex one
+// can be in it).  A simple polygon is so triangulated: nothing drawn twice.
+// Where no ear is left the rest is fanned from `anchor` (w > 0).
+template <typename Emit>
+void cut_into_ears(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit emit) {
+  const std::size_t n = polygon.size();
+  if (n < 3) return;  // no area: its edges cancel
+  struct Point {
+    double x, y;
+  };
+  std::vector<Point> p(n);
+  for (std::size_t e = 0; e < n; ++e) p[e] = {double{polygon[e].x} / polygon[e].w, double{polygon[e].y} / polygon[e].w};
+  auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
+    return (p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[b].y - p[a].y) * (p[c].x - p[a].x);
+  };
+  double twice_area = 0;
+  for (std::size_t e = 0; e < n; ++e) {
+    const Point &u = p[e], &v = p[(e + 1) % n];
+    twice_area += u.x * v.y - u.y * v.x;
+  }
+  const double turn = twice_area < 0 ? -1.0 : 1.0;
+  std::vector<std::size_t> prev(n), next(n);
+  for (std::size_t e = 0; e < n; ++e) {
+    prev[e] = (e + n - 1) % n;
+    next[e] = (e + 1) % n;
+  }
+  std::vector<bool> removed(n, false), reflex(n, false);
+  std::vector<std::size_t> reflex_list;
+  auto classify = [&](std::size_t v) {
+    const bool r = cross(prev[v], v, next[v]) * turn < 0;
+    if (r && !reflex[v]) reflex_list.push_back(v);
+    reflex[v] = r;
+  };
+  for (std::size_t v = 0; v < n; ++v) classify(v);
+  auto same = [&](std::size_t a, std::size_t b) { return p[a].x == p[b].x && p[a].y == p[b].y; };
+  auto is_ear = [&](std::size_t v) {
+    const std::size_t a = prev[v], b = next[v];
+    const double t = cross(a, v, b) * turn;
+    if (t < 0) return false;
+    if (t == 0) return true;  // nothing to draw
+    for (std::size_t r : reflex_list) {
+      if (removed[r] || !reflex[r] || r == a || r == v || r == b || same(r, a) || same(r, v) || same(r, b)) continue;
+      // Inside or on the triangle (a, v, b) counts as in it.
+      if (cross(a, v, r) * turn >= 0 && cross(v, b, r) * turn >= 0 && cross(b, a, r) * turn >= 0) return false;
+    }
+    return true;
+  };
+  std::size_t left = n, v = 0, tried = 0;
+  while (left > 3 && tried < left) {
+    if (!is_ear(v)) {
+      v = next[v];
+      ++tried;
+      continue;
+    }
+    const std::size_t a = prev[v], b = next[v];
+    emit(polygon[a], polygon[v], polygon[b]);
+    removed[v] = true;
+    next[a] = b;
+    prev[b] = a;
+    --left;
+    classify(a);
+    classify(b);
+    v = a;
+    tried = 0;
+  }
+  if (left == 3) {
+    emit(polygon[prev[v]], polygon[v], polygon[next[v]]);
+    return;
+  }
+  for (std::size_t k = 0; k < left; ++k, v = next[v]) emit(anchor, polygon[v], polygon[next[v]]);
+}
+
+// A polygon (all vertices with w > 0) that crosses itself, split into
+// polygons that do not (its Seifert circles): each edge cut where another
+// crosses it, at one new vertex X (w = 1, z = anchor's z) shared by both,
+// and at each X the polygon's two passes reconnected, each coming in to the
+// other's way out.  An edge a -> b cut at X_1 .. X_k (in order along it)
+// becomes a -> X_1 -> .. -> X_k -> b, and a sliver fan over (a, b, X_k, ..,
+// X_1) from a (no wider than the float rounding of X) makes up the
+// difference, so the counts stay the polygon's.  The slivers go to `emit`;
+// the circles are returned.  Crossings are found in double (proper ones
+// only); a choice the rounding gets wrong costs fragments, never a count.
+template <typename Emit>
+std::vector<std::vector<Vec4f>> seifert_circles(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit emit) {
+  const std::size_t n = polygon.size();
+  struct Point {
+    double x, y;
+  };
+  std::vector<Point> p(n);
+  for (std::size_t e = 0; e < n; ++e) p[e] = {double{polygon[e].x} / polygon[e].w, double{polygon[e].y} / polygon[e].w};
+  auto orient = [](const Point& a, const Point& b, const Point& c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  };
+  // Edges by their smallest x, each against those that start before it ends.
+  std::vector<std::size_t> by_x(n);
+  for (std::size_t e = 0; e < n; ++e) by_x[e] = e;
+  auto lo = [&](std::size_t e) { return std::min(p[e].x, p[(e + 1) % n].x); };
+  auto hi = [&](std::size_t e) { return std::max(p[e].x, p[(e + 1) % n].x); };
+  std::sort(by_x.begin(), by_x.end(), [&](std::size_t a, std::size_t b) { return lo(a) < lo(b); });
+  struct Cut {
+    double t;
+    std::size_t vertex;  // index into `extra`
+  };
+  std::vector<std::vector<Cut>> cuts(n);
+  std::vector<Vec4f> extra;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = by_x[k];
+    const Point &a = p[i], &b = p[(i + 1) % n];
+    for (std::size_t m = k + 1; m < n && lo(by_x[m]) <= hi(i); ++m) {
+      const std::size_t j = by_x[m];
+      if (j == (i + 1) % n || i == (j + 1) % n) continue;
+      const Point &c = p[j], &d = p[(j + 1) % n];
+      if (std::max(c.y, d.y) < std::min(a.y, b.y) || std::max(a.y, b.y) < std::min(c.y, d.y)) continue;
+      const double d1 = orient(c, d, a), d2 = orient(c, d, b), d3 = orient(a, b, c), d4 = orient(a, b, d);
+      if (!((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) || !((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) continue;
+      const double t = d1 / (d1 - d2), u = d3 / (d3 - d4);
+      const Point x{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      const Vec4f v{static_cast<float>(x.x), static_cast<float>(x.y), anchor.z, 1.0f};
+      if (!finite(v)) continue;
+      cuts[i].push_back({t, extra.size()});
+      cuts[j].push_back({u, extra.size()});
+      extra.push_back(v);
+    }
+  }
+  if (extra.empty()) return {polygon};
+  // The cut polygon as nodes (vertex, successor); each X's two nodes.
+  std::vector<Vec4f> node;
+  std::vector<std::array<std::size_t, 2>> at(extra.size(), {n + 2 * extra.size(), 0});
+  for (std::size_t e = 0; e < n; ++e) {
+    node.push_back(polygon[e]);
+    std::sort(cuts[e].begin(), cuts[e].end(), [](const Cut& l, const Cut& r) { return l.t < r.t; });
+    for (const Cut& c : cuts[e]) {
+      auto& slot = at[c.vertex];
+      slot[slot[0] == n + 2 * extra.size() ? 0 : 1] = node.size();
+      node.push_back(extra[c.vertex]);
+    }
+    if (!cuts[e].empty()) {
+      const Vec4f &a = polygon[e], &b = polygon[(e + 1) % n];
+      emit(a, b, extra[cuts[e].back().vertex]);
+      for (std::size_t k = cuts[e].size() - 1; k > 0; --k)
+        emit(a, extra[cuts[e][k].vertex], extra[cuts[e][k - 1].vertex]);
+    }
+  }
+  const std::size_t count = node.size();
+  std::vector<std::size_t> succ(count);
+  for (std::size_t k = 0; k < count; ++k) succ[k] = (k + 1) % count;
+  for (const auto& slot : at) std::swap(succ[slot[0]], succ[slot[1]]);
+  std::vector<std::vector<Vec4f>> circles;
+  std::vector<bool> seen(count, false);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (seen[k]) continue;
+    std::vector<Vec4f>& circle = circles.emplace_back();
+    for (std::size_t v = k; !seen[v]; v = succ[v]) {
+      seen[v] = true;
+      circle.push_back(node[v]);
+    }
+  }
+  return circles;
+}
+
+// The loop cut into triangles of its own vertices (cut_into_ears), after
+// it is split where it crosses itself (seifert_circles).  A run of vertices
+// at or behind infinity (w <= 0), between vertices u and v with w > 0, gives
+// way to a detour around the viewport from u to v where one counts 0 with
+// it there (detour: nothing of it is drawn); else it is fanned, with the
+// chord v -> u closing it, from whichever of `anchors` (w = 1; the first is
+// the loop's own) covers the least of the viewport, and the rest of the
+// loop takes the chord u -> v: the two chords' triangles cancel.  Every
+// piece so counts 0 at the anchors' antipodes, as the fan does, and the
+// pieces' boundaries sum to the loop's edges: the counts are the fan's.
+// The loop must be a chain of finite vertices (each edge's end bit for bit
+// the next one's start) with a vertex with w > 0; else, or past
+// kMaxEarClippedVertices, nothing.  `area`: the triangles' total in the
+// viewport (triangle_area_in_viewport).
+constexpr std::size_t kMaxEarClippedVertices = 4096;
+
+std::optional<std::vector<Vec4f>> ear_clipped(const std::vector<Vec4f>& loop, const std::vector<Vec4f>& anchors,
+                                              double mx, double my, double& area) {
+  const Vec4f& anchor = anchors.front();
+  const std::size_t n = loop.size() / 2;
+  if (n < 3 || n > kMaxEarClippedVertices) return std::nullopt;
+  std::size_t first_ahead = n;  // a vertex with w > 0
+  for (std::size_t e = 0; e < n; ++e) {
+    const Vec4f& v = loop[2 * e];
+    if (!finite(v) || std::memcmp(&loop[2 * ((e + n - 1) % n) + 1], &v, sizeof(Vec4f)) != 0) return std::nullopt;
+    if (v.w > 0 && first_ahead == n) first_ahead = e;
+  }
+  if (first_ahead == n) return std::nullopt;
+  std::vector<Vec4f> out;
+  out.reserve(3 * n);
+  area = 0;
+  auto emit = [&](const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+    double unused = 0;
+    area += triangle_area_in_viewport(a, b, c, unused);
+    out.insert(out.end(), {a, b, c});
+  };
+  // The vertices with w > 0 in loop order from first_ahead; each run behind
+  // them fanned with its chord back.
+  std::vector<Vec4f> ahead;
+  ahead.reserve(n);
+  for (std::size_t k = 0; k < n;) {
+    const std::size_t e = (first_ahead + k) % n;
+    ahead.push_back(loop[2 * e]);
+    std::size_t run = 0;  // vertices behind after e
+    while (k + 1 + run < n && !(loop[2 * ((e + 1 + run) % n)].w > 0)) ++run;
+    if (run > 0) {
+      std::vector<Vec4f> piece;
+      for (std::size_t f = 0; f <= run; ++f)
+        piece.insert(piece.end(), {loop[2 * ((e + f) % n)], loop[2 * ((e + f) % n) + 1]});
+      if (const std::optional<std::vector<Vec4f>> around = detour(piece, mx, my, anchor.z)) {
+        for (std::size_t f = 1; f + 1 < around->size(); f += 2) ahead.push_back((*around)[f]);
+        k += 1 + run;
+        continue;
+      }
+      piece.insert(piece.end(), {piece.back(), piece.front()});
+      const Vec4f* best = &anchors.front();
+      double least = fan_area(piece, *best);
+      for (const Vec4f& a : anchors) {
+        const double a_area = fan_area(piece, a, nullptr, least);
+        if (a_area < least) {
+          least = a_area;
+          best = &a;
+        }
+      }
+      for (std::size_t f = 0; f + 1 < piece.size(); f += 2) emit(*best, piece[f], piece[f + 1]);
+    }
+    k += 1 + run;
+  }
+  for (const std::vector<Vec4f>& circle : seifert_circles(ahead, anchor, emit)) cut_into_ears(circle, anchor, emit);
+  return out;
 }
 
 // Edges [begin, end) of `run` (2 vertices each, consecutive), simplified:
@@ -536,11 +627,76 @@ std::vector<Vec4f> shortened_loop(const std::vector<Vec4f>& loop, const Vec4f& a
 
 namespace {
 
+// One layer of count +1 (`positive`; else -1) over the viewport and a loop
+// drawn as one polygon: a box around the viewport (w = 1, corners at 1 + 2
+// margins), a bridge from one of its corners to the loop's nearest vertex
+// with w > 0, the whole loop from there, and the bridge back.  The bridge's
+// two edges cancel, so the polygon counts what the layer and the loop count;
+// where the loop is a hole in the layer (its count the layer's opposite) the
+// polygon is simple and its ears draw the layer less the hole.  A corner
+// whose bridge crosses an edge of the loop (tested in double) is passed
+// over; nothing when every one does.
+std::optional<std::vector<Vec4f>> layer_with_hole(const std::vector<Vec4f>& loop, bool positive, double mx, double my,
+                                                  float plane_z) {
+  const float bx = static_cast<float>(1 + 2 * mx), by = static_cast<float>(1 + 2 * my);
+  std::array<Vec4f, 4> corner{Vec4f{-bx, -by, plane_z, 1.0f}, Vec4f{bx, -by, plane_z, 1.0f},
+                              Vec4f{bx, by, plane_z, 1.0f}, Vec4f{-bx, by, plane_z, 1.0f}};
+  if (!positive) std::swap(corner[1], corner[3]);
+  const std::size_t n = loop.size() / 2;
+  auto ndc = [](const Vec4f& v) { return std::array<double, 2>{double{v.x} / v.w, double{v.y} / v.w}; };
+  auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  for (std::size_t c = 0; c < 4; ++c) {
+    const std::array<double, 2> from = ndc(corner[c]);
+    std::size_t nearest = n;
+    double least = std::numeric_limits<double>::infinity();
+    for (std::size_t e = 0; e < n; ++e) {
+      if (!(loop[2 * e].w > 0)) continue;
+      const std::array<double, 2> v = ndc(loop[2 * e]);
+      const double d = (v[0] - from[0]) * (v[0] - from[0]) + (v[1] - from[1]) * (v[1] - from[1]);
+      if (d < least) {
+        least = d;
+        nearest = e;
+      }
+    }
+    if (nearest == n) return std::nullopt;
+    const std::array<double, 2> to = ndc(loop[2 * nearest]);
+    bool crosses = false;
+    for (std::size_t e = 0; e < n && !crosses; ++e) {
+      const Vec4f &p = loop[2 * e], &q = loop[2 * e + 1];
+      if (e == nearest || (e + 1) % n == nearest) continue;
+      if (!(p.w > 0) || !(q.w > 0)) continue;  // through infinity: not tested
+      const std::array<double, 2> a = ndc(p), b = ndc(q);
+      const double d1 = orient(from, to, a), d2 = orient(from, to, b), d3 = orient(a, b, from), d4 = orient(a, b, to);
+      crosses = (d1 > 0) != (d2 > 0) && (d3 > 0) != (d4 > 0);
+    }
+    if (crosses) continue;
+    std::vector<Vec4f> merged;
+    for (std::size_t k = 0; k < 4; ++k) merged.insert(merged.end(), {corner[(c + k) % 4], corner[(c + k + 1) % 4]});
+    merged.insert(merged.end(), {corner[c], loop[2 * nearest]});
+    for (std::size_t k = 0; k < n; ++k)
+      merged.insert(merged.end(), {loop[2 * ((nearest + k) % n)], loop[2 * ((nearest + k) % n) + 1]});
+    merged.insert(merged.end(), {loop[2 * nearest], corner[c]});
+    return merged;
+  }
+  return std::nullopt;
+}
+
 // The cap's triangles over `edges` (near_plane_cap_triangles), every vertex
 // the pass adds (anchors, the viewport's triangles) at z = plane_z w.
 std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width, int height, float plane_z) {
   const double mx = near_plane_cap_margin(width), my = near_plane_cap_margin(height);
-  std::vector<Vec4f> out;
+  const double fragments_per_area = 0.25 * width * height;  // NDC area 4: the viewport
+  constexpr float kGrid[5] = {-1.0f + 0x1p-10f, -0.5f, 0.0f, 0.5f, 1.0f - 0x1p-10f};
+  std::vector<Vec4f> anchors{{}, {0.0f, 0.0f, plane_z, 1.0f}};  // [0]: each loop's own
+  for (int k = 0; k < 25; ++k)
+    if (k != 12) anchors.push_back({kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f});
+  struct Drawn {
+    std::vector<Vec4f> edges, triangles;
+    double area;
+  };
+  std::vector<Drawn> drawn;
   int constant = 0;  // the loops that stay outside the viewport, together
   for (const std::vector<Vec4f>& loop : near_plane_cap_loops(edges)) {
     if (const std::optional<int> c = near_plane_cap_constant_winding(loop, mx, my)) {
@@ -549,7 +705,7 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
     }
     Vec4f anchor = near_plane_cap_anchor(loop);
     anchor.z = plane_z;
-    const std::vector<Vec4f> shortened = shortened_loop(loop, anchor, mx, my, plane_z, constant);
+    std::vector<Vec4f> shortened = shortened_loop(loop, anchor, mx, my, plane_z, constant);
     // Any anchor gives the same counts; of the mean and a 5 x 5 grid of
     // points of the viewport, all with w = 1 (as well conditioned:
     // near_plane_cap_anchor), the one whose fan covers the least of it.
@@ -557,7 +713,6 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
     // twice (its area beyond the signed sum, the region it fills).
     double net = 0;
     double least = fan_area(shortened, anchor, &net);
-    constexpr float kGrid[5] = {-1.0f + 0x1p-10f, -0.5f, 0.0f, 0.5f, 1.0f - 0x1p-10f};
     for (int k = 0; k < 25 && !(least - net < 0.08); ++k) {
       const Vec4f candidate{kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f};
       const double area = fan_area(shortened, candidate, nullptr, least);  // stops once above the least
@@ -567,24 +722,39 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
       }
     }
     // Where the best single fan still draws 256 fragments or more twice
-    // (its area beyond the region it fills): an anchor per run of edges,
-    // from that one, the centre and the grid, referred to one of the first
-    // two.  Below that the search costs more time than it saves.
-    constexpr double kRunsWorthTrying = 256;  // fragments
-    if (!((least - net) * 0.25 * width * height < kRunsWorthTrying)) {
-      std::vector<Vec4f> anchors{anchor, {0.0f, 0.0f, plane_z, 1.0f}};
-      for (int k = 0; k < 25; ++k)
-        if (k != 12) anchors.push_back({kGrid[k % 5], kGrid[k / 5], plane_z, 1.0f});
+    // (its area beyond the region it fills): the loop cut into triangles of
+    // its own vertices (ear_clipped), where that covers less.  Below that
+    // the cut costs more time than it saves.
+    constexpr double kEarsWorthTrying = 256;  // fragments
+    if (!((least - net) * fragments_per_area < kEarsWorthTrying)) {
+      anchors.front() = anchor;
       double area = 0;
-      if (std::optional<std::vector<Vec4f>> runs = anchor_per_run_fan(shortened, anchors, 2, area);
-          runs && area < least) {
-        out.insert(out.end(), runs->begin(), runs->end());
+      if (std::optional<std::vector<Vec4f>> ears = ear_clipped(shortened, anchors, mx, my, area);
+          ears && area < least) {
+        drawn.push_back({std::move(shortened), std::move(*ears), area});
         continue;
       }
     }
-    const std::vector<Vec4f> fan = fan_over(shortened, anchor);
-    out.insert(out.end(), fan.begin(), fan.end());
+    std::vector<Vec4f> fan = fan_over(shortened, anchor);
+    drawn.push_back({std::move(shortened), std::move(fan), least});
   }
+  // A loop whose count has the constant's opposite sign (a hole in a layer
+  // over the viewport) merged with one layer where that covers less.
+  for (Drawn& d : drawn) {
+    if (constant == 0) break;
+    if (std::optional<std::vector<Vec4f>> merged = layer_with_hole(d.edges, constant > 0, mx, my, plane_z)) {
+      anchors.front() = anchors[1];
+      double area = 0;
+      if (std::optional<std::vector<Vec4f>> ears = ear_clipped(*merged, anchors, mx, my, area);
+          ears && area < d.area + 4.0) {
+        d.triangles = std::move(*ears);
+        d.area = area;
+        constant += constant > 0 ? -1 : 1;
+      }
+    }
+  }
+  std::vector<Vec4f> out;
+  for (const Drawn& d : drawn) out.insert(out.end(), d.triangles.begin(), d.triangles.end());
   // |constant| triangles over the viewport (the clipper trims them to it).
   const Vec4f a{-1.0f, -1.0f, plane_z, 1.0f}, b{3.0f, -1.0f, plane_z, 1.0f}, d{-1.0f, 3.0f, plane_z, 1.0f};
   for (int k = 0; k < std::abs(constant); ++k) {

@@ -108,17 +108,21 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // viewport on the run's own side (count 0: no triangle over the viewport);
 // the fan's anchor is then the mean above or a point of a 5 x 5 grid over
 // the viewport, whichever fan covers the least of it (estimated in double:
-// each triangle clipped to the viewport); and where that fan still draws
-// 256 fragments or more twice, an anchor per run of the loop's edges
-// (chosen by dynamic programming; glue triangles where the anchor changes
-// and a fan over the anchors' polygon keep the count: `near_plane_sweep`
-// frame 44 23,424 -> 16,188 fragments, the same wrong pixels and count
-// mismatches in every row of 19,500 hard cases and the paths).  Measured
-// before that: the same wrong pixels
-// and count mismatches in every row of 14,800 hard cases and the seven
-// paths (seeds 5, 7, 11 at 160x120, 21 tight near plane, 22 reversed-Z, 23
-// the llvmpipe model, 24 ZF+), near-cap fragments 6.6 % (hard cases) and 8.5 %
-// (paths) fewer; `fly_around` frame 38 34,468 -> 5,420.  The margin,
+// each triangle clipped to the viewport in homogeneous coordinates).  Where
+// that fan still draws 256 fragments or more twice, the loop is cut into
+// triangles of its own vertices instead, ear by ear, after it is split
+// where it crosses itself (at shared new vertices, with sliver triangles
+// that keep the counts) and its runs through infinity are detoured or
+// fanned apart: a curve that winds across the viewport is then drawn
+// without overdraw where its pieces are simple (`near_plane_sweep` frame
+// 35: 14,637 -> 10,675 fragments, the cap's own sum of |count|).  And
+// where c is not 0 and a loop counts the other way (a hole in those
+// layers), one layer and that loop are cut as one polygon with a bridge
+// between them (`fly_around` frame 39: 42,983 -> 33,817, again the sum of
+// |count|).  Every triangle's boundary sums with the others' to the loops'
+// edges, so the counts are the fan's: measured, the same wrong pixels and
+// count mismatches as the single fan in every row of the hard-case
+// samples and the paths (README "P_l formulations").  The margin,
 // a twentieth of the viewport plus 8 pixels, keeps the shortcut away from
 // edges the float pipeline might still rasterize inside the viewport (its
 // cuts of far-away, ill-conditioned vertices move them); the fan would
