@@ -320,7 +320,10 @@ std::optional<std::vector<Vec4f>> detour(const std::vector<Vec4f>& run, double m
 // choices (made in double, in the w > 0 chart: a vertex whose triangle turns
 // the polygon's way and holds no other vertex, of which only a reflex one
 // can be in it).  A simple polygon is so triangulated: nothing drawn twice.
-// Where no ear is left the rest is fanned from `anchor` (w > 0).
+// Where no ear is left, or past kEarTestBudget tests of a vertex against
+// a triangle (a bound on the time), the rest is fanned from `anchor` (w > 0).
+constexpr std::size_t kEarTestBudget = std::size_t{1} << 20;
+
 template <typename Emit>
 void cut_into_ears(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit emit) {
   const std::size_t n = polygon.size();
@@ -353,12 +356,15 @@ void cut_into_ears(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit 
   };
   for (std::size_t v = 0; v < n; ++v) classify(v);
   auto same = [&](std::size_t a, std::size_t b) { return p[a].x == p[b].x && p[a].y == p[b].y; };
+  std::size_t budget = kEarTestBudget;
   auto is_ear = [&](std::size_t v) {
     const std::size_t a = prev[v], b = next[v];
     const double t = cross(a, v, b) * turn;
     if (t < 0) return false;
     if (t == 0) return true;  // nothing to draw
     for (std::size_t r : reflex_list) {
+      if (budget == 0) return false;
+      --budget;
       if (removed[r] || !reflex[r] || r == a || r == v || r == b || same(r, a) || same(r, v) || same(r, b)) continue;
       // Inside or on the triangle (a, v, b) counts as in it.
       if (cross(a, v, r) * turn >= 0 && cross(v, b, r) * turn >= 0 && cross(b, a, r) * turn >= 0) return false;
