@@ -313,6 +313,21 @@ std::optional<std::vector<Vec4f>> detour(const std::vector<Vec4f>& run, double m
   return std::nullopt;
 }
 
+// A point with w > 0 in the viewport's chart (NDC), in double, and twice
+// the signed area of a triangle of such points: the estimates the cuts
+// below choose by.  A choice they get wrong costs fragments, never a count.
+struct Ndc {
+  double x, y;
+};
+
+Ndc ndc(const Vec4f& v) { return {double{v.x} / v.w, double{v.y} / v.w}; }
+
+double orient(const Ndc& a, const Ndc& b, const Ndc& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+bool opposite_signs(double a, double b) { return (a > 0 && b < 0) || (a < 0 && b > 0); }
+
 // A polygon cut into triangles of its own vertices (all with w > 0), an ear
 // at a time: each triangle (a, v, b) of consecutive vertices taken off
 // leaves the polygon with the edge a -> b in place of a -> v -> b, so the
@@ -328,17 +343,12 @@ template <typename Emit>
 void cut_into_ears(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit emit) {
   const std::size_t n = polygon.size();
   if (n < 3) return;  // no area: its edges cancel
-  struct Point {
-    double x, y;
-  };
-  std::vector<Point> p(n);
-  for (std::size_t e = 0; e < n; ++e) p[e] = {double{polygon[e].x} / polygon[e].w, double{polygon[e].y} / polygon[e].w};
-  auto cross = [&](std::size_t a, std::size_t b, std::size_t c) {
-    return (p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[b].y - p[a].y) * (p[c].x - p[a].x);
-  };
+  std::vector<Ndc> p(n);
+  for (std::size_t e = 0; e < n; ++e) p[e] = ndc(polygon[e]);
+  auto cross = [&](std::size_t a, std::size_t b, std::size_t c) { return orient(p[a], p[b], p[c]); };
   double twice_area = 0;
   for (std::size_t e = 0; e < n; ++e) {
-    const Point &u = p[e], &v = p[(e + 1) % n];
+    const Ndc &u = p[e], &v = p[(e + 1) % n];
     twice_area += u.x * v.y - u.y * v.x;
   }
   const double turn = twice_area < 0 ? -1.0 : 1.0;
@@ -409,14 +419,8 @@ void cut_into_ears(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit 
 template <typename Emit>
 std::vector<std::vector<Vec4f>> seifert_circles(const std::vector<Vec4f>& polygon, const Vec4f& anchor, Emit emit) {
   const std::size_t n = polygon.size();
-  struct Point {
-    double x, y;
-  };
-  std::vector<Point> p(n);
-  for (std::size_t e = 0; e < n; ++e) p[e] = {double{polygon[e].x} / polygon[e].w, double{polygon[e].y} / polygon[e].w};
-  auto orient = [](const Point& a, const Point& b, const Point& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-  };
+  std::vector<Ndc> p(n);
+  for (std::size_t e = 0; e < n; ++e) p[e] = ndc(polygon[e]);
   // Edges by their smallest x, each against those that start before it ends.
   std::vector<std::size_t> by_x(n);
   for (std::size_t e = 0; e < n; ++e) by_x[e] = e;
@@ -431,16 +435,16 @@ std::vector<std::vector<Vec4f>> seifert_circles(const std::vector<Vec4f>& polygo
   std::vector<Vec4f> extra;
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = by_x[k];
-    const Point &a = p[i], &b = p[(i + 1) % n];
+    const Ndc &a = p[i], &b = p[(i + 1) % n];
     for (std::size_t m = k + 1; m < n && lo(by_x[m]) <= hi(i); ++m) {
       const std::size_t j = by_x[m];
       if (j == (i + 1) % n || i == (j + 1) % n) continue;
-      const Point &c = p[j], &d = p[(j + 1) % n];
+      const Ndc &c = p[j], &d = p[(j + 1) % n];
       if (std::max(c.y, d.y) < std::min(a.y, b.y) || std::max(a.y, b.y) < std::min(c.y, d.y)) continue;
       const double d1 = orient(c, d, a), d2 = orient(c, d, b), d3 = orient(a, b, c), d4 = orient(a, b, d);
-      if (!((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) || !((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) continue;
+      if (!opposite_signs(d1, d2) || !opposite_signs(d3, d4)) continue;  // proper crossings only
       const double t = d1 / (d1 - d2), u = d3 / (d3 - d4);
-      const Point x{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      const Ndc x{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
       const Vec4f v{static_cast<float>(x.x), static_cast<float>(x.y), anchor.z, 1.0f};
       if (!finite(v)) continue;
       cuts[i].push_back({t, extra.size()});
@@ -649,33 +653,29 @@ std::optional<std::vector<Vec4f>> layer_with_hole(const std::vector<Vec4f>& loop
                               Vec4f{bx, by, plane_z, 1.0f}, Vec4f{-bx, by, plane_z, 1.0f}};
   if (!positive) std::swap(corner[1], corner[3]);
   const std::size_t n = loop.size() / 2;
-  auto ndc = [](const Vec4f& v) { return std::array<double, 2>{double{v.x} / v.w, double{v.y} / v.w}; };
-  auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-  };
   for (std::size_t c = 0; c < 4; ++c) {
-    const std::array<double, 2> from = ndc(corner[c]);
+    const Ndc from = ndc(corner[c]);
     std::size_t nearest = n;
     double least = std::numeric_limits<double>::infinity();
     for (std::size_t e = 0; e < n; ++e) {
       if (!(loop[2 * e].w > 0)) continue;
-      const std::array<double, 2> v = ndc(loop[2 * e]);
-      const double d = (v[0] - from[0]) * (v[0] - from[0]) + (v[1] - from[1]) * (v[1] - from[1]);
+      const Ndc v = ndc(loop[2 * e]);
+      const double d = (v.x - from.x) * (v.x - from.x) + (v.y - from.y) * (v.y - from.y);
       if (d < least) {
         least = d;
         nearest = e;
       }
     }
     if (nearest == n) return std::nullopt;
-    const std::array<double, 2> to = ndc(loop[2 * nearest]);
+    const Ndc to = ndc(loop[2 * nearest]);
     bool crosses = false;
     for (std::size_t e = 0; e < n && !crosses; ++e) {
       const Vec4f &p = loop[2 * e], &q = loop[2 * e + 1];
       if (e == nearest || (e + 1) % n == nearest) continue;
       if (!(p.w > 0) || !(q.w > 0)) continue;  // through infinity: not tested
-      const std::array<double, 2> a = ndc(p), b = ndc(q);
-      const double d1 = orient(from, to, a), d2 = orient(from, to, b), d3 = orient(a, b, from), d4 = orient(a, b, to);
-      crosses = (d1 > 0) != (d2 > 0) && (d3 > 0) != (d4 > 0);
+      const Ndc a = ndc(p), b = ndc(q);
+      crosses = opposite_signs(orient(from, to, a), orient(from, to, b)) &&
+                opposite_signs(orient(a, b, from), orient(a, b, to));
     }
     if (crosses) continue;
     std::vector<Vec4f> merged;
@@ -744,8 +744,9 @@ std::vector<Vec4f> cap_triangles_over(const std::vector<Vec4f>& edges, int width
     std::vector<Vec4f> fan = fan_over(shortened, anchor);
     drawn.push_back({std::move(shortened), std::move(fan), least});
   }
-  // A loop whose count has the constant's opposite sign (a hole in a layer
-  // over the viewport) merged with one layer where that covers less.
+  // Each loop, while layers over the viewport are left, cut with one of
+  // them as one polygon (layer_with_hole) where that covers less than both
+  // apart: where the loop is a hole in the layers.
   for (Drawn& d : drawn) {
     if (constant == 0) break;
     if (std::optional<std::vector<Vec4f>> merged = layer_with_hole(d.edges, constant > 0, mx, my, plane_z)) {
