@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
 
   // `nearcap` alone and `nearcap help` print the help; `nearcap help CMD`, CMD's.
   if (argc < 2 || std::strcmp(argv[1], "help") == 0) {
+    app.name("nearcap");  // parse() would name it after argv[0]
     const CLI::App* topic = &app;
     if (argc > 2) {
       const auto all = app.get_subcommands([](const CLI::App*) { return true; });
