@@ -23,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BLOCK = re.compile(r"```console\n\$ (?P<command>[^\n]*)\n(?P<output>.*?)```", re.S)
-DECIMAL = re.compile(r"\d+\.\d+(e[-+]\d+)?")
+DECIMAL = re.compile(r"[ \t]*\d+\.\d+(e[-+]\d+)?")
 
 
 def tour_span(text):
@@ -45,7 +45,9 @@ def run(command, nearcap, scratch):
 
 
 def masked(text):
-    return DECIMAL.sub("#", text).rstrip() + "\n"
+    # The padding before a number is the column's width less the number's:
+    # it goes with the number.
+    return DECIMAL.sub(" #", text).rstrip() + "\n"
 
 
 def main():
