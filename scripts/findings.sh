@@ -196,9 +196,10 @@ step_memory() {  # peak resident memory at 2048 x 2048: a box over the ground
  "width":2048,"height":2048},"lights":[{"position":[2,5,1.5]}],
  "objects":[{"mesh":"$m/box.off","translate":[0,1,0]},{"mesh":"$m/ground.off","occluder":false}]}
 EOF
-  for m in "reference" "cracks --method zpass" "cracks --method zpass,zfail" "cracks --method all"; do
-    # shellcheck disable=SC2086
-    /usr/bin/time -f "$m: %M KB" $n ${m%% *} "$dir/scene.json" --light 0 ${m#* } --out "$dir/out" >/dev/null
+  /usr/bin/time -f "reference: %M KB" $n reference "$dir/scene.json" --light 0 --out "$dir/out" >/dev/null
+  for methods in zpass zpass,zfail all; do
+    /usr/bin/time -f "cracks --method $methods: %M KB" $n cracks "$dir/scene.json" --light 0 --method "$methods" \
+      --out "$dir/out" >/dev/null
   done
 }
 
