@@ -19,7 +19,8 @@
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
 #      they matter (one series per variant): out/sweep/variants/index.html.
-# About 3 minutes on 2 cores after the build.  Run again, it continues the
+# About 8 1/2 minutes on a fresh clone of a 2-core machine, the build included
+# (measured: 8 min 27 s).  Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
 # Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
