@@ -42,7 +42,7 @@ echo "== nearcap cracks $scene --light 0 --table (every float method against the
 ./build/nearcap cracks "$scene" --light 0 --table --out "$out"
 echo "== nearcap render $scene --out $out/render (the real GL, headless: lit frames; and against the emulation)"
 if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected,policy --out "$out/render" >/dev/null; then
-  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected,policy
+  ./build/nearcap render "$scene" --light 0 --compare --table --method zpass,zfail,zpplus-corrected,policy
 else
   echo "   (no headless OpenGL on this machine: the real-GL part is skipped; the rest does not need it)"
 fi

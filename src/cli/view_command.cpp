@@ -399,12 +399,11 @@ class Viewer {
 }  // namespace
 
 void register_view(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "view",
-      "an interactive window (GLFW) on SCENE: the lit frame drawn by the real GL like nearcap render, a fly camera, "
-      "keys to switch method, policy and light, and an overlay of the frame's cracks against the exact reference. "
-      "Keys: " +
-          view::key_help());
+  auto* cmd = app.add_subcommand("view", "an interactive window: the real GL's frame, a fly camera, the cracks");
+  cmd->footer(
+      "The window (GLFW) shows the lit frame drawn by the real GL like nearcap render, with a fly camera, keys to "
+      "switch method, policy and light, and an overlay of the frame's cracks against the exact reference.\nKeys: " +
+      view::key_help());
   auto o = std::make_shared<ViewOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   auto* light = add_light_option(*cmd, o->light, false);
