@@ -134,4 +134,10 @@ void check_light_index(const Scene& scene, std::size_t light);
 // cannot be started (Error(Io), naming the packages to install).
 int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what);
 
+// As run_python_script, with the script's stderr written to the file
+// `stderr_log` (created or truncated) instead of the terminal, and waitpid's
+// raw status returned (the caller tells an exit from a signal).
+int run_python_script_logged(const std::string& script, const std::vector<std::string>& args, const std::string& what,
+                             const std::string& stderr_log);
+
 }  // namespace nearcap::cli

@@ -1,3 +1,4 @@
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -467,7 +468,12 @@ void check_light_index(const Scene& scene, std::size_t light) {
                                       " light(s))");
 }
 
-int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
+namespace {
+
+// Spawns Python on the script; its stderr goes to `stderr_log` when not empty.
+// Returns waitpid's raw status.
+int spawn_python(const std::string& script, const std::vector<std::string>& args, const std::string& what,
+                 const std::string& stderr_log) {
   const char* env = std::getenv("NEARCAP_PYTHON");
   const std::string py = env && *env ? env : (::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
   std::vector<std::string> all{py, script};
@@ -475,15 +481,32 @@ int run_python_script(const std::string& script, const std::vector<std::string>&
   std::vector<char*> argv;
   for (std::string& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  if (!stderr_log.empty())
+    ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   pid_t pid = 0;
-  const int spawned = ::posix_spawnp(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ);
+  const int spawned = ::posix_spawnp(&pid, py.c_str(), &actions, nullptr, argv.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0)
     throw Error(ErrorKind::Io, py + ": cannot run Python for " + what + ": " + std::strerror(spawned) +
                                    " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  return status;
+}
+
+}  // namespace
+
+int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
+  const int status = spawn_python(script, args, what, "");
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+int run_python_script_logged(const std::string& script, const std::vector<std::string>& args, const std::string& what,
+                             const std::string& stderr_log) {
+  return spawn_python(script, args, what, stderr_log);
 }
 
 }  // namespace nearcap::cli
