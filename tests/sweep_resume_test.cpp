@@ -142,27 +142,31 @@ TEST_F(SweepFile, TheWriterHoldsTheLockUntilItEndsKilledOrNot) {
             "zpass", "--out", csv.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  // Wait for the file and its lock (no deadline on the sweep itself: it has a million samples to run).
-  bool locked = false;
-  for (int k = 0; k < 6000 && !locked; ++k) {
-    const int fd = ::open(csv.c_str(), O_RDONLY);
-    if (fd >= 0) {
-      locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-      ::close(fd);
-    }
-    if (!locked) ::usleep(10000);
+  // The file appears under its name already locked: wait for it (no deadline
+  // on the sweep itself, which has a million samples to run), then look.
+  int fd = -1;
+  for (int k = 0; k < 6000 && fd < 0; ++k) {
+    fd = ::open(csv.c_str(), O_RDONLY);
+    if (fd < 0) ::usleep(10000);
   }
-  EXPECT_TRUE(locked) << "the sweep did not lock " << csv;
+  EXPECT_GE(fd, 0) << csv << " never appeared";  // no ASSERT before the child is killed
+  if (fd >= 0) {
+    EXPECT_NE(::flock(fd, LOCK_SH | LOCK_NB), 0) << "the running sweep does not hold the lock on " << csv;
+    EXPECT_EQ(errno, EWOULDBLOCK);
+    ::close(fd);
+  }
   EXPECT_TRUE(fs::exists(analysis::sweep_meta_path(csv)));
   const test::CliResult fresh = test::run_cli(args(csv), "sweep_file_fresh_beside");
   EXPECT_EQ(fresh.exit_code, 2) << fresh.err;
-  const test::CliResult resume = test::run_cli(
-      "sweep --samples 1000000 --width 16 --height 12 --methods zpass --resume --out " + csv, "sweep_file_beside");
+  // (timeout: where a resume would not be refused, it would run for hours)
+  const test::CliResult resume =
+      test::run_cli("sweep --samples 1000000 --width 16 --height 12 --methods zpass --resume --out " + csv,
+                    "sweep_file_beside", "timeout 30");
   expect_one_line_error(resume, "io", "another nearcap sweep is writing it", "a resume beside a running sweep");
   ::kill(child, SIGKILL);
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
-  const int fd = ::open(csv.c_str(), O_RDONLY);
+  fd = ::open(csv.c_str(), O_RDONLY);
   ASSERT_GE(fd, 0);
   EXPECT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0) << "the lock outlived the killed sweep";
   ::close(fd);

@@ -119,7 +119,12 @@ std::string sweep_meta_json(const SweepMeta& meta) {
   j["nearcap"] = meta.nearcap_version;
   j["samples"] = meta.samples;
   Json options = Json::object();
-  for (const auto& [name, values] : meta.options) options[name] = values;
+  for (const auto& [name, values] : meta.options) {
+    if (values.size() == 1)
+      options[name] = values.front();  // a one-value list reads as its value
+    else
+      options[name] = values;
+  }
   j["options"] = options;
   return j.dump(2) + "\n";
 }
@@ -146,7 +151,11 @@ SweepMeta parse_sweep_meta(const std::string& text, const std::string& file) {
   if (!j.contains("options") || !j["options"].is_object()) throw bad("\"options\" is not an object");
   for (const auto& [name, values] : j["options"].items()) {
     std::vector<std::string> list;
-    if (!values.is_array()) throw bad("option " + name + " is not a list");
+    if (values.is_string()) {
+      meta.options.emplace_back(name, std::vector<std::string>{values.get<std::string>()});
+      continue;
+    }
+    if (!values.is_array()) throw bad("option " + name + " is neither a string nor a list");
     for (const Json& v : values) {
       if (!v.is_string()) throw bad("option " + name + " holds a value that is not a string");
       list.push_back(v.get<std::string>());

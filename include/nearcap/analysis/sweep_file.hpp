@@ -8,10 +8,11 @@
 //
 //   {"format": "nearcap sweep sidecar", "format_version": 1,
 //    "nearcap": "0.1.0", "samples": 60,
-//    "options": {"--methods": ["zpass", "zfail"], "--width": ["40"], ...}}
+//    "options": {"--methods": ["zpass", "zfail"], "--width": "40", ...}}
 //
 // "options" holds every option that changes a row, each as a list of strings
-// in a fixed order (SweepMeta::options); "samples" is apart because a resume
+// (a list of one as that string) in a fixed order (SweepMeta::options);
+// "samples" is apart because a resume
 // may raise it (configurations are enumerated in a fixed order, paths' frames
 // first, so a larger --samples only appends configurations).
 //
