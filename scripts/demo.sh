@@ -57,11 +57,15 @@ paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
 sweep=(./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --policies all --out out/sweep/rows.csv)
 if [ -e out/sweep/rows.csv ]; then
-  resume=(--resume)
-  # Only a sweep of these same options (and this nearcap's columns) resumes.
+  # --repair: a run stopped inside a write leaves its last configuration cut
+  # off (docs/sweep-files.md).
+  resume=(--resume --repair)
+  # Only a sweep of these same options (and this nearcap's columns, with its
+  # sidecar rows.csv.meta.json) resumes.
   probe=$(mktemp -d)
   ./build/nearcap sweep --samples 1 --width 2 --height 2 --out "$probe/header.csv" >/dev/null 2>&1
-  if [ "$(head -1 out/sweep/rows.csv)" != "$(head -1 "$probe/header.csv")" ]; then
+  if [ "$(head -1 out/sweep/rows.csv)" != "$(head -1 "$probe/header.csv")" ] ||
+    [ ! -e out/sweep/rows.csv.meta.json ]; then
     mv out/sweep/rows.csv out/sweep/rows.csv.old
     resume=()
   fi

@@ -83,6 +83,8 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec);
 // The choices that differ from the defaults, as a variant spec; "default" when none.
 std::string variant_label(const EmulationOptions& options);
+// Every emulation option by name (without its dashes) and value, as text, in a fixed order.
+std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options);
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 

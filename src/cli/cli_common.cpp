@@ -209,6 +209,10 @@ void need_one_of(const std::string& spec, const std::string& name, const std::st
 
 }  // namespace
 
+std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options) {
+  return option_values(options);
+}
+
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec) {
   EmulationOptions o = base;
   std::stringstream parts(spec);
