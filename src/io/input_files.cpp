@@ -86,4 +86,22 @@ std::string read_input_file(const std::string& path, const std::string& what) {
   return bytes;
 }
 
+std::uint64_t check_input_file(const std::string& path, const std::string& what) {
+  const std::uint64_t limit = max_input_bytes();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int e = errno;
+    if (e == ENOENT) throw Error(ErrorKind::Io, path + ": cannot open the " + what + " (no such file)");
+    throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
+  }
+  if (!S_ISREG(st.st_mode))
+    throw Error(ErrorKind::Io,
+                path + ": is " + kind_of(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
+  if (static_cast<std::uint64_t>(st.st_size) > limit)
+    throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
+                                         ", over the input limit of " + megabytes(limit) +
+                                         " (raise it with NEARCAP_MAX_INPUT_MB)");
+  return limit;
+}
+
 }  // namespace nearcap::io
