@@ -190,6 +190,16 @@ TEST_F(PolicyInputs, TheSolverIsSilentUnlessAsked) {
   EXPECT_NE(loud.err.find("Solver Summary"), std::string::npos) << loud.err;
 }
 
+// A policy names each feature once (the reader refuses a repeated one), so
+// tune refuses one too, before writing.
+TEST_F(PolicyInputs, TuneRefusesARepeatedFeature) {
+  const std::string csv = write("rows.csv", sweep_csv()), out = (dir_ / "p.json").string();
+  expect_one_line_error(
+      test::run_cli("tune " + csv + " --features log_skew,l_near_over_l_far,log_skew --out " + out, "tune_features"),
+      "usage", "'log_skew' is named twice");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // Few configurations, none held out: the held-out figures are "n/a", and the
 // policy is written.
 TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {

@@ -467,6 +467,8 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
   for (const std::string& name : names) {
     const auto it = std::find(kPolicyFeatures.begin(), kPolicyFeatures.end(), name);
     if (it == kPolicyFeatures.end()) throw Error(ErrorKind::Usage, "'" + name + "' is not a policy feature");
+    if (std::count(names.begin(), names.end(), name) > 1)
+      throw Error(ErrorKind::Usage, "'" + name + "' is named twice (each feature once)");
     columns.push_back(static_cast<std::size_t>(it - kPolicyFeatures.begin()));
   }
   std::vector<PolicySample> samples = all_samples;

@@ -119,7 +119,8 @@ void run(const TuneOptions& o, const std::string& command) {
 void register_tune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
-      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (README \"The switch policy\")");
+      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (README \"The switch policy\"); "
+      "the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
   auto o = std::make_shared<TuneOptions>();
   cmd->add_option("results", o->results, "sweep CSV files with rows of both methods")->required();
   cmd->add_option("--out", o->out, "the policy file to write")->required();

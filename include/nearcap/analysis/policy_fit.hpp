@@ -96,7 +96,7 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 // The whole tuning: the model fitted on the training samples, the threshold,
 // and the provenance (counts, confusion on both sides, the command) in the
 // returned policy.
-// `features`: names from kPolicyFeatures (all of them when empty).
+// `features`: names from kPolicyFeatures, each once (all of them when empty).
 // `costs`: each method's cost samples, fitted into the policy's cost models.
 SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
                          const std::string& command, const LogisticFitOptions& options = {},
