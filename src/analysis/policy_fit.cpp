@@ -153,7 +153,8 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
     if (input.text) {
       memory.str(*input.text);
     } else {
-      limit = io::check_input_file(file, "sweep CSV");
+      limit = io::max_input_bytes();
+      (void)io::check_input_file(file, "sweep CSV");
       stream.open(file, std::ios::binary);
       if (!stream) throw Error(ErrorKind::Io, file + ": cannot open the sweep CSV");
       in = &stream;

@@ -24,9 +24,9 @@ std::string read_input_file(const std::string& path, const std::string& what);
 
 // The checks read_input_file makes before it reads, for a reader that streams
 // the file line by line (sweep CSVs): the path names a regular file (also
-// through a symlink) within the limit.  Returns the limit in bytes, which the
-// reader applies to what it reads (the file may grow meanwhile).  Errors as
-// read_input_file's.
+// through a symlink) within the limit.  Returns its size in bytes; the reader
+// applies max_input_bytes() to what it reads (the file may grow meanwhile).
+// Errors as read_input_file's.
 std::uint64_t check_input_file(const std::string& path, const std::string& what);
 
 }  // namespace nearcap::io
