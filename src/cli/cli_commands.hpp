@@ -52,7 +52,8 @@ std::string subcommand_names(const CLI::App& app);
 // digits and lie in [lo, hi] ("-5", "1e30", "0x10", "2.5" and a value past
 // hi are usage errors naming the option and the range).  It runs on the text,
 // before CLI11 converts it, so a negative value never wraps around to a huge
-// unsigned one; leading zeros are dropped (CLI11 would read "010" as octal).
+// unsigned one.  Give it with ->transform(), which lets it drop leading zeros
+// (CLI11 reads "010" as octal); ->check() would keep them.
 CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi);
 // The largest viewport width or height in pixels (a scene file's limit too).
 constexpr std::uint64_t kMaxViewportPixels = 16384;

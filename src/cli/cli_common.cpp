@@ -117,7 +117,7 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
 
 void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--subpixel-bits", o.subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
-      ->check(integer_in(0, 12))
+      ->transform(integer_in(0, 12))
       ->capture_default_str();
   cmd.add_option("--depth", o.depth, "depth buffer: fixed24 or float32")
       ->check(CLI::IsMember({"fixed24", "float32"}))
@@ -410,7 +410,7 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
 
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
   cmd.add_option("--seed", o.seed, "the sampler's seed")
-      ->check(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
@@ -418,10 +418,10 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
       ->capture_default_str();
   if (sizes) {
     cmd.add_option("--width", o.width, "viewport width of every configuration")
-        ->check(integer_in(1, kMaxViewportPixels))
+        ->transform(integer_in(1, kMaxViewportPixels))
         ->capture_default_str();
     cmd.add_option("--height", o.height, "viewport height of every configuration")
-        ->check(integer_in(1, kMaxViewportPixels))
+        ->transform(integer_in(1, kMaxViewportPixels))
         ->capture_default_str();
   }
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");

@@ -62,7 +62,7 @@ void register_fit_l_near(CLI::App& app) {
                                  "log10 cond(P_l M_l) over hard cases of the sampler (README \"Choosing l_near\")");
   auto o = std::make_shared<FitOptions>();
   cmd->add_option("--samples", o->samples, "this many configurations of the sampler")
-      ->check(integer_in(1, kMaxFitSamples))
+      ->transform(integer_in(1, kMaxFitSamples))
       ->capture_default_str();
   add_sampler_options(*cmd, o->sampler, true);
   add_emulation_options(*cmd, o->emulation);

@@ -384,7 +384,7 @@ void register_sample(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   add_sampler_options(*cmd, *o, true);
   cmd->add_option("--index", *index, "configuration index (0, 1, ...)")
-      ->check(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->required();
   cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
   cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
@@ -398,12 +398,12 @@ void register_sweep(CLI::App& app) {
   auto o = std::make_shared<SweepCommandOptions>();
   cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
   cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")
-      ->check(integer_in(0, kMaxSweepSamples));
+      ->transform(integer_in(0, kMaxSweepSamples));
   add_sampler_options(*cmd, o->sampler, false);
   cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)")
-      ->check(integer_in(1, kMaxViewportPixels));
+      ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)")
-      ->check(integer_in(1, kMaxViewportPixels));
+      ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   cmd->add_option("--policies", o->policies,
                   "engine rules run beside the methods, one row each: comma-separated doom3, doom3-bfg, ogre, "
