@@ -19,7 +19,8 @@
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
 #      they matter (one series per variant): out/sweep/variants/index.html.
-# About 3 minutes on 2 cores after the build.  Run again, it continues the
+# About 8 1/2 minutes on a fresh clone of a 2-core machine, the build included
+# (measured: 8 min 27 s).  Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
 # Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
@@ -41,7 +42,7 @@ echo "== nearcap cracks $scene --light 0 --table (every float method against the
 ./build/nearcap cracks "$scene" --light 0 --table --out "$out"
 echo "== nearcap render $scene --out $out/render (the real GL, headless: lit frames; and against the emulation)"
 if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected,policy --out "$out/render" >/dev/null; then
-  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected,policy
+  ./build/nearcap render "$scene" --light 0 --compare --table --method zpass,zfail,zpplus-corrected,policy
 else
   echo "   (no headless OpenGL on this machine: the real-GL part is skipped; the rest does not need it)"
 fi

@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_validation.hpp"
@@ -229,7 +230,17 @@ class SceneReader {
       o.mesh = slot;
     } catch (const Error& e) {
       // The mesh reader names the mesh file; say which object of which scene.
-      throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + e.what());
+      // A file that cannot be read is named as the scene wrote it and as it
+      // resolved (relative to the scene's directory, made absolute), so that
+      // a wrong base directory shows.
+      std::string what = e.what();
+      if ((e.kind() == ErrorKind::Io || e.kind() == ErrorKind::Resource) && what.rfind(o.mesh_path + ": ", 0) == 0) {
+        std::error_code ec;
+        const std::filesystem::path resolved = std::filesystem::absolute(o.mesh_path, ec);
+        what = "mesh '" + mesh.get<std::string>() + "' (resolved to " +
+               (ec ? o.mesh_path : resolved.lexically_normal().string()) + ")" + what.substr(o.mesh_path.size());
+      }
+      throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + what);
     }
     return o;
   }
