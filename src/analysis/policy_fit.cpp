@@ -550,7 +550,8 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
         {"held_out_median_relative_error", median_relative_error(cm, rows, true)}};
   }
   if (!costs.empty()) prov["cost"] = cost;
-  p.provenance_json = prov.dump();
+  // The command names the CSV files: a name that is not UTF-8 gets U+FFFD.
+  p.provenance_json = prov.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return p;
 }
 

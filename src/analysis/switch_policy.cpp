@@ -362,7 +362,8 @@ std::string policy_to_json(const SwitchPolicy& p) {
                                                  {"ms_per_mfragment", cm.ms_per_mfragment}};
   j["cost_models"] = costs;
   j["provenance"] = Json::parse(p.provenance_json);
-  return j.dump(1) + "\n";
+  // The provenance names files: a name that is not UTF-8 gets U+FFFD.
+  return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,

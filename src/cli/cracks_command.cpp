@@ -260,7 +260,7 @@ void run(const CracksOptions& o) {
     full["light"] = o.light;
     full["reference_ms"] = ref.setup_ms + ref.trace_ms;
     full["crack_distance_ms"] = distances.ms();
-    files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
+    files.push_back({(dir / "cracks.json").string(), json_text(full, 1) + "\n"});
     io::write_output_files(files);
   }
   if (o.table) {
@@ -289,7 +289,7 @@ void run(const CracksOptions& o) {
       print_case_legend(std::cout);
     }
   } else
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace

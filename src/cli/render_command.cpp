@@ -248,11 +248,11 @@ void run_lit(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
-  files.push_back({(dir / "render.json").string(), root.dump(1) + "\n"});
+  files.push_back({(dir / "render.json").string(), json_text(root, 1) + "\n"});
   if (o.bench) files.push_back({(dir / "bench.csv").string(), bench_csv});
   io::write_output_files(files);
   if (o.path.empty()) {
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
   } else {
     // The summary a person reads: mean GL time per frame, relative to Z-pass's.
     double zpass_ms = 0;
@@ -384,13 +384,13 @@ void run(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.out.empty()) {
-    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
+    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
     io::write_output_files(files);
   }
   if (o.table)
     print_compare_table(root, scene.source, o.light);
   else
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace
