@@ -41,7 +41,7 @@ for target in $targets; do
   limits=(-max_total_time="$seconds")
   [ "$runs" != "0" ] && limits=(-runs="$runs")
   max_len=65536
-  [ "$target" = pipeline ] && max_len=16384
+  case $target in pipeline | csv) max_len=16384 ;; esac
   start=$(date +%s)
   if "$bin/fuzz_$target" "$corpus" "${limits[@]}" -max_len=$max_len -rss_limit_mb=2048 -timeout=60 \
        -artifact_prefix="$work/crashes/$target-" -print_final_stats=1 >"$log" 2>&1; then
