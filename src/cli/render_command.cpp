@@ -195,6 +195,13 @@ void run_lit(const RenderOptions& o) {
   // pays for the driver's first use (shader compilation, allocations).
   render::LitFrameRenderer renderer;  // its programs kept from frame to frame
   if (o.bench) (void)lit_frames(renderer, scenes.at(0), o, methods, settings);
+  // The progress line ended when a frame fails, so that the error has a line of its own.
+  struct ProgressLine {
+    bool open = false;
+    ~ProgressLine() {
+      if (open) std::fprintf(stderr, "\n");
+    }
+  } progress;
   for (std::size_t f = 0; f < scenes.count(); ++f) {
     const LitFrames frames = lit_frames(renderer, scenes.at(f), o, methods, settings);
     lights = frames.lights;
@@ -226,8 +233,10 @@ void run_lit(const RenderOptions& o) {
       total_ms[m] += frames.ms[m];
     }
     if (scenes.count() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.count());
+    progress.open = scenes.count() > 1;
   }
-  if (scenes.count() > 1) std::fprintf(stderr, "\n");
+  if (progress.open) std::fprintf(stderr, "\n");
+  progress.open = false;
   nlohmann::json records = nlohmann::json::array();
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);
