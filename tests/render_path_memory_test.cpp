@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,40 @@ TEST_F(RenderPathMemory, TenTimesTheFramesPeaksWithinAFewMegabytes) {
       << "the 200-frame path peaks " << (long_path.peak_kb - short_path.peak_kb) / 1024
       << " MB above the 20-frame one: something is kept per frame";
 #endif
+}
+
+// Along a path each frame's image is staged as it is drawn: a frame that
+// cannot be written (its name is a directory) ends the run with one error
+// line, no frame before it in place, and the render.json already there kept.
+// (Suite RenderCommand: under AddressSanitizer it runs with the EGL tests,
+// scripts/test.sh's egl_tests, without leak detection.)
+TEST(RenderCommand, AFrameThatCannotBeWrittenLeavesNothingBehind) {
+  const fs::path dir = fs::temp_directory_path() / ("nearcap_path_staged_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "out" / "zpass" / "frame-0005.png");
+  std::ofstream(dir / "out" / "render.json") << "old";
+  nlohmann::json p =
+      nlohmann::json::parse(test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "paths" / "eye_in_shadow.json"));
+  p["scene"] = (fs::path(NEARCAP_SOURCE_DIR) / "data" / "scenes" / "room.json").string();
+  p["frames"] = 12;
+  p["width"] = 64;
+  p["height"] = 48;
+  std::ofstream(dir / "path.json") << p.dump(1);
+  const test::CliResult r = test::run_cli(
+      "render --path '" + (dir / "path.json").string() + "' --method zpass --out '" + (dir / "out").string() + "'",
+      "render_staged");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const std::string last_line = r.err.substr(r.err.rfind('\n', r.err.size() - 2) + 1);
+  EXPECT_EQ(last_line.rfind("nearcap: error (io): ", 0), 0u) << r.err;
+  EXPECT_NE(last_line.find("frame-0005.png"), std::string::npos) << r.err;
+  std::set<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+    left.insert(fs::relative(e.path(), dir / "out").string());
+  EXPECT_EQ(left, (std::set<std::string>{"render.json", "zpass", "zpass/frame-0005.png"}));
+  EXPECT_EQ(test::slurp(dir / "out" / "render.json"), "old");
+  fs::remove_all(dir);
 }
 
 }  // namespace
