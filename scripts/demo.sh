@@ -19,7 +19,8 @@
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
 #      they matter (one series per variant): out/sweep/variants/index.html.
-# About 3 minutes on 2 cores after the build.  Run again, it continues the
+# About 8 1/2 minutes on a fresh clone of a 2-core machine, the build included
+# (measured: 8 min 27 s).  Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
 # Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
@@ -41,7 +42,7 @@ echo "== nearcap cracks $scene --light 0 --table (every float method against the
 ./build/nearcap cracks "$scene" --light 0 --table --out "$out"
 echo "== nearcap render $scene --out $out/render (the real GL, headless: lit frames; and against the emulation)"
 if ./build/nearcap render "$scene" --method zpass,zfail,zpplus-corrected,policy --out "$out/render" >/dev/null; then
-  ./build/nearcap render "$scene" --light 0 --compare --method zpass,zfail,zpplus-corrected,policy
+  ./build/nearcap render "$scene" --light 0 --compare --table --method zpass,zfail,zpplus-corrected,policy
 else
   echo "   (no headless OpenGL on this machine: the real-GL part is skipped; the rest does not need it)"
 fi
@@ -56,11 +57,15 @@ paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
 sweep=(./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --policies all --out out/sweep/rows.csv)
 if [ -e out/sweep/rows.csv ]; then
-  resume=(--resume)
-  # Only a sweep of these same options (and this nearcap's columns) resumes.
+  # --repair: a run stopped inside a write leaves its last configuration cut
+  # off (docs/sweep-files.md).
+  resume=(--resume --repair)
+  # Only a sweep of these same options (and this nearcap's columns, with its
+  # sidecar rows.csv.meta.json) resumes.
   probe=$(mktemp -d)
   ./build/nearcap sweep --samples 1 --width 2 --height 2 --out "$probe/header.csv" >/dev/null 2>&1
-  if [ "$(head -1 out/sweep/rows.csv)" != "$(head -1 "$probe/header.csv")" ]; then
+  if [ "$(head -1 out/sweep/rows.csv)" != "$(head -1 "$probe/header.csv")" ] ||
+    [ ! -e out/sweep/rows.csv.meta.json ]; then
     mv out/sweep/rows.csv out/sweep/rows.csv.old
     resume=()
   fi

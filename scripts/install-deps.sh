@@ -15,6 +15,7 @@ packages=(
   libembree-dev
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib
+  chromium time
 )
 
 missing=()

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's pictures (data/pictures/*.png) from bundled scenes
+# Regenerates the pictures of the README and docs/ (data/pictures/*.png) from bundled scenes
 # and a small sweep (its report's figures):
 # runs nearcap on them into out/pictures-work/, then draws the PNGs with
 # matplotlib (analysis/pictures/readme_pictures.py; Debian's /usr/bin/python3, where
@@ -20,6 +20,13 @@ $n cracks data/scenes/far_grazing.json --light 0 --method raytrace --out "$work/
 $n render data/scenes/near_cap_bunny_wall.json --method zpass,zfail --out "$work/render" >/dev/null
 cp "$work/render/frame-zpass.png" data/pictures/render_zpass.png
 cp "$work/render/frame-zfail.png" data/pictures/render_zfail.png
+# The README's first picture: the same frame under Z-pass and Z-fail on the real
+# GL beside the exact reference, the wrong pixels outlined
+# (analysis/pictures/hero_picture.py).
+$n render data/scenes/near_cap_bunny_wall.json --light 0 --method zpass,zfail --stencil \
+  --out "$work/hero/render" >/dev/null
+$n reference data/scenes/near_cap_bunny_wall.json --light 0 --out "$work/hero/reference" >/dev/null
+/usr/bin/python3 analysis/pictures/hero_picture.py "$work/hero" data/pictures/hero.png near_cap_bunny_wall
 # The sweep report's figures: the near-plane sweep path and 100 hard cases.
 $n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv" >/dev/null 2>&1
 $n report "$work/sweep.csv" --out "$work/report" >/dev/null

@@ -1,16 +1,19 @@
 // Camera paths (analysis/camera_path.hpp) and `nearcap frame`: the bundled
 // paths load and every frame is a scene; keyframes are hit exactly, near
 // planes interpolate geometrically; the near-plane sweep meets cases C and D;
+// the eye-in-shadow paths stay in the shadow;
 // a malformed path names the file and the field.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "cli_support.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/near_cap.hpp"
 #include "nearcap/io/scene_file.hpp"
 
 namespace nearcap {
@@ -105,6 +108,23 @@ TEST_F(BadPath, NamesTheFileAndTheField) {
                "keyframes[0].near");
   expect_error("{\"scene\": \"missing.json\", \"frames\": 10, \"keyframes\": [" + key + "]}", "missing.json");
   expect_error("{\"frames\": 10,", "malformed JSON");
+}
+
+// The two eye-in-shadow paths keep the eye inside the torus's shadow volume:
+// the near-cap has no face of count 0 (the near rectangle lies wholly in the
+// shadow), on frames along the whole path, so Z-pass is wrong on every frame
+// as their descriptions say.
+TEST(CameraPath, TheEyeInShadowPathsKeepTheEyeInTheShadow) {
+  for (const char* name : {"eye_in_shadow.json", "looking_away.json"}) {
+    const analysis::CameraPath path = analysis::load_camera_path(kPaths + name);
+    for (int f : {0, path.frames / 4, path.frames / 2, 3 * path.frames / 4, path.frames - 1}) {
+      const Scene scene = parse_scene(analysis::path_frame_json(path, f), "frame", ".");
+      const NearCap cap = NearCap::build(CameraSpaceScene(scene), 0);
+      std::size_t min_count = std::numeric_limits<std::size_t>::max();
+      for (const NearCapFace& face : cap.faces()) min_count = std::min(min_count, face.count);
+      EXPECT_GE(min_count, 1u) << name << " frame " << f << ": part of the near rectangle is lit";
+    }
+  }
 }
 
 TEST(FrameCommand, WritesAFrameTheOtherCommandsAccept) {

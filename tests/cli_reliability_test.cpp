@@ -294,7 +294,6 @@ TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
       {"cap " + b + " --light 0 --light 0", "--light"},
       {"cap " + b, "--light"},
       {"reference " + b + " --light 0", "--out"},
-      {"", "no subcommand"},
       {"bogus", "unknown subcommand 'bogus'"},
       {"optimize x", "unknown subcommand 'optimize'"},
       {"tune x", "--out is required"},

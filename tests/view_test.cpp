@@ -31,6 +31,7 @@
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/view/crack_overlay.hpp"
 #include "nearcap/view/fly_camera.hpp"
+#include "nearcap/view/status_panel.hpp"
 #include "nearcap/view/viewer_commands.hpp"
 
 namespace nearcap {
@@ -117,6 +118,47 @@ TEST(ViewerKeys, ScriptsUseTheKeyTableAndNameAnUnknownKey) {
     EXPECT_NE(std::string(e.what()).find("key 3 'jump'"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(view::parse_key_script("").empty());
+}
+
+// The status fields wrapped to a width: no line wider, every field whole on
+// one line where it fits, in order, and a field wider than a line broken
+// at its spaces (a word wider than a line between characters).
+TEST(StatusPanel, WrapsFieldsToTheWidthKeepingEachWholeWhereItFits) {
+  const std::vector<std::string> fields = {"[m] zpplus-corrected", "[l] all lights", "12.3 ms (emulation 10.1, GL 2.2)",
+                                           "[c] 1234 wrong px, 56 cracks (0.4 s)"};
+  const int width = legend::text_width("[c] 1234 wrong px, 56 cracks (0.4 s)") + 3;
+  const std::vector<std::string> lines = view::wrap_fields(fields, width);
+  ASSERT_GE(lines.size(), 2u);
+  std::string joined;
+  for (const std::string& l : lines) {
+    EXPECT_LE(legend::text_width(l), width) << l;
+    joined += (joined.empty() ? "" : "  ") + l;
+  }
+  EXPECT_EQ(joined,
+            "[m] zpplus-corrected  [l] all lights  12.3 ms (emulation 10.1, GL 2.2)  [c] 1234 wrong px, 56 "
+            "cracks (0.4 s)");
+  for (const std::string& f : fields)
+    EXPECT_TRUE(
+        std::any_of(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(f) != std::string::npos; }))
+        << f << " is split";
+  // One line holds everything when it is wide enough.
+  EXPECT_EQ(view::wrap_fields(fields, 100000).size(), 1u);
+  // Narrower than a field: broken at its spaces, nothing lost.
+  const std::vector<std::string> narrow = view::wrap_fields({"exact reference refused: a long reason"}, 60);
+  std::string words;
+  for (const std::string& l : narrow) {
+    EXPECT_LE(legend::text_width(l), 60) << l;
+    words += (words.empty() ? "" : " ") + l;
+  }
+  EXPECT_EQ(words, "exact reference refused: a long reason");
+  // A word wider than a line: between characters, nothing lost.
+  std::string chars;
+  for (const std::string& l : view::wrap_fields({"abcdefghijklmnop"}, 20)) {
+    EXPECT_LE(legend::text_width(l), 20) << l;
+    chars += l;
+  }
+  EXPECT_EQ(chars, "abcdefghijklmnop");
+  EXPECT_TRUE(view::wrap_fields({}, 100).empty());
 }
 
 // The overlay's counts and marks are the crack map's, light by light.
@@ -252,8 +294,8 @@ TEST_F(ViewCommand, ScreenshotAfterAKeyScriptIsTheHeadlessRenderOfTheSavedView) 
 
 TEST_F(ViewCommand, TheStatusLineCoversOnlyTheTopOfTheFrame) {
   const fs::path with = dir_ / "with.png", without = dir_ / "without.png";
-  ASSERT_EQ(view("data/scenes/room.json --method policy --screenshot '" + with.string() + "'").exit_code, 0);
-  ASSERT_EQ(view("data/scenes/room.json --method policy --keys h --screenshot '" + without.string() + "'").exit_code,
+  ASSERT_EQ(view("data/scenes/default.json --method policy --screenshot '" + with.string() + "'").exit_code, 0);
+  ASSERT_EQ(view("data/scenes/default.json --method policy --keys h --screenshot '" + without.string() + "'").exit_code,
             0);
   const Png a = read_png(with), b = read_png(without);
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
@@ -264,7 +306,48 @@ TEST_F(ViewCommand, TheStatusLineCoversOnlyTheTopOfTheFrame) {
       if (a.rgb[3 * static_cast<std::size_t>(y) * a.width + x] != b.rgb[3 * static_cast<std::size_t>(y) * b.width + x])
         lowest = y;
   EXPECT_GT(lowest, 8);   // the status line is there
-  EXPECT_LE(lowest, 26);  // two lines of 12 pixels (the policy's methods per occluder) and a margin
+  EXPECT_LE(lowest, 26);  // at 640 pixels, two lines of 12 pixels (the policy's methods per occluder) and a margin
+}
+
+// In a window narrower than the status line (room.json: 320 pixels), the
+// status wraps and every field is in the window, the crack count included:
+// the screenshot is the headless render of the same frame with the status
+// printed on stdout painted over it, wrapped (Z-fail leaves no wrong pixel
+// on room.json, so the overlay marks none).
+TEST_F(ViewCommand, TheStatusLineWrapsAndShowsTheCrackCountInTheWindow) {
+  const fs::path shot = dir_ / "shot.png";
+  const auto r = view("data/scenes/room.json --method zfail --keys 'c wait' --screenshot '" + shot.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // "screenshot FILE (320x240): FIELD  FIELD  ..."
+  const std::string marker = "(320x240): ";
+  const auto at = r.out.find(marker);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::string status = r.out.substr(at + marker.size());
+  status = status.substr(0, status.find('\n'));
+  ASSERT_NE(status.find(" 0 wrong px, 0 cracks"), std::string::npos) << status;
+  std::vector<std::string> fields;
+  for (std::size_t from = 0;;) {
+    const std::size_t gap = status.find("  ", from);
+    fields.push_back(status.substr(from, gap - from));
+    if (gap == std::string::npos) break;
+    from = gap + 2;
+  }
+  ASSERT_EQ(fields.size(), 4u) << status;
+  const int scale = view::status_scale(320);
+  EXPECT_GT(legend::text_width(status) * scale, 320) << "the status line fits on one line: nothing to wrap";
+  const auto rendered =
+      test::run_cli("render data/scenes/room.json --method zfail --out '" + (dir_ / "render").string() + "'", "view");
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  const Png a = read_png(shot), b = read_png(dir_ / "render" / "frame-zfail.png");
+  ASSERT_EQ(a.width, 320);
+  ASSERT_EQ(a.height, 240);
+  ASSERT_EQ(b.rgb.size(), a.rgb.size());
+  legend::Image expected{b.width, b.height, b.rgb};
+  const int band = view::paint_status(expected, {fields});
+  EXPECT_GE(band, 2 * 12 * scale);  // wrapped: more than one line
+  std::size_t differ = 0;
+  for (std::size_t k = 0; k < a.rgb.size(); ++k) differ += a.rgb[k] != expected.rgb[k];
+  EXPECT_EQ(differ, 0u);
 }
 
 TEST_F(ViewCommand, TheCrackOverlayCountsWhatRenderCompareCounts) {

@@ -4,8 +4,8 @@
 # and the emulation differ with the spec's viewport arithmetic / with Mesa's
 # (--viewport llvmpipe) / with the whole llvmpipe model (--viewport llvmpipe
 # --depth-interpolation llvmpipe --clipper mesa), and the wrong pixels of GL
-# and of the emulation against the exact reference.  The README's table ("The real GL beside the
-# emulation").  Needs a build (./scripts/build.sh).
+# and of the emulation against the exact reference.  The table of
+# docs/findings/real-gl.md.  Needs a build (./scripts/build.sh).
 #   ./analysis/benchmarks/gl_replay_table.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."

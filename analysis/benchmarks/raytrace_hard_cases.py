@@ -4,8 +4,8 @@
 For configurations 0..N-1 of one seed (`nearcap sample`, 48x36 by default),
 runs `nearcap cracks --method raytrace,zfail` with each shadow epsilon and
 prints, per sampler kind, the configurations where raytrace is wrong and its
-wrong pixels / cracks, beside Z-fail's: the README's hard-case table
-("A float ray tracer beside the reference").
+wrong pixels / cracks, beside Z-fail's: the hard-case table
+of docs/findings/raytrace.md.
 
 usage: raytrace_hard_cases.py [--samples N] [--seed S]   (from the repository root, after a build)
 """

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The float ray tracer (Embree) on every bundled scene with each shadow
-# epsilon, judged against the exact reference: the README's table
-# ("A float ray tracer beside the reference").  Cells: wrong / cracks
+# epsilon, judged against the exact reference: the table of
+# docs/findings/raytrace.md.  Cells: wrong / cracks
 # (wrong-lit, wrong-shadowed).  Needs a build (./scripts/build.sh) with Embree.
 #   ./analysis/benchmarks/raytrace_table.sh
 set -euo pipefail

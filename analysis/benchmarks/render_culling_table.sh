@@ -6,8 +6,8 @@
 # for Z-pass, Z-fail, ZP+ corrected and the shipped policy.  Per path and
 # method: the stencil pass's mean time, none -> scissor, the median over
 # REPEATS runs (default 3); and the policy's whole frame relative to
-# Z-pass's, both with the scissor.  The README's table ("Scissor and depth
-# bounds").  Needs a build.
+# Z-pass's, both with the scissor.  The table of
+# docs/findings/volume-culling.md.  Needs a build.
 #   REPEATS=3 ./analysis/benchmarks/render_culling_table.sh [OUT_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."

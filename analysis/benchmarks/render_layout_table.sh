@@ -6,7 +6,7 @@
 # the shipped policy.  Per path and method: the stencil pass's mean time,
 # triangles -> strips, the median over REPEATS runs (default 3); and ZP+
 # corrected's and the policy's whole frame relative to Z-pass's with strips.
-# The README's table ("Per pass ... vertex layouts").  Needs a build.
+# The table of docs/findings/real-gl.md ("Vertex layouts").  Needs a build.
 #   REPEATS=3 ./analysis/benchmarks/render_layout_table.sh [OUT_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."

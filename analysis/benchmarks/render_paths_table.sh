@@ -4,8 +4,8 @@
 # GL's GLSL vertex programs (--vertex-stage glsl, the default) and from the
 # emulation's recorded vertices (--vertex-stage recorded): per path Z-pass's
 # mean frame time and each method's relative to it, the median over REPEATS
-# runs (default 3) of each method's mean.  The README's tables ("The real GL
-# renderer").  Needs a build (./scripts/build.sh).
+# runs (default 3) of each method's mean.  The tables of
+# docs/findings/real-gl.md ("Frame times along the bundled paths").  Needs a build (./scripts/build.sh).
 #   REPEATS=3 ./analysis/benchmarks/render_paths_table.sh [OUT_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README's pictures, from nearcap's own outputs on bundled scenes.
+"""The pictures of the README and docs/, from nearcap's own outputs on bundled scenes.
 
 Run by scripts/pictures.sh, which first runs the nearcap commands into a
 work directory; this script turns their outputs into small PNGs:

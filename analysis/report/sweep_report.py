@@ -3,14 +3,28 @@
 rows of `nearcap sweep` (one or more files).  Run through `nearcap report`,
 or directly:
 
-    sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR
+    sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR [--policy FILE]
 
 DIR/index.html is the page; beside it, the plots (PNG, matplotlib), the
-tables as CSV (summary.csv, by_kind.csv, case_d.csv) and report.json (what
-was plotted: the files and how many data points each holds).  Nothing is
-written to DIR unless the whole report was built (it is assembled in a
-temporary folder next to DIR first).  Errors are one line on stderr,
-"nearcap: error (KIND): FILE: ...", exit code 2.
+tables as CSV (summary.csv, by_kind.csv, case_d.csv, ...) and report.json
+(what was plotted: the files and how many data points each holds).  Nothing
+is written to DIR unless the whole report was built (it is assembled in a
+temporary folder next to DIR first), and a report whose files would replace
+one of its inputs is refused.  Errors are one line on stderr,
+"nearcap: error (KIND): FILE: ...", exit code 2; an unexpected failure of
+this script (a bug) says so in that line and leaves its traceback in a log
+file the line names.
+
+The rows are read one at a time and folded into the totals each section
+needs, never held: memory does not grow with the number of rows (the
+million-configuration sweep's CSV included; docs/findings/report-scale.md).
+What that needs of the input: each configuration's rows together, as
+`nearcap sweep` writes them (a configuration met again after others is an
+error naming both places), UTF-8 text, lines under 1 MB.  The one part that
+grows with the input is a 64-bit hash per configuration (8 bytes), to find
+a configuration given twice; the feature scatter plots draw all points up
+to FEATURE_POINTS per (feature, method, cracked or not) and a uniform sample
+beyond, and say so.
 
 Sections:
   1. speed against error: mean emulated frame time per configuration against
@@ -23,14 +37,20 @@ Sections:
      case-D quad, and case-D switches that were not needed;
   6. the hard-case sampler by kind.
 """
+import array
+import bisect
 import csv
+import hashlib
 import html
 import json
 import math
 import os
+import random
 import shutil
+import stat
 import sys
 import tempfile
+import traceback
 from collections import OrderedDict, defaultdict
 from pathlib import Path
 
@@ -39,6 +59,8 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt  # noqa: E402
+    import matplotlib.ticker  # noqa: E402
+    import numpy  # noqa: E402  (matplotlib's own dependency)
 except ImportError:
     print(f"nearcap: error (io): {sys.executable} has no matplotlib (Debian: python3-matplotlib, which "
           "scripts/install-deps.sh installs; or set NEARCAP_PYTHON to a Python that has it)", file=sys.stderr)
@@ -65,14 +87,20 @@ FEATURES = [
     ("cap_window_error_px", "near-cap window error (px)"),
     ("cap_window_error_ulp", "near-cap window error (ulp)"),
 ]
+FEATURE_METHODS = ("zpplus", "zpplus-corrected", "zfail", "zpass")  # drawn in features.png, in this order
 INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_lit", "wrong_shadowed", "count_mismatch",
                    "zfail_objects", "case_disagreements"] + ["wrong_r_" + b for b in BUCKETS] + \
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
 FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"] + \
                 [f for f, _ in FEATURES]
+PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
-           FLOAT_COLUMNS + [p + "_" + c for p in ("depth", "near_cap", "volume")
-                            for c in ("fragments", "depth_pass", "depth_fail")]
+           FLOAT_COLUMNS + PASS_COLUMNS
+POLICY_VERSIONS = (1, 3)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
+MAX_LINE_BYTES = 1 << 20  # a sweep row is under 1 kB; a longer line is not a sweep CSV
+FEATURE_POINTS = 20000  # scatter points kept per (feature, method, cracked or not) before sampling
+MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")  # a spreadsheet reads a cell starting so as a formula
 
 
 class ReportError(Exception):
@@ -81,66 +109,354 @@ class ReportError(Exception):
         self.kind = kind
 
 
-def read_rows(files):
-    rows, rejected, seen, refused = [], 0, {}, []
-    for name in files:
+# ---- reading: one row at a time ------------------------------------------------
+def open_input(name):
+    """A binary handle on a regular file (a FIFO or a device is refused, never read)."""
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError as e:
+        raise ReportError("io", f"{name}: cannot read: {e.strerror}")
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise ReportError("io", f"{name}: not a regular file (a sweep's CSV was expected)")
+    os.set_blocking(fd, True)
+    return os.fdopen(fd, "rb")
+
+
+def text_lines(name, handle):
+    """The file's lines as text, each checked to be UTF-8 and under MAX_LINE_BYTES."""
+    line = 0
+    while True:
+        raw = handle.readline(MAX_LINE_BYTES)
+        if not raw:
+            return
+        line += 1
+        if len(raw) == MAX_LINE_BYTES and not raw.endswith(b"\n"):
+            raise ReportError("parse", f"{name}: line {line}: longer than {MAX_LINE_BYTES >> 20} MB "
+                                       "(not a nearcap sweep CSV)")
         try:
-            handle = open(name, newline="")
-        except OSError as e:
-            raise ReportError("io", f"{name}: cannot read: {e.strerror}")
-        with handle:
-            reader = csv.DictReader(handle)
-            if reader.fieldnames is None:
-                raise ReportError("parse", f"{name}: empty file, not a nearcap sweep CSV")
-            missing = [c for c in REQUIRED if c not in reader.fieldnames]
-            if missing:
-                raise ReportError("schema", f"{name}: line 1: missing column '{missing[0]}' "
-                                           f"(not a nearcap sweep CSV, or one from an older nearcap)")
-            for line, r in enumerate(reader, start=2):
-                if r["method"] == "rejected":
-                    rejected += 1
-                    continue
-                if None in r or any(r[c] is None for c in REQUIRED):
-                    raise ReportError("parse", f"{name}: line {line}: wrong number of fields")
-                for c in INTEGER_COLUMNS:
-                    try:
-                        r[c] = int(r[c])
-                    except ValueError:
-                        raise ReportError("parse", f"{name}: line {line}: column '{c}': '{r[c]}' is not an integer")
-                for c in FLOAT_COLUMNS:
-                    try:
-                        r[c] = float(r[c])
-                    except ValueError:
-                        raise ReportError("parse", f"{name}: line {line}: column '{c}': '{r[c]}' is not a number")
-                for p in ("depth", "near_cap", "volume"):
-                    for c in ("fragments", "depth_pass", "depth_fail"):
-                        r[p + "_" + c] = int(r[p + "_" + c])
-                r["cap_mismatch"] = int(r["cap_mismatch"]) if r["cap_mismatch"] else None
-                for c in DECISION_COLUMNS:
-                    value = r.get(c)
-                    try:
-                        r[c] = int(value) if value not in (None, "") else None
-                    except ValueError:
-                        raise ReportError("parse", f"{name}: line {line}: column '{c}': '{value}' is not an integer")
-                if r["refused"]:
-                    refused.append(r)
-                    continue
-                # A method under a non-default variant is its own series: "zpplus [light-projection=glfrustum]".
-                if r["variant"] != "default":
-                    r["method"] = f'{r["method"]} [{r["variant"]}]'
-                key = (r["configuration"], r["light"], r["method"])
-                if key in seen:
-                    raise ReportError("parse", f"{name}: line {line}: a second row for configuration "
-                                               f"'{key[0]}' light {key[1]} method {key[2]} (first: {seen[key]})")
-                seen[key] = f"{name} line {line}"
-                rows.append(r)
-    if not rows:
+            yield raw.decode("utf-8")
+        except UnicodeDecodeError as e:
+            raise ReportError("parse", f"{name}: line {line}: not UTF-8 (byte 0x{raw[e.start]:02x} at byte "
+                                       f"{e.start + 1} of the line)")
+
+
+def parsed_rows(files):
+    """Each data row of the files, checked and converted, in order: (status, name, line, row) with status
+    "rejected" (row None), "refused" or "row"."""
+    for name in files:
+        with open_input(name) as handle:
+            reader = csv.reader(text_lines(name, handle))
+            try:
+                header = next(reader, None)
+                if header is None:
+                    raise ReportError("parse", f"{name}: empty file, not a nearcap sweep CSV")
+                missing = [c for c in REQUIRED if c not in header]
+                if missing:
+                    raise ReportError("schema", f"{name}: line 1: missing column '{missing[0]}' "
+                                               f"(not a nearcap sweep CSV, or one from an older nearcap)")
+                converter = RowConverter(header, name)
+                method_index = converter.index["method"]
+                for fields in reader:
+                    if not fields:
+                        continue  # a blank line
+                    line = reader.line_num
+                    if method_index < len(fields) and fields[method_index] == "rejected":
+                        yield "rejected", name, line, None
+                        continue
+                    r = converter.row(fields, line)
+                    yield ("refused" if r["refused"] else "row"), name, line, r
+            except csv.Error as e:
+                raise ReportError("parse", f"{name}: line {reader.line_num}: {e}")
+
+
+class RowConverter:
+    """A CSV row (a list of fields) as a dict of the columns the report reads, numbers converted."""
+    TEXT = ["configuration", "kind", "method", "variant", "fallback"]
+    INTEGERS = INTEGER_COLUMNS + PASS_COLUMNS
+
+    def __init__(self, header, name):
+        self.index = {c: k for k, c in enumerate(header)}  # a repeated name: its last column
+        self.name, self.width = name, len(header)
+        self.required_width = 1 + max(self.index[c] for c in REQUIRED)
+        self.text = [(c, self.index[c]) for c in self.TEXT]
+        self.integers = [self.index[c] for c in self.INTEGERS]
+        self.floats = [self.index[c] for c in FLOAT_COLUMNS]
+        self.decisions = [(c, self.index[c]) for c in DECISION_COLUMNS if c in self.index]
+        self.cap_mismatch = self.index["cap_mismatch"]
+
+    def fail(self, line, column, value, what):
+        raise ReportError("parse", f"{self.name}: line {line}: column '{column}': '{value}' is not {what}")
+
+    def row(self, fields, line):
+        if len(fields) > self.width or len(fields) < self.required_width:
+            raise ReportError("parse", f"{self.name}: line {line}: wrong number of fields ({len(fields)}, the "
+                                       f"header has {self.width})")
+        try:
+            integers = [int(fields[k]) for k in self.integers]
+        except ValueError:
+            for c, k in zip(self.INTEGERS, self.integers):
+                try:
+                    int(fields[k])
+                except ValueError:
+                    self.fail(line, c, fields[k], "an integer")
+        try:
+            floats = [float(fields[k]) for k in self.floats]
+        except ValueError:
+            for c, k in zip(FLOAT_COLUMNS, self.floats):
+                try:
+                    float(fields[k])
+                except ValueError:
+                    self.fail(line, c, fields[k], "a number")
+        r = dict(zip(self.INTEGERS, integers))
+        r.update(zip(FLOAT_COLUMNS, floats))
+        for c, k in self.text:
+            r[c] = fields[k]
+        value = fields[self.cap_mismatch]
+        try:
+            r["cap_mismatch"] = int(value) if value else None
+        except ValueError:
+            self.fail(line, "cap_mismatch", value, "an integer")
+        for c, k in self.decisions:
+            value = fields[k] if k < len(fields) else ""
+            try:
+                r[c] = int(value) if value else None
+            except ValueError:
+                self.fail(line, c, value, "an integer")
+        for c in DECISION_COLUMNS:
+            r.setdefault(c, None)
+        # A method under a non-default variant is its own series: "zpplus [light-projection=glfrustum]".
+        if r["variant"] != "default":
+            r["method"] = f'{r["method"]} [{r["variant"]}]'
+        if r["configuration"].startswith("path:"):
+            try:
+                r["frame"] = int(r["configuration"].rsplit(":", 1)[1])
+            except ValueError:
+                raise ReportError("parse", f"{self.name}: line {line}: configuration '{r['configuration']}': a "
+                                           "path's configuration ends in its frame number")
+        return r
+
+
+class Reservoir:
+    """Points (x, y) in arrival order up to `cap`, then a uniform sample of `cap` of them (Algorithm R, fixed
+    seed); `seq` keeps each point's arrival number so that samples merge back in order."""
+
+    def __init__(self, cap, seed):
+        self.cap, self.seen, self.rng = cap, 0, random.Random(seed)
+        self.seq, self.x, self.y = array.array("q"), array.array("d"), array.array("d")
+
+    def add(self, seq, x, y):
+        self.seen += 1
+        if len(self.seq) < self.cap:
+            self.seq.append(seq)
+            self.x.append(x)
+            self.y.append(y)
+            return
+        k = self.rng.randrange(self.seen)
+        if k < self.cap:
+            self.seq[k], self.x[k], self.y[k] = seq, x, y
+
+
+class Totals:
+    """Everything the sections draw, folded row by row.  Per-(configuration, light) comparisons between methods
+    (the case-D claim, the policy's cost, the exact reference's time) are folded when a configuration's rows
+    end: a sweep writes them together."""
+
+    def __init__(self):
+        self.rows, self.rejected, self.configurations = 0, 0, 0
+        self.refused = defaultdict(int)  # method -> refused frames
+        self.methods = set()
+        self.per = defaultdict(lambda: {"ms": 0.0, "wrong": 0, "cracks": 0, "rows": 0, "with_cracks": 0,
+                                        "frag_pass": 0, "frag_fail": 0})
+        self.ref_ms, self.ref_pairs = 0, 0
+        self.buckets = defaultdict(lambda: [0] * len(BUCKETS))
+        self.decisions = {}  # method -> [rows, occluders, truth, fn, fp, frames with cracks, cracks, wrong, ms, frags]
+        self.paths = {}  # path name -> {"table": {(frame, light, method): (ms, cracks, cases)}, "totals": ...}
+        self.feature_range = {f: [0, 0, math.inf, -math.inf] for f, _ in FEATURES}  # values, positive, min, max
+        keys = [(f, m, cracked) for f, _ in FEATURES for m in FEATURE_METHODS for cracked in (False, True)]
+        self.feature_points = {key: Reservoir(FEATURE_POINTS, seed) for seed, key in enumerate(keys)}
+        self.case_d = {"pairs": 0, "without_d": 0, "with_d": 0, "after_fallback": 0, "switches": 0, "unnecessary": 0}
+        self.case_d_examples = []  # the first 8 in (configuration, light) order
+        self.policy_cost = {}
+        self.kind_configurations = defaultdict(int)
+        self.kind_cracks = defaultdict(lambda: defaultdict(int))
+        self.hashes = array.array("q")  # one per configuration, to find one given twice
+        self.group = None
+
+    def add(self, r, name, line):
+        c, light, m = r["configuration"], r["light"], r["method"]
+        g = self.group
+        if g is None or g["configuration"] != c:
+            self.end_group()
+            g = self.group = {"configuration": c, "seen": {}, "lights": OrderedDict(), "kinds": set()}
+            self.hashes.append(hash(c))
+        where = g["seen"].get((light, m))
+        if where is not None:
+            raise ReportError("parse", f"{name}: line {line}: a second row for configuration '{c}' light {light} "
+                                       f"method {m} (first: {where})")
+        g["seen"][(light, m)] = f"{name} line {line}"
+        lights = g["lights"].setdefault(light, {"ref": 0.0, "rows": {}})
+        lights["ref"] = r["reference_ms"]
+        if m in ("zpass", "zfail", "zpplus", "zpplus-corrected", "policy"):
+            lights["rows"][m] = {k: r[k] for k in ("cracks", "float_D", "fallback", "zfail_objects", "frame_ms",
+                                                   "zpass_wrong_occluders", "volume_fragments", "near_cap_fragments",
+                                                   "near_cap_ms")}
+        g["kinds"].add(r["kind"])
+
+        seq = self.rows
+        self.rows += 1
+        self.methods.add(m)
+        p = self.per[m]
+        p["ms"] += r["frame_ms"]
+        p["wrong"] += r["wrong"]
+        p["cracks"] += r["cracks"]
+        p["rows"] += 1
+        p["with_cracks"] += r["cracks"] > 0
+        p["frag_pass"] += r["volume_depth_pass"]
+        p["frag_fail"] += r["volume_depth_fail"]
+        b = self.buckets[m]
+        for k, bucket in enumerate(BUCKETS):
+            b[k] += r["wrong_r_" + bucket]
+        if r["false_negatives"] is not None:
+            d = self.decisions.setdefault(m, [0, 0, 0, 0, 0, 0, 0, 0, 0, 0])
+            d[0] += 1
+            d[1] += r["occluders"]
+            d[2] += r["zpass_wrong_occluders"]
+            d[3] += r["false_negatives"]
+            d[4] += r["false_positives"]
+            d[5] += r["cracks"] > 0
+            d[6] += r["cracks"]
+            d[7] += r["wrong"]
+            d[8] += r["frame_ms"]
+            d[9] += r["volume_fragments"]
+        if c.startswith("path:"):
+            path = self.paths.setdefault(r["kind"], {"table": {}, "totals": {}})
+            path["table"][(r["frame"], light, m)] = (r["frame_ms"], r["cracks"],
+                                                     tuple(r["exact_" + k] for k in CASES))
+            t = path["totals"].setdefault(m, [0, 0, 0])
+            t[0] += r["wrong"]
+            t[1] += r["cracks"]
+            t[2] += r["frame_ms"]
+        elif c.startswith("sample:"):
+            self.kind_cracks[r["kind"]][m] += r["cracks"]
+        points = m in FEATURE_METHODS
+        for f, _ in FEATURES:
+            v = r[f]
+            if not math.isfinite(v):
+                continue
+            a = abs(v)
+            fr = self.feature_range[f]
+            fr[0] += 1
+            if a > 0:
+                fr[1] += 1
+                fr[2] = min(fr[2], a)
+                fr[3] = max(fr[3], a)
+            if points:
+                self.feature_points[(f, m, r["cracks"] > 0)].add(seq, a if f == "light_near_distance" else v,
+                                                                  r["cracks"])
+
+    def end_group(self):
+        g, self.group = self.group, None
+        if g is None:
+            return
+        self.configurations += 1
+        c = g["configuration"]
+        if c.startswith("sample:"):
+            for kind in g["kinds"]:
+                self.kind_configurations[kind] += 1
+        for light, entry in g["lights"].items():
+            self.ref_ms += entry["ref"]
+            self.ref_pairs += 1
+            rows = entry["rows"]
+            self.fold_case_d(c, light, rows)
+            self.fold_policy_cost(rows)
+
+    def fold_case_d(self, c, light, rows):
+        s = self.case_d
+        s["pairs"] += 1
+        zc, zp, zf = rows.get("zpplus-corrected"), rows.get("zpplus"), rows.get("zfail")
+        if zc is None:
+            return
+        if zc["fallback"] and not zc["zfail_objects"]:
+            s["after_fallback"] += zc["cracks"] > 0
+            return
+        baseline = zf["cracks"] if zf is not None else 0  # cracks every method has (depth precision)
+        if zc["cracks"] > baseline and zc["float_D"] == 0:
+            s["without_d"] += 1
+            example = (c, light, zc["cracks"], zc["float_D"], zc["fallback"])
+            if len(self.case_d_examples) < 8 or example[:2] < self.case_d_examples[-1][:2]:
+                bisect.insort(self.case_d_examples, example)
+                del self.case_d_examples[8:]
+        if zc["cracks"] > baseline and zc["float_D"] > 0:
+            s["with_d"] += 1
+        if zc["zfail_objects"] > 0:
+            s["switches"] += 1
+            if zp is not None and zp["cracks"] == 0:
+                s["unnecessary"] += 1
+
+    def fold_policy_cost(self, rows):
+        """Issue 12's cost targets: where Z-pass is right (every occluder's exact near-cap empty), the policy's
+        frame time and fragments against Z-pass's; elsewhere against ZP+ corrected's."""
+        z, p, zp = rows.get("zpass"), rows.get("policy"), rows.get("zpplus-corrected")
+        if z is None or p is None or z["zpass_wrong_occluders"] is None:
+            return
+        where, base = ("Z-pass right", z) if z["zpass_wrong_occluders"] == 0 else ("elsewhere", zp)
+        if base is None:
+            return
+        s_ = self.policy_cost.setdefault(where, [0, 0.0, 0.0, 0, 0, 0.0])
+        s_[0] += 1
+        s_[1] += p["frame_ms"]
+        s_[2] += base["frame_ms"]
+        s_[3] += p["volume_fragments"] + p["near_cap_fragments"]
+        s_[4] += base["volume_fragments"] + base["near_cap_fragments"]
+        s_[5] += p["near_cap_ms"]
+
+
+def read_rows(files):
+    totals = Totals()
+    for status, name, line, r in parsed_rows(files):
+        if status == "rejected":
+            totals.rejected += 1
+        elif status == "refused":
+            totals.refused[r["method"]] += 1
+        else:
+            totals.add(r, name, line)
+    totals.end_group()
+    if not totals.rows:
         raise ReportError("parse", f"{files[0]}: no rows to report on")
-    return rows, rejected, refused
+    hashes = numpy.frombuffer(totals.hashes, dtype=numpy.int64)
+    ordered = numpy.sort(hashes)
+    repeated = ordered[1:][ordered[1:] == ordered[:-1]]
+    if len(repeated):
+        find_repeated_configuration(files, set(int(h) for h in repeated))
+    return totals
 
 
-def methods_of(rows):
-    present = {r["method"] for r in rows}
+def find_repeated_configuration(files, repeated):
+    """Names the first configuration met again after other configurations (a second row for it, or its rows
+    apart); a hash collision between two configurations is no error."""
+    first_row, groups_started, current = {}, {}, None
+    for status, name, line, r in parsed_rows(files):
+        if status != "row":
+            continue
+        c = r["configuration"]
+        starts = c != current
+        current = c
+        if hash(c) not in repeated:
+            continue
+        key = (c, r["light"], r["method"])
+        if key in first_row:
+            raise ReportError("parse", f"{name}: line {line}: a second row for configuration '{c}' light "
+                                       f"{key[1]} method {key[2]} (first: {first_row[key]})")
+        first_row[key] = f"{name} line {line}"
+        if starts and c in groups_started:
+            raise ReportError("parse", f"{name}: line {line}: configuration '{c}' again after other configurations "
+                                       f"(first: {groups_started[c]}); a configuration's rows must be together, "
+                                       "as nearcap sweep writes them")
+        groups_started.setdefault(c, f"{name} line {line}")
+
+
+def methods_of(present):
     order = {m: k for k, m in enumerate(METHOD_ORDER)}
     return sorted(present, key=lambda m: (order.get(m.split(" [")[0], len(order)), m))
 
@@ -163,15 +479,28 @@ def colour(method):
     return f"#{r * 3 // 5:02x}{g * 3 // 5:02x}{b * 3 // 5:02x}"
 
 
+def csv_cell(value):
+    """A table cell as written to CSV: text a spreadsheet would run as a formula (OWASP: a cell starting with
+    = + - @ tab or CR) gets a leading single quote; numbers, negative ones included, stay numbers."""
+    if isinstance(value, str) and value.startswith(FORMULA_START):
+        try:
+            float(value)
+        except ValueError:
+            return "'" + value
+    return value
+
+
 class Report:
-    def __init__(self, rows, rejected, out):
-        self.rows, self.rejected, self.out = rows, rejected, out
-        self.methods = methods_of(rows)
-        self.refused = []
+    def __init__(self, totals, out):
+        self.t, self.out = totals, out
+        self.rows, self.rejected = totals.rows, totals.rejected
+        self.methods = methods_of(totals.methods)
         self.plots, self.sections = [], []
         self.policy, self.policy_source = None, None
+        self.writing = None  # the file being written, for an error message
 
     def save(self, fig, name, points):
+        self.writing = name
         fig.savefig(self.out / name, dpi=110, bbox_inches="tight")
         plt.close(fig)
         self.plots.append({"file": name, "points": points})
@@ -179,10 +508,11 @@ class Report:
 
     def table(self, header, body, csv_name=None):
         if csv_name:
-            with open(self.out / csv_name, "w", newline="") as f:
+            self.writing = csv_name
+            with open(self.out / csv_name, "w", newline="", encoding="utf-8") as f:
                 w = csv.writer(f)
-                w.writerow(header)
-                w.writerows(body)
+                w.writerow([csv_cell(h) for h in header])
+                w.writerows([csv_cell(v) for v in row] for row in body)
         cells = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
         lines = [f"<tr>{cells}</tr>"]
         for row in body:
@@ -191,52 +521,38 @@ class Report:
 
     # ---- 1. speed against error ---------------------------------------------
     def pareto(self):
-        per = defaultdict(lambda: {"ms": 0.0, "wrong": 0, "cracks": 0, "rows": 0, "with_cracks": 0,
-                                   "frag_pass": 0, "frag_fail": 0, "ref_ms": 0.0})
-        configs = {r["configuration"] for r in self.rows}
-        for r in self.rows:
-            p = per[r["method"]]
-            p["ms"] += r["frame_ms"]
-            p["wrong"] += r["wrong"]
-            p["cracks"] += r["cracks"]
-            p["rows"] += 1
-            p["with_cracks"] += r["cracks"] > 0
-            p["frag_pass"] += r["volume_depth_pass"]
-            p["frag_fail"] += r["volume_depth_fail"]
+        per = self.t.per
         fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
         points = 0
         for ax, metric, label in ((axes[0], "wrong", "wrong pixels (all rows)"), (axes[1], "cracks", "cracks (all rows)")):
             xs = {m: per[m]["ms"] / max(1, per[m]["rows"]) for m in self.methods}
             ys = {m: per[m][metric] for m in self.methods}
-            for m in self.methods:
-                ax.scatter([xs[m]], [ys[m]], s=60, color=colour(m), label=m, zorder=3)
-                ax.annotate(m, (xs[m], ys[m]), textcoords="offset points", xytext=(5, 5), fontsize=8)
+            for k, m in enumerate(self.methods):
+                ax.scatter([xs[m]], [ys[m]], s=60, color=colour(m), marker=MARKERS[k % len(MARKERS)],
+                           label=as_label(m), zorder=3, edgecolors="k", linewidths=0.4)
                 points += 1
             front = pareto_front([(xs[m], ys[m]) for m in self.methods])
             ax.plot([p[0] for p in front], [p[1] for p in front], "k--", lw=1, label="Pareto front", zorder=2)
             ax.set_yscale("symlog", linthresh=1)
             ax.set_ylim(bottom=-0.3)
-            ax.set_xlabel("mean emulated frame time per row (ms)")
+            ax.set_xlabel("mean frame time per row (ms)")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
-        legend(axes[0], fontsize=8)
-        fig.suptitle("speed against error, per method")
+        # One legend for both panels, outside the data (labels beside the points overlapped).
+        legend(axes[1], fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+        fig.suptitle("speed against error, per method (the table below gives the numbers)")
+        fig.supxlabel("times: the float32 pipeline emulated on the CPU, not a GPU's", fontsize=9, y=-0.02)
         img = self.save(fig, "pareto.png", points)
         header = ["method", "rows", "wrong", "cracks", "rows with cracks", "mean frame ms", "volume frags depth-pass",
                   "volume frags depth-fail"]
         body = [[m, per[m]["rows"], per[m]["wrong"], per[m]["cracks"], per[m]["with_cracks"],
                  per[m]["ms"] / max(1, per[m]["rows"]), per[m]["frag_pass"], per[m]["frag_fail"]] for m in self.methods]
-        ref_ms = {}
-        for r in self.rows:
-            ref_ms[(r["configuration"], r["light"])] = r["reference_ms"]
-        refused = defaultdict(int)
-        for r in self.refused:
-            refused[r["method"]] += 1
-        refusals = ", ".join(f"{m} {n}" for m, n in sorted(refused.items()))
-        text = (f"<p>{len(configs)} configurations, {len(self.rows)} rows"
-                f"{f', {self.rejected} configurations rejected (the scene did not load)' if self.rejected else ''}"
+        refusals = ", ".join(f"{m} {n}" for m, n in sorted(self.t.refused.items()))
+        rejected = f", {plural(self.rejected, 'configuration')} rejected (the scene did not load)" if self.rejected else ""
+        text = (f"<p>{plural(self.t.configurations, 'configuration')}, {plural(self.rows, 'row')}"
+                f"{rejected}"
                 f"{f'; frames the float pipeline refused (float32 transforms degenerate): {refusals}' if refusals else ''}. "
-                f"Exact reference: {sum(ref_ms.values()) / max(1, len(ref_ms)):.1f} ms per (configuration, light) "
+                f"Exact reference: {self.t.ref_ms / max(1, self.t.ref_pairs):.1f} ms per (configuration, light) "
                 f"on average. Z-pass counts on depth-passing fragments and Z-fail on failing ones: the volume "
                 f"pass's split says which of the two had more to do.</p>")
         self.sections.append(("Speed against error", text + f'<img src="{img}">' +
@@ -244,54 +560,71 @@ class Report:
 
     # ---- 2. paths --------------------------------------------------------------
     def paths(self):
-        by_path = defaultdict(list)
-        for r in self.rows:
-            if r["configuration"].startswith("path:"):
-                by_path[r["kind"]].append(r)
+        by_path = self.t.paths
         if not by_path:
             return
+        files = plot_names(sorted(by_path), "path_")
         parts = []
         for name in sorted(by_path):
-            rows = by_path[name]
-            frame_of = lambda r: int(r["configuration"].rsplit(":", 1)[1])  # noqa: E731
-            frames = sorted({frame_of(r) for r in rows})
-            table = {(frame_of(r), r["light"], r["method"]): r for r in rows}
-            lights = sorted({r["light"] for r in rows})
-            fig, axes = plt.subplots(3, 1, figsize=(9, 8.5), sharex=True)
+            table = by_path[name]["table"]
+            frames = sorted({f for (f, l, m) in table})
+            lights = sorted({l for (f, l, m) in table})
+            # Time relative to Z-pass (all methods on one axis), then cracks per frame as small multiples (one
+            # panel per method: ten crack lines on one axis hid each other), then the exact case counts.
+            columns = min(5, len(self.methods))
+            grid_rows = math.ceil(len(self.methods) / columns)
+            fig = plt.figure(figsize=(11, 4.8 + 1.6 * grid_rows))
+            grid = fig.add_gridspec(2 + grid_rows, columns, height_ratios=[2.2] + [1.0] * grid_rows + [1.6],
+                                    hspace=0.55, wspace=0.3)
+            timed = fig.add_subplot(grid[0, :])
+            cases = fig.add_subplot(grid[-1, :], sharex=timed)
             points = 0
-            for m in self.methods:
+            for k, m in enumerate(self.methods):
                 rel, cr = [], []
                 for f in frames:
-                    ms = sum(table[(f, l, m)]["frame_ms"] for l in lights if (f, l, m) in table)
-                    base = sum(table[(f, l, "zpass")]["frame_ms"] for l in lights if (f, l, "zpass") in table)
+                    ms = sum(table[(f, l, m)][0] for l in lights if (f, l, m) in table)
+                    base = sum(table[(f, l, "zpass")][0] for l in lights if (f, l, "zpass") in table)
                     rel.append(ms / base if base > 0 else math.nan)
-                    cr.append(sum(table[(f, l, m)]["cracks"] for l in lights if (f, l, m) in table))
-                axes[0].plot(frames, rel, color=colour(m), label=m)
-                axes[1].plot(frames, cr, color=colour(m), label=m)
+                    cr.append(sum(table[(f, l, m)][1] for l in lights if (f, l, m) in table))
+                timed.plot(frames, rel, color=colour(m), label=as_label(m))
+                small = fig.add_subplot(grid[1 + k // columns, k % columns], sharex=timed)
+                small.plot(frames, cr, color=colour(m), lw=1.2)
+                small.set_title(as_label(shorten(m, 28)), fontsize=8, color=colour(m))
+                small.tick_params(labelsize=7)
+                if max(cr, default=0) > 0:
+                    small.set_yscale("symlog", linthresh=1)
+                    small.set_ylim(bottom=-0.3)
+                else:  # no log axis over nothing
+                    small.set_ylim(-0.5, 1)
+                    small.set_yticks([0])
+                    small.text(0.5, 0.55, "no cracks", transform=small.transAxes, ha="center", fontsize=8,
+                               color="0.4")
+                if k % columns == 0:
+                    small.set_ylabel("cracks", fontsize=8)
+                small.grid(alpha=0.3)
                 points += 2 * len(frames)
-            axes[0].axhline(1.0, color="k", lw=0.5)
-            axes[0].set_ylabel("frame time / Z-pass")
-            legend(axes[0], fontsize=7, ncol=3)
-            axes[1].set_yscale("symlog", linthresh=1)
-            axes[1].set_ylim(bottom=-0.3)
-            axes[1].set_ylabel("cracks")
+            timed.axhline(1.0, color="k", lw=0.5)
+            timed.set_ylabel("frame time / Z-pass's")
+            timed.set_title("frame time relative to Z-pass, float32 pipeline emulated on the CPU (single runs: "
+                            "differences of a few % are noise)", fontsize=9)
+            legend(timed, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
             bottom = [0] * len(frames)
             first_method = self.methods[0]
-            for c, col in zip(CASES, ["#c7e9c0", "#9ecae1", "#fdd0a2", "#fdae6b", "#e6550d"]):
-                vals = [sum(table[(f, l, first_method)]["exact_" + c] for l in lights if (f, l, first_method) in table)
+            for k, (c, col) in enumerate(zip(CASES, ["#c7e9c0", "#9ecae1", "#fdd0a2", "#fdae6b", "#e6550d"])):
+                vals = [sum(table[(f, l, first_method)][2][k] for l in lights if (f, l, first_method) in table)
                         for f in frames]
-                axes[2].bar(frames, vals, bottom=bottom, color=col, label=c, width=1.0)
+                cases.bar(frames, vals, bottom=bottom, color=col, label=c, width=1.0)
                 bottom = [b + v for b, v in zip(bottom, vals)]
                 points += len(frames)
-            axes[2].set_ylabel("exact quad cases")
-            axes[2].set_xlabel("frame")
-            legend(axes[2], fontsize=7, ncol=5)
-            fig.suptitle(f"path {name}")
-            img = self.save(fig, f"path_{safe(name)}.png", points)
-            totals = [[m, sum(r["wrong"] for r in rows if r["method"] == m),
-                       sum(r["cracks"] for r in rows if r["method"] == m),
-                       sum(r["frame_ms"] for r in rows if r["method"] == m) / len(frames)] for m in self.methods]
-            parts.append(f"<h3>{html.escape(name)} ({len(frames)} frames)</h3><img src=\"{img}\">" +
+            cases.set_ylabel("exact quad cases")
+            cases.set_xlabel("frame")
+            legend(cases, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0, title="case")
+            fig.suptitle(f"path {as_label(shorten(name))}")
+            img = self.save(fig, files[name], points)
+            path_totals = by_path[name]["totals"]
+            totals = [[m] + (path_totals[m][:2] if m in path_totals else [0, 0]) +
+                      [(path_totals[m][2] if m in path_totals else 0) / len(frames)] for m in self.methods]
+            parts.append(f"<h3>{html.escape(name)} ({len(frames)} frames)</h3><img src=\"{html.escape(img)}\">" +
                          self.table(["method", "wrong", "cracks", "mean frame ms"], totals))
         self.sections.append(("Camera paths", "<p>Per frame: time relative to Z-pass (the paper's Figure 9 "
                                               "style), cracks, and the exact classification of the silhouette "
@@ -299,37 +632,55 @@ class Report:
 
     # ---- 3. features -----------------------------------------------------------
     def features(self):
-        shown = [m for m in ("zpplus", "zpplus-corrected", "zfail", "zpass") if m in self.methods]
+        shown = [m for m in FEATURE_METHODS if m in self.methods]
         fig, axes = plt.subplots(4, 3, figsize=(13, 13))
-        points = 0
+        points, seen = 0, 0
         for ax, (feature, label) in zip(axes.flat, FEATURES):
             for m in shown:
-                xs, ys = [], []
-                for r in self.rows:
-                    v = r[feature]
-                    if r["method"] == m and math.isfinite(v):
-                        xs.append(abs(v) if feature == "light_near_distance" else v)
-                        ys.append(r["cracks"])
-                ax.scatter(xs, ys, s=8, alpha=0.5, color=colour(m), label=m)
+                parts = [self.t.feature_points[(feature, m, cracked)] for cracked in (False, True)]
+                seq = numpy.concatenate([numpy.frombuffer(p.seq, dtype=numpy.int64) for p in parts])
+                order = numpy.argsort(seq, kind="stable")
+                xs = numpy.concatenate([numpy.frombuffer(p.x, dtype=numpy.float64) for p in parts])[order]
+                ys = numpy.concatenate([numpy.frombuffer(p.y, dtype=numpy.float64) for p in parts])[order]
+                # Z-pass cracks most: its points go under the others', lighter.
+                under = m == "zpass"
+                ax.scatter(xs, ys, s=8, alpha=0.45 if under else 0.7, color=colour(m), label=as_label(m),
+                           zorder=1 if under else 2, linewidths=0)
                 points += len(xs)
-            values = [abs(r[feature]) for r in self.rows if math.isfinite(r[feature])]
-            positive = [v for v in values if v > 0]
-            if positive and max(positive) / min(positive) > 100:
-                if len(positive) < len(values):  # zeros too (the light in the near plane)
-                    ax.set_xscale("symlog", linthresh=min(positive))
+                seen += sum(p.seen for p in parts)
+            count, positives, smallest, largest = self.t.feature_range[feature]
+            if positives and largest / smallest > 100:
+                if positives < count:  # zeros too (the light in the near plane)
+                    ax.set_xscale("symlog", linthresh=smallest)
                 else:
                     ax.set_xscale("log")
             ax.set_yscale("symlog", linthresh=1)
             ax.set_ylim(bottom=-0.3)
             ax.set_xlabel(("|" + label + "|") if feature == "light_near_distance" else label, fontsize=8)
+            ax.tick_params(axis="x", labelsize=7, labelrotation=30)
+            if ax.get_xscale() == "linear":
+                ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(5))
+            else:
+                ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=6) if ax.get_xscale() == "log"
+                                           else matplotlib.ticker.SymmetricalLogLocator(
+                                               base=10, linthresh=ax.xaxis.get_transform().linthresh))
             ax.set_ylabel("cracks", fontsize=8)
             ax.grid(alpha=0.3)
-        legend(axes.flat[0], fontsize=7)
         for ax in list(axes.flat)[len(FEATURES):]:
             ax.axis("off")
+        legend_at = list(axes.flat)[len(FEATURES)]
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        if handles:
+            legend_at.legend(handles, labels, loc="center", fontsize=9, markerscale=3, title="method")
+        fig.tight_layout(rect=(0, 0, 1, 0.97))
         fig.suptitle("cracks against the conditioning features, one point per (configuration, light, method)")
         img = self.save(fig, "features.png", points)
-        self.sections.append(("Cracks against conditioning", f'<img src="{img}">'))
+        note = ""
+        if points < seen:
+            note = (f"<p>{points} of {seen} points drawn: past {FEATURE_POINTS} per feature, method and "
+                    "cracked-or-not, a uniform sample of that many (rows with cracks and without sampled "
+                    "apart, so that the rare cracked rows keep their points).</p>")
+        self.sections.append(("Cracks against conditioning", note + f'<img src="{img}">'))
 
     # ---- 4. crack distance -----------------------------------------------------
     def distances(self):
@@ -338,8 +689,8 @@ class Report:
         points = 0
         body = []
         for k, m in enumerate(self.methods):
-            totals = [sum(r["wrong_r_" + b] for r in self.rows if r["method"] == m) for b in BUCKETS]
-            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=colour(m), label=m)
+            totals = list(self.t.buckets[m])
+            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=colour(m), label=as_label(m))
             points += len(BUCKETS)
             body.append([m] + totals)
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(BUCKETS))])
@@ -347,7 +698,8 @@ class Report:
         ax.set_yscale("symlog", linthresh=1)
         ax.set_xlabel("crack distance: largest proven-constant square half-width (pixels); >= 1/2 is a crack")
         ax.set_ylabel("wrong pixels")
-        legend(ax, fontsize=8)
+        ax.set_title("wrong pixels by crack distance, per method")
+        legend(ax, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         img = self.save(fig, "crack_distance.png", points)
         self.sections.append(("Crack distance", "<p>Wrong pixels by how far the exact status is proven constant "
                                                 "around them: below 1/2 pixel is rasterization noise at a shadow "
@@ -356,38 +708,16 @@ class Report:
 
     # ---- 5. the case-D claim ---------------------------------------------------
     def case_d(self):
-        rows = {(r["configuration"], r["light"], r["method"]): r for r in self.rows}
-        keys = sorted({(c, l) for (c, l, m) in rows})
         if "zpplus-corrected" not in self.methods:
             return
-        cracked_without_d, switches, unnecessary, cracked_with_d, after_fallback = 0, 0, 0, 0, 0
-        examples = []
-        for c, l in keys:
-            zc = rows.get((c, l, "zpplus-corrected"))
-            zp = rows.get((c, l, "zpplus"))
-            if zc is None:
-                continue
-            if zc["fallback"] and not zc["zfail_objects"]:
-                after_fallback += zc["cracks"] > 0
-                continue
-            zf = rows.get((c, l, "zfail"))
-            baseline = zf["cracks"] if zf is not None else 0  # cracks every method has (depth precision)
-            if zc["cracks"] > baseline and zc["float_D"] == 0:
-                cracked_without_d += 1
-                if len(examples) < 8:
-                    examples.append([c, l, zc["cracks"], zc["float_D"], zc["fallback"]])
-            if zc["cracks"] > baseline and zc["float_D"] > 0:
-                cracked_with_d += 1
-            if zc["zfail_objects"] > 0:
-                switches += 1
-                if zp is not None and zp["cracks"] == 0:
-                    unnecessary += 1
-        body = [["(configuration, light) pairs", len(keys)],
-                ["ZP+ corrected cracks more than Z-fail, no case-D quad", cracked_without_d],
-                ["ZP+ corrected cracks more than Z-fail despite case D", cracked_with_d],
-                ["ZP+ corrected has cracks after falling back to Z-fail (no light frustum)", after_fallback],
-                ["case-D switches to Z-fail", switches],
-                ["  of which ZP+ without the switch had no crack", unnecessary if "zpplus" in self.methods else "-"]]
+        s = self.t.case_d
+        examples = [list(e) for e in self.t.case_d_examples]
+        body = [["(configuration, light) pairs", s["pairs"]],
+                ["ZP+ corrected cracks more than Z-fail, no case-D quad", s["without_d"]],
+                ["ZP+ corrected cracks more than Z-fail despite case D", s["with_d"]],
+                ["ZP+ corrected has cracks after falling back to Z-fail (no light frustum)", s["after_fallback"]],
+                ["case-D switches to Z-fail", s["switches"]],
+                ["  of which ZP+ without the switch had no crack", s["unnecessary"] if "zpplus" in self.methods else "-"]]
         text = ("<p>The paper switches an occluder to Z-fail when one of its silhouette quads is in case D, "
                 "assuming that case D flags the ill-conditioned configurations. Measured here, counting only "
                 "the cracks Z-fail does not have in the same frame (those come from depth precision, not the "
@@ -400,25 +730,19 @@ class Report:
 
     # ---- 5b. Z-pass or Z-fail per occluder: the engines' rules ------------------
     def baselines(self):
-        rows = [r for r in self.rows if r.get("false_negatives") is not None]
-        if not rows:
+        if not self.t.decisions:
             return
         header = ["method", "occluder decisions", "Z-pass wrong (exact)", "Z-fail where needed",
                   "false negatives", "false positives", "Z-pass where right", "frames with cracks", "cracks",
                   "wrong", "mean frame ms", "volume fragments"]
         body = []
         for m in self.methods:
-            rs = [r for r in rows if r["method"] == m]
-            if not rs:
+            d = self.t.decisions.get(m)
+            if d is None:
                 continue
-            occluders = sum(r["occluders"] for r in rs)
-            truth = sum(r["zpass_wrong_occluders"] for r in rs)
-            fn = sum(r["false_negatives"] for r in rs)
-            fp = sum(r["false_positives"] for r in rs)
-            body.append([m, occluders, truth, truth - fn, fn, fp, occluders - truth - fp,
-                         sum(1 for r in rs if r["cracks"] > 0), sum(r["cracks"] for r in rs),
-                         sum(r["wrong"] for r in rs), fmt(sum(r["frame_ms"] for r in rs) / len(rs)),
-                         sum(r["volume_fragments"] for r in rs)])
+            n, occluders, truth, fn, fp, with_cracks, cracks, wrong, ms, frags = d
+            body.append([m, occluders, truth, truth - fn, fn, fp, occluders - truth - fp, with_cracks, cracks,
+                         wrong, fmt(ms / n), frags])
         text = ("<p>Each occluder of each (configuration, light) drawn with Z-pass or Z-fail: by the methods "
                 "themselves (all one or the other) and by the rules shipped engines use "
                 "(<code>nearcap sweep --policies</code>; README, \"Engine baselines\"). The exact truth: Z-pass is "
@@ -463,9 +787,10 @@ class Report:
                    zip(m.get("features", []), m.get("weights", []), m.get("mean", []), m.get("scale", []))]
         if weights:
             text += "<p>The logistic model on standardized features (bias " + fmt(float(m.get("bias", 0))) + "):</p>"
+            text += self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")
         else:
             text += "<p>No logistic model: no feature, no weight.</p>"
-        text += self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")
+            self.table(["feature", "weight", "mean", "scale"], weights, "policy_weights.csv")  # the CSV, header only
         costs = []
         for method, cm in p.get("cost_models", {}).items():
             errors = prov.get("cost", {}).get(method, {})
@@ -481,39 +806,22 @@ class Report:
 
     # ---- 5d. the policy's cost against its targets ---------------------------
     def policy_cost(self):
-        """Issue 12's cost targets: where Z-pass is right (every occluder's exact near-cap empty), the policy's
-        frame time and fragments against Z-pass's; elsewhere against ZP+ corrected's.  Pairs are the
-        (configuration, light) where all three rows are present."""
-        table = {}
-        for r in self.rows:
-            table[(r["configuration"], r["light"], r["method"])] = r
-        pairs = {(c, l) for (c, l, m) in table if m == "policy"}
-        sums = {}
-        for c, l in pairs:
-            z, p, zp = (table.get((c, l, m)) for m in ("zpass", "policy", "zpplus-corrected"))
-            if z is None or p is None or z.get("zpass_wrong_occluders") is None:
-                continue
-            where, base = ("Z-pass right", z) if z["zpass_wrong_occluders"] == 0 else ("elsewhere", zp)
-            if base is None:
-                continue
-            s_ = sums.setdefault(where, [0, 0.0, 0.0, 0, 0, 0.0])
-            s_[0] += 1
-            s_[1] += p["frame_ms"]
-            s_[2] += base["frame_ms"]
-            s_[3] += p["volume_fragments"] + p["near_cap_fragments"]
-            s_[4] += base["volume_fragments"] + base["near_cap_fragments"]
-            s_[5] += p["near_cap_ms"]
+        """Issue 12's cost targets (Totals.fold_policy_cost); pairs are the (configuration, light) where all
+        three rows are present."""
+        sums = self.t.policy_cost
         if not sums:
             return
         body = []
-        for where, against, target in (("Z-pass right", "zpass", "within 5 %"),
-                                       ("elsewhere", "zpplus-corrected", "no more")):
+        for where, against, target, allowed in (("Z-pass right", "zpass", "within 5 %", 0.05),
+                                                ("elsewhere", "zpplus-corrected", "no more", 0.0)):
             if where not in sums:
                 continue
             n, ms, base_ms, frags, base_frags, cap_ms = sums[where]
+            met_ms = "met" if ms <= base_ms * (1 + allowed) else "missed"
+            met_frags = "met" if frags <= base_frags * (1 + allowed) else "missed"
             body.append([where, n, against, fmt(ms), fmt(base_ms), fmt(100 * (ms / base_ms - 1)) if base_ms else "",
                          frags, base_frags, fmt(100 * (frags / base_frags - 1)) if base_frags else "", fmt(cap_ms),
-                         target])
+                         target, met_ms, met_frags])
         text = ("<p>The switch policy's cost where Z-pass is right (every occluder's exact near-cap empty: the "
                 "target is within 5 % of Z-pass) and elsewhere (no more than ZP+ corrected), summed over the "
                 "(configuration, light) pairs with all three rows. Frame times are the emulation's, measured "
@@ -521,20 +829,17 @@ class Report:
                 "(deterministic).</p>")
         self.sections.append(("The policy's cost", text + self.table(
             ["pairs", "count", "against", "policy ms", "their ms", "ms +%", "policy fragments", "their fragments",
-             "fragments +%", "policy near-cap ms", "target"], body, "policy_cost.csv")))
+             "fragments +%", "policy near-cap ms", "target", "time target", "fragments target"], body,
+            "policy_cost.csv")))
 
     # ---- 6. sampler by kind ----------------------------------------------------
     def kinds(self):
-        sampled = [r for r in self.rows if r["configuration"].startswith("sample:")]
-        if not sampled:
+        if not self.t.kind_configurations:
             return
-        kinds = sorted({r["kind"] for r in sampled})
         header = ["kind", "configurations"] + [f"{m} cracks" for m in self.methods]
         body = []
-        for k in kinds:
-            rows = [r for r in sampled if r["kind"] == k]
-            body.append([k, len({r["configuration"] for r in rows})] +
-                        [sum(r["cracks"] for r in rows if r["method"] == m) for m in self.methods])
+        for k in sorted(self.t.kind_configurations):
+            body.append([k, self.t.kind_configurations[k]] + [self.t.kind_cracks[k].get(m, 0) for m in self.methods])
         self.sections.append(("Hard cases by kind", self.table(header, body, "by_kind.csv")))
 
     def write(self):
@@ -557,10 +862,13 @@ th{{background:#eee}} td:first-child{{text-align:left}}</style></head><body>
 (configuration, light, method); "wrong" counts pixels whose shadow status differs from the exact reference,
 "cracks" those among them whose exact status is proven constant over the whole pixel (README, "Crack distance").
 Times are the float pipeline's emulation on the CPU, not a GPU's.</p><ul>{toc}</ul>{body}</body></html>"""
-        (self.out / "index.html").write_text(page)
+        self.writing = "index.html"
+        (self.out / "index.html").write_text(page, encoding="utf-8")
+        self.writing = "report.json"
         (self.out / "report.json").write_text(json.dumps(
-            {"rows": len(self.rows), "rejected": self.rejected, "refused": len(self.refused), "methods": self.methods,
-             "configurations": len({r["configuration"] for r in self.rows}), "plots": self.plots}, indent=1) + "\n")
+            {"rows": self.rows, "rejected": self.rejected, "refused": sum(self.t.refused.values()),
+             "methods": self.methods, "configurations": self.t.configurations, "plots": self.plots}, indent=1) + "\n",
+            encoding="utf-8")
 
 
 def pareto_front(points):
@@ -572,13 +880,69 @@ def pareto_front(points):
 
 
 def safe(name):
-    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
+    return "".join(ch if ch.isascii() and ch.isalnum() or ch in "-_" else "_" for ch in name)
+
+
+def plot_names(names, prefix):
+    """One PNG file name per name, unique: PREFIX + the name with other characters than ASCII letters, digits,
+    '-' and '_' made '_'; where two names would give the same file (or a name is long), a short hash of the
+    name is added."""
+    stems = {n: safe(n) for n in names}
+    count = defaultdict(int)
+    for s in stems.values():
+        count[s] += 1
+    files = {}
+    for n, s in stems.items():
+        if count[s] > 1 or len(s) > 80:
+            s = f"{s[:80]}_{hashlib.sha1(n.encode('utf-8', 'surrogatepass')).hexdigest()[:8]}"
+        files[n] = f"{prefix}{s}.png"
+    if len(set(files.values())) < len(files):  # a hash equal to another name's own text: number them
+        files = {n: f"{prefix}{k}.png" for k, n in enumerate(names)}
+    return files
+
+
+def plural(n, noun):
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def shorten(text, limit=80):
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def as_label(text):
+    """Text from the CSV as a matplotlib label: its "$" are dollars, not mathtext."""
+    return text.replace("$", r"\$")
 
 
 def fmt(v):
     if isinstance(v, float):
         return f"{v:.3g}" if abs(v) < 1000 else f"{v:.0f}"
     return str(v)
+
+
+def read_policy(policy):
+    try:
+        with open(policy, encoding="utf-8") as handle:
+            policy_json = json.load(handle)
+    except OSError as e:
+        raise ReportError("io", f"{policy}: cannot read the policy: {e.strerror}")
+    except ValueError as e:  # UnicodeDecodeError included
+        raise ReportError("parse", f"{policy}: not JSON: {e}")
+    if not isinstance(policy_json, dict) or policy_json.get("format") != "nearcap-policy":
+        raise ReportError("parse", f"{policy}: format: not a nearcap policy")
+    version = policy_json.get("version")
+    if not isinstance(version, int) or isinstance(version, bool) or \
+            not POLICY_VERSIONS[0] <= version <= POLICY_VERSIONS[1]:
+        raise ReportError("schema", f"{policy}: version: {json.dumps(version)} is not a version this nearcap reads "
+                                    f"({POLICY_VERSIONS[0]} to {POLICY_VERSIONS[1]})")
+    return policy_json
+
+
+def same_file(a, b):
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 def main(argv):
@@ -596,41 +960,73 @@ def main(argv):
             k += 1
     if not args or out is None:
         raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR [--policy FILE]")
-    rows, rejected, refused = read_rows(args)
-    policy_json = None
-    if policy is not None:
-        try:
-            with open(policy) as handle:
-                policy_json = json.load(handle)
-        except OSError as e:
-            raise ReportError("io", f"{policy}: cannot read the policy: {e.strerror}")
-        except ValueError as e:
-            raise ReportError("parse", f"{policy}: not JSON: {e}")
-        if not isinstance(policy_json, dict) or policy_json.get("format") != "nearcap-policy":
-            raise ReportError("parse", f"{policy}: format: not a nearcap policy")
     target = Path(out)
     if target.exists() and not target.is_dir():
         raise ReportError("io", f"{out}: exists and is not a directory")
-    parent = target.resolve().parent
-    parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".nearcap-report-", dir=parent))
+    if target.is_dir() and not os.access(target, os.W_OK | os.X_OK):
+        raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
+    policy_json = read_policy(policy) if policy is not None else None
     try:
-        report = Report(rows, rejected, staging)
-        report.refused = refused
+        parent = target.resolve().parent
+        parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".nearcap-report-", dir=parent))
+    except OSError as e:
+        raise ReportError("io", f"{out}: cannot write the report there: {e.strerror}")
+    try:
+        totals = read_rows(args)
+        report = Report(totals, staging)
         report.sources = args
         report.policy, report.policy_source = policy_json, policy
-        report.write()
-        target.mkdir(exist_ok=True)
-        for f in sorted(staging.iterdir()):
-            os.replace(f, target / f.name)
+        try:
+            report.write()
+        except OSError as e:
+            raise ReportError("io", f"{out}: cannot write the report ({report.writing}): {e.strerror}; nothing "
+                                    "was written there")
+        inputs = args + ([policy] if policy is not None else [])
+        staged = sorted(staging.iterdir())
+        for f in staged:
+            for i in inputs:
+                if same_file(target / f.name, i):
+                    raise ReportError("io", f"{out}: the report would replace {target / f.name}, which is its input "
+                                            f"{i}; nothing was written (choose another --out)")
+        try:
+            target.mkdir(exist_ok=True)
+            for f in staged:
+                os.replace(f, target / f.name)
+        except OSError as e:
+            raise ReportError("io", f"{out}: cannot write the report: {e.strerror}")
     finally:
         shutil.rmtree(staging, ignore_errors=True)
-    print(f"report: {len(rows)} rows, {len(report.plots)} plots, {target / 'index.html'}")
+    print(f"report: {report.rows} rows, {len(report.plots)} plots, {target / 'index.html'}")
+
+
+def one_line(text, limit=400):
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def run(argv):
+    """main, with every failure as one line on stderr and exit code 2."""
+    try:
+        main(argv)
+        return 0
+    except ReportError as e:
+        line = f"nearcap: error ({e.kind}): {one_line(e)}"
+    except MemoryError:
+        line = "nearcap: error (resource): out of memory while building the report"
+    except Exception as e:  # a bug in this script: its traceback goes to a log, not to the terminal
+        try:
+            fd, log = tempfile.mkstemp(prefix="nearcap-report-", suffix=".log")
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(" ".join(["sweep_report.py"] + argv) + "\n" + traceback.format_exc())
+            where = f"its traceback is in {log}"
+        except OSError as log_error:
+            where = f"its traceback could not be saved: {log_error.strerror}"
+        line = (f"nearcap: error (io): the report script stopped on {type(e).__name__}: {one_line(e, 200)} "
+                f"(a bug in the report; {where})")
+    print(line, file=sys.stderr)
+    return 2
 
 
 if __name__ == "__main__":
-    try:
-        main(sys.argv[1:])
-    except ReportError as e:
-        print(f"nearcap: error ({e.kind}): {e}", file=sys.stderr)
-        sys.exit(2)
+    sys.exit(run(sys.argv[1:]))

@@ -1,15 +1,18 @@
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -29,11 +32,49 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
+std::string json_text(const nlohmann::json& j, int indent) {
+  return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 std::string subcommand_names(const CLI::App& app) {
   std::string names;
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     names += (names.empty() ? "" : ", ") + sub->get_name();
   return names;
+}
+
+CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& value) -> std::string {
+        const std::string quoted = "'" + value + "'";
+        if (!value.empty() && value[0] == '-' && value.size() > 1 &&
+            std::all_of(value.begin() + 1, value.end(), [](char c) { return c >= '0' && c <= '9'; }))
+          return quoted + " is negative (expected a whole number in " + range + ")";
+        if (value.empty() || !std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; }))
+          return quoted + " is not a whole number in decimal digits (expected one in " + range + ")";
+        const std::size_t first = std::min(value.find_first_not_of('0'), value.size() - 1);
+        const std::string digits = value.substr(first);
+        // 2^64 - 1 has 20 digits: compare as text so that nothing overflows.
+        const std::string max = std::to_string(hi);
+        if (digits.size() > max.size() || (digits.size() == max.size() && digits > max) || std::stoull(digits) < lo)
+          return quoted + " is out of range (expected a whole number in " + range + ")";
+        value = digits;
+        return std::string();
+      },
+      "INTEGER in " + range);
+}
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const double d = std::strtod(value.c_str(), &end);
+        const bool ok = !value.empty() && end == value.c_str() + value.size() && errno != ERANGE && std::isfinite(d);
+        return ok ? std::string() : "'" + value + "' is not a finite number";
+      },
+      "FINITE");
 }
 
 CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) {
@@ -52,6 +93,7 @@ CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) 
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
   cmd.add_option("--max-memory", max_memory_gb,
                  "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
+      ->check(finite_number())
       ->check(CLI::PositiveNumber);
 }
 
@@ -76,6 +118,7 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
 
 void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--subpixel-bits", o.subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
+      ->transform(integer_in(0, 12))
       ->capture_default_str();
   cmd.add_option("--depth", o.depth, "depth buffer: fixed24 or float32")
       ->check(CLI::IsMember({"fixed24", "float32"}))
@@ -86,6 +129,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->capture_default_str();
   cmd.add_option("--guard-band", o.guard_band,
                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
+      ->check(finite_number())
       ->capture_default_str();
   cmd.add_option("--viewport", o.viewport,
                  "perspective divide and viewport arithmetic: divide ((x/w + 1) W/2) or llvmpipe (1/w, then "
@@ -115,6 +159,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->check(CLI::IsMember({"paper-ratio", "exact-max", "near-clamp"}))
       ->capture_default_str();
   cmd.add_option("--l-near-scale", o.l_near_scale, "l_near multiplied by this safety margin in (0, 1]")
+      ->check(finite_number())
       ->capture_default_str();
   cmd.add_option("--zfail-far", o.zfail_far,
                  "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP), clamp-far (far plane only) or far-cap (ZF+: "
@@ -207,6 +252,10 @@ void need_one_of(const std::string& spec, const std::string& name, const std::st
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options) {
+  return option_values(options);
+}
 
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec) {
   EmulationOptions o = base;
@@ -365,14 +414,20 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
 }
 
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
-  cmd.add_option("--seed", o.seed, "the sampler's seed")->capture_default_str();
+  cmd.add_option("--seed", o.seed, "the sampler's seed")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
                  "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh) or all")
       ->capture_default_str();
   if (sizes) {
-    cmd.add_option("--width", o.width, "viewport width of every configuration")->capture_default_str();
-    cmd.add_option("--height", o.height, "viewport height of every configuration")->capture_default_str();
+    cmd.add_option("--width", o.width, "viewport width of every configuration")
+        ->transform(integer_in(1, kMaxViewportPixels))
+        ->capture_default_str();
+    cmd.add_option("--height", o.height, "viewport height of every configuration")
+        ->transform(integer_in(1, kMaxViewportPixels))
+        ->capture_default_str();
   }
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
 }
@@ -467,7 +522,12 @@ void check_light_index(const Scene& scene, std::size_t light) {
                                       " light(s))");
 }
 
-int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
+namespace {
+
+// Spawns Python on the script; its stderr goes to `stderr_log` when not empty.
+// Returns waitpid's raw status.
+int spawn_python(const std::string& script, const std::vector<std::string>& args, const std::string& what,
+                 const std::string& stderr_log) {
   const char* env = std::getenv("NEARCAP_PYTHON");
   const std::string py = env && *env ? env : (::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
   std::vector<std::string> all{py, script};
@@ -475,15 +535,32 @@ int run_python_script(const std::string& script, const std::vector<std::string>&
   std::vector<char*> argv;
   for (std::string& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  if (!stderr_log.empty())
+    ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   pid_t pid = 0;
-  const int spawned = ::posix_spawnp(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ);
+  const int spawned = ::posix_spawnp(&pid, py.c_str(), &actions, nullptr, argv.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0)
     throw Error(ErrorKind::Io, py + ": cannot run Python for " + what + ": " + std::strerror(spawned) +
                                    " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  return status;
+}
+
+}  // namespace
+
+int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
+  const int status = spawn_python(script, args, what, "");
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+int run_python_script_logged(const std::string& script, const std::vector<std::string>& args, const std::string& what,
+                             const std::string& stderr_log) {
+  return spawn_python(script, args, what, stderr_log);
 }
 
 }  // namespace nearcap::cli

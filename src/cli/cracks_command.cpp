@@ -114,6 +114,23 @@ void print_table(const std::vector<nlohmann::json>& records) {
   }
 }
 
+// The policy's name in its crack image's legend: "policy" and the methods it
+// ran on the occluders, e.g. "policy (zpplus-corrected on 2 occluders, zfail on 1)".
+std::string policy_label(const Scene& scene, const analysis::PolicyDecision& d) {
+  std::string ran;
+  bool first = true;
+  for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+    std::size_t n = 0;
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder && d.object_methods[o] == m) ++n;
+    if (n == 0) continue;
+    ran += (ran.empty() ? "" : ", ") + std::string(to_string(m)) + " on " + std::to_string(n) +
+           (first ? (n == 1 ? " occluder" : " occluders") : "");
+    first = false;
+  }
+  return ran.empty() ? "policy (no occluders)" : "policy (" + ran + ")";
+}
+
 // A ray-traced frame's record: the judged counts, its times and its choice.
 nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport& r, double build_ms,
                              raytrace::ShadowEpsilon epsilon) {
@@ -204,6 +221,7 @@ void run(const CracksOptions& o) {
       r["crack_probability"] =
           std::isfinite(d.crack_probability) ? nlohmann::json(d.crack_probability) : nlohmann::json(nullptr);
       records.push_back(r);
+      report.method = policy_label(scene, d);
       if (!o.out.empty())
         files.push_back(
             {(dir / (choice.count() == 1 ? "cracks.png" : "cracks-policy.png")).string(), crack_png(cs, ref, report)});
@@ -242,7 +260,7 @@ void run(const CracksOptions& o) {
     full["light"] = o.light;
     full["reference_ms"] = ref.setup_ms + ref.trace_ms;
     full["crack_distance_ms"] = distances.ms();
-    files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
+    files.push_back({(dir / "cracks.json").string(), json_text(full, 1) + "\n"});
     io::write_output_files(files);
   }
   if (o.table) {
@@ -271,7 +289,7 @@ void run(const CracksOptions& o) {
       print_case_legend(std::cout);
     }
   } else
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace

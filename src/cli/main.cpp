@@ -57,8 +57,23 @@ int main(int argc, char** argv) {
   nearcap::cli::register_view(app);
 #endif
 
+  // `nearcap` alone and `nearcap help` print the help; `nearcap help CMD`, CMD's.
+  if (argc < 2 || std::strcmp(argv[1], "help") == 0) {
+    app.name("nearcap");  // parse() would name it after argv[0]
+    const CLI::App* topic = &app;
+    if (argc > 2) {
+      const auto all = app.get_subcommands([](const CLI::App*) { return true; });
+      const auto sub =
+          std::find_if(all.begin(), all.end(), [&](const CLI::App* s) { return s->get_name() == argv[2]; });
+      if (sub == all.end())
+        return usage_error(std::string("no help on '") + argv[2] + "' (one of " + nearcap::cli::subcommand_names(app) +
+                           ")");
+      topic = *sub;
+    }
+    if (world.rank() == 0) std::fputs(topic->help().c_str(), stdout);
+    return 0;
+  }
   // The subcommand comes first; name an unknown one as such.
-  if (argc < 2) return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
   const auto subcommands = app.get_subcommands([](const CLI::App*) { return true; });
   if (argv[1][0] != '-' && std::none_of(subcommands.begin(), subcommands.end(),
                                         [&](const CLI::App* sub) { return sub->get_name() == argv[1]; }))

@@ -60,8 +60,8 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   io::write_output_files({{(dir / "cap.pgm").string(), cap},
                           {(dir / "stencil.pgm").string(), stencil},
                           {(dir / "shadow.png").string(), shadow},
-                          {(dir / "reference.json").string(), summary.dump(1) + "\n"}});
-  std::cout << summary.dump() << "\n";
+                          {(dir / "reference.json").string(), json_text(summary, 1) + "\n"}});
+  std::cout << json_text(summary) << "\n";
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ struct RenderOptions {
   std::string method = "all";
   std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
   bool compare = false;
+  bool table = false;    // with --compare: a table instead of the JSON line
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
   bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
   bool one_sided_stencil = false;
@@ -54,6 +55,41 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
       top_first[static_cast<std::size_t>(height - 1 - j) * width + i] =
           stencil[static_cast<std::size_t>(j) * width + i];
   return nearcap::encode_pgm16(width, height, top_first);
+}
+
+// --compare --table: one row per method, the JSON record's figures, and the
+// policy's choice per occluder below.
+void print_compare_table(const nlohmann::json& root, const std::string& scene, std::size_t light) {
+  std::printf("%s, light %zu, on %s (%s), vertex stage %s\n", scene.c_str(), light,
+              root["renderer"].get<std::string>().c_str(), root["version"].get<std::string>().c_str(),
+              root["vertex_stage"].get<std::string>().c_str());
+  std::printf("%-17s %10s %8s %8s %9s %7s %10s %9s %9s\n", "method", "gl!=emul", "obj!=", "cap!=", "gl-wrong", "cracks",
+              "emul-wrong", "gl ms", "emul ms");
+  for (const nlohmann::json& r : root["methods"]) {
+    const std::string method = r["method"].get<std::string>();
+    if (r.contains("refused")) {
+      std::printf("%-17s refused: %s\n", method.c_str(), r["refused"].get<std::string>().c_str());
+      continue;
+    }
+    std::printf("%-17s %10zu %8zu %8zu %9zu %7zu %10zu %9.2f %9.2f\n", method.c_str(),
+                r["gl_vs_emulation"].get<std::size_t>(), r["objects_differ"].get<std::size_t>(),
+                r["near_cap_differ"].get<std::size_t>(), r["gl_vs_exact"].get<std::size_t>(),
+                r["cracks"].get<std::size_t>(), r["emulation_vs_exact"].get<std::size_t>(), r["ms"].get<double>(),
+                r["emulation_ms"].get<double>());
+  }
+  for (const nlohmann::json& r : root["methods"])
+    if (r.contains("occluders")) {
+      std::printf("%s:", r["method"].get<std::string>().c_str());
+      for (const nlohmann::json& oc : r["occluders"])
+        std::printf("\n  object %zu: %s, %s", oc["object"].get<std::size_t>(), oc["method"].get<std::string>().c_str(),
+                    oc["why"].get<std::string>().c_str());
+      std::printf("\n");
+      if (r.value("depth_limited", false)) std::printf("  %s\n", r["depth_note"].get<std::string>().c_str());
+    }
+  std::printf(
+      "gl!=emul: stencil pixels where the real GL and the emulation differ; obj!=: pixels where they see "
+      "different objects; cap!=: near-cap stencil pixels that differ; gl-wrong, emul-wrong: each one's wrong "
+      "pixels against the exact reference; cracks: the real GL's wrong pixels that are cracks\n");
 }
 
 // One lit frame per method of `scene` (every light, or --light K alone):
@@ -270,11 +306,11 @@ void run_lit(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
-  files.add({(dir / "render.json").string(), root.dump(1) + "\n"});
+  files.add({(dir / "render.json").string(), json_text(root, 1) + "\n"});
   if (o.bench) files.add({(dir / "bench.csv").string(), bench_csv});
   files.commit();
   if (o.path.empty()) {
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
   } else {
     // The summary a person reads: mean GL time per frame, relative to Z-pass's.
     double zpass_ms = 0;
@@ -326,6 +362,7 @@ void run_lit(const RenderOptions& o) {
 void run(const RenderOptions& o) {
   if (o.scene.empty() == o.path.empty())
     throw Error(ErrorKind::Usage, "nearcap render takes a scene file or --path PATH (one of them)");
+  if (o.table && !o.compare) throw Error(ErrorKind::Usage, "--table goes with --compare");
   if (!o.compare) return run_lit(o);
   if (o.bench || o.one_sided_stencil || o.side_strips)
     throw Error(ErrorKind::Usage,
@@ -405,10 +442,13 @@ void run(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.out.empty()) {
-    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
+    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
     io::write_output_files(files);
   }
-  std::cout << root.dump() << "\n";
+  if (o.table)
+    print_compare_table(root, scene.source, o.light);
+  else
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace
@@ -420,7 +460,8 @@ void register_render(CLI::App& app) {
       "own draw calls, each volume built by the GL's GLSL vertex programs: the lit frame with its shadows, every light "
       "(or --light K), as DIR/frame-METHOD.png; with "
       "--compare --light K, one JSON record per method: stencil pixels where GL and the emulation differ, and wrong "
-      "pixels of each against the exact reference (with --out DIR, both stencils as 16-bit PGM)");
+      "pixels of each against the exact reference (or a table with --table; with --out DIR, both stencils as 16-bit "
+      "PGM)");
   auto o = std::make_shared<RenderOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)");
   cmd->add_option("--path", o->path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
@@ -432,6 +473,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
   cmd->add_flag("--compare", o->compare, "compare the real GL's stencil with the emulation's and the exact reference");
+  cmd->add_flag("--table", o->table, "with --compare, print a human-readable table instead of JSON");
   cmd->add_flag("--stencil", o->stencil,
                 "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
                 "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");

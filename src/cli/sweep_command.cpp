@@ -4,11 +4,29 @@
 //
 // Configurations are enumerated in a fixed order (each --path's frames, then
 // sampler indices 0..N-1) and run a few at a time on all cores; each
-// configuration's rows are appended to the CSV in one write, in order.  With
-// --resume an existing CSV is continued: its last configuration is run again
-// (it may have been cut off mid-write), every earlier one is kept, so no row
-// is lost or written twice.
+// configuration's rows (its group) are appended to the CSV in one write(), in
+// order.  The rules of the file (docs/sweep-files.md):
+//   - One writer.  The process that writes the CSV (rank 0 under MPI) holds
+//     an exclusive flock on it for the whole sweep; a second sweep on the same
+//     file is refused.  A new CSV is made under a temporary name, locked, and
+//     linked to its name (link fails when the name exists), so a new sweep and
+//     a resume never share a file either.  The kernel drops the lock when the
+//     process ends, killed or not.
+//   - The CSV describes itself through its sidecar, CSV.meta.json
+//     (analysis/sweep_file.hpp): the options that determine the rows, the
+//     nearcap version and --samples.  --resume refuses other options, naming
+//     the first that differs; only --samples may be larger (the sweep goes on
+//     past its old end).  A CSV without a sidecar is not resumed.
+//   - --resume reads the whole CSV as a stream and checks every row against
+//     the group it belongs to, so that a damaged row anywhere is an error
+//     naming its line.  A kill between two writes leaves whole groups, and the
+//     resume continues after them with no flag.  A kill inside a write leaves
+//     the start of one group (perhaps a last line without its newline): that is
+//     an error which names --repair, and --repair cuts the file back to the
+//     last whole group, says so on stderr, and runs that configuration again.
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 
@@ -30,6 +48,7 @@
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/sweep.hpp"
+#include "nearcap/analysis/sweep_file.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
@@ -37,10 +56,23 @@
 namespace nearcap::cli {
 namespace {
 
+// One word for a POSIX shell: as it is when it holds only characters no shell
+// treats specially, else in single quotes (a quote inside as '\'').  Pasting
+// a replay command runs nearcap with exactly these arguments.
+std::string shell_word(const std::string& word) {
+  const bool plain = !word.empty() && word.find_first_not_of(
+                                          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                          "0123456789_@%+=:,./-") == std::string::npos;
+  if (plain) return word;
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 std::string sample_replay(const SamplerOptions& o, std::uint64_t index) {
   std::ostringstream s;
-  s << "nearcap sample --seed " << o.seed << " --index " << index << " --kinds " << o.kinds << " --width " << o.width
-    << " --height " << o.height << (o.allow_bunny ? " --allow-bunny" : "") << " --out c.json";
+  s << "nearcap sample --seed " << o.seed << " --index " << index << " --kinds " << shell_word(o.kinds) << " --width "
+    << o.width << " --height " << o.height << (o.allow_bunny ? " --allow-bunny" : "") << " --out c.json";
   return s.str();
 }
 
@@ -68,7 +100,7 @@ struct SweepCommandOptions {
   EmulationOptions emulation;
   std::vector<std::string> variants;
   std::string out;
-  bool resume = false;
+  bool resume = false, repair = false;
 };
 
 // The configurations in their fixed order, made on demand.
@@ -104,7 +136,7 @@ class Configurations {
         c.kind = name;
         c.detail = "frame " + std::to_string(f) + " of " + std::to_string(p.frames);
         c.scene_json = analysis::path_frame_json(p, f);
-        c.replay = "nearcap frame " + p.source + " --frame " + std::to_string(f) + " --width " +
+        c.replay = "nearcap frame " + shell_word(p.source) + " --frame " + std::to_string(f) + " --width " +
                    std::to_string(p.width) + " --height " + std::to_string(p.height) + " --out c.json";
         return c;
       }
@@ -149,40 +181,140 @@ std::string configuration_csv(const analysis::SweepConfiguration& c, const analy
   return text;
 }
 
-// --resume: the configurations already in the CSV, all but its last (which is
-// run again).  The file is cut back to the end of the previous one.
-std::uint64_t resume_point(const std::string& file, const Configurations& configurations) {
-  const std::string text = io::read_input_file(file, "sweep results file");
-  const std::string header = analysis::csv_header();
-  if (text.compare(0, header.size(), header) != 0)
-    throw Error(ErrorKind::Schema, file +
-                                       ": not a sweep results file of this nearcap (its header differs); "
-                                       "start a new one or remove --resume");
-  // Line starts of each configuration's first row, in file order.
-  std::vector<std::pair<std::string, std::size_t>> starts;
-  std::size_t pos = header.size();
-  while (pos < text.size()) {
-    const std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) break;  // a cut-off last line
-    std::string id = text.substr(pos, text.find(',', pos) - pos);
-    if (!id.empty() && id.front() == '"') id = id.substr(1, id.size() - 2);
-    if (starts.empty() || starts.back().first != id) starts.emplace_back(id, pos);
-    pos = end + 1;
+// What the rows of a configuration hold (analysis/sweep_file.hpp): its
+// columns, and its scene's light count (one group of rows per light).
+analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c) {
+  analysis::ExpectedGroup g{c.id, c.source, c.kind, c.detail, c.replay, 0};
+  const nlohmann::json scene = nlohmann::json::parse(c.scene_json, nullptr, false);
+  if (scene.is_object() && scene.contains("lights") && scene["lights"].is_array()) g.lights = scene["lights"].size();
+  return g;
+}
+
+// "a directory", "a FIFO", ...: what a path that is not a regular file is.
+std::string file_type(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+[[noreturn]] void refuse_special(const std::string& file, mode_t mode) {
+  throw Error(ErrorKind::Io, file + ": " + file_type(mode) + ", not a regular file (--out names the sweep's CSV file)");
+}
+
+// Takes the writer's lock on the CSV, or says who holds it.
+void lock_csv(int fd, const std::string& file) {
+  while (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    if (errno == EINTR) continue;
+    const int e = errno;
+    ::close(fd);
+    if (e == EWOULDBLOCK)
+      throw Error(ErrorKind::Io, file + ": another nearcap sweep is writing it (it holds the file's lock)");
+    throw Error(ErrorKind::Io, file + ": cannot lock it (" + std::strerror(e) +
+                                   "): a sweep writes its CSV only where no other sweep can at the same time; put "
+                                   "--out on a filesystem with flock (docs/sweep-files.md)");
   }
-  if (starts.empty()) {
-    ::truncate(file.c_str(), static_cast<off_t>(header.size()));
-    return 0;
+}
+
+// The existing CSV opened for reading and writing, or -1 when there is none.
+int open_existing(const std::string& file) {
+  const int fd = ::open(file.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT) return -1;
+    throw Error(ErrorKind::Io, file + ": cannot open it: " + std::strerror(errno));
   }
-  // Every kept configuration must be the next one in order: same options.
-  for (std::size_t k = 0; k + 1 < starts.size(); ++k)
-    if (k >= configurations.count() || configurations.at(k).id != starts[k].first)
-      throw Error(ErrorKind::Schema, file + ": row group " + std::to_string(k) + " is configuration '" +
-                                         starts[k].first + "', not what these options make ('" +
-                                         (k < configurations.count() ? configurations.at(k).id : "none") +
-                                         "'); resume with the options of the interrupted run");
-  if (::truncate(file.c_str(), static_cast<off_t>(starts.back().second)) != 0)
-    throw Error(ErrorKind::Io, file + ": cannot cut the last configuration back for the resume");
-  return starts.size() - 1;
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    refuse_special(file, st.st_mode);
+  }
+  return fd;
+}
+
+void write_all(int fd, const std::string& bytes, const std::string& file) {
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw Error(ErrorKind::Io, file + ": write failed: " + std::strerror(errno));
+    written += static_cast<std::size_t>(n);
+  }
+}
+
+// A new CSV (its header) and its sidecar, the CSV locked by this process, or
+// -1 when `file` exists.  The header is written to a temporary name, locked
+// and then linked to `file`: link fails when the name exists, so no other
+// sweep can open the new file before it is locked.
+int create_csv(const std::string& file, const analysis::SweepMeta& meta) {
+  const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  const std::string temporary = file + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(temporary.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) throw Error(ErrorKind::Io, file + ": cannot create it: " + std::strerror(errno));
+  try {
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+      throw Error(ErrorKind::Io, file + ": cannot lock it: " + std::strerror(errno));
+    write_all(fd, analysis::csv_header(), file);
+  } catch (...) {
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    throw;
+  }
+  if (::link(temporary.c_str(), file.c_str()) != 0) {
+    const int e = errno;
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    if (e == EEXIST) return -1;
+    throw Error(ErrorKind::Io, file + ": cannot create it: " + std::strerror(e));
+  }
+  ::unlink(temporary.c_str());
+  try {
+    io::write_output_files({{analysis::sweep_meta_path(file), analysis::sweep_meta_json(meta)}});
+  } catch (...) {
+    ::unlink(file.c_str());  // still ours: locked since before it had its name
+    ::close(fd);
+    throw;
+  }
+  return fd;
+}
+
+// --resume: checks the locked CSV against its sidecar and these options, and
+// every row (analysis/sweep_file.hpp); returns how many configurations it
+// holds whole.  With `repair`, the start of a configuration cut off mid-write
+// is removed (and said so); without, it is an error naming --repair.
+std::uint64_t resume_point(int fd, const std::string& file, const Configurations& configurations,
+                           const analysis::SweepLayout& layout, const analysis::SweepMeta& here, bool repair) {
+  const std::string meta_file = analysis::sweep_meta_path(file);
+  std::error_code ec;
+  if (!std::filesystem::exists(meta_file, ec))
+    throw Error(ErrorKind::Schema, file + ": has no sidecar " + meta_file +
+                                       " (what made its rows is unknown: an older nearcap, or not nearcap sweep); "
+                                       "it cannot be resumed: start a new sweep with another --out");
+  const analysis::SweepMeta resumed =
+      analysis::parse_sweep_meta(io::read_input_file(meta_file, "sweep sidecar"), meta_file);
+  if (const auto why = analysis::resume_mismatch(here, resumed))
+    throw Error(ErrorKind::Usage, file + ": cannot resume it with these options: " + *why);
+  const analysis::SweepFileCheck check =
+      analysis::check_sweep_file(fd, file, layout, configurations.count(),
+                                 [&configurations](std::uint64_t k) { return expected_group(configurations.at(k)); });
+  if (!check.cut_tail.empty()) {
+    if (!repair)
+      throw Error(ErrorKind::Schema, file + ": " + check.cut_tail + "; give --resume --repair to remove line " +
+                                         std::to_string(check.lines + 1) +
+                                         " onwards (the configuration being written) and run it again");
+    if (::ftruncate(fd, static_cast<off_t>(check.complete_bytes)) != 0)
+      throw Error(ErrorKind::Io,
+                  file + ": cannot cut it back to line " + std::to_string(check.lines) + ": " + std::strerror(errno));
+    std::fprintf(stderr, "sweep: %s: %s; removed line %llu onwards (--repair): configuration %llu runs again\n",
+                 file.c_str(), check.cut_tail.c_str(), static_cast<unsigned long long>(check.lines + 1),
+                 static_cast<unsigned long long>(check.groups));
+  }
+  if (here.samples != resumed.samples)
+    io::write_output_files({{meta_file, analysis::sweep_meta_json(here)}});  // extended: more samples
+  return check.groups;
 }
 
 std::string duration(double seconds) {
@@ -199,10 +331,10 @@ std::string duration(double seconds) {
 // configuration order, and reports progress.
 class OrderedWriter {
  public:
-  OrderedWriter(const std::string& file, std::uint64_t first, std::uint64_t total, std::size_t methods)
-      : file_(file), first_(first), next_(first), total_(total), last_report_(first) {
-    fd_ = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-    if (fd_ < 0) throw Error(ErrorKind::Io, file + ": cannot open for appending");
+  // `fd`: the CSV, locked; the writer closes it (which drops the lock).
+  OrderedWriter(int fd, const std::string& file, std::uint64_t first, std::uint64_t total, std::size_t methods)
+      : file_(file), fd_(fd), first_(first), next_(first), total_(total), last_report_(first) {
+    if (::lseek(fd_, 0, SEEK_END) < 0) throw Error(ErrorKind::Io, file + ": cannot seek to its end");
     std::fprintf(stderr, "sweep: %llu configurations (%llu already in %s), %zu method(s)\n",
                  static_cast<unsigned long long>(total), static_cast<unsigned long long>(first), file.c_str(), methods);
   }
@@ -214,7 +346,7 @@ class OrderedWriter {
     ready_[index] = std::move(rows);
     const std::uint64_t before = next_;
     for (auto it = ready_.find(next_); it != ready_.end(); it = ready_.find(next_)) {
-      write_all(it->second);
+      write_all(fd_, it->second, file_);
       ready_.erase(it);
       ++next_;
     }
@@ -231,14 +363,6 @@ class OrderedWriter {
 
  private:
   double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
-  void write_all(const std::string& b) {
-    std::size_t written = 0;
-    while (written < b.size()) {
-      const ssize_t n = ::write(fd_, b.data() + written, b.size() - written);
-      if (n < 0) throw Error(ErrorKind::Io, file_ + ": write failed: " + std::strerror(errno));
-      written += static_cast<std::size_t>(n);
-    }
-  }
   void progress() {
     const double rate = static_cast<double>(next_ - first_) / std::max(elapsed(), 1e-9);
     const double eta = static_cast<double>(total_ - next_) / std::max(rate, 1e-9);
@@ -281,6 +405,8 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     const std::size_t comma = std::min(names.find(',', start), names.size());
     const std::string name = names.substr(start, comma - start);
     const auto p = analysis::engine_policy_from_string(name);
+    if ((name == "policy" && switch_policy) || (p && std::find(out.begin(), out.end(), *p) != out.end()))
+      throw Error(ErrorKind::Usage, "--policies names " + name + " twice");
     if (name == "policy") {
       switch_policy = true;
     } else if (!p) {
@@ -295,11 +421,58 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
   return out;
 }
 
+// The options that determine the rows, for the sidecar (analysis/sweep_file.hpp).
+analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::SweepOptions& options,
+                               const analysis::SweepLayout& layout) {
+  analysis::SweepMeta meta;
+  meta.nearcap_version = NEARCAP_VERSION;
+  meta.samples = o.samples;
+  const auto one = [](const std::string& v) { return std::vector<std::string>{v}; };
+  std::vector<std::string> digests;
+  for (const std::string& p : o.paths)
+    digests.push_back(analysis::content_digest(io::read_input_file(p, "camera path file")));
+  meta.options = {
+      {"--path", o.paths},
+      {"--path (content digest)", digests},
+      {"--seed", one(std::to_string(o.sampler.seed))},
+      {"--kinds", one(o.sampler.kinds)},
+      {"--allow-bunny", one(o.sampler.allow_bunny ? "yes" : "no")},
+      {"--width", one(o.width > 0 ? std::to_string(o.width) : "default")},
+      {"--height", one(o.height > 0 ? std::to_string(o.height) : "default")},
+      {"--methods",
+       {layout.entries.begin(), layout.entries.begin() + static_cast<std::ptrdiff_t>(options.methods.size())}},
+      {"--policies",
+       {layout.entries.begin() + static_cast<std::ptrdiff_t>(options.methods.size()), layout.entries.end()}},
+      {"--policy (content digest)",
+       one(options.switch_policy ? analysis::content_digest(io::read_input_file(o.policy_file, "policy file"))
+                                 : "unused")}};
+  char exact[40];
+  for (auto [name, value] : emulation_option_values(o.emulation)) {
+    if (name == "guard-band") std::snprintf(exact, sizeof exact, "%.9g", static_cast<double>(o.emulation.guard_band));
+    if (name == "l-near-scale") std::snprintf(exact, sizeof exact, "%.17g", o.emulation.l_near_scale);
+    if (name == "guard-band" || name == "l-near-scale") value = exact;
+    meta.options.push_back({"--" + name, one(value)});
+  }
+  meta.options.push_back({"--variant", {layout.variants.begin() + 1, layout.variants.end()}});
+  return meta;
+}
+
 void run_sweep(const SweepCommandOptions& o) {
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
+  if (o.repair && !o.resume) throw Error(ErrorKind::Usage, "--repair mends a sweep being resumed: give --resume too");
+  for (std::size_t k = 0; k < o.paths.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j) {
+      std::error_code ec;  // a missing file is reported where it is read
+      if (o.paths[j] == o.paths[k] || std::filesystem::equivalent(o.paths[j], o.paths[k], ec))
+        throw Error(ErrorKind::Usage, "--path " + o.paths[k] + " is given twice");
+    }
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
+  for (std::size_t k = 0; k < options.methods.size(); ++k)
+    if (std::find(options.methods.begin(), options.methods.begin() + static_cast<std::ptrdiff_t>(k),
+                  options.methods[k]) != options.methods.begin() + static_cast<std::ptrdiff_t>(k))
+      throw Error(ErrorKind::Usage, "--methods names " + std::string(gl::to_string(options.methods[k])) + " twice");
   bool switch_policy = false;
   options.policies = policies_from(o.policies, switch_policy);
   if (switch_policy) options.switch_policy = analysis::load_policy(o.policy_file);
@@ -313,6 +486,12 @@ void run_sweep(const SweepCommandOptions& o) {
       throw Error(ErrorKind::Usage, "--variant '" + spec + "' repeats the variant " + name);
     options.variants.push_back({name, settings_from(v)});
   }
+  // The rows of each light, in sweep_configuration's order.
+  analysis::SweepLayout layout;
+  for (const analysis::SweepVariant& v : options.variants) layout.variants.push_back(v.name);
+  for (gl::ShadowMethod m : options.methods) layout.entries.emplace_back(gl::to_string(m));
+  for (analysis::EnginePolicy p : options.policies) layout.entries.emplace_back(analysis::to_string(p));
+  if (options.switch_policy) layout.entries.emplace_back("policy");
   MeshCache meshes;
   options.meshes = &meshes;
   const Configurations configurations(o);
@@ -321,18 +500,44 @@ void run_sweep(const SweepCommandOptions& o) {
   NEARCAP_CHECK(world_ptr != nullptr);
   MpiWorld& world = *world_ptr;
 
-  // Rank 0 owns the file: new, or resumed after its last configuration.
+  // Rank 0 owns the file: new, or resumed after its last whole configuration.
   constexpr std::uint64_t kFailed = ~std::uint64_t{0};
   std::uint64_t first = 0;
+  int fd = -1;
   if (world.rank() == 0) {
     try {
-      const bool exists = std::filesystem::exists(o.out);
-      if (exists && !o.resume)
-        throw Error(ErrorKind::Usage, o.out + ": exists; give --resume to continue that sweep, or another --out");
-      if (exists)
-        first = resume_point(o.out, configurations);
-      else
-        io::write_output_files({{o.out, analysis::csv_header()}});
+      struct stat st {};
+      if (::stat(o.out.c_str(), &st) == 0) {
+        if (!S_ISREG(st.st_mode)) refuse_special(o.out, st.st_mode);
+      } else if (errno != ENOENT) {
+        throw Error(ErrorKind::Io, o.out + ": cannot use it: " + std::strerror(errno));
+      }
+      const analysis::SweepMeta meta = sweep_meta(o, options, layout);
+      const std::string exists = o.out + ": exists; give --resume to continue that sweep, or another --out";
+      fd = open_existing(o.out);
+      bool resuming = fd >= 0;
+      if (resuming && !o.resume) {
+        ::close(fd);
+        throw Error(ErrorKind::Usage, exists);
+      }
+      if (!resuming) {
+        fd = create_csv(o.out, meta);
+        if (fd < 0) {  // another sweep made it since open_existing
+          if (!o.resume) throw Error(ErrorKind::Usage, exists);
+          fd = open_existing(o.out);
+          if (fd < 0) throw Error(ErrorKind::Io, o.out + ": appeared and vanished while this sweep opened it");
+          resuming = true;
+        }
+      }
+      if (resuming) {
+        lock_csv(fd, o.out);
+        try {
+          first = resume_point(fd, o.out, configurations, layout, meta, o.repair);
+        } catch (...) {
+          ::close(fd);
+          throw;
+        }
+      }
     } catch (...) {
       world.broadcast(kFailed);
       throw;
@@ -349,7 +554,7 @@ void run_sweep(const SweepCommandOptions& o) {
   std::unique_ptr<OrderedWriter> writer;
   if (world.rank() == 0)
     writer = std::make_unique<OrderedWriter>(
-        o.out, first, total, options.methods.size() + options.policies.size() + (options.switch_policy ? 1 : 0));
+        fd, o.out, first, total, options.methods.size() + options.policies.size() + (options.switch_policy ? 1 : 0));
   constexpr std::size_t kBlock = 8;  // run together on this rank's cores
   for (std::size_t begin = 0; begin < mine.size(); begin += kBlock) {
     const std::size_t end = std::min(mine.size(), begin + kBlock);
@@ -383,7 +588,9 @@ void register_sample(CLI::App& app) {
   auto index = std::make_shared<std::uint64_t>(0);
   auto out = std::make_shared<std::string>();
   add_sampler_options(*cmd, *o, true);
-  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")->required();
+  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->required();
   cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
   cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
 }
@@ -395,10 +602,13 @@ void register_sweep(CLI::App& app) {
       "configuration, light and method (README \"Sweeps\")");
   auto o = std::make_shared<SweepCommandOptions>();
   cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
-  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler");
+  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")
+      ->transform(integer_in(0, kMaxSweepSamples));
   add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)");
-  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)");
+  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)")
+      ->transform(integer_in(1, kMaxViewportPixels));
+  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)")
+      ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   cmd->add_option("--policies", o->policies,
                   "engine rules run beside the methods, one row each: comma-separated doom3, doom3-bfg, ogre, "
@@ -411,7 +621,9 @@ void register_sweep(CLI::App& app) {
                   "run every method under these choices too, NAME=VALUE[,...] over the options above "
                   "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
   cmd->add_option("--out", o->out, "the results CSV")->required();
-  cmd->add_flag("--resume", o->resume, "continue the sweep already in --out");
+  cmd->add_flag("--resume", o->resume, "continue the sweep already in --out (docs/sweep-files.md)");
+  cmd->add_flag("--repair", o->repair,
+                "with --resume: remove a configuration cut off mid-write at the end of --out and run it again");
   cmd->callback([o] { run_sweep(*o); });
 }
 

@@ -28,6 +28,7 @@
 #include "nearcap/render/lit_frame.hpp"
 #include "nearcap/view/crack_overlay.hpp"
 #include "nearcap/view/fly_camera.hpp"
+#include "nearcap/view/status_panel.hpp"
 #include "nearcap/view/viewer_commands.hpp"
 #include "nearcap/view/viewer_window.hpp"
 
@@ -291,34 +292,48 @@ class Viewer {
     redraw();
   }
 
-  std::string status_line() const {
-    std::string s = "[m] " + methods_.name(method_) + "  [l] " +
-                    (light_choice_ < 0 ? "all lights" : "light " + std::to_string(light_choice_));
-    if (!refused_.empty()) return s + "  refused: " + refused_;
-    s += "  " + fixed(emulation_ms_ + lit_.ms, 1) + " ms (emulation " + fixed(emulation_ms_, 1) + ", GL " +
-         fixed(lit_.ms, 1) + ")";
+  // The status line's fields, in the order shown: the window wraps them
+  // (view/status_panel.hpp), stdout gets them on one line.
+  std::vector<std::string> status_fields() const {
+    std::vector<std::string> f = {
+        "[m] " + methods_.name(method_),
+        "[l] " + (light_choice_ < 0 ? std::string("all lights") : "light " + std::to_string(light_choice_))};
+    if (!refused_.empty()) {
+      f.push_back("refused: " + refused_);
+      return f;
+    }
+    f.push_back(fixed(emulation_ms_ + lit_.ms, 1) + " ms (emulation " + fixed(emulation_ms_, 1) + ", GL " +
+                fixed(lit_.ms, 1) + ")");
     if (!show_cracks_)
-      s += "  [c] cracks off";
+      f.push_back("[c] cracks off");
     else if (!overlay_for_frame())
-      s += "  [c] cracks: computing...";
+      f.push_back("[c] cracks: computing...");
     else if (!overlay_->error.empty())
-      s += "  [c] exact reference refused: " + overlay_->error;
+      f.push_back("[c] exact reference refused: " + overlay_->error);
     else
-      s += "  [c] " + std::to_string(overlay_->wrong) + " wrong px, " + std::to_string(overlay_->cracks) + " cracks (" +
-           fixed(overlay_->ms / 1000, 1) + " s)";
+      f.push_back("[c] " + std::to_string(overlay_->wrong) + " wrong px, " + std::to_string(overlay_->cracks) +
+                  " cracks (" + fixed(overlay_->ms / 1000, 1) + " s)");
+    return f;
+  }
+
+  std::string status_line() const {
+    std::string s;
+    for (const std::string& f : status_fields()) s += (s.empty() ? "" : "  ") + f;
     return s;
   }
 
-  // The method per occluder, when the frame chose one per occluder (the policy).
-  std::string occluder_line() const {
-    std::string s;
+  // The method per occluder, when the frame chose one per occluder (the
+  // policy): a field per light.
+  std::vector<std::string> occluder_fields() const {
+    std::vector<std::string> out;
     for (const gl::ShadowFrame& f : frames_) {
       if (!f.mixed) continue;
-      s += (s.empty() ? "" : "; ") + std::string("light ") + std::to_string(f.light) + ":";
+      std::string s = "light " + std::to_string(f.light) + ":";
       for (const auto& [o, m] : f.object_methods)
         if (shown_.objects[o].occluder) s += " " + object_name(shown_, o) + " " + std::string(to_string(m));
+      out.push_back(s);
     }
-    return s;
+    return out;
   }
 
   legend::Image composed() const {
@@ -330,19 +345,7 @@ class Viewer {
     else
       image.rgb.assign(static_cast<std::size_t>(image.width) * image.height * 3, 0);
     if (show_cracks_ && overlay_for_frame()) view::paint_overlay(image, *overlay_);
-    if (show_status_) {
-      const std::string lines[2] = {status_line(), occluder_line()};
-      const int scale = image.width >= 960 ? 2 : 1, line = 12 * scale;
-      const int rows = lines[1].empty() ? 1 : 2;
-      for (int y = 0; y < std::min(image.height, rows * line + 2 * scale); ++y)
-        for (int x = 0; x < image.width; ++x)
-          for (int c = 0; c < 3; ++c) {
-            std::uint8_t& v = image.rgb[3 * (static_cast<std::size_t>(y) * image.width + x) + c];
-            v = static_cast<std::uint8_t>(v / 4);
-          }
-      for (int k = 0; k < rows; ++k)
-        legend::draw_text(image, 2 * scale, scale + k * line, lines[k], scale, {240, 240, 240});
-    }
+    if (show_status_) view::paint_status(image, {status_fields(), occluder_fields()});
     return image;
   }
 
@@ -364,7 +367,7 @@ class Viewer {
     root["camera"] = camera_json(s.camera);
     root["description"] = "nearcap view of " + options_.scene + ", saved with method " + methods_.name(method_) +
                           (light_choice_ < 0 ? "" : ", light " + std::to_string(light_choice_));
-    io::write_output_files({{file.string(), root.dump(1) + "\n"}});
+    io::write_output_files({{file.string(), json_text(root, 1) + "\n"}});
     std::printf("saved %s\n", file.string().c_str());
     std::fflush(stdout);
   }
@@ -396,12 +399,11 @@ class Viewer {
 }  // namespace
 
 void register_view(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "view",
-      "an interactive window (GLFW) on SCENE: the lit frame drawn by the real GL like nearcap render, a fly camera, "
-      "keys to switch method, policy and light, and an overlay of the frame's cracks against the exact reference. "
-      "Keys: " +
-          view::key_help());
+  auto* cmd = app.add_subcommand("view", "an interactive window: the real GL's frame, a fly camera, the cracks");
+  cmd->footer(
+      "The window (GLFW) shows the lit frame drawn by the real GL like nearcap render, with a fly camera, keys to "
+      "switch method, policy and light, and an overlay of the frame's cracks against the exact reference.\nKeys: " +
+      view::key_help());
   auto o = std::make_shared<ViewOptions>();
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   auto* light = add_light_option(*cmd, o->light, false);

@@ -72,4 +72,25 @@ std::string encode_png_rgb(int width, int height, const std::vector<std::uint8_t
   return out;
 }
 
+std::string png_with_text(const std::string& png, const std::string& keyword, const std::string& text) {
+  // Signature (8 bytes), then IHDR: length (4), type (4), 13 data bytes, CRC (4).
+  constexpr std::size_t kAfterHeader = 8 + 4 + 4 + 13 + 4;
+  NEARCAP_CHECK(png.size() > kAfterHeader && png.compare(12, 4, "IHDR") == 0);
+  NEARCAP_CHECK(!keyword.empty() && keyword.size() < 80 && keyword.find('\0') == std::string::npos);
+  const std::string data = "tEXt" + keyword + std::string(1, '\0') + text;
+  // The chunk's CRC-32 (ISO 3309, as PNG specifies) over its type and data.
+  std::uint32_t crc = 0xffffffffu;
+  for (const char c : data) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  crc ^= 0xffffffffu;
+  auto be32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                       static_cast<char>(v)};
+  };
+  return png.substr(0, kAfterHeader) + be32(static_cast<std::uint32_t>(data.size() - 4)) + data + be32(crc) +
+         png.substr(kAfterHeader);
+}
+
 }  // namespace nearcap

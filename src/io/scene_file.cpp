@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_validation.hpp"
@@ -229,7 +230,17 @@ class SceneReader {
       o.mesh = slot;
     } catch (const Error& e) {
       // The mesh reader names the mesh file; say which object of which scene.
-      throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + e.what());
+      // A file that cannot be read is named as the scene wrote it and as it
+      // resolved (relative to the scene's directory, made absolute), so that
+      // a wrong base directory shows.
+      std::string what = e.what();
+      if ((e.kind() == ErrorKind::Io || e.kind() == ErrorKind::Resource) && what.rfind(o.mesh_path + ": ", 0) == 0) {
+        std::error_code ec;
+        const std::filesystem::path resolved = std::filesystem::absolute(o.mesh_path, ec);
+        what = "mesh '" + mesh.get<std::string>() + "' (resolved to " +
+               (ec ? o.mesh_path : resolved.lexically_normal().string()) + ")" + what.substr(o.mesh_path.size());
+      }
+      throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + what);
     }
     return o;
   }
@@ -413,7 +424,15 @@ std::string with_absolute_mesh_paths(const std::string& json_text, const std::st
         const std::filesystem::path mesh(o["mesh"].get<std::string>());
         if (mesh.is_relative()) o["mesh"] = (base / mesh).lexically_normal().string();
       }
-  return root.dump();
+  // JSON text is UTF-8 and a file name is bytes: a folder whose name is not
+  // UTF-8 cannot be named in a scene file (U+FFFD would name another file).
+  try {
+    return root.dump();
+  } catch (const Json::type_error&) {
+    throw Error(ErrorKind::Io, scene_file + ": the folder " + base.string() +
+                                   " has a name that is not UTF-8: its meshes' absolute paths cannot be written in "
+                                   "a scene file (rename the folder)");
+  }
 }
 
 Scene load_scene(const std::string& path) {

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <cstdlib>
 #include <optional>
 
@@ -179,11 +178,12 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
       for (int i = 0; i < ref.width; ++i)
         if (report.cap_wrong[ref.index(i, j)]) ring(i, j, 7, kCapWrong);
 
-  char title[200];
-  const std::string cracks = report.cracks ? std::to_string(*report.cracks) + " cracks, " : std::string();
-  std::snprintf(title, sizeof title, "%s: %zu wrong (%zu lit, %zu shadowed), %s%zu count, %s near-cap",
-                report.method.c_str(), report.wrong, report.wrong_lit, report.wrong_shadowed, cracks.c_str(),
-                report.count_mismatch, report.cap_mismatch ? std::to_string(*report.cap_mismatch).c_str() : "-");
+  const std::string title =
+      report.method + ": " + std::to_string(report.wrong) + " wrong (" + std::to_string(report.wrong_lit) + " lit, " +
+      std::to_string(report.wrong_shadowed) + " shadowed), " +
+      (report.cracks ? std::to_string(*report.cracks) + " cracks, " : std::string()) +
+      std::to_string(report.count_mismatch) + " count, " +
+      (report.cap_mismatch ? std::to_string(*report.cap_mismatch) : std::string("-")) + " near-cap";
   std::vector<legend::Entry> entries;
   if (report.cracks) {
     entries = {{kWrongLit, "crack, lit: should be in shadow"},
@@ -197,7 +197,7 @@ std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, 
                                  {kCapWrong, "near-cap pass differs (outer ring)"},
                                  {kVisibility, "another object seen (outline)"}});
   const legend::Image framed = legend::with_legend({ref.width, ref.height, std::move(rgb)}, title, entries);
-  return encode_png_rgb(framed.width, framed.height, framed.rgb);
+  return png_with_text(encode_png_rgb(framed.width, framed.height, framed.rgb), "Title", title);
 }
 
 }  // namespace nearcap

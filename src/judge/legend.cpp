@@ -54,15 +54,53 @@ void draw_text(Image& image, int x, int y, const std::string& text, int scale, c
   Canvas{image.width, image.height, image.rgb}.text(x, y, text, scale, ink);
 }
 
+std::vector<std::string> wrap_text(const std::string& text, int width) {
+  std::vector<std::string> lines;
+  std::string line;
+  auto fits = [&](const std::string& s) { return text_width(s) <= width; };
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(start, end - start);
+    start = end + 1;
+    if (word.empty()) continue;
+    if (!line.empty() && fits(line + " " + word)) {
+      line += " " + word;
+      continue;
+    }
+    if (!line.empty()) lines.push_back(line);
+    line.clear();
+    // A word wider than the width is cut where it no longer fits (at least
+    // one character a line, so that the text always ends).
+    while (!fits(word)) {
+      std::size_t n = 1;
+      while (n < word.size() && fits(word.substr(0, n + 1))) ++n;
+      lines.push_back(word.substr(0, n));
+      word.erase(0, n);
+    }
+    line = word;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
 Image with_legend(const Image& image, const std::string& title, const std::vector<Entry>& entries) {
   const int scale = image.width >= 480 ? 2 : 1;
   const int line = 12 * scale, swatch = 8 * scale, margin = 4 * scale;
-  int text_w = title.empty() ? 0 : text_width(title) * scale;
-  for (const Entry& e : entries) text_w = std::max(text_w, swatch + margin + text_width(e.text) * scale);
-  const int lines = static_cast<int>(entries.size()) + (title.empty() ? 0 : 1);
   Image out;
-  out.width = std::max(image.width, text_w + 2 * margin);
-  out.height = image.height + lines * line + 2 * margin;
+  out.width = std::max(image.width, kMinLegendWidth);
+  // Text widths in glyph pixels: the title spans the strip, an entry's text
+  // starts after its swatch.
+  const int title_w = (out.width - 2 * margin) / scale, entry_w = (out.width - 3 * margin - swatch) / scale;
+  const std::vector<std::string> title_lines = title.empty() ? std::vector<std::string>{} : wrap_text(title, title_w);
+  std::vector<std::vector<std::string>> entry_lines;
+  std::size_t lines = title_lines.size();
+  for (const Entry& e : entries) {
+    entry_lines.push_back(wrap_text(e.text, entry_w));
+    lines += entry_lines.back().size();
+  }
+  out.height = image.height + static_cast<int>(lines) * line + 2 * margin;
   out.rgb.assign(3 * static_cast<std::size_t>(out.width) * out.height, 0);
   Canvas canvas{out.width, out.height, out.rgb};
   canvas.fill(0, 0, out.width, out.height, kBackground);
@@ -71,15 +109,17 @@ Image with_legend(const Image& image, const std::string& title, const std::vecto
               &image.rgb[3 * static_cast<std::size_t>(y + 1) * image.width],
               &out.rgb[3 * static_cast<std::size_t>(y) * out.width]);
   int y = image.height + margin;
-  if (!title.empty()) {
-    canvas.text(margin, y + scale, title, scale);
+  for (const std::string& t : title_lines) {
+    canvas.text(margin, y + scale, t, scale);
     y += line;
   }
-  for (const Entry& e : entries) {
+  for (std::size_t k = 0; k < entries.size(); ++k) {
     canvas.fill(margin, y, margin + swatch, y + swatch, kInk);
-    canvas.fill(margin + 1, y + 1, margin + swatch - 1, y + swatch - 1, e.colour);
-    canvas.text(margin + swatch + margin, y + scale, e.text, scale);
-    y += line;
+    canvas.fill(margin + 1, y + 1, margin + swatch - 1, y + swatch - 1, entries[k].colour);
+    for (const std::string& t : entry_lines[k]) {
+      canvas.text(margin + swatch + margin, y + scale, t, scale);
+      y += line;
+    }
   }
   return out;
 }

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
+#include <vector>
 
 namespace nearcap {
 namespace {
@@ -37,21 +39,87 @@ std::string fill_for(std::size_t count, std::size_t max_count) {
 
 }  // namespace
 
+double caption_width(const std::string& text) {
+  // Advances of DejaVu Sans (the widest of the usual sans-serif fonts) at
+  // 12 px, rounded up per class of glyph: the widest of each class.
+  double w = 0;
+  for (const char c : text) {
+    if (std::strchr("mMWw@%", c) != nullptr)
+      w += 12;  // W: 2025/2048 em
+    else if ((c >= 'A' && c <= 'Z') || std::strchr("#&+<=>^~", c) != nullptr)
+      w += 10.5;  // ~: 1716/2048 em
+    else if ((c >= 'a' && c <= 'z' && std::strchr("ijlfrt", c) == nullptr) || (c >= '0' && c <= '9') ||
+             std::strchr("$?*_`{}", c) != nullptr)
+      w += 8;  // digits: 1303/2048 em
+    else if (std::strchr(" ijlfrt'\",.:;!|/()[]-\\", c) != nullptr)
+      w += 5.5;  // ": 942/2048 em
+    else
+      w += 12;  // anything else: as wide as the widest
+  }
+  return w;
+}
+
+std::vector<std::string> wrap_caption(const std::string& text, double width_px) {
+  auto fits = [&](const std::string& s) { return caption_width(s) <= width_px; };
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(start, end - start);
+    start = end + 1;
+    if (word.empty()) continue;
+    if (!line.empty() && fits(line + " " + word)) {
+      line += " " + word;
+      continue;
+    }
+    if (!line.empty()) lines.push_back(line);
+    // A word wider than a line is cut where it no longer fits (at least one
+    // character a line, so that the text always ends).
+    while (!fits(word)) {
+      std::size_t n = 1;
+      while (n < word.size() && fits(word.substr(0, n + 1))) ++n;
+      lines.push_back(word.substr(0, n));
+      word.erase(0, n);
+    }
+    line = word;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
 std::string near_cap_svg(const NearCap& cap, const Camera& camera, const std::string& title) {
   const Frustum& fr = camera.frustum;
-  const double width_px = 800.0;
-  const double scale = width_px / (fr.right - fr.left);
-  const double height_px = (fr.top - fr.bottom) * scale;
-  const double legend = 64.0;
+  // The near rectangle mapped onto the frame's pixel grid: x and y scaled
+  // apart, so that the picture has the aspect of the frame's images.
+  const double width_px = kNearCapSvgWidth;
+  const double height_px = width_px * static_cast<double>(camera.height) / static_cast<double>(camera.width);
+  const double x_scale = width_px / (fr.right - fr.left), y_scale = height_px / (fr.top - fr.bottom);
+  const double rect_aspect = (fr.right - fr.left) / (fr.top - fr.bottom);
+  const double pixel_aspect = static_cast<double>(camera.width) / static_cast<double>(camera.height);
+  char note[200];
+  if (std::fabs(rect_aspect / pixel_aspect - 1.0) > 1e-9)
+    std::snprintf(note, sizeof note,
+                  "drawn to the frame's aspect (%dx%d pixels); the near rectangle's own aspect is %.4g, so its "
+                  "pixels are not square (pixel aspect %.4g)",
+                  camera.width, camera.height, rect_aspect, rect_aspect / pixel_aspect);
+  else
+    std::snprintf(note, sizeof note, "drawn to the frame's aspect (%dx%d square pixels)", camera.width, camera.height);
+  const std::vector<std::string> caption = wrap_caption(title + "; " + note, width_px - 2 * kCaptionMargin);
+  const double line = 16.0, swatches = 40.0;
+  const double legend = swatches + line * static_cast<double>(caption.size()) + 8.0;
   auto px = [&](const NearCapPoint& p) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3f,%.3f", (p.x.get_d() - fr.left) * scale, (fr.top - p.y.get_d()) * scale);
+    std::snprintf(buf, sizeof buf, "%.3f,%.3f", (p.x.get_d() - fr.left) * x_scale, (fr.top - p.y.get_d()) * y_scale);
     return std::string(buf);
   };
   std::ostringstream svg;
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << height_px + legend
       << "\" viewBox=\"0 0 " << width_px << " " << height_px + legend << "\">\n";
   svg << "<title>" << escape(title) << "</title>\n";
+  svg << "<rect id=\"near-rectangle\" x=\"0\" y=\"0\" width=\"" << width_px << "\" height=\"" << height_px
+      << "\" fill=\"#ffffff\"/>\n";
   const std::size_t max_count = cap.max_count();
   for (const NearCapFace& f : cap.faces()) {
     svg << "<path fill-rule=\"evenodd\" fill=\"" << fill_for(f.count, max_count)
@@ -64,8 +132,9 @@ std::string near_cap_svg(const NearCap& cap, const Camera& camera, const std::st
     for (const auto& h : f.holes) ring(h);
     svg << "\"><title>count " << f.count << "</title></path>\n";
   }
-  // Legend: one swatch per count, then the title, and the pixel aspect.
-  svg << "<text x=\"10\" y=\"" << height_px + 25
+  // Legend: one swatch per count, then the caption (the title and the
+  // aspect), wrapped to the picture's width.
+  svg << "<text x=\"" << kCaptionMargin << "\" y=\"" << height_px + 25
       << "\" font-family=\"sans-serif\" font-size=\"12\">near-cap count:</text>\n";
   for (std::size_t c = 0; c <= max_count && c < 12; ++c) {
     const double x = 110 + 50.0 * static_cast<double>(c);
@@ -74,18 +143,10 @@ std::string near_cap_svg(const NearCap& cap, const Camera& camera, const std::st
     svg << "<text x=\"" << x + 23 << "\" y=\"" << height_px + 25 << "\" font-family=\"sans-serif\" font-size=\"12\">"
         << c << "</text>\n";
   }
-  const double rect_aspect = (fr.right - fr.left) / (fr.top - fr.bottom);
-  const double pixel_aspect = static_cast<double>(camera.width) / static_cast<double>(camera.height);
-  char note[200];
-  if (std::fabs(rect_aspect / pixel_aspect - 1.0) > 1e-9)
-    std::snprintf(note, sizeof note,
-                  "drawn to the near rectangle's aspect %.4g; the %dx%d pixels are not square (pixel aspect %.4g)",
-                  rect_aspect, camera.width, camera.height, rect_aspect / pixel_aspect);
-  else
-    std::snprintf(note, sizeof note, "drawn to the near rectangle's aspect %.4g (%dx%d square pixels)", rect_aspect,
-                  camera.width, camera.height);
-  svg << "<text x=\"10\" y=\"" << height_px + 52 << "\" font-family=\"sans-serif\" font-size=\"12\">" << escape(title)
-      << "; " << note << "</text>\n";
+  for (std::size_t k = 0; k < caption.size(); ++k)
+    svg << "<text class=\"caption\" x=\"" << kCaptionMargin << "\" y=\""
+        << height_px + swatches + 12 + line * static_cast<double>(k)
+        << "\" font-family=\"sans-serif\" font-size=\"12\">" << escape(caption[k]) << "</text>\n";
   svg << "</svg>\n";
   return svg.str();
 }

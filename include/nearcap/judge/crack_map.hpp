@@ -42,7 +42,7 @@ namespace nearcap {
 enum class PixelVerdict : std::uint8_t { NothingSeen, Right, CountOnly, WrongLit, WrongShadowed, VisibilityMismatch };
 
 struct CrackReport {
-  std::string method;                       // "zpass", ..., "raytrace"
+  std::string method;                       // "zpass", ..., "raytrace": the name the legend shows
   std::size_t pixels_seen = 0;              // the reference sees a surface
   std::size_t wrong = 0;                    // wrong_lit + wrong_shadowed
   std::size_t wrong_lit = 0;                // lit, should be shadowed
@@ -73,8 +73,10 @@ CrackReport judge_raytrace_frame(const raytrace::RaytraceFrame& frame, const Pix
 // inner square (11 pixels wide) in its verdict's colour, rings of worse
 // verdicts drawn over milder ones (grey, yellow, cyan, red), and an outer
 // magenta square (15 wide) around each near-cap mismatch; rings never cover a
-// marked pixel.  Below the image, a legend: the method's counts and the
-// colours.  8-bit RGB PNG bytes (wider than the frame when the legend needs it).
+// marked pixel.  Below the image, a legend: report.method (the name shown:
+// for a policy's frame, "policy" and the methods it ran), its counts and the
+// colours, wrapped to the frame's width (legend::with_legend: one PNG width
+// per frame width).  8-bit RGB PNG bytes.
 std::string crack_png(const CameraSpaceScene& scene, const PixelReference& ref, const CrackReport& report);
 
 }  // namespace nearcap

