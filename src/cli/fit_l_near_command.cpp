@@ -59,7 +59,7 @@ void run(const FitOptions& o, const std::string& command) {
 void register_fit_l_near(CLI::App& app) {
   auto* cmd = app.add_subcommand("fit-l-near",
                                  "fit the l_near safety margin (--l-near-scale) with Ceres, minimizing the mean "
-                                 "log10 cond(P_l M_l) over hard cases of the sampler (README \"Choosing l_near\")");
+                                 "log10 cond(P_l M_l) over hard cases of the sampler (docs/findings/l-near.md)");
   auto o = std::make_shared<FitOptions>();
   cmd->add_option("--samples", o->samples, "this many configurations of the sampler")
       ->transform(integer_in(1, kMaxFitSamples))

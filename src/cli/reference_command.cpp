@@ -43,7 +43,7 @@ nlohmann::json summary_json(const Scene& scene, const PixelReference& ref) {
           {"filter", filter}};
 }
 
-// Peak memory per pixel, measured (README "Limits"): the reference's cap and
+// Peak memory per pixel, measured (docs/scene-format.md, "Limits on inputs"): the reference's cap and
 // stencil counts, the per-pixel scratch of the trace, the encoded images.
 constexpr double kReferenceBytesPerPixel = 30;  // 28.5 measured at 2048x2048
 

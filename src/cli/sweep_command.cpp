@@ -599,7 +599,7 @@ void register_sweep(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sweep",
       "camera paths and hard-case samples through the exact reference and the float methods: one CSV row per "
-      "configuration, light and method (README \"Sweeps\")");
+      "configuration, light and method (docs/sweeps-and-report.md)");
   auto o = std::make_shared<SweepCommandOptions>();
   cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
   cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")

@@ -119,7 +119,7 @@ void run(const TuneOptions& o, const std::string& command) {
 void register_tune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
-      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (README \"The switch policy\"); "
+      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (docs/policy.md); "
       "the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
   auto o = std::make_shared<TuneOptions>();
   cmd->add_option("results", o->results, "sweep CSV files with rows of both methods")->required();
@@ -133,7 +133,7 @@ void register_tune(CLI::App& app) {
   cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
   cmd->add_option("--light-projection", o->light_projection,
                   "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): paper, "
-                  "glfrustum, composed, rebased or clipped-sides (no light frustum; README \"P_l formulations\")")
+                  "glfrustum, composed, rebased or clipped-sides (no light frustum; docs/findings/light-projection.md)")
       ->check(CLI::IsMember(light_projection_names()))
       ->capture_default_str();
   cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,

@@ -15,14 +15,14 @@
 //      frustum (gl/near_plane_cap.hpp): a light in the near plane keeps it,
 //      for every occluder (the pyramid test cannot tell them apart there).
 // With `exact_zpass` false there is no step 1 and no model: the capped
-// method for every occluder (README "The switch policy" measures why the
+// method for every occluder (docs/policy.md measures why the
 // shipped policy does so).
 // The crack model is a logistic model on the conditioning features
 // (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
 //   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
 // with x the features below, and a crack predicted when P >= threshold.
 //
-// policy.json (README "The switch policy"): {"format": "nearcap-policy",
+// policy.json (docs/policy.md): {"format": "nearcap-policy",
 // "version": 2, "capped_method": "zpplus-corrected", "fallback_method":
 // "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
 // "light_projection": "paper", "exact_zpass": true (version 2; version 1
