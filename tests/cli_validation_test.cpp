@@ -258,6 +258,13 @@ TEST_F(CliValidation, SweepOfAPathWhoseNameIsNotUtf8) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = test::slurp(path("out/\xf0.csv"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
+  // Its sidecar stores the name with U+FFFD, and the sweep resumes with the
+  // options it was made with (nothing left to run, the rows unchanged).
+  ASSERT_TRUE(nlohmann::json::accept(test::slurp(path("out/\xf0.csv.meta.json"))));
+  const test::CliResult resumed =
+      run("sweep --path '" + path("\xff.json") + "' --methods zfail --out '" + path("out/\xf0.csv") + "' --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(test::slurp(path("out/\xf0.csv")), csv);
 }
 
 TEST_F(CliValidation, AMeshFolderJsonCannotNameIsOneIoError) {

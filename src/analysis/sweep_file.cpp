@@ -126,7 +126,9 @@ std::string sweep_meta_json(const SweepMeta& meta) {
       options[name] = values;
   }
   j["options"] = options;
-  return j.dump(2) + "\n";
+  // A file name that is not UTF-8 is stored with U+FFFD for each bad byte
+  // (resume_mismatch compares the options as stored).
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 SweepMeta parse_sweep_meta(const std::string& text, const std::string& file) {
@@ -165,7 +167,10 @@ SweepMeta parse_sweep_meta(const std::string& text, const std::string& file) {
   return meta;
 }
 
-std::optional<std::string> resume_mismatch(const SweepMeta& here, const SweepMeta& resumed) {
+std::optional<std::string> resume_mismatch(const SweepMeta& here_as_given, const SweepMeta& resumed) {
+  // These options as the sidecar would store them (names that are not UTF-8
+  // with U+FFFD), so that a sweep resumes with the options it was made with.
+  const SweepMeta here = parse_sweep_meta(sweep_meta_json(here_as_given), "these options");
   const std::string there = " in the sweep being resumed";
   if (here.nearcap_version != resumed.nearcap_version)
     return "this is nearcap " + here.nearcap_version + ", the sweep being resumed was made by nearcap " +

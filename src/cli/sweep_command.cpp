@@ -190,18 +190,9 @@ analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c) {
   return g;
 }
 
-// "a directory", "a FIFO", ...: what a path that is not a regular file is.
-std::string file_type(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 [[noreturn]] void refuse_special(const std::string& file, mode_t mode) {
-  throw Error(ErrorKind::Io, file + ": " + file_type(mode) + ", not a regular file (--out names the sweep's CSV file)");
+  throw Error(ErrorKind::Io,
+              file + ": " + io::file_kind(mode) + ", not a regular file (--out names the sweep's CSV file)");
 }
 
 // Takes the writer's lock on the CSV, or says who holds it.

@@ -18,15 +18,6 @@ constexpr std::uint64_t kDefaultMaxInputMb = 1024;
 
 std::string megabytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MB"; }
 
-const char* kind_of(mode_t m) {
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISFIFO(m)) return "a FIFO";
-  if (S_ISSOCK(m)) return "a socket";
-  return "not a regular file";
-}
-
 }  // namespace
 
 std::uint64_t max_input_bytes() {
@@ -84,12 +75,21 @@ std::uint64_t check_input_file(const std::string& path, const std::string& what)
   }
   if (!S_ISREG(st.st_mode))
     throw Error(ErrorKind::Io,
-                path + ": is " + kind_of(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
+                path + ": is " + file_kind(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
   if (static_cast<std::uint64_t>(st.st_size) > limit)
     throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
                                          ", over the input limit of " + megabytes(limit) +
                                          " (raise it with NEARCAP_MAX_INPUT_MB)");
   return static_cast<std::uint64_t>(st.st_size);
+}
+
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "a special file";
 }
 
 }  // namespace nearcap::io

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "nearcap/error.hpp"
+#include "nearcap/io/input_files.hpp"
 
 namespace nearcap::io {
 namespace {
@@ -48,15 +49,6 @@ struct Plan {
   bool committed = false;
 };
 
-const char* kind_of(mode_t m) {
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISSOCK(m)) return "a socket";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISFIFO(m)) return "a FIFO";
-  return "a special file";
-}
-
 // Follows a chain of symlinks that ends at a name that does not exist yet
 // (a dangling link): the name the link would create.
 std::string follow_dangling_link(const std::string& path) {
@@ -76,7 +68,7 @@ std::vector<fs::path> create_parents(const fs::path& dir, const std::string& use
   for (fs::path p = dir; !p.empty(); p = p.parent_path()) {
     struct stat st {};
     if (::stat(p.c_str(), &st) == 0) {
-      if (!S_ISDIR(st.st_mode)) fail(user_path, p.string() + " is " + kind_of(st.st_mode) + ", not a directory");
+      if (!S_ISDIR(st.st_mode)) fail(user_path, p.string() + " is " + file_kind(st.st_mode) + ", not a directory");
       break;
     }
     if (errno != ENOENT) fail(user_path, "cannot inspect " + p.string() + ": " + errno_text(errno));
@@ -111,7 +103,7 @@ Plan plan_for(const std::string& path) {
       p.kind = Destination::WriteThrough;
       p.target = path;  // opened as named: /proc/self/fd/1 resolves only through open()
     } else {
-      fail(path, std::string("is ") + kind_of(st.st_mode) +
+      fail(path, std::string("is ") + file_kind(st.st_mode) +
                      "; nearcap writes only regular files, character devices "
                      "and FIFOs");
     }

@@ -7,6 +7,8 @@
 
 #include <stb/stb_easy_font.h>
 
+#include "nearcap/judge/word_wrap.hpp"
+
 namespace nearcap::legend {
 namespace {
 
@@ -55,34 +57,7 @@ void draw_text(Image& image, int x, int y, const std::string& text, int scale, c
 }
 
 std::vector<std::string> wrap_text(const std::string& text, int width) {
-  std::vector<std::string> lines;
-  std::string line;
-  auto fits = [&](const std::string& s) { return text_width(s) <= width; };
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find(' ', start);
-    if (end == std::string::npos) end = text.size();
-    std::string word = text.substr(start, end - start);
-    start = end + 1;
-    if (word.empty()) continue;
-    if (!line.empty() && fits(line + " " + word)) {
-      line += " " + word;
-      continue;
-    }
-    if (!line.empty()) lines.push_back(line);
-    line.clear();
-    // A word wider than the width is cut where it no longer fits (at least
-    // one character a line, so that the text always ends).
-    while (!fits(word)) {
-      std::size_t n = 1;
-      while (n < word.size() && fits(word.substr(0, n + 1))) ++n;
-      lines.push_back(word.substr(0, n));
-      word.erase(0, n);
-    }
-    line = word;
-  }
-  if (!line.empty() || lines.empty()) lines.push_back(line);
-  return lines;
+  return wrap_words(text, [width](const std::string& s) { return text_width(s) <= width; });
 }
 
 Image with_legend(const Image& image, const std::string& title, const std::vector<Entry>& entries) {

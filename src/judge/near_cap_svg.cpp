@@ -8,6 +8,8 @@
 #include <sstream>
 #include <vector>
 
+#include "nearcap/judge/word_wrap.hpp"
+
 namespace nearcap {
 namespace {
 
@@ -60,33 +62,7 @@ double caption_width(const std::string& text) {
 }
 
 std::vector<std::string> wrap_caption(const std::string& text, double width_px) {
-  auto fits = [&](const std::string& s) { return caption_width(s) <= width_px; };
-  std::vector<std::string> lines;
-  std::string line;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find(' ', start);
-    if (end == std::string::npos) end = text.size();
-    std::string word = text.substr(start, end - start);
-    start = end + 1;
-    if (word.empty()) continue;
-    if (!line.empty() && fits(line + " " + word)) {
-      line += " " + word;
-      continue;
-    }
-    if (!line.empty()) lines.push_back(line);
-    // A word wider than a line is cut where it no longer fits (at least one
-    // character a line, so that the text always ends).
-    while (!fits(word)) {
-      std::size_t n = 1;
-      while (n < word.size() && fits(word.substr(0, n + 1))) ++n;
-      lines.push_back(word.substr(0, n));
-      word.erase(0, n);
-    }
-    line = word;
-  }
-  if (!line.empty() || lines.empty()) lines.push_back(line);
-  return lines;
+  return wrap_words(text, [width_px](const std::string& s) { return caption_width(s) <= width_px; });
 }
 
 std::string near_cap_svg(const NearCap& cap, const Camera& camera, const std::string& title) {

@@ -8,6 +8,8 @@
 // the limit is a Resource error that names the file, its size and the limit.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <string>
 
@@ -28,5 +30,10 @@ std::string read_input_file(const std::string& path, const std::string& what);
 // applies max_input_bytes() to what it reads (the file may grow meanwhile).
 // Errors as read_input_file's.
 std::uint64_t check_input_file(const std::string& path, const std::string& what);
+
+// What a file that is not a regular one is, for messages: "a directory", "a
+// FIFO", "a character device", "a block device", "a socket", or "a special
+// file" (st_mode from stat or lstat).
+const char* file_kind(mode_t mode);
 
 }  // namespace nearcap::io
