@@ -28,9 +28,11 @@ beyond, and say so.
 
 Sections:
   1. speed against error: mean emulated frame time per configuration against
-     wrong pixels and against cracks, per method; the Pareto front;
+     wrong pixels and against cracks, per method; the Pareto front; the
+     noise floor (Z-pass's frame timed twice: the spread of the ratio);
   2. each camera path: time per frame relative to Z-pass (the paper's
-     Figure 9 style), cracks per frame, the exact case counts per frame;
+     Figure 9 style) over the path's noise floor, cracks per frame, the exact
+     case counts per frame;
   3. cracks against each conditioning feature (conditioning.hpp);
   4. crack-distance histograms per method;
   5. the paper's case-D claim: frames where ZP+ (corrected) cracks without a
