@@ -284,6 +284,7 @@ TEST_F(ReportInputs, TheNoiseFloorIsStatedWhereMeasuredAndItsAbsenceSaid) {
   EXPECT_GT(floor["p5"].get<double>(), 0);
   EXPECT_LE(floor["p5"].get<double>(), floor["median"].get<double>());
   EXPECT_LE(floor["median"].get<double>(), floor["p95"].get<double>());
+  EXPECT_GT(floor["mean_ratio"].get<double>(), 0);
   ASSERT_TRUE(floor["paths"]["near_plane_sweep"].is_object()) << floor.dump();
   EXPECT_EQ(floor["paths"]["near_plane_sweep"]["pairs"], 60);
   const std::string page = test::slurp(measured / "index.html");

@@ -297,6 +297,7 @@ class Totals:
         self.kind_cracks = defaultdict(lambda: defaultdict(int))
         self.hashes = array.array("q")  # one per configuration, to find one given twice
         self.noise = Reservoir(NOISE_POINTS, len(keys))  # x: Z-pass's second timing over its first, per row
+        self.noise_sums = [0.0, 0.0]  # those rows' first and second timings, summed
         self.group = None
 
     def add(self, r, name, line):
@@ -333,6 +334,8 @@ class Totals:
         ratio = timing_ratio(r[AGAIN_COLUMN], r["frame_ms"])
         if ratio is not None and m.split(" [")[0] == "zpass":
             self.noise.add(seq, ratio, 0.0)
+            self.noise_sums[0] += r["frame_ms"]
+            self.noise_sums[1] += r[AGAIN_COLUMN]
         b = self.buckets[m]
         for k, bucket in enumerate(BUCKETS):
             b[k] += r["wrong_r_" + bucket]
@@ -517,6 +520,8 @@ class Report:
         self.plots, self.sections = [], []
         self.policy, self.policy_source = None, None
         self.noise = noise_floor(totals.noise.x, totals.noise.seen)  # None: not measured
+        if self.noise is not None:  # for means over many rows, as the Pareto plot's
+            self.noise["mean_ratio"] = totals.noise_sums[1] / totals.noise_sums[0]
         self.path_noise = {}  # path name -> its noise floor (per frame, the lights summed, as its time plot)
         self.writing = None  # the file being written, for an error message
 
@@ -565,9 +570,9 @@ class Report:
         if self.noise is None:
             noise = "no noise floor measured"
         else:
-            noise = "noise floor (Z-pass timed twice): second/first {:.3g} to {:.3g}, 5th-95th pct.".format(
-                *band(self.noise))
-        fig.supxlabel(f"times: the float32 pipeline emulated on the CPU, not a GPU's; {noise}", fontsize=9, y=-0.02)
+            noise = ("noise floor (Z-pass timed twice): second/first {:.3g} to {:.3g} per frame (5th-95th pct.), "
+                     "{:.3g} summed").format(*band(self.noise), self.noise["mean_ratio"])
+        fig.supxlabel(f"times: the float32 pipeline emulated on the CPU, not a GPU's; {noise}", fontsize=9, y=-0.04)
         img = self.save(fig, "pareto.png", points)
         header = ["method", "rows", "wrong", "cracks", "rows with cracks", "mean frame ms", "volume frags depth-pass",
                   "volume frags depth-fail"]
@@ -949,8 +954,11 @@ def noise_text(floor):
     sample = " (percentiles of a uniform sample of them)" if floor["sampled"] else ""
     return (f"Noise floor (Z-pass's frame timed twice in the same sweep, {plural(floor['pairs'], 'pair')}{sample}): "
             f"the second timing over the first is {low:.3g} to {high:.3g} (5th to 95th percentile, median "
-            f"{floor['median']:.3g}). Two methods' times whose ratio lies inside that band are not told apart by "
-            "these timings.")
+            f"{floor['median']:.3g}). Two single frames' times whose ratio lies inside that band are not told apart "
+            "by these timings." + (f" Summed over those frames, the second timings over the first: "
+                                   f"{floor['mean_ratio']:.3g}, the noise in a mean frame time (the plot's x, the table's "
+                                   "mean frame ms)."
+                                   if "mean_ratio" in floor else ""))
 
 
 def pareto_front(points):
