@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-12}
 runs=${NEARCAP_FUZZ_RUNS:-0}
-targets=${NEARCAP_FUZZ_TARGETS:-"scene pipeline off obj ply stl pgm"}
+targets=${NEARCAP_FUZZ_TARGETS:-"scene pipeline off obj ply stl pgm csv policy"}
 bin=${NEARCAP_FUZZ_BIN:-build-fuzz/fuzz}
 if [ -z "${NEARCAP_FUZZ_BIN:-}" ]; then
   cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
@@ -30,6 +30,8 @@ for target in $targets; do
     scene) find data/scenes fuzz/seeds/scene -name '*.json' -size -64k -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
     pipeline) find fuzz/seeds/pipeline -name '*.json' -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
     pgm) find fuzz/seeds/pgm -name '*.pgm' -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
+    csv) find fuzz/seeds/csv -name '*.csv' -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
+    policy) find fuzz/seeds/policy -name '*.json' -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
     *) find data/meshes tests/data fuzz/seeds/$target -name "*.$target" -size -64k -exec cp {} "$corpus/" \; 2>/dev/null || true ;;
   esac
   for kept in fuzz/corpus/$target fuzz/regressions/$target; do
@@ -39,7 +41,7 @@ for target in $targets; do
   limits=(-max_total_time="$seconds")
   [ "$runs" != "0" ] && limits=(-runs="$runs")
   max_len=65536
-  [ "$target" = pipeline ] && max_len=16384
+  case $target in pipeline | csv) max_len=16384 ;; esac
   start=$(date +%s)
   if "$bin/fuzz_$target" "$corpus" "${limits[@]}" -max_len=$max_len -rss_limit_mb=2048 -timeout=60 \
        -artifact_prefix="$work/crashes/$target-" -print_final_stats=1 >"$log" 2>&1; then

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "nearcap/analysis/policy_fit.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/mesh_file.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -72,6 +74,13 @@ TEST(FuzzRegressions, EachCrashInputGivesItsDocumentedError) {
       if (format == "scene") {
         (void)parse_scene(test::slurp(entry.path()), entry.path().string(),
                           (fs::path(NEARCAP_SOURCE_DIR) / "fuzz" / "meshes").string());
+      } else if (format == "policy") {
+        (void)analysis::parse_policy(test::slurp(entry.path()), entry.path().string());
+      } else if (format == "csv") {
+        (void)analysis::policy_samples_from_text(test::slurp(entry.path()), entry.path().string(),
+                                                 gl::ShadowMethod::ZPPlusCorrected, gl::ShadowMethod::ZFail);
+        (void)analysis::cost_samples_from_text(test::slurp(entry.path()), entry.path().string(),
+                                               gl::ShadowMethod::ZFail);
       } else {
         TriangleMesh mesh = parse_mesh(test::slurp(entry.path()), format, entry.path().string());
         validate_occluder(mesh);
@@ -84,6 +93,25 @@ TEST(FuzzRegressions, EachCrashInputGivesItsDocumentedError) {
     }
   }
   EXPECT_EQ(files, expected.size());
+}
+
+TEST(FuzzSeeds, PolicyAndCsvSeedsAreRead) {
+  // fuzz_policy and fuzz_csv start from real files: the shipped policies'
+  // kind and rows of a small sweep, each read as the fuzzer reads it.
+  const fs::path root = fs::path(NEARCAP_SOURCE_DIR) / "fuzz" / "seeds";
+  int policies = 0, csvs = 0;
+  for (const auto& entry : fs::directory_iterator(root / "policy")) {
+    EXPECT_NO_THROW((void)analysis::parse_policy(test::slurp(entry.path()), entry.path().string())) << entry.path();
+    ++policies;
+  }
+  for (const auto& entry : fs::directory_iterator(root / "csv")) {
+    EXPECT_NO_THROW((void)analysis::cost_samples_from_text(test::slurp(entry.path()), entry.path().string(),
+                                                           gl::ShadowMethod::ZFail))
+        << entry.path();
+    ++csvs;
+  }
+  EXPECT_GE(policies, 3);
+  EXPECT_GE(csvs, 2);
 }
 
 TEST(FuzzSeeds, SceneSeedsAreValidScenes) {

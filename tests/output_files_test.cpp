@@ -165,5 +165,59 @@ TEST_F(OutputFiles, SocketsAndBlockDevicesAreRefused) {
   ::close(fd);
 }
 
+// ---- outputs staged one at a time (StagedOutputFiles) ----------------------
+
+TEST_F(OutputFiles, StagedOutputsAppearOnlyAtTheCommit) {
+  put(path("old.json"), "old");
+  io::StagedOutputFiles staged;
+  staged.add({path("frames/a/frame-0000.png"), "0"});
+  staged.add({path("frames/a/frame-0001.png"), "1"});
+  staged.add({path("old.json"), "new"});
+  EXPECT_FALSE(fs::exists(path("frames/a/frame-0000.png")));  // only its temporary so far
+  EXPECT_EQ(test::slurp(path("old.json")), "old");
+  staged.commit();
+  EXPECT_EQ(test::slurp(path("frames/a/frame-0000.png")), "0");
+  EXPECT_EQ(test::slurp(path("frames/a/frame-0001.png")), "1");
+  EXPECT_EQ(test::slurp(path("old.json")), "new");
+  EXPECT_EQ(entries(dir_), (std::set<std::string>{"frames", "old.json"}));
+  EXPECT_EQ(entries(dir_ / "frames" / "a"), (std::set<std::string>{"frame-0000.png", "frame-0001.png"}));
+}
+
+TEST_F(OutputFiles, StagedOutputsWithoutACommitLeaveNothing) {
+  put(path("old.json"), "old");
+  {
+    io::StagedOutputFiles staged;
+    staged.add({path("frames/a/frame-0000.png"), "0"});
+    staged.add({path("old.json"), "new"});
+  }  // the command failed before its commit
+  EXPECT_EQ(test::slurp(path("old.json")), "old");
+  EXPECT_EQ(entries(dir_), (std::set<std::string>{"old.json"}));
+}
+
+TEST_F(OutputFiles, AStagedOutputIsCheckedAgainstTheOnesBeforeIt) {
+  put(path("t.json"), "old");
+  fs::create_hard_link(path("t.json"), path("h.json"));
+  fs::create_directories(dir_ / "d.png");
+  io::StagedOutputFiles staged;
+  staged.add({path("n.json"), "A"});
+  staged.add({path("t.json"), "B"});
+  auto kind_of_add = [&](const std::string& p) {
+    try {
+      staged.add({p, "X"});
+    } catch (const Error& e) {
+      return e.kind();
+    }
+    ADD_FAILURE() << p << ": no error";
+    return ErrorKind::Io;
+  };
+  EXPECT_EQ(kind_of_add(path("./n.json")), ErrorKind::Usage);
+  EXPECT_EQ(kind_of_add(path("h.json")), ErrorKind::Usage);
+  EXPECT_EQ(kind_of_add(path("d.png")), ErrorKind::Io);
+  staged.commit();  // the outputs staged before the refusals are still whole
+  EXPECT_EQ(test::slurp(path("n.json")), "A");
+  EXPECT_EQ(test::slurp(path("t.json")), "B");
+  EXPECT_EQ(entries(dir_), (std::set<std::string>{"n.json", "t.json", "h.json", "d.png"}));
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -792,7 +792,7 @@ class Report:
                          wrong, fmt(ms / n), frags])
         text = ("<p>Each occluder of each (configuration, light) drawn with Z-pass or Z-fail: by the methods "
                 "themselves (all one or the other) and by the rules shipped engines use "
-                "(<code>nearcap sweep --policies</code>; README, \"Engine baselines\"). The exact truth: Z-pass is "
+                "(<code>nearcap sweep --policies</code>; docs/sweeps-and-report.md, \"Engine baselines\"). The exact truth: Z-pass is "
                 "wrong for an occluder when its own near-cap covers a pixel centre. A false negative is Z-pass "
                 "where it is wrong (a crack an engine ships), a false positive Z-fail where Z-pass is right "
                 "(cost paid for nothing).</p>" + self.table(header, body, "baselines.csv"))
@@ -907,7 +907,7 @@ table{{border-collapse:collapse;margin:0.5em 0 1.5em}} td,th{{border:1px solid #
 th{{background:#eee}} td:first-child{{text-align:left}}</style></head><body>
 <h1>nearcap sweep report</h1><p>From {html.escape(', '.join(self.sources))}. Each row of a sweep is one
 (configuration, light, method); "wrong" counts pixels whose shadow status differs from the exact reference,
-"cracks" those among them whose exact status is proven constant over the whole pixel (README, "Crack distance").
+"cracks" those among them whose exact status is proven constant over the whole pixel (docs/methods.md, "Crack distance").
 Times are the float pipeline's emulation on the CPU, not a GPU's.</p><ul>{toc}</ul>{body}</body></html>"""
         self.writing = "index.html"
         (self.out / "index.html").write_text(page, encoding="utf-8")

@@ -2,7 +2,7 @@
 # The shipped switch policy's full tuning run: data/policy.json.
 #   1. a sweep of 20,000 hard cases of the sampler (seed 100, 48 x 36) and of
 #      every bundled camera path (160 x 120) with ZP+ and Z-fail, ZP+ with the
-#      clipped-sides near-cap (no light frustum, README "P_l formulations")
+#      clipped-sides near-cap (no light frustum, docs/findings/light-projection.md)
 #      and, like Z-fail, the infinite far plane;
 #   2. nearcap tune on both, with the four features that need no pass over the
 #      geometry (the decision stays O(1) per occluder beyond the pyramid

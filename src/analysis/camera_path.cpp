@@ -164,7 +164,9 @@ std::string path_frame_json(const CameraPath& path, int frame) {
                  {"far", path.far},
                  {"width", path.width},
                  {"height", path.height}};
-  return j.dump();
+  // The description names the path file: a name that is not UTF-8 gets U+FFFD
+  // (the mesh paths are UTF-8: with_absolute_mesh_paths refuses the others).
+  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
 }  // namespace nearcap::analysis

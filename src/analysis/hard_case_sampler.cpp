@@ -179,7 +179,14 @@ class Builder {
     }
     j["objects"].push_back(
         {{"mesh", mesh_path("box.off")}, {"translate", shifted({0, -9.5, 0})}, {"scale", 16}, {"occluder", false}});
-    return j.dump();
+    // JSON text is UTF-8 and a file name is bytes (U+FFFD would name another file).
+    try {
+      return j.dump();
+    } catch (const Json::type_error&) {
+      throw Error(ErrorKind::Io, spec_.mesh_directory +
+                                     ": the mesh folder's path is not UTF-8, which a scene file cannot name (set "
+                                     "NEARCAP_DATA_DIR to a folder whose path is)");
+    }
   }
 
   const SamplerSpec& spec_;

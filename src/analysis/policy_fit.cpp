@@ -5,20 +5,29 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "ceres_solve.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/input_files.hpp"
 
 namespace nearcap::analysis {
 namespace {
 
 // One line of a CSV written by nearcap sweep: commas, fields quoted when they
-// hold a comma or a quote, quotes doubled.
-std::vector<std::string> csv_fields(const std::string& line) {
+// hold a comma or a quote, quotes doubled.  `closed` is false when a quoted
+// field runs to the end of the line (the sweep writes no line breaks in fields).
+std::vector<std::string> csv_fields(const std::string& line, bool& closed) {
   std::vector<std::string> out(1);
   bool quoted = false;
   for (std::size_t k = 0; k < line.size(); ++k) {
@@ -40,54 +49,163 @@ std::vector<std::string> csv_fields(const std::string& line) {
       out.back() += c;
     }
   }
+  closed = !quoted;
   return out;
 }
 
-double to_number(const std::string& s, const std::string& where) {
-  if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
-  if (s == "inf") return std::numeric_limits<double>::infinity();
-  if (s == "-inf") return -std::numeric_limits<double>::infinity();
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(s, &used);
-    if (used == s.size()) return v;
-  } catch (const std::exception&) {
+// The offset of the first byte of `s` that does not belong to a well-formed
+// UTF-8 sequence (overlong forms, surrogates and code points past U+10FFFF
+// included), or npos.
+std::size_t first_non_utf8(const std::string& s) {
+  std::size_t k = 0;
+  while (k < s.size()) {
+    const auto lead = static_cast<unsigned char>(s[k]);
+    if (lead < 0x80) {
+      ++k;
+      continue;
+    }
+    std::size_t more = 0;
+    std::uint32_t code = 0, least = 0;
+    if ((lead & 0xE0) == 0xC0) {
+      more = 1, code = lead & 0x1Fu, least = 0x80;
+    } else if ((lead & 0xF0) == 0xE0) {
+      more = 2, code = lead & 0x0Fu, least = 0x800;
+    } else if ((lead & 0xF8) == 0xF0) {
+      more = 3, code = lead & 0x07u, least = 0x10000;
+    } else {
+      return k;
+    }
+    for (std::size_t i = 1; i <= more; ++i) {
+      if (k + i >= s.size()) return k;
+      const auto next = static_cast<unsigned char>(s[k + i]);
+      if ((next & 0xC0) != 0x80) return k;
+      code = (code << 6) | (next & 0x3Fu);
+    }
+    if (code < least || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return k;
+    k += more + 1;
   }
-  throw Error(ErrorKind::Parse, where + ": '" + s + "' is not a number");
+  return std::string::npos;
 }
 
-// One row of a sweep CSV: its fields, the header's column indices, and where
-// it is (file and line) for errors.
+// One data row of a sweep CSV: its fields, the header's column indices, and
+// where it is (file and line) for errors naming the column.
 struct Row {
-  std::vector<std::string> fields;
+  const std::vector<std::string>& fields;
   const std::map<std::string, std::size_t>& column;
-  std::string where;
-};
-// Calls visit for every row of the files, after checking each header holds
-// the needed columns.
-template <class Visit>
-void for_each_row(const std::vector<std::string>& files, std::initializer_list<const char*> needed, Visit&& visit) {
-  for (const std::string& file : files) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(ErrorKind::Io, file + ": cannot read");
-    std::string line;
-    if (!std::getline(in, line)) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");
-    const std::vector<std::string> header = csv_fields(line);
-    std::map<std::string, std::size_t> column;
-    for (std::size_t k = 0; k < header.size(); ++k) column[header[k]] = k;
-    for (const char* c : needed)
-      if (!column.count(c))
-        throw Error(ErrorKind::Parse, file + ": line 1: missing column '" + c +
-                                          "' (not a nearcap sweep CSV, or one from an older nearcap)");
-    std::size_t number = 1;
-    while (std::getline(in, line)) {
-      ++number;
-      if (line.empty()) continue;
-      Row row{csv_fields(line), column, file + ": line " + std::to_string(number)};
-      if (row.fields.size() != header.size()) throw Error(ErrorKind::Parse, row.where + ": wrong number of fields");
-      visit(row);
-    }
+  const std::string& source;
+  std::size_t line;
+
+  const std::string& at(const char* name) const { return fields[column.at(name)]; }
+  std::string where() const { return source + ": line " + std::to_string(line); }
+  [[noreturn]] void fail(ErrorKind kind, const char* name, const std::string& what) const {
+    throw Error(kind, where() + ": column '" + name + "': " + what);
   }
+  // A number as the sweep writes it; nan, inf and -inf too (the conditioning
+  // columns hold them where a quantity is undefined).
+  double number(const char* name) const {
+    const std::string& s = at(name);
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front())))
+      fail(ErrorKind::Parse, name, "'" + s + "' is not a number");
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size()) fail(ErrorKind::Parse, name, "'" + s + "' is not a number");
+    if (!std::isfinite(v) || (errno == ERANGE && std::fabs(v) == HUGE_VAL))
+      fail(ErrorKind::Parse, name, "'" + s + "' is not a number the sweep writes (nan, inf, -inf or a finite one)");
+    return v;
+  }
+  // A time or a count: finite and not negative.
+  double measure(const char* name) const {
+    const double v = number(name);
+    if (!std::isfinite(v)) fail(ErrorKind::NonFinite, name, "'" + at(name) + "' is not a finite number");
+    if (v < 0) fail(ErrorKind::Parse, name, "'" + at(name) + "' is negative");
+    return v;
+  }
+  std::size_t count(const char* name) const {
+    const double v = measure(name);
+    if (v != std::floor(v) || v > 9007199254740992.0)
+      fail(ErrorKind::Parse, name, "'" + at(name) + "' is not a whole number");
+    return static_cast<std::size_t>(v);
+  }
+};
+
+// A sweep CSV to read: a file, streamed line by line within the input limit
+// (io/input_files.hpp), or text already in memory (text != nullptr).
+struct CsvInput {
+  std::string source;
+  const std::string* text = nullptr;
+};
+
+// Calls visit for every row of the inputs, after checking each header holds
+// the needed columns.  Every line is checked as it is read: UTF-8, closed
+// quotes, as many fields as the header; errors name the file and the line.
+template <class Visit>
+void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<const char*> needed, Visit&& visit) {
+  for (const CsvInput& input : inputs) {
+    const std::string& file = input.source;
+    std::ifstream stream;
+    std::istringstream memory;
+    std::istream* in = &memory;
+    std::uint64_t limit = std::numeric_limits<std::uint64_t>::max();
+    if (input.text) {
+      memory.str(*input.text);
+    } else {
+      limit = io::max_input_bytes();
+      (void)io::check_input_file(file, "sweep CSV");
+      stream.open(file, std::ios::binary);
+      if (!stream) throw Error(ErrorKind::Io, file + ": cannot open the sweep CSV");
+      in = &stream;
+    }
+    std::string line;
+    std::uint64_t read = 0;
+    std::size_t number = 0;
+    std::vector<std::string> header;
+    std::map<std::string, std::size_t> column;
+    while (std::getline(*in, line)) {
+      ++number;
+      read += line.size() + 1;
+      if (read > limit && read - limit > 1)  // the file grew while being read (its last line may lack a newline)
+        throw Error(ErrorKind::Resource, file + ": the sweep CSV grew past the input limit of " +
+                                             std::to_string(limit >> 20) + " MB while being read");
+      const std::string where = file + ": line " + std::to_string(number);
+      if (const std::size_t bad = first_non_utf8(line); bad != std::string::npos) {
+        char byte[8];
+        std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(line[bad])));
+        throw Error(ErrorKind::Parse, where + ": not UTF-8 (byte " + byte + " at column " + std::to_string(bad + 1) +
+                                          "; a sweep CSV is UTF-8 text)");
+      }
+      if (number > 1 && line.empty()) continue;
+      bool closed = true;
+      std::vector<std::string> fields = csv_fields(line, closed);
+      if (!closed) throw Error(ErrorKind::Parse, where + ": a quoted field is not closed on its line");
+      if (number == 1) {
+        header = std::move(fields);
+        for (std::size_t k = 0; k < header.size(); ++k)
+          if (!column.emplace(header[k], k).second)
+            throw Error(ErrorKind::Parse, where + ": column '" + header[k] + "' appears twice in the header");
+        for (const char* c : needed)
+          if (!column.count(c))
+            throw Error(ErrorKind::Parse,
+                        where + ": missing column '" + c + "' (not a nearcap sweep CSV, or one from an older nearcap)");
+        continue;
+      }
+      if (fields.size() != header.size())
+        throw Error(ErrorKind::Parse, where + ": " + std::to_string(fields.size()) + " fields, the header has " +
+                                          std::to_string(header.size()));
+      visit(Row{fields, column, file, number});
+    }
+    if (!input.text && stream.bad()) throw Error(ErrorKind::Io, file + ": cannot read the sweep CSV");
+    if (number == 0) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");
+  }
+}
+
+std::vector<CsvInput> file_inputs(const std::vector<std::string>& files) {
+  std::vector<CsvInput> out;
+  for (const std::string& f : files) out.push_back({f, nullptr});
+  return out;
 }
 
 // The logistic sample's cost: 2 logloss as a squared residual.
@@ -138,8 +256,10 @@ std::uint32_t fnv1a(const std::string& s) {
 
 bool held_out_configuration(const std::string& configuration_id) { return fnv1a(configuration_id) % 5 == 0; }
 
-std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, gl::ShadowMethod capped,
-                                         gl::ShadowMethod fallback, const std::string& variant) {
+namespace {
+
+std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs, gl::ShadowMethod capped,
+                                            gl::ShadowMethod fallback, const std::string& variant) {
   struct Pair {
     std::optional<std::size_t> capped_cracks, fallback_cracks;
     ConditioningFeatures features;
@@ -147,38 +267,34 @@ std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, 
   };
   std::map<std::pair<std::string, std::size_t>, Pair> pairs;
   const std::string capped_name(gl::to_string(capped)), fallback_name(gl::to_string(fallback));
-  for_each_row(
-      files,
-      {"configuration", "light", "method", "variant", "cracks", "fallback", "refused", "light_frustum_defined",
-       "light_near_distance", "l_far_over_width", "delta_over_width", "skew", "cond_light_transform",
-       "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
-      [&](const Row& row) {
-        const auto& f = row.fields;
-        auto col = [&](const char* name) { return row.column.at(name); };
-        const std::string& where = row.where;
-        const std::string& method = f[col("method")];
-        if ((method != capped_name && method != fallback_name) || f[col("variant")] != variant ||
-            f[col("refused")] == "1")
-          return;
-        Pair& p = pairs[{f[col("configuration")], static_cast<std::size_t>(to_number(f[col("light")], where))}];
-        const auto cracks = static_cast<std::size_t>(to_number(f[col("cracks")], where));
-        if (method == capped_name) {
-          p.capped_cracks = cracks;
-          p.capped_fell_back = !f[col("fallback")].empty();
-          ConditioningFeatures& c = p.features;
-          c.light_frustum_defined = f[col("light_frustum_defined")] == "1";
-          c.light_near_distance = to_number(f[col("light_near_distance")], where);
-          c.l_far_over_width = to_number(f[col("l_far_over_width")], where);
-          c.delta_over_width = to_number(f[col("delta_over_width")], where);
-          c.skew = to_number(f[col("skew")], where);
-          c.cond_light_transform = to_number(f[col("cond_light_transform")], where);
-          c.cap_window_error_px = to_number(f[col("cap_window_error_px")], where);
-          c.coordinate_over_size = to_number(f[col("coordinate_over_size")], where);
-          c.l_near_over_l_far = to_number(f[col("l_near_over_l_far")], where);
-        } else {
-          p.fallback_cracks = cracks;
-        }
-      });
+  for_each_row(inputs,
+               {"configuration", "light", "method", "variant", "cracks", "fallback", "refused", "light_frustum_defined",
+                "light_near_distance", "l_far_over_width", "delta_over_width", "skew", "cond_light_transform",
+                "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
+               [&](const Row& row) {
+                 const std::string& method = row.at("method");
+                 if ((method != capped_name && method != fallback_name) || row.at("variant") != variant ||
+                     row.at("refused") == "1")
+                   return;
+                 Pair& p = pairs[{row.at("configuration"), row.count("light")}];
+                 const std::size_t cracks = row.count("cracks");
+                 if (method == capped_name) {
+                   p.capped_cracks = cracks;
+                   p.capped_fell_back = !row.at("fallback").empty();
+                   ConditioningFeatures& c = p.features;
+                   c.light_frustum_defined = row.at("light_frustum_defined") == "1";
+                   c.light_near_distance = row.number("light_near_distance");
+                   c.l_far_over_width = row.number("l_far_over_width");
+                   c.delta_over_width = row.number("delta_over_width");
+                   c.skew = row.number("skew");
+                   c.cond_light_transform = row.number("cond_light_transform");
+                   c.cap_window_error_px = row.number("cap_window_error_px");
+                   c.coordinate_over_size = row.number("coordinate_over_size");
+                   c.l_near_over_l_far = row.number("l_near_over_l_far");
+                 } else {
+                   p.fallback_cracks = cracks;
+                 }
+               });
   std::vector<PolicySample> out;
   for (const auto& [key, p] : pairs) {
     if (!p.capped_cracks || !p.fallback_cracks || p.capped_fell_back) continue;
@@ -198,27 +314,49 @@ std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, 
   return out;
 }
 
-std::vector<CostSample> cost_samples(const std::vector<std::string>& files, gl::ShadowMethod method,
-                                     const std::string& variant) {
+std::vector<CostSample> cost_samples_of(const std::vector<CsvInput>& inputs, gl::ShadowMethod method,
+                                        const std::string& variant) {
   std::vector<CostSample> out;
   const std::string name(gl::to_string(method));
-  for_each_row(files,
+  for_each_row(inputs,
                {"configuration", "method", "variant", "refused", "depth_triangles", "near_cap_triangles",
                 "volume_triangles", "depth_fragments", "near_cap_fragments", "volume_fragments", "frame_ms"},
                [&](const Row& row) {
-                 auto at = [&](const char* c) -> const std::string& { return row.fields[row.column.at(c)]; };
-                 if (at("method") != name || at("variant") != variant || at("refused") == "1") return;
+                 if (row.at("method") != name || row.at("variant") != variant || row.at("refused") == "1") return;
                  CostSample s;
-                 s.configuration = at("configuration");
+                 s.configuration = row.at("configuration");
                  for (const char* c : {"depth_triangles", "near_cap_triangles", "volume_triangles"})
-                   s.triangles += to_number(at(c), row.where);
+                   s.triangles += row.measure(c);
                  for (const char* c : {"depth_fragments", "near_cap_fragments", "volume_fragments"})
-                   s.fragments += to_number(at(c), row.where);
-                 s.ms = to_number(at("frame_ms"), row.where);
+                   s.fragments += row.measure(c);
+                 s.ms = row.measure("frame_ms");
                  s.held_out = held_out_configuration(s.configuration);
                  out.push_back(s);
                });
   return out;
+}
+
+}  // namespace
+
+std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, gl::ShadowMethod capped,
+                                         gl::ShadowMethod fallback, const std::string& variant) {
+  return policy_samples_of(file_inputs(files), capped, fallback, variant);
+}
+
+std::vector<PolicySample> policy_samples_from_text(const std::string& csv, const std::string& source,
+                                                   gl::ShadowMethod capped, gl::ShadowMethod fallback,
+                                                   const std::string& variant) {
+  return policy_samples_of({{source, &csv}}, capped, fallback, variant);
+}
+
+std::vector<CostSample> cost_samples(const std::vector<std::string>& files, gl::ShadowMethod method,
+                                     const std::string& variant) {
+  return cost_samples_of(file_inputs(files), method, variant);
+}
+
+std::vector<CostSample> cost_samples_from_text(const std::string& csv, const std::string& source,
+                                               gl::ShadowMethod method, const std::string& variant) {
+  return cost_samples_of({{source, &csv}}, method, variant);
 }
 
 namespace {
@@ -330,6 +468,8 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
   for (const std::string& name : names) {
     const auto it = std::find(kPolicyFeatures.begin(), kPolicyFeatures.end(), name);
     if (it == kPolicyFeatures.end()) throw Error(ErrorKind::Usage, "'" + name + "' is not a policy feature");
+    if (std::count(names.begin(), names.end(), name) > 1)
+      throw Error(ErrorKind::Usage, "'" + name + "' is named twice (each feature once)");
     columns.push_back(static_cast<std::size_t>(it - kPolicyFeatures.begin()));
   }
   std::vector<PolicySample> samples = all_samples;
@@ -410,7 +550,8 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
         {"held_out_median_relative_error", median_relative_error(cm, rows, true)}};
   }
   if (!costs.empty()) prov["cost"] = cost;
-  p.provenance_json = prov.dump();
+  // The command names the CSV files: a name that is not UTF-8 gets U+FFFD.
+  p.provenance_json = prov.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return p;
 }
 

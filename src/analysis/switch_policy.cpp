@@ -7,14 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
+#include <memory>
 #include <set>
-#include <sstream>
 
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/gl/light_frustum.hpp"
+#include "nearcap/io/input_files.hpp"
 
 namespace nearcap::analysis {
 namespace {
@@ -24,8 +24,86 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double log10_or_nan(double v) { return std::isfinite(v) ? std::log10(std::max(std::fabs(v), 1e-15)) : kNaN; }
 
+// A well-formed JSON file that is not a policy: a Schema error naming the field.
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
-  throw Error(ErrorKind::Parse, source + ": " + field + ": " + what);
+  throw Error(ErrorKind::Schema, source + ": " + field + ": " + what);
+}
+
+// The parser callback: nlohmann::json keeps the last of two equal keys, so a
+// policy with one would be read silently with half of it ignored; here it is
+// a Schema error naming the key's path.  It also tracks the path of the value
+// being parsed, so that a parse error (1e999 overflows a double) can name the
+// field it is in.
+class KeyTracker {
+ public:
+  explicit KeyTracker(std::string source) : source_(std::move(source)), state_(std::make_shared<State>()) {}
+
+  bool operator()(int, Json::parse_event_t event, Json& parsed) const {
+    State& st = *state_;
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start:
+        next_element(st);
+        st.open.push_back({event == Json::parse_event_t::array_start, {}, "", -1});
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        st.open.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        Open& o = st.open.back();
+        o.key = parsed.get<std::string>();
+        if (!o.keys.insert(o.key).second) fail(source_, path(), "duplicate key (each key appears once in an object)");
+        break;
+      }
+      case Json::parse_event_t::value:
+        next_element(st);
+        break;
+    }
+    return true;
+  }
+
+  // Where the parser is: "crack_model.bias", "crack_model.mean[2]", or
+  // "(top level)".
+  std::string path() const {
+    std::string p;
+    const std::vector<Open>& open = state_->open;
+    for (std::size_t k = 0; k < open.size(); ++k) {
+      const Open& o = open[k];
+      // The innermost array's next element is the one being parsed; an outer
+      // array's current one holds the containers opened inside it.
+      if (o.array)
+        p += "[" + std::to_string(k + 1 == open.size() ? o.index + 1 : o.index) + "]";
+      else if (!o.key.empty())
+        p += (p.empty() ? "" : ".") + o.key;
+    }
+    return p.empty() ? "(top level)" : p;
+  }
+
+ private:
+  struct Open {
+    bool array;
+    std::set<std::string> keys;
+    std::string key;  // objects: the current member's
+    long index;       // arrays: the current element's
+  };
+  struct State {
+    std::vector<Open> open;
+  };
+  // A value, object or array starts: in an array it is the next element.
+  static void next_element(State& st) {
+    if (!st.open.empty() && st.open.back().array) ++st.open.back().index;
+  }
+  std::string source_;
+  std::shared_ptr<State> state_;  // shared: the parser copies the callback
+};
+
+// nlohmann's message without its "[json.exception.parse_error.101] " tag.
+std::string json_message(const Json::exception& e) {
+  std::string m = e.what();
+  if (m.rfind("[json.exception.", 0) == 0)
+    if (const std::size_t end = m.find("] "); end != std::string::npos) m.erase(0, end + 2);
+  return m;
 }
 
 const Json& field(const Json& object, const std::string& key, const std::string& path, const std::string& source) {
@@ -118,10 +196,13 @@ double CrackModel::probability(const ConditioningFeatures& f) const {
 
 SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   Json j;
+  const KeyTracker tracker(source);
   try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw Error(ErrorKind::Parse, source + ": not JSON: " + e.what());
+    j = Json::parse(text, tracker);
+  } catch (const Json::exception& e) {
+    // parse_error (syntax, ill-formed UTF-8: its message has the line and
+    // column) and out_of_range (a number beyond double, 1e999).
+    throw Error(ErrorKind::Parse, source + ": " + tracker.path() + ": not JSON: " + json_message(e));
   }
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
@@ -204,6 +285,8 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     bool known = false;
     for (std::string_view f : kPolicyFeatures) known = known || f == name;
     if (!known) fail(source, path, "'" + name + "' is not a policy feature");
+    if (std::find(p.crack_model.features.begin(), p.crack_model.features.end(), name) != p.crack_model.features.end())
+      fail(source, path, "'" + name + "' appears twice (each feature once)");
     p.crack_model.features.push_back(name);
   }
   p.crack_model.mean = numbers(field(m, "mean", "crack_model.", source), "crack_model.mean", source);
@@ -223,9 +306,10 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
       finite_number(field(m, "threshold", "crack_model.", source), "crack_model.threshold", source);
   if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1))
     fail(source, "crack_model.threshold", "must be in (0, 1]");
-  if (const auto it = j.find("cost_models"); it != j.end()) {
-    if (!it->is_object()) fail(source, "cost_models", "must be an object of methods");
-    for (const auto& [name, model] : it->items()) {
+  {
+    const Json& costs = field(j, "cost_models", "", source);
+    if (!costs.is_object()) fail(source, "cost_models", "must be an object of methods");
+    for (const auto& [name, model] : costs.items()) {
       const std::string path = "cost_models." + name;
       const auto method = gl::shadow_method_from_string(name);
       if (!method) fail(source, path, "'" + name + "' is not a method");
@@ -240,19 +324,14 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
       p.cost_models.emplace_back(*method, cm);
     }
   }
-  if (const auto it = j.find("provenance"); it != j.end()) {
-    if (!it->is_object()) fail(source, "provenance", "must be an object");
-    p.provenance_json = it->dump();
-  }
+  const Json& provenance = field(j, "provenance", "", source);
+  if (!provenance.is_object()) fail(source, "provenance", "must be an object");
+  p.provenance_json = provenance.dump();
   return p;
 }
 
 SwitchPolicy load_policy(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorKind::Io, path + ": cannot read the policy");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_policy(text.str(), path);
+  return parse_policy(io::read_input_file(path, "policy file"), path);
 }
 
 std::string policy_to_json(const SwitchPolicy& p) {
@@ -276,16 +355,15 @@ std::string policy_to_json(const SwitchPolicy& p) {
   m["bias"] = p.crack_model.bias;
   m["threshold"] = p.crack_model.threshold;
   j["crack_model"] = m;
-  if (!p.cost_models.empty()) {
-    Json costs = Json::object();
-    for (const auto& [method, cm] : p.cost_models)
-      costs[std::string(gl::to_string(method))] = {{"intercept_ms", cm.intercept_ms},
-                                                   {"ms_per_mtriangle", cm.ms_per_mtriangle},
-                                                   {"ms_per_mfragment", cm.ms_per_mfragment}};
-    j["cost_models"] = costs;
-  }
+  Json costs = Json::object();
+  for (const auto& [method, cm] : p.cost_models)
+    costs[std::string(gl::to_string(method))] = {{"intercept_ms", cm.intercept_ms},
+                                                 {"ms_per_mtriangle", cm.ms_per_mtriangle},
+                                                 {"ms_per_mfragment", cm.ms_per_mfragment}};
+  j["cost_models"] = costs;
   j["provenance"] = Json::parse(p.provenance_json);
-  return j.dump(1) + "\n";
+  // The provenance names files: a name that is not UTF-8 gets U+FFFD.
+  return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,

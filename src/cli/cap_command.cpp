@@ -71,11 +71,11 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
                               ? std::string()
                               : near_cap_svg(cap, scene.camera, scene.source + ", light " + std::to_string(light));
   std::vector<io::OutputFile> files;
-  if (!out.empty()) files.push_back({out, j.dump(1) + "\n"});
+  if (!out.empty()) files.push_back({out, json_text(j, 1) + "\n"});
   if (!svg_path.empty()) files.push_back({svg_path, svg});
   io::write_output_files(files);
   if (out.empty()) {
-    std::cout << j.dump() << "\n";
+    std::cout << json_text(j) << "\n";
   } else {
     std::map<std::size_t, double> area;
     for (const NearCapFace& f : cap.faces()) area[f.count] += f.area_estimate;

@@ -68,7 +68,7 @@ void run(const std::string& scene_path, bool as_json) {
       filter[std::string(to_string(static_cast<Predicate>(p)))] = {{"filtered", result.stats.filtered[p]},
                                                                    {"exact", result.stats.exact[p]}};
     root["filter"] = filter;
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
     return;
   }
   std::cout << "scene " << scene.source << ": " << scene.lights.size() << " light(s), " << scene.objects.size()

@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -37,8 +39,34 @@ struct ExitCode {
   int code = 1;
 };
 
+// The text of `j` (indent < 0: one line).  File names are bytes, and a
+// string that is not UTF-8 has each bad byte written as U+FFFD rather than
+// refused: the JSON names the file as well as JSON can, and the file itself
+// keeps its real name.
+std::string json_text(const nlohmann::json& j, int indent = -1);
+
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);
+
+// A validator for an integer option: the value must be written in decimal
+// digits and lie in [lo, hi] ("-5", "1e30", "0x10", "2.5" and a value past
+// hi are usage errors naming the option and the range).  It runs on the text,
+// before CLI11 converts it, so a negative value never wraps around to a huge
+// unsigned one.  Give it with ->transform(), which lets it drop leading zeros
+// (CLI11 reads "010" as octal); ->check() would keep them.
+CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi);
+// The largest viewport width or height in pixels (a scene file's limit too).
+constexpr std::uint64_t kMaxViewportPixels = 16384;
+// The most hard-case configurations one sweep or fit draws: each costs a few
+// bytes of bookkeeping per rank up front, and a sweep this long already takes
+// a cluster.
+constexpr std::uint64_t kMaxSweepSamples = 100000000;
+// The most configurations fit-l-near draws: it keeps every sampled scene in
+// memory while Ceres fits.
+constexpr std::uint64_t kMaxFitSamples = 100000;
+// A validator for a floating-point option: a finite number ("inf", "nan" and
+// "1e999" are usage errors).
+CLI::Validator finite_number();
 
 // Adds the --light option (required unless `required` is false): a
 // non-negative integer written in digits ("-1", "1e0", "" and "abc" are usage

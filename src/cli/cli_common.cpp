@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -30,11 +32,49 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
+std::string json_text(const nlohmann::json& j, int indent) {
+  return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 std::string subcommand_names(const CLI::App& app) {
   std::string names;
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     names += (names.empty() ? "" : ", ") + sub->get_name();
   return names;
+}
+
+CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& value) -> std::string {
+        const std::string quoted = "'" + value + "'";
+        if (!value.empty() && value[0] == '-' && value.size() > 1 &&
+            std::all_of(value.begin() + 1, value.end(), [](char c) { return c >= '0' && c <= '9'; }))
+          return quoted + " is negative (expected a whole number in " + range + ")";
+        if (value.empty() || !std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; }))
+          return quoted + " is not a whole number in decimal digits (expected one in " + range + ")";
+        const std::size_t first = std::min(value.find_first_not_of('0'), value.size() - 1);
+        const std::string digits = value.substr(first);
+        // 2^64 - 1 has 20 digits: compare as text so that nothing overflows.
+        const std::string max = std::to_string(hi);
+        if (digits.size() > max.size() || (digits.size() == max.size() && digits > max) || std::stoull(digits) < lo)
+          return quoted + " is out of range (expected a whole number in " + range + ")";
+        value = digits;
+        return std::string();
+      },
+      "INTEGER in " + range);
+}
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const double d = std::strtod(value.c_str(), &end);
+        const bool ok = !value.empty() && end == value.c_str() + value.size() && errno != ERANGE && std::isfinite(d);
+        return ok ? std::string() : "'" + value + "' is not a finite number";
+      },
+      "FINITE");
 }
 
 CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) {
@@ -53,6 +93,7 @@ CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) 
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
   cmd.add_option("--max-memory", max_memory_gb,
                  "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
+      ->check(finite_number())
       ->check(CLI::PositiveNumber);
 }
 
@@ -77,6 +118,7 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
 
 void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
   cmd.add_option("--subpixel-bits", o.subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
+      ->transform(integer_in(0, 12))
       ->capture_default_str();
   cmd.add_option("--depth", o.depth, "depth buffer: fixed24 or float32")
       ->check(CLI::IsMember({"fixed24", "float32"}))
@@ -87,6 +129,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->capture_default_str();
   cmd.add_option("--guard-band", o.guard_band,
                  "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
+      ->check(finite_number())
       ->capture_default_str();
   cmd.add_option("--viewport", o.viewport,
                  "perspective divide and viewport arithmetic: divide ((x/w + 1) W/2) or llvmpipe (1/w, then "
@@ -116,6 +159,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
       ->check(CLI::IsMember({"paper-ratio", "exact-max", "near-clamp"}))
       ->capture_default_str();
   cmd.add_option("--l-near-scale", o.l_near_scale, "l_near multiplied by this safety margin in (0, 1]")
+      ->check(finite_number())
       ->capture_default_str();
   cmd.add_option("--zfail-far", o.zfail_far,
                  "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP), clamp-far (far plane only) or far-cap (ZF+: "
@@ -370,14 +414,20 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
 }
 
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
-  cmd.add_option("--seed", o.seed, "the sampler's seed")->capture_default_str();
+  cmd.add_option("--seed", o.seed, "the sampler's seed")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
                  "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh) or all")
       ->capture_default_str();
   if (sizes) {
-    cmd.add_option("--width", o.width, "viewport width of every configuration")->capture_default_str();
-    cmd.add_option("--height", o.height, "viewport height of every configuration")->capture_default_str();
+    cmd.add_option("--width", o.width, "viewport width of every configuration")
+        ->transform(integer_in(1, kMaxViewportPixels))
+        ->capture_default_str();
+    cmd.add_option("--height", o.height, "viewport height of every configuration")
+        ->transform(integer_in(1, kMaxViewportPixels))
+        ->capture_default_str();
   }
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
 }

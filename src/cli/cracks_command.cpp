@@ -35,10 +35,10 @@ struct CracksOptions {
   double max_memory_gb = 0;
 };
 
-// Peak memory per pixel, measured (README "Limits"): the exact reference, one
+// Peak memory per pixel, measured (docs/scene-format.md, "Limits on inputs"): the exact reference, one
 // emulated frame at a time (depth, stencil, object ids, near-cap copy), and
 // one encoded crack image per method.
-// Measured at 2048x2048 (README "Outputs and limits"): 27 bytes per pixel
+// Measured at 2048x2048 (docs/outputs.md): 27 bytes per pixel
 // beyond the fixed 64 MB with one method, 36 with two (the second projection's
 // depth pre-pass), 37 with the five, 46 with `all` (the policy's own batch;
 // raytrace's frame is freed by then).
@@ -260,7 +260,7 @@ void run(const CracksOptions& o) {
     full["light"] = o.light;
     full["reference_ms"] = ref.setup_ms + ref.trace_ms;
     full["crack_distance_ms"] = distances.ms();
-    files.push_back({(dir / "cracks.json").string(), full.dump(1) + "\n"});
+    files.push_back({(dir / "cracks.json").string(), json_text(full, 1) + "\n"});
     io::write_output_files(files);
   }
   if (o.table) {
@@ -289,7 +289,7 @@ void run(const CracksOptions& o) {
       print_case_legend(std::cout);
     }
   } else
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ void run(const FitOptions& o, const std::string& command) {
             << "cond(P_l M_l): train " << fit.train_objective << " (" << fit.train_objective_at_one << " at scale 1, "
             << fit.train << " configurations), held out " << fit.held_out_objective << " ("
             << fit.held_out_objective_at_one << " at scale 1, " << fit.held_out << ")\n";
-  if (!o.out.empty()) io::write_output_files({{o.out, j.dump(1) + "\n"}});
+  if (!o.out.empty()) io::write_output_files({{o.out, json_text(j, 1) + "\n"}});
 }
 
 }  // namespace
@@ -59,9 +59,11 @@ void run(const FitOptions& o, const std::string& command) {
 void register_fit_l_near(CLI::App& app) {
   auto* cmd = app.add_subcommand("fit-l-near",
                                  "fit the l_near safety margin (--l-near-scale) with Ceres, minimizing the mean "
-                                 "log10 cond(P_l M_l) over hard cases of the sampler (README \"Choosing l_near\")");
+                                 "log10 cond(P_l M_l) over hard cases of the sampler (docs/findings/l-near.md)");
   auto o = std::make_shared<FitOptions>();
-  cmd->add_option("--samples", o->samples, "this many configurations of the sampler")->capture_default_str();
+  cmd->add_option("--samples", o->samples, "this many configurations of the sampler")
+      ->transform(integer_in(1, kMaxFitSamples))
+      ->capture_default_str();
   add_sampler_options(*cmd, o->sampler, true);
   add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--out", o->out, "write the fit as JSON here too");

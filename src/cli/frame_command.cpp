@@ -33,10 +33,14 @@ void register_frame(CLI::App& app) {
   auto frame = std::make_shared<int>(0);
   auto out = std::make_shared<std::string>();
   cmd->add_option("path", *path, "camera path file (JSON)")->required();
-  cmd->add_option("--frame", *frame, "frame index (0 = the first)")->required();
+  cmd->add_option("--frame", *frame, "frame index (0 = the first)")
+      ->transform(integer_in(0, std::numeric_limits<int>::max()))
+      ->required();
   auto width = std::make_shared<int>(0), height = std::make_shared<int>(0);
-  cmd->add_option("--width", *width, "viewport width (default: the path's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--height", *height, "viewport height (default: the path's)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--width", *width, "viewport width (default: the path's)")
+      ->transform(integer_in(1, kMaxViewportPixels));
+  cmd->add_option("--height", *height, "viewport height (default: the path's)")
+      ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
   cmd->callback([path, frame, width, height, out] { run(*path, *frame, *width, *height, *out); });
 }

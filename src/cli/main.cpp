@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
     if (report())
       std::fprintf(stderr,
                    "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or "
-                   "give it more memory; see the README's limits)\n");
+                   "give it more memory; see docs/scene-format.md, \"Limits on inputs\")\n");
     return fail(2);
   } catch (const std::exception& e) {
     if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());

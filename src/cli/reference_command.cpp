@@ -43,7 +43,7 @@ nlohmann::json summary_json(const Scene& scene, const PixelReference& ref) {
           {"filter", filter}};
 }
 
-// Peak memory per pixel, measured (README "Limits"): the reference's cap and
+// Peak memory per pixel, measured (docs/scene-format.md, "Limits on inputs"): the reference's cap and
 // stencil counts, the per-pixel scratch of the trace, the encoded images.
 constexpr double kReferenceBytesPerPixel = 30;  // 28.5 measured at 2048x2048
 
@@ -60,8 +60,8 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   io::write_output_files({{(dir / "cap.pgm").string(), cap},
                           {(dir / "stencil.pgm").string(), stencil},
                           {(dir / "shadow.png").string(), shadow},
-                          {(dir / "reference.json").string(), summary.dump(1) + "\n"}});
-  std::cout << summary.dump() << "\n";
+                          {(dir / "reference.json").string(), json_text(summary, 1) + "\n"}});
+  std::cout << json_text(summary) << "\n";
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
+#include "nearcap/io/output_files.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
@@ -143,34 +144,81 @@ LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, con
   return out;
 }
 
+// The scenes the lit frames are drawn from: the scene file, or each frame of
+// the camera path, parsed when it is asked for, its meshes read once.  A
+// path's frames are never all in memory: a frame's scene holds only its own
+// camera and the shared meshes, and lives while its frame is drawn.
+class LitScenes {
+ public:
+  explicit LitScenes(const RenderOptions& o) {
+    if (o.path.empty())
+      scene_ = load_scene(o.scene);
+    else
+      path_ = analysis::load_camera_path(o.path);
+  }
+  std::size_t count() const { return path_ ? static_cast<std::size_t>(path_->frames) : 1; }
+  Scene at(std::size_t f) {
+    if (!path_) return *scene_;
+    const int frame = static_cast<int>(f);
+    return parse_scene(analysis::path_frame_json(*path_, frame), path_->source + " frame " + std::to_string(f), ".",
+                       &meshes_);
+  }
+
+ private:
+  std::optional<analysis::CameraPath> path_;
+  std::optional<Scene> scene_;
+  MeshCache meshes_;
+};
+
+// What render.json and the summary keep of one method's frame: a few
+// numbers, the files named again from the frame's index.
+struct LitFrameRecord {
+  std::size_t frame = 0;
+  double ms = 0;
+  render::LitFramePasses passes;  // with --bench
+};
+
+// The lit frame's file and each light's stencil file of method `name`'s frame `f`.
+std::string lit_frame_file(const RenderOptions& o, const std::string& name, std::size_t f) {
+  const std::filesystem::path dir(o.out);
+  char frame_name[32];
+  std::snprintf(frame_name, sizeof frame_name, "frame-%04zu.png", f);
+  return o.path.empty() ? (dir / ("frame-" + name + ".png")).string() : (dir / name / frame_name).string();
+}
+std::string lit_stencil_file(const RenderOptions& o, const std::string& name, std::size_t f, std::size_t light_index) {
+  const std::filesystem::path dir(o.out);
+  const std::string light = "light-" + std::to_string(light_index);
+  char frame_name[32];
+  std::snprintf(frame_name, sizeof frame_name, "stencil-%04zu-", f);
+  return o.path.empty() ? (dir / ("stencil-" + name + "-" + light + ".pgm")).string()
+                        : (dir / name / (frame_name + light + ".pgm")).string();
+}
+
 // Without --compare: the lit frame of each method as DIR/frame-METHOD.png,
 // or with --path every frame of the camera path as DIR/METHOD/frame-NNNN.png,
-// with each frame's GL time in DIR/render.json.
+// with each frame's GL time in DIR/render.json.  Along a path each frame's
+// images go to disk as soon as it is drawn (staged, all or nothing) and only
+// its times are kept, so memory stays flat however long the path.
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
   const RenderMethods methods = render_methods(o.method, o.policy, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
-  std::vector<Scene> scenes;
-  if (!o.path.empty()) {
-    const analysis::CameraPath path = analysis::load_camera_path(o.path);
-    for (int f = 0; f < path.frames; ++f)
-      scenes.push_back(
-          parse_scene(analysis::path_frame_json(path, f), path.source + " frame " + std::to_string(f), "."));
-  } else {
-    scenes.push_back(load_scene(o.scene));
-  }
-  for (const Scene& scene : scenes) {
+  LitScenes scenes(o);
+  // Every frame checked before the first is drawn (each parsed, then dropped).
+  for (std::size_t f = 0; f < scenes.count(); ++f) {
+    const Scene scene = scenes.at(f);
     if (o.light_given) check_light_index(scene, o.light);
     check_memory_estimate(scene, "render", 40, o.max_memory_gb);
   }
   const render::EglContext context;
   const std::filesystem::path dir(o.out);
-  std::vector<io::OutputFile> files;
-  std::vector<nlohmann::json> per_method(methods.count(), nlohmann::json::array());
+  io::StagedOutputFiles files;
+  std::vector<std::vector<LitFrameRecord>> per_method(methods.count());
   std::vector<double> total_ms(methods.count(), 0);
   std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
+  std::vector<std::size_t> light_index;  // the scene lights drawn (the same in every frame)
   // --bench: one row per frame and method, and the passes' totals.
   const std::string stencil_sides = o.one_sided_stencil ? "one-sided" : "two-sided";
   const std::string layout = o.side_strips ? "side-strips" : "triangles";
@@ -182,35 +230,29 @@ void run_lit(const RenderOptions& o) {
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
   render::LitFrameRenderer renderer;  // its programs kept from frame to frame
-  if (o.bench) (void)lit_frames(renderer, scenes.front(), o, methods, settings);
-  for (std::size_t f = 0; f < scenes.size(); ++f) {
-    const LitFrames frames = lit_frames(renderer, scenes[f], o, methods, settings);
+  if (o.bench) (void)lit_frames(renderer, scenes.at(0), o, methods, settings);
+  // The progress line ended when a frame fails, so that the error has a line of its own.
+  struct ProgressLine {
+    bool open = false;
+    ~ProgressLine() {
+      if (open) std::fprintf(stderr, "\n");
+    }
+  } progress;
+  for (std::size_t f = 0; f < scenes.count(); ++f) {
+    const LitFrames frames = lit_frames(renderer, scenes.at(f), o, methods, settings);
     lights = frames.lights;
+    light_index = frames.light_index;
     for (std::size_t m = 0; m < methods.count(); ++m) {
       const std::string name = methods.name(m);
       if (!frames.refused[m].empty()) {
         refused[m] = frames.refused[m];
         continue;
       }
-      char frame_name[32];
-      std::snprintf(frame_name, sizeof frame_name, "frame-%04zu.png", f);
-      const std::string file =
-          o.path.empty() ? (dir / ("frame-" + name + ".png")).string() : (dir / name / frame_name).string();
-      files.push_back({file, frames.png[m]});
-      nlohmann::json entry{{"frame", f}, {"file", file}, {"ms", frames.ms[m]}};
-      for (std::size_t k = 0; k < frames.stencil_pgm[m].size(); ++k) {
-        const std::string light = "light-" + std::to_string(frames.light_index[k]);
-        std::snprintf(frame_name, sizeof frame_name, "stencil-%04zu-", f);
-        const std::string stencil_file = o.path.empty() ? (dir / ("stencil-" + name + "-" + light + ".pgm")).string()
-                                                        : (dir / name / (frame_name + light + ".pgm")).string();
-        files.push_back({stencil_file, frames.stencil_pgm[m][k]});
-        entry["stencils"].push_back(stencil_file);
-      }
+      files.add({lit_frame_file(o, name, f), frames.png[m]});
+      for (std::size_t k = 0; k < frames.stencil_pgm[m].size(); ++k)
+        files.add({lit_stencil_file(o, name, f, frames.light_index[k]), frames.stencil_pgm[m][k]});
       if (o.bench) {
         const render::LitFramePasses& p = frames.passes[m];
-        entry["passes"] = {
-            {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
-            {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
         char row[256];
         std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
                       stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), frames.ms[m],
@@ -223,22 +265,38 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_stencil_ms += p.gpu_stencil_ms;
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
       }
-      per_method[m].push_back(entry);
+      per_method[m].push_back({f, frames.ms[m], frames.passes[m]});
       total_ms[m] += frames.ms[m];
     }
-    if (scenes.size() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.size());
+    if (scenes.count() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.count());
+    progress.open = scenes.count() > 1;
   }
-  if (scenes.size() > 1) std::fprintf(stderr, "\n");
+  if (progress.open) std::fprintf(stderr, "\n");
+  progress.open = false;
   nlohmann::json records = nlohmann::json::array();
   for (std::size_t m = 0; m < methods.count(); ++m) {
-    nlohmann::json r{{"method", methods.name(m)}, {"lights", lights}};
+    const std::string name = methods.name(m);
+    nlohmann::json r{{"method", name}, {"lights", lights}};
     if (!refused[m].empty()) r["refused"] = refused[m];
     if (!per_method[m].empty()) {
-      r["frames"] = per_method[m];
+      nlohmann::json entries = nlohmann::json::array();
+      for (const LitFrameRecord& fr : per_method[m]) {
+        nlohmann::json entry{{"frame", fr.frame}, {"file", lit_frame_file(o, name, fr.frame)}, {"ms", fr.ms}};
+        if (o.stencil)
+          for (std::size_t k : light_index) entry["stencils"].push_back(lit_stencil_file(o, name, fr.frame, k));
+        if (o.bench) {
+          const render::LitFramePasses& p = fr.passes;
+          entry["passes"] = {
+              {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
+              {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
+        }
+        entries.push_back(std::move(entry));
+      }
+      r["frames"] = std::move(entries);
       r["mean_ms"] = total_ms[m] / static_cast<double>(per_method[m].size());
       if (o.path.empty()) {
-        r["file"] = per_method[m][0]["file"];
-        r["ms"] = per_method[m][0]["ms"];
+        r["file"] = r["frames"][0]["file"];
+        r["ms"] = r["frames"][0]["ms"];
       }
     }
     records.push_back(r);
@@ -248,17 +306,17 @@ void run_lit(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
-  files.push_back({(dir / "render.json").string(), root.dump(1) + "\n"});
-  if (o.bench) files.push_back({(dir / "bench.csv").string(), bench_csv});
-  io::write_output_files(files);
+  files.add({(dir / "render.json").string(), json_text(root, 1) + "\n"});
+  if (o.bench) files.add({(dir / "bench.csv").string(), bench_csv});
+  files.commit();
   if (o.path.empty()) {
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
   } else {
     // The summary a person reads: mean GL time per frame, relative to Z-pass's.
     double zpass_ms = 0;
     for (const nlohmann::json& r : records)
       if (r["method"] == "zpass" && r.contains("mean_ms")) zpass_ms = r["mean_ms"].get<double>();
-    std::printf("%s, %zu frames (%s):\n", o.path.c_str(), scenes.size(), context.renderer().c_str());
+    std::printf("%s, %zu frames (%s):\n", o.path.c_str(), scenes.count(), context.renderer().c_str());
     for (const nlohmann::json& r : records) {
       if (!r.contains("mean_ms")) {
         std::printf("  %-17s refused: %s\n", r["method"].get<std::string>().c_str(),
@@ -384,13 +442,13 @@ void run(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.out.empty()) {
-    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), root.dump(1) + "\n"});
+    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
     io::write_output_files(files);
   }
   if (o.table)
     print_compare_table(root, scene.source, o.light);
   else
-    std::cout << root.dump() << "\n";
+    std::cout << json_text(root) << "\n";
 }
 
 }  // namespace

@@ -588,7 +588,9 @@ void register_sample(CLI::App& app) {
   auto index = std::make_shared<std::uint64_t>(0);
   auto out = std::make_shared<std::string>();
   add_sampler_options(*cmd, *o, true);
-  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")->required();
+  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->required();
   cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
   cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
 }
@@ -597,13 +599,16 @@ void register_sweep(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sweep",
       "camera paths and hard-case samples through the exact reference and the float methods: one CSV row per "
-      "configuration, light and method (README \"Sweeps\")");
+      "configuration, light and method (docs/sweeps-and-report.md)");
   auto o = std::make_shared<SweepCommandOptions>();
   cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
-  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler");
+  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")
+      ->transform(integer_in(0, kMaxSweepSamples));
   add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)");
-  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)");
+  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)")
+      ->transform(integer_in(1, kMaxViewportPixels));
+  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)")
+      ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   cmd->add_option("--policies", o->policies,
                   "engine rules run beside the methods, one row each: comma-separated doom3, doom3-bfg, ogre, "

@@ -3,7 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
+#include <sstream>
+#include <system_error>
 
 #include "cli_commands.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
@@ -27,7 +30,29 @@ struct TuneOptions {
   std::string near_plane;     // "": not written
 };
 
+// A median error as a percentage, "n/a" where the side had no rows (JSON
+// null: no held-out configuration among few samples).
+std::string percent(const nlohmann::json& v) {
+  if (!v.is_number()) return "n/a";
+  std::ostringstream s;
+  s << v.get<double>() * 100 << " %";
+  return s.str();
+}
+
+// --out must not name one of the inputs: writing the policy would replace the
+// sweep CSV it is fitted on.  Compared by file identity (device and inode), so
+// a symlink or a hard link to an input is caught too.
+void refuse_output_over_input(const std::string& out, const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(out, input, ec) && !ec)
+      throw Error(ErrorKind::Usage, "--out '" + out + "' is the input '" + input +
+                                        "' (the policy would replace the sweep CSV); name another file");
+  }
+}
+
 void run(const TuneOptions& o, const std::string& command) {
+  refuse_output_over_input(o.out, o.results);
   const auto capped = gl::shadow_method_from_string(o.capped);
   const auto fallback = gl::shadow_method_from_string(o.fallback);
   if (!capped || !gl::uses_near_cap(*capped))
@@ -69,7 +94,7 @@ void run(const TuneOptions& o, const std::string& command) {
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
   for (const auto& [side, label] : {std::pair<const char*, const char*>{"train", "train"}, {"held_out", "held out"}}) {
-    const nlohmann::json& c = provenance[side];
+    const nlohmann::json& c = provenance.at(side);
     std::cout << "  " << label << ": " << c["samples"] << " (configuration, light) pairs, " << c["cracks"]
               << " where the capped method cracks more than the fallback; predicted " << c["cracks_predicted"]
               << " of them, " << c["false_alarms"] << " false alarms\n";
@@ -79,11 +104,11 @@ void run(const TuneOptions& o, const std::string& command) {
   else
     std::cout << "  threshold " << policy.crack_model.threshold << "\n";
   for (const auto& [method, cm] : policy.cost_models) {
-    const nlohmann::json& c = provenance["cost"][std::string(gl::to_string(method))];
+    const nlohmann::json& c = provenance.at("cost").at(std::string(gl::to_string(method)));
     std::cout << "  cost of " << gl::to_string(method) << ": " << cm.intercept_ms << " ms + " << cm.ms_per_mtriangle
               << " ms per million triangles + " << cm.ms_per_mfragment << " ms per million fragments; median error "
-              << c["train_median_relative_error"].get<double>() * 100 << " % (train), "
-              << c["held_out_median_relative_error"].get<double>() * 100 << " % (held out)\n";
+              << percent(c.at("train_median_relative_error")) << " (train), "
+              << percent(c.at("held_out_median_relative_error")) << " (held out)\n";
   }
   io::write_output_files({{o.out, analysis::policy_to_json(policy)}});
   std::cout << "tune: wrote " << o.out << "\n";
@@ -94,7 +119,8 @@ void run(const TuneOptions& o, const std::string& command) {
 void register_tune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
-      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (README \"The switch policy\")");
+      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (docs/policy.md); "
+      "the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
   auto o = std::make_shared<TuneOptions>();
   cmd->add_option("results", o->results, "sweep CSV files with rows of both methods")->required();
   cmd->add_option("--out", o->out, "the policy file to write")->required();
@@ -107,7 +133,7 @@ void register_tune(CLI::App& app) {
   cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
   cmd->add_option("--light-projection", o->light_projection,
                   "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): paper, "
-                  "glfrustum, composed, rebased or clipped-sides (no light frustum; README \"P_l formulations\")")
+                  "glfrustum, composed, rebased or clipped-sides (no light frustum; docs/findings/light-projection.md)")
       ->check(CLI::IsMember(light_projection_names()))
       ->capture_default_str();
   cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,

@@ -367,7 +367,7 @@ class Viewer {
     root["camera"] = camera_json(s.camera);
     root["description"] = "nearcap view of " + options_.scene + ", saved with method " + methods_.name(method_) +
                           (light_choice_ < 0 ? "" : ", light " + std::to_string(light_choice_));
-    io::write_output_files({{file.string(), root.dump(1) + "\n"}});
+    io::write_output_files({{file.string(), json_text(root, 1) + "\n"}});
     std::printf("saved %s\n", file.string().c_str());
     std::fflush(stdout);
   }

@@ -45,26 +45,14 @@ std::uint64_t max_input_bytes() {
 
 std::string read_input_file(const std::string& path, const std::string& what) {
   const std::uint64_t limit = max_input_bytes();
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    const int e = errno;
-    if (e == ENOENT) throw Error(ErrorKind::Io, path + ": cannot open the " + what + " (no such file)");
-    throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
-  }
-  if (!S_ISREG(st.st_mode))
-    throw Error(ErrorKind::Io,
-                path + ": is " + kind_of(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
-  if (static_cast<std::uint64_t>(st.st_size) > limit)
-    throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
-                                         ", over the input limit of " + megabytes(limit) +
-                                         " (raise it with NEARCAP_MAX_INPUT_MB)");
+  const std::uint64_t size = check_input_file(path, what);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     const int e = errno;
     throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
   }
   std::string bytes;
-  bytes.reserve(static_cast<std::size_t>(st.st_size));
+  bytes.reserve(static_cast<std::size_t>(size));
   char buffer[1 << 16];
   for (;;) {
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
@@ -84,6 +72,24 @@ std::string read_input_file(const std::string& path, const std::string& what) {
   }
   ::close(fd);
   return bytes;
+}
+
+std::uint64_t check_input_file(const std::string& path, const std::string& what) {
+  const std::uint64_t limit = max_input_bytes();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int e = errno;
+    if (e == ENOENT) throw Error(ErrorKind::Io, path + ": cannot open the " + what + " (no such file)");
+    throw Error(ErrorKind::Io, path + ": cannot open the " + what + ": " + std::strerror(e));
+  }
+  if (!S_ISREG(st.st_mode))
+    throw Error(ErrorKind::Io,
+                path + ": is " + kind_of(st.st_mode) + ", not a " + what + " (nearcap reads only regular files)");
+  if (static_cast<std::uint64_t>(st.st_size) > limit)
+    throw Error(ErrorKind::Resource, path + ": the " + what + " is " + megabytes(st.st_size) +
+                                         ", over the input limit of " + megabytes(limit) +
+                                         " (raise it with NEARCAP_MAX_INPUT_MB)");
+  return static_cast<std::uint64_t>(st.st_size);
 }
 
 }  // namespace nearcap::io

@@ -11,7 +11,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <optional>
+#include <set>
 #include <utility>
 
 #include "nearcap/error.hpp"
@@ -36,6 +38,7 @@ enum class Destination {
 struct Plan {
   std::string user_path;  // as given, for messages
   std::string target;     // the path actually created or replaced (symlinks followed)
+  std::string canonical;  // NewName: weakly_canonical(target), to find two outputs naming it
   Destination kind = Destination::NewName;
   mode_t mode = 0666;  // the replaced file's permission bits
   dev_t dev = 0;       // identity of an existing destination
@@ -117,6 +120,7 @@ Plan plan_for(const std::string& path) {
   if (errno != ENOENT) fail(path, "cannot inspect the output path: " + errno_text(errno));
   p.kind = Destination::NewName;
   p.target = follow_dangling_link(path);
+  p.canonical = fs::weakly_canonical(p.target).string();
   return p;
 }
 
@@ -209,72 +213,152 @@ void write_through(const Plan& p, const std::string& content) {
   ::close(fd);
 }
 
-void write_output_files_unguarded(const std::vector<OutputFile>& files) {
-  // 1. Check every destination before touching any.
-  std::vector<Plan> plans;
-  plans.reserve(files.size());
-  for (const OutputFile& f : files) plans.push_back(plan_for(f.path));
-  for (std::size_t a = 0; a < plans.size(); ++a)
-    for (std::size_t b = 0; b < a; ++b) {
-      const bool same_existing = plans[a].kind != Destination::NewName && plans[b].kind != Destination::NewName &&
-                                 plans[a].dev == plans[b].dev && plans[a].ino == plans[b].ino;
-      const bool same_name = plans[a].kind == Destination::NewName && plans[b].kind == Destination::NewName &&
-                             fs::weakly_canonical(plans[a].target) == fs::weakly_canonical(plans[b].target);
-      if (same_existing || same_name)
-        throw Error(ErrorKind::Usage, plans[a].user_path + ": two outputs of this command name the same file ('" +
-                                          plans[b].user_path + "' and '" + plans[a].user_path + "')");
-    }
+// Two plans that name one file: the same existing inode, or the same new name.
+bool same_destination(const Plan& a, const Plan& b) {
+  if (a.kind != Destination::NewName && b.kind != Destination::NewName) return a.dev == b.dev && a.ino == b.ino;
+  return a.kind == Destination::NewName && b.kind == Destination::NewName && a.canonical == b.canonical;
+}
 
-  // 2. Directories, then temporaries; any failure removes what was made.
-  std::vector<fs::path> created_dirs;
-  auto remove_created_dirs = [&] {
-    for (auto it = created_dirs.rbegin(); it != created_dirs.rend(); ++it) ::rmdir(it->c_str());
-  };
-  auto remove_temporaries = [&] {
-    for (Plan& p : plans)
-      if (!p.temporary.empty()) {
-        ::unlink(p.temporary.c_str());
-        p.temporary.clear();
-      }
-  };
-  try {
-    for (Plan& p : plans) {
-      if (p.kind != Destination::NewName) continue;
-      const std::vector<fs::path> made = create_parents(fs::path(p.target).parent_path(), p.user_path);
-      created_dirs.insert(created_dirs.end(), made.begin(), made.end());
-    }
-    for (std::size_t k = 0; k < plans.size(); ++k)
-      if (plans[k].kind != Destination::WriteThrough) write_temporary(plans[k], files[k].content, k);
-  } catch (...) {
-    remove_temporaries();
-    remove_created_dirs();
-    throw;
-  }
+[[noreturn]] void fail_same_destination(const Plan& first, const Plan& second) {
+  throw Error(ErrorKind::Usage, second.user_path + ": two outputs of this command name the same file ('" +
+                                    first.user_path + "' and '" + second.user_path + "')");
+}
 
-  // 3. Renames, rolled back together on any failure; then the write-throughs.
+// Creates p's missing parents (a new name only), appending them to `created`.
+void create_parents_of(const Plan& p, std::vector<fs::path>& created) {
+  if (p.kind != Destination::NewName) return;
+  const std::vector<fs::path> made = create_parents(fs::path(p.target).parent_path(), p.user_path);
+  created.insert(created.end(), made.begin(), made.end());
+}
+
+void remove_temporaries(std::vector<Plan>& plans) {
+  for (Plan& p : plans)
+    if (!p.temporary.empty()) {
+      ::unlink(p.temporary.c_str());
+      p.temporary.clear();
+    }
+}
+
+void remove_directories(const std::vector<fs::path>& created) {
+  for (auto it = created.rbegin(); it != created.rend(); ++it) ::rmdir(it->c_str());
+}
+
+// Every temporary of `plans` moved into place, then the write-throughs
+// (`through[k]` the bytes of plans[k] when it is one); on any failure every
+// output is rolled back and the temporaries and `created` removed.
+void commit_all(std::vector<Plan>& plans, const std::vector<const std::string*>& through,
+                const std::vector<fs::path>& created) {
   try {
     for (std::size_t k = 0; k < plans.size(); ++k)
       if (plans[k].kind != Destination::WriteThrough) commit(plans[k], k);
     for (std::size_t k = 0; k < plans.size(); ++k)
-      if (plans[k].kind == Destination::WriteThrough) write_through(plans[k], files[k].content);
+      if (plans[k].kind == Destination::WriteThrough) write_through(plans[k], *through[k]);
   } catch (...) {
     for (auto it = plans.rbegin(); it != plans.rend(); ++it) roll_back(*it);
-    remove_temporaries();
-    remove_created_dirs();
+    remove_temporaries(plans);
+    remove_directories(created);
     throw;
   }
   for (Plan& p : plans)
     if (!p.backup.empty()) ::unlink(p.backup.c_str());
 }
 
-}  // namespace
+void write_output_files_unguarded(const std::vector<OutputFile>& files) {
+  // 1. Check every destination before touching any.
+  std::vector<Plan> plans;
+  plans.reserve(files.size());
+  for (const OutputFile& f : files) plans.push_back(plan_for(f.path));
+  for (std::size_t a = 0; a < plans.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (same_destination(plans[a], plans[b])) fail_same_destination(plans[b], plans[a]);
 
-void write_output_files(const std::vector<OutputFile>& files) {
+  // 2. Directories, then temporaries; any failure removes what was made.
+  std::vector<fs::path> created_dirs;
   try {
-    write_output_files_unguarded(files);
+    for (const Plan& p : plans) create_parents_of(p, created_dirs);
+    for (std::size_t k = 0; k < plans.size(); ++k)
+      if (plans[k].kind != Destination::WriteThrough) write_temporary(plans[k], files[k].content, k);
+  } catch (...) {
+    remove_temporaries(plans);
+    remove_directories(created_dirs);
+    throw;
+  }
+
+  // 3. Renames, rolled back together on any failure; then the write-throughs.
+  std::vector<const std::string*> through;
+  through.reserve(files.size());
+  for (const OutputFile& f : files) through.push_back(&f.content);
+  commit_all(plans, through, created_dirs);
+}
+
+template <typename F>
+auto filesystem_errors_as_io(F&& f) {
+  try {
+    return f();
   } catch (const fs::filesystem_error& e) {
     throw Error(ErrorKind::Io, e.path1().string() + ": " + e.code().message());
   }
+}
+
+}  // namespace
+
+void write_output_files(const std::vector<OutputFile>& files) {
+  filesystem_errors_as_io([&] { write_output_files_unguarded(files); });
+}
+
+struct StagedOutputFiles::State {
+  std::vector<Plan> plans;
+  std::vector<std::string> through;  // a write-through plan's bytes, else empty
+  std::set<std::pair<dev_t, ino_t>> existing;
+  std::map<std::string, std::size_t> new_names;  // canonical target -> plan
+  std::vector<fs::path> created_dirs;
+  bool committed = false;
+};
+
+StagedOutputFiles::StagedOutputFiles() : state_(std::make_unique<State>()) {}
+
+StagedOutputFiles::~StagedOutputFiles() {
+  if (state_->committed) return;
+  remove_temporaries(state_->plans);
+  remove_directories(state_->created_dirs);
+}
+
+void StagedOutputFiles::add(const OutputFile& file) {
+  State& s = *state_;
+  if (s.committed) throw Error(ErrorKind::Usage, file.path + ": added to outputs already committed");
+  filesystem_errors_as_io([&] {
+    Plan p = plan_for(file.path);
+    // The same checks as same_destination, through an index: a path has thousands of frames.
+    if (p.kind == Destination::NewName) {
+      const auto [it, fresh] = s.new_names.emplace(p.canonical, s.plans.size());
+      if (!fresh) fail_same_destination(s.plans[it->second], p);
+    } else if (!s.existing.insert({p.dev, p.ino}).second) {
+      for (const Plan& q : s.plans)
+        if (same_destination(q, p)) fail_same_destination(q, p);
+    }
+    try {
+      create_parents_of(p, s.created_dirs);
+      if (p.kind != Destination::WriteThrough) write_temporary(p, file.content, s.plans.size());
+    } catch (...) {
+      if (p.kind == Destination::NewName)
+        s.new_names.erase(p.canonical);
+      else
+        s.existing.erase({p.dev, p.ino});
+      throw;
+    }
+    s.through.push_back(p.kind == Destination::WriteThrough ? file.content : std::string());
+    s.plans.push_back(std::move(p));
+  });
+}
+
+void StagedOutputFiles::commit() {
+  State& s = *state_;
+  if (s.committed) throw Error(ErrorKind::Usage, "outputs committed twice");
+  std::vector<const std::string*> through;
+  through.reserve(s.through.size());
+  for (const std::string& t : s.through) through.push_back(&t);
+  s.committed = true;  // commit_all cleans up after itself when it fails: nothing is left for the destructor
+  filesystem_errors_as_io([&] { commit_all(s.plans, through, s.created_dirs); });
 }
 
 }  // namespace nearcap::io

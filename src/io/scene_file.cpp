@@ -424,7 +424,15 @@ std::string with_absolute_mesh_paths(const std::string& json_text, const std::st
         const std::filesystem::path mesh(o["mesh"].get<std::string>());
         if (mesh.is_relative()) o["mesh"] = (base / mesh).lexically_normal().string();
       }
-  return root.dump();
+  // JSON text is UTF-8 and a file name is bytes: a folder whose name is not
+  // UTF-8 cannot be named in a scene file (U+FFFD would name another file).
+  try {
+    return root.dump();
+  } catch (const Json::type_error&) {
+    throw Error(ErrorKind::Io, scene_file + ": the folder " + base.string() +
+                                   " has a name that is not UTF-8: its meshes' absolute paths cannot be written in "
+                                   "a scene file (rename the folder)");
+  }
 }
 
 Scene load_scene(const std::string& path) {

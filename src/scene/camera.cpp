@@ -1,6 +1,6 @@
 // The look-at camera (see scene.hpp): view and frustum computed once in
 // double, as gluLookAt and gluPerspective would; those doubles are then the
-// scene (README "Exactness convention").
+// scene (docs/scene-format.md, "Exactness convention").
 #include <algorithm>
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // nearcap/analysis/camera_path.hpp — camera paths: keyframes over a scene,
-// interpolated to N frames (README "Camera paths").
+// interpolated to N frames (docs/sweeps-and-report.md, "Camera paths").
 //
 // A path file (data/paths/*.json) names a base scene (lights, objects, and the
 // camera's far plane and viewport) and a list of look-at keyframes spread

@@ -12,7 +12,7 @@
 // (numeric derivatives: the matrices are float32), bounded to [1e-3, 1]; the
 // held-out ones are evaluated at the fitted scale and at 1.  Whether the
 // bound's optimum is an optimum of wrong pixels and cracks is then checked
-// by a sweep (README "Choosing l_near").
+// by a sweep (docs/findings/l-near.md).
 #pragma once
 
 #include <string>

@@ -37,10 +37,19 @@ struct PolicySample {
 bool held_out_configuration(const std::string& configuration_id);
 
 // Reads sweep CSVs (nearcap sweep --out); rows of other methods and variants
-// are ignored.  Errors name the file and line.
+// are ignored.  Each file is read like a scene (io/input_files.hpp): only a
+// regular file within NEARCAP_MAX_INPUT_MB, streamed line by line.  Every
+// line must be UTF-8 with as many fields as the header; in the rows used,
+// `light` and `cracks` are whole numbers, the conditioning columns numbers
+// (nan and inf allowed: such a pair is not a sample).  Errors name the file,
+// the line and the column: Io, Resource, Parse, NonFinite.
 std::vector<PolicySample> policy_samples(const std::vector<std::string>& files, gl::ShadowMethod capped,
                                          gl::ShadowMethod fallback,
                                          const std::string& variant = "switch-clamp=clamp-far");
+// The same on CSV text already in memory; `source` names it in errors.
+std::vector<PolicySample> policy_samples_from_text(const std::string& csv, const std::string& source,
+                                                   gl::ShadowMethod capped, gl::ShadowMethod fallback,
+                                                   const std::string& variant = "switch-clamp=clamp-far");
 
 struct LogisticFitOptions {
   bool robust = true;
@@ -63,8 +72,14 @@ struct CostSample {
   double triangles = 0, fragments = 0, ms = 0;  // all passes
   bool held_out = false;
 };
+// Reads sweep CSVs as policy_samples does; in the rows used, the triangle and
+// fragment counts and frame_ms must be finite and not negative (an infinite
+// or NaN time is a NonFinite error naming the file, line and column).
 std::vector<CostSample> cost_samples(const std::vector<std::string>& files, gl::ShadowMethod method,
                                      const std::string& variant = "switch-clamp=clamp-far");
+std::vector<CostSample> cost_samples_from_text(const std::string& csv, const std::string& source,
+                                               gl::ShadowMethod method,
+                                               const std::string& variant = "switch-clamp=clamp-far");
 // Least squares on the training samples (not held out) with a robust loss
 // (Cauchy, scale 1 ms: times are noisy, the sweep runs configurations side by
 // side); `robust = false` for plain least squares.
@@ -81,7 +96,7 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 // The whole tuning: the model fitted on the training samples, the threshold,
 // and the provenance (counts, confusion on both sides, the command) in the
 // returned policy.
-// `features`: names from kPolicyFeatures (all of them when empty).
+// `features`: names from kPolicyFeatures, each once (all of them when empty).
 // `costs`: each method's cost samples, fitted into the policy's cost models.
 SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
                          const std::string& command, const LogisticFitOptions& options = {},

@@ -15,14 +15,14 @@
 //      frustum (gl/near_plane_cap.hpp): a light in the near plane keeps it,
 //      for every occluder (the pyramid test cannot tell them apart there).
 // With `exact_zpass` false there is no step 1 and no model: the capped
-// method for every occluder (README "The switch policy" measures why the
+// method for every occluder (docs/policy.md measures why the
 // shipped policy does so).
 // The crack model is a logistic model on the conditioning features
 // (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
 //   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
 // with x the features below, and a crack predicted when P >= threshold.
 //
-// policy.json (README "The switch policy"): {"format": "nearcap-policy",
+// policy.json (docs/policy.md): {"format": "nearcap-policy",
 // "version": 2, "capped_method": "zpplus-corrected", "fallback_method":
 // "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
 // "light_projection": "paper", "exact_zpass": true (version 2; version 1
@@ -30,10 +30,16 @@
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
-// "ms_per_mfragment": b}, ...} (optional), "provenance": {...}}.  Every field is checked: an unknown key, a
-// missing one, a wrong type, an unknown feature or method, lengths that
-// disagree, a non-finite number or another version is a one-line
-// error (parse) naming the field.
+// "ms_per_mfragment": b}, ...} (possibly empty), "provenance": {...}}.
+// Every field is checked: an unknown key, a duplicate key (in any object,
+// provenance's too), a missing one (cost_models and provenance included), a
+// wrong type, an unknown or repeated feature, an unknown method, lengths that
+// disagree, a non-finite number or another version is a one-line error
+// (schema) naming the field; text that is not JSON (a syntax error,
+// ill-formed UTF-8, a number beyond double such as 1e999) is an error (parse)
+// naming the field it is in or the line and column.  load_policy reads the
+// file like a scene (io/input_files.hpp): a regular file within
+// NEARCAP_MAX_INPUT_MB.
 #pragma once
 
 #include <array>

@@ -122,7 +122,7 @@ std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& e
 // |count|).  Every triangle's boundary sums with the others' to the loops'
 // edges, so the counts are the fan's: measured, the same wrong pixels and
 // count mismatches as the single fan in every row of the hard-case
-// samples and the paths (README "P_l formulations").  The margin,
+// samples and the paths (docs/findings/light-projection.md).  The margin,
 // a twentieth of the viewport plus 8 pixels, keeps the shortcut away from
 // edges the float pipeline might still rasterize inside the viewport (its
 // cuts of far-away, ill-conditioned vertices move them); the fan would

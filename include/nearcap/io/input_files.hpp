@@ -22,4 +22,11 @@ std::uint64_t max_input_bytes();
 // Resource (over the limit).
 std::string read_input_file(const std::string& path, const std::string& what);
 
+// The checks read_input_file makes before it reads, for a reader that streams
+// the file line by line (sweep CSVs): the path names a regular file (also
+// through a symlink) within the limit.  Returns its size in bytes; the reader
+// applies max_input_bytes() to what it reads (the file may grow meanwhile).
+// Errors as read_input_file's.
+std::uint64_t check_input_file(const std::string& path, const std::string& what);
+
 }  // namespace nearcap::io

@@ -22,6 +22,7 @@
 //     so those are written last, after every rename has succeeded.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,35 @@ struct OutputFile {
 // Writes every file or none of them (see above).  Missing parent directories
 // are created, and removed again if the call fails.
 void write_output_files(const std::vector<OutputFile>& files);
+
+// The same promises for outputs made one at a time (a camera path's frames):
+// add() checks a destination against the special files and the outputs added
+// before it, creates its missing parents and writes its bytes to the
+// temporary beside it at once, so the caller keeps no output in memory (a
+// write-through destination, a device or a FIFO, keeps its bytes until
+// commit).  commit() moves every temporary into place, all or nothing as
+// write_output_files does; an object destroyed without commit() (the
+// command failed) removes its temporaries and the directories it created,
+// and no destination is touched.  A destination is checked when it is added,
+// not before the first output is written: a bad one late in a path costs
+// the frames before it, and still leaves nothing behind.
+class StagedOutputFiles {
+ public:
+  StagedOutputFiles();
+  ~StagedOutputFiles();
+  StagedOutputFiles(const StagedOutputFiles&) = delete;
+  StagedOutputFiles& operator=(const StagedOutputFiles&) = delete;
+
+  // Throws Error(Io) or Error(Usage) as write_output_files does for this
+  // file; the outputs added before it stay staged.
+  void add(const OutputFile& file);
+  // Throws as write_output_files' renames do, every output rolled back.
+  // Once committed, add() and commit() throw Error(Usage).
+  void commit();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace nearcap::io

@@ -1,4 +1,4 @@
-// nearcap/io/scene_file.hpp — scene files (JSON, README "Scene format") into Scene.
+// nearcap/io/scene_file.hpp — scene files (JSON, docs/scene-format.md) into Scene.
 #pragma once
 
 #include <map>

@@ -3,7 +3,7 @@
 // GMP's mpq_class: exact rationals, the same arithmetic CGAL's Exact_rational
 // wraps (CGAL::Gmpq), but a header that costs a tenth of a second to compile
 // instead of two and a half.  Every double is exactly a rational, so a scene's
-// numbers enter exact arithmetic without rounding (README, "Exactness convention").
+// numbers enter exact arithmetic without rounding (docs/scene-format.md, "Exactness convention").
 #pragma once
 
 #include <gmpxx.h>

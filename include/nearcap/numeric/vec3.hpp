@@ -57,7 +57,7 @@ using Vec3d = Vec3<double>;
 
 // An affine map x -> L x + t stored as three rows [L | t] (the fourth row of the
 // 4x4 form is [0 0 0 1]).  Entries are doubles: in nearcap's exactness
-// convention they ARE the exact map (see README, "Exactness convention").
+// convention they ARE the exact map (see docs/scene-format.md, "Exactness convention").
 struct Affine3d {
   std::array<std::array<double, 4>, 3> rows{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
 

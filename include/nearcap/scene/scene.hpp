@@ -4,7 +4,7 @@
 // --camera.view--> camera space (OpenGL eye space: the camera at the origin
 // looking down -z, y up).  The near plane is camera-space z = -frustum.near.
 //
-// Exactness convention (README): every number read from a scene file is an
+// Exactness convention (docs/scene-format.md): every number read from a scene file is an
 // exact binary64 rational.  What needs a transcendental function (the lookAt
 // basis, tan(fovy/2), an Euler rotation) is computed once, in double, and those
 // doubles then ARE the scene.  The exact kernel never rounds after that.

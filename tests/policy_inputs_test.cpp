@@ -1,0 +1,347 @@
+// The inputs of `nearcap tune` and the policy reader, checked like a scene's
+// (README "Bad input"): sweep CSVs and policy files are read only from
+// regular files within NEARCAP_MAX_INPUT_MB, every line or field at fault is
+// named, and every fault is one line on stderr with exit 2, nothing written.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "nearcap/analysis/policy_fit.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+using gl::ShadowMethod;
+
+constexpr const char* kHeader =
+    "configuration,light,method,variant,cracks,fallback,refused,light_frustum_defined,light_near_distance,"
+    "l_far_over_width,delta_over_width,skew,cond_light_transform,cap_window_error_px,coordinate_over_size,"
+    "l_near_over_l_far,depth_triangles,near_cap_triangles,volume_triangles,depth_fragments,near_cap_fragments,"
+    "volume_fragments,frame_ms";
+
+// One row of the policy's variant; `ms` as written in the CSV.
+std::string row(const std::string& configuration, const char* method, int cracks, const std::string& ms) {
+  return configuration + ",0," + method + ",switch-clamp=clamp-far," + std::to_string(cracks) +
+         ",,0,1,2.5,4,0.3,0.1,1e3,0.01,2,0.05,1200,40,900,30000,2000,15000," + ms;
+}
+
+// `count` configurations, none held out (the split hashes the id), with a
+// row of both methods each; times grow with the configuration.
+std::vector<std::string> training_configurations(std::size_t count) {
+  std::vector<std::string> ids;
+  for (int i = 0; ids.size() < count; ++i) {
+    const std::string id = "sample:1:" + std::to_string(i);
+    if (!analysis::held_out_configuration(id)) ids.push_back(id);
+  }
+  return ids;
+}
+
+// A sweep CSV with rows of both methods for `count` training configurations:
+// data line k (from 2) is row k of the file.
+std::string sweep_csv(std::size_t count = 8) {
+  std::string csv = std::string(kHeader) + "\n";
+  int k = 0;
+  for (const std::string& id : training_configurations(count)) {
+    csv += row(id, "zpplus-corrected", 0, std::to_string(1.0 + 0.1 * k)) + "\n";
+    csv += row(id, "zfail", 0, std::to_string(1.5 + 0.1 * k)) + "\n";
+    ++k;
+  }
+  return csv;
+}
+
+// `text` with line `line` (1-based) replaced.
+std::string with_line(const std::string& text, std::size_t line, const std::string& replacement) {
+  std::vector<std::string> lines;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    lines.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  lines.at(line - 1) = replacement;
+  std::string out;
+  for (const std::string& l : lines) out += l + "\n";
+  return out;
+}
+
+class PolicyInputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nearcap_policy_inputs_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& content) const {
+    std::ofstream(dir_ / name, std::ios::binary) << content;
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+// One line on stderr, "nearcap: error (KIND): ...", exit 2.
+void expect_one_line_error(const test::CliResult& r, const std::string& kind, const std::string& fragment) {
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("nearcap: error (" + kind + "): ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+}
+
+TEST_F(PolicyInputs, TuneRefusesAnOutputThatIsAnInput) {
+  const std::string csv = write("rows.csv", sweep_csv());
+  const test::CliResult same = test::run_cli("tune " + csv + " --out " + csv, "tune_same");
+  expect_one_line_error(same, "usage", "is the input");
+  EXPECT_EQ(test::slurp(csv), sweep_csv());
+  // Through a symlink, and from a second input.
+  fs::create_symlink(csv, dir_ / "link.json");
+  const std::string other = write("other.csv", sweep_csv());
+  const test::CliResult link =
+      test::run_cli("tune " + other + " " + csv + " --out " + (dir_ / "link.json").string(), "tune_link");
+  expect_one_line_error(link, "usage", "is the input '" + csv + "'");
+  EXPECT_EQ(test::slurp(csv), sweep_csv());
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
+}
+
+TEST_F(PolicyInputs, TuneRefusesInputsThatAreNotRegularFiles) {
+  const std::string out = (dir_ / "p.json").string();
+  expect_one_line_error(test::run_cli("tune /dev/zero --out " + out, "tune_zero", "timeout 60"), "io",
+                        "/dev/zero: is a character device");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.csv").c_str(), 0600), 0);
+  expect_one_line_error(
+      test::run_cli("tune " + (dir_ / "fifo.csv").string() + " --out " + out, "tune_fifo", "timeout 60"), "io",
+      "is a FIFO");
+  expect_one_line_error(test::run_cli("tune " + dir_.string() + " --out " + out, "tune_dir"), "io", "is a directory");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(PolicyInputs, TheInputLimitAppliesToSweepCsvsAndPolicies) {
+  // Rows of a method tune does not read, past 1 MB.
+  std::string big = sweep_csv();
+  while (big.size() < (3u << 19)) big += row("sample:9:9", "preload", 0, "1") + "\n";
+  const std::string csv = write("big.csv", big);
+  const std::string out = (dir_ / "p.json").string();
+  expect_one_line_error(test::run_cli("tune " + csv + " --out " + out, "tune_big", "NEARCAP_MAX_INPUT_MB=1"),
+                        "resource", "NEARCAP_MAX_INPUT_MB");
+  EXPECT_EQ(test::run_cli("tune " + csv + " --out " + out, "tune_big_raised", "NEARCAP_MAX_INPUT_MB=2").exit_code, 0);
+  std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
+  policy += std::string(3u << 19, ' ');
+  const std::string big_policy = write("big.json", policy);
+  expect_one_line_error(
+      test::run_cli("cracks data/scenes/near_cap_bunny_wall.json --light 0 --method policy --policy " + big_policy,
+                    "policy_big", "NEARCAP_MAX_INPUT_MB=1"),
+      "resource", "NEARCAP_MAX_INPUT_MB");
+  expect_one_line_error(test::run_cli("cracks data/scenes/near_cap_bunny_wall.json --light 0 --method policy --policy "
+                                      "/dev/zero",
+                                      "policy_zero", "timeout 60"),
+                        "io", "/dev/zero: is a character device");
+}
+
+TEST_F(PolicyInputs, TuneNamesTheFirstBadLine) {
+  const std::string out = (dir_ / "p.json").string();
+  const std::string not_utf8 = write("latin1.csv", with_line(sweep_csv(), 3, row("sample:\xe9t\xe9", "zfail", 0, "1")));
+  expect_one_line_error(test::run_cli("tune " + not_utf8 + " --out " + out, "tune_utf8"), "parse",
+                        not_utf8 + ": line 3: not UTF-8 (byte 0xE9");
+  const std::string bad = write("bad.csv", with_line(sweep_csv(), 4, row("sample:1:1", "zfail", 0, "fast")));
+  expect_one_line_error(test::run_cli("tune " + bad + " --out " + out, "tune_column"), "parse",
+                        bad + ": line 4: column 'frame_ms': 'fast' is not a number");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// An infinite or NaN time: one line naming the file, line and column, and
+// nothing of the solver's on stderr.
+TEST_F(PolicyInputs, NonFiniteTimesAreOneLineWithoutSolverLog) {
+  const std::string out = (dir_ / "p.json").string();
+  for (const char* ms : {"inf", "nan"}) {
+    const std::string csv = write("t.csv", with_line(sweep_csv(), 5, row("sample:1:2", "zfail", 0, ms)));
+    expect_one_line_error(test::run_cli("tune " + csv + " --out " + out, "tune_inf"), "non-finite",
+                          csv + ": line 5: column 'frame_ms': '" + ms + "' is not a finite number");
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// Times too large for the cost fit's squares: the fit fails or not, but the
+// solver's own log (glog) stays off stderr unless NEARCAP_SOLVER_LOG=1.
+TEST_F(PolicyInputs, TheSolverIsSilentUnlessAsked) {
+  std::string csv = sweep_csv();
+  for (std::size_t line = 2; line <= 17; ++line) {
+    const std::string id = training_configurations(8)[(line - 2) / 2];
+    csv = with_line(csv, line, row(id, line % 2 ? "zfail" : "zpplus-corrected", 0, line % 3 ? "1e300" : "1e-300"));
+  }
+  const std::string rows = write("huge.csv", csv), out = (dir_ / "p.json").string();
+  const test::CliResult quiet = test::run_cli("tune " + rows + " --out " + out, "tune_quiet");
+  if (quiet.exit_code == 0)
+    EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+  else
+    expect_one_line_error(quiet, "degenerate", "fit failed");
+  const test::CliResult loud = test::run_cli("tune " + rows + " --out " + out, "tune_loud", "NEARCAP_SOLVER_LOG=1");
+  EXPECT_NE(loud.err.find("Solver Summary"), std::string::npos) << loud.err;
+}
+
+// A policy names each feature once (the reader refuses a repeated one), so
+// tune refuses one too, before writing.
+TEST_F(PolicyInputs, TuneRefusesARepeatedFeature) {
+  const std::string csv = write("rows.csv", sweep_csv()), out = (dir_ / "p.json").string();
+  expect_one_line_error(
+      test::run_cli("tune " + csv + " --features log_skew,l_near_over_l_far,log_skew --out " + out, "tune_features"),
+      "usage", "'log_skew' is named twice");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// Few configurations, none held out: the held-out figures are "n/a", and the
+// policy is written.
+TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {
+  const std::string csv = write("rows.csv", sweep_csv()), out = (dir_ / "p.json").string();
+  const test::CliResult r = test::run_cli("tune " + csv + " --out " + out, "tune_no_held_out");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_NE(r.out.find("held out: 0 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("n/a (held out)"), std::string::npos) << r.out;
+  const analysis::SwitchPolicy p = analysis::load_policy(out);
+  EXPECT_EQ(p.cost_models.size(), 2u);
+}
+
+TEST_F(PolicyInputs, APolicyNumberBeyondDoubleIsAParseError) {
+  std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
+  const nlohmann::json j = nlohmann::json::parse(policy);
+  const std::string bias = nlohmann::json(j["crack_model"]["bias"]).dump();
+  policy.replace(policy.find("\"bias\": " + bias), 8 + bias.size(), "\"bias\": 1e999");
+  const std::string file = write("overflow.json", policy);
+  expect_one_line_error(
+      test::run_cli("cracks data/scenes/near_cap_bunny_wall.json --light 0 --method policy --policy " + file,
+                    "policy_overflow"),
+      "parse", file + ": crack_model.bias: not JSON: number overflow");
+}
+
+// The reader, on text: each fault a Schema error naming the field.
+std::string valid_policy() {
+  return R"({"format": "nearcap-policy", "version": 3, "capped_method": "zpplus-corrected",
+  "fallback_method": "zfail", "switch_clamp": "clamp-far", "zpass_far": "infinite",
+  "crack_model": {"features": ["log_skew", "l_near_over_l_far"], "mean": [0, 0.2], "scale": [1, 0.1],
+                  "weights": [1.5, -0.5], "bias": -3, "threshold": 0.01},
+  "cost_models": {"zfail": {"intercept_ms": 0.1, "ms_per_mtriangle": 2, "ms_per_mfragment": 0.5}},
+  "provenance": {"command": "test", "train": {"samples": 3}}})";
+}
+
+std::string replaced(const std::string& from, const std::string& to) {
+  std::string text = valid_policy();
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+void expect_policy_error(const std::string& text, ErrorKind kind, const std::string& fragment) {
+  try {
+    analysis::parse_policy(text, "p.json");
+    ADD_FAILURE() << "accepted: " << fragment;
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.kind(), kind) << what;
+    EXPECT_EQ(what.rfind("p.json: ", 0), 0u) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_NE(what.find(fragment), std::string::npos) << what;
+  }
+}
+
+TEST(PolicyReader, IsStrict) {
+  ASSERT_NO_THROW(analysis::parse_policy(valid_policy(), "p.json"));
+  expect_policy_error(replaced("\"version\": 3", "\"version\": 3, \"version\": 3"), ErrorKind::Schema,
+                      "p.json: version: duplicate key");
+  expect_policy_error(replaced("\"bias\": -3", "\"bias\": -3, \"bias\": 4"), ErrorKind::Schema,
+                      "crack_model.bias: duplicate key");
+  expect_policy_error(replaced("\"samples\": 3", "\"samples\": 3, \"samples\": 4"), ErrorKind::Schema,
+                      "provenance.train.samples: duplicate key");
+  expect_policy_error(replaced("\"cost_models\": {\"zfail\": {\"intercept_ms\": 0.1, \"ms_per_mtriangle\": 2, "
+                               "\"ms_per_mfragment\": 0.5}},",
+                               ""),
+                      ErrorKind::Schema, "cost_models: missing");
+  expect_policy_error(replaced(",\n  \"provenance\": {\"command\": \"test\", \"train\": {\"samples\": 3}}", ""),
+                      ErrorKind::Schema, "provenance: missing");
+  expect_policy_error(replaced("\"l_near_over_l_far\"]", "\"log_skew\"]"), ErrorKind::Schema,
+                      "crack_model.features[1]: 'log_skew' appears twice");
+  expect_policy_error(replaced("\"version\": 3", "\"version\": 99"), ErrorKind::Schema,
+                      "version: 99 is not a version this nearcap reads (1 to 3)");
+  expect_policy_error(replaced("\"bias\": -3", "\"bias\": 1e999"), ErrorKind::Parse,
+                      "p.json: crack_model.bias: not JSON: number overflow parsing '1e999'");
+  expect_policy_error(replaced("\"mean\": [0, 0.2]", "\"mean\": [0, -1e999]"), ErrorKind::Parse,
+                      "crack_model.mean[1]: not JSON: number overflow");
+  expect_policy_error(replaced("\"command\": \"test\"", "\"command\": \"t\xff\""), ErrorKind::Parse,
+                      "ill-formed UTF-8");
+}
+
+// What tune writes it reads back, also without cost models.
+TEST(PolicyReader, ReadsWhatItWritesWithoutCostModels) {
+  analysis::SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
+  p.cost_models.clear();
+  const analysis::SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
+  EXPECT_TRUE(q.cost_models.empty());
+  EXPECT_EQ(analysis::policy_to_json(q), analysis::policy_to_json(p));
+}
+
+// The CSV reader on text (what fuzz_csv calls): the first bad line named.
+// `both`: the policy samples' reader too (it reads no time columns).
+void expect_csv_error(const std::string& csv, ErrorKind kind, const std::string& fragment, bool both = true) {
+  for (int reader = both ? 0 : 1; reader < 2; ++reader) {
+    try {
+      if (reader == 0)
+        (void)analysis::policy_samples_from_text(csv, "s.csv", ShadowMethod::ZPPlusCorrected, ShadowMethod::ZFail);
+      else
+        (void)analysis::cost_samples_from_text(csv, "s.csv", ShadowMethod::ZFail);
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(e.kind(), kind) << what;
+      EXPECT_NE(what.find(fragment), std::string::npos) << what;
+    }
+  }
+}
+
+TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
+  const std::string csv = sweep_csv();
+  EXPECT_EQ(analysis::policy_samples_from_text(csv, "s.csv", ShadowMethod::ZPPlusCorrected, ShadowMethod::ZFail).size(),
+            8u);
+  EXPECT_EQ(analysis::cost_samples_from_text(csv, "s.csv", ShadowMethod::ZFail).size(), 8u);
+  expect_csv_error(with_line(csv, 3, "a,b"), ErrorKind::Parse, "s.csv: line 3: 2 fields, the header has 23");
+  expect_csv_error(with_line(csv, 4, row("sample:1:1", "zfail", 0, "1.5ms")), ErrorKind::Parse,
+                   "s.csv: line 4: column 'frame_ms': '1.5ms' is not a number", false);
+  expect_csv_error(with_line(csv, 4, row("\"sample:1:1", "zfail", 0, "1")), ErrorKind::Parse,
+                   "s.csv: line 4: a quoted field is not closed");
+  expect_csv_error(with_line(csv, 5, row("sample:1:1", "zfail", 0, "-inf")), ErrorKind::NonFinite,
+                   "s.csv: line 5: column 'frame_ms': '-inf' is not a finite number", false);
+  expect_csv_error(with_line(csv, 6, row("sample:1:1", "zfail", 0, "1e999")), ErrorKind::Parse,
+                   "s.csv: line 6: column 'frame_ms': '1e999'", false);
+  expect_csv_error(with_line(csv, 1, std::string(kHeader) + ",frame_ms"), ErrorKind::Parse,
+                   "s.csv: line 1: column 'frame_ms' appears twice");
+  expect_csv_error(with_line(csv, 2, "\xc0\xaf"), ErrorKind::Parse, "s.csv: line 2: not UTF-8 (byte 0xC0 at column 1");
+  expect_csv_error("", ErrorKind::Parse, "s.csv: empty");
+}
+
+TEST(PolicyCsv, CountsAreWholeNumbers) {
+  const std::string csv = sweep_csv();
+  std::string r = row("sample:1:1", "zfail", 0, "1");
+  r.replace(r.find(",0,zfail,"), 9, ",0.5,zfail,");
+  try {
+    (void)analysis::policy_samples_from_text(with_line(csv, 3, r), "s.csv", ShadowMethod::ZPPlusCorrected,
+                                             ShadowMethod::ZFail);
+    ADD_FAILURE() << "a fractional light index was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("s.csv: line 3: column 'light': '0.5' is not a whole number"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
