@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -260,6 +261,55 @@ TEST_F(ReportInputs, PathsWhoseNamesWouldShareAFileGetAPlotEach) {
   for (const std::string& png : path_plots) {
     EXPECT_TRUE(fs::exists(out / png)) << png;
     EXPECT_NE(page.find("src=\"" + png + "\""), std::string::npos) << png;
+  }
+}
+
+// The noise floor (Z-pass's frame timed twice: frame_again_ms over frame_ms)
+// is stated beside the Pareto plot, drawn on each path's plot and written to
+// report.json; without the second timings (a sweep without Z-pass, or a CSV
+// without the column) the page says that none was measured.
+TEST_F(ReportInputs, TheNoiseFloorIsStatedWhereMeasuredAndItsAbsenceSaid) {
+  const Rows all = Rows::read(rows());
+  const std::size_t method = all.column("method"), again = all.column("frame_again_ms");
+  ASSERT_LT(again, all.header.size());
+  std::size_t pairs = 0;
+  for (const auto& row : all.rows) pairs += row.size() > again && row[method] == "zpass" && !row[again].empty();
+  ASSERT_GT(pairs, 60u);
+
+  const fs::path measured = path("noise_measured");
+  ASSERT_EQ(test::run_cli("report " + rows() + " --out " + measured.string(), "noise").exit_code, 0);
+  const nlohmann::json floor = nlohmann::json::parse(test::slurp(measured / "report.json"))["noise_floor"];
+  ASSERT_TRUE(floor.is_object()) << floor.dump();
+  EXPECT_EQ(floor["pairs"].get<std::size_t>(), pairs);
+  EXPECT_GT(floor["p5"].get<double>(), 0);
+  EXPECT_LE(floor["p5"].get<double>(), floor["median"].get<double>());
+  EXPECT_LE(floor["median"].get<double>(), floor["p95"].get<double>());
+  EXPECT_GT(floor["mean_ratio"].get<double>(), 0);
+  ASSERT_TRUE(floor["paths"]["near_plane_sweep"].is_object()) << floor.dump();
+  EXPECT_EQ(floor["paths"]["near_plane_sweep"]["pairs"], 60);
+  const std::string page = test::slurp(measured / "index.html");
+  EXPECT_NE(
+      page.find("Noise floor (Z-pass&#x27;s frame timed twice in the same sweep, " + std::to_string(pairs) + " pairs)"),
+      std::string::npos)
+      << page;
+  EXPECT_EQ(page.find("No noise floor was measured"), std::string::npos);
+
+  // The column empty, then the column gone: no noise floor, and the page says so.
+  Rows empty = all, gone = all;
+  for (auto& row : empty.rows)
+    if (row.size() > again) row[again] = "";
+  gone.header.erase(gone.header.begin() + static_cast<std::ptrdiff_t>(again));
+  for (auto& row : gone.rows)
+    if (row.size() > again) row.erase(row.begin() + static_cast<std::ptrdiff_t>(again));
+  for (const auto& [name, rows_] : {std::pair<std::string, const Rows&>{"noise_empty", empty}, {"noise_gone", gone}}) {
+    rows_.write(path(name + ".csv"));
+    const fs::path out = path(name);
+    const test::CliResult r = test::run_cli("report " + path(name + ".csv").string() + " --out " + out.string(), name);
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(test::slurp(out / "report.json"))["noise_floor"].is_null()) << name;
+    const std::string unmeasured = test::slurp(out / "index.html");
+    EXPECT_NE(unmeasured.find("No noise floor was measured"), std::string::npos) << name;
+    EXPECT_EQ(unmeasured.find("Noise floor (Z-pass"), std::string::npos) << name;
   }
 }
 

@@ -172,6 +172,54 @@ TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
   EXPECT_GT(with_cracks, 0u);
 }
 
+// The noise floor's data: Z-pass's frame is timed a second time, on its own
+// row (frame_again_ms), under every variant; the other methods' rows leave the
+// column empty, and so does a sweep without Z-pass.
+TEST_F(Sweep, ZPassRowsHoldASecondTimingOfTheirFrame) {
+  const auto read = [&](const std::string& file) {
+    std::stringstream in(test::slurp(path(file)));
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> header = split(line);
+    const auto column = [&](const std::string& name) {
+      const auto k = static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+      EXPECT_LT(k, header.size()) << name;
+      return k;
+    };
+    const std::size_t method = column("method"), variant = column("variant"), refused = column("refused"),
+                      first = column("frame_ms"), again = column("frame_again_ms");
+    std::map<std::string, std::size_t> timed_twice;  // method [variant] -> rows with a second timing
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells = split(line);
+      if (cells[method] == "rejected" || cells[refused] == "1") continue;
+      ++rows;
+      if (cells[method] != "zpass") {
+        EXPECT_EQ(cells[again], "") << line;
+        continue;
+      }
+      EXPECT_GT(std::stod(cells[first]), 0) << line;
+      EXPECT_FALSE(cells[again].empty()) << "Z-pass timed once: " << line;
+      if (cells[again].empty()) continue;
+      EXPECT_GT(std::stod(cells[again]), 0) << line;
+      ++timed_twice[cells[method] + " " + cells[variant]];
+    }
+    EXPECT_GT(rows, 0u) << file;
+    return timed_twice;
+  };
+  const std::string small = "sweep --path data/paths/near_plane_sweep.json --width 16 --height 12 ";
+  ASSERT_EQ(test::run_cli(small + "--methods zfail,zpass --variant light-projection=glfrustum --out " + path("t.csv"),
+                          "sweep_twice")
+                .exit_code,
+            0);
+  const std::map<std::string, std::size_t> twice = read("t.csv");
+  EXPECT_EQ(twice.size(), 2u);
+  EXPECT_EQ(twice.at("zpass default"), 60u);
+  EXPECT_EQ(twice.at("zpass light-projection=glfrustum"), 60u);
+  ASSERT_EQ(test::run_cli(small + "--methods zfail,zpplus --out " + path("none.csv"), "sweep_once").exit_code, 0);
+  EXPECT_TRUE(read("none.csv").empty());
+}
+
 // --variant runs every method again under other named choices; each row says
 // which; the variants' rows differ only where the choice matters.
 TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {

@@ -28,9 +28,11 @@ beyond, and say so.
 
 Sections:
   1. speed against error: mean emulated frame time per configuration against
-     wrong pixels and against cracks, per method; the Pareto front;
+     wrong pixels and against cracks, per method; the Pareto front; the
+     noise floor (Z-pass's frame timed twice: the spread of the ratio);
   2. each camera path: time per frame relative to Z-pass (the paper's
-     Figure 9 style), cracks per frame, the exact case counts per frame;
+     Figure 9 style) over the path's noise floor, cracks per frame, the exact
+     case counts per frame;
   3. cracks against each conditioning feature (conditioning.hpp);
   4. crack-distance histograms per method;
   5. the paper's case-D claim: frames where ZP+ (corrected) cracks without a
@@ -71,6 +73,11 @@ METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "poli
 # Per-occluder decision columns (nearcap sweep since the engine baselines); a
 # CSV without them gets no baseline section.
 DECISION_COLUMNS = ["occluders", "zpass_wrong_occluders", "false_negatives", "false_positives"]
+# Z-pass's frame timed a second time (on its rows only): the noise floor.  A CSV without the column, or without
+# Z-pass rows, gets a page that says no noise floor was measured.
+AGAIN_COLUMN = "frame_again_ms"
+NOISE_POINTS = 100000  # Z-pass timing ratios kept for the overall noise floor before sampling
+NOISE_PERCENTILES = (5, 95)  # the band drawn and stated
 BUCKETS = ["lt_1_512", "1_512", "1_64", "1_8", "1_2", "2", "8"]
 BUCKET_LABELS = ["<1/512", "1/512", "1/64", "1/8", "1/2", "2", "8"]
 CASES = ["A", "B", "C1", "C2", "D"]
@@ -183,6 +190,7 @@ class RowConverter:
         self.integers = [self.index[c] for c in self.INTEGERS]
         self.floats = [self.index[c] for c in FLOAT_COLUMNS]
         self.decisions = [(c, self.index[c]) for c in DECISION_COLUMNS if c in self.index]
+        self.again = self.index.get(AGAIN_COLUMN)
         self.cap_mismatch = self.index["cap_mismatch"]
 
     def fail(self, line, column, value, what):
@@ -225,6 +233,13 @@ class RowConverter:
                 self.fail(line, c, value, "an integer")
         for c in DECISION_COLUMNS:
             r.setdefault(c, None)
+        r[AGAIN_COLUMN] = None
+        value = fields[self.again] if self.again is not None and self.again < len(fields) else ""
+        if value:
+            try:
+                r[AGAIN_COLUMN] = float(value)
+            except ValueError:
+                self.fail(line, AGAIN_COLUMN, value, "a number")
         # A method under a non-default variant is its own series: "zpplus [light-projection=glfrustum]".
         if r["variant"] != "default":
             r["method"] = f'{r["method"]} [{r["variant"]}]'
@@ -281,6 +296,8 @@ class Totals:
         self.kind_configurations = defaultdict(int)
         self.kind_cracks = defaultdict(lambda: defaultdict(int))
         self.hashes = array.array("q")  # one per configuration, to find one given twice
+        self.noise = Reservoir(NOISE_POINTS, len(keys))  # x: Z-pass's second timing over its first, per row
+        self.noise_sums = [0.0, 0.0]  # those rows' first and second timings, summed
         self.group = None
 
     def add(self, r, name, line):
@@ -314,6 +331,11 @@ class Totals:
         p["with_cracks"] += r["cracks"] > 0
         p["frag_pass"] += r["volume_depth_pass"]
         p["frag_fail"] += r["volume_depth_fail"]
+        ratio = timing_ratio(r[AGAIN_COLUMN], r["frame_ms"])
+        if ratio is not None and m.split(" [")[0] == "zpass":
+            self.noise.add(seq, ratio, 0.0)
+            self.noise_sums[0] += r["frame_ms"]
+            self.noise_sums[1] += r[AGAIN_COLUMN]
         b = self.buckets[m]
         for k, bucket in enumerate(BUCKETS):
             b[k] += r["wrong_r_" + bucket]
@@ -332,7 +354,7 @@ class Totals:
         if c.startswith("path:"):
             path = self.paths.setdefault(r["kind"], {"table": {}, "totals": {}})
             path["table"][(r["frame"], light, m)] = (r["frame_ms"], r["cracks"],
-                                                     tuple(r["exact_" + k] for k in CASES))
+                                                     tuple(r["exact_" + k] for k in CASES), r[AGAIN_COLUMN])
             t = path["totals"].setdefault(m, [0, 0, 0])
             t[0] += r["wrong"]
             t[1] += r["cracks"]
@@ -497,6 +519,10 @@ class Report:
         self.methods = methods_of(totals.methods)
         self.plots, self.sections = [], []
         self.policy, self.policy_source = None, None
+        self.noise = noise_floor(totals.noise.x, totals.noise.seen)  # None: not measured
+        if self.noise is not None:  # for means over many rows, as the Pareto plot's
+            self.noise["mean_ratio"] = totals.noise_sums[1] / totals.noise_sums[0]
+        self.path_noise = {}  # path name -> its noise floor (per frame, the lights summed, as its time plot)
         self.writing = None  # the file being written, for an error message
 
     def save(self, fig, name, points):
@@ -541,7 +567,12 @@ class Report:
         # One legend for both panels, outside the data (labels beside the points overlapped).
         legend(axes[1], fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         fig.suptitle("speed against error, per method (the table below gives the numbers)")
-        fig.supxlabel("times: the float32 pipeline emulated on the CPU, not a GPU's", fontsize=9, y=-0.02)
+        if self.noise is None:
+            noise = "no noise floor measured"
+        else:
+            noise = ("noise floor (Z-pass timed twice): second/first {:.3g} to {:.3g} per frame (5th-95th pct.), "
+                     "{:.3g} summed").format(*band(self.noise), self.noise["mean_ratio"])
+        fig.supxlabel(f"times: the float32 pipeline emulated on the CPU, not a GPU's; {noise}", fontsize=9, y=-0.04)
         img = self.save(fig, "pareto.png", points)
         header = ["method", "rows", "wrong", "cracks", "rows with cracks", "mean frame ms", "volume frags depth-pass",
                   "volume frags depth-fail"]
@@ -554,7 +585,7 @@ class Report:
                 f"{f'; frames the float pipeline refused (float32 transforms degenerate): {refusals}' if refusals else ''}. "
                 f"Exact reference: {self.t.ref_ms / max(1, self.t.ref_pairs):.1f} ms per (configuration, light) "
                 f"on average. Z-pass counts on depth-passing fragments and Z-fail on failing ones: the volume "
-                f"pass's split says which of the two had more to do.</p>")
+                f"pass's split says which of the two had more to do.</p><p>{html.escape(noise_text(self.noise))}</p>")
         self.sections.append(("Speed against error", text + f'<img src="{img}">' +
                               self.table(header, body, "summary.csv")))
 
@@ -604,9 +635,24 @@ class Report:
                 small.grid(alpha=0.3)
                 points += 2 * len(frames)
             timed.axhline(1.0, color="k", lw=0.5)
+            ratios = []
+            for f in frames:
+                pairs = [table[(f, l, "zpass")] for l in lights if (f, l, "zpass") in table]
+                ratio = timing_ratio(sum(p[3] for p in pairs) if pairs and all(p[3] is not None for p in pairs)
+                                     else None, sum(p[0] for p in pairs))
+                if ratio is not None:
+                    ratios.append(ratio)
+            floor = self.path_noise[name] = noise_floor(ratios)
+            if floor is None:
+                noise = "no noise floor measured"
+            else:
+                low, high = band(floor)
+                timed.axhspan(low, high, color="0.82", zorder=0,
+                              label=f"noise floor: Z-pass timed twice\n({low:.2f} to {high:.2f}, 5th-95th pct.)")
+                noise = f"the grey band is the noise floor, Z-pass's frame timed twice: {low:.2f} to {high:.2f}"
             timed.set_ylabel("frame time / Z-pass's")
-            timed.set_title("frame time relative to Z-pass, float32 pipeline emulated on the CPU (single runs: "
-                            "differences of a few % are noise)", fontsize=9)
+            timed.set_title(f"frame time relative to Z-pass, float32 pipeline emulated on the CPU, one timing per "
+                            f"frame; {noise}", fontsize=9)
             legend(timed, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
             bottom = [0] * len(frames)
             first_method = self.methods[0]
@@ -625,6 +671,7 @@ class Report:
             totals = [[m] + (path_totals[m][:2] if m in path_totals else [0, 0]) +
                       [(path_totals[m][2] if m in path_totals else 0) / len(frames)] for m in self.methods]
             parts.append(f"<h3>{html.escape(name)} ({len(frames)} frames)</h3><img src=\"{html.escape(img)}\">" +
+                         f"<p>{html.escape(noise_text(floor))}</p>" +
                          self.table(["method", "wrong", "cracks", "mean frame ms"], totals))
         self.sections.append(("Camera paths", "<p>Per frame: time relative to Z-pass (the paper's Figure 9 "
                                               "style), cracks, and the exact classification of the silhouette "
@@ -867,8 +914,51 @@ Times are the float pipeline's emulation on the CPU, not a GPU's.</p><ul>{toc}</
         self.writing = "report.json"
         (self.out / "report.json").write_text(json.dumps(
             {"rows": self.rows, "rejected": self.rejected, "refused": sum(self.t.refused.values()),
-             "methods": self.methods, "configurations": self.t.configurations, "plots": self.plots}, indent=1) + "\n",
+             "methods": self.methods, "configurations": self.t.configurations, "plots": self.plots,
+             "noise_floor": None if self.noise is None else dict(self.noise, paths=self.path_noise)},
+            indent=1) + "\n",
             encoding="utf-8")
+
+
+def timing_ratio(again, first):
+    """Z-pass's second timing over its first, or None where the row has no second timing (or a time of 0, which
+    a frame under the CSV's 0.1 µs resolution rounds to)."""
+    if again is None or not (math.isfinite(again) and math.isfinite(first)) or again <= 0 or first <= 0:
+        return None
+    return again / first
+
+
+def noise_floor(ratios, seen=None):
+    """The spread of the ratio between two timings of the same frame: its NOISE_PERCENTILES and median, over
+    `ratios` (a uniform sample of `seen` when given and larger); None without any."""
+    if not len(ratios):
+        return None
+    low, high = numpy.percentile(numpy.asarray(ratios, dtype=float), NOISE_PERCENTILES)
+    pairs = len(ratios) if seen is None else seen
+    return {"pairs": pairs, "sampled": pairs > len(ratios), f"p{NOISE_PERCENTILES[0]}": float(low),
+            "median": float(numpy.median(ratios)), f"p{NOISE_PERCENTILES[1]}": float(high)}
+
+
+def band(floor):
+    """A noise floor's band as numbers: (low, high)."""
+    return floor[f"p{NOISE_PERCENTILES[0]}"], floor[f"p{NOISE_PERCENTILES[1]}"]
+
+
+def noise_text(floor):
+    """The noise floor in a sentence, or that none was measured."""
+    if floor is None:
+        return ("No noise floor was measured: no row has a second timing of Z-pass's frame (column "
+                f"{AGAIN_COLUMN}; Z-pass was not among the sweep's --methods, or the CSV is from an older "
+                "nearcap), so how noisy these single timings are is unknown.")
+    low, high = band(floor)
+    sample = " (percentiles of a uniform sample of them)" if floor["sampled"] else ""
+    return (f"Noise floor (Z-pass's frame timed twice in the same sweep, {plural(floor['pairs'], 'pair')}{sample}): "
+            f"the second timing over the first is {low:.3g} to {high:.3g} (5th to 95th percentile, median "
+            f"{floor['median']:.3g}). Two single frames' times whose ratio lies inside that band are not told apart "
+            "by these timings." + (f" Summed over those frames, the second timings over the first: "
+                                   f"{floor['mean_ratio']:.3g}, the noise in a mean frame time (the plot's x, the table's "
+                                   "mean frame ms)."
+                                   if "mean_ratio" in floor else ""))
 
 
 def pareto_front(points):

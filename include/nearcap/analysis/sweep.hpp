@@ -8,7 +8,8 @@
 // distances, the conditioning features (conditioning.hpp), the work per pass
 // (vertices in, fragments, and how many passed the depth test: Z-pass counts
 // on passing fragments and Z-fail on failing ones, which is when one is
-// slower than the other) and the time per pass.  Rows are data: CSV with a
+// slower than the other) and the time per pass, with Z-pass's frame timed
+// twice to show how noisy those times are.  Rows are data: CSV with a
 // fixed header (csv_header), one line per row (csv_line).
 #pragma once
 
@@ -67,9 +68,14 @@ struct SweepRow {
   std::size_t occluders = 0, zpass_wrong_occluders = 0;
   long long false_negatives = -1, false_positives = -1;
   PassWork setup, depth, near_cap, volume;
-  double reference_ms = 0;        // the exact reference for this light (shared by its methods)
-  double decide_ms = 0;           // the switch policy's decision (its row only)
-  double crack_distance_ms = 0;   // measuring this method's wrong pixels not measured before
+  double reference_ms = 0;       // the exact reference for this light (shared by its methods)
+  double decide_ms = 0;          // the switch policy's decision (its row only)
+  double crack_distance_ms = 0;  // measuring this method's wrong pixels not measured before
+  // Z-pass's rows: the same frame timed a second time, in a batch of its own
+  // (silhouettes, depth pre-pass and all recomputed) after the light's other
+  // methods, so that frame_ms and this differ only by timing noise: the
+  // report's noise floor.  Empty on other rows and on a refused frame.
+  std::optional<double> frame_again_ms;
   ConditioningFeatures features;  // this (frame, light), the same for every method
   // The row's frame is depth-limited (conditioning.hpp, kDepthLimitedStep)
   // with its own near plane, depth format and mapping: no method is
