@@ -711,6 +711,13 @@ class Report:
                 ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=6) if ax.get_xscale() == "log"
                                            else matplotlib.ticker.SymmetricalLogLocator(
                                                base=10, linthresh=ax.xaxis.get_transform().linthresh))
+                if ax.get_xscale() == "symlog":
+                    # A decade a tick over twenty decades prints the labels
+                    # over each other: at most six, evenly spaced.
+                    lo, hi = ax.get_xlim()
+                    ticks = [t for t in ax.xaxis.get_major_locator().tick_values(lo, hi) if lo <= t <= hi]
+                    ax.xaxis.set_major_locator(
+                        matplotlib.ticker.FixedLocator(ticks[::max(1, math.ceil(len(ticks) / 6))]))
             ax.set_ylabel("cracks", fontsize=8)
             ax.grid(alpha=0.3)
         for ax in list(axes.flat)[len(FEATURES):]:
