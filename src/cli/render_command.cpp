@@ -98,8 +98,8 @@ struct LightCpu {
   std::size_t light = 0;   // scene light index
   double decision_ms = 0;  // the policy's decision (FrameSource::decision_ms), 0 for a fixed method
   gl::FrameCpuTimes work;  // silhouettes, the clipped-sides caps, the light frustum
-  std::vector<std::pair<std::size_t, gl::ShadowMethod>>
-      methods;  // each occluder's method (ShadowFrame::object_methods)
+  // Each occluder's method (ShadowFrame::object_methods).
+  std::vector<std::pair<std::size_t, gl::ShadowMethod>> methods;
   double total() const { return decision_ms + work.total(); }
 };
 
