@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -472,12 +475,14 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   EXPECT_NE(r.out.find(" + stencil "), std::string::npos) << r.out;
   const std::string csv = test::slurp(dir / "two" / "bench.csv");
   EXPECT_EQ(csv.rfind("frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,"
-                      "gpu_stencil_ms,gpu_lit_ms\n",
+                      "gpu_stencil_ms,gpu_lit_ms,cpu_ms,end_to_end_ms\n",
                       0),
             0u)
       << csv.substr(0, 80);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 60);  // the header, 60 frames of 2 methods
+  // The header, 60 frames of 2 methods and Z-pass drawn again (the noise floor).
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 60);
   EXPECT_NE(csv.find("\n59,zpplus,two-sided,"), std::string::npos);
+  EXPECT_NE(csv.find("\n59,zpass#again,two-sided,"), std::string::npos);
   EXPECT_GT(std::filesystem::file_size(dir / "two" / "bench.png"), 1000u);
   const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "two" / "render.json"));
   for (const nlohmann::json& m : j["methods"])
@@ -500,6 +505,90 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
       test::run_cli("render data/scenes/default.json --light 0 --compare --bench", "render_bench");
   EXPECT_EQ(compare.exit_code, 2);
   EXPECT_NE(compare.err.find("--bench"), std::string::npos) << compare.err;
+  std::filesystem::remove_all(dir);
+}
+
+// --bench's CPU work: bench.csv's cpu_ms and end_to_end_ms on every row (the
+// noise floor's second Z-pass too), end to end at least the CPU work, and
+// render.json's breakdown per light and occluder within the frame's cpu_ms;
+// Z-pass builds no cap, ZP+ with the clipped-sides cap does.
+TEST(RenderCommand, BenchTimesTheCpuWorkAndTheFrameEndToEnd) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_cpu_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "render data/scenes/eye_in_shadow.json --light 0 --method zpass,zpplus-corrected,policy "
+      "--light-projection clipped-sides --bench --out '" +
+          dir.string() + "'",
+      "render_cpu");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("noise floor: zpass drawn twice per frame"), std::string::npos) << r.out;
+  // bench.csv, read by its header's names.
+  std::istringstream csv(test::slurp(dir / "bench.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::istringstream in(text);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  const std::vector<std::string> header = split(line);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t method = column("method"), cpu = column("cpu_ms"), end_to_end = column("end_to_end_ms");
+  ASSERT_LT(cpu, header.size()) << line;
+  ASSERT_LT(end_to_end, header.size()) << line;
+  std::vector<std::string> methods;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> cells = split(line);
+    ASSERT_EQ(cells.size(), header.size()) << line;
+    methods.push_back(cells[method]);
+    const double c = std::stod(cells[cpu]), e = std::stod(cells[end_to_end]);
+    EXPECT_TRUE(std::isfinite(c) && c >= 0) << line;
+    EXPECT_TRUE(std::isfinite(e) && e >= 0) << line;
+    EXPECT_GE(e * (1 + 1e-5), c) << line;  // the CSV's 6 significant digits
+  }
+  EXPECT_EQ(methods, (std::vector<std::string>{"zpass", "zpass#again", "zpplus-corrected", "policy"}));
+  const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "render.json"));
+  ASSERT_EQ(j["methods"].size(), 3u);
+  EXPECT_EQ(j["noise_floor"]["method"], "zpass");
+  EXPECT_EQ(j["noise_floor"]["frames"], 1u);
+  for (const nlohmann::json& m : j["methods"]) {
+    const std::string name = m["method"].get<std::string>();
+    ASSERT_EQ(m["frames"].size(), 1u) << name;
+    const nlohmann::json& f = m["frames"][0];
+    const double cpu_ms = f["cpu_ms"].get<double>(), end_to_end_ms = f["end_to_end_ms"].get<double>();
+    EXPECT_GE(end_to_end_ms, cpu_ms) << name;
+    const nlohmann::json& work = f["cpu"];
+    double sum = work["upload_ms"].get<double>();
+    ASSERT_EQ(work["lights"].size(), 1u) << name;
+    for (const nlohmann::json& light : work["lights"]) {
+      EXPECT_EQ(light["light"], 0u);
+      sum += light["decision_ms"].get<double>() + light["near_plane_ms"].get<double>() +
+             light["light_frustum_ms"].get<double>();
+      if (name != "policy") {
+        EXPECT_EQ(light["decision_ms"].get<double>(), 0.0) << name;
+      }
+      ASSERT_FALSE(light["occluders"].empty()) << name;
+      for (const nlohmann::json& oc : light["occluders"]) {
+        const double silhouette = oc["silhouette_ms"].get<double>(), cap = oc["cap_build_ms"].get<double>();
+        EXPECT_TRUE(std::isfinite(silhouette) && silhouette >= 0) << oc;
+        EXPECT_TRUE(std::isfinite(cap) && cap >= 0) << oc;
+        const std::string chosen = oc["method"].get<std::string>();
+        if (name != "policy") {
+          EXPECT_EQ(chosen, name) << oc;
+        }
+        if (chosen == "zpass" || chosen == "zfail") {
+          EXPECT_EQ(cap, 0.0) << name << ": " << oc;
+        }
+        sum += silhouette + cap;
+      }
+    }
+    EXPECT_LE(sum, cpu_ms * (1 + 1e-12)) << name << ": " << work;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -5,8 +5,9 @@ one line per method, along a camera path (the ZP+ paper's Figures 9-11).
 Usage: render_bench.py BENCH.csv OUT.png [TITLE]
 BENCH.csv is what `nearcap render --path PATH --bench --out DIR` writes:
 frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,
-gpu_depth_ms,gpu_stencil_ms,gpu_lit_ms.  Errors are one line on
-stderr, exit code 2.
+gpu_depth_ms,gpu_stencil_ms,gpu_lit_ms,cpu_ms,end_to_end_ms (rows of method
+zpass#again: Z-pass drawn twice per frame, the noise floor, a line near 1).
+Errors are one line on stderr, exit code 2.
 """
 import csv
 import sys

@@ -1,6 +1,8 @@
 // The real-GL commands' frames (see frame_source.hpp).
 #include "frame_source.hpp"
 
+#include <chrono>
+
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
 
@@ -29,8 +31,10 @@ gl::DepthFormat FrameSource::depth(std::size_t k) const {
 
 gl::ShadowFrame FrameSource::frame(std::size_t k) {
   if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
+  const auto t0 = std::chrono::steady_clock::now();
   if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
   decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_);
+  decision_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   decision_.settings.record_draws = settings_.record_draws;
   gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
   return batch.render(decision_.object_methods);

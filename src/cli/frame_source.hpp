@@ -42,6 +42,9 @@ class FrameSource {
   gl::DepthFormat depth(std::size_t k) const;
   // The policy's last decision (after frame(k) of the policy).
   const analysis::PolicyDecision& decision() const { return decision_; }
+  // Its CPU time (steady_clock, ms): the camera-space scene the policy reads
+  // (the first time), and the decision, its exact Z-pass test included.
+  double decision_ms() const { return decision_ms_; }
 
  private:
   const Scene& scene_;
@@ -51,6 +54,7 @@ class FrameSource {
   gl::ShadowFrameBatch batch_;
   std::unique_ptr<CameraSpaceScene> cs_;
   analysis::PolicyDecision decision_;
+  double decision_ms_ = 0;
 };
 
 }  // namespace nearcap::cli

@@ -92,55 +92,102 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
       "pixels against the exact reference; cracks: the real GL's wrong pixels that are cracks\n");
 }
 
-// One lit frame per method of `scene` (every light, or --light K alone):
-// PNG bytes and GL time per method, "refused" where the driver or the float
-// pipeline cannot draw it.
+// One light's share of a lit frame's CPU work (--bench): what the GL's
+// clock does not see.
+struct LightCpu {
+  std::size_t light = 0;   // scene light index
+  double decision_ms = 0;  // the policy's decision (FrameSource::decision_ms), 0 for a fixed method
+  gl::FrameCpuTimes work;  // silhouettes, the clipped-sides caps, the light frustum
+  // Each occluder's method (ShadowFrame::object_methods).
+  std::vector<std::pair<std::size_t, gl::ShadowMethod>> methods;
+  double total() const { return decision_ms + work.total(); }
+};
+
+// One method's lit frame of a scene: its PNG, each light's stencil (with
+// --stencil), the GL's times, and the CPU work that built its draw calls.
+struct MethodFrame {
+  std::string png;
+  std::vector<std::string> stencil_pgm;  // per light
+  double ms = 0;                         // the GL's frame (render::LitFrame::ms)
+  double upload_ms = 0;                  // of `ms`
+  render::LitFramePasses passes;         // with --bench
+  std::vector<LightCpu> cpu;             // per light drawn
+  // The frame's CPU work: every light's, and the uploads.
+  double cpu_ms() const {
+    double t = upload_ms;
+    for (const LightCpu& l : cpu) t += l.total();
+    return t;
+  }
+  // The CPU work and the GL's passes up to glFinish (the uploads are in both).
+  double end_to_end_ms() const { return cpu_ms() - upload_ms + ms; }
+};
+
+// One lit frame per method of `scene` (every light, or --light K alone),
+// "refused" where the driver or the float pipeline cannot draw it.  With
+// --bench the first method is drawn a second time after the others, from
+// frame sources of its own (its silhouettes computed again): `again`, the
+// noise floor of the comparison.
 struct LitFrames {
-  std::vector<std::string> png;                       // per method; empty when refused
-  std::vector<std::vector<std::string>> stencil_pgm;  // per method, per light (with --stencil)
-  std::vector<std::size_t> light_index;               // the scene lights drawn
-  std::vector<double> ms;
-  std::vector<render::LitFramePasses> passes;  // with --bench
-  std::vector<std::string> refused;
+  std::vector<MethodFrame> methods;
+  std::vector<std::string> refused;      // per method, "" where drawn
+  std::optional<MethodFrame> again;      // with --bench
+  std::vector<std::size_t> light_index;  // the scene lights drawn
   std::size_t lights = 0;
 };
+
+// Method m's lit frame from `sources` (one per light drawn).
+MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene, const RenderOptions& o,
+                         const RenderMethods& methods, const std::vector<std::unique_ptr<FrameSource>>& sources,
+                         std::size_t m, bool keep_images) {
+  MethodFrame out;
+  std::vector<gl::ShadowFrame> frames;
+  for (const auto& source : sources) {
+    frames.push_back(source->frame(m));
+    const gl::ShadowFrame& f = frames.back();
+    out.cpu.push_back({f.light, m >= methods.methods.size() ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
+  }
+  render::LitFrameOptions options;
+  options.read_stencils = o.stencil && keep_images;
+  options.pass_times = o.bench;
+  options.one_sided_stencil = o.one_sided_stencil;
+  options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
+  options.side_strips = o.side_strips;
+  const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
+  out.passes = lit.passes;
+  out.ms = lit.ms;
+  out.upload_ms = lit.upload_ms;
+  if (keep_images) {
+    out.png = encode_png_rgb(lit.width, lit.height, lit.rgb);
+    for (const std::vector<std::uint8_t>& st : lit.stencils)
+      out.stencil_pgm.push_back(stencil_pgm(lit.width, lit.height, st));
+  }
+  return out;
+}
 
 LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, const RenderOptions& o,
                      const RenderMethods& methods, const gl::EmulationSettings& settings) {
   LitFrames out;
-  std::vector<std::size_t> lights;
   for (std::size_t k = 0; k < scene.lights.size(); ++k)
-    if (!o.light_given || k == o.light) lights.push_back(k);
-  out.lights = lights.size();
-  out.light_index = lights;
-  std::vector<std::unique_ptr<FrameSource>> sources;  // one per light, shared by the methods
-  for (std::size_t k : lights) sources.push_back(std::make_unique<FrameSource>(scene, k, methods, settings));
+    if (!o.light_given || k == o.light) out.light_index.push_back(k);
+  out.lights = out.light_index.size();
+  auto make_sources = [&] {
+    std::vector<std::unique_ptr<FrameSource>> sources;  // one per light, shared by the methods
+    for (std::size_t k : out.light_index) sources.push_back(std::make_unique<FrameSource>(scene, k, methods, settings));
+    return sources;
+  };
+  const std::vector<std::unique_ptr<FrameSource>> sources = make_sources();
   for (std::size_t m = 0; m < methods.count(); ++m) {
     try {
-      std::vector<gl::ShadowFrame> frames;
-      for (const auto& source : sources) frames.push_back(source->frame(m));
-      render::LitFrameOptions options;
-      options.read_stencils = o.stencil;
-      options.pass_times = o.bench;
-      options.one_sided_stencil = o.one_sided_stencil;
-      options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
-      options.side_strips = o.side_strips;
-      const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
-      out.passes.push_back(lit.passes);
-      out.png.push_back(encode_png_rgb(lit.width, lit.height, lit.rgb));
-      std::vector<std::string>& pgms = out.stencil_pgm.emplace_back();
-      for (const std::vector<std::uint8_t>& st : lit.stencils) pgms.push_back(stencil_pgm(lit.width, lit.height, st));
-      out.ms.push_back(lit.ms);
+      out.methods.push_back(method_frame(renderer, scene, o, methods, sources, m, true));
       out.refused.emplace_back();
     } catch (const Error& e) {
       if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.count() == 1) throw;
-      out.png.emplace_back();
-      out.stencil_pgm.emplace_back();
-      out.ms.push_back(0);
-      out.passes.emplace_back();
+      out.methods.emplace_back();
       out.refused.push_back(e.what());
     }
   }
+  if (o.bench && out.refused[0].empty())
+    out.again = method_frame(renderer, scene, o, methods, make_sources(), 0, false);
   return out;
 }
 
@@ -176,7 +223,40 @@ struct LitFrameRecord {
   std::size_t frame = 0;
   double ms = 0;
   render::LitFramePasses passes;  // with --bench
+  double cpu_ms = 0, end_to_end_ms = 0, upload_ms = 0;
+  std::vector<LightCpu> cpu;  // with --bench
 };
+
+// --bench: render.json's breakdown of a frame's CPU work, per light and occluder.
+nlohmann::json cpu_json(const LitFrameRecord& fr) {
+  nlohmann::json lights = nlohmann::json::array();
+  for (const LightCpu& l : fr.cpu) {
+    nlohmann::json occluders = nlohmann::json::array();
+    for (std::size_t i = 0; i < l.work.occluders.size(); ++i) {
+      const gl::OccluderCpuTimes& t = l.work.occluders[i];
+      const auto chosen =
+          std::find_if(l.methods.begin(), l.methods.end(), [&](const auto& om) { return om.first == t.object; });
+      occluders.push_back({{"object", t.object},
+                           {"method", chosen == l.methods.end() ? "" : std::string(gl::to_string(chosen->second))},
+                           {"silhouette_ms", t.silhouette_ms},
+                           {"cap_build_ms", t.cap_build_ms}});
+    }
+    lights.push_back({{"light", l.light},
+                      {"decision_ms", l.decision_ms},
+                      {"near_plane_ms", l.work.near_plane_ms},
+                      {"light_frustum_ms", l.work.light_frustum_ms},
+                      {"occluders", std::move(occluders)}});
+  }
+  return {{"upload_ms", fr.upload_ms}, {"lights", std::move(lights)}};
+}
+
+// The p-th quantile (0..1) of `v`, linear between order statistics.
+double quantile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  const double x = p * static_cast<double>(v.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(x);
+  return i + 1 < v.size() ? v[i] + (x - static_cast<double>(i)) * (v[i + 1] - v[i]) : v[i];
+}
 
 // The lit frame's file and each light's stencil file of method `name`'s frame `f`.
 std::string lit_frame_file(const RenderOptions& o, const std::string& name, std::size_t f) {
@@ -216,16 +296,29 @@ void run_lit(const RenderOptions& o) {
   io::StagedOutputFiles files;
   std::vector<std::vector<LitFrameRecord>> per_method(methods.count());
   std::vector<double> total_ms(methods.count(), 0);
+  std::vector<double> cpu_total_ms(methods.count(), 0), end_to_end_total_ms(methods.count(), 0);  // with --bench
   std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
   std::vector<std::size_t> light_index;  // the scene lights drawn (the same in every frame)
   // --bench: one row per frame and method, and the passes' totals.
   const std::string stencil_sides = o.one_sided_stencil ? "one-sided" : "two-sided";
   const std::string layout = o.side_strips ? "side-strips" : "triangles";
+  const std::string culling(gl::to_string(settings.volume_culling));
   std::string bench_csv =
       "frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,gpu_depth_ms,gpu_stencil_ms,"
-      "gpu_lit_ms\n";
-  const std::string culling(gl::to_string(settings.volume_culling));
+      "gpu_lit_ms,cpu_ms,end_to_end_ms\n";
+  auto bench_row = [&](std::size_t f, const std::string& name, const MethodFrame& mf) {
+    const render::LitFramePasses& p = mf.passes;
+    char row[320];
+    std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
+                  stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), mf.ms, p.depth_ms,
+                  p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms, mf.cpu_ms(),
+                  mf.end_to_end_ms());
+    bench_csv += row;
+  };
+  // The noise floor: the first method's end-to-end time drawn twice per frame, again over first.
+  std::vector<double> again_ratio;
+  const std::string again_name = methods.name(0) + "#again";
   std::vector<render::LitFramePasses> pass_totals(methods.count());
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
@@ -248,16 +341,17 @@ void run_lit(const RenderOptions& o) {
         refused[m] = frames.refused[m];
         continue;
       }
-      files.add({lit_frame_file(o, name, f), frames.png[m]});
-      for (std::size_t k = 0; k < frames.stencil_pgm[m].size(); ++k)
-        files.add({lit_stencil_file(o, name, f, frames.light_index[k]), frames.stencil_pgm[m][k]});
+      const MethodFrame& mf = frames.methods[m];
+      files.add({lit_frame_file(o, name, f), mf.png});
+      for (std::size_t k = 0; k < mf.stencil_pgm.size(); ++k)
+        files.add({lit_stencil_file(o, name, f, frames.light_index[k]), mf.stencil_pgm[k]});
       if (o.bench) {
-        const render::LitFramePasses& p = frames.passes[m];
-        char row[256];
-        std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
-                      stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), frames.ms[m],
-                      p.depth_ms, p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms);
-        bench_csv += row;
+        const render::LitFramePasses& p = mf.passes;
+        bench_row(f, name, mf);
+        if (m == 0 && frames.again) {
+          bench_row(f, again_name, *frames.again);
+          if (mf.end_to_end_ms() > 0) again_ratio.push_back(frames.again->end_to_end_ms() / mf.end_to_end_ms());
+        }
         pass_totals[m].depth_ms += p.depth_ms;
         pass_totals[m].stencil_ms += p.stencil_ms;
         pass_totals[m].lit_ms += p.lit_ms;
@@ -265,8 +359,10 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_stencil_ms += p.gpu_stencil_ms;
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
       }
-      per_method[m].push_back({f, frames.ms[m], frames.passes[m]});
-      total_ms[m] += frames.ms[m];
+      per_method[m].push_back({f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu});
+      total_ms[m] += mf.ms;
+      cpu_total_ms[m] += mf.cpu_ms();
+      end_to_end_total_ms[m] += mf.end_to_end_ms();
     }
     if (scenes.count() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.count());
     progress.open = scenes.count() > 1;
@@ -289,11 +385,18 @@ void run_lit(const RenderOptions& o) {
           entry["passes"] = {
               {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
               {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
+          entry["cpu_ms"] = fr.cpu_ms;
+          entry["end_to_end_ms"] = fr.end_to_end_ms;
+          entry["cpu"] = cpu_json(fr);
         }
         entries.push_back(std::move(entry));
       }
       r["frames"] = std::move(entries);
       r["mean_ms"] = total_ms[m] / static_cast<double>(per_method[m].size());
+      if (o.bench) {
+        r["mean_cpu_ms"] = cpu_total_ms[m] / static_cast<double>(per_method[m].size());
+        r["mean_end_to_end_ms"] = end_to_end_total_ms[m] / static_cast<double>(per_method[m].size());
+      }
       if (o.path.empty()) {
         r["file"] = r["frames"][0]["file"];
         r["ms"] = r["frames"][0]["ms"];
@@ -306,6 +409,11 @@ void run_lit(const RenderOptions& o) {
                       {"vertex_stage", o.vertex_stage},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
+  if (o.bench && !again_ratio.empty())
+    root["noise_floor"] = {{"method", methods.name(0)},
+                           {"frames", again_ratio.size()},
+                           {"end_to_end_again_over_first_p05", quantile(again_ratio, 0.05)},
+                           {"end_to_end_again_over_first_p95", quantile(again_ratio, 0.95)}};
   files.add({(dir / "render.json").string(), json_text(root, 1) + "\n"});
   if (o.bench) files.add({(dir / "bench.csv").string(), bench_csv});
   files.commit();
@@ -332,6 +440,7 @@ void run_lit(const RenderOptions& o) {
         std::printf("  depth %.2f + stencil %.2f + lit %.2f ms (timer queries %.3f + %.3f + %.3f)",
                     pass_totals[m].depth_ms / n, pass_totals[m].stencil_ms / n, pass_totals[m].lit_ms / n,
                     pass_totals[m].gpu_depth_ms / n, pass_totals[m].gpu_stencil_ms / n, pass_totals[m].gpu_lit_ms / n);
+        std::printf("  cpu %.2f ms, end to end %.2f ms", cpu_total_ms[m] / n, end_to_end_total_ms[m] / n);
       }
       std::printf("\n");
     }
@@ -342,6 +451,12 @@ void run_lit(const RenderOptions& o) {
         "bench: %s/bench.csv (%s stencil, vertex stage %s, %s, volume culling %s, a glFinish after each "
         "pass)\n",
         o.out.c_str(), stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str());
+    if (!again_ratio.empty())
+      std::printf(
+          "bench: noise floor: %s drawn twice per frame (%s rows): end-to-end time again/first %.3f to %.3f "
+          "(5th to 95th percentile, %zu frame%s)\n",
+          methods.name(0).c_str(), again_name.c_str(), quantile(again_ratio, 0.05), quantile(again_ratio, 0.95),
+          again_ratio.size(), again_ratio.size() == 1 ? "" : "s");
     const bool has_zpass =
         std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
     if (!o.path.empty() && !has_zpass)
@@ -478,8 +593,11 @@ void register_render(CLI::App& app) {
                 "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
                 "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
   cmd->add_flag("--bench", o->bench,
-                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes): "
-                "the breakdown on stdout, DIR/bench.csv, and along a path DIR/bench.png (each frame's time "
+                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes) "
+                "and the CPU work that builds the draw calls (silhouettes, the clipped-sides cap, the policy's "
+                "decision, uploads), the methods interleaved frame by frame and the first drawn twice (its "
+                "METHOD#again rows: the noise floor): the breakdown on stdout, DIR/bench.csv, the CPU work per "
+                "light and occluder in DIR/render.json, and along a path DIR/bench.png (each frame's time "
                 "relative to Z-pass, as the paper's Figures 9-11)");
   cmd->add_flag("--one-sided-stencil", o->one_sided_stencil,
                 "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "

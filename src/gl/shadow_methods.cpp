@@ -163,7 +163,9 @@ struct ShadowFrameBatch::SharedWork {
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
   std::optional<LightFrustum> light_frustum;
-  double silhouette_ms = 0;  // computing silhouettes and geometry, once
+  double light_frustum_ms = 0;
+  double silhouette_ms = 0;                  // computing silhouettes and geometry, once
+  std::vector<double> object_silhouette_ms;  // the same, per scene object
 };
 
 namespace {
@@ -209,8 +211,13 @@ class FrameRenderer {
       if (scene_.objects[o].occluder) frame.object_methods.push_back({o, methods_[o]});
     const auto t_setup = Clock::now();
     if (any_near_cap_ && !clipped_sides_) {  // clipped-sides needs no light frustum
-      if (!shared_.light_frustum) shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
+      if (!shared_.light_frustum) {
+        const auto t = Clock::now();
+        shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
+        shared_.light_frustum_ms = ms_since(t);
+      }
       frame.light_frustum = *shared_.light_frustum;
+      frame.cpu.light_frustum_ms = shared_.light_frustum_ms;
       if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
     }
     // The infinite far plane when a method needs it (preload; Z-fail by
@@ -342,8 +349,10 @@ class FrameRenderer {
           shared_.geometry[o] = shadow_volume_geometry(*so.mesh, *shared_.silhouettes[o]);
           const double ms = ms_since(t);
           shared_.silhouette_ms += ms;
+          shared_.object_silhouette_ms[o] = ms;
           computed_here_ms_ += ms;
         }
+        frame.cpu.occluders.push_back({o, shared_.object_silhouette_ms[o], 0.0});
         if (settings_.volume_culling != VolumeCulling::None)
           obj.bounds =
               shadow_volume_bounds(scene_, o, scene_.lights[light_].position, projection, settings_.depth_mapping);
@@ -393,69 +402,82 @@ class FrameRenderer {
     DrawState s = camera_state(zpass_state());
     s.depth_func = DepthFunc::Always;
     s.vertices_on_near_plane = true;
-    const DepthMapping mapping = settings_.depth_mapping;
+    std::size_t occluder = 0;  // o's entry in frame.cpu.occluders
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
-      if (!obj.occluder || !uses_near_cap(methods_[o])) continue;
-      // Only parts that may reach the near plane: the mesh's points (light
-      // cap), its directions from the light (dark cap), and the sides
-      // between them unless both lie strictly on one side.
-      const TriangleMesh& mesh = *scene_.objects[o].mesh;
-      const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;  // the triangles' vertices
-      const Vec4f& l = obj.uniforms.light_position;
-      const Vec3d light{l.x, l.y, l.z};
-      const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0, mapping);
-      const int directions =
-          near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0, mapping);
-      // z + w (w - z reversed) of each mesh vertex as a point and as a
-      // direction from the light, once per mesh vertex: bit for bit what the
-      // program computes for it in any triangle (the same input, its z and w
-      // rows) and the clipper then computes from them.
-      const Mat4f& mvp = obj.uniforms.modelview_projection;
-      auto near_distance = [&](const ShadowVertex& v) {
-        const Vec4f in = extrusion_input(obj.uniforms, v);
-        Vec4f clip;
-        clip.z = transform_row(mvp, 2, in, obj.uniforms.arithmetic);
-        clip.w = transform_row(mvp, 3, in, obj.uniforms.arithmetic);
-        return near_plane_distance(clip, mapping);
-      };
-      // Both bounds strictly on one side: no part reaches the near plane.
-      const bool sides_needed = points == 0 || directions == 0 || points != directions;
-      if (!sides_needed) continue;
-      // Nothing of the occluder in the light pyramid: an empty cap.
-      if (settings_.cull_light_pyramid && certainly_misses_light_pyramid(scene_, o, scene_.lights[light_].position,
-                                                                         near_plane_cap_margin(scene_.camera.width),
-                                                                         near_plane_cap_margin(scene_.camera.height)))
-        continue;
-      std::vector<float> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
-      for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-        const Vec3d& p = mesh.positions[v];
-        const float x = static_cast<float>(p.x), y = static_cast<float>(p.y), z = static_cast<float>(p.z);
-        as_point[v] = near_distance({x, y, z, 1.0f});
-        as_direction[v] = near_distance({x, y, z, 0.0f});
-      }
-      const ShadowVolumeGeometry& g = *obj.geometry;
-      std::vector<Vec4f> boundary;
-      for (const auto& [part, index, needed] :
-           {std::tuple{&g.sides, &g.sides_vertex, true}, std::tuple{&g.light_cap, &g.light_cap_vertex, points == 0},
-            std::tuple{&g.dark_cap, &g.dark_cap_vertex, directions == 0}}) {
-        if (!needed) continue;
-        // The whole program only for the triangles that reach the near plane.
-        for (std::size_t t = 0; t + 2 < part->size(); t += 3) {
-          bool beyond = true;
-          for (std::size_t k = t; k < t + 3 && beyond; ++k)
-            beyond = ((*part)[k].w == 0.0f ? as_direction : as_point)[(*index)[k]] > 0;
-          if (beyond) continue;
-          for (std::size_t k = t; k < t + 3; ++k) boundary.push_back(extrusion_program(obj.uniforms, (*part)[k]));
-        }
-      }
-      if (boundary.empty()) continue;  // nothing reaches the near plane: no cap, no draw call
-      std::vector<Vec4f> fan = near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, mapping);
+      if (!obj.occluder) continue;
+      OccluderCpuTimes& cpu = frame.cpu.occluders[occluder++];
+      if (!uses_near_cap(methods_[o])) continue;
+      const auto t = Clock::now();
+      std::vector<Vec4f> fan = clipped_sides_cap(obj);
+      cpu.cap_build_ms = ms_since(t);
       if (fan.empty()) continue;
       const DrawState state = bounded(oriented(s, obj.mirrored), obj);
       frame.cap_pass += fb_.draw(fan, state, settings_.raster);
       if (settings_.record_draws) frame.draws.push_back({DrawPass::NearCap, std::move(fan), state, std::nullopt});
     }
+  }
+
+  // The clipped-sides cap of one occluder: the fan's clip-space vertices,
+  // none where no part of its volume reaches the near plane (the CPU work a
+  // renderer does for this cap, timed apart from its draw).
+  std::vector<Vec4f> clipped_sides_cap(const ObjectSetup& obj) const {
+    const std::size_t o = obj.index;
+    const DepthMapping mapping = settings_.depth_mapping;
+    // Only parts that may reach the near plane: the mesh's points (light
+    // cap), its directions from the light (dark cap), and the sides
+    // between them unless both lie strictly on one side.
+    const TriangleMesh& mesh = *scene_.objects[o].mesh;
+    const Vec3d &lo = mesh.face_planes.box_lo, &hi = mesh.face_planes.box_hi;  // the triangles' vertices
+    const Vec4f& l = obj.uniforms.light_position;
+    const Vec3d light{l.x, l.y, l.z};
+    const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0, mapping);
+    const int directions =
+        near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0, mapping);
+    // z + w (w - z reversed) of each mesh vertex as a point and as a
+    // direction from the light, once per mesh vertex: bit for bit what the
+    // program computes for it in any triangle (the same input, its z and w
+    // rows) and the clipper then computes from them.
+    const Mat4f& mvp = obj.uniforms.modelview_projection;
+    auto near_distance = [&](const ShadowVertex& v) {
+      const Vec4f in = extrusion_input(obj.uniforms, v);
+      Vec4f clip;
+      clip.z = transform_row(mvp, 2, in, obj.uniforms.arithmetic);
+      clip.w = transform_row(mvp, 3, in, obj.uniforms.arithmetic);
+      return near_plane_distance(clip, mapping);
+    };
+    // Both bounds strictly on one side: no part reaches the near plane.
+    const bool sides_needed = points == 0 || directions == 0 || points != directions;
+    if (!sides_needed) return {};
+    // Nothing of the occluder in the light pyramid: an empty cap.
+    if (settings_.cull_light_pyramid && certainly_misses_light_pyramid(scene_, o, scene_.lights[light_].position,
+                                                                       near_plane_cap_margin(scene_.camera.width),
+                                                                       near_plane_cap_margin(scene_.camera.height)))
+      return {};
+    std::vector<float> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      const Vec3d& p = mesh.positions[v];
+      const float x = static_cast<float>(p.x), y = static_cast<float>(p.y), z = static_cast<float>(p.z);
+      as_point[v] = near_distance({x, y, z, 1.0f});
+      as_direction[v] = near_distance({x, y, z, 0.0f});
+    }
+    const ShadowVolumeGeometry& g = *obj.geometry;
+    std::vector<Vec4f> boundary;
+    for (const auto& [part, index, needed] :
+         {std::tuple{&g.sides, &g.sides_vertex, true}, std::tuple{&g.light_cap, &g.light_cap_vertex, points == 0},
+          std::tuple{&g.dark_cap, &g.dark_cap_vertex, directions == 0}}) {
+      if (!needed) continue;
+      // The whole program only for the triangles that reach the near plane.
+      for (std::size_t t = 0; t + 2 < part->size(); t += 3) {
+        bool beyond = true;
+        for (std::size_t k = t; k < t + 3 && beyond; ++k)
+          beyond = ((*part)[k].w == 0.0f ? as_direction : as_point)[(*index)[k]] > 0;
+        if (beyond) continue;
+        for (std::size_t k = t; k < t + 3; ++k) boundary.push_back(extrusion_program(obj.uniforms, (*part)[k]));
+      }
+    }
+    if (boundary.empty()) return {};  // nothing reaches the near plane: no cap, no draw call
+    return near_plane_cap_triangles(boundary, scene_.camera.width, scene_.camera.height, mapping);
   }
 
   // ZF+ (ZFailFar::FarCap): the far-plane cap of the occluder's closed
@@ -654,6 +676,7 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
       shared_(std::make_unique<SharedWork>()) {
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
+  shared_->object_silhouette_ms.resize(scene.objects.size());
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 
@@ -664,6 +687,7 @@ ShadowFrame ShadowFrameBatch::render(ShadowMethod method) {
   frame.near = scene_.camera.frustum.near;
   frame.near_moved = frame.near != scene_near_;
   frame.times.setup_ms += tight_ms_;
+  frame.cpu.near_plane_ms = tight_ms_;
   return frame;
 }
 
@@ -682,11 +706,16 @@ ShadowFrame ShadowFrameBatch::render(const std::vector<ShadowMethod>& object_met
   frame.near = scene_.camera.frustum.near;
   frame.near_moved = frame.near != scene_near_;
   frame.times.setup_ms += tight_ms_;
+  frame.cpu.near_plane_ms = tight_ms_;
   return frame;
 }
 
 const LightFrustum& ShadowFrameBatch::light_frustum() {
-  if (!shared_->light_frustum) shared_->light_frustum = gl::light_frustum(scene_, light_, settings_.light_frustum);
+  if (!shared_->light_frustum) {
+    const auto t = Clock::now();
+    shared_->light_frustum = gl::light_frustum(scene_, light_, settings_.light_frustum);
+    shared_->light_frustum_ms = ms_since(t);
+  }
   return *shared_->light_frustum;
 }
 

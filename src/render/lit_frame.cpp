@@ -150,8 +150,13 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   auto draw = [&](const gl::DrawCall& d, const std::vector<float>& rgb, int times = 1) {
     const ShadowProgramUse use =
         programs.use(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
+    auto upload = [&](GLenum target, std::size_t bytes, const void* data) {
+      const auto u0 = std::chrono::steady_clock::now();
+      glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
+      out.upload_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0).count();
+    };
     glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(use.count * sizeof(gl::Vec4f)), use.vertices, GL_STREAM_DRAW);
+    upload(GL_ARRAY_BUFFER, use.count * sizeof(gl::Vec4f), use.vertices);
     glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
     glEnableVertexAttribArray(0);
     if (rgb.empty()) {
@@ -159,7 +164,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       glVertexAttrib3f(1, 0, 0, 0);
     } else {
       glBindBuffer(GL_ARRAY_BUFFER, buffers[1]);
-      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(rgb.size() * sizeof(float)), rgb.data(), GL_STREAM_DRAW);
+      upload(GL_ARRAY_BUFFER, rgb.size() * sizeof(float), rgb.data());
       glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
       glEnableVertexAttribArray(1);
     }
@@ -173,8 +178,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     };
     if (strip != strips.end()) {
       glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[2]);
-      glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(strip->second.size() * sizeof(std::uint32_t)),
-                   strip->second.data(), GL_STREAM_DRAW);
+      upload(GL_ELEMENT_ARRAY_BUFFER, strip->second.size() * sizeof(std::uint32_t), strip->second.data());
     }
     submit();
     for (int k = 1; k < times; ++k) {

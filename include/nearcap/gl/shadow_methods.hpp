@@ -138,6 +138,33 @@ struct PassTimes {
   double total() const { return depth_ms + cap_ms + volume_ms + setup_ms; }
 };
 
+// The CPU work a renderer does for one occluder of a frame, as the
+// emulation does it (steady_clock wall time): its silhouette and volume
+// geometry (engine_silhouette, shadow_volume_geometry: computed once per
+// ShadowFrameBatch, and every method's frame reports it as its own, as
+// PassTimes::setup_ms does), and the clipped-sides cap's construction
+// (LightProjection::ClippedSides: the near-plane distances, the extrusion
+// program on the triangles that reach the near plane, the fan; the
+// emulation's rasterization of the fan left out, a GL's work).  The other
+// caps and volumes are built by the GL's vertex programs: no CPU time here.
+struct OccluderCpuTimes {
+  std::size_t object = 0;  // scene object index
+  double silhouette_ms = 0, cap_build_ms = 0;
+};
+
+// A frame's CPU work (what a GL's timers do not see): the tight near plane
+// (NearPlane::Tight), ZP+'s light frustum (both once per batch, reported by
+// each frame that needs them) and each occluder's.
+struct FrameCpuTimes {
+  double near_plane_ms = 0, light_frustum_ms = 0;
+  std::vector<OccluderCpuTimes> occluders;  // one per occluder, scene order
+  double total() const {
+    double t = near_plane_ms + light_frustum_ms;
+    for (const OccluderCpuTimes& o : occluders) t += o.silhouette_ms + o.cap_build_ms;
+    return t;
+  }
+};
+
 struct ShadowFrame {
   ShadowMethod method = ShadowMethod::ZPass;
   std::size_t light = 0;
@@ -156,6 +183,7 @@ struct ShadowFrame {
   bool mixed = false;
   DrawCounters depth_pass, cap_pass, volume_pass;
   PassTimes times;
+  FrameCpuTimes cpu;
   // With EmulationSettings::record_draws: the frame's draw calls in order
   // (the depth pre-pass, the near-cap pass, the volumes), as drawn here.
   std::vector<DrawCall> draws;

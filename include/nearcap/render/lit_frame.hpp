@@ -72,7 +72,11 @@ struct LitFrame {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // 8-bit RGB, top row first (as a PNG stores it)
   double ms = 0;                  // every pass and glFinish (wall clock), reading the stencils back excluded
-  LitFramePasses passes;          // with LitFrameOptions::pass_times
+  // The uploads' share of `ms`: the wall time of the glBufferData calls
+  // (each draw's vertices, colours and strip indices), CPU work on a driver
+  // that copies at the call as llvmpipe does.
+  double upload_ms = 0;
+  LitFramePasses passes;  // with LitFrameOptions::pass_times
   // With read_stencils: each light's stencil as its volumes left it (row 0
   // at the bottom, like ShadowFrame::stencil), one per light frame.
   std::vector<std::vector<std::uint8_t>> stencils;
