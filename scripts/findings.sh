@@ -203,6 +203,27 @@ EOF
   done
 }
 
+# ---- cap-cpu-time.md -------------------------------------------------------------
+step_cap_cpu_time() {  # the clipped-sides cap's construction time per frame, three runs each
+  for r in 1 2 3; do
+    for p in near_plane_sweep fly_around; do
+      $n render --path data/paths/$p.json --method zpass,zfail,zpplus-corrected,policy \
+        --light-projection clipped-sides --bench --out "$dir/$p-$r"
+    done
+    python3 analysis/benchmarks/cap_cpu_table.py "$dir/near_plane_sweep-$r/render.json" near_plane_sweep 40 59
+    python3 analysis/benchmarks/cap_cpu_table.py "$dir/fly_around-$r/render.json" fly_around
+  done
+}
+
+# ---- report-scale.md -------------------------------------------------------------
+step_report_scale() {  # nearcap report's time and peak memory on 1M and 5.8M rows
+  $n sweep --samples 40 --policies all --out "$dir/s.csv"
+  python3 analysis/report/replicate_rows.py "$dir/s.csv" 1000000 "$dir/big1m.csv"
+  python3 analysis/report/replicate_rows.py "$dir/s.csv" 5800000 "$dir/big5m8.csv"
+  /usr/bin/time -v $n report "$dir/big1m.csv" --out "$dir/n1m"
+  /usr/bin/time -v $n report "$dir/big5m8.csv" --out "$dir/r5m8"
+}
+
 # ---- fuzzing.md ------------------------------------------------------------------
 step_fuzz_campaign() {  # 10 million executions per fuzz target
   NEARCAP_FUZZ_RUNS=10000000 ./scripts/fuzz.sh 0; }
@@ -210,7 +231,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
        volume-culling engine-baselines policy-tuning policy-evaluation sweep-rates shadow-method-speed
-       classification-speed reference-speed cap-arrangement memory fuzz-campaign)
+       classification-speed reference-speed cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${steps[@]}"; do
