@@ -1,6 +1,7 @@
 // nearcap report's page in a real browser (Debian's chromium, headless): every
 // image loads, the page logs nothing to the console, and a screenshot is kept
-// (its path is printed) for a person to look at.
+// under out/report-browser/ of the source tree (its path is printed) for a
+// person to look at, also after a CI run.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -60,7 +61,9 @@ TEST(ReportBrowser, EveryImageLoadsWithoutAConsoleMessage) {
   // Console messages come as "INFO:CONSOLE(...)" lines; the report has no script, so any is a fault.
   const std::string logged = test::slurp(log);
   EXPECT_EQ(logged.find(":CONSOLE"), std::string::npos) << logged;
-  const fs::path shot = fs::temp_directory_path() / "nearcap_report_browser.png";
+  const fs::path shots = fs::path(NEARCAP_SOURCE_DIR) / "out" / "report-browser";
+  fs::create_directories(shots);
+  const fs::path shot = shots / "report.png";
   ASSERT_EQ(std::system(("timeout 120 " + chromium + "--window-size=1200,6000 --screenshot='" + shot.string() +
                          "' 'file://" + (dir / "report" / "index.html").string() + "' > /dev/null 2>&1")
                             .c_str()),
