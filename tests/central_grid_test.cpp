@@ -124,16 +124,26 @@ TEST(CentralGrid, PointQueriesListEveryTriangleTheDirectionMeets) {
   EXPECT_GT(hits, std::size_t{1000});
 }
 
-// A region around the centre itself meets every direction: either every
-// triangle is listed or the caller is told to take them all.
+// A region around the centre itself meets every direction, on all six faces.
+// On a coarse grid its cells are few enough to list: every triangle is
+// listed.
 TEST(CentralGrid, RegionAroundTheCentreListsEverything) {
   std::mt19937 rng(3);
   const Fixture f = make_fixture(rng, 50);
   const CentralGrid grid(f.centre, 0.0, f.triangles);
   std::vector<std::uint32_t> ids;
-  if (grid.candidates_in({0.1, 0.0, 0.0}, 0.5, ids)) {
-    EXPECT_EQ(ids.size(), f.triangles.size());
-  }
+  ASSERT_TRUE(grid.candidates_in({0.1, 0.0, 0.0}, 0.5, ids)) << "a few hundred cells at most";
+  EXPECT_EQ(ids.size(), f.triangles.size());
+}
+
+// On a fine grid the same region covers more cells than a query lists
+// (kMaxCells in central_grid.cpp): the caller is told to take all().
+TEST(CentralGrid, RegionAroundTheCentreOnAFineGridAsksForAll) {
+  std::mt19937 rng(3);
+  const Fixture f = make_fixture(rng, 50);
+  const CentralGrid grid(f.centre, 0.0, f.triangles, 200.0);  // 200 cells per triangle
+  std::vector<std::uint32_t> ids;
+  EXPECT_FALSE(grid.candidates_in({0.1, 0.0, 0.0}, 0.5, ids));
 }
 
 }  // namespace

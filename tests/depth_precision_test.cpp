@@ -45,6 +45,8 @@ TEST(DepthMapping, ReversedMatricesSendTheNearPlaneToOneAndTheFarPlaneToZero) {
   f.near = 0.25;
   f.far = 64;
   const gl::Mat4f finite = gl::frustum_matrix(f, DepthMapping::Reversed);
+  // float32: a few roundings (matrix row, division, window map) of values up
+  // to 2, each 2^-24 relative; 1e-6 is 16 float ulps of 1.
   EXPECT_NEAR(window_depth(finite, {0, 0, -0.25f, 1}, DepthMapping::Reversed), 1.0f, 1e-6f);
   EXPECT_NEAR(window_depth(finite, {0, 0, -64, 1}, DepthMapping::Reversed), 0.0f, 1e-6f);
   const gl::Mat4f infinite = gl::infinite_frustum_matrix(f, gl::InfiniteFar::Exact, DepthMapping::Reversed);
@@ -57,7 +59,7 @@ TEST(DepthMapping, ReversedMatricesSendTheNearPlaneToOneAndTheFarPlaneToZero) {
   const float d1 = window_depth(infinite, {0, 0, -1000, 1}, DepthMapping::Reversed);
   const float d2 = window_depth(infinite, {0, 0, -1000.001f, 1}, DepthMapping::Reversed);
   EXPECT_GT(d1, d2);
-  EXPECT_NEAR(d1, 0.25f / 1000, 1e-9f);
+  EXPECT_NEAR(d1, 0.25f / 1000, 0.25f / 1000 * 0x1p-21f);  // a division and the window map: 4 ulps
   // The standard mapping's nudges belong to its depth row.
   EXPECT_THROW(gl::infinite_frustum_matrix(f, gl::InfiniteFar::Epsilon, DepthMapping::Reversed), Error);
   // The x and y rows are the standard matrix's, bit for bit.
@@ -89,6 +91,7 @@ TEST(DepthMapping, TheClipperCutsAtTheMappingsNearPlane) {
       EXPECT_GE(gl::near_plane_distance(v, m), 0.0f);
       if (std::fabs(v.w - 0.5f) < 1e-6f) {
         ++on_near;
+        // The clipper's float32 interpolation and the window map: 16 ulps of 1.
         EXPECT_NEAR(gl::to_window(v, 64, 48, m).z, m == DepthMapping::Standard ? 0.0f : 1.0f, 1e-6f);
       }
     }

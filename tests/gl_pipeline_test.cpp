@@ -98,16 +98,20 @@ Scene one_box_scene(const Vec3d& light, double near) {
 }
 
 // The near rectangle's corners through M_l and P_l land on the light
-// frustum's far rectangle at the camera's NDC corners.
+// frustum's far rectangle at the camera's NDC corners.  float32: the matrices
+// are rounded once from double, then two float products and a division; on
+// these frames that is at most 6 ulps of 1 (3.6e-7), bounded at 2^-19 (32
+// ulps).  z goes through the depth row's (f + n) / (f - n), at most 3 as
+// l_near <= l_far / 2, so three times that.
 void expect_far_rectangle_is_the_near_rectangle(const Scene& scene, const LightFrustum& lf) {
   const Frustum& f = scene.camera.frustum;
   for (double x : {f.left, f.right})
     for (double y : {f.bottom, f.top}) {
       const Vec4f corner{static_cast<float>(x), static_cast<float>(y), static_cast<float>(-f.near), 1.0f};
       const Vec4f c = transform(lf.projection, transform(lf.modelview, corner));
-      EXPECT_NEAR(c.x / c.w, x < 0 ? -1.0 : 1.0, 1e-5);
-      EXPECT_NEAR(c.y / c.w, y < 0 ? -1.0 : 1.0, 1e-5);
-      EXPECT_NEAR(c.z / c.w, 1.0, 1e-4);  // the light's far plane
+      EXPECT_NEAR(c.x / c.w, x < 0 ? -1.0 : 1.0, 0x1p-19);
+      EXPECT_NEAR(c.y / c.w, y < 0 ? -1.0 : 1.0, 0x1p-19);
+      EXPECT_NEAR(c.z / c.w, 1.0, 3 * 0x1p-19);  // the light's far plane
     }
 }
 
@@ -129,7 +133,8 @@ TEST(InfiniteProjection, EachNudgePutsInfinityWhereItSays) {
   };
   const Vec4f exact = transform(infinite_frustum_matrix(f), direction);
   EXPECT_EQ(exact.z, exact.w);
-  EXPECT_NEAR(ndc_z(InfiniteFar::Epsilon), 1 - std::ldexp(1.0, -22), 1e-9);
+  EXPECT_EQ(ndc_z(InfiniteFar::Epsilon), 1 - std::ldexp(1.0, -22));  // a float, reached exactly
+  // 0.999 is no float: its rounding and the division's, under 2 ulps below 1 (2^-24).
   EXPECT_NEAR(ndc_z(InfiniteFar::Doom3), 0.999, 1e-7);
   EXPECT_LT(ndc_z(InfiniteFar::OneUlp), 1.0);
   EXPECT_GT(ndc_z(InfiniteFar::OneUlp), 1 - std::ldexp(1.0, -22));
@@ -138,7 +143,8 @@ TEST(InfiniteProjection, EachNudgePutsInfinityWhereItSays) {
   // -1.001 (a sliver in front of the near plane is no longer clipped).
   for (InfiniteFar nudge : {InfiniteFar::Exact, InfiniteFar::Epsilon, InfiniteFar::Doom3, InfiniteFar::OneUlp}) {
     const Vec4f c = transform(infinite_frustum_matrix(f, nudge), {0, 0, -0.5f, 1});
-    EXPECT_NEAR(double{c.z} / c.w, nudge == InfiniteFar::Doom3 ? -1.001 : -1.0, 1e-6) << to_string(nudge);
+    // The float32 depth row, a product and a division: 4 ulps of 1 (2^-23 each).
+    EXPECT_NEAR(double{c.z} / c.w, nudge == InfiniteFar::Doom3 ? -1.001 : -1.0, 4 * 0x1p-23) << to_string(nudge);
     EXPECT_EQ(infinite_far_from_string(to_string(nudge)), nudge);
   }
 }
@@ -164,7 +170,8 @@ TEST(LightFrustum, FarRectangleIsTheCameraNearRectangleOnBothSides) {
 }
 
 // composed: P_l M_l in double maps the camera's near rectangle onto the
-// light's far rectangle, x and y to +-1 and z to w, to double precision.
+// light's far rectangle, x and y to +-1 and z to w, to double precision
+// (a four-term product and a division: 1e-12 is thousands of eps).
 TEST(LightFrustum, TheComposedMatrixMapsTheNearRectangleToTheFarRectangle) {
   LightFrustumChoice choice;
   choice.projection = LightProjection::Composed;
@@ -181,7 +188,7 @@ TEST(LightFrustum, TheComposedMatrixMapsTheNearRectangleToTheFarRectangle) {
           for (int k = 0; k < 4; ++k) c[r] += lf.composed[r][k] * p[k];
         EXPECT_NEAR(c[0] / c[3], x < 0 ? -1.0 : 1.0, 1e-12);
         EXPECT_NEAR(c[1] / c[3], y < 0 ? -1.0 : 1.0, 1e-12);
-        EXPECT_NEAR(c[2] / c[3], 1.0, 1e-9);
+        EXPECT_NEAR(c[2] / c[3], 1.0, 1e-12);
       }
   }
 }
@@ -228,7 +235,8 @@ TEST(LightFrustum, NearPlaneLeavesTheLightPyramidEmpty) {
   // Section 3.2: l_near = l_far d / d_max, so the farthest point of the light
   // near rectangle is d from the light: nothing of the occluder is closer.
   ASSERT_LT(lf.d, lf.d_max);
-  EXPECT_NEAR(lf.l_near, lf.l_far * lf.d / lf.d_max, 1e-6 * lf.l_far);
+  // l_near is a float: its own rounding and that of the float product, 4 ulps.
+  EXPECT_NEAR(lf.l_near, lf.l_far * lf.d / lf.d_max, 0x1p-22 * lf.l_far);
   EXPECT_NEAR(lf.d, distance_to_occluders(scene, {0, 1.5, -4}), 0.0);
   EXPECT_GT(lf.d, 0.0);
 }

@@ -126,6 +126,8 @@ TEST(Rasterizer, DepthIsInterpolatedAcrossTheTriangle) {
   std::vector<float> depth(16 * 16, -1);
   rasterize_triangle({{{0, 0, 0}, {16, 0, 1}, {0, 16, 0}}}, 16, 16, {},
                      [&](const Fragment& f) { depth[f.y * 16 + f.x] = f.depth; });
+  // float32 barycentric interpolation: a few roundings of values up to 1,
+  // 2^-24 each; 1e-6 is 16 ulps of 1.
   EXPECT_NEAR(depth[0 * 16 + 0], 0.5f / 16, 1e-6);
   EXPECT_NEAR(depth[0 * 16 + 7], 7.5f / 16, 1e-6);
 }

@@ -5,7 +5,8 @@
 // real meshes) through the exact kernel, checking its internal identities on
 // every pixel (cap against the direct segment count, the Z-pass identity) and
 // the near-cap arrangement against the pixel counts, then through the float
-// pipeline.  The seed is printed; NEARCAP_STRESS_SEED=<seed> replays a run
+// pipeline.  The seed is fixed (kDefaultStressSeed), so that a failure in CI's
+// log replays as it is, and printed; NEARCAP_STRESS_SEED=<seed> runs another
 // (and `nearcap sample --seed S --index K --width 8 --height 8` writes
 // configuration K alone), NEARCAP_STRESS_COUNT=<n> changes its length
 // (default 2000).
@@ -14,7 +15,6 @@
 
 #include <cstdlib>
 #include <map>
-#include <random>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
@@ -33,9 +33,12 @@ std::uint64_t env_or(const char* name, std::uint64_t fallback) {
   return v ? std::strtoull(v, nullptr, 10) : fallback;
 }
 
-// The run's seed (NEARCAP_STRESS_SEED, or a random one), printed for replay.
+// The default run's seed: any fixed value; other seeds explore further.
+constexpr std::uint64_t kDefaultStressSeed = 2026;
+
+// The run's seed (NEARCAP_STRESS_SEED, or kDefaultStressSeed), printed for replay.
 std::uint64_t announced_seed() {
-  const std::uint64_t seed = env_or("NEARCAP_STRESS_SEED", std::random_device{}());
+  const std::uint64_t seed = env_or("NEARCAP_STRESS_SEED", kDefaultStressSeed);
   std::printf("stress seed %llu (replay: NEARCAP_STRESS_SEED=%llu)\n", static_cast<unsigned long long>(seed),
               static_cast<unsigned long long>(seed));
   return seed;

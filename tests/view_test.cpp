@@ -82,7 +82,7 @@ TEST(FlyCamera, TurnsLeftAboutItsStartingUpAndUpAboutItsRight) {
   EXPECT_NEAR(dot(camera.forward(), right0), -1, 1e-12);
   camera.turn(-90, 0);
   camera.turn(0, 30);  // look up: forward gains +sin 30 along the old up
-  EXPECT_NEAR(dot(camera.forward(), up0), std::sin(M_PI / 6) + dot(f0, up0) * std::cos(M_PI / 6), 1e-9);
+  EXPECT_NEAR(dot(camera.forward(), up0), std::sin(M_PI / 6) + dot(f0, up0) * std::cos(M_PI / 6), 1e-12);
   camera.turn(0, -30);
   // Pitched, then yawed: the horizon stays level (right stays horizontal).
   camera.turn(0, 30);

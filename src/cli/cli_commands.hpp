@@ -33,6 +33,13 @@ void register_fit_l_near(CLI::App& app);
 void register_render(CLI::App& app);  // builds with the real-GL library only (NEARCAP_WITH_RENDER)
 void register_view(CLI::App& app);    // the same, with GLFW
 
+// Where the files shipped with nearcap lie.  An installed program finds them
+// beside itself, in <prefix>/share/nearcap (policy*.json, meshes/, scenes/,
+// paths/, report/); a program with nothing installed beside it (the build
+// tree's) reads the source tree it was built from (data/ and analysis/).
+std::string shipped_data_dir();     // policy*.json, meshes/, scenes/, paths/
+std::string shipped_scripts_dir();  // report/*.py
+
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.
 struct ExitCode {

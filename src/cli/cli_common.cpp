@@ -395,6 +395,31 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   return s;
 }
 
+namespace {
+
+// <prefix>/share/nearcap when this program runs from <prefix>/bin with its
+// data installed; empty otherwise.
+std::filesystem::path installed_share_dir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const std::filesystem::path share = (exe.parent_path() / NEARCAP_INSTALLED_SHARE_FROM_BIN).lexically_normal();
+  if (!std::filesystem::is_regular_file(share / "policy.json", ec)) return {};
+  return share;
+}
+
+}  // namespace
+
+std::string shipped_data_dir() {
+  const std::filesystem::path share = installed_share_dir();
+  return share.empty() ? std::string(NEARCAP_DATA_DIR) : share.string();
+}
+
+std::string shipped_scripts_dir() {
+  const std::filesystem::path share = installed_share_dir();
+  return share.empty() ? std::string(NEARCAP_ANALYSIS_DIR) : share.string();
+}
+
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   analysis::SamplerSpec spec;
   spec.seed = o.seed;
@@ -407,9 +432,9 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   spec.width = o.width;
   spec.height = o.height;
   spec.allow_bunny = o.allow_bunny;
-  // The bundled meshes: NEARCAP_DATA_DIR, or the source tree's data/ this program was built from.
+  // The bundled meshes: the environment's NEARCAP_DATA_DIR, or the shipped data.
   const char* data = std::getenv("NEARCAP_DATA_DIR");
-  spec.mesh_directory = (std::filesystem::path(data && *data ? data : NEARCAP_DATA_DIR) / "meshes").string();
+  spec.mesh_directory = (std::filesystem::path(data && *data ? data : shipped_data_dir()) / "meshes").string();
   return spec;
 }
 

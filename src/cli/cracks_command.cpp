@@ -27,7 +27,7 @@ struct CracksOptions {
   std::string scene;
   std::size_t light = 0;
   std::string method = "all";
-  std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
+  std::string policy = shipped_data_dir() + "/policy.json";
   std::string shadow_epsilon = "fixed";
   EmulationOptions emulation;
   std::string out;

@@ -34,7 +34,7 @@ struct RenderOptions {
   std::size_t light = 0;
   bool light_given = false;
   std::string method = "all";
-  std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
+  std::string policy = shipped_data_dir() + "/policy.json";
   bool compare = false;
   bool table = false;    // with --compare: a table instead of the JSON line
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM
@@ -463,7 +463,7 @@ void run_lit(const RenderOptions& o) {
       std::printf("bench: no bench.png (its times are relative to Z-pass's: add zpass to --method)\n");
     if (!o.path.empty() && has_zpass) {
       const std::string png = (dir / "bench.png").string();
-      const int status = run_python_script(std::string(NEARCAP_ANALYSIS_DIR) + "/report/render_bench.py",
+      const int status = run_python_script(shipped_scripts_dir() + "/report/render_bench.py",
                                            {(dir / "bench.csv").string(), png,
                                             std::filesystem::path(o.path).stem().string() + " (" + context.renderer() +
                                                 ", " + stencil_sides + " stencil)"},

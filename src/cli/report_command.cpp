@@ -50,7 +50,7 @@ constexpr std::uint64_t kDefaultMaxCsvBytes = std::uint64_t{16} << 30;
 std::string report_script() {
   const char* env = std::getenv("NEARCAP_REPORT_SCRIPT");
   if (env && *env) return env;
-  return std::string(NEARCAP_ANALYSIS_DIR) + "/report/sweep_report.py";
+  return shipped_scripts_dir() + "/report/sweep_report.py";
 }
 
 std::string megabytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MB"; }

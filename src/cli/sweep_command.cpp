@@ -96,7 +96,7 @@ struct SweepCommandOptions {
   int width = 0, height = 0;  // 0: each path's own viewport, the sampler's 48 x 36
   std::string methods = "all";
   std::string policies = "none";
-  std::string policy_file = std::string(NEARCAP_DATA_DIR) + "/policy.json";
+  std::string policy_file = shipped_data_dir() + "/policy.json";
   EmulationOptions emulation;
   std::vector<std::string> variants;
   std::string out;

@@ -42,7 +42,7 @@ struct ViewOptions {
   std::size_t light = 0;
   bool light_given = false;
   std::string method = "all";
-  std::string policy = std::string(NEARCAP_DATA_DIR) + "/policy.json";
+  std::string policy = shipped_data_dir() + "/policy.json";
   std::string keys;
   std::string screenshot;
   std::string out = ".";
