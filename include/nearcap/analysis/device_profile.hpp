@@ -1,0 +1,82 @@
+// nearcap/analysis/device_profile.hpp — what a frame costs on one GL: a
+// device cost profile, per pass kind and per unit of CPU work, measured by
+// `nearcap calibrate` and read by the switch policy's decision.
+//
+// A frame's predicted end-to-end time is the sum of its passes' GL times and
+// its CPU work:
+//   time = sum over pass kinds k of (intercept_k [if the pass is drawn]
+//            + a_k * triangles_k + b_k * fragments_k)
+//        + cpu.ms_per_ktriangle_silhouette * silhouette_triangles / 1000
+//        + cpu.ms_per_ktriangle_clipped_cap * clipped_cap_triangles / 1000
+//        + cpu.ms_per_ktriangle_exact_test * exact_test_triangles / 1000
+// with a_k in ms per million triangles and b_k in ms per million fragments.
+// The work (FrameWork) is what the decision can compute before drawing
+// (triangle counts, silhouette size, cheap bounds on each pass's screen
+// area) or, when calibrating, what the frame really drew.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace nearcap::analysis {
+
+// The passes a frame draws, each timed on its own when calibrating.
+enum class PassKind { Depth, Sides, LightCap, DarkCap, NearCap, Lit };
+inline constexpr std::size_t kPassKindCount = 6;
+inline constexpr std::array<std::string_view, kPassKindCount> kPassKindNames{"depth",    "sides",    "light_cap",
+                                                                             "dark_cap", "near_cap", "lit"};
+
+struct PassCost {
+  double intercept_ms = 0;      // per pass drawn (state changes, the draw call)
+  double ms_per_mtriangle = 0;  // per million triangles submitted
+  double ms_per_mfragment = 0;  // per million fragments rasterized
+};
+
+struct CpuCost {
+  double ms_per_ktriangle_silhouette = 0;   // finding an occluder's silhouette, per thousand occluder triangles
+  double ms_per_ktriangle_clipped_cap = 0;  // building the clipped-sides near-cap, per thousand side triangles
+  double ms_per_ktriangle_exact_test = 0;   // the exact empty-near-cap test, per thousand occluder triangles
+};
+
+// One frame's (or one occluder's) work, by pass kind and CPU task.
+struct FrameWork {
+  std::array<bool, kPassKindCount> drawn{};
+  std::array<double, kPassKindCount> triangles{}, fragments{};
+  double silhouette_triangles = 0, clipped_cap_triangles = 0, exact_test_triangles = 0;
+  FrameWork& operator+=(const FrameWork& o) {
+    for (std::size_t k = 0; k < kPassKindCount; ++k) {
+      drawn[k] = drawn[k] || o.drawn[k];
+      triangles[k] += o.triangles[k];
+      fragments[k] += o.fragments[k];
+    }
+    silhouette_triangles += o.silhouette_triangles;
+    clipped_cap_triangles += o.clipped_cap_triangles;
+    exact_test_triangles += o.exact_test_triangles;
+    return *this;
+  }
+};
+
+struct DeviceProfile {
+  std::string gl_renderer;  // GL_RENDERER of the GL it was measured on ("" when written by hand)
+  std::string origin;       // "calibrated", "hand" or "scaled"
+  std::array<PassCost, kPassKindCount> passes{};
+  CpuCost cpu;
+  double gl_ms(const FrameWork& w) const {
+    double t = 0;
+    for (std::size_t k = 0; k < kPassKindCount; ++k)
+      t += (w.drawn[k] ? passes[k].intercept_ms : 0.0) + passes[k].ms_per_mtriangle * w.triangles[k] * 1e-6 +
+           passes[k].ms_per_mfragment * w.fragments[k] * 1e-6;
+    return t;
+  }
+  double cpu_ms(const FrameWork& w) const {
+    return (cpu.ms_per_ktriangle_silhouette * w.silhouette_triangles +
+            cpu.ms_per_ktriangle_clipped_cap * w.clipped_cap_triangles +
+            cpu.ms_per_ktriangle_exact_test * w.exact_test_triangles) *
+           1e-3;
+  }
+  double predict_ms(const FrameWork& w) const { return gl_ms(w) + cpu_ms(w); }
+};
+
+}  // namespace nearcap::analysis
