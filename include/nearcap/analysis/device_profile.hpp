@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace nearcap::analysis {
 
@@ -78,5 +79,42 @@ struct DeviceProfile {
   }
   double predict_ms(const FrameWork& w) const { return gl_ms(w) + cpu_ms(w); }
 };
+
+// What `nearcap calibrate` measures: one pass of one frame, timed on its own
+// (glFinish before and after), with the work it really drew.
+struct PassObservation {
+  std::string frame;  // configuration and light, e.g. "near_plane_sweep:42:light0:zfail"
+  PassKind kind = PassKind::Depth;
+  double triangles = 0, fragments = 0, ms = 0;
+};
+// One occluder's CPU task, timed on its own, with its size.
+enum class CpuTask { Silhouette, ClippedCap, ExactTest };
+struct CpuObservation {
+  std::string frame;
+  CpuTask task = CpuTask::Silhouette;
+  double triangles = 0, ms = 0;
+};
+
+// How well a fitted profile predicts: median |predicted - measured| /
+// measured over the observations, by pass kind and CPU task, on the
+// observations it was fitted on and on those held out.
+struct ProfileFitReport {
+  std::array<double, kPassKindCount> train_median_relative_error{}, held_out_median_relative_error{};
+  std::array<std::size_t, kPassKindCount> train_count{}, held_out_count{};
+  std::array<double, 3> cpu_train_median_relative_error{}, cpu_held_out_median_relative_error{};
+};
+
+// Fits each pass kind's (intercept, a, b) and each CPU task's cost per
+// thousand triangles with Ceres, a robust loss and non-negative
+// coefficients; observations whose frame hashes into the held-out fifth
+// (FNV-1a(frame) % 5 == 0) only measure the error.  Kinds or tasks with no
+// observation keep 0 and are reported as such.
+DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
+                                 const std::string& gl_renderer, ProfileFitReport* report = nullptr);
+
+// The same profile with its GL passes `gl_factor` times as fast and its CPU
+// work `cpu_factor` times as fast (origin "scaled"): what a GPU would
+// change, the CPU kept.
+DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cpu_factor = 1.0);
 
 }  // namespace nearcap::analysis

@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "nearcap/analysis/conditioning.hpp"
+#include "nearcap/analysis/device_profile.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -119,6 +120,9 @@ struct SwitchPolicy {
   // Optional: fitted cost models by method (reported; the decision's order
   // Z-pass < ZP+ corrected < Z-fail does not need them yet).
   std::vector<std::pair<gl::ShadowMethod, CostModel>> cost_models;
+  // Version 4, optional: what each pass and CPU task costs on the GL the
+  // policy was calibrated on (device_profile.hpp); the decision's costs.
+  std::optional<DeviceProfile> device_profile;
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
