@@ -14,12 +14,15 @@
 // (width x height).  The exact parts use all cores (TBB).
 //
 //   task                          call                       cost
-//   read a scene                  load_scene, parse_scene    the mesh files' reading and validation, O(n log n)
+//   read a scene                  load_scene, parse_scene    reading the mesh files and validating them
 //   the exact near-cap            exact_near_cap             O((c + k) log c): c curves, k crossings (exact)
 //   the exact per-pixel reference exact_reference            grids O(n), then P exact traces
 //   a frame, judged               judged_frame(s)            the reference, the frame (float32 raster), and the
 //                                                            crack distance of each wrong pixel (exact)
 //   the switch policy's choice    load_policy, decide_policy each occluder against the light pyramid, exact: O(n)
+//
+// In a judged frame the reference and the crack distances cost the most; the
+// frame itself is a float32 rasterization of the scene and its volumes.
 //
 // Namespaces: the exact kernel, the scene and the judge are in nearcap::; the
 // float GL emulation in nearcap::gl and the policy in nearcap::analysis.  The
