@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "box_scene.hpp"
+#include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/exact/camera_space.hpp"
@@ -120,13 +121,17 @@ TEST(CostDecision, APredictedCrackRemovesThePaperCap) {
 TEST(CostDecision, ExactTestTooCostlyMeansNoZPass) {
   BoxSceneOptions tiny;
   tiny.near = 1e-4;
-  const Scene s = box_scene({6, 1, 6}, {0, 8, 0}, tiny);
+  const Scene s = box_scene({6, 1, 6}, {-6, 3, 6}, tiny);
   const CameraSpaceScene cs(s);
   ASSERT_FALSE(occluders_meeting_light_pyramid(cs, 0)[0]);
   const analysis::OccluderWorkInputs in = analysis::occluder_work_inputs(s, 0, 0);
   ASSERT_FALSE(in.certainly_misses_light_pyramid) << "the cull would decide without the exact test";
+  // The volume reaches the near plane: the clipped-sides cap costs its
+  // construction (elsewhere that ZP+ is Z-pass for free, and no test pays).
+  ASSERT_GT(in.clipped_cap_tested, 0);
   DeviceProfile p = flat_profile();
   p.passes[k(PassKind::NearCap)].intercept_ms = 5;  // no cap is worth it
+  p.cpu.ms_per_ktriangle_clipped_cap = 10;
   analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPass) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("exact: meets no point"), std::string::npos) << d.reasons[0];
@@ -144,7 +149,7 @@ TEST(CostDecision, ExactTestTooCostlyMeansNoZPass) {
 
 // The shared passes are paid once per frame, whatever the occluders choose.
 TEST(CostDecision, ThePredictedFrameCountsSharedPassesOnce) {
-  const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room.json");
+  const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_split.json");
   const CameraSpaceScene cs(s);
   std::size_t occluders = 0;
   for (const SceneObject& o : s.objects) occluders += o.occluder ? 1 : 0;
@@ -188,7 +193,9 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
             ++zpass;
             EXPECT_EQ(ref.cap_pixels_by_object[o], 0u) << name << " object " << o << ": " << d.reasons[o];
           }
-          if (crack) EXPECT_FALSE(paper_cap_chosen(d, o)) << name << " object " << o << ": " << d.reasons[o];
+          if (crack) {
+            EXPECT_FALSE(paper_cap_chosen(d, o)) << name << " object " << o << ": " << d.reasons[o];
+          }
           paper += paper_cap_chosen(d, o) ? 1 : 0;
           clipped += clipped_cap_chosen(d, o) ? 1 : 0;
           zfail += d.object_methods[o] == ShadowMethod::ZFail ? 1 : 0;
@@ -202,6 +209,46 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
   EXPECT_GT(zfail, 0u);
 }
 
+// near_plane_sweep frames 40-59 (the frames): Z-pass only where the
+// exact test finds the near-cap empty, and the frame drawable.  Prints the
+// decision's own time beside the emulated frame's CPU work (measured, not
+// asserted: timings do not belong in unit tests).
+TEST(CostDecision, NearPlaneSweepFramesDecideRightly) {
+  const analysis::CameraPath path =
+      analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json");
+  DeviceProfile p = flat_profile();
+  p.passes[k(PassKind::LightCap)].ms_per_mfragment = 50;  // Z-fail's caps dear: Z-pass where it is right
+  p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 50;
+  p.cpu.ms_per_ktriangle_clipped_cap = 10;
+  double decide_ms = 0, cpu_ms = 0;
+  std::size_t zpass = 0, empty = 0, frames = 0;
+  for (int f = 40; f < 60 && f < path.frames; ++f) {
+    const Scene s = parse_scene(analysis::path_frame_json(path, f), "near_plane_sweep frame " + std::to_string(f), ".");
+    const CameraSpaceScene cs(s);
+    const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, 0);
+    (void)analysis::decide(cost_policy(p), cs, 0, {});  // warm
+    const analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
+    decide_ms += d.decide_ms;
+    gl::ShadowFrameBatch batch(s, 0, d.settings);
+    const gl::ShadowFrame frame = batch.render(d.object_methods);
+    cpu_ms += frame.cpu.total();
+    for (std::size_t o = 0; o < s.objects.size(); ++o)
+      if (s.objects[o].occluder && !meets[o]) ++empty;
+    for (std::size_t o = 0; o < s.objects.size(); ++o)
+      if (s.objects[o].occluder && d.object_methods[o] == ShadowMethod::ZPass) {
+        ++zpass;
+        EXPECT_FALSE(meets[o]) << "frame " << f << " object " << o << ": " << d.reasons[o];
+      }
+    ++frames;
+  }
+  EXPECT_EQ(frames, 20u);
+  EXPECT_EQ(zpass, empty) << "Z-pass wherever the exact test finds the near-cap empty, with this profile";
+  std::printf(
+      "near_plane_sweep 40-59: %zu occluder Z-pass of %zu with an empty near-cap; decision %.3f ms per frame, the "
+      "frame's CPU work %.3f ms per frame\n",
+      zpass, empty, decide_ms / frames, cpu_ms / frames);
+}
+
 // The estimate's triangle counts are the emulation's where the draws are
 // known before drawing (work_estimate.hpp).
 TEST(WorkEstimate, TriangleCountsMatchTheEmulation) {
@@ -209,7 +256,7 @@ TEST(WorkEstimate, TriangleCountsMatchTheEmulation) {
                            "near_cap_bunny_wall"}) {
     const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json");
     for (ShadowMethod m : {ShadowMethod::ZPass, ShadowMethod::ZFail, ShadowMethod::ZPPlus}) {
-      const gl::EmulationSettings settings;
+      gl::EmulationSettings settings;
       const gl::ShadowFrame f = gl::render_shadow_frame(s, 0, m, settings);
       const FrameWork w = analysis::estimate_frame_work(s, 0, std::vector<ShadowMethod>(s.objects.size(), m), settings);
       EXPECT_EQ(static_cast<double>(f.depth_pass.triangles), w.triangles[k(PassKind::Depth)]) << name;

@@ -567,7 +567,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   struct Occluder {
     std::size_t object = 0;
     OccluderWorkInputs in;
-    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0, test_ms = 0;
+    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0;
     bool zpass_ok = false;  // the near-cap is empty (certainly, or by the exact test)
     std::string zpass_why;
   };
@@ -581,21 +581,14 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
     oc.zpass_ms = marginal_ms(profile, occluder_work(oc.in, zpass));
-    FrameWork test;
-    test.exact_test_triangles = oc.in.triangles;
-    oc.test_ms = profile.cpu_ms(test);
     occluders.push_back(std::move(oc));
   }
-  auto best_other = [&](const Occluder& oc) {
-    double best = std::min(oc.zfail_ms, oc.clipped_ms);
-    if (paper_ok) best = std::min(best, oc.paper_ms);
-    return best;
-  };
-
-  // Z-pass: free where the cull is certain; elsewhere by the exact test, run
-  // when some occluder would still save after paying for its own test.
-  bool run_test = false;
-  for (Occluder& oc : occluders) {
+  // Z-pass: free where the cull is certain; elsewhere only after the exact
+  // test, whose cost the frame then pays for every occluder it tests.
+  std::vector<bool> untested(occluders.size(), false);
+  bool any_untested = false;
+  for (std::size_t i = 0; i < occluders.size(); ++i) {
+    Occluder& oc = occluders[i];
     if (!policy.exact_zpass) {
       oc.zpass_why = "the policy has no exact Z-pass test";
     } else if (light_on_near_plane) {
@@ -603,27 +596,14 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     } else if (oc.in.certainly_misses_light_pyramid) {
       oc.zpass_ok = true;
       oc.zpass_why = "certainly misses the light pyramid (empty near-cap)";
-    } else if (oc.zpass_ms + oc.test_ms < best_other(oc)) {
-      run_test = true;
+    } else {
+      untested[i] = any_untested = true;
     }
-  }
-  FrameWork test_work;
-  if (run_test) {
-    const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);
-    for (Occluder& oc : occluders) {
-      if (oc.zpass_ok || !oc.zpass_why.empty()) continue;
-      test_work.exact_test_triangles += oc.in.triangles;
-      oc.zpass_ok = !meets[oc.object];
-      oc.zpass_why = oc.zpass_ok ? "exact: meets no point of the light pyramid (empty near-cap)"
-                                 : "meets the light pyramid (exact test)";
-    }
-  } else {
-    for (Occluder& oc : occluders)
-      if (!oc.zpass_ok && oc.zpass_why.empty())
-        oc.zpass_why = "exact test not run (its predicted cost, " + ms_text(oc.test_ms) + " ms, above the saving)";
   }
 
-  // The frame-level options, each with its cheapest candidate per occluder.
+  // The frame-level options, each with its cheapest candidate per occluder
+  // (Z-pass where `zpass_allowed`), the best of them: its predicted ms, the
+  // methods, the work, the light projection; `log` keeps each option's ms.
   struct Option {
     std::string name;
     gl::LightProjection projection;
@@ -632,37 +612,80 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   std::vector<Option> options{{"no near-cap", policy.light_projection, false, false},
                               {"clipped-sides cap", gl::LightProjection::ClippedSides, true, false}};
   if (paper_ok) options.push_back({"paper cap", policy.light_projection, false, true});
-  double best_total = kNaN;
-  std::vector<CandidateMethod> best_choice;
   const FrameWork shared = shared_frame_work(scene);
-  for (const Option& option : options) {
-    FrameWork total = shared;
-    total += test_work;
+  struct Frame {
+    double ms = kNaN;
     std::vector<CandidateMethod> choice;
-    for (const Occluder& oc : occluders) {
-      CandidateMethod c = zfail;
-      double ms = oc.zfail_ms;
-      if (option.clipped && oc.clipped_ms < ms) {
-        c = clipped;
-        ms = oc.clipped_ms;
+    FrameWork work;
+    gl::LightProjection projection = gl::LightProjection::Paper;
+  };
+  auto best_frame = [&](const std::vector<bool>& zpass_allowed, const FrameWork& extra,
+                        std::vector<std::pair<std::string, double>>* log) {
+    Frame best;
+    for (const Option& option : options) {
+      Frame f;
+      f.work = shared;
+      f.work += extra;
+      f.projection = option.projection;
+      for (std::size_t i = 0; i < occluders.size(); ++i) {
+        const Occluder& oc = occluders[i];
+        CandidateMethod c = zfail;
+        double ms = oc.zfail_ms;
+        if (option.clipped && oc.clipped_ms < ms) {
+          c = clipped;
+          ms = oc.clipped_ms;
+        }
+        if (option.paper && oc.paper_ms < ms) {
+          c = paper;
+          ms = oc.paper_ms;
+        }
+        if (zpass_allowed[i] && oc.zpass_ms <= ms) c = zpass;  // a tie: Z-pass, the simpler frame
+        f.work += occluder_work(oc.in, c);
+        f.choice.push_back(c);
       }
-      if (option.paper && oc.paper_ms < ms) {
-        c = paper;
-        ms = oc.paper_ms;
-      }
-      if (oc.zpass_ok && oc.zpass_ms < ms) c = zpass;
-      total += occluder_work(oc.in, c);
-      choice.push_back(c);
+      f.ms = profile.predict_ms(f.work);
+      if (log) log->push_back({option.name, f.ms});
+      if (!(f.ms >= best.ms)) best = std::move(f);
     }
-    const double ms = profile.predict_ms(total);
-    d.predicted_options.push_back({option.name, ms});
-    if (!(ms >= best_total)) {
-      best_total = ms;
-      best_choice = choice;
-      d.predicted_work = total;
-      d.settings.light_frustum.projection = option.projection;
+    return best;
+  };
+  std::vector<bool> allowed(occluders.size(), false);
+  for (std::size_t i = 0; i < occluders.size(); ++i) allowed[i] = occluders[i].zpass_ok;
+  Frame chosen = best_frame(allowed, {}, &d.predicted_options);
+  if (any_untested) {
+    // The test runs when the frame it could give at best, Z-pass for every
+    // occluder it tests and the test paid, beats the frame without it.
+    FrameWork test_work;
+    std::vector<bool> optimistic = allowed;
+    for (std::size_t i = 0; i < occluders.size(); ++i)
+      if (untested[i]) {
+        test_work.exact_test_triangles += occluders[i].in.triangles;
+        optimistic[i] = true;
+      }
+    const double test_ms = profile.cpu_ms(test_work);
+    if (best_frame(optimistic, test_work, nullptr).ms < chosen.ms) {
+      const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);
+      for (std::size_t i = 0; i < occluders.size(); ++i) {
+        if (!untested[i]) continue;
+        Occluder& oc = occluders[i];
+        oc.zpass_ok = allowed[i] = !meets[oc.object];
+        oc.zpass_why = (oc.zpass_ok ? "exact: meets no point of the light pyramid (empty near-cap)"
+                                    : "meets the light pyramid (exact test)") +
+                       std::string("; the frame's test ") + ms_text(test_ms) + " ms";
+      }
+      d.predicted_options.clear();
+      chosen = best_frame(allowed, test_work, &d.predicted_options);
+    } else {
+      for (std::size_t i = 0; i < occluders.size(); ++i)
+        if (untested[i])
+          occluders[i].zpass_why =
+              "exact test not run (its predicted cost, " + ms_text(test_ms) + " ms for the frame, above the saving)";
     }
   }
+  const double best_total = chosen.ms;
+  const std::vector<CandidateMethod>& best_choice = chosen.choice;
+  d.predicted_work = chosen.work;
+  d.settings.light_frustum.projection = chosen.projection;
   d.predicted_ms = best_total;
   for (std::size_t k = 0; k < occluders.size(); ++k) {
     const Occluder& oc = occluders[k];
@@ -671,9 +694,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     std::string why = "cost: " + c.name() + "; predicted ms: zfail " + ms_text(oc.zfail_ms) + ", " + clipped.name() +
                       " " + ms_text(oc.clipped_ms) + ", " + paper.name() + " " +
                       (paper_ok ? ms_text(oc.paper_ms) : "not a candidate (" + paper_why + ")") + ", zpass " +
-                      (oc.zpass_ok ? ms_text(oc.zpass_ms) : "not a candidate") + " (" + oc.zpass_why;
-    if (run_test && oc.zpass_why.find("exact") != std::string::npos) why += "; test " + ms_text(oc.test_ms) + " ms";
-    d.reasons[oc.object] = why + ")";
+                      (oc.zpass_ok ? ms_text(oc.zpass_ms) : "not a candidate") + " (" + oc.zpass_why + ")";
+    d.reasons[oc.object] = why;
   }
   return d;
 }

@@ -164,9 +164,10 @@ struct PolicyDecision {
 // (work_estimate.hpp) before drawing:
 //   Z-pass            where the near-cap is empty: certainly (the float
 //                     light-pyramid cull, no cost) or by the exact test
-//                     (exact/light_pyramid.hpp), which runs only when some
-//                     occluder's predicted saving exceeds its own test's cost,
-//                     and is then charged for every occluder the cull left;
+//                     (exact/light_pyramid.hpp), which runs only when the
+//                     best frame with Z-pass for every occluder it would
+//                     test, the test paid for them, is predicted cheaper than
+//                     the best frame without it;
 //                     only with exact_zpass and the light off the near plane;
 //   ZP+, clipped-sides cap;
 //   the policy's capped method with the paper's cap, where the light frustum
