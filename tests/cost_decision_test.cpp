@@ -209,44 +209,58 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
   EXPECT_GT(zfail, 0u);
 }
 
-// near_plane_sweep frames 40-59 (the frames): Z-pass only where the
-// exact test finds the near-cap empty, and the frame drawable.  Prints the
-// decision's own time beside the emulated frame's CPU work (measured, not
-// asserted: timings do not belong in unit tests).
-TEST(CostDecision, NearPlaneSweepFramesDecideRightly) {
-  const analysis::CameraPath path =
-      analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json");
+// Bundled paths (near_plane_sweep frames 40-59, the issue's; every fifth
+// frame of fly_around): Z-pass exactly where the exact test finds the
+// near-cap empty under a profile that makes Z-pass the cheapest right
+// method, and the frame drawable.  Prints the decision's own time, with the
+// exact test run and without it (an exact test priced out), beside the
+// emulated frame's CPU work: measured, not asserted (timings do not belong
+// in unit tests).
+TEST(CostDecision, BundledPathFramesDecideRightly) {
   DeviceProfile p = flat_profile();
-  p.passes[k(PassKind::LightCap)].ms_per_mfragment = 50;  // Z-fail's caps dear: Z-pass where it is right
+  p.passes[k(PassKind::LightCap)].ms_per_mfragment = 50;  // Z-fail's caps dear
   p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 50;
-  p.cpu.ms_per_ktriangle_clipped_cap = 10;
-  double decide_ms = 0, cpu_ms = 0;
+  p.cpu.ms_per_ktriangle_clipped_cap = 10;  // and the clipped-sides cap's construction
+  DeviceProfile no_test = p;
+  no_test.cpu.ms_per_ktriangle_exact_test = 1e6;
+  struct Range {
+    const char* path;
+    int first, last, step;
+  };
   std::size_t zpass = 0, empty = 0, frames = 0;
-  for (int f = 40; f < 60 && f < path.frames; ++f) {
-    const Scene s = parse_scene(analysis::path_frame_json(path, f), "near_plane_sweep frame " + std::to_string(f), ".");
-    const CameraSpaceScene cs(s);
-    const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, 0);
-    (void)analysis::decide(cost_policy(p), cs, 0, {});  // warm
-    const analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
-    decide_ms += d.decide_ms;
-    gl::ShadowFrameBatch batch(s, 0, d.settings);
-    const gl::ShadowFrame frame = batch.render(d.object_methods);
-    cpu_ms += frame.cpu.total();
-    for (std::size_t o = 0; o < s.objects.size(); ++o)
-      if (s.objects[o].occluder && !meets[o]) ++empty;
-    for (std::size_t o = 0; o < s.objects.size(); ++o)
-      if (s.objects[o].occluder && d.object_methods[o] == ShadowMethod::ZPass) {
-        ++zpass;
-        EXPECT_FALSE(meets[o]) << "frame " << f << " object " << o << ": " << d.reasons[o];
+  for (const Range& r : {Range{"near_plane_sweep", 40, 59, 1}, Range{"fly_around", 0, 89, 5}}) {
+    const analysis::CameraPath path =
+        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + r.path + ".json");
+    double decide_ms = 0, decide_no_test_ms = 0, cpu_ms = 0;
+    std::size_t n = 0;
+    for (int f = r.first; f <= r.last && f < path.frames; f += r.step) {
+      const Scene s =
+          parse_scene(analysis::path_frame_json(path, f), std::string(r.path) + " frame " + std::to_string(f), ".");
+      const CameraSpaceScene cs(s);
+      const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, 0);
+      (void)analysis::decide(cost_policy(p), cs, 0, {});  // warm
+      const analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
+      decide_ms += d.decide_ms;
+      decide_no_test_ms += analysis::decide(cost_policy(no_test), cs, 0, {}).decide_ms;
+      gl::ShadowFrameBatch batch(s, 0, d.settings);
+      cpu_ms += batch.render(d.object_methods).cpu.total();
+      for (std::size_t o = 0; o < s.objects.size(); ++o) {
+        if (!s.objects[o].occluder) continue;
+        empty += meets[o] ? 0 : 1;
+        if (d.object_methods[o] == ShadowMethod::ZPass) {
+          ++zpass;
+          EXPECT_FALSE(meets[o]) << r.path << " frame " << f << " object " << o << ": " << d.reasons[o];
+        }
       }
-    ++frames;
+      ++n;
+    }
+    frames += n;
+    std::printf("%s: decision %.3f ms per frame (%.3f without the exact test); the frame's CPU work %.3f ms\n", r.path,
+                decide_ms / n, decide_no_test_ms / n, cpu_ms / n);
   }
-  EXPECT_EQ(frames, 20u);
+  EXPECT_EQ(frames, 38u);
+  EXPECT_GT(empty, 0u);
   EXPECT_EQ(zpass, empty) << "Z-pass wherever the exact test finds the near-cap empty, with this profile";
-  std::printf(
-      "near_plane_sweep 40-59: %zu occluder Z-pass of %zu with an empty near-cap; decision %.3f ms per frame, the "
-      "frame's CPU work %.3f ms per frame\n",
-      zpass, empty, decide_ms / frames, cpu_ms / frames);
 }
 
 // The estimate's triangle counts are the emulation's where the draws are
