@@ -5,6 +5,7 @@
 // fragment bounds hold against the emulation's draw counters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -213,9 +214,9 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
 // frame of fly_around): Z-pass exactly where the exact test finds the
 // near-cap empty under a profile that makes Z-pass the cheapest right
 // method, and the frame drawable.  Prints the decision's own time, with the
-// exact test run and without it (an exact test priced out), beside the
-// emulated frame's CPU work: measured, not asserted (timings do not belong
-// in unit tests).
+// exact test run and without it (an exact test priced out), the least of
+// five runs, beside the emulated frame's CPU work: measured, not asserted
+// (timings do not belong in unit tests).
 TEST(CostDecision, BundledPathFramesDecideRightly) {
   DeviceProfile p = flat_profile();
   p.passes[k(PassKind::LightCap)].ms_per_mfragment = 50;  // Z-fail's caps dear
@@ -238,10 +239,15 @@ TEST(CostDecision, BundledPathFramesDecideRightly) {
           parse_scene(analysis::path_frame_json(path, f), std::string(r.path) + " frame " + std::to_string(f), ".");
       const CameraSpaceScene cs(s);
       const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, 0);
-      (void)analysis::decide(cost_policy(p), cs, 0, {});  // warm
       const analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
-      decide_ms += d.decide_ms;
-      decide_no_test_ms += analysis::decide(cost_policy(no_test), cs, 0, {}).decide_ms;
+      // The least of five runs each: the machine's other load left out.
+      double least = d.decide_ms, least_no_test = INFINITY;
+      for (int run = 0; run < 5; ++run) {
+        least = std::min(least, analysis::decide(cost_policy(p), cs, 0, {}).decide_ms);
+        least_no_test = std::min(least_no_test, analysis::decide(cost_policy(no_test), cs, 0, {}).decide_ms);
+      }
+      decide_ms += least;
+      decide_no_test_ms += least_no_test;
       gl::ShadowFrameBatch batch(s, 0, d.settings);
       cpu_ms += batch.render(d.object_methods).cpu.total();
       for (std::size_t o = 0; o < s.objects.size(); ++o) {
