@@ -76,7 +76,9 @@ TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCo
       EXPECT_EQ(kind == PassKind::Depth, !light_frame) << frame;
     }
     if (!light_frame && frame.rfind("path:sweep3:", 0) == 0) ++depth_frames;
-    if (light_frame) EXPECT_TRUE(kinds.count(PassKind::Lit)) << frame << ": every light has its lit pass";
+    if (light_frame) {
+      EXPECT_TRUE(kinds.count(PassKind::Lit)) << frame << ": every light has its lit pass";
+    }
     if (light_frame && method == "zpass") {
       EXPECT_TRUE(kinds.count(PassKind::Sides)) << frame;
       EXPECT_FALSE(kinds.count(PassKind::LightCap) || kinds.count(PassKind::DarkCap) || kinds.count(PassKind::NearCap))

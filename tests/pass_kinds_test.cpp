@@ -81,7 +81,9 @@ TEST(PassKinds, DrawCountersAddUpToTheFramesPasses) {
       expect_equal(by_pass[1], f.cap_pass, what + " near cap");
       expect_equal(by_pass[2], f.volume_pass, what + " volume");
       EXPECT_GT(f.volume_pass.fragments, 0u) << what;
-      if (gl::uses_near_cap(m)) EXPECT_GT(f.cap_pass.fragments, 0u) << what;
+      if (gl::uses_near_cap(m)) {
+        EXPECT_GT(f.cap_pass.fragments, 0u) << what;
+      }
     }
   }
 }
