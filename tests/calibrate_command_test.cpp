@@ -17,6 +17,7 @@
 #include "cli_support.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
 
@@ -51,13 +52,25 @@ using ByKind = std::map<PassKind, analysis::PassObservation>;
 
 TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCounts) {
   const fs::path csv = dir_ / "calibration.csv";
-  const test::CliResult r = test::run_cli("calibrate --samples 3 --seed 5 --width 32 --height 24 --path '" +
-                                              path_.string() + "' --out '" + csv.string() + "'",
-                                          "calibrate");
+  const fs::path policy = dir_ / "calibrated-policy.json";
+  const test::CliResult r =
+      test::run_cli("calibrate --samples 3 --seed 5 --width 32 --height 24 --path '" + path_.string() + "' --out '" +
+                        csv.string() + "' --write-policy '" + policy.string() + "'",
+                    "calibrate");
   if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
     GTEST_SKIP() << "no headless OpenGL here: " << r.err;
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("noise floor"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("held out"), std::string::npos) << r.out;
+  // The shipped policy with the fitted profile, naming this GL.
+  const analysis::SwitchPolicy written = analysis::load_policy(policy.string());
+  ASSERT_TRUE(written.device_profile);
+  EXPECT_EQ(written.device_profile->origin, "calibrated");
+  EXPECT_EQ(r.out.rfind("calibrated on " + written.device_profile->gl_renderer + ":", 0), 0u) << r.out;
+  EXPECT_GT(written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mtriangle +
+                written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mfragment +
+                written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].intercept_ms,
+            0.0);
   const analysis::CalibrationSet set = analysis::parse_calibration_csv(test::slurp(csv), csv.string());
 
   std::map<std::string, ByKind> frames;

@@ -7,11 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <memory>
 #include <set>
 #include <string>
 
+#include "nearcap/error.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/lit_frame.hpp"
 
 namespace nearcap {
 namespace {
@@ -85,6 +89,46 @@ TEST(PassKinds, DrawCountersAddUpToTheFramesPasses) {
         EXPECT_GT(f.cap_pass.fragments, 0u) << what;
       }
     }
+  }
+}
+
+// Drawn kind by kind, the lit frame's stencil is the recorded order's: the
+// wrapping increments and decrements commute.  Every kind Z-fail draws is
+// timed once per light, after the depth pre-pass.
+TEST(PassKinds, DrawingKindByKindLeavesTheStencilAsRecorded) {
+  std::unique_ptr<render::EglContext> context;
+  try {
+    context = std::make_unique<render::EglContext>();
+  } catch (const Error& e) {
+    GTEST_SKIP() << "no headless OpenGL here: " << e.what();
+  }
+  const Scene scene = eye_in_shadow();
+  gl::EmulationSettings settings;
+  settings.record_draws = true;
+  for (const ShadowMethod m : {ShadowMethod::ZFail, ShadowMethod::ZPPlus}) {
+    const std::vector<gl::ShadowFrame> frames{gl::render_shadow_frame(scene, 0, m, settings)};
+    render::LitFrameRenderer renderer;
+    render::LitFrameOptions recorded;
+    recorded.read_stencils = true;
+    render::LitFrameOptions by_kind = recorded;
+    by_kind.pass_kind_times = true;
+    const render::LitFrame a = renderer.render(scene, frames, settings.depth, recorded);
+    const render::LitFrame b = renderer.render(scene, frames, settings.depth, by_kind);
+    ASSERT_EQ(a.stencils.size(), 1u);
+    ASSERT_EQ(b.stencils.size(), 1u);
+    EXPECT_EQ(a.stencils[0], b.stencils[0]) << gl::to_string(m);
+    EXPECT_TRUE(a.kind_times.empty());
+    std::vector<DrawKind> kinds;
+    for (const render::KindTime& t : b.kind_times) {
+      kinds.push_back(t.kind);
+      EXPECT_GE(t.ms, 0.0);
+    }
+    const std::vector<DrawKind> expected =
+        m == ShadowMethod::ZFail
+            ? std::vector<DrawKind>{DrawKind::Depth, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap,
+                                    DrawKind::Lit}
+            : std::vector<DrawKind>{DrawKind::Depth, DrawKind::NearCap, DrawKind::Sides, DrawKind::Lit};
+    EXPECT_EQ(kinds, expected) << gl::to_string(m);
   }
 }
 

@@ -283,9 +283,10 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                          p.cpu.ms_per_ktriangle_exact_test};
   std::printf("  %-12s %11s %13s %13s %10s %10s\n", "cpu task", "", "ms per ktri", "", "train err", "held out");
   for (std::size_t t = 0; t < 3; ++t)
-    std::printf("  %-12s %11s %13.4g %13s %10s %10s\n", std::string(analysis::kCpuTaskNames[t]).c_str(), "", cpu[t], "",
-                percent(r.cpu_train_median_relative_error[t]).c_str(),
-                percent(r.cpu_held_out_median_relative_error[t]).c_str());
+    std::printf(
+        "  %-12s %11s %13.4g %13s %10s %10s  (%zu / %zu tasks)\n", std::string(analysis::kCpuTaskNames[t]).c_str(), "",
+        cpu[t], "", percent(r.cpu_train_median_relative_error[t]).c_str(),
+        percent(r.cpu_held_out_median_relative_error[t]).c_str(), r.cpu_train_count[t], r.cpu_held_out_count[t]);
   std::printf("  (error: median |predicted - measured| / measured)\n");
 }
 
