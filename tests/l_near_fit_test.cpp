@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
@@ -54,6 +55,42 @@ TEST(LightNearFit, CeresFindsTheGridMinimum) {
   for (double s : {0.001, 0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
     EXPECT_LE(fit.train_objective, analysis::light_near_objective(train, choice, s) + 1e-3) << "scale " << s;
   EXPECT_TRUE(std::isfinite(fit.held_out_objective));
+  // From the default start, inside the range: the solve moves (an iteration
+  // past the start's) and ends where the grid's minimum is, on the bound at 1
+  // (the objective falls with the scale on these configurations).
+  EXPECT_GT(fit.iterations, 1);
+  EXPECT_GT(fit.scale, 0.99);
+}
+
+// An objective with its minimum inside the range, from starts away from it
+// (both bounds and the far side): the solve finds the minimum.  The terms
+// are 1 + c_i (log10 s - log10 m_i)^2 with minima m_i at 0.05, 0.2 and 0.4;
+// their mean is smallest at log10 s* = sum c_i log10 m_i / sum c_i.  The
+// solve works in log10 s, where this mean is a parabola: Gauss-Newton on the
+// square roots converges to s* to the solver's tolerance; 1e-3 relative is
+// far looser than that and far tighter than any neighbouring grid point.
+TEST(LightNearFit, FindsAnInteriorMinimumFromAStartAwayFromIt) {
+  const double minima[] = {0.05, 0.2, 0.4}, weights[] = {1.0, 2.0, 3.0};
+  std::vector<std::function<double(double)>> terms;
+  double num = 0, den = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double m = minima[i], c = weights[i];
+    terms.emplace_back([m, c](double s) { return 1 + c * std::pow(std::log10(s) - std::log10(m), 2); });
+    num += c * std::log10(m);
+    den += c;
+  }
+  const double best = std::pow(10.0, num / den);
+  ASSERT_GT(best, 0.1);
+  ASSERT_LT(best, 0.4);
+  for (double start : {1.0, 1e-3, 0.9, analysis::kLightNearScaleStart}) {
+    const analysis::ScaleMinimum m = analysis::minimize_mean_over_scale(terms, 1e-3, 1.0, start);
+    EXPECT_NEAR(m.scale, best, 1e-3 * best) << "start " << start;
+    EXPECT_GT(m.iterations, 1) << "start " << start;
+  }
+  // A minimum beyond the range: the solve stops on the bound.
+  const std::vector<std::function<double(double)>> falling{[](double s) { return 2 - std::log10(s) / 4; }};
+  EXPECT_NEAR(analysis::minimize_mean_over_scale(falling, 1e-3, 1.0, 0.01).scale, 1.0, 1e-9);
+  EXPECT_THROW(analysis::minimize_mean_over_scale(terms, 1e-3, 1.0, 2.0), Error);
 }
 
 }  // namespace

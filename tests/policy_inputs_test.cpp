@@ -154,31 +154,39 @@ TEST_F(PolicyInputs, TuneNamesTheFirstBadLine) {
   const std::string not_utf8 = write("latin1.csv", with_line(sweep_csv(), 3, row("sample:\xe9t\xe9", "zfail", 0, "1")));
   expect_one_line_error(test::run_cli("tune " + not_utf8 + " --out " + out, "tune_utf8"), "parse",
                         not_utf8 + ": line 3: not UTF-8 (byte 0xE9");
-  const std::string bad = write("bad.csv", with_line(sweep_csv(), 4, row("sample:1:1", "zfail", 0, "fast")));
+  std::string fast = row(training_configurations(8)[1], "zpplus-corrected", 0, "1");
+  fast.replace(fast.find(",2.5,"), 5, ",fast,");
+  const std::string bad = write("bad.csv", with_line(sweep_csv(), 4, fast));
   expect_one_line_error(test::run_cli("tune " + bad + " --out " + out, "tune_column"), "parse",
-                        bad + ": line 4: column 'frame_ms': 'fast' is not a number");
+                        bad + ": line 4: column 'light_near_distance': 'fast' is not a number");
   EXPECT_FALSE(fs::exists(out));
 }
 
-// An infinite or NaN time: one line naming the file, line and column, and
-// nothing of the solver's on stderr.
-TEST_F(PolicyInputs, NonFiniteTimesAreOneLineWithoutSolverLog) {
+// An infinite or NaN crack count: one line naming the file, line and
+// column, and nothing of the solver's on stderr.
+TEST_F(PolicyInputs, NonFiniteCountsAreOneLineWithoutSolverLog) {
   const std::string out = (dir_ / "p.json").string();
-  for (const char* ms : {"inf", "nan"}) {
-    const std::string csv = write("t.csv", with_line(sweep_csv(), 5, row("sample:1:2", "zfail", 0, ms)));
+  for (const char* count : {"inf", "nan"}) {
+    std::string line = row(training_configurations(8)[1], "zfail", 0, "1");
+    line.replace(line.find(",zfail,switch-clamp=clamp-far,0,"), 32,
+                 std::string(",zfail,switch-clamp=clamp-far,") + count + ",");
+    const std::string csv = write("t.csv", with_line(sweep_csv(), 5, line));
     expect_one_line_error(test::run_cli("tune " + csv + " --out " + out, "tune_inf"), "non-finite",
-                          csv + ": line 5: column 'frame_ms': '" + ms + "' is not a finite number");
+                          csv + ": line 5: column 'cracks': '" + count + "' is not a finite number");
   }
   EXPECT_FALSE(fs::exists(out));
 }
 
-// Times too large for the cost fit's squares: the fit fails or not, but the
-// solver's own log (glog) stays off stderr unless NEARCAP_SOLVER_LOG=1.
+// Features spanning 600 decades and a crack to fit: the fit fails or not,
+// but the solver's own log (glog) stays off stderr unless
+// NEARCAP_SOLVER_LOG=1.
 TEST_F(PolicyInputs, TheSolverIsSilentUnlessAsked) {
   std::string csv = sweep_csv();
   for (std::size_t line = 2; line <= 17; ++line) {
     const std::string id = training_configurations(8)[(line - 2) / 2];
-    csv = with_line(csv, line, row(id, line % 2 ? "zfail" : "zpplus-corrected", 0, line % 3 ? "1e300" : "1e-300"));
+    std::string r = row(id, line % 2 ? "zfail" : "zpplus-corrected", line == 2 ? 1 : 0, "1");
+    r.replace(r.find(",2.5,"), 5, line % 3 ? ",1e300," : ",1e-300,");
+    csv = with_line(csv, line, r);
   }
   const std::string rows = write("huge.csv", csv), out = (dir_ / "p.json").string();
   const test::CliResult quiet = test::run_cli("tune " + rows + " --out " + out, "tune_quiet");
@@ -200,17 +208,39 @@ TEST_F(PolicyInputs, TuneRefusesARepeatedFeature) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// Few configurations, none held out: the held-out figures are "n/a", and the
-// policy is written.
+// Few configurations, none held out: the held-out side is empty, and the
+// policy is written, with no cost model (the decision reads none).
 TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {
   const std::string csv = write("rows.csv", sweep_csv()), out = (dir_ / "p.json").string();
   const test::CliResult r = test::run_cli("tune " + csv + " --out " + out, "tune_no_held_out");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   EXPECT_NE(r.out.find("held out: 0 "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("n/a (held out)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fits the policy uses:"), std::string::npos) << r.out;
   const analysis::SwitchPolicy p = analysis::load_policy(out);
-  EXPECT_EQ(p.cost_models.size(), 2u);
+  EXPECT_TRUE(p.cost_models.empty());
+}
+
+// A crack in training: tune fits a crack model; with --no-exact-zpass the
+// decision never asks it, so tune refuses to write it (one line, usage, no
+// file) and says how to write the policy without one.
+TEST_F(PolicyInputs, TuneRefusesACrackModelItsSwitchesBypass) {
+  const std::string id = training_configurations(8).front();
+  const std::string csv = write("rows.csv", with_line(sweep_csv(), 2, row(id, "zpplus-corrected", 1, "1.0")));
+  const std::string out = (dir_ / "p.json").string();
+  const std::string bypass = " --light-projection clipped-sides --no-exact-zpass";
+  expect_one_line_error(test::run_cli("tune " + csv + bypass + " --out " + out, "tune_bypassed"), "usage",
+                        "the fitted crack model (8 features) would never be read: with --no-exact-zpass");
+  EXPECT_FALSE(fs::exists(out));
+  const test::CliResult none = test::run_cli("tune " + csv + bypass + " --features none --out " + out, "tune_none");
+  ASSERT_EQ(none.exit_code, 0) << none.err;
+  EXPECT_NE(none.out.find("fits the policy uses: none"), std::string::npos) << none.out;
+  EXPECT_TRUE(analysis::load_policy(out).crack_model.features.empty());
+  // With the exact Z-pass test the model is asked, and written.
+  const test::CliResult read = test::run_cli("tune " + csv + " --features log_skew --out " + out, "tune_read");
+  ASSERT_EQ(read.exit_code, 0) << read.err;
+  EXPECT_NE(read.out.find("fits the policy uses: the crack model (log_skew)"), std::string::npos) << read.out;
+  EXPECT_EQ(analysis::load_policy(out).crack_model.features, std::vector<std::string>{"log_skew"});
 }
 
 TEST_F(PolicyInputs, APolicyNumberBeyondDoubleIsAParseError) {

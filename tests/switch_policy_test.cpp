@@ -7,6 +7,7 @@
 
 #include <filesystem>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -154,7 +155,7 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   SwitchPolicy sides = p;
   sides.light_projection = gl::LightProjection::ClippedSides;
   const std::string written = analysis::policy_to_json(sides);
-  EXPECT_NE(written.find("\"version\": 3"), std::string::npos) << written;
+  EXPECT_NE(written.find("\"version\": 4"), std::string::npos) << written;
   EXPECT_EQ(written.find("\"depth"), std::string::npos) << "unset version-3 fields are not written: " << written;
   EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
   EXPECT_TRUE(analysis::parse_policy(written, "s.json").exact_zpass);
@@ -199,7 +200,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   };
   const std::pair<std::string, std::string> cases[] = {
       {"{", "not JSON"},
-      {replaced("\"version\": 1", "\"version\": 4"), "version: 4 is not a version"},
+      {replaced("\"version\": 1", "\"version\": 5"), "version: 5 is not a version"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"depth\": \"float32\""),
        "depth: is a version 3 field (this file says version 1)"},
       {replaced("\"version\": 1, \"capped_method\"", "\"version\": 3, \"depth\": \"float16\", \"capped_method\""),
@@ -250,17 +251,6 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   }
 }
 
-TEST(SwitchPolicy, TheShippedPolicyLoads) {
-  const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
-  EXPECT_EQ(p.cost_models.size(), 2u);                 // the capped and the fallback method
-  for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
-    EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;
-  EXPECT_GT(p.crack_model.threshold, 0);
-  // Its held-out side: every crack of the capped method beyond the fallback's predicted.
-  const nlohmann::json provenance = nlohmann::json::parse(p.provenance_json);
-  EXPECT_EQ(provenance["held_out"]["cracks"], provenance["held_out"]["cracks_predicted"]);
-}
-
 // The box scene at 32x24 (tests/box_scene.hpp).
 Scene box_scene(const Vec3d& eye, const Vec3d& light) {
   test::BoxSceneOptions o;
@@ -290,6 +280,121 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
   d = analysis::decide(p, cs, 0, {});
   EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+}
+
+// Whether decide() reads a policy's models, asked of decide() itself: the
+// same frames decided with the model at two extremes, a decision that
+// differs somewhere means it is read.  The frames: the box seen from far
+// away (nothing meets the light pyramid) and from inside its shadow (it
+// does), and the bundled scene with the light in the near plane.
+std::vector<Scene> probe_scenes() {
+  return {box_scene({6, 1, 6}, {0, 8, 0}), box_scene({0.1, -1.5, 0.2}, {0, 8, 0}),
+          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json")};
+}
+
+bool decisions_differ(const std::vector<SwitchPolicy>& variants) {
+  for (const Scene& s : probe_scenes()) {
+    const CameraSpaceScene cs(s);
+    std::vector<gl::ShadowMethod> first;
+    for (const SwitchPolicy& p : variants) {
+      const std::vector<gl::ShadowMethod> methods = analysis::decide(p, cs, 0, {}).object_methods;
+      if (first.empty()) first = methods;
+      if (methods != first) return true;
+    }
+  }
+  return false;
+}
+
+// The crack model at P = 0 and at P = 1 (its features kept).
+bool decide_reads_crack_model(const SwitchPolicy& p) {
+  SwitchPolicy never = p, always = p;
+  never.crack_model.bias = -1000;
+  always.crack_model.bias = 1000;
+  return decisions_differ({never, always});
+}
+
+// Profiles where one pass kind or one CPU task costs everything.
+bool decide_reads_device_profile(const SwitchPolicy& p) {
+  std::vector<SwitchPolicy> variants;
+  for (std::size_t k = 0; k < analysis::kPassKindCount + 3; ++k) {
+    analysis::DeviceProfile d;
+    d.origin = "hand";
+    if (k < analysis::kPassKindCount)
+      d.passes[k] = {1e3, 1e6, 1e6};
+    else if (k == analysis::kPassKindCount)
+      d.cpu.ms_per_ktriangle_silhouette = 1e6;
+    else if (k == analysis::kPassKindCount + 1)
+      d.cpu.ms_per_ktriangle_clipped_cap = 1e6;
+    else
+      d.cpu.ms_per_ktriangle_exact_test = 1e6;
+    SwitchPolicy v = p;
+    v.device_profile = d;
+    variants.push_back(v);
+  }
+  return decisions_differ(variants);
+}
+
+bool has(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// unread_policy_models (what tune refuses to write and the shipped policies
+// must not carry) says what decide() does, over the switches that decide
+// whether a model is asked: with and without the exact Z-pass test, with a
+// capped method that draws a near-cap and one that does not.
+TEST(SwitchPolicy, TheUnreadModelsAreTheOnesDecideNeverReads) {
+  SwitchPolicy base = analysis::parse_policy(valid_policy(), "p.json");
+  base.device_profile = analysis::DeviceProfile{};
+  int checked = 0;
+  for (bool exact : {true, false})
+    for (gl::ShadowMethod capped :
+         {gl::ShadowMethod::ZPPlusCorrected, gl::ShadowMethod::ZPPlus, gl::ShadowMethod::ZFail}) {
+      if (!exact && !gl::uses_near_cap(capped)) continue;  // not a policy (parse_policy refuses it)
+      SwitchPolicy p = base;
+      p.exact_zpass = exact;
+      p.capped_method = capped;
+      p.fallback_method = capped == gl::ShadowMethod::ZFail ? gl::ShadowMethod::Preload : gl::ShadowMethod::ZFail;
+      const std::vector<std::string> unread = analysis::unread_policy_models(p);
+      EXPECT_EQ(has(unread, "crack_model"), !decide_reads_crack_model(p))
+          << "exact_zpass " << exact << ", capped " << gl::to_string(capped);
+      EXPECT_EQ(has(unread, "device_profile"), !decide_reads_device_profile(p))
+          << "exact_zpass " << exact << ", capped " << gl::to_string(capped);
+      ++checked;
+    }
+  EXPECT_EQ(checked, 5);
+  // Where the model is read, the decision really changes with it.
+  EXPECT_TRUE(decide_reads_crack_model(analysis::parse_policy(valid_policy(), "p.json")));
+  // A model without features is not a fitted one: nothing to report unread.
+  SwitchPolicy none = base;
+  none.exact_zpass = false;
+  none.crack_model = {};
+  none.device_profile.reset();
+  EXPECT_TRUE(analysis::unread_policy_models(none).empty());
+  none.cost_models.push_back({gl::ShadowMethod::ZFail, {}});
+  EXPECT_TRUE(has(analysis::unread_policy_models(none), "cost_models"));  // decide() reads no cost model
+}
+
+// Each shipped policy loads (a broken file throws, which fails the test),
+// and carries no model its own decision bypasses, checked on decide() too.
+TEST(SwitchPolicy, TheShippedPolicyLoads) {
+  for (const char* file : {"policy.json", "policy-reversed-z.json", "policy-tight-near.json"}) {
+    SCOPED_TRACE(file);
+    const SwitchPolicy p = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/" + file);
+    EXPECT_TRUE(analysis::unread_policy_models(p).empty())
+        << "unread: " << ::testing::PrintToString(analysis::unread_policy_models(p));
+    if (!p.crack_model.features.empty()) {
+      EXPECT_TRUE(decide_reads_crack_model(p));
+    }
+    if (p.device_profile) {
+      EXPECT_TRUE(decide_reads_device_profile(p));
+    }
+    for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
+      EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;
+    EXPECT_GT(p.crack_model.threshold, 0);
+    // Its held-out side: every crack of the capped method beyond the fallback's predicted.
+    const nlohmann::json provenance = nlohmann::json::parse(p.provenance_json);
+    EXPECT_EQ(provenance["held_out"]["cracks"], provenance["held_out"]["cracks_predicted"]);
+  }
 }
 
 // The light in the near plane: no light frustum, so the paper's ZP+ falls

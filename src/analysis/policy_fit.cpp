@@ -457,10 +457,18 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
   return c;
 }
 
+std::vector<std::string> unread_policy_models(const SwitchPolicy& policy) {
+  std::vector<std::string> unread;
+  if (!policy.crack_model.features.empty() && !(policy.exact_zpass && gl::uses_near_cap(policy.capped_method)))
+    unread.push_back("crack_model");
+  if (!policy.cost_models.empty()) unread.push_back("cost_models");
+  if (policy.device_profile) unread.push_back("device_profile");
+  return unread;
+}
+
 SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::ShadowMethod capped,
                          gl::ShadowMethod fallback, const std::string& command, const LogisticFitOptions& options,
-                         const std::vector<std::string>& feature_names,
-                         const std::vector<std::pair<gl::ShadowMethod, std::vector<CostSample>>>& costs) {
+                         const std::vector<std::string>& feature_names, bool crack_model) {
   // The chosen features' columns.
   std::vector<std::string> names = feature_names;
   if (names.empty()) names.assign(kPolicyFeatures.begin(), kPolicyFeatures.end());
@@ -495,7 +503,7 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
   CrackModel& m = p.crack_model;
   const bool any_crack = std::find(y.begin(), y.end(), 1) != y.end();
   nlohmann::json fit_json;
-  if (any_crack) {
+  if (crack_model && any_crack) {
     const LogisticFit fit = fit_logistic(x, y, options);
     m.features = names;
     m.mean = fit.mean;
@@ -517,13 +525,15 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
                 {"huber_delta", options.huber_delta},
                 {"l2", options.l2}};
   } else {
-    // No training pair where the capped method cracks more than the
-    // fallback: nothing to separate, no fit.  A model without features
-    // whose probability, 1 / (1 + e^30), is below any threshold: it never
-    // predicts a crack (the held-out side below says whether that holds).
+    // No model asked for, or no training pair where the capped method
+    // cracks more than the fallback: nothing to separate, no fit.  A model
+    // without features whose probability, 1 / (1 + e^30), is below any
+    // threshold: it never predicts a crack (the held-out side below says
+    // whether that holds).
     m.bias = -30;
     m.threshold = 1;
-    fit_json = {{"none", "no training pair where the capped method cracks more than the fallback"}};
+    fit_json = {{"none", crack_model ? "no training pair where the capped method cracks more than the fallback"
+                                     : "no crack model asked for (--features none)"}};
   }
   const Confusion train = confusion(m, samples, false), held = confusion(m, samples, true);
   auto side = [](const Confusion& c) {
@@ -537,19 +547,6 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
                       {"fit", fit_json},
                       {"train", side(train)},
                       {"held_out", side(held)}};
-  nlohmann::json cost = nlohmann::json::object();
-  for (const auto& [method, rows] : costs) {
-    const CostModel cm = fit_cost_model(rows, options.robust);
-    p.cost_models.emplace_back(method, cm);
-    std::size_t held_rows = 0;
-    for (const CostSample& s : rows) held_rows += s.held_out;
-    cost[std::string(gl::to_string(method))] = {
-        {"rows", rows.size()},
-        {"held_out_rows", held_rows},
-        {"train_median_relative_error", median_relative_error(cm, rows, false)},
-        {"held_out_median_relative_error", median_relative_error(cm, rows, true)}};
-  }
-  if (!costs.empty()) prov["cost"] = cost;
   // The command names the CSV files: a name that is not UTF-8 gets U+FFFD.
   p.provenance_json = prov.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return p;

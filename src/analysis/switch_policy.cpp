@@ -145,6 +145,84 @@ gl::ShadowMethod method_field(const Json& v, const std::string& path, const std:
   return *m;
 }
 
+// A cost coefficient: a finite number, not negative.
+double cost_number(const Json& object, const std::string& key, const std::string& path, const std::string& source) {
+  const double v = finite_number(field(object, key, path, source), path + key, source);
+  if (v < 0) fail(source, path + key, "must not be negative (a cost)");
+  return v;
+}
+
+const Json& object_field(const Json& object, const std::string& key, const std::string& path,
+                         const std::string& source) {
+  const Json& v = field(object, key, path, source);
+  if (!v.is_object()) fail(source, path + key, "must be an object");
+  return v;
+}
+
+// The "device_profile" object; `path` is the prefix its fields are named
+// with ("device_profile." in a policy, "" on its own).
+DeviceProfile device_profile_of(const Json& j, const std::string& path, const std::string& source) {
+  if (!j.is_object()) fail(source, path.empty() ? "(top level)" : path.substr(0, path.size() - 1), "must be an object");
+  only_keys(j, {"gl_renderer", "origin", "passes", "cpu"}, path, source);
+  DeviceProfile d;
+  const Json& renderer = field(j, "gl_renderer", path, source);
+  if (!renderer.is_string())
+    fail(source, path + "gl_renderer", "must be a string (the GL_RENDERER it was measured on)");
+  d.gl_renderer = renderer.get<std::string>();
+  const Json& origin = field(j, "origin", path, source);
+  if (!origin.is_string() || (origin != "calibrated" && origin != "hand" && origin != "scaled"))
+    fail(source, path + "origin", "must be \"calibrated\", \"hand\" or \"scaled\"");
+  d.origin = origin.get<std::string>();
+  const Json& passes = object_field(j, "passes", path, source);
+  const std::set<std::string> kinds(kPassKindNames.begin(), kPassKindNames.end());
+  only_keys(passes, kinds, path + "passes.", source);
+  for (std::size_t k = 0; k < kPassKindCount; ++k) {
+    const std::string name(kPassKindNames[k]);
+    const std::string at = path + "passes." + name + ".";
+    const Json& pass = object_field(passes, name, path + "passes.", source);
+    only_keys(pass, {"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"}, at, source);
+    d.passes[k].intercept_ms = cost_number(pass, "intercept_ms", at, source);
+    d.passes[k].ms_per_mtriangle = cost_number(pass, "ms_per_mtriangle", at, source);
+    d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment", at, source);
+  }
+  const Json& cpu = object_field(j, "cpu", path, source);
+  const std::string at = path + "cpu.";
+  only_keys(cpu, {"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"}, at,
+            source);
+  d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette", at, source);
+  d.cpu.ms_per_ktriangle_clipped_cap = cost_number(cpu, "ms_per_ktriangle_clipped_cap", at, source);
+  d.cpu.ms_per_ktriangle_exact_test = cost_number(cpu, "ms_per_ktriangle_exact_test", at, source);
+  return d;
+}
+
+Json device_profile_json(const DeviceProfile& d) {
+  Json passes = Json::object();
+  for (std::size_t k = 0; k < kPassKindCount; ++k)
+    passes[std::string(kPassKindNames[k])] = {{"intercept_ms", d.passes[k].intercept_ms},
+                                              {"ms_per_mtriangle", d.passes[k].ms_per_mtriangle},
+                                              {"ms_per_mfragment", d.passes[k].ms_per_mfragment}};
+  return {{"gl_renderer", d.gl_renderer},
+          {"origin", d.origin},
+          {"passes", passes},
+          {"cpu",
+           {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
+            {"ms_per_ktriangle_clipped_cap", d.cpu.ms_per_ktriangle_clipped_cap},
+            {"ms_per_ktriangle_exact_test", d.cpu.ms_per_ktriangle_exact_test}}}};
+}
+
+// Text to JSON with the policy's strictness: duplicate keys are Schema
+// errors, text that is not JSON a Parse error naming where.
+Json parse_json(const std::string& text, const std::string& source) {
+  const KeyTracker tracker(source);
+  try {
+    return Json::parse(text, tracker);
+  } catch (const Json::exception& e) {
+    // parse_error (syntax, ill-formed UTF-8: its message has the line and
+    // column) and out_of_range (a number beyond double, 1e999).
+    throw Error(ErrorKind::Parse, source + ": " + tracker.path() + ": not JSON: " + json_message(e));
+  }
+}
+
 }  // namespace
 
 double policy_feature(std::string_view name, const ConditioningFeatures& f) {
@@ -195,20 +273,39 @@ double CrackModel::probability(const ConditioningFeatures& f) const {
   return 1.0 / (1.0 + std::exp(-z));
 }
 
-SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
-  Json j;
-  const KeyTracker tracker(source);
-  try {
-    j = Json::parse(text, tracker);
-  } catch (const Json::exception& e) {
-    // parse_error (syntax, ill-formed UTF-8: its message has the line and
-    // column) and out_of_range (a number beyond double, 1e999).
-    throw Error(ErrorKind::Parse, source + ": " + tracker.path() + ": not JSON: " + json_message(e));
+DeviceProfile parse_device_profile(const std::string& text, const std::string& source) {
+  return device_profile_of(parse_json(text, source), "", source);
+}
+
+std::string device_profile_to_json(const DeviceProfile& profile) {
+  // The renderer string comes from the GL: one that is not UTF-8 gets U+FFFD.
+  return device_profile_json(profile).dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cpu_factor) {
+  if (!(std::isfinite(gl_factor) && gl_factor > 0) || !(std::isfinite(cpu_factor) && cpu_factor > 0))
+    throw Error(ErrorKind::Usage, "a profile's speed-up factors must be finite and positive (GL " +
+                                      std::to_string(gl_factor) + ", CPU " + std::to_string(cpu_factor) + ")");
+  DeviceProfile s = p;
+  s.origin = "scaled";
+  for (PassCost& c : s.passes) {
+    c.intercept_ms /= gl_factor;
+    c.ms_per_mtriangle /= gl_factor;
+    c.ms_per_mfragment /= gl_factor;
   }
+  s.cpu.ms_per_ktriangle_silhouette /= cpu_factor;
+  s.cpu.ms_per_ktriangle_clipped_cap /= cpu_factor;
+  s.cpu.ms_per_ktriangle_exact_test /= cpu_factor;
+  return s;
+}
+
+SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
+  const Json j = parse_json(text, source);
   if (!j.is_object()) fail(source, "(top level)", "must be an object");
   only_keys(j,
             {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
-             "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "provenance"},
+             "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "device_profile",
+             "provenance"},
             "", source);
   const Json& format = field(j, "format", "", source);
   if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
@@ -325,6 +422,12 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
       p.cost_models.emplace_back(*method, cm);
     }
   }
+  if (const auto it = j.find("device_profile"); it != j.end()) {
+    if (file_version < 4)
+      fail(source, "device_profile",
+           "is a version 4 field (this file says version " + std::to_string(file_version) + ")");
+    p.device_profile = device_profile_of(*it, "device_profile.", source);
+  }
   const Json& provenance = field(j, "provenance", "", source);
   if (!provenance.is_object()) fail(source, "provenance", "must be an object");
   p.provenance_json = provenance.dump();
@@ -362,6 +465,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
                                                  {"ms_per_mtriangle", cm.ms_per_mtriangle},
                                                  {"ms_per_mfragment", cm.ms_per_mfragment}};
   j["cost_models"] = costs;
+  if (p.device_profile) j["device_profile"] = device_profile_json(*p.device_profile);
   j["provenance"] = Json::parse(p.provenance_json);
   // The provenance names files: a name that is not UTF-8 gets U+FFFD.
   return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <system_error>
 
 #include "cli_commands.hpp"
@@ -29,15 +28,6 @@ struct TuneOptions {
   std::string depth_mapping;  // "": not written
   std::string near_plane;     // "": not written
 };
-
-// A median error as a percentage, "n/a" where the side had no rows (JSON
-// null: no held-out configuration among few samples).
-std::string percent(const nlohmann::json& v) {
-  if (!v.is_number()) return "n/a";
-  std::ostringstream s;
-  s << v.get<double>() * 100 << " %";
-  return s.str();
-}
 
 // --out must not name one of the inputs: writing the policy would replace the
 // sweep CSV it is fitted on.  Compared by file identity (device and inode), so
@@ -64,7 +54,8 @@ void run(const TuneOptions& o, const std::string& command) {
   analysis::LogisticFitOptions fit;
   fit.robust = !o.plain;
   std::vector<std::string> features;
-  if (o.features != "all") {
+  const bool crack_model = o.features != "none";
+  if (o.features != "all" && crack_model) {
     std::size_t start = 0;
     while (start <= o.features.size()) {
       const std::size_t comma = std::min(o.features.find(',', start), o.features.size());
@@ -72,13 +63,11 @@ void run(const TuneOptions& o, const std::string& command) {
       start = comma + 1;
     }
   }
-  std::vector<std::pair<gl::ShadowMethod, std::vector<analysis::CostSample>>> costs;
-  for (gl::ShadowMethod m : {*capped, *fallback})
-    costs.emplace_back(m, analysis::cost_samples(o.results, m, o.variant));
   const auto projection = gl::light_projection_from_string(o.light_projection);
   if (!projection)
     throw Error(ErrorKind::Usage, "--light-projection '" + o.light_projection + "' is not a formulation");
-  analysis::SwitchPolicy policy = analysis::tune_policy(samples, *capped, *fallback, command, fit, features, costs);
+  analysis::SwitchPolicy policy =
+      analysis::tune_policy(samples, *capped, *fallback, command, fit, features, crack_model);
   policy.light_projection = *projection;
   if (o.no_exact_zpass) {
     if (*projection != gl::LightProjection::ClippedSides)
@@ -100,15 +89,34 @@ void run(const TuneOptions& o, const std::string& command) {
               << " of them, " << c["false_alarms"] << " false alarms\n";
   }
   if (policy.crack_model.features.empty())
-    std::cout << "  no crack model: the capped method never cracked more than the fallback in training\n";
+    std::cout << "  no crack model: "
+              << (crack_model ? "the capped method never cracked more than the fallback in training"
+                              : "none asked for (--features none)")
+              << "\n";
   else
     std::cout << "  threshold " << policy.crack_model.threshold << "\n";
-  for (const auto& [method, cm] : policy.cost_models) {
-    const nlohmann::json& c = provenance.at("cost").at(std::string(gl::to_string(method)));
-    std::cout << "  cost of " << gl::to_string(method) << ": " << cm.intercept_ms << " ms + " << cm.ms_per_mtriangle
-              << " ms per million triangles + " << cm.ms_per_mfragment << " ms per million fragments; median error "
-              << percent(c.at("train_median_relative_error")) << " (train), "
-              << percent(c.at("held_out_median_relative_error")) << " (held out)\n";
+  // A model the policy's own switches bypass is not written: it would say
+  // the policy decides by it.
+  for (const std::string& unread : analysis::unread_policy_models(policy)) {
+    if (unread == "crack_model")
+      throw Error(ErrorKind::Usage,
+                  "the fitted crack model (" + std::to_string(policy.crack_model.features.size()) +
+                      " features) would never be read: with --no-exact-zpass every occluder gets the capped method "
+                      "and the decision asks no model; add --features none, or drop --no-exact-zpass");
+    throw Error(ErrorKind::Usage, "the policy would carry " + unread + ", which its decision never reads");
+  }
+  // What the written policy's decision reads of what was fitted here.
+  if (policy.crack_model.features.empty()) {
+    std::cout << "  fits the policy uses: none (every occluder that meets the light pyramid gets "
+              << gl::to_string(policy.capped_method) << (policy.exact_zpass ? ", the others Z-pass" : "")
+              << "; no cost model: the decision's costs are a device profile's, from nearcap calibrate)\n";
+  } else {
+    std::cout << "  fits the policy uses: the crack model (";
+    for (std::size_t k = 0; k < policy.crack_model.features.size(); ++k)
+      std::cout << (k ? ", " : "") << policy.crack_model.features[k];
+    std::cout << "), asked for occluders that meet the light pyramid: " << gl::to_string(policy.fallback_method)
+              << " where it predicts a crack; no cost model (the decision's costs are a device profile's, from "
+                 "nearcap calibrate)\n";
   }
   io::write_output_files({{o.out, analysis::policy_to_json(policy)}});
   std::cout << "tune: wrote " << o.out << "\n";
@@ -119,8 +127,8 @@ void run(const TuneOptions& o, const std::string& command) {
 void register_tune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
-      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (docs/policy.md); "
-      "the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
+      "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (docs/policy.md), printing "
+      "which fits the policy's decision reads; the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
   auto o = std::make_shared<TuneOptions>();
   cmd->add_option("results", o->results, "sweep CSV files with rows of both methods")->required();
   cmd->add_option("--out", o->out, "the policy file to write")->required();
@@ -153,7 +161,8 @@ void register_tune(CLI::App& app) {
       ->check(CLI::IsMember(near_plane_names()));
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
-                  "log_delta_over_width and log_skew need no pass over the geometry), or all")
+                  "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model: "
+                  "with --no-exact-zpass the decision reads none)")
       ->capture_default_str();
   cmd->callback([o] {
     std::string command = "nearcap tune";

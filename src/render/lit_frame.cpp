@@ -132,12 +132,13 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   // query's time added to `into` and `gpu_into`.
   auto mark = std::chrono::steady_clock::now();
   GLuint timer = 0;
-  if (options.pass_times) glGenQueries(1, &timer);
+  const bool pass_times = options.pass_times || options.pass_kind_times;
+  if (pass_times) glGenQueries(1, &timer);
   auto pass_begin = [&] {
-    if (options.pass_times) glBeginQuery(GL_TIME_ELAPSED, timer);
+    if (pass_times) glBeginQuery(GL_TIME_ELAPSED, timer);
   };
   auto pass_done = [&](double& into, double& gpu_into) {
-    if (!options.pass_times) return;
+    if (!pass_times) return;
     glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     const auto now = std::chrono::steady_clock::now();
@@ -214,6 +215,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), nullptr, 1));
   }
   pass_done(out.passes.depth_ms, out.passes.gpu_depth_ms);
+  if (options.pass_kind_times)
+    out.kind_times.push_back({0, DrawKind::Depth, out.passes.depth_ms, out.passes.gpu_depth_ms});
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
@@ -221,15 +224,14 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     glClear(GL_STENCIL_BUFFER_BIT);
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     glDisable(GL_BLEND);
-    for (const gl::DrawCall& d : light_frames[k].draws) {
-      if (d.pass == gl::DrawPass::Depth) continue;
+    auto draw_stencil = [&](const gl::DrawCall& d) {
       apply_draw_state(d.state, far_only_clamp, depth_bounds_test);
       const bool two_sided =
           d.state.cull == gl::CullFace::None &&
           (d.state.front.depth_fail != d.state.back.depth_fail || d.state.front.depth_pass != d.state.back.depth_pass);
       if (!options.one_sided_stencil || !two_sided) {
         draw(d, {});
-        continue;
+        return;
       }
       // Front faces (back culled) with the front operations, then back faces.
       glEnable(GL_CULL_FACE);
@@ -238,8 +240,28 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
                           stencil_op(d.state.front.depth_pass));
       second_ops = d.state.back;
       draw(d, {}, 2);
+    };
+    if (!options.pass_kind_times) {
+      for (const gl::DrawCall& d : light_frames[k].draws)
+        if (d.pass != gl::DrawPass::Depth) draw_stencil(d);
+      pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);
+    } else {
+      pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);  // the stencil's clear
+      for (const DrawKind kind : {DrawKind::NearCap, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap}) {
+        bool drawn = false;
+        pass_begin();
+        for (const gl::DrawCall& d : light_frames[k].draws)
+          if (d.pass != gl::DrawPass::Depth && draw_kind(d) == kind) {
+            draw_stencil(d);
+            drawn = true;
+          }
+        KindTime t{k, kind, 0, 0};
+        pass_done(t.ms, t.gpu_ms);
+        out.passes.stencil_ms += t.ms;
+        out.passes.gpu_stencil_ms += t.gpu_ms;
+        if (drawn) out.kind_times.push_back(t);
+      }
     }
-    pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);
     if (read_stencils) {
       const auto r0 = std::chrono::steady_clock::now();
       std::vector<std::uint8_t>& st = out.stencils.emplace_back(static_cast<std::size_t>(width) * height);
@@ -264,7 +286,11 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
       draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
-    pass_done(out.passes.lit_ms, out.passes.gpu_lit_ms);
+    KindTime lit{k, DrawKind::Lit, 0, 0};
+    pass_done(lit.ms, lit.gpu_ms);
+    out.passes.lit_ms += lit.ms;
+    out.passes.gpu_lit_ms += lit.gpu_ms;
+    if (options.pass_kind_times) out.kind_times.push_back(lit);
   }
   glFinish();
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - read_ms;

@@ -102,6 +102,15 @@ struct ProfileFitReport {
   std::array<double, kPassKindCount> train_median_relative_error{}, held_out_median_relative_error{};
   std::array<std::size_t, kPassKindCount> train_count{}, held_out_count{};
   std::array<double, 3> cpu_train_median_relative_error{}, cpu_held_out_median_relative_error{};
+  std::array<std::size_t, 3> cpu_train_count{}, cpu_held_out_count{};  // by CpuTask
+  // The median errors are NaN on a side without observations.
+};
+
+// The fit's loss: `robust` (the default) is Huber's on the log residual,
+// scaled to the data; false is plain least squares on the same residual,
+// which a few gross timing outliers pull off (the tests show how far).
+struct ProfileFitOptions {
+  bool robust = true;
 };
 
 // Fits each pass kind's (intercept, a, b) and each CPU task's cost per
@@ -109,12 +118,22 @@ struct ProfileFitReport {
 // coefficients; observations whose frame hashes into the held-out fifth
 // (FNV-1a(frame) % 5 == 0) only measure the error.  Kinds or tasks with no
 // observation keep 0 and are reported as such.
+// The residual is log(predicted) - log(measured): timing noise is
+// multiplicative (a frame twice the work scatters twice as far), and the
+// target is a relative error.  Measured times below a thousandth of the
+// kind's median training time are read as that floor (a timer's zero).  CPU
+// observations of no triangles are skipped (the CPU model has no intercept).
+// A negative or non-finite count or time is an error (non-finite) naming the
+// observation's frame.  In the tuning library (Ceres).
 DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
-                                 const std::string& gl_renderer, ProfileFitReport* report = nullptr);
+                                 const std::string& gl_renderer, ProfileFitReport* report = nullptr,
+                                 const ProfileFitOptions& options = {});
 
 // The same profile with its GL passes `gl_factor` times as fast and its CPU
 // work `cpu_factor` times as fast (origin "scaled"): what a GPU would
-// change, the CPU kept.
+// change, the CPU kept.  Factors must be finite and positive (else an error,
+// usage).  In the core library (switch_policy.cpp), beside the profile's
+// reader and writer.
 DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cpu_factor = 1.0);
 
 }  // namespace nearcap::analysis

@@ -15,6 +15,8 @@
 // by a sweep (docs/findings/l-near.md).
 #pragma once
 
+#include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ struct KnobConfiguration {
   std::size_t light = 0;
 };
 
+// The default start: the geometric middle of [1e-3, 1].
+inline const double kLightNearScaleStart = std::sqrt(1e-3);
+
 struct LightNearFit {
   double scale = 1;
   std::size_t train = 0, held_out = 0;  // configurations with a light frustum at every scale tried
@@ -42,7 +47,31 @@ struct LightNearFit {
 double light_near_objective(const std::vector<const KnobConfiguration*>& configurations,
                             const gl::LightFrustumChoice& choice, double scale, std::size_t* counted = nullptr);
 
+// Ceres minimizes the training configurations' mean objective over the
+// scale in [1e-3, 1], from `start` (in that range).  The default starts at
+// the range's geometric middle, away from both bounds: a start on a bound
+// where the objective falls outward would end the solve at once, and a
+// solve that never moved says nothing of where the minimum is.  On the
+// sampler's configurations the objective falls all the way to scale 1 (a
+// larger l_near is a better conditioned light projection), so the fit ends
+// on that bound after a few iterations.
 LightNearFit fit_light_near_scale(const std::vector<KnobConfiguration>& configurations,
-                                  const gl::LightFrustumChoice& choice);
+                                  const gl::LightFrustumChoice& choice, double start = kLightNearScaleStart);
+
+// The solve fit_light_near_scale runs, on any objective: minimizes
+// mean_i term_i(scale) over scale in [lower, upper] from `start`, with each
+// term >= 0 where finite (a term that is not finite at a trial scale refuses
+// the step).  The unknown is log10(scale), so that the three decades of the
+// range are equally easy to cross, and the derivatives are central
+// differences of 0.001 in it (0.23 % of the scale): far above float32
+// rounding in the matrices, far below the objective's curvature.  Needs
+// 0 < lower < upper, lower <= start <= upper and a term (else an error,
+// usage).  `iterations` counts Ceres' iterations, the start's included.
+struct ScaleMinimum {
+  double scale = 1;
+  int iterations = 0;
+};
+ScaleMinimum minimize_mean_over_scale(const std::vector<std::function<double(double)>>& terms, double lower,
+                                      double upper, double start);
 
 }  // namespace nearcap::analysis

@@ -97,10 +97,25 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 // and the provenance (counts, confusion on both sides, the command) in the
 // returned policy.
 // `features`: names from kPolicyFeatures, each once (all of them when empty).
-// `costs`: each method's cost samples, fitted into the policy's cost models.
+// `crack_model` false: no fit, a model without features that never predicts
+// a crack (for a policy whose switches never read one); the confusion
+// tables still count the cracks.
+// The policy carries no cost models: decide() reads none (the decision's
+// costs are the device profile's, device_profile.hpp, which `nearcap
+// calibrate` measures on the real GL instead of the emulation's CPU times).
 SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMethod capped, gl::ShadowMethod fallback,
                          const std::string& command, const LogisticFitOptions& options = {},
-                         const std::vector<std::string>& features = {},
-                         const std::vector<std::pair<gl::ShadowMethod, std::vector<CostSample>>>& costs = {});
+                         const std::vector<std::string>& features = {}, bool crack_model = true);
+
+// The models a policy carries that decide() never reads given the policy's
+// own switches, by their policy.json names: "crack_model" (with features)
+// when there is no exact Z-pass test or the capped method draws no near-cap
+// (the model is asked only for occluders that meet the light pyramid, before
+// drawing ZP+); "cost_models" when any (decide() reads none);
+// "device_profile" when one is present and decide() does not read it.
+// This restates decide()'s branches (switch_policy.cpp); the tests check it
+// against decide() itself, so a change there that reads a model fails them
+// until this says so.
+std::vector<std::string> unread_policy_models(const SwitchPolicy& policy);
 
 }  // namespace nearcap::analysis

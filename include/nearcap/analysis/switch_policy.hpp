@@ -30,7 +30,9 @@
 // "crack_model": {"features": [...],
 // "mean": [...], "scale": [...], "weights": [...], "bias": b, "threshold":
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
-// "ms_per_mfragment": b}, ...} (possibly empty), "provenance": {...}}.
+// "ms_per_mfragment": b}, ...} (possibly empty), "device_profile": {...}
+// (version 4, optional: DeviceProfile's fields, parse_device_profile below),
+// "provenance": {...}}.
 // Every field is checked: an unknown key, a duplicate key (in any object,
 // provenance's too), a missing one (cost_models and provenance included), a
 // wrong type, an unknown or repeated feature, an unknown method, lengths that
@@ -128,12 +130,22 @@ struct SwitchPolicy {
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
-inline constexpr int kPolicyVersion = 3;  // written; 1 to 3 are read
+inline constexpr int kPolicyVersion = 4;  // written; 1 to 4 are read
 
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);
 SwitchPolicy load_policy(const std::string& path);
 std::string policy_to_json(const SwitchPolicy& policy);
+
+// A device profile on its own (the policy's "device_profile" object, as
+// text), checked as strictly as a policy: every key present once, no other,
+// strings where they are strings, costs finite and not negative; errors
+// (schema, parse) name the field from the object's top ("passes.depth.
+// intercept_ms").  A profile measured elsewhere or written by hand goes into
+// a policy with `policy.device_profile = parse_device_profile(...)` and
+// policy_to_json.
+DeviceProfile parse_device_profile(const std::string& text, const std::string& source);
+std::string device_profile_to_json(const DeviceProfile& profile);
 
 // The policy's choice for one (scene, light).
 struct PolicyDecision {

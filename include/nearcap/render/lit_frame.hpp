@@ -28,6 +28,7 @@
 
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
+#include "nearcap/render/pass_kinds.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::render {
@@ -39,6 +40,15 @@ struct LitFrameOptions {
   // glFinish after each pass and its wall time in LitFrame::passes (the
   // extra synchronisation is in LitFrame::ms too).
   bool pass_times = false;
+  // Each pass kind timed on its own (pass_kinds.hpp; implies pass_times):
+  // the depth pre-pass, then per light its stencil pass drawn kind by kind
+  // (the near-cap, the sides with corrective quads, the light caps, the
+  // dark caps: each kind's draws together, in their recorded order, a
+  // glFinish before and after), then its lit pass.  The stencil is the
+  // same as in the recorded order: every stencil operation is a wrapping
+  // increment or decrement, and those commute.  The times in
+  // LitFrame::kind_times.
+  bool pass_kind_times = false;
   // Each draw that counts front and back faces differently as two one-sided
   // draws (back faces culled with the front operations, then front faces
   // culled with the back ones), as GL without two-sided stencil draws it:
@@ -68,6 +78,16 @@ struct LitFramePasses {
   double gpu_depth_ms = 0, gpu_stencil_ms = 0, gpu_lit_ms = 0;
 };
 
+// One pass kind of one light frame, timed on its own
+// (LitFrameOptions::pass_kind_times): wall time from the glFinish before its
+// first draw to the glFinish after its last.
+struct KindTime {
+  std::size_t light_frame = 0;  // index into the light frames (0 for the depth pre-pass)
+  DrawKind kind = DrawKind::Depth;
+  double ms = 0;
+  double gpu_ms = 0;  // the GL_TIME_ELAPSED query around the same draws
+};
+
 struct LitFrame {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // 8-bit RGB, top row first (as a PNG stores it)
@@ -77,6 +97,9 @@ struct LitFrame {
   // that copies at the call as llvmpipe does.
   double upload_ms = 0;
   LitFramePasses passes;  // with LitFrameOptions::pass_times
+  // With pass_kind_times: the depth pre-pass, then per light frame each kind
+  // it draws (a kind with no draw has no entry), then its lit pass.
+  std::vector<KindTime> kind_times;
   // With read_stencils: each light's stencil as its volumes left it (row 0
   // at the bottom, like ShadowFrame::stencil), one per light frame.
   std::vector<std::vector<std::uint8_t>> stencils;

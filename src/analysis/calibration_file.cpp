@@ -1,0 +1,145 @@
+// nearcap calibrate's observations as CSV (see calibration_file.hpp).
+#include "nearcap/analysis/calibration_file.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms";
+constexpr std::array<std::string_view, 6> kColumns{"record", "frame", "kind", "triangles", "fragments", "ms"};
+
+// The shortest text that reads back to `v` exactly (std::to_chars).
+std::string number(double v, std::string_view what) {
+  if (!std::isfinite(v)) throw Error(ErrorKind::NonFinite, "calibration CSV: a non-finite " + std::string(what));
+  char buffer[64];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, r.ptr);
+}
+
+void check_frame(const std::string& frame) {
+  if (frame.find_first_of(",\"\r\n") != std::string::npos)
+    throw Error(ErrorKind::Usage, "calibration CSV: frame name '" + frame + "' has a comma, quote or line break");
+}
+
+std::string pass_line(std::string_view record, const PassObservation& o) {
+  check_frame(o.frame);
+  return std::string(record) + "," + o.frame + "," + std::string(to_string(o.kind)) + "," +
+         number(o.triangles, "triangle count") + "," + number(o.fragments, "fragment count") + "," +
+         number(o.ms, "time") + "\n";
+}
+
+}  // namespace
+
+std::optional<PassKind> pass_kind_from_string(std::string_view name) {
+  for (std::size_t k = 0; k < kPassKindCount; ++k)
+    if (kPassKindNames[k] == name) return static_cast<PassKind>(k);
+  return std::nullopt;
+}
+
+std::optional<CpuTask> cpu_task_from_string(std::string_view name) {
+  for (std::size_t k = 0; k < kCpuTaskNames.size(); ++k)
+    if (kCpuTaskNames[k] == name) return static_cast<CpuTask>(k);
+  return std::nullopt;
+}
+
+std::string calibration_csv_header() { return std::string(kHeader) + "\n"; }
+
+std::string calibration_csv_rows(const CalibrationSet& set) {
+  std::string out;
+  for (const PassObservation& o : set.passes) out += pass_line("pass", o);
+  for (const PassObservation& o : set.again) out += pass_line("again", o);
+  for (const CpuObservation& o : set.cpu) {
+    check_frame(o.frame);
+    out += "cpu," + o.frame + "," + std::string(to_string(o.task)) + "," + number(o.triangles, "triangle count") +
+           ",," + number(o.ms, "time") + "\n";
+  }
+  return out;
+}
+
+CalibrationSet parse_calibration_csv(std::string_view text, const std::string& source) {
+  CalibrationSet set;
+  std::size_t line_number = 0, at = 0;
+  auto fail = [&](ErrorKind kind, const std::string& what) -> Error {
+    return Error(kind, source + " line " + std::to_string(line_number) + ": " + what);
+  };
+  bool header = false;
+  while (at < text.size()) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(at, end - at);
+    at = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!header) {
+      if (line != kHeader)
+        throw fail(ErrorKind::Parse, "the header is not '" + std::string(kHeader) +
+                                         "' (a calibration CSV of "
+                                         "nearcap calibrate)");
+      header = true;
+      continue;
+    }
+    if (line.empty()) continue;
+    std::array<std::string_view, 6> field;
+    std::size_t n = 0, from = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', from);
+      if (n < field.size()) field[n] = line.substr(from, comma == std::string_view::npos ? comma : comma - from);
+      ++n;
+      if (comma == std::string_view::npos) break;
+      from = comma + 1;
+    }
+    if (n != field.size())
+      throw fail(ErrorKind::Parse, std::to_string(n) + " fields, not " + std::to_string(field.size()) + " (" +
+                                       std::string(kHeader) + ")");
+    auto value = [&](std::size_t column) {
+      const std::string_view t = field[column];
+      const std::string name(kColumns[column]);
+      double v = 0;
+      const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+      const bool whole = !t.empty() && r.ptr == t.data() + t.size();
+      if (whole && (r.ec == std::errc::result_out_of_range || (r.ec == std::errc() && !std::isfinite(v))))
+        throw fail(ErrorKind::NonFinite, name + " '" + std::string(t) + "' is not finite");
+      if (!whole || r.ec != std::errc())
+        throw fail(ErrorKind::Parse, name + " '" + std::string(t) + "' is not a number");
+      if (v < 0) throw fail(ErrorKind::Schema, name + " " + std::string(t) + " is negative");
+      return v;
+    };
+    const std::string_view record = field[0];
+    const std::string frame(field[1]);
+    if (frame.empty()) throw fail(ErrorKind::Parse, "an empty frame");
+    if (record == "pass" || record == "again") {
+      const std::optional<PassKind> kind = pass_kind_from_string(field[2]);
+      if (!kind) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a pass kind");
+      PassObservation o{frame, *kind, value(3), value(4), value(5)};
+      (record == "pass" ? set.passes : set.again).push_back(std::move(o));
+    } else if (record == "cpu") {
+      const std::optional<CpuTask> task = cpu_task_from_string(field[2]);
+      if (!task) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a CPU task");
+      if (!field[4].empty()) throw fail(ErrorKind::Parse, "a cpu record has no fragments (the column is empty)");
+      set.cpu.push_back({frame, *task, value(3), value(5)});
+    } else {
+      throw fail(ErrorKind::Parse, "record '" + std::string(record) + "' is not pass, again or cpu");
+    }
+  }
+  if (!header) throw Error(ErrorKind::Parse, source + ": empty (no header line)");
+  return set;
+}
+
+std::vector<double> noise_floor_ratios(const CalibrationSet& set) {
+  std::map<std::pair<std::string, PassKind>, double> first;
+  for (const PassObservation& o : set.passes) first[{o.frame, o.kind}] = o.ms;
+  std::vector<double> out;
+  for (const PassObservation& o : set.again) {
+    const auto f = first.find({o.frame, o.kind});
+    if (f != first.end() && f->second > 0) out.push_back(o.ms / f->second);
+  }
+  return out;
+}
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,219 @@
+// Fitting a device cost profile with Ceres (see device_profile.hpp).
+//
+// Each pass kind is one small problem: ms ~ intercept + a * Mtriangles +
+// b * Mfragments, three non-negative unknowns; each CPU task one unknown,
+// ms ~ c * ktriangles.  The arrangement, and why:
+// - The residual is log(predicted) - log(measured).  Timings scatter in
+//   proportion to their size (a frame of twice the work varies twice as
+//   much), so an absolute residual would let the largest frames decide and
+//   leave the small ones, where the intercept matters, badly predicted; the
+//   log residual weighs every frame by its relative error, which is what the
+//   report and the decision compare.  It is symmetric: a frame preempted to
+//   10x its time and a timer that read 1/10 of it pull equally.
+// - The loss is Huber's, in two solves: the first with delta = 0.1 (a 10 %
+//   timing scatter, a prior that only sets which residuals count as gross),
+//   the second with delta = 1.345 sigma, sigma the residuals' scatter after
+//   the first (1.4826 times their median absolute value, the normal's MAD
+//   factor), 1.345 being Huber's 95 %-efficiency constant.  Huber's loss is
+//   convex in the residual, so the fit has no spurious minimum to fall into.
+// - The unknowns are scaled to be of order 1: the prediction is
+//   m (theta_0 + theta_1 t / s_t + theta_2 f / s_f), with m the kind's median
+//   training time and s_t, s_f the mean training triangle and fragment
+//   counts; a ms-per-million-fragments slope and an intercept in ms would
+//   otherwise differ by orders of magnitude and the trust region would see a
+//   badly conditioned problem.  Non-negativity is a bound on each theta.
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "ceres_solve.hpp"
+#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/policy_fit.hpp"
+#include "nearcap/error.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// log(theta . x) - y; an evaluation at a non-positive prediction is refused
+// (Ceres then shortens the step).
+template <int N>
+struct LogResidual {
+  LogResidual(const std::array<double, N>& x, double y) : x_(x), y_(y) {}
+  template <class T>
+  bool operator()(const T* theta, T* residual) const {
+    T predicted = T(0);
+    for (int j = 0; j < N; ++j) predicted += theta[j] * x_[static_cast<std::size_t>(j)];
+    if (!(predicted > T(0))) return false;
+    using std::log;
+    residual[0] = log(predicted) - T(y_);
+    return true;
+  }
+  std::array<double, N> x_;
+  double y_;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Minimizes sum rho(log(theta . x_i) - y_i) over theta >= 0 from `theta`.
+template <int N>
+void solve_log_linear(const std::vector<std::array<double, N>>& x, const std::vector<double>& y, bool robust,
+                      const std::string& what, std::array<double, N>& theta) {
+  auto solve = [&](double delta) {
+    ceres::Problem problem;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogResidual<N>, 1, N>(new LogResidual<N>(x[i], y[i])),
+                               robust ? new ceres::HuberLoss(delta) : nullptr, theta.data());
+    for (int j = 0; j < N; ++j) problem.SetParameterLowerBound(theta.data(), j, 0.0);
+    solve_or_throw(problem, deterministic_solver_options(200), what);
+  };
+  solve(0.1);
+  if (!robust) return;
+  std::vector<double> abs_residual;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    double predicted = 0;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(N); ++j) predicted += theta[j] * x[i][j];
+    abs_residual.push_back(std::fabs(std::log(predicted) - y[i]));
+  }
+  const double sigma = 1.4826 * median(abs_residual);
+  solve(1.345 * std::clamp(sigma, 1e-3, 1.0));
+}
+
+void check_measure(double v, const char* what, const std::string& frame, const char* observation) {
+  if (!std::isfinite(v))
+    throw Error(ErrorKind::NonFinite, std::string("device profile fit: the ") + observation + " of frame '" + frame +
+                                          "': " + what + " is not finite");
+  if (v < 0)
+    throw Error(ErrorKind::Usage, std::string("device profile fit: the ") + observation + " of frame '" + frame +
+                                      "': " + what + " is negative");
+}
+
+struct Side {
+  std::vector<double> errors;
+  std::size_t count = 0;
+};
+
+// Median |predicted - measured| / measured of the observations with a
+// positive measured time; NaN without any.
+double median_error(const Side& s) { return median(s.errors); }
+
+}  // namespace
+
+DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
+                                 const std::string& gl_renderer, ProfileFitReport* report,
+                                 const ProfileFitOptions& options) {
+  for (const PassObservation& o : passes) {
+    check_measure(o.triangles, "the triangle count", o.frame, "pass observation");
+    check_measure(o.fragments, "the fragment count", o.frame, "pass observation");
+    check_measure(o.ms, "the time", o.frame, "pass observation");
+  }
+  for (const CpuObservation& o : cpu) {
+    check_measure(o.triangles, "the triangle count", o.frame, "CPU observation");
+    check_measure(o.ms, "the time", o.frame, "CPU observation");
+  }
+  DeviceProfile profile;
+  profile.gl_renderer = gl_renderer;
+  profile.origin = "calibrated";
+  ProfileFitReport r;
+
+  for (std::size_t k = 0; k < kPassKindCount; ++k) {
+    std::vector<const PassObservation*> train, held;
+    for (const PassObservation& o : passes)
+      if (static_cast<std::size_t>(o.kind) == k) (held_out_configuration(o.frame) ? held : train).push_back(&o);
+    PassCost& cost = profile.passes[k];
+    std::vector<double> times;
+    double mean_t = 0, mean_f = 0;
+    for (const PassObservation* o : train) {
+      times.push_back(o->ms);
+      mean_t += o->triangles * 1e-6 / static_cast<double>(train.size());
+      mean_f += o->fragments * 1e-6 / static_cast<double>(train.size());
+    }
+    const double m = median(times);
+    if (m > 0) {
+      const double s_t = mean_t > 0 ? mean_t : 1.0, s_f = mean_f > 0 ? mean_f : 1.0;
+      std::vector<std::array<double, 3>> x;
+      std::vector<double> y;
+      for (const PassObservation* o : train) {
+        x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
+        y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
+      }
+      std::array<double, 3> theta{0.4, 0.3, 0.3};
+      solve_log_linear<3>(x, y, options.robust, std::string(kPassKindNames[k]) + " pass cost", theta);
+      cost.intercept_ms = m * theta[0];
+      cost.ms_per_mtriangle = m * theta[1] / s_t;
+      cost.ms_per_mfragment = m * theta[2] / s_f;
+    }
+    for (const auto& [side, error, count] :
+         {std::tuple{&train, &r.train_median_relative_error[k], &r.train_count[k]},
+          std::tuple{&held, &r.held_out_median_relative_error[k], &r.held_out_count[k]}}) {
+      Side s;
+      s.count = side->size();
+      for (const PassObservation* o : *side)
+        if (o->ms > 0) {
+          const double predicted = cost.intercept_ms + cost.ms_per_mtriangle * o->triangles * 1e-6 +
+                                   cost.ms_per_mfragment * o->fragments * 1e-6;
+          s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
+        }
+      *error = median_error(s);
+      *count = s.count;
+    }
+  }
+
+  for (std::size_t task = 0; task < 3; ++task) {
+    std::vector<const CpuObservation*> train, held;
+    for (const CpuObservation& o : cpu)
+      if (static_cast<std::size_t>(o.task) == task && o.triangles > 0)
+        (held_out_configuration(o.frame) ? held : train).push_back(&o);
+    std::vector<double> times;
+    double mean_k = 0;
+    for (const CpuObservation* o : train) {
+      times.push_back(o->ms);
+      mean_k += o->triangles * 1e-3 / static_cast<double>(train.size());
+    }
+    const double m = median(times);
+    double per_ktriangle = 0;
+    if (m > 0) {
+      std::vector<std::array<double, 1>> x;
+      std::vector<double> y;
+      for (const CpuObservation* o : train) {
+        x.push_back({o->triangles * 1e-3 / mean_k});
+        y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
+      }
+      std::array<double, 1> theta{1.0};
+      static constexpr std::array<const char*, 3> kTaskNames{"silhouette CPU cost", "clipped cap CPU cost",
+                                                             "exact test CPU cost"};
+      solve_log_linear<1>(x, y, options.robust, kTaskNames[task], theta);
+      per_ktriangle = m * theta[0] / mean_k;
+    }
+    double* coefficient = task == 0   ? &profile.cpu.ms_per_ktriangle_silhouette
+                          : task == 1 ? &profile.cpu.ms_per_ktriangle_clipped_cap
+                                      : &profile.cpu.ms_per_ktriangle_exact_test;
+    *coefficient = per_ktriangle;
+    for (const auto& [side, error, count] :
+         {std::tuple{&train, &r.cpu_train_median_relative_error[task], &r.cpu_train_count[task]},
+          std::tuple{&held, &r.cpu_held_out_median_relative_error[task], &r.cpu_held_out_count[task]}}) {
+      Side s;
+      s.count = side->size();
+      for (const CpuObservation* o : *side)
+        if (o->ms > 0) s.errors.push_back(std::fabs(per_ktriangle * o->triangles * 1e-3 - o->ms) / o->ms);
+      *error = median_error(s);
+      *count = s.count;
+    }
+  }
+  if (report) *report = r;
+  return profile;
+}
+
+}  // namespace nearcap::analysis

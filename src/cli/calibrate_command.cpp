@@ -1,0 +1,451 @@
+// nearcap calibrate: what each pass kind and CPU task costs on the current
+// GL (docs/calibration.md).  A calibration set (hard-case samples and
+// camera paths) is emulated with every calibrated method, its recorded
+// draws drawn by the real GL pass kind by pass kind (render/lit_frame.hpp,
+// LitFrameOptions::pass_kind_times), each with the triangles and fragments
+// it drew (render/pass_kinds.hpp: the emulation's own counters per draw),
+// and each occluder's CPU work timed with its size.  The observations go to
+// a CSV (analysis/calibration_file.hpp); with --write-policy a device
+// profile is fitted on them (analysis/device_profile.hpp) and written into
+// a copy of the policy.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "cli_commands.hpp"
+#include "nearcap/analysis/calibration_file.hpp"
+#include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/light_pyramid.hpp"
+#include "nearcap/gl/engine_classification.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/gl/shadow_volume_geometry.hpp"
+#include "nearcap/io/output_files.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/lit_frame.hpp"
+#include "nearcap/render/pass_kinds.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+// render::DrawKind and analysis::PassKind name the same kinds in the same
+// order: a draw kind's index is its pass kind's.
+constexpr bool same_kind_names() {
+  for (std::size_t k = 0; k < render::kDrawKindCount; ++k)
+    if (render::kDrawKindNames[k] != analysis::kPassKindNames[k]) return false;
+  return render::kDrawKindCount == analysis::kPassKindCount;
+}
+static_assert(same_kind_names());
+
+struct CalibrateOptions {
+  std::uint64_t samples = 40;
+  SamplerOptions sampler;
+  std::vector<std::string> paths;
+  int width = 160, height = 120;
+  std::string out;
+  std::string policy = shipped_data_dir() + "/policy.json";
+  std::string write_policy;
+};
+
+// The methods calibrated: every candidate of the switch policy's decision.
+// ZP+ with the clipped-sides cap is ZP+ drawn with LightProjection::
+// ClippedSides.
+struct CalibratedMethod {
+  const char* name;
+  gl::ShadowMethod method;
+  bool clipped_sides;
+};
+constexpr CalibratedMethod kMethods[] = {
+    {"zpass", gl::ShadowMethod::ZPass, false},
+    {"zfail", gl::ShadowMethod::ZFail, false},
+    {"zpplus", gl::ShadowMethod::ZPPlus, false},
+    {"zpplus-clipped-sides", gl::ShadowMethod::ZPPlus, true},
+    {"zpplus-corrected", gl::ShadowMethod::ZPPlusCorrected, false},
+};
+constexpr std::size_t kMethodCount = sizeof kMethods / sizeof kMethods[0];
+
+// One configuration of the calibration set: a camera path's frame or a
+// sampler's configuration, as scene text.
+struct Configuration {
+  std::string id;  // "path:near_plane_sweep:42", "sample:1:7"
+  std::string scene_json;
+};
+
+// The configurations in order (each path's frames, then the samples), made
+// on demand.
+class CalibrationSet {
+ public:
+  explicit CalibrationSet(const CalibrateOptions& o) : sampler_(spec(o)) {
+    for (const std::string& file : o.paths) {
+      analysis::CameraPath p = analysis::load_camera_path(file);
+      p.width = o.width;
+      p.height = o.height;
+      count_ += static_cast<std::size_t>(p.frames);
+      paths_.push_back(std::move(p));
+    }
+    count_ += static_cast<std::size_t>(o.samples);
+  }
+  std::size_t count() const { return count_; }
+  Configuration at(std::size_t k) const {
+    for (const analysis::CameraPath& p : paths_) {
+      if (k < static_cast<std::size_t>(p.frames)) {
+        const int f = static_cast<int>(k);
+        return {"path:" + std::filesystem::path(p.source).stem().string() + ":" + std::to_string(f),
+                analysis::path_frame_json(p, f)};
+      }
+      k -= static_cast<std::size_t>(p.frames);
+    }
+    const analysis::HardCase h = sampler_.sample(k);
+    return {"sample:" + std::to_string(h.seed) + ":" + std::to_string(h.index), h.scene_json};
+  }
+
+ private:
+  static analysis::SamplerSpec spec(const CalibrateOptions& o) {
+    analysis::SamplerSpec s = sampler_spec(o.sampler);
+    s.width = o.width;
+    s.height = o.height;
+    return s;
+  }
+  std::vector<analysis::CameraPath> paths_;
+  analysis::HardCaseSampler sampler_;
+  std::size_t count_ = 0;
+};
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+// The work of one method's frames, by pass kind: per light frame the
+// stencil kinds' triangles and fragments, and the depth pre-pass's (the lit
+// passes draw the same).
+struct MethodWork {
+  std::vector<std::array<gl::DrawCounters, render::kDrawKindCount>> per_light;
+  gl::DrawCounters depth;
+};
+
+MethodWork method_work(const std::vector<gl::ShadowFrame>& frames, const gl::EmulationSettings& settings) {
+  MethodWork w;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::vector<gl::DrawCounters> counters = render::draw_counters(frames[k], settings.raster, settings.depth);
+    std::array<gl::DrawCounters, render::kDrawKindCount>& by_kind = w.per_light.emplace_back();
+    for (std::size_t d = 0; d < counters.size(); ++d)
+      by_kind[static_cast<std::size_t>(render::draw_kind(frames[k].draws[d]))] += counters[d];
+    if (k == 0) w.depth = by_kind[static_cast<std::size_t>(render::DrawKind::Depth)];
+  }
+  return w;
+}
+
+// One configuration's frames, every calibrated method and light, with the
+// CPU observations made while emulating them.
+struct EmulatedConfiguration {
+  std::array<std::vector<gl::ShadowFrame>, kMethodCount> frames;  // per method, one per light; empty where refused
+  std::vector<analysis::CpuObservation> cpu;
+};
+
+EmulatedConfiguration emulate(const Scene& scene, const std::string& id) {
+  EmulatedConfiguration out;
+  gl::EmulationSettings paper;
+  paper.record_draws = true;
+  gl::EmulationSettings clipped = paper;
+  clipped.light_frustum.projection = gl::LightProjection::ClippedSides;
+  std::array<bool, kMethodCount> refused{};
+  std::optional<CameraSpaceScene> cs;
+  try {
+    cs.emplace(scene);
+  } catch (const Error&) {
+    // No exact camera space: no exact test observation for this configuration.
+  }
+  for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+    const std::string light_id = id + ":light" + std::to_string(k);
+    gl::ShadowFrameBatch paper_batch(scene, k, paper), clipped_batch(scene, k, clipped);
+    for (std::size_t m = 0; m < kMethodCount; ++m) {
+      if (refused[m]) continue;
+      try {
+        out.frames[m].push_back((kMethods[m].clipped_sides ? clipped_batch : paper_batch).render(kMethods[m].method));
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Degenerate) throw;
+        refused[m] = true;
+        out.frames[m].clear();
+      }
+    }
+    // Silhouettes: the paper batch computed them once, at its first frame.
+    const std::vector<gl::ShadowFrame>& zpass = out.frames[0];
+    const std::vector<gl::ShadowFrame>& clipped_zpplus = out.frames[3];
+    if (zpass.size() == k + 1)
+      for (const gl::OccluderCpuTimes& t : zpass.back().cpu.occluders)
+        out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::Silhouette,
+                           static_cast<double>(scene.objects[t.object].mesh->triangles.size()), t.silhouette_ms});
+    // The clipped-sides cap's construction, with the occluder's side triangles.
+    if (clipped_zpplus.size() == k + 1)
+      for (const gl::OccluderCpuTimes& t : clipped_zpplus.back().cpu.occluders) {
+        const gl::ShadowVolumeGeometry g =
+            gl::shadow_volume_geometry(*scene.objects[t.object].mesh, engine_silhouette(scene, t.object, k));
+        out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::ClippedCap,
+                           static_cast<double>(g.sides.size() / 3), t.cap_build_ms});
+      }
+    // The exact empty-near-cap test of every occluder for this light.
+    if (cs) {
+      double triangles = 0;
+      for (const SceneObject& obj : scene.objects)
+        if (obj.occluder) triangles += static_cast<double>(obj.mesh->triangles.size());
+      try {
+        const auto t = std::chrono::steady_clock::now();
+        const std::vector<bool> meets = occluders_meeting_light_pyramid(*cs, k);
+        const double ms = ms_since(t);
+        if (!meets.empty()) out.cpu.push_back({light_id, analysis::CpuTask::ExactTest, triangles, ms});
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Degenerate) throw;  // the light in the near plane: no pyramid
+      }
+    }
+  }
+  return out;
+}
+
+// The pass observations of one method's lit frame.
+void add_observations(const render::LitFrame& lit, const MethodWork& work, const std::vector<gl::ShadowFrame>& frames,
+                      const std::string& id, const std::string& method, std::vector<analysis::PassObservation>& to) {
+  for (const render::KindTime& t : lit.kind_times) {
+    const std::size_t kind = static_cast<std::size_t>(t.kind);
+    const bool whole_frame = t.kind == render::DrawKind::Depth;
+    const gl::DrawCounters& c =
+        whole_frame || t.kind == render::DrawKind::Lit ? work.depth : work.per_light[t.light_frame][kind];
+    const std::string frame =
+        whole_frame ? id + ":" + method : id + ":light" + std::to_string(frames[t.light_frame].light) + ":" + method;
+    to.push_back({frame, static_cast<analysis::PassKind>(kind), static_cast<double>(c.triangles),
+                  static_cast<double>(c.fragments), t.ms});
+  }
+}
+
+// The p-th quantile (0..1) of `v`, linear between order statistics; NaN when empty.
+double quantile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const double x = p * static_cast<double>(v.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(x);
+  return i + 1 < v.size() ? v[i] + (x - static_cast<double>(i)) * (v[i + 1] - v[i]) : v[i];
+}
+
+std::string percent(double v) {
+  if (!std::isfinite(v)) return "n/a";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", v * 100);
+  return text;
+}
+
+void print_noise_floor(const analysis::CalibrationSet& set) {
+  std::printf(
+      "noise floor: %s drawn twice per configuration, each pass's time again / first (5th, 50th, 95th "
+      "percentile):\n",
+      kMethods[0].name);
+  for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) {
+    analysis::CalibrationSet one;
+    for (const analysis::PassObservation& o : set.passes)
+      if (static_cast<std::size_t>(o.kind) == k) one.passes.push_back(o);
+    for (const analysis::PassObservation& o : set.again)
+      if (static_cast<std::size_t>(o.kind) == k) one.again.push_back(o);
+    const std::vector<double> r = analysis::noise_floor_ratios(one);
+    if (r.empty()) continue;
+    std::printf("  %-10s %.3f  %.3f  %.3f  (%zu passes)\n", std::string(analysis::kPassKindNames[k]).c_str(),
+                quantile(r, 0.05), quantile(r, 0.5), quantile(r, 0.95), r.size());
+  }
+  const std::vector<double> all = analysis::noise_floor_ratios(set);
+  if (!all.empty())
+    std::printf("  %-10s %.3f  %.3f  %.3f  (%zu passes)\n", "all", quantile(all, 0.05), quantile(all, 0.5),
+                quantile(all, 0.95), all.size());
+}
+
+void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r) {
+  std::printf("device profile for %s (held-out: frames with FNV-1a(frame) %% 5 == 0):\n", p.gl_renderer.c_str());
+  std::printf("  %-12s %11s %13s %13s %10s %10s\n", "pass kind", "ms per pass", "ms per Mtri", "ms per Mfrag",
+              "train err", "held out");
+  for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) {
+    const analysis::PassCost& c = p.passes[k];
+    std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n",
+                std::string(analysis::kPassKindNames[k]).c_str(), c.intercept_ms, c.ms_per_mtriangle,
+                c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
+                percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
+  }
+  const double cpu[3] = {p.cpu.ms_per_ktriangle_silhouette, p.cpu.ms_per_ktriangle_clipped_cap,
+                         p.cpu.ms_per_ktriangle_exact_test};
+  std::printf("  %-12s %11s %13s %13s %10s %10s\n", "cpu task", "", "ms per ktri", "", "train err", "held out");
+  for (std::size_t t = 0; t < 3; ++t)
+    std::printf(
+        "  %-12s %11s %13.4g %13s %10s %10s  (%zu / %zu tasks)\n", std::string(analysis::kCpuTaskNames[t]).c_str(), "",
+        cpu[t], "", percent(r.cpu_train_median_relative_error[t]).c_str(),
+        percent(r.cpu_held_out_median_relative_error[t]).c_str(), r.cpu_train_count[t], r.cpu_held_out_count[t]);
+  std::printf("  (error: median |predicted - measured| / measured)\n");
+}
+
+// --path NAME: a file, or a bundled path's name (data/paths/NAME.json).
+std::string resolve_path(const std::string& p) {
+  std::error_code ec;
+  if (std::filesystem::exists(p, ec)) return p;
+  const std::string bundled = shipped_data_dir() + "/paths/" + p + ".json";
+  if (p.find('/') == std::string::npos && std::filesystem::exists(bundled, ec)) return bundled;
+  return p;  // load_camera_path names it in its error
+}
+
+void refuse_directory(const std::string& file, const std::string& option) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(ErrorKind::Io, option + " '" + file + "' is a directory, not a file");
+}
+
+void run(CalibrateOptions o) {
+  if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap calibrate writes its observations to --out FILE.csv");
+  refuse_directory(o.out, "--out");
+  std::optional<analysis::SwitchPolicy> policy;
+  if (!o.write_policy.empty()) {
+    refuse_directory(o.write_policy, "--write-policy");
+    std::error_code ec;
+    const std::filesystem::path in = std::filesystem::weakly_canonical(o.policy, ec);
+    const std::filesystem::path outp = std::filesystem::weakly_canonical(o.write_policy, ec);
+    if (in == outp || (std::filesystem::equivalent(o.policy, o.write_policy, ec) && !ec))
+      throw Error(ErrorKind::Usage, "--write-policy '" + o.write_policy + "' is the input policy '" + o.policy +
+                                        "': write the calibrated policy to another file");
+    if (o.write_policy == o.out)
+      throw Error(ErrorKind::Usage, "--write-policy and --out name the same file '" + o.out + "'");
+    policy = analysis::load_policy(o.policy);
+  }
+  for (std::string& p : o.paths) p = resolve_path(p);
+  const CalibrationSet set(o);
+  if (set.count() == 0)
+    throw Error(ErrorKind::Usage, "nothing to calibrate on: give --samples N (N > 0) and/or --path P");
+  const render::EglContext context;
+  render::LitFrameRenderer renderer;
+  render::LitFrameOptions options;
+  options.pass_kind_times = true;
+  const gl::EmulationSettings settings;  // the default raster and depth format of every frame
+
+  analysis::CalibrationSet observations;
+  MeshCache meshes;
+  std::size_t rejected = 0, refused = 0, drawn = 0;
+  // One configuration: every method's lit frame interleaved, then the first
+  // method's again (the noise floor).  `record`: false for the warm-up.
+  auto calibrate_one = [&](const Configuration& c, bool record) {
+    std::optional<Scene> scene;
+    try {
+      scene = parse_scene(c.scene_json, c.id, ".", &meshes);
+    } catch (const Error&) {
+      ++rejected;  // a sampled light inside an occluder, and the like: as sweep counts them
+      return;
+    }
+    EmulatedConfiguration e = emulate(*scene, c.id);
+    // Everything on the CPU first (the emulation and the counting run on
+    // all cores, and their threads spin a while after): no timed pass
+    // shares the processor with them.
+    std::array<std::optional<MethodWork>, kMethodCount> work;
+    for (std::size_t m = 0; m < kMethodCount; ++m)
+      if (!e.frames[m].empty()) work[m] = method_work(e.frames[m], settings);
+    // One untimed frame first: what follows the CPU work and the scene's
+    // first uploads lands there, not in the first method's passes.
+    bool first_drawn = false;
+    for (std::size_t m = 0; m < kMethodCount; ++m) {
+      if (!work[m]) {
+        refused += record;
+        continue;
+      }
+      render::LitFrame lit;
+      try {
+        if (!first_drawn) renderer.render(*scene, e.frames[m], settings.depth, options);
+        first_drawn = true;
+        lit = renderer.render(*scene, e.frames[m], settings.depth, options);
+      } catch (const Error& err) {
+        if (err.kind() != ErrorKind::Gl && err.kind() != ErrorKind::Range) throw;
+        refused += record;
+        work[m].reset();
+        continue;
+      }
+      if (!record) continue;
+      add_observations(lit, *work[m], e.frames[m], c.id, kMethods[m].name, observations.passes);
+      ++drawn;
+    }
+    if (record && work[0]) {
+      const render::LitFrame again = renderer.render(*scene, e.frames[0], settings.depth, options);
+      add_observations(again, *work[0], e.frames[0], c.id, kMethods[0].name, observations.again);
+    }
+    if (record) observations.cpu.insert(observations.cpu.end(), e.cpu.begin(), e.cpu.end());
+  };
+  // The warm-up: the first configuration drawn once, unrecorded (the
+  // driver's first draws, the caches).
+  calibrate_one(set.at(0), false);
+  rejected = refused = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < set.count(); ++k) {
+    calibrate_one(set.at(k), true);
+    std::fprintf(stderr, "\rcalibrate: configuration %zu/%zu (%.0f s)", k + 1, set.count(), ms_since(t0) * 1e-3);
+  }
+  std::fprintf(stderr, "\n");
+  std::vector<io::OutputFile> files{{o.out, analysis::calibration_csv(observations)}};
+  std::printf(
+      "calibrated on %s: %zu configurations (%zu rejected), %zu method frames drawn (%zu refused), %zu pass "
+      "and %zu cpu observations in %s\n",
+      context.renderer().c_str(), set.count(), rejected, drawn, refused, observations.passes.size(),
+      observations.cpu.size(), o.out.c_str());
+  print_noise_floor(observations);
+  if (policy) {
+    analysis::ProfileFitReport report;
+    policy->device_profile =
+        analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
+    print_fit_report(*policy->device_profile, report);
+    files.push_back({o.write_policy, analysis::policy_to_json(*policy)});
+  }
+  io::write_output_files(files);
+  if (policy) std::printf("policy with the device profile: %s\n", o.write_policy.c_str());
+}
+
+}  // namespace
+
+void register_calibrate(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "calibrate",
+      "measure what each pass kind (depth pre-pass, sides, light cap, dark cap, near-cap, lit pass) and each CPU task "
+      "(silhouettes, the clipped-sides cap, the exact empty-near-cap test) costs on the current OpenGL (headless "
+      "EGL): a calibration set of hard-case samples and camera paths drawn with zpass, zfail, zpplus, "
+      "zpplus-clipped-sides and zpplus-corrected, interleaved per configuration after a warm-up, each pass timed on "
+      "its own with the triangles and fragments it drew; writes the observations as CSV (docs/calibration.md) and "
+      "prints the noise floor (zpass drawn twice); with --write-policy, fits a device profile and writes the policy "
+      "with it");
+  auto o = std::make_shared<CalibrateOptions>();
+  cmd->add_option("--samples", o->samples, "hard-case configurations of the sampler")
+      ->transform(integer_in(0, kMaxSweepSamples))
+      ->capture_default_str();
+  add_sampler_options(*cmd, o->sampler, false);
+  cmd->add_option("--path", o->paths,
+                  "a camera path file, or a bundled path's name (near_plane_sweep, fly_around, ...): its every frame "
+                  "(repeatable)");
+  cmd->add_option("--width", o->width, "viewport width of every configuration")
+      ->transform(integer_in(1, kMaxViewportPixels))
+      ->capture_default_str();
+  cmd->add_option("--height", o->height, "viewport height of every configuration")
+      ->transform(integer_in(1, kMaxViewportPixels))
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "the observations' CSV file")->required();
+  auto* policy =
+      cmd->add_option("--policy", o->policy, "the policy the device profile is added to (with --write-policy)")
+          ->capture_default_str();
+  cmd->add_option("--write-policy", o->write_policy,
+                  "fit a device profile on the observations (Ceres), print its fit report, and write --policy with "
+                  "it here (never over --policy)");
+  cmd->callback([o, policy] {
+    if (policy->count() > 0 && o->write_policy.empty())
+      throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
+    run(*o);
+  });
+}
+
+}  // namespace nearcap::cli

@@ -1,0 +1,185 @@
+// `nearcap calibrate` on a tiny set (a few samples and a three-frame camera
+// path at 32x24): every method's frames have the pass kinds it draws, with
+// the emulation's own triangle and fragment counts, the CPU tasks are
+// observed, and bad options are one-line errors.  Needs a headless GL;
+// skipped without one, as the other real-GL tests are.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "cli_support.hpp"
+#include "nearcap/analysis/calibration_file.hpp"
+#include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+using analysis::PassKind;
+
+class CalibrateCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nearcap_calibrate_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // near_plane_sweep in three frames: the last one's near plane cuts the
+    // torus, so ZP+ draws a near-cap there.
+    nlohmann::json p =
+        nlohmann::json::parse(test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data/paths/near_plane_sweep.json"));
+    p["scene"] = (fs::path(NEARCAP_SOURCE_DIR) / "data/scenes/room_side_light.json").string();
+    p["frames"] = 3;
+    path_ = dir_ / "sweep3.json";
+    std::ofstream(path_) << p.dump(1);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_, path_;
+};
+
+// The observations of one frame name, by kind.
+using ByKind = std::map<PassKind, analysis::PassObservation>;
+
+TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCounts) {
+  const fs::path csv = dir_ / "calibration.csv";
+  const fs::path policy = dir_ / "calibrated-policy.json";
+  const test::CliResult r =
+      test::run_cli("calibrate --samples 3 --seed 5 --width 32 --height 24 --path '" + path_.string() + "' --out '" +
+                        csv.string() + "' --write-policy '" + policy.string() + "'",
+                    "calibrate");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("noise floor"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("held out"), std::string::npos) << r.out;
+  // The shipped policy with the fitted profile, naming this GL.
+  const analysis::SwitchPolicy written = analysis::load_policy(policy.string());
+  ASSERT_TRUE(written.device_profile);
+  EXPECT_EQ(written.device_profile->origin, "calibrated");
+  EXPECT_EQ(r.out.rfind("calibrated on " + written.device_profile->gl_renderer + ":", 0), 0u) << r.out;
+  EXPECT_GT(written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mtriangle +
+                written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mfragment +
+                written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].intercept_ms,
+            0.0);
+  const analysis::CalibrationSet set = analysis::parse_calibration_csv(test::slurp(csv), csv.string());
+
+  std::map<std::string, ByKind> frames;
+  for (const analysis::PassObservation& o : set.passes) {
+    EXPECT_TRUE(frames[o.frame].emplace(o.kind, o).second) << "one observation per frame and kind: " << o.frame;
+    EXPECT_GE(o.ms, 0.0);
+  }
+  // Per method: which kinds its light frames drew, over the whole set.
+  std::map<std::string, std::set<PassKind>> method_kinds;
+  std::size_t depth_frames = 0;
+  for (const auto& [frame, kinds] : frames) {
+    const std::string method = frame.substr(frame.rfind(':') + 1);
+    const bool light_frame = frame.find(":light") != std::string::npos;
+    for (const auto& [kind, o] : kinds) {
+      method_kinds[method].insert(kind);
+      EXPECT_EQ(kind == PassKind::Depth, !light_frame) << frame;
+    }
+    if (!light_frame && frame.rfind("path:sweep3:", 0) == 0) ++depth_frames;
+    if (light_frame) {
+      EXPECT_TRUE(kinds.count(PassKind::Lit)) << frame << ": every light has its lit pass";
+    }
+    if (light_frame && method == "zpass") {
+      EXPECT_TRUE(kinds.count(PassKind::Sides)) << frame;
+      EXPECT_FALSE(kinds.count(PassKind::LightCap) || kinds.count(PassKind::DarkCap) || kinds.count(PassKind::NearCap))
+          << frame << ": Z-pass draws no cap";
+    }
+    if (light_frame && method == "zfail") {
+      EXPECT_TRUE(kinds.count(PassKind::LightCap) && kinds.count(PassKind::DarkCap)) << frame;
+      EXPECT_FALSE(kinds.count(PassKind::NearCap)) << frame;
+    }
+  }
+  EXPECT_EQ(depth_frames, 5u * 3u) << "five methods, three path frames";
+  EXPECT_TRUE(method_kinds["zpplus"].count(PassKind::NearCap));
+  EXPECT_TRUE(method_kinds["zpplus-clipped-sides"].count(PassKind::NearCap));
+  EXPECT_TRUE(method_kinds["zpplus-corrected"].count(PassKind::NearCap));
+
+  // The last path frame against the emulation, drawn here again.
+  analysis::CameraPath path = analysis::load_camera_path(path_.string());
+  path.width = 32;
+  path.height = 24;
+  const Scene scene = parse_scene(analysis::path_frame_json(path, 2), "frame 2", ".");
+  const std::string id = "path:sweep3:2";
+  for (const auto& [method, projection, name] :
+       {std::tuple{gl::ShadowMethod::ZFail, gl::LightProjection::Paper, "zfail"},
+        std::tuple{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, "zpplus-clipped-sides"}}) {
+    gl::EmulationSettings settings;
+    settings.light_frustum.projection = projection;
+    const gl::ShadowFrame f = gl::render_shadow_frame(scene, 0, method, settings);
+    const ByKind& light = frames.at(id + ":light0:" + name);
+    const ByKind& whole = frames.at(id + ":" + name);
+    EXPECT_EQ(whole.at(PassKind::Depth).fragments, static_cast<double>(f.depth_pass.fragments)) << name;
+    EXPECT_EQ(whole.at(PassKind::Depth).triangles, static_cast<double>(f.depth_pass.triangles)) << name;
+    EXPECT_EQ(light.at(PassKind::Lit).fragments, static_cast<double>(f.depth_pass.fragments)) << name;
+    double volume_fragments = 0, volume_triangles = 0;
+    for (const PassKind k : {PassKind::Sides, PassKind::LightCap, PassKind::DarkCap})
+      if (light.count(k)) {
+        volume_fragments += light.at(k).fragments;
+        volume_triangles += light.at(k).triangles;
+      }
+    EXPECT_EQ(volume_fragments, static_cast<double>(f.volume_pass.fragments)) << name;
+    EXPECT_EQ(volume_triangles, static_cast<double>(f.volume_pass.triangles)) << name;
+    if (method == gl::ShadowMethod::ZPPlus) {
+      ASSERT_TRUE(light.count(PassKind::NearCap)) << "the near plane cuts the torus in the last frame";
+      EXPECT_GT(f.cap_pass.fragments, 0u);
+      EXPECT_EQ(light.at(PassKind::NearCap).fragments, static_cast<double>(f.cap_pass.fragments));
+    }
+  }
+
+  // The noise floor's rows: Z-pass drawn again, the same frames and kinds.
+  ASSERT_FALSE(set.again.empty());
+  for (const analysis::PassObservation& o : set.again) {
+    EXPECT_EQ(o.frame.substr(o.frame.rfind(':') + 1), "zpass");
+    EXPECT_EQ(frames.at(o.frame).at(o.kind).fragments, o.fragments);
+  }
+  std::set<analysis::CpuTask> tasks;
+  for (const analysis::CpuObservation& o : set.cpu) {
+    tasks.insert(o.task);
+    EXPECT_GT(o.triangles, 0.0) << o.frame;
+  }
+  EXPECT_EQ(tasks.size(), 3u) << "silhouettes, clipped-sides caps and the exact test";
+}
+
+TEST_F(CalibrateCommand, BadOptionsAreOneLineErrors) {
+  const fs::path csv = dir_ / "c.csv";
+  const std::string out = " --out '" + csv.string() + "'";
+  const std::string policy = (fs::path(NEARCAP_SOURCE_DIR) / "data/policy.json").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"calibrate --samples 0" + out, "error (usage): nothing to calibrate on"},
+      {"calibrate --samples 2", "--out"},
+      {"calibrate --samples 2 --width 0" + out, "error (usage)"},
+      {"calibrate --samples -3" + out, "error (usage)"},
+      {"calibrate --samples 2 --policy '" + policy + "'" + out, "error (usage): --policy goes with --write-policy"},
+      {"calibrate --samples 2 --policy '" + policy + "' --write-policy '" + policy + "'" + out,
+       "error (usage): --write-policy"},
+      {"calibrate --samples 2 --path '" + (dir_ / "missing.json").string() + "'" + out, "error (io)"},
+      {"calibrate --samples 2 --out '" + dir_.string() + "'", "error (io)"},
+      {"calibrate --samples 2 --write-policy '" + (dir_ / "p.json").string() + "' --policy '" +
+           (dir_ / "none.json").string() + "'" + out,
+       "error (io)"},
+  };
+  for (const auto& [args, says] : cases) {
+    const test::CliResult r = test::run_cli(args, "calibrate_bad");
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (", 0), 0u) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(csv)) << args;
+  }
+}
+
+}  // namespace
+}  // namespace nearcap

@@ -1,0 +1,113 @@
+// analysis/calibration_file.hpp: `nearcap calibrate`'s CSV written and read
+// back exactly, and its bad rows refused with the line and column named.
+#include "nearcap/analysis/calibration_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "nearcap/error.hpp"
+
+namespace nearcap {
+namespace {
+
+using analysis::CalibrationSet;
+using analysis::CpuTask;
+using analysis::PassKind;
+
+CalibrationSet sample_set() {
+  CalibrationSet s;
+  s.passes.push_back({"path:near_plane_sweep:42:light0:zfail", PassKind::Sides, 1200, 5320, 0.1});
+  s.passes.push_back({"sample:1:7:zpass", PassKind::Depth, 24012, 19200, 1.0 / 3.0});
+  s.passes.push_back({"sample:1:7:light1:zpplus", PassKind::NearCap, 0, 0, 0});
+  s.passes.push_back({"sample:1:7:light1:zpass", PassKind::Lit, 3, 1e-300, 123456789.123456789});
+  s.again.push_back({"sample:1:7:zpass", PassKind::Depth, 24012, 19200, 0.37});
+  s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::Silhouette, 960, 0.052});
+  s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::ClippedCap, 96, 2.5e-5});
+  s.cpu.push_back({"sample:1:7:light0", CpuTask::ExactTest, 12000, 7.125});
+  return s;
+}
+
+TEST(CalibrationFile, RoundTripsExactly) {
+  const CalibrationSet s = sample_set();
+  const std::string text = analysis::calibration_csv(s);
+  EXPECT_EQ(text.rfind("record,frame,kind,triangles,fragments,ms\n", 0), 0u) << text;
+  const CalibrationSet r = analysis::parse_calibration_csv(text, "test.csv");
+  ASSERT_EQ(r.passes.size(), s.passes.size());
+  ASSERT_EQ(r.again.size(), s.again.size());
+  ASSERT_EQ(r.cpu.size(), s.cpu.size());
+  for (std::size_t k = 0; k < s.passes.size(); ++k) {
+    EXPECT_EQ(r.passes[k].frame, s.passes[k].frame);
+    EXPECT_EQ(r.passes[k].kind, s.passes[k].kind);
+    EXPECT_EQ(r.passes[k].triangles, s.passes[k].triangles);
+    EXPECT_EQ(r.passes[k].fragments, s.passes[k].fragments);
+    EXPECT_EQ(r.passes[k].ms, s.passes[k].ms) << "bit for bit";
+  }
+  EXPECT_EQ(r.again[0].ms, 0.37);
+  for (std::size_t k = 0; k < s.cpu.size(); ++k) {
+    EXPECT_EQ(r.cpu[k].frame, s.cpu[k].frame);
+    EXPECT_EQ(r.cpu[k].task, s.cpu[k].task);
+    EXPECT_EQ(r.cpu[k].triangles, s.cpu[k].triangles);
+    EXPECT_EQ(r.cpu[k].ms, s.cpu[k].ms);
+  }
+  EXPECT_EQ(analysis::calibration_csv(r), text) << "written again, the same bytes";
+}
+
+TEST(CalibrationFile, NoiseFloorPairsTheSameFrameAndKind) {
+  const CalibrationSet s = sample_set();
+  const std::vector<double> r = analysis::noise_floor_ratios(s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_DOUBLE_EQ(r[0], 0.37 / (1.0 / 3.0));
+}
+
+// The error kind and message of parsing `rows` after the header.
+std::pair<ErrorKind, std::string> refusal(const std::string& rows,
+                                          const std::string& header = "record,frame,kind,triangles,fragments,ms\n") {
+  try {
+    analysis::parse_calibration_csv(header + rows, "bad.csv");
+  } catch (const Error& e) {
+    return {e.kind(), e.what()};
+  }
+  return {ErrorKind::Io, "accepted"};
+}
+
+TEST(CalibrationFile, RefusesBadRowsNamingLineAndColumn) {
+  struct Case {
+    std::string rows;
+    ErrorKind kind;
+    std::string says;
+  };
+  const Case cases[] = {
+      {"pass,f,sides,1,2,nan\n", ErrorKind::NonFinite, "line 2: ms 'nan' is not finite"},
+      {"pass,f,sides,1,2,1e999\n", ErrorKind::NonFinite, "ms '1e999' is not finite"},
+      {"pass,f,sides,-1,2,3\n", ErrorKind::Schema, "line 2: triangles -1 is negative"},
+      {"pass,f,sides,1,x,3\n", ErrorKind::Parse, "fragments 'x' is not a number"},
+      {"pass,f,sides,1,,3\n", ErrorKind::Parse, "fragments '' is not a number"},
+      {"pass,f,caps,1,2,3\n", ErrorKind::Parse, "kind 'caps' is not a pass kind"},
+      {"cpu,f,sides,1,,3\n", ErrorKind::Parse, "kind 'sides' is not a CPU task"},
+      {"cpu,f,silhouette,1,2,3\n", ErrorKind::Parse, "a cpu record has no fragments"},
+      {"pass,f,sides,1,2\n", ErrorKind::Parse, "line 2: 5 fields, not 6"},
+      {"pass,f,sides,1,2,3,4\n", ErrorKind::Parse, "7 fields, not 6"},
+      {"timing,f,sides,1,2,3\n", ErrorKind::Parse, "record 'timing' is not pass, again or cpu"},
+      {"pass,f,sides,1,2,3\n\npass,,sides,1,2,3\n", ErrorKind::Parse, "line 4: an empty frame"},
+  };
+  for (const Case& c : cases) {
+    const auto [kind, message] = refusal(c.rows);
+    EXPECT_EQ(kind, c.kind) << c.rows << message;
+    EXPECT_NE(message.find(c.says), std::string::npos) << c.rows << message;
+    EXPECT_EQ(message.rfind("bad.csv", 0), 0u) << message;
+  }
+  const auto [kind, message] = refusal("pass,f,sides,1,2,3\n", "frame,kind,ms\n");
+  EXPECT_EQ(kind, ErrorKind::Parse);
+  EXPECT_NE(message.find("line 1: the header is not"), std::string::npos) << message;
+  EXPECT_THROW(analysis::parse_calibration_csv("", "empty.csv"), Error);
+}
+
+TEST(CalibrationFile, RefusesAFrameNameThatWouldBreakTheCsv) {
+  CalibrationSet s;
+  s.passes.push_back({"a,b", PassKind::Sides, 1, 2, 3});
+  EXPECT_THROW(analysis::calibration_csv(s), Error);
+}
+
+}  // namespace
+}  // namespace nearcap
