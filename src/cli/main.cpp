@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
 #ifdef NEARCAP_WITH_RENDER
   nearcap::cli::register_render(app);
   nearcap::cli::register_view(app);
+  nearcap::cli::register_evaluate(app);
 #endif
 
   // `nearcap` alone and `nearcap help` print the help; `nearcap help CMD`, CMD's.
