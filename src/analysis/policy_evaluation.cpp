@@ -111,7 +111,8 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
         if (!info.oracle_candidate) continue;
         const EvaluationRow* r = g.row(info.name);
         if (r == nullptr || r->refused || !r->applies || !as_right_as_zfail(*r, zfail)) continue;
-        if (best == nullptr || r->end_to_end_ms < best->end_to_end_ms) best = r;
+        if (best == nullptr || r->choice_ms.value_or(r->end_to_end_ms) < best->choice_ms.value_or(best->end_to_end_ms))
+          best = r;
       }
       EvaluationRow oracle = *best;
       oracle.rule = std::string(kOracleRule);
@@ -166,7 +167,8 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
 }
 
 std::string evaluation_csv_header() {
-  return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,chosen\n";
+  return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,choice_ms,"
+         "chosen\n";
 }
 
 std::string evaluation_csv_line(const EvaluationRow& r) {
@@ -175,7 +177,9 @@ std::string evaluation_csv_line(const EvaluationRow& r) {
   if (r.frame >= 0) s << r.frame;
   s << ',' << r.light << ',' << csv_field(r.rule) << ',' << (r.refused ? 1 : 0) << ',' << (r.applies ? 1 : 0) << ','
     << r.wrong << ',' << r.cracks << ',' << fixed(r.decision_ms, 4) << ',' << fixed(r.cpu_ms, 4) << ','
-    << fixed(r.end_to_end_ms, 4) << ',' << csv_field(r.chosen) << '\n';
+    << fixed(r.end_to_end_ms, 4) << ',';
+  if (r.choice_ms) s << fixed(*r.choice_ms, 4);
+  s << ',' << csv_field(r.chosen) << '\n';
   return s.str();
 }
 
@@ -215,7 +219,8 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
     s << "\n";
   }
   s << "x oracle: end-to-end time over the oracle's (the fastest candidate or exact-zpass mix as right as Z-fail, "
-       "per configuration and light, in hindsight). Not as right as Z-fail: (configuration, light) with more wrong "
+       "per configuration and light, in hindsight: chosen on some timing rounds, its time counted on the others). Not "
+       "as right as Z-fail: (configuration, light) with more wrong "
        "pixels or more "
        "cracks than Z-fail's. A candidate that does not apply (Z-pass where the exact test finds a near-cap) or "
        "did not draw counts as Z-fail there.\n";
