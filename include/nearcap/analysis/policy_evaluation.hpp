@@ -30,9 +30,12 @@
 // and no more cracks (so none where Z-fail has none).  A rule that is not, in
 // a (configuration, light), is a violation there.
 //
-// Times are milliseconds of wall clock on the real GL: cpu_ms is the CPU's
-// work (decision, silhouettes, the clipped-sides cap, uploads), end_to_end_ms
-// that work plus the GL's passes up to glFinish.  The noise floor is Z-fail's
+// Wrong pixels and cracks are the emulated frame's against the exact
+// reference (judge/crack_map.hpp), as a sweep's rows: the frame whose
+// recorded draws the real GL replays.  Times are milliseconds of wall clock
+// on the real GL: cpu_ms is the CPU's work (decision, silhouettes, the
+// clipped-sides cap, as the emulation's batch measured it once per rule;
+// uploads), end_to_end_ms that work plus the GL's passes up to glFinish.  The noise floor is Z-fail's
 // frame drawn a second time after the others (rule "zfail#again"): the
 // spread of the ratio again / first.
 #pragma once
