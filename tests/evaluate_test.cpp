@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -247,6 +248,57 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
   EXPECT_NE(md.find("| doom3-bfg | "), std::string::npos) << md;
   EXPECT_NE(r.out.find("| policy | "), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("evaluate: 2/2 configurations"), std::string::npos) << r.err;
+  // Z-pass applies exactly where the exact test finds every near-cap empty:
+  // there it is as right as Z-fail.  Configuration 0 of seed 4242 has a
+  // near-cap (Z-pass is wrong there).
+  std::map<std::string, std::vector<std::string>> zpass, zfail;  // configuration and light -> fields
+  std::istringstream rows_of(csv);
+  std::getline(rows_of, line);
+  while (std::getline(rows_of, line)) {
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    ASSERT_GE(fields.size(), 12u) << line;
+    if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
+    if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;
+  }
+  std::size_t applies = 0, not_applies = 0;
+  for (const auto& [key, z] : zpass) {
+    const std::vector<std::string>& f = zfail.at(key);
+    if (z[6] == "1") {
+      ++applies;
+      EXPECT_LE(std::stoul(z[7]), std::stoul(f[7])) << key << ": Z-pass applies but has more wrong pixels";
+    } else {
+      ++not_applies;
+    }
+  }
+  EXPECT_GE(not_applies, 1u) << csv;
+  EXPECT_EQ(zpass.at("sample:4242:0/0")[6], "0") << csv;
+  EXPECT_NE(zpass.at("sample:4242:0/0")[7], "0") << csv;
+  std::filesystem::remove_all(dir);
+}
+
+// Along a path: the set is the path's name, the near_plane_sweep window's
+// line, and the plot of the policy against the oracle.
+TEST(EvaluateCommand, PathFramesMakeTheWindowLineAndThePlot) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_path_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "evaluate --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 41 --width 32 "
+      "--height 24 --repeats 2 --out '" +
+          dir.string() + "'",
+      "evaluate");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("### near_plane_sweep"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("- frames 40-59: policy "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(2 frame-lights)"), std::string::npos) << r.out;
+  const std::string csv = test::slurp(dir / "evaluation.csv");
+  EXPECT_NE(csv.find("near_plane_sweep,path:near_plane_sweep:41,41,0,oracle,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find(":42,"), std::string::npos) << csv;
+  EXPECT_GT(std::filesystem::file_size(dir / "oracle-near_plane_sweep.png"), 1000u);
   std::filesystem::remove_all(dir);
 }
 
