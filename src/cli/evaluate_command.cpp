@@ -224,7 +224,7 @@ class Evaluation {
     // The GL: a warm-up draw, then `repeats` rounds of every rule's frame
     // interleaved, then Z-fail's again from a batch of its own, as many
     // times (the noise floor); each timed by its rounds (set_times).
-    const std::size_t zfail = 1;
+    const std::size_t zfail = 1;  // its index in rule_frames()
     if (frames[zfail].refused.empty()) {
       try {
         time_frame(scene, frames[zfail]);
