@@ -153,6 +153,10 @@ step_policy_tuning() {  # the shipped policies, tuned again (into out/findings/,
   ./analysis/tuning/tune_policy.sh --tight-near build "$dir/policy-tight-near.json"
   ./analysis/tuning/tune_policy.sh --reversed-z build "$dir/policy-reversed-z.json"
 }
+step_policy_oracle() {  # the shipped policy against the oracle and the fixed rules, end to end on the real GL
+  $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
+    --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/policy-oracle"
+}
 step_policy_evaluation() {  # the policies and the engines' rules on configurations not tuned on
   $n sweep --samples 3000 --seed 7 --policies all --out "$dir/ev.csv"
   $n sweep "${paths[@]}" --policies all --out "$dir/ev-paths.csv"
@@ -230,7 +234,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation sweep-rates shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle sweep-rates shadow-method-speed
        classification-speed reference-speed cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

@@ -30,10 +30,10 @@ void register_sweep(CLI::App& app);
 void register_report(CLI::App& app);
 void register_tune(CLI::App& app);
 void register_fit_l_near(CLI::App& app);
-void register_render(CLI::App& app);  // builds with the real-GL library only (NEARCAP_WITH_RENDER)
-void register_view(CLI::App& app);    // the same, with GLFW
-// With the real-GL library only, as render.
-void register_calibrate(CLI::App& app);
+void register_render(CLI::App& app);     // builds with the real-GL library only (NEARCAP_WITH_RENDER)
+void register_view(CLI::App& app);       // the same, with GLFW
+void register_calibrate(CLI::App& app);  // the real-GL library too
+void register_evaluate(CLI::App& app);   // the real-GL library too
 
 // Where the files shipped with nearcap lie.  An installed program finds them
 // beside itself, in <prefix>/share/nearcap (policy*.json, meshes/, scenes/,

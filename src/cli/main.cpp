@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_render(app);
   nearcap::cli::register_view(app);
   nearcap::cli::register_calibrate(app);
+  nearcap::cli::register_evaluate(app);
 #endif
 
   // `nearcap` alone and `nearcap help` print the help; `nearcap help CMD`, CMD's.

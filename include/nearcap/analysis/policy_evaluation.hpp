@@ -1,0 +1,155 @@
+// nearcap/analysis/policy_evaluation.hpp — a switch policy judged against an
+// oracle on held-out data: from the rows `nearcap evaluate` measures (one per
+// configuration, light and rule) to the table of totals per held-out set.
+//
+// The rules, spelled once in kEvaluationRules:
+//   candidates  every method that can be right wherever Z-fail is right, one
+//               method for every occluder of the (configuration, light):
+//                 zpass             Z-pass, a candidate only where the exact
+//                                   test (the light pyramid, exact/light_pyramid.hpp)
+//                                   finds every occluder's near-cap empty; the
+//                                   test's time counts as its decision
+//                 zfail             Z-fail, infinite far plane
+//                 zpplus-paper      ZP+ with the paper's light-frustum cap
+//                 zpplus-clipped    ZP+ with the clipped-sides cap
+//                 zpplus-corrected  ZP+ corrected (section 5), paper cap
+//   fixed rules always-zfail, always-clipped (the zfail and zpplus-clipped
+//               candidates' own frames and measurements), exact-zpass+zfail,
+//               exact-zpass+clipped (Z-pass where the exact test finds the
+//               occluder's near-cap empty, the other method elsewhere, per
+//               occluder), doom3 and doom3-bfg (engine_policies.hpp)
+//   policy      the policy file under test
+//   oracle      derived: per (configuration, light) the fastest frame in
+//               hindsight (end-to-end time) among the candidates and the two
+//               exact-zpass mixes (oracle_candidate) that drew, apply, and are
+//               as right as Z-fail.  The oracle is per frame and light, not per
+//               occluder: beyond those two mixes, a frame that mixes methods per
+//               occluder (an engine rule, a policy) can beat it.  It chooses
+//               by choice_ms and counts end_to_end_ms, times of disjoint rounds.
+// "As right as Z-fail" (as_right_as_zfail): no more wrong pixels than Z-fail's
+// and no more cracks (so none where Z-fail has none).  A rule that is not, in
+// a (configuration, light), is a violation there.
+//
+// Wrong pixels and cracks are the emulated frame's against the exact
+// reference (judge/crack_map.hpp), as a sweep's rows: the frame whose
+// recorded draws the real GL replays.  Times are milliseconds of wall clock
+// on the real GL: cpu_ms is the CPU's work (decision, silhouettes, the
+// clipped-sides cap, as the emulation's batch measured it once per rule;
+// uploads), end_to_end_ms that work plus the GL's passes up to glFinish.  The noise floor is Z-fail's
+// frame drawn a second time after the others (rule "zfail#again"): the
+// spread of the ratio again / first.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nearcap::analysis {
+
+enum class EvaluationRole { Candidate, FixedRule, Policy };
+
+struct EvaluationRuleInfo {
+  std::string_view name;
+  EvaluationRole role;
+  bool oracle_candidate;  // among the frames the oracle chooses from
+  std::string_view description;
+};
+
+inline constexpr std::array<EvaluationRuleInfo, 12> kEvaluationRules{{
+    {"zpass", EvaluationRole::Candidate, true, "Z-pass, where the exact test finds every near-cap empty"},
+    {"zfail", EvaluationRole::Candidate, true, "Z-fail, infinite far plane"},
+    {"zpplus-paper", EvaluationRole::Candidate, true, "ZP+, the paper's light-frustum cap"},
+    {"zpplus-clipped", EvaluationRole::Candidate, true, "ZP+, the clipped-sides cap"},
+    {"zpplus-corrected", EvaluationRole::Candidate, true, "ZP+ corrected, the paper's cap"},
+    {"always-zfail", EvaluationRole::FixedRule, false, "Z-fail for every occluder"},
+    {"always-clipped", EvaluationRole::FixedRule, false, "clipped-sides ZP+ for every occluder"},
+    {"exact-zpass+zfail", EvaluationRole::FixedRule, true, "exact Z-pass test, Z-fail elsewhere"},
+    {"exact-zpass+clipped", EvaluationRole::FixedRule, true, "exact Z-pass test, clipped-sides ZP+ elsewhere"},
+    {"doom3", EvaluationRole::FixedRule, false, "Doom 3's rule"},
+    {"doom3-bfg", EvaluationRole::FixedRule, false, "Doom 3 BFG's rule"},
+    {"policy", EvaluationRole::Policy, false, "the policy under test"},
+}};
+inline constexpr std::string_view kOracleRule = "oracle";
+inline constexpr std::string_view kNoiseRule = "zfail#again";  // Z-fail's frame timed a second time
+// The window of near_plane_sweep where the policy is also held against the
+// faster of Z-fail and Z-pass-where-right, frame by frame.
+inline constexpr std::string_view kWindowSet = "near_plane_sweep";
+inline constexpr int kWindowFirstFrame = 40, kWindowLastFrame = 59;
+
+// One (configuration, light, rule) as measured.
+struct EvaluationRow {
+  std::string set;            // the held-out set: "seed-S" or the path file's stem
+  std::string configuration;  // unique within the set
+  int frame = -1;             // the path's frame; -1 for a sampler's configuration
+  std::size_t light = 0;
+  std::string rule;       // a name of kEvaluationRules, kOracleRule or kNoiseRule
+  bool refused = false;   // the float pipeline or the GL could not draw it
+  bool applies = true;    // false: not a candidate here (zpass where the exact test finds a near-cap)
+  std::size_t wrong = 0;  // wrong pixels against the exact reference
+  std::size_t cracks = 0;
+  double decision_ms = 0, cpu_ms = 0, end_to_end_ms = 0;  // decision_ms is part of cpu_ms
+  // The end-to-end time of other rounds of the same frame, which the oracle
+  // chooses by (absent: end_to_end_ms).  The minimum of noisy times is
+  // biased low (the winner's curse): choosing on some rounds and counting
+  // the chosen frame's time of the others is not.
+  std::optional<double> choice_ms;
+  std::string chosen;  // oracle rows: the candidate it is
+};
+
+// No more wrong pixels and no more cracks than Z-fail's row of the same
+// (configuration, light).
+bool as_right_as_zfail(const EvaluationRow& row, const EvaluationRow& zfail);
+
+struct RuleTotals {
+  std::string rule;
+  double end_to_end_ms = 0, cpu_ms = 0, decision_ms = 0;
+  std::size_t wrong = 0, cracks = 0;
+  std::size_t violations = 0;  // (configuration, light) where it is not as right as Z-fail
+  double ratio_to_oracle = 0;  // end_to_end_ms / the oracle's
+};
+
+// The policy against min(Z-fail, Z-pass where it applies and is right), frame
+// by frame, over kWindowFirstFrame..kWindowLastFrame of kWindowSet.
+struct WindowComparison {
+  std::size_t groups = 0;
+  double policy_ms = 0, best_ms = 0;
+};
+
+struct SetTable {
+  std::string set;
+  std::size_t groups = 0;    // (configuration, light) compared
+  std::size_t excluded = 0;  // left out: Z-fail, a fixed rule or the policy refused (or missing)
+  // The oracle, the policy, the fixed rules, then the candidates.
+  std::vector<RuleTotals> rules;
+  std::map<std::string, std::size_t> oracle_choices;  // candidate -> (configuration, light) it won
+  double decision_share = 0;                          // the policy's decision_ms / its end_to_end_ms
+  std::size_t noise_pairs = 0;                        // Z-fail timed twice in a compared group
+  double noise_p05 = 0, noise_p95 = 0;                // again / first, 5th and 95th percentiles
+  std::optional<WindowComparison> window;             // kWindowSet only
+  const RuleTotals* find(std::string_view rule) const;
+};
+
+struct EvaluationTable {
+  std::vector<SetTable> sets;  // in the order the rows name them
+  // One row per compared (configuration, light): the oracle's, named kOracleRule,
+  // its figures the chosen candidate's.
+  std::vector<EvaluationRow> oracle_rows;
+};
+
+// The table from the measured rows (any order).  Pure: no GL, no files.
+EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows);
+
+// evaluation.csv: a header and one line per row (set, configuration, frame,
+// light, rule, refused, applies, wrong, cracks, decision_ms, cpu_ms,
+// end_to_end_ms, choice_ms (empty when absent), chosen).
+std::string evaluation_csv_header();
+std::string evaluation_csv_line(const EvaluationRow& row);
+
+// The table as Markdown, one section per set (table.md, and stdout).
+std::string evaluation_table_markdown(const EvaluationTable& table);
+
+}  // namespace nearcap::analysis

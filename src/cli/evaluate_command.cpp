@@ -1,0 +1,400 @@
+// nearcap evaluate --policy FILE [--path P]... [--samples N --seed S] --out DIR:
+// the policy judged against an oracle and the fixed rules on held-out data,
+// each (configuration, light) judged by the exact reference and timed end to
+// end on the real GL (analysis/policy_evaluation.hpp).
+//
+// A command of its own rather than a `render --bench` option: it needs the
+// exact reference per (configuration, light) (render's lit frames have none),
+// the sampler's configurations beside the paths, and a rule set that is not
+// --method's list of methods.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <tuple>
+#include <utility>
+
+#include "cli_commands.hpp"
+#include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/engine_policies.hpp"
+#include "nearcap/analysis/policy_evaluation.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
+#include "nearcap/exact/camera_space.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/output_files.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/judge/crack_distances.hpp"
+#include "nearcap/judge/crack_map.hpp"
+#include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/lit_frame.hpp"
+
+namespace nearcap::cli {
+namespace {
+
+struct EvaluateOptions {
+  std::string policy = shipped_data_dir() + "/policy.json";
+  std::vector<std::string> paths;
+  std::uint64_t samples = 0;
+  SamplerOptions sampler;
+  int width = 0, height = 0;  // 0: the sampler's 48 x 36, a path's own size
+  int first_frame = 0, last_frame = -1;
+  int repeats = 4;  // timing rounds per (configuration, light)
+  std::string out;
+};
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A held-out configuration: a path's frame or a sampler's index.
+struct Configuration {
+  std::string set, id;
+  int frame = -1;
+  std::string scene_json;
+};
+
+// One rule's frame of a (configuration, light): the methods per object (or
+// one method for every occluder), the settings it is drawn with, and the
+// CPU time of the decision that chose them.
+struct RuleFrame {
+  std::string rule;
+  std::optional<gl::ShadowMethod> method;
+  std::vector<gl::ShadowMethod> object_methods;
+  gl::EmulationSettings settings;
+  double decision_ms = 0;
+  bool applies = true;
+  gl::ShadowFrame frame;
+  std::string refused;
+};
+
+RuleFrame rule_frame(std::string rule, std::optional<gl::ShadowMethod> method,
+                     std::vector<gl::ShadowMethod> object_methods, const gl::EmulationSettings& settings,
+                     double decision_ms = 0) {
+  RuleFrame r;
+  r.rule = std::move(rule);
+  r.method = method;
+  r.object_methods = std::move(object_methods);
+  r.settings = settings;
+  r.decision_ms = decision_ms;
+  return r;
+}
+
+// The rules' own switch policies: exact Z-pass, then Z-fail or clipped-sides
+// ZP+ with no crack model (the probability 1/(1+e^30) under threshold 1).
+analysis::SwitchPolicy exact_zpass_rule(gl::ShadowMethod capped, gl::LightProjection projection) {
+  analysis::SwitchPolicy p;
+  p.capped_method = capped;
+  p.fallback_method = gl::ShadowMethod::ZFail;
+  p.switch_clamp = gl::SwitchClamp::DepthClampFar;
+  p.zpass_far = gl::ZPassFar::Infinite;
+  p.light_projection = projection;
+  p.exact_zpass = true;
+  p.crack_model.bias = -30;
+  p.crack_model.threshold = 1;
+  return p;
+}
+
+// The median (CPU, end-to-end) of some rounds, by end-to-end time (the
+// upper median of an even count).
+std::pair<double, double> median(std::vector<std::pair<double, double>> v) {
+  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  return v[v.size() / 2];
+}
+
+// A rule's times from its rounds: the counted ones (the odd rounds' median)
+// into cpu_ms and end_to_end_ms, and the end-to-end median of the even
+// rounds as choice_ms (analysis::EvaluationRow); with one round, that round
+// counted and no choice_ms.
+void set_times(analysis::EvaluationRow& row, const std::vector<std::pair<double, double>>& rounds) {
+  if (rounds.size() == 1) {
+    std::tie(row.cpu_ms, row.end_to_end_ms) = rounds[0];
+    return;
+  }
+  std::vector<std::pair<double, double>> even, odd;
+  for (std::size_t k = 0; k < rounds.size(); ++k) (k % 2 == 0 ? even : odd).push_back(rounds[k]);
+  std::tie(row.cpu_ms, row.end_to_end_ms) = median(odd);
+  row.choice_ms = median(even).second;
+}
+
+gl::ShadowFrame draw(const Scene& scene, std::size_t light, const RuleFrame& r) {
+  gl::ShadowFrameBatch batch(scene, light, r.settings);
+  return r.method ? batch.render(*r.method) : batch.render(r.object_methods);
+}
+
+class Evaluation {
+ public:
+  Evaluation(const analysis::SwitchPolicy& policy, render::LitFrameRenderer& renderer, int repeats)
+      : policy_(policy), renderer_(renderer), repeats_(repeats) {
+    base_.zpass_far = gl::ZPassFar::Infinite;
+    base_.switch_clamp = gl::SwitchClamp::DepthClampFar;
+    base_.record_draws = true;
+  }
+
+  // Every rule of every light of `c`, appended to `rows`.
+  void run(const Configuration& c, const Scene& scene, std::vector<analysis::EvaluationRow>& rows) {
+    const CameraSpaceScene cs(scene);
+    for (std::size_t light = 0; light < scene.lights.size(); ++light) run_light(c, scene, cs, light, rows);
+  }
+
+ private:
+  std::vector<RuleFrame> rule_frames(const Scene& scene, const CameraSpaceScene& cs, std::size_t light) const {
+    std::vector<RuleFrame> out;
+    auto with_projection = [&](gl::LightProjection p) {
+      gl::EmulationSettings s = base_;
+      s.light_frustum.projection = p;
+      return s;
+    };
+    auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p) {
+      analysis::PolicyDecision d = analysis::decide(p, cs, light, base_);
+      d.settings.record_draws = true;
+      return rule_frame(name, std::nullopt, d.object_methods, d.settings, d.decide_ms);
+    };
+    const RuleFrame exact_zfail =
+        decided("exact-zpass+zfail", exact_zpass_rule(gl::ShadowMethod::ZFail, gl::LightProjection::Paper));
+    bool zpass_exact = true;  // the exact test finds every occluder's near-cap empty
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder && exact_zfail.object_methods[o] != gl::ShadowMethod::ZPass) zpass_exact = false;
+    RuleFrame zpass = rule_frame("zpass", gl::ShadowMethod::ZPass, {}, base_, exact_zfail.decision_ms);
+    zpass.applies = zpass_exact;
+    out.push_back(zpass);
+    out.push_back(rule_frame("zfail", gl::ShadowMethod::ZFail, {}, base_));
+    out.push_back(
+        rule_frame("zpplus-paper", gl::ShadowMethod::ZPPlus, {}, with_projection(gl::LightProjection::Paper)));
+    out.push_back(
+        rule_frame("zpplus-clipped", gl::ShadowMethod::ZPPlus, {}, with_projection(gl::LightProjection::ClippedSides)));
+    out.push_back(rule_frame("zpplus-corrected", gl::ShadowMethod::ZPPlusCorrected, {},
+                             with_projection(gl::LightProjection::Paper)));
+    out.push_back(exact_zfail);
+    out.push_back(
+        decided("exact-zpass+clipped", exact_zpass_rule(gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides)));
+    for (analysis::EnginePolicy p : {analysis::EnginePolicy::Doom3, analysis::EnginePolicy::Doom3BFG}) {
+      const auto t0 = std::chrono::steady_clock::now();
+      std::vector<gl::ShadowMethod> methods =
+          analysis::object_methods(scene, analysis::engine_choices(p, scene, light));
+      out.push_back(
+          rule_frame(std::string(analysis::to_string(p)), std::nullopt, std::move(methods), base_, ms_since(t0)));
+    }
+    out.push_back(decided("policy", policy_));
+    return out;
+  }
+
+  // The GL's lit frame of one light's shadow frame: end-to-end and CPU time.
+  std::pair<double, double> time_frame(const Scene& scene, const RuleFrame& r) {
+    render::LitFrameOptions options;
+    const render::LitFrame lit = renderer_.render(scene, {r.frame}, r.settings.depth, options);
+    const double cpu = r.decision_ms + r.frame.cpu.total();
+    return {cpu + lit.upload_ms, cpu + lit.ms};
+  }
+
+  void run_light(const Configuration& c, const Scene& scene, const CameraSpaceScene& cs, std::size_t light,
+                 std::vector<analysis::EvaluationRow>& rows) {
+    const PixelReferenceTracer tracer(cs, light);
+    const PixelReference ref = compute_pixel_reference(tracer);
+    CrackDistances distances(tracer, ref);
+    std::vector<RuleFrame> frames = rule_frames(scene, cs, light);
+    std::vector<analysis::EvaluationRow> out;
+    for (RuleFrame& r : frames) {
+      analysis::EvaluationRow row;
+      row.set = c.set;
+      row.configuration = c.id;
+      row.frame = c.frame;
+      row.light = light;
+      row.rule = r.rule;
+      row.applies = r.applies;
+      row.decision_ms = r.decision_ms;
+      try {
+        r.frame = draw(scene, light, r);
+        CrackReport report = judge_frame(r.frame, ref);
+        distances.measure(report);
+        row.wrong = report.wrong;
+        row.cracks = *report.cracks;
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Range) throw;
+        r.refused = e.what();
+        row.refused = true;
+      }
+      out.push_back(row);
+    }
+    // The GL: a warm-up draw, then `repeats` rounds of every rule's frame
+    // interleaved, then Z-fail's again from a batch of its own, as many
+    // times (the noise floor); each timed by its rounds (set_times).
+    const std::size_t zfail = 1;  // its index in rule_frames()
+    if (frames[zfail].refused.empty()) {
+      try {
+        time_frame(scene, frames[zfail]);
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Gl) throw;
+      }
+    }
+    std::vector<std::vector<std::pair<double, double>>> times(frames.size());
+    for (int round = 0; round < repeats_; ++round)
+      for (std::size_t k = 0; k < frames.size(); ++k) {
+        if (!frames[k].refused.empty()) continue;
+        try {
+          times[k].push_back(time_frame(scene, frames[k]));
+        } catch (const Error& e) {
+          if (e.kind() != ErrorKind::Gl) throw;
+          frames[k].refused = e.what();
+          out[k].refused = true;
+        }
+      }
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      if (frames[k].refused.empty()) set_times(out[k], times[k]);
+    if (frames[zfail].refused.empty()) {
+      RuleFrame again = frames[zfail];
+      again.frame = draw(scene, light, again);
+      std::vector<std::pair<double, double>> again_times;
+      for (int round = 0; round < repeats_; ++round) again_times.push_back(time_frame(scene, again));
+      analysis::EvaluationRow row = out[zfail];
+      row.rule = std::string(analysis::kNoiseRule);
+      set_times(row, again_times);
+      out.push_back(row);
+    }
+    // The fixed rules that are a candidate's frame share its measurement.
+    for (const auto& [rule, candidate] : {std::pair<std::string, std::string>{"always-zfail", "zfail"},
+                                          std::pair<std::string, std::string>{"always-clipped", "zpplus-clipped"}}) {
+      const auto it = std::find_if(out.begin(), out.end(),
+                                   [&, c = candidate](const analysis::EvaluationRow& r) { return r.rule == c; });
+      analysis::EvaluationRow alias = *it;
+      alias.rule = rule;
+      out.push_back(std::move(alias));
+    }
+    rows.insert(rows.end(), out.begin(), out.end());
+  }
+
+  const analysis::SwitchPolicy& policy_;
+  render::LitFrameRenderer& renderer_;
+  int repeats_;
+  gl::EmulationSettings base_;
+};
+
+void run(const EvaluateOptions& o) {
+  if (o.out.empty())
+    throw Error(ErrorKind::Usage, "nearcap evaluate writes evaluation.csv and table.md into --out DIR");
+  if (o.paths.empty() && o.samples == 0)
+    throw Error(ErrorKind::Usage, "nearcap evaluate needs held-out data: --path P (repeatable) and/or --samples N");
+  if (o.last_frame >= 0 && o.last_frame < o.first_frame)
+    throw Error(ErrorKind::Usage, "--last-frame " + std::to_string(o.last_frame) + " is before --first-frame " +
+                                      std::to_string(o.first_frame));
+  const analysis::SwitchPolicy policy = analysis::load_policy(o.policy);
+  // Everything read and checked before the GL starts.
+  std::vector<analysis::CameraPath> paths;
+  for (const std::string& file : o.paths) {
+    analysis::CameraPath p = analysis::load_camera_path(file);
+    if (o.width > 0) p.width = o.width;
+    if (o.height > 0) p.height = o.height;
+    if (o.first_frame >= p.frames)
+      throw Error(ErrorKind::Usage, "--first-frame " + std::to_string(o.first_frame) + ": " + file + " has " +
+                                        std::to_string(p.frames) + " frames");
+    paths.push_back(std::move(p));
+  }
+  analysis::SamplerSpec spec = sampler_spec(o.sampler);
+  if (o.width > 0) spec.width = o.width;
+  if (o.height > 0) spec.height = o.height;
+  const analysis::HardCaseSampler sampler(spec);
+  std::vector<Configuration> configurations;
+  for (const analysis::CameraPath& p : paths) {
+    const std::string name = std::filesystem::path(p.source).stem().string();
+    const int last = o.last_frame >= 0 ? std::min(o.last_frame, p.frames - 1) : p.frames - 1;
+    for (int f = o.first_frame; f <= last; ++f)
+      configurations.push_back({name, "path:" + name + ":" + std::to_string(f), f, analysis::path_frame_json(p, f)});
+  }
+  const std::string seed_set = "seed-" + std::to_string(o.sampler.seed);
+  for (std::uint64_t i = 0; i < o.samples; ++i) {
+    const analysis::HardCase h = sampler.sample(i);
+    configurations.push_back(
+        {seed_set, "sample:" + std::to_string(h.seed) + ":" + std::to_string(h.index), -1, h.scene_json});
+  }
+
+  const render::EglContext context;
+  render::LitFrameRenderer renderer;
+  Evaluation evaluation(policy, renderer, o.repeats);
+  MeshCache meshes;
+  std::vector<analysis::EvaluationRow> rows;
+  std::size_t rejected = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < configurations.size(); ++k) {
+    const Configuration& c = configurations[k];
+    std::optional<Scene> scene;
+    try {
+      scene = parse_scene(c.scene_json, c.id, ".", &meshes);
+    } catch (const Error&) {
+      ++rejected;  // a sampler's light inside an occluder, say: not a configuration
+    }
+    if (scene) evaluation.run(c, *scene, rows);
+    std::fprintf(stderr, "evaluate: %zu/%zu configurations (%s), %.0f s\n", k + 1, configurations.size(), c.id.c_str(),
+                 ms_since(t0) / 1000);
+  }
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+
+  const std::filesystem::path dir(o.out);
+  std::string csv = analysis::evaluation_csv_header();
+  for (const analysis::EvaluationRow& r : rows) csv += analysis::evaluation_csv_line(r);
+  for (const analysis::EvaluationRow& r : table.oracle_rows) csv += analysis::evaluation_csv_line(r);
+  std::string heading = "# " + std::filesystem::path(o.policy).filename().string() + " against the oracle\n\n";
+  heading += "On " + context.renderer() + " (" + context.version() + "), policy " + o.policy + ".";
+  if (rejected > 0) heading += " " + std::to_string(rejected) + " sampled configurations rejected (they do not load).";
+  heading += "\n\n";
+  const std::string markdown = heading + analysis::evaluation_table_markdown(table);
+  io::StagedOutputFiles files;
+  files.add({(dir / "evaluation.csv").string(), csv});
+  files.add({(dir / "table.md").string(), markdown});
+  files.commit();
+  std::cout << markdown;
+  std::printf("evaluate: %s/evaluation.csv, %s/table.md\n", o.out.c_str(), o.out.c_str());
+  for (const analysis::CameraPath& p : paths) {
+    const std::string name = std::filesystem::path(p.source).stem().string();
+    const std::string png = (dir / ("oracle-" + name + ".png")).string();
+    const int status =
+        run_python_script(shipped_scripts_dir() + "/report/policy_oracle.py",
+                          {(dir / "evaluation.csv").string(), name, png, name + " (" + context.renderer() + ")"},
+                          "the policy-against-oracle plot");
+    if (status != 0) throw ExitCode{status};
+    std::printf("evaluate: %s (the policy's frame time against the oracle's, per frame)\n", png.c_str());
+  }
+}
+
+}  // namespace
+
+void register_evaluate(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "evaluate",
+      "judge a switch policy against the oracle (the fastest candidate as right as Z-fail, in hindsight, per "
+      "configuration and light) and the fixed rules (always Z-fail, always clipped-sides ZP+, exact Z-pass + Z-fail, "
+      "exact Z-pass + clipped-sides ZP+, Doom 3, BFG) on held-out data: each judged by the exact reference, each "
+      "timed end to end (CPU work and the GL's passes to glFinish) on the real GL, interleaved per frame after a "
+      "warm-up, Z-fail timed twice for the noise floor; DIR/evaluation.csv, DIR/table.md (also on stdout) and per "
+      "path DIR/oracle-NAME.png");
+  auto o = std::make_shared<EvaluateOptions>();
+  cmd->add_option("--policy", o->policy, "the switch policy under test (nearcap tune writes one)")
+      ->capture_default_str();
+  cmd->add_option("--path", o->paths, "a held-out camera path (data/paths/), repeatable: one set each");
+  cmd->add_option("--samples", o->samples, "held-out configurations of the hard-case sampler (the set seed-S)")
+      ->transform(integer_in(0, kMaxSweepSamples));
+  add_sampler_options(*cmd, o->sampler, false);
+  cmd->add_option("--width", o->width, "viewport width of every configuration (default: 48 sampled, a path's own)")
+      ->transform(integer_in(1, kMaxViewportPixels));
+  cmd->add_option("--height", o->height, "viewport height of every configuration (default: 36 sampled, a path's own)")
+      ->transform(integer_in(1, kMaxViewportPixels));
+  cmd->add_option("--first-frame", o->first_frame, "the first frame of each path")
+      ->transform(integer_in(0, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--last-frame", o->last_frame, "the last frame of each path (default: its last)")
+      ->transform(integer_in(0, 1000000));
+  cmd->add_option("--repeats", o->repeats,
+                  "timing rounds per configuration and light: every rule's frame drawn once per round, "
+                  "interleaved; the oracle chooses by the median of the even rounds and every time counted is the "
+                  "median of the odd rounds (one round: that round, for both)")
+      ->transform(integer_in(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "output directory (created if missing)");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace nearcap::cli

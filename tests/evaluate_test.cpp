@@ -1,0 +1,337 @@
+// The policy's evaluation against the oracle: the table from synthetic rows
+// (analysis/policy_evaluation.hpp), and `nearcap evaluate` end to end.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "nearcap/analysis/policy_evaluation.hpp"
+
+namespace nearcap {
+namespace {
+
+using analysis::EvaluationRow;
+
+EvaluationRow row(const std::string& configuration, const std::string& rule, double end_to_end_ms,
+                  std::size_t wrong = 0, std::size_t cracks = 0, const std::string& set = "seed-7", int frame = -1) {
+  EvaluationRow r;
+  r.set = set;
+  r.configuration = configuration;
+  r.frame = frame;
+  r.rule = rule;
+  r.end_to_end_ms = end_to_end_ms;
+  r.cpu_ms = end_to_end_ms / 10;
+  r.wrong = wrong;
+  r.cracks = cracks;
+  return r;
+}
+
+// Every rule of one (configuration, light) at `ms`, Z-fail's wrong pixels
+// and cracks given: the rows a test then changes.
+std::vector<EvaluationRow> group(const std::string& configuration, double ms, std::size_t zfail_wrong = 0,
+                                 std::size_t zfail_cracks = 0, const std::string& set = "seed-7", int frame = -1) {
+  std::vector<EvaluationRow> rows;
+  for (const analysis::EvaluationRuleInfo& info : analysis::kEvaluationRules)
+    rows.push_back(row(configuration, std::string(info.name), ms, zfail_wrong, zfail_cracks, set, frame));
+  return rows;
+}
+
+EvaluationRow& find(std::vector<EvaluationRow>& rows, const std::string& configuration, const std::string& rule) {
+  for (EvaluationRow& r : rows)
+    if (r.configuration == configuration && r.rule == rule) return r;
+  throw std::runtime_error("no row " + configuration + " " + rule);
+}
+
+std::vector<EvaluationRow> joined(std::vector<EvaluationRow> a, const std::vector<EvaluationRow>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// Two configurations: in c1 ZP+ clipped is fastest and right; in c2 Z-pass
+// is fastest but wrong where Z-fail is right, so the oracle is the next
+// fastest right candidate, ZP+ corrected.
+TEST(PolicyEvaluation, OracleIsTheFastestCandidateAsRightAsZFail) {
+  std::vector<EvaluationRow> rows = joined(group("c1", 10), group("c2", 20));
+  find(rows, "c1", "zpplus-clipped").end_to_end_ms = 4;
+  find(rows, "c1", "policy").end_to_end_ms = 6;
+  find(rows, "c2", "zpass").end_to_end_ms = 1;
+  find(rows, "c2", "zpass").wrong = 5;
+  find(rows, "c2", "zpplus-corrected").end_to_end_ms = 8;
+  find(rows, "c2", "policy").end_to_end_ms = 12;
+  find(rows, "c2", "doom3").end_to_end_ms = 30;
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  ASSERT_EQ(table.sets.size(), 1u);
+  const analysis::SetTable& t = table.sets[0];
+  EXPECT_EQ(t.groups, 2u);
+  EXPECT_EQ(t.excluded, 0u);
+  ASSERT_EQ(table.oracle_rows.size(), 2u);
+  EXPECT_EQ(table.oracle_rows[0].chosen, "zpplus-clipped");
+  EXPECT_EQ(table.oracle_rows[1].chosen, "zpplus-corrected");
+  const analysis::RuleTotals* oracle = t.find("oracle");
+  const analysis::RuleTotals* policy = t.find("policy");
+  const analysis::RuleTotals* doom3 = t.find("doom3");
+  const analysis::RuleTotals* zpass = t.find("zpass");
+  ASSERT_TRUE(oracle && policy && doom3 && zpass);
+  EXPECT_DOUBLE_EQ(oracle->end_to_end_ms, 4 + 8);
+  EXPECT_DOUBLE_EQ(policy->end_to_end_ms, 6 + 12);
+  EXPECT_DOUBLE_EQ(policy->ratio_to_oracle, 18.0 / 12.0);
+  EXPECT_DOUBLE_EQ(doom3->end_to_end_ms, 10 + 30);
+  EXPECT_DOUBLE_EQ(doom3->cpu_ms, 1 + 2);  // its CPU time as set by group()
+  EXPECT_EQ(zpass->violations, 1u);
+  EXPECT_EQ(zpass->wrong, 5u);
+  EXPECT_EQ(policy->violations, 0u);
+  EXPECT_EQ(t.oracle_choices.at("zpplus-clipped"), 1u);
+  // The table lists the oracle, the policy, every fixed rule and candidate.
+  EXPECT_EQ(t.rules.size(), analysis::kEvaluationRules.size() + 1);
+  EXPECT_EQ(t.rules[0].rule, "oracle");
+  EXPECT_EQ(t.rules[1].rule, "policy");
+}
+
+// A rule with a crack Z-fail lacks is not as right as Z-fail, even with no
+// more wrong pixels; nor one with wrong pixels where Z-fail has none.
+TEST(PolicyEvaluation, ACrackZFailLacksIsAViolation) {
+  std::vector<EvaluationRow> rows = joined(group("c1", 10, 3, 0), group("c2", 10));
+  find(rows, "c1", "policy").cracks = 1;               // 3 wrong pixels like Z-fail's, one of them a crack
+  find(rows, "c1", "policy").end_to_end_ms = 2;        // fast, but not a candidate
+  find(rows, "c1", "zpplus-paper").cracks = 1;         // a candidate with the crack: not the oracle
+  find(rows, "c1", "zpplus-paper").end_to_end_ms = 1;  //
+  find(rows, "c2", "exact-zpass+clipped").wrong = 1;   // Z-fail has none here
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  const analysis::SetTable& t = table.sets.at(0);
+  EXPECT_EQ(t.find("policy")->violations, 1u);
+  EXPECT_EQ(t.find("policy")->cracks, 1u);
+  EXPECT_EQ(t.find("zpplus-paper")->violations, 1u);
+  EXPECT_EQ(t.find("exact-zpass+clipped")->violations, 1u);
+  EXPECT_EQ(t.find("always-zfail")->violations, 0u);
+  EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpass");  // the first of the candidates at 10 ms, all right
+  EXPECT_TRUE(analysis::as_right_as_zfail(find(rows, "c1", "zfail"), find(rows, "c1", "zfail")));
+  EXPECT_FALSE(analysis::as_right_as_zfail(find(rows, "c1", "policy"), find(rows, "c1", "zfail")));
+}
+
+// Z-pass where the exact test finds a near-cap does not apply: never the
+// oracle, and its total counts Z-fail's frame there.
+TEST(PolicyEvaluation, ZPassThatDoesNotApplyIsNoCandidate) {
+  std::vector<EvaluationRow> rows = group("c1", 10);
+  find(rows, "c1", "zpass").end_to_end_ms = 1;
+  find(rows, "c1", "zpass").applies = false;
+  find(rows, "c1", "zfail").end_to_end_ms = 9;
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  EXPECT_EQ(table.oracle_rows.at(0).chosen, "zfail");
+  EXPECT_DOUBLE_EQ(table.sets.at(0).find("zpass")->end_to_end_ms, 9);
+}
+
+// The oracle chooses among the exact-zpass mixes too (Z-pass per occluder
+// where the exact test allows), never among the engine rules or the policy.
+TEST(PolicyEvaluation, OracleChoosesAmongTheExactZPassMixesNotTheEngineRules) {
+  std::vector<EvaluationRow> rows = joined(group("c1", 10), group("c2", 10));
+  find(rows, "c1", "exact-zpass+clipped").end_to_end_ms = 3;
+  find(rows, "c1", "doom3-bfg").end_to_end_ms = 2;
+  find(rows, "c1", "policy").end_to_end_ms = 1;
+  find(rows, "c2", "exact-zpass+zfail").end_to_end_ms = 4;
+  find(rows, "c2", "always-zfail").end_to_end_ms = 2;  // the zfail candidate's alias: not itself a candidate
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  EXPECT_EQ(table.oracle_rows.at(0).chosen, "exact-zpass+clipped");
+  EXPECT_EQ(table.oracle_rows.at(1).chosen, "exact-zpass+zfail");
+  EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 3 + 4);
+  EXPECT_DOUBLE_EQ(table.sets.at(0).find("doom3-bfg")->ratio_to_oracle, (2.0 + 10) / 7);
+}
+
+// The oracle chooses by the choice rounds' times and counts the others':
+// a candidate fast by chance in the rounds it was chosen on keeps its time
+// of the other rounds.
+TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
+  std::vector<EvaluationRow> rows = group("c1", 10);
+  for (EvaluationRow& r : rows) r.choice_ms = 10;
+  find(rows, "c1", "zpplus-corrected").choice_ms = 5;  // lucky rounds
+  find(rows, "c1", "zpplus-corrected").end_to_end_ms = 11;
+  find(rows, "c1", "zpplus-paper").end_to_end_ms = 6;  // fast in the counted rounds only
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
+  EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
+  EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected\n");
+}
+
+// A (configuration, light) where the policy or a fixed rule did not draw is
+// left out of every total, and counted.
+TEST(PolicyEvaluation, RefusedRuleLeavesTheGroupOut) {
+  std::vector<EvaluationRow> rows = joined(group("c1", 10), group("c2", 20));
+  find(rows, "c2", "doom3-bfg").refused = true;
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  const analysis::SetTable& t = table.sets.at(0);
+  EXPECT_EQ(t.groups, 1u);
+  EXPECT_EQ(t.excluded, 1u);
+  EXPECT_DOUBLE_EQ(t.find("policy")->end_to_end_ms, 10);
+  EXPECT_EQ(table.oracle_rows.size(), 1u);
+}
+
+// The noise floor, the decision's share, sets apart, and the near-plane
+// sweep's window against min(Z-fail, Z-pass where right).
+TEST(PolicyEvaluation, NoiseFloorDecisionShareAndWindow) {
+  std::vector<EvaluationRow> rows;
+  for (int f = 38; f < 62; ++f) {
+    const std::string c = "path:near_plane_sweep:" + std::to_string(f);
+    std::vector<EvaluationRow> g = group(c, 10, 0, 0, "near_plane_sweep", f);
+    find(g, c, "zfail").end_to_end_ms = 8;
+    find(g, c, "zpass").end_to_end_ms = f % 2 == 0 ? 5 : 4;
+    find(g, c, "zpass").wrong = f % 2 == 0 ? 0 : 7;  // odd frames: Z-pass wrong, Z-fail's 8 ms counts
+    find(g, c, "policy").decision_ms = 0.1;
+    g.push_back(row(c, std::string(analysis::kNoiseRule), f % 4 == 0 ? 8.8 : 8, 0, 0, "near_plane_sweep", f));
+    rows = joined(rows, g);
+  }
+  rows = joined(rows, group("sample:1:0", 3));
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  ASSERT_EQ(table.sets.size(), 2u);
+  const analysis::SetTable& t = table.sets[0];
+  EXPECT_EQ(t.set, "near_plane_sweep");
+  EXPECT_EQ(t.noise_pairs, 24u);
+  EXPECT_DOUBLE_EQ(t.noise_p05, 1.0);
+  EXPECT_NEAR(t.noise_p95, 1.1, 1e-12);
+  EXPECT_NEAR(t.decision_share, 0.1 / 10, 1e-12);
+  ASSERT_TRUE(t.window.has_value());
+  EXPECT_EQ(t.window->groups, 20u);
+  EXPECT_DOUBLE_EQ(t.window->policy_ms, 20 * 10);
+  EXPECT_DOUBLE_EQ(t.window->best_ms, 10 * 5 + 10 * 8);
+  EXPECT_EQ(table.sets[1].set, "seed-7");
+  EXPECT_FALSE(table.sets[1].window.has_value());
+  EXPECT_EQ(table.sets[1].noise_pairs, 0u);
+  const std::string md = analysis::evaluation_table_markdown(table);
+  EXPECT_NE(md.find("### near_plane_sweep"), std::string::npos);
+  EXPECT_NE(md.find("frames 40-59: policy 200.00 ms against min(Z-fail, Z-pass where right) 130.00 ms"),
+            std::string::npos)
+      << md;
+}
+
+TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
+  EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,\n");
+  r.set = "a,b";
+  r.frame = 4;
+  EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
+}
+
+// nearcap evaluate on two sampled configurations at 32 x 24: a row per
+// (configuration, light, rule), the oracle's, and the table.
+TEST(EvaluateCommand, TwoSamplesEndToEnd) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r =
+      test::run_cli("evaluate --samples 2 --seed 4242 --width 32 --height 24 --out '" + dir.string() + "'", "evaluate");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = test::slurp(dir / "evaluation.csv");
+  const std::string md = test::slurp(dir / "table.md");
+  EXPECT_EQ(csv.substr(0, csv.find('\n') + 1), analysis::evaluation_csv_header());
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);
+  std::size_t oracle = 0, policy = 0, again = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(line.rfind("seed-4242,sample:4242:", 0), 0u) << line;
+    if (line.find(",oracle,") != std::string::npos) ++oracle;
+    if (line.find(",policy,") != std::string::npos) ++policy;
+    if (line.find(",zfail#again,") != std::string::npos) ++again;
+  }
+  EXPECT_GE(policy, 2u) << csv;  // two configurations, a light each at least
+  EXPECT_EQ(oracle, policy) << csv;
+  EXPECT_EQ(again, policy) << csv;
+  EXPECT_NE(md.find("### seed-4242"), std::string::npos) << md;
+  EXPECT_NE(md.find("| oracle | "), std::string::npos) << md;
+  EXPECT_NE(md.find("| doom3-bfg | "), std::string::npos) << md;
+  EXPECT_NE(r.out.find("| policy | "), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("evaluate: 2/2 configurations"), std::string::npos) << r.err;
+  // Z-pass applies exactly where the exact test finds every near-cap empty:
+  // there it is as right as Z-fail.  Configuration 0 of seed 4242 has a
+  // near-cap (Z-pass is wrong there).
+  std::map<std::string, std::vector<std::string>> zpass, zfail;  // configuration and light -> fields
+  std::istringstream rows_of(csv);
+  std::getline(rows_of, line);
+  while (std::getline(rows_of, line)) {
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    ASSERT_GE(fields.size(), 12u) << line;
+    if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
+    if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;
+  }
+  std::size_t applies = 0, not_applies = 0;
+  for (const auto& [key, z] : zpass) {
+    const std::vector<std::string>& f = zfail.at(key);
+    if (z[6] == "1") {
+      ++applies;
+      EXPECT_LE(std::stoul(z[7]), std::stoul(f[7])) << key << ": Z-pass applies but has more wrong pixels";
+    } else {
+      ++not_applies;
+    }
+  }
+  EXPECT_GE(not_applies, 1u) << csv;
+  EXPECT_EQ(zpass.at("sample:4242:0/0")[6], "0") << csv;
+  EXPECT_NE(zpass.at("sample:4242:0/0")[7], "0") << csv;
+  std::filesystem::remove_all(dir);
+}
+
+// Along a path: the set is the path's name, the near_plane_sweep window's
+// line, and the plot of the policy against the oracle.
+TEST(EvaluateCommand, PathFramesMakeTheWindowLineAndThePlot) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_path_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "evaluate --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 41 --width 32 "
+      "--height 24 --repeats 2 --out '" +
+          dir.string() + "'",
+      "evaluate");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("### near_plane_sweep"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("- frames 40-59: policy "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(2 frame-lights)"), std::string::npos) << r.out;
+  const std::string csv = test::slurp(dir / "evaluation.csv");
+  EXPECT_NE(csv.find("near_plane_sweep,path:near_plane_sweep:41,41,0,oracle,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find(":42,"), std::string::npos) << csv;
+  EXPECT_GT(std::filesystem::file_size(dir / "oracle-near_plane_sweep.png"), 1000u);
+  std::filesystem::remove_all(dir);
+}
+
+// Bad input: one line, the kind, exit 2, no output directory made.
+TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_bad_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::string out = " --out '" + dir.string() + "'";
+  const struct {
+    std::string args, kind, says;
+  } cases[] = {
+      {"evaluate --samples 2", "usage", "--out DIR"},
+      {"evaluate" + out, "usage", "needs held-out data"},
+      {"evaluate --samples -1" + out, "usage", "--samples"},
+      {"evaluate --samples 2 --width 0" + out, "usage", "--width"},
+      {"evaluate --path data/paths/fly_around.json --first-frame 5 --last-frame 4" + out, "usage",
+       "--last-frame 4 is before --first-frame 5"},
+      {"evaluate --path data/paths/fly_around.json --first-frame 900" + out, "usage", "has 90 frames"},
+      {"evaluate --path data/paths/missing.json" + out, "io", "missing.json"},
+      {"evaluate --samples 2 --policy data/missing-policy.json" + out, "io", "missing-policy.json"},
+      {"evaluate --samples 2 --policy data/scenes/case_d.json" + out, "schema", "case_d.json"},
+      {"evaluate --samples 2 --kinds nope" + out, "usage", "nope"},
+  };
+  for (const auto& c : cases) {
+    const test::CliResult r = test::run_cli(c.args, "evaluate_bad");
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (" + c.kind + "): ", 0), 0u) << c.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
