@@ -129,6 +129,7 @@ RC_GTEST_PROP(NearPlaneSide, ADecidedBoxHasThatSignAtEveryVertex, ()) {
   const double half = *rc::gen::inRange(0, 3) * 0x1p-24 * scale / std::sqrt(norm2);
   const Vec3d lo{c.x - half, c.y - half, c.z - half}, hi{c.x + half, c.y + half, c.z + half};
   const int side = gl::near_plane_side_of_box(m, lo, hi, w, mapping, light);
+  RC_TAG(side);
   if (side == 0) return;
   for (int k = 0; k < 12; ++k) {
     Vec3d q = lo;
