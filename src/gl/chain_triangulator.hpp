@@ -15,6 +15,9 @@
 // infinity) and non-finite vertices may occur where stated.  Vertices a
 // step adds (anchors, crossings, box corners) have w = 1 and z = `plane_z`.
 // `mx`, `my`: the viewport margin in NDC units (near_plane_cap_margin).
+//
+// The steps are in chain_triangulator.cpp, the viewport estimates they
+// choose by in chain_estimates.cpp.
 #pragma once
 
 #include <cstddef>
