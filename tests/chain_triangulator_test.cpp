@@ -268,13 +268,15 @@ TEST(ChainTriangulator, TheGateOptionCutsSmallLoopsIntoEarsWithTheFansCounts) {
 
 // Random closed chains of 3 to 14 vertices that cross themselves, some at
 // infinity (w = 0: x, y a direction) and some just behind it (w < 0 by a
-// rounding's worth, 2^-20 of |x| + |y|, as the clipper's cuts of the
+// rounding's worth, up to 15 2^-20 of |x| + |y|, as the clipper's cuts of the
 // near plane leave them: a point of the near plane itself has w > 0),
 // through the whole cap with the ears' gate open, and through ear_clipped
 // alone: each pixel's count is the plain fan's (near_plane_cap_fan's
-// anchor).  A fan counts relative to its anchor's antipode, so chains that
-// pass far behind the eye (w < 0 by more than rounding) are outside this
-// claim: there fans from different anchors differ.
+// anchor).  Chains that pass well behind the eye are outside this claim:
+// the 3-vertex chain (-4, -1/2, w = -1/64), (1.125, 3/16, w = -3/64), NDC
+// (-4, -4) at w = 1/64 counts -1 over the viewport by fans from the centre,
+// (1/2, 1/2) and (-0.9, 0.9), 0 by ear_clipped's pieces (the production gate,
+// 256 fragments, fans it).
 RC_GTEST_PROP(ChainTriangulator, EveryCutCountsWhatThePlainFanCounts, ()) {
   const int n = *rc::gen::inRange(3, 15);
   std::vector<Vec4f> polygon;
