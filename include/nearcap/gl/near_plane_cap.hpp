@@ -154,14 +154,20 @@ std::vector<Vec4f> far_plane_cap_triangles(const std::vector<Vec4f>& boundary_cl
                                            DepthMapping mapping = DepthMapping::Standard);
 
 // Which side of the near plane (clip z + w; w - z reversed) the points (w = 1) or the
-// directions (w = 0) of the object-space box [lo, hi] all lie on under the
-// float32 transform m: +1 all strictly beyond it, -1 all strictly in front,
-// 0 when some straddle or come too close to call (a margin of 1e-5 of the
-// products' magnitude, far above the vertex program's float32 rounding).
-// A part of a volume (light cap: the mesh's points; dark cap: its
-// directions from the light; sides: both) whose boxes are all strictly on
-// one side leaves no edge in the near plane, so the pass skips it.
+// directions (w = 0) of the object-space box [lo, hi] all lie on, as the
+// float32 pipeline computes it: +1 when every vertex program's output for a
+// vertex in the box has near_plane_distance > 0, -1 when every one has < 0,
+// 0 when some straddle or come within the certified float32 error bound
+// (near_plane_cap.cpp derives it: about 6 * 2^-24 of the products'
+// magnitude).  The program's input is each coordinate rounded to float
+// (points), or the float light `light` subtracted from it in float
+// (directions: [lo, hi] then bounds the exact p - light, and the bound
+// grows with |light|; with `light` left at 0 the answer for directions is
+// certified only for a light at the origin).  A part of a volume (light
+// cap: the mesh's points; dark cap: its directions from the light; sides:
+// both) whose boxes are all strictly on one side leaves no edge in the near
+// plane, so the pass skips it.
 int near_plane_side_of_box(const Mat4f& m, const Vec3d& lo, const Vec3d& hi, double w,
-                           DepthMapping mapping = DepthMapping::Standard);
+                           DepthMapping mapping = DepthMapping::Standard, const Vec3d& light = {});
 
 }  // namespace nearcap::gl
