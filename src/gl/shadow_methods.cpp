@@ -433,7 +433,7 @@ class FrameRenderer {
     const Vec3d light{l.x, l.y, l.z};
     const int points = near_plane_side_of_box(obj.uniforms.modelview_projection, lo, hi, 1.0, mapping);
     const int directions =
-        near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0, mapping);
+        near_plane_side_of_box(obj.uniforms.modelview_projection, lo - light, hi - light, 0.0, mapping, light);
     // z + w (w - z reversed) of each mesh vertex as a point and as a
     // direction from the light, once per mesh vertex: bit for bit what the
     // program computes for it in any triangle (the same input, its z and w
