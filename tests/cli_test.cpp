@@ -255,7 +255,7 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
   const test::CliResult r = test::run_cli("cracks data/scenes/near_split.json --light 0 --method all", "cracks_all");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j.at("methods").size(), 7u);  // the five methods, the switch policy and raytrace
+  ASSERT_EQ(j.at("methods").size(), 8u);  // the six methods, the switch policy and raytrace
   std::set<std::string> names;
   for (const auto& m : j["methods"]) {
     names.insert(m.at("method").get<std::string>());
@@ -275,8 +275,8 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
     EXPECT_EQ(m["wrong"].get<std::size_t>(),
               m["wrong_lit"].get<std::size_t>() + m["wrong_shadowed"].get<std::size_t>());
   }
-  EXPECT_EQ(names,
-            (std::set<std::string>{"zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "policy", "raytrace"}));
+  EXPECT_EQ(names, (std::set<std::string>{"zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp",
+                                          "policy", "raytrace"}));
   // The policy's record says which method each occluder got, and why.
   const auto policy = std::find_if(j["methods"].begin(), j["methods"].end(),
                                    [](const nlohmann::json& m) { return m["method"] == "policy"; });
@@ -334,7 +334,7 @@ TEST(CracksCommand, OutWritesTheImageAndTheRecord) {
 TEST(CracksCommand, TableNamesEveryMethod) {
   const test::CliResult r = test::run_cli("cracks data/scenes/case_d.json --light 0 --table", "cracks_table");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* m : {"zpass", "zfail", "zpplus", "zpplus-corrected", "preload"})
+  for (const char* m : {"zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp"})
     EXPECT_NE(r.out.find(m), std::string::npos) << m;
 }
 

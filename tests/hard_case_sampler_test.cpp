@@ -5,14 +5,17 @@
 // scene file.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/eye_count.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 
@@ -57,10 +60,42 @@ TEST(HardCaseSampler, KindNamesRoundTripAndUnknownOnesAreNamed) {
   }
 }
 
+// EyeNearVolume: the eye within 2^-14 of the line from the light through
+// a box corner or an edge's midpoint, or of the light, or the box behind
+// the camera and the eye in its volume.
+void eye_near_volume_is_what_it_says(const Scene& scene, const CameraSpaceScene& cs, const std::string& detail) {
+  // The sampler's view is a translation by -eye.
+  const Affine3d& view = scene.camera.view;
+  const Vec3d eye{-view.rows[0][3], -view.rows[1][3], -view.rows[2][3]};
+  const auto length = [](const Vec3d& v) { return std::sqrt(dot(v, v)); };
+  const Vec3d l = scene.lights[0].position;
+  if (detail.find("behind") != std::string::npos) {
+    EXPECT_GT(cs.vertex_estimate(0, 0).z + cs.vertex_estimate(0, 7).z, 0.0) << "the box behind the camera";
+    EXPECT_EQ(exact_eye_count(cs, 0).count, 1u);
+    return;
+  }
+  if (detail.find("beyond") == std::string::npos) {  // "eye m*2^-e from the light"
+    EXPECT_LE(length(eye - l), std::ldexp(1.0, -14));
+    return;
+  }
+  // The box's corners and edge midpoints, world space.
+  const SceneObject& box = scene.objects[0];
+  std::vector<Vec3d> points;
+  for (const Vec3d& p : box.mesh->positions) points.push_back(box.object_to_world.apply(p));
+  for (std::size_t a = 0; a < 8; ++a)
+    for (std::size_t b = a + 1; b < 8; ++b) points.push_back(0.5 * (points[a] + points[b]));
+  double nearest = 1e300;
+  const Vec3d d = l - eye;
+  for (const Vec3d& p : points) nearest = std::min(nearest, length(cross(p - eye, d)) / length(d));
+  EXPECT_LE(nearest, std::ldexp(1.0, -14)) << "the line eye -> light through a corner or an edge's midpoint";
+}
+
 // Each kind, 12 configurations: loads (or a light is inside an occluder), and
 // has the property its name promises, decided exactly.
 TEST(HardCaseSampler, EachKindIsWhatItSays) {
-  for (HardCaseKind kind : analysis::all_hard_case_kinds()) {
+  std::vector<HardCaseKind> kinds = analysis::all_hard_case_kinds();
+  kinds.push_back(HardCaseKind::EyeNearVolume);  // asked for by name only
+  for (HardCaseKind kind : kinds) {
     const analysis::HardCaseSampler sampler(spec(2026, {kind}));
     int loaded = 0;
     for (std::uint64_t i = 0; i < 12; ++i) {
@@ -127,6 +162,9 @@ TEST(HardCaseSampler, EachKindIsWhatItSays) {
           break;
         case HardCaseKind::RealMesh:
           EXPECT_GT(scene.objects[0].mesh->triangle_count(), 12u);
+          break;
+        case HardCaseKind::EyeNearVolume:
+          eye_near_volume_is_what_it_says(scene, cs, c.detail);
           break;
       }
     }

@@ -62,9 +62,9 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
   const std::string cost = test::slurp(out / "policy_cost.csv");
   EXPECT_NE(cost.find("\nZ-pass right,"), std::string::npos) << cost;
   EXPECT_NE(cost.find(",zpass,"), std::string::npos) << cost;
-  // One row per method in the summary: five methods, four engine rules and the switch policy.
+  // One row per method in the summary: six methods, four engine rules and the switch policy.
   const std::string summary = test::slurp(out / "summary.csv");
-  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 11) << summary;
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 12) << summary;
   // The baselines' confusion table: the same truth for every row, Z-pass
   // missing all of it, the Z-fail rows none; each row's counts add up.
   std::istringstream baselines(test::slurp(out / "baselines.csv"));

@@ -77,8 +77,8 @@ TEST_F(Sweep, WritesOneRowPerConfigurationLightAndMethod) {
   }
   EXPECT_EQ(rows_per_configuration.size(), 60u + 8u);
   for (const auto& [id, n] : rows_per_configuration)
-    EXPECT_TRUE(n == 1 || n % 5 == 0) << id << ": " << n << " rows (5 methods per light, or one 'rejected')";
-  EXPECT_EQ(rows_per_configuration["path:near_plane_sweep:31"], 5);
+    EXPECT_TRUE(n == 1 || n % 6 == 0) << id << ": " << n << " rows (6 methods per light, or one 'rejected')";
+  EXPECT_EQ(rows_per_configuration["path:near_plane_sweep:31"], 6);
   EXPECT_LT(rejected, 8);
   EXPECT_NE(r.out.find("68 configurations"), std::string::npos) << r.out;
 }
@@ -237,9 +237,9 @@ TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
   std::map<std::string, int> per_variant;
   while (std::getline(in, line)) ++per_variant[split(line)[6]];
   EXPECT_EQ(per_variant.size(), 3u);
-  EXPECT_EQ(per_variant["default"], 60 * 5);
-  EXPECT_EQ(per_variant["light-projection=glfrustum"], 60 * 5);
-  EXPECT_EQ(per_variant["zfail-far=clamp-far"], 60 * 5);
+  EXPECT_EQ(per_variant["default"], 60 * 6);
+  EXPECT_EQ(per_variant["light-projection=glfrustum"], 60 * 6);
+  EXPECT_EQ(per_variant["zfail-far=clamp-far"], 60 * 6);
   for (const char* bad : {"--variant bogus=1", "--variant depth=float16", "--variant subpixel-bits=x",
                           "--variant zfail-far=clamp-far --variant zfail-far=clamp-far"}) {
     const test::CliResult b =

@@ -69,7 +69,7 @@ except ImportError:
     sys.exit(2)
 
 POLICY_ORDER = ["doom3", "doom3-bfg", "ogre", "always-zfail"]  # engine rules (sweep --policies)
-METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "policy"] + POLICY_ORDER
+METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp", "policy"] + POLICY_ORDER
 # Per-occluder decision columns (nearcap sweep since the engine baselines); a
 # CSV without them gets no baseline section.
 DECISION_COLUMNS = ["occluders", "zpass_wrong_occluders", "false_negatives", "false_positives"]
@@ -492,7 +492,7 @@ def legend(ax, **options):
 def colour(method):
     palette = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
                "preload": "#9467bd", "doom3": "#8c564b", "doom3-bfg": "#e377c2", "ogre": "#bcbd22",
-               "always-zfail": "#17becf", "policy": "#000000"}
+               "always-zfail": "#17becf", "atomiczp": "#aec7e8", "policy": "#000000"}
     if method in palette:
         return palette[method]
     # A variant: its method's hue, darker.

@@ -18,8 +18,8 @@ using Json = nlohmann::json;
 using V3 = std::array<double, 3>;
 
 constexpr std::array<std::string_view, kHardCaseKindCount> kNames = {
-    "light-near-plane", "light-in-near-plane", "grazing",           "eye-in-shadow",  "far-from-origin",
-    "tiny-near",        "straddling",          "several-occluders", "several-lights", "real-mesh"};
+    "light-near-plane", "light-in-near-plane", "grazing",        "eye-in-shadow", "far-from-origin", "tiny-near",
+    "straddling",       "several-occluders",   "several-lights", "real-mesh",     "eye-near-volume"};
 
 // SplitMix64: decorrelates (seed, index) into one generator seed.
 std::uint64_t splitmix(std::uint64_t x) {
@@ -132,6 +132,9 @@ class Builder {
         detail << occluders_[0].mesh;
         break;
       }
+      case HardCaseKind::EyeNearVolume:
+        eye_near_volume(detail);
+        break;
     }
     out.detail = detail.str();
     out.scene_json = scene_json(out);
@@ -139,6 +142,51 @@ class Builder {
   }
 
  private:
+  // HardCaseKind::EyeNearVolume: an axis-aligned box, and the eye placed
+  // where AtomicZP's eye count is decided by a hair.
+  void eye_near_volume(std::ostringstream& detail) {
+    Occluder& b = occluders_[0];
+    b.rotation_deg = {0, 0, 0};
+    const V3 l = lights_[0];
+    const int variant = uniform(0, 3);
+    const int m = uniform(-8, 8);
+    const int e = uniform(18, 40);
+    const double offset = std::ldexp(m, -e);
+    const int axis = uniform(0, 2);
+    if (variant <= 1) {
+      // A corner of the box (variant 0), or the midpoint of an edge (1);
+      // the eye beyond it from the light, on the ray from the light, then
+      // moved by `offset` along one axis.
+      V3 v{};
+      for (int k = 0; k < 3; ++k) v[k] = b.centre[k] + (uniform(0, 1) ? 0.5 : -0.5) * b.scale;
+      if (variant == 1) {
+        const int a = uniform(0, 2);
+        v[a] = b.centre[a];
+      }
+      const double t = uniform(1, 8) / 16.0;
+      for (int k = 0; k < 3; ++k) eye_[k] = v[k] + t * (v[k] - l[k]);
+      eye_[axis] += offset;
+      detail << "eye " << t << " beyond a box " << (variant == 0 ? "corner" : "edge's midpoint")
+             << " from the light, moved " << m << "*2^-" << e << " along "
+             << "xyz"[axis];
+    } else if (variant == 2) {
+      // Near the light: a short segment, all its tests tiny numbers.
+      eye_ = l;
+      eye_[axis] += offset != 0 ? offset : std::ldexp(1.0, -e);
+      detail << "eye " << (offset != 0 ? m : 1) << "*2^-" << e << " from the light along "
+             << "xyz"[axis];
+    } else {
+      // The box behind the camera (which looks down -z), on the segment from
+      // the eye to a light behind it: the eye in a volume whose occluder it
+      // cannot see.
+      lights_[0][2] = eye_[2] + sixteenths(16, 64);
+      const int f = uniform(4, 12);
+      for (int k = 0; k < 3; ++k) b.centre[k] = eye_[k] + (lights_[0][k] - eye_[k]) * f / 16.0;
+      b.scale = sixteenths(4, 8);
+      detail << "box behind the eye, " << f << "/16 of the way to the light";
+    }
+  }
+
   Occluder box(const V3& centre, double scale) {
     return {"box.off", centre, scale, {double(uniform(0, 89)), double(uniform(0, 89)), double(uniform(0, 89))}};
   }
@@ -203,7 +251,8 @@ std::string_view to_string(HardCaseKind kind) { return kNames.at(static_cast<std
 
 std::vector<HardCaseKind> all_hard_case_kinds() {
   std::vector<HardCaseKind> kinds;
-  for (int k = 0; k < kHardCaseKindCount; ++k) kinds.push_back(static_cast<HardCaseKind>(k));
+  for (int k = 0; k < kHardCaseKindCount; ++k)
+    if (static_cast<HardCaseKind>(k) != HardCaseKind::EyeNearVolume) kinds.push_back(static_cast<HardCaseKind>(k));
   return kinds;
 }
 

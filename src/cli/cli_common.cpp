@@ -444,7 +444,8 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
       ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
-                 "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh) or all")
+                 "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh, "
+                 "eye-near-volume) or all (every kind but eye-near-volume)")
       ->capture_default_str();
   if (sizes) {
     cmd.add_option("--width", o.width, "viewport width of every configuration")
@@ -522,8 +523,9 @@ std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::
     const std::string name = names.substr(start, comma - start);
     const auto m = gl::shadow_method_from_string(name);
     if (!m)
-      throw Error(ErrorKind::Usage,
-                  option + " '" + name + "' is not one of zpass, zfail, zpplus, zpplus-corrected, preload (or all)");
+      throw Error(
+          ErrorKind::Usage,
+          option + " '" + name + "' is not one of zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp (or all)");
     methods.push_back(*m);
     start = comma + 1;
   }

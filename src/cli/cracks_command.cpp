@@ -14,6 +14,7 @@
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/eye_count.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/case_comparison.hpp"
 #include "nearcap/judge/crack_distances.hpp"
@@ -67,8 +68,15 @@ nlohmann::json judged_json(const CrackReport& r) {
   return j;
 }
 
-nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements) {
+// `eye`: the exact eye count, for a frame with AtomicZP's float one.
+nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::size_t case_disagreements,
+                           const std::optional<ExactEyeCount>& eye = std::nullopt) {
   nlohmann::json j = judged_json(r);
+  if (f.eye_count && eye)
+    j["eye_count"] = {{"float", *f.eye_count},
+                      {"exact", eye->count},
+                      {"on_boundary", eye->on_boundary},
+                      {"triangles", f.eye_count_triangles}};
   j["cap_mismatch"] = r.cap_mismatch ? nlohmann::json(*r.cap_mismatch) : nlohmann::json(nullptr);
   j["case_disagreements"] = case_disagreements;
   j["ms"] = f.times.total();
@@ -175,6 +183,7 @@ void run(const CracksOptions& o) {
   const std::filesystem::path dir(o.out);
   std::size_t refusals = 0;
   gl::ShadowFrameBatch batch(scene, o.light, settings);
+  std::optional<ExactEyeCount> exact_eye;  // computed for the first AtomicZP frame
   for (gl::ShadowMethod m : methods) {
     gl::ShadowFrame frame;
     try {
@@ -189,7 +198,8 @@ void run(const CracksOptions& o) {
     }
     CrackReport report = judge_frame(frame, ref);
     distances.measure(report);
-    records.push_back(record_json(frame, report, case_disagreements));
+    if (frame.eye_count && !exact_eye) exact_eye = exact_eye_count(cs, o.light);
+    records.push_back(record_json(frame, report, case_disagreements, exact_eye));
     if (!o.out.empty()) {
       const std::string name = choice.count() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
       files.push_back({(dir / name).string(), crack_png(cs, ref, report)});
@@ -304,8 +314,8 @@ void register_cracks(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   add_light_option(*cmd, o->light);
   cmd->add_option("--method", o->method,
-                  "zpass, zfail, zpplus, zpplus-corrected, preload, raytrace (Embree, float32), policy (a method "
-                  "per occluder, from --policy), comma-separated, or all (the five, raytrace and the policy)")
+                  "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, raytrace (Embree, float32), policy (a "
+                  "method per occluder, from --policy), comma-separated, or all (the six, raytrace and the policy)")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();

@@ -593,8 +593,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--path", o->path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
   auto* light = add_light_option(*cmd, o->light, false);
   cmd->add_option("--method", o->method,
-                  "zpass, zfail, zpplus, zpplus-corrected, preload, policy (a method per occluder, from --policy), "
-                  "comma-separated, or all (the five and the policy)")
+                  "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, policy (a method per occluder, from "
+                  "--policy), comma-separated, or all (the six and the policy)")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();

@@ -409,8 +409,8 @@ void register_view(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   auto* light = add_light_option(*cmd, o->light, false);
   cmd->add_option("--method", o->method,
-                  "the methods the m key cycles through: zpass, zfail, zpplus, zpplus-corrected, preload, policy, "
-                  "comma-separated, or all (the five and the policy); the first is shown first")
+                  "the methods the m key cycles through: zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, "
+                  "policy, comma-separated, or all (the six and the policy); the first is shown first")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy, "the switch policy for the policy method")->capture_default_str();
   cmd->add_option("--keys", o->keys,

@@ -58,7 +58,7 @@ Framebuffer::Framebuffer(int width, int height, DepthFormat format)
 }
 
 void Framebuffer::clear_depth(float value) { std::fill(depth_.begin(), depth_.end(), encode_depth(value)); }
-void Framebuffer::clear_stencil() { std::fill(stencil_.begin(), stencil_.end(), std::uint8_t{0}); }
+void Framebuffer::clear_stencil(std::uint8_t value) { std::fill(stencil_.begin(), stencil_.end(), value); }
 void Framebuffer::clear_objects() { std::fill(objects_.begin(), objects_.end(), -1); }
 
 std::uint32_t Framebuffer::encode_depth(float z) const {

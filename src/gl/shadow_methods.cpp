@@ -13,6 +13,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
+#include "nearcap/gl/eye_count.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
@@ -135,6 +136,16 @@ DrawState zpass_state() {
   s.back = kUncountOnPass;
   return s;
 }
+// AtomicZP's volumes: Z-pass counting with GL_DEPTH_CLAMP, so that nothing
+// is clipped at the near plane (the crossings between the eye and the near
+// plane pass the depth test at the clamped depth) nor at the far one.
+DrawState atomiczp_state(std::uint8_t eye_count) {
+  DrawState s = zpass_state();
+  s.depth_clamp_near = true;
+  s.depth_clamp_far = true;
+  s.stencil_clear = eye_count;
+  return s;
+}
 DrawState zfail_state(ZFailFar far) {
   DrawState s;
   s.front = kUncountOnFail;
@@ -191,7 +202,8 @@ class FrameRenderer {
       if (!scene.objects[o].occluder) continue;
       any_near_cap_ = any_near_cap_ || uses_near_cap(methods_[o]);
       any_preload_ = any_preload_ || methods_[o] == ShadowMethod::Preload;
-      any_zpass_ = any_zpass_ || methods_[o] == ShadowMethod::ZPass;
+      any_zpass_ = any_zpass_ || methods_[o] == ShadowMethod::ZPass || methods_[o] == ShadowMethod::AtomicZP;
+      any_atomiczp_ = any_atomiczp_ || methods_[o] == ShadowMethod::AtomicZP;
       any_infinite_zfail_ =
           any_infinite_zfail_ || (methods_[o] == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
     }
@@ -269,6 +281,20 @@ class FrameRenderer {
       near_cap_pass(frame);
       frame.near_cap = fb_.stencil();
     }
+    // AtomicZP's per-frame pass: the eye count over its occluders, the
+    // stencil cleared to it (timed as the frame's cap pass: it stands where
+    // ZP+'s near-cap pass stands).
+    std::uint8_t eye_clear = 0;
+    if (any_atomiczp_) {
+      std::vector<std::size_t> counted;
+      for (std::size_t o = 0; o < methods_.size(); ++o)
+        if (scene_.objects[o].occluder && methods_[o] == ShadowMethod::AtomicZP) counted.push_back(o);
+      const FloatEyeCount eye = float_eye_count(scene_, light_, counted, settings_.arithmetic);
+      frame.eye_count = eye.count;
+      frame.eye_count_triangles = eye.triangles;
+      eye_clear = static_cast<std::uint8_t>(eye.count & 0xffu);
+      fb_.clear_stencil(eye_clear);
+    }
     frame.times.cap_ms = ms_since(t);
 
     t = Clock::now();
@@ -276,7 +302,9 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder) continue;
       const ShadowMethod m = methods_[o];
-      if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
+      if (m == ShadowMethod::AtomicZP) {
+        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, atomiczp_state(eye_clear), frame);
+      } else if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
         draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
       } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && clipped_sides_) {
         draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
@@ -519,8 +547,11 @@ class FrameRenderer {
   // Volume culling: the occluder's scissor and depth bounds on a state of
   // its draws (all of them, so that the counts they drop add to 0; no depth
   // bounds for Z-pass where its region meets the near plane: volume_bounds.hpp).
+  // AtomicZP is never bounded: its volumes count between the eye and the
+  // near plane too, where the bounds (of the volume beyond the near plane)
+  // do not reach.
   DrawState bounded(DrawState s, const ObjectSetup& obj) const {
-    if (!obj.bounds) return s;
+    if (!obj.bounds || methods_[obj.index] == ShadowMethod::AtomicZP) return s;
     const VolumeCulling c = settings_.volume_culling;
     if (c == VolumeCulling::Scissor || c == VolumeCulling::Both) s.scissor = obj.bounds->scissor;
     const bool zpass = methods_[obj.index] == ShadowMethod::ZPass;
@@ -548,7 +579,8 @@ class FrameRenderer {
   std::size_t light_;
   ShadowMethod method_;
   std::vector<ShadowMethod> methods_;
-  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false, any_zpass_ = false;
+  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false, any_zpass_ = false,
+       any_atomiczp_ = false;
   EmulationSettings settings_;
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
@@ -571,6 +603,8 @@ std::string_view to_string(ShadowMethod m) {
       return "zpplus-corrected";
     case ShadowMethod::Preload:
       return "preload";
+    case ShadowMethod::AtomicZP:
+      return "atomiczp";
   }
   return "?";
 }

@@ -16,6 +16,13 @@ namespace nearcap::render {
 
 // The depth a frame's depth buffer is cleared to: 0 when its depth pre-pass
 // draws with the reversed mapping (near at 1), else 1.
+// The value a frame's stencil buffer is cleared to: its volume draws'
+// stencil_clear (AtomicZP's eye count), else 0.
+inline GLint cleared_stencil(const std::vector<gl::DrawCall>& draws) {
+  for (const gl::DrawCall& d : draws)
+    if (d.pass == gl::DrawPass::Volume) return d.state.stencil_clear;
+  return 0;
+}
 inline double cleared_depth(const std::vector<gl::DrawCall>& draws) {
   for (const gl::DrawCall& d : draws)
     if (d.pass == gl::DrawPass::Depth) return d.state.depth_mapping == gl::DepthMapping::Reversed ? 0.0 : 1.0;

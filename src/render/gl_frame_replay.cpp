@@ -68,7 +68,7 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glStencilMask(0xFF);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glClearDepth(cleared_depth(draws));
-  glClearStencil(0);
+  glClearStencil(cleared_stencil(draws));
   glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   const GLint no_object[4] = {-1, -1, -1, -1};
   glClearBufferiv(GL_COLOR, 0, no_object);

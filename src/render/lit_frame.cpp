@@ -221,6 +221,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
     disable_volume_culling(depth_bounds_test);  // glClear honours the scissor
+    glClearStencil(cleared_stencil(light_frames[k].draws));
     glClear(GL_STENCIL_BUFFER_BIT);
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     glDisable(GL_BLEND);

@@ -87,6 +87,10 @@ struct DrawState {
   std::optional<PixelRect> scissor;
   std::optional<std::array<double, 2>> depth_bounds;
   std::int32_t object_id = -1;  // written to the object buffer with the depth, when depth_write
+  // The value the frame's stencil buffer holds before its first stencil
+  // draw (glClearStencil): 0, or AtomicZP's eye count (eye_count.hpp), set on
+  // each of its volume draws so that a replay clears to it.
+  std::uint8_t stencil_clear = 0;
 };
 // Depth clamped at one plane only (near or far), clipped at the other: what
 // GL_AMD_depth_clamp_separate does, and what the renderer does without it
@@ -148,7 +152,7 @@ class Framebuffer {
   // glClear of each buffer (depth 1.0 or `value`: 0 for the reversed
   // mapping; stencil 0, object -1).
   void clear_depth(float value = 1.0f);
-  void clear_stencil();
+  void clear_stencil(std::uint8_t value = 0);  // glClearStencil(value), glClear(GL_STENCIL_BUFFER_BIT)
   void clear_objects();
 
   // The stored depth as a comparable integer: the 24-bit value, or the bits of

@@ -28,6 +28,20 @@
 //                     back +1 on both depth fail and depth pass) preloads the
 //                     number of volumes the near plane is in, then the same
 //                     volume again as Z-pass; infinite far plane.
+//   atomiczp          AtomicZP (Usta et al., HPG 2019), as nearcap
+//                     reconstructs it (docs/atomiczp.md): the stencil
+//                     cleared to the float32 count of the light's volumes
+//                     containing the eye (eye_count.hpp: a pass over the
+//                     occluder triangles into an atomic counter), then the
+//                     sides counted as zpass with GL_DEPTH_CLAMP (no near
+//                     clipping: the crossings between the eye and the near
+//                     plane count too, at the clamped depth).  Clearing to
+//                     the count is the lighting pass's comparison with it
+//                     (glStencilFunc(GL_EQUAL, -count)), moved to the clear so
+//                     that "shadowed where the stencil is not 0" holds for
+//                     every method.  Right wherever the float count is the
+//                     exact one; where it is not, every pixel is off by the
+//                     difference: the whole frame inverts.
 // When the light lies in the near plane there is no light frustum: both ZP+
 // methods fall back to zfail for the light (ShadowFrame::fallback says so).
 // With LightProjection::ClippedSides (light_frustum.hpp) both ZP+ methods
@@ -51,11 +65,12 @@
 
 namespace nearcap::gl {
 
-enum class ShadowMethod { ZPass, ZFail, ZPPlus, ZPPlusCorrected, Preload };
-inline constexpr std::array<ShadowMethod, 5> kAllShadowMethods{ShadowMethod::ZPass, ShadowMethod::ZFail,
-                                                               ShadowMethod::ZPPlus, ShadowMethod::ZPPlusCorrected,
-                                                               ShadowMethod::Preload};
-std::string_view to_string(ShadowMethod m);  // "zpass", "zfail", "zpplus", "zpplus-corrected", "preload"
+enum class ShadowMethod { ZPass, ZFail, ZPPlus, ZPPlusCorrected, Preload, AtomicZP };
+inline constexpr std::array<ShadowMethod, 6> kAllShadowMethods{ShadowMethod::ZPass,   ShadowMethod::ZFail,
+                                                               ShadowMethod::ZPPlus,  ShadowMethod::ZPPlusCorrected,
+                                                               ShadowMethod::Preload, ShadowMethod::AtomicZP};
+// "zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp"
+std::string_view to_string(ShadowMethod m);
 std::optional<ShadowMethod> shadow_method_from_string(std::string_view name);
 bool uses_near_cap(ShadowMethod m);
 
@@ -176,6 +191,10 @@ struct ShadowFrame {
   std::vector<std::size_t> zfail_objects;                 // occluders drawn with zfail instead (case D)
   std::string fallback;                                   // why the whole light fell back to zfail, or ""
   LightFrustum light_frustum;                             // ZP+ methods
+  // AtomicZP: the float32 eye count the stencil was cleared to (mod 256),
+  // and the triangles its pass tested; absent for the other methods.
+  std::optional<std::size_t> eye_count;
+  std::size_t eye_count_triangles = 0;
   // Each occluder's method (object index, method): all `method` unless the
   // frame was rendered per occluder (`mixed`, ShadowFrameBatch::render with
   // a method per object).
