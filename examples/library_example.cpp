@@ -1,60 +1,52 @@
-// nearcap as a library: a scene built in memory from an OpenMesh mesh, its
-// silhouette cases, the exact reference, two float methods judged against it.
-// Built and run by the test suite (LibraryExample.Runs); the README shows it.
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-
+// nearcap as a library, through its front door (nearcap/nearcap.hpp): a scene
+// file's exact near-cap and exact reference for its first light, every
+// stencil method's frame judged against that reference, and the switch
+// policy's choice per occluder, judged too.
+//   library_example SCENE POLICY   e.g. data/scenes/case_d.json data/policy.json
+// Built and run by the test suite (LibraryExample.*, which checks that it
+// prints what `nearcap cap`, `reference` and `cracks` print); the README
+// shows its core.
 #include <cstdio>
 
-#include "nearcap/exact/classification.hpp"
-#include "nearcap/exact/pixel_reference.hpp"
-#include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/io/openmesh_adapter.hpp"
-#include "nearcap/io/scene_builder.hpp"
-#include "nearcap/judge/crack_map.hpp"
+#include "nearcap/nearcap.hpp"
 
-using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-
-// A closed, outward unit cube as an application might hold it.
-TriMesh cube() {
-  TriMesh m;
-  std::vector<TriMesh::VertexHandle> v;
-  for (int i = 0; i < 8; ++i)
-    v.push_back(m.add_vertex({(i & 4) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 1) ? 0.5f : -0.5f}));
-  const int faces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
-                            {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
-  for (const auto& f : faces) m.add_face(v[f[0]], v[f[1]], v[f[2]]);
-  return m;
-}
-
-int main() {
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: %s SCENE POLICY\n", argv[0]);
+    return 2;
+  }
   using namespace nearcap;
-  // A ground quad (a receiver need not be closed), held directly as a TriangleMesh.
-  TriangleMesh ground;
-  ground.source = "ground";
-  ground.positions = {{-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}};
-  ground.triangles = {{0, 1, 2}, {0, 2, 3}};
+  try {
+    const Scene scene = load_scene(argv[1]);
 
-  Affine3d lift;  // the cube one unit above the ground
-  lift.rows[1][3] = 1.0;
-  // The eye under the cube, in its shadow: Z-pass is wrong on every pixel it sees.
-  const Scene scene = SceneBuilder("example")
-                          .camera(look_at_camera({0.1, 0.3, 0.1}, {3, 0, 3}, {0, 1, 0}, 60, 0.05, 100, 160, 120))
-                          .light({0, 4, 0})
-                          .object(mesh_from_openmesh(cube(), "cube"), lift)
-                          .receiver(ground)
-                          .build();  // validated like a scene file
+    const NearCap cap = exact_near_cap(scene, 0);
+    std::printf("near-cap: %zu faces, largest count %zu\n", cap.faces().size(), cap.max_count());
 
-  const CameraSpaceScene exact(scene);
-  const SceneClassification cases = classify_scene(exact);
-  const ObjectClassification& cube_cases = cases.lights[0].objects[0];
-  std::printf("cube: %zu silhouette edges, %zu of case B, %zu of case D\n", cube_cases.edges.size(),
-              cube_cases.case_counts[static_cast<int>(QuadCase::B)],
-              cube_cases.case_counts[static_cast<int>(QuadCase::D)]);
+    const PixelReference reference = exact_reference(scene, 0);  // the ground truth, per pixel
+    std::size_t shadowed = 0;
+    for (int j = 0; j < reference.height; ++j)
+      for (int i = 0; i < reference.width; ++i) shadowed += reference.shadowed(i, j);
+    std::printf("reference: %zu pixels shadowed\n", shadowed);
 
-  const PixelReference reference = compute_pixel_reference(exact, 0);  // the ground truth
-  for (gl::ShadowMethod m : {gl::ShadowMethod::ZPass, gl::ShadowMethod::ZPPlusCorrected}) {
-    const CrackReport r = judge_frame(gl::render_shadow_frame(scene, 0, m), reference);
-    std::printf("%s: %zu wrong pixels of %zu seen\n", std::string(to_string(m)).c_str(), r.wrong, r.pixels_seen);
+    FrameSettings settings;  // light 0, the camera's pixels, a 24-bit depth buffer
+    const std::vector<ShadowMethod> methods = {ShadowMethod::ZPass, ShadowMethod::ZFail, ShadowMethod::ZPPlus,
+                                               ShadowMethod::ZPPlusCorrected, ShadowMethod::Preload};
+    for (const JudgedFrame& f : judged_frames(scene, methods, settings))  // one reference for all five
+      std::printf("%s: %zu wrong pixels of %zu seen, %zu cracks\n", f.report.method.c_str(), f.report.wrong,
+                  f.report.pixels_seen, *f.report.cracks);
+
+    const SwitchPolicy policy = load_policy(argv[2]);
+    const PolicyDecision decision = decide_policy(policy, scene, settings);
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder)
+        std::printf("object %zu: %s (%s)\n", o, std::string(to_string(decision.object_methods[o])).c_str(),
+                    decision.reasons[o].c_str());
+    const JudgedFrame p = judged_policy_frame(policy, scene, settings);
+    std::printf("policy: %zu wrong pixels of %zu seen, %zu cracks\n", p.report.wrong, p.report.pixels_seen,
+                *p.report.cracks);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "library_example: error (%s): %s\n", std::string(to_string(e.kind())).c_str(), e.what());
+    return 2;
   }
   return 0;
 }

@@ -14,12 +14,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::map<std::string, int> kLayer = {{"", 0},       {"numeric", 1},  {"scene", 2},    {"exact", 3},
-                                           {"io", 4},     {"gl", 5},       {"raytrace", 6}, {"judge", 7},
-                                           {"render", 8}, {"analysis", 9}, {"view", 10},    {"cli", 11}};
+// "front" is the front door, include/nearcap/nearcap.hpp and src/nearcap.cpp:
+// files at the root, but the last layer of the core library (it calls the
+// exact kernel, the emulation, the judge and the policy), before the viewer
+// and the program, which may use it.
+const std::map<std::string, int> kLayer = {{"", 0},       {"numeric", 1},  {"scene", 2}, {"exact", 3},  {"io", 4},
+                                           {"gl", 5},     {"raytrace", 6}, {"judge", 7}, {"render", 8}, {"analysis", 9},
+                                           {"front", 10}, {"view", 11},    {"cli", 12}};
 
-// "exact" for include/nearcap/exact/x.hpp and src/exact/x.cpp; "" for the root.
+// "exact" for include/nearcap/exact/x.hpp and src/exact/x.cpp; "front" for
+// the front door; "" for the other files at the root.
 std::string layer_of(const fs::path& relative) {
+  if (relative == "nearcap.hpp" || relative == "nearcap.cpp") return "front";
   const auto first = relative.begin();
   if (std::next(first) == relative.end()) return "";
   return first->string();

@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/gl/light_frustum.hpp"
@@ -470,6 +471,11 @@ std::string policy_to_json(const SwitchPolicy& p) {
   return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
+namespace {
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                              const gl::EmulationSettings& base, PolicyDecision d);
+}  // namespace
+
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
                       const gl::EmulationSettings& base) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -511,6 +517,11 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     throw Error(ErrorKind::Usage,
                 "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
                 "one: a tight near plane needs a policy with exact_zpass false");
+  if (policy.device_profile) {
+    d = decide_by_cost(policy, cs, light, base, std::move(d));
+    d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return d;
+  }
   if (!policy.exact_zpass) {
     // No per-occluder test: the capped method everywhere (with the
     // clipped-sides cap that is Z-pass plus the cap its own clipped sides
@@ -588,5 +599,211 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return d;
 }
+
+namespace {
+
+// The decision's own helpers (the cost decision, switch_policy.hpp).
+
+// A profile's price of one occluder's work, its passes' intercepts left out
+// (a pass is drawn once per frame whatever its occluders: the frame's total
+// counts each intercept once).
+double marginal_ms(const DeviceProfile& profile, FrameWork w) {
+  w.drawn = {};
+  return profile.predict_ms(w);
+}
+
+std::string ms_text(double ms) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", ms);
+  return buf;
+}
+
+// Whether the policy's capped method with the paper's cap is a candidate in
+// this (frame, light): the light frustum exists and the crack model predicts
+// no crack; `why` says why not, `probability` is the model's.
+bool paper_cap_admitted(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                        const gl::EmulationSettings& base, double& probability, std::string& why) {
+  probability = kNaN;
+  if (!gl::uses_near_cap(policy.capped_method) || policy.light_projection == gl::LightProjection::ClippedSides) {
+    why = "the policy's crack model is not the paper cap's";
+    return false;
+  }
+  bool cheap = true;
+  for (const std::string& name : policy.crack_model.features) cheap = cheap && cheap_policy_feature(name);
+  ConditioningFeatures f;
+  bool defined = false;
+  if (cheap) {
+    f = cheap_conditioning_features(cs, light);
+    defined = f.light_frustum_defined;
+  } else {
+    const gl::LightFrustum lf = gl::light_frustum(cs.scene(), light, base.light_frustum);
+    defined = lf.defined;
+    if (defined) f = conditioning_features(cs, light, lf, base.arithmetic);
+  }
+  if (!defined) {
+    why = "no light frustum";
+    return false;
+  }
+  probability = policy.crack_model.probability(f);
+  if (!(probability < policy.crack_model.threshold)) {
+    why = "crack predicted (P = " + ms_text(probability) + ")";
+    return false;
+  }
+  return true;
+}
+
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                              const gl::EmulationSettings& base, PolicyDecision d) {
+  const DeviceProfile& profile = *policy.device_profile;
+  const Scene& scene = cs.scene();
+  const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper};
+  const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper};
+  const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};
+  const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper};
+
+  // The light in the near plane (exactly): no pyramid test, no light frustum.
+  const bool light_on_near_plane = cheap_conditioning_features(cs, light).light_near_distance == 0;
+  std::string paper_why;
+  const bool paper_ok =
+      !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability, paper_why);
+  if (light_on_near_plane) paper_why = "the light lies in the near plane: no light frustum";
+
+  struct Occluder {
+    std::size_t object = 0;
+    OccluderWorkInputs in;
+    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0;
+    bool zpass_ok = false;  // the near-cap is empty (certainly, or by the exact test)
+    std::string zpass_why;
+  };
+  std::vector<Occluder> occluders;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (!scene.objects[o].occluder) continue;
+    Occluder oc;
+    oc.object = o;
+    oc.in = occluder_work_inputs(scene, o, light);
+    oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
+    oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
+    if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
+    oc.zpass_ms = marginal_ms(profile, occluder_work(oc.in, zpass));
+    occluders.push_back(std::move(oc));
+  }
+  // Z-pass: free where the cull is certain; elsewhere only after the exact
+  // test, whose cost the frame then pays for every occluder it tests.
+  std::vector<bool> untested(occluders.size(), false);
+  bool any_untested = false;
+  for (std::size_t i = 0; i < occluders.size(); ++i) {
+    Occluder& oc = occluders[i];
+    if (!policy.exact_zpass) {
+      oc.zpass_why = "the policy has no exact Z-pass test";
+    } else if (light_on_near_plane) {
+      oc.zpass_why = "the light lies in the near plane";
+    } else if (oc.in.certainly_misses_light_pyramid) {
+      oc.zpass_ok = true;
+      oc.zpass_why = "certainly misses the light pyramid (empty near-cap)";
+    } else {
+      untested[i] = any_untested = true;
+    }
+  }
+
+  // The frame-level options, each with its cheapest candidate per occluder
+  // (Z-pass where `zpass_allowed`), the best of them: its predicted ms, the
+  // methods, the work, the light projection; `log` keeps each option's ms.
+  struct Option {
+    std::string name;
+    gl::LightProjection projection;
+    bool clipped = false, paper = false;
+  };
+  std::vector<Option> options{{"no near-cap", policy.light_projection, false, false},
+                              {"clipped-sides cap", gl::LightProjection::ClippedSides, true, false}};
+  if (paper_ok) options.push_back({"paper cap", policy.light_projection, false, true});
+  const FrameWork shared = shared_frame_work(scene);
+  struct Frame {
+    double ms = kNaN;
+    std::vector<CandidateMethod> choice;
+    FrameWork work;
+    gl::LightProjection projection = gl::LightProjection::Paper;
+  };
+  auto best_frame = [&](const std::vector<bool>& zpass_allowed, const FrameWork& extra,
+                        std::vector<std::pair<std::string, double>>* log) {
+    Frame best;
+    for (const Option& option : options) {
+      Frame f;
+      f.work = shared;
+      f.work += extra;
+      f.projection = option.projection;
+      for (std::size_t i = 0; i < occluders.size(); ++i) {
+        const Occluder& oc = occluders[i];
+        CandidateMethod c = zfail;
+        double ms = oc.zfail_ms;
+        if (option.clipped && oc.clipped_ms < ms) {
+          c = clipped;
+          ms = oc.clipped_ms;
+        }
+        if (option.paper && oc.paper_ms < ms) {
+          c = paper;
+          ms = oc.paper_ms;
+        }
+        if (zpass_allowed[i] && oc.zpass_ms <= ms) c = zpass;  // a tie: Z-pass, the simpler frame
+        f.work += occluder_work(oc.in, c);
+        f.choice.push_back(c);
+      }
+      f.ms = profile.predict_ms(f.work);
+      if (log) log->push_back({option.name, f.ms});
+      if (!(f.ms >= best.ms)) best = std::move(f);
+    }
+    return best;
+  };
+  std::vector<bool> allowed(occluders.size(), false);
+  for (std::size_t i = 0; i < occluders.size(); ++i) allowed[i] = occluders[i].zpass_ok;
+  Frame chosen = best_frame(allowed, {}, &d.predicted_options);
+  if (any_untested) {
+    // The test runs when the frame it could give at best, Z-pass for every
+    // occluder it tests and the test paid, beats the frame without it.
+    FrameWork test_work;
+    std::vector<bool> optimistic = allowed;
+    for (std::size_t i = 0; i < occluders.size(); ++i)
+      if (untested[i]) {
+        test_work.exact_test_triangles += occluders[i].in.triangles;
+        optimistic[i] = true;
+      }
+    const double test_ms = profile.cpu_ms(test_work);
+    if (best_frame(optimistic, test_work, nullptr).ms < chosen.ms) {
+      const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);
+      for (std::size_t i = 0; i < occluders.size(); ++i) {
+        if (!untested[i]) continue;
+        Occluder& oc = occluders[i];
+        oc.zpass_ok = allowed[i] = !meets[oc.object];
+        oc.zpass_why = (oc.zpass_ok ? "exact: meets no point of the light pyramid (empty near-cap)"
+                                    : "meets the light pyramid (exact test)") +
+                       std::string("; the frame's test ") + ms_text(test_ms) + " ms";
+      }
+      d.predicted_options.clear();
+      chosen = best_frame(allowed, test_work, &d.predicted_options);
+    } else {
+      for (std::size_t i = 0; i < occluders.size(); ++i)
+        if (untested[i])
+          occluders[i].zpass_why =
+              "exact test not run (its predicted cost, " + ms_text(test_ms) + " ms for the frame, above the saving)";
+    }
+  }
+  const double best_total = chosen.ms;
+  const std::vector<CandidateMethod>& best_choice = chosen.choice;
+  d.predicted_work = chosen.work;
+  d.settings.light_frustum.projection = chosen.projection;
+  d.predicted_ms = best_total;
+  for (std::size_t k = 0; k < occluders.size(); ++k) {
+    const Occluder& oc = occluders[k];
+    const CandidateMethod& c = best_choice[k];
+    d.object_methods[oc.object] = c.method;
+    std::string why = "cost: " + c.name() + "; predicted ms: zfail " + ms_text(oc.zfail_ms) + ", " + clipped.name() +
+                      " " + ms_text(oc.clipped_ms) + ", " + paper.name() + " " +
+                      (paper_ok ? ms_text(oc.paper_ms) : "not a candidate (" + paper_why + ")") + ", zpass " +
+                      (oc.zpass_ok ? ms_text(oc.zpass_ms) : "not a candidate") + " (" + oc.zpass_why + ")";
+    d.reasons[oc.object] = why;
+  }
+  return d;
+}
+
+}  // namespace
 
 }  // namespace nearcap::analysis

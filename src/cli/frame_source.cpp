@@ -20,6 +20,17 @@ RenderMethods render_methods(const std::string& method, const std::string& polic
   return r;
 }
 
+std::string policy_profile_note(const RenderMethods& methods, const std::string& current_renderer) {
+  if (!methods.policy || !methods.policy->device_profile) return "";
+  const analysis::DeviceProfile& p = *methods.policy->device_profile;
+  const std::string measured_on = p.gl_renderer.empty() ? "no GL named" : "\"" + p.gl_renderer + "\"";
+  std::string note = "policy: device profile (" + (p.origin.empty() ? std::string("origin not given") : p.origin) +
+                     ") measured on " + measured_on + "\n";
+  if (p.gl_renderer != current_renderer)
+    note += "policy: this GL is \"" + current_renderer + "\", not the profile's; its costs are used as they are\n";
+  return note;
+}
+
 FrameSource::FrameSource(const Scene& scene, std::size_t light, const RenderMethods& methods,
                          const gl::EmulationSettings& settings)
     : scene_(scene), light_(light), methods_(methods), settings_(settings), batch_(scene, light, settings) {}

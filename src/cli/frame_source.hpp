@@ -30,6 +30,12 @@ struct RenderMethods {
 // Throws Error(Usage) for an unknown name, what load_policy throws.
 RenderMethods render_methods(const std::string& method, const std::string& policy_file, const std::string& command);
 
+// What --method policy prices its candidates with: "" without the policy or
+// its device profile; else a line naming the profile's origin and the
+// GL_RENDERER it was measured on, and, when `current_renderer` differs, a
+// second line saying so (the profile is still used).
+std::string policy_profile_note(const RenderMethods& methods, const std::string& current_renderer);
+
 // The frames of one scene and light, method by method (k indexes
 // RenderMethods: the policy last), sharing a batch for the fixed methods.
 class FrameSource {

@@ -5,9 +5,11 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -100,6 +102,9 @@ struct LightCpu {
   gl::FrameCpuTimes work;  // silhouettes, the clipped-sides caps, the light frustum
   // Each occluder's method (ShadowFrame::object_methods).
   std::vector<std::pair<std::size_t, gl::ShadowMethod>> methods;
+  // The policy's predicted end-to-end time for this light (a policy with a
+  // device profile; NaN otherwise).
+  double predicted_ms = std::numeric_limits<double>::quiet_NaN();
   double total() const { return decision_ms + work.total(); }
 };
 
@@ -144,7 +149,9 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
   for (const auto& source : sources) {
     frames.push_back(source->frame(m));
     const gl::ShadowFrame& f = frames.back();
-    out.cpu.push_back({f.light, m >= methods.methods.size() ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
+    const bool policy = m >= methods.methods.size();
+    out.cpu.push_back({f.light, policy ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
+    if (policy) out.cpu.back().predicted_ms = source->decision().predicted_ms;
   }
   render::LitFrameOptions options;
   options.read_stencils = o.stencil && keep_images;
@@ -246,6 +253,7 @@ nlohmann::json cpu_json(const LitFrameRecord& fr) {
                       {"near_plane_ms", l.work.near_plane_ms},
                       {"light_frustum_ms", l.work.light_frustum_ms},
                       {"occluders", std::move(occluders)}});
+    if (std::isfinite(l.predicted_ms)) lights.back()["predicted_ms"] = l.predicted_ms;
   }
   return {{"upload_ms", fr.upload_ms}, {"lights", std::move(lights)}};
 }
@@ -292,6 +300,7 @@ void run_lit(const RenderOptions& o) {
     check_memory_estimate(scene, "render", 40, o.max_memory_gb);
   }
   const render::EglContext context;
+  std::fputs(policy_profile_note(methods, context.renderer()).c_str(), stderr);
   const std::filesystem::path dir(o.out);
   io::StagedOutputFiles files;
   std::vector<std::vector<LitFrameRecord>> per_method(methods.count());
@@ -493,6 +502,7 @@ void run(const RenderOptions& o) {
   check_light_index(scene, o.light);
   check_memory_estimate(scene, "render", 40, o.max_memory_gb);
   const render::EglContext context;  // before the exact work: no GL, no point
+  std::fputs(policy_profile_note(methods, context.renderer()).c_str(), stderr);
   const CameraSpaceScene cs(scene);
   const PixelReferenceTracer tracer(cs, o.light);
   const PixelReference ref = compute_pixel_reference(tracer);
@@ -540,6 +550,7 @@ void run(const RenderOptions& o) {
                           {"emulation_ms", frame.times.total()}};
     if (m >= methods.methods.size()) {
       record["occluders"] = policy_occluders_json(scene, source.decision());
+      if (std::isfinite(source.decision().predicted_ms)) record["predicted_ms"] = source.decision().predicted_ms;
       record["depth_limited"] = source.decision().depth_limited;
       if (source.decision().depth_limited) record["depth_note"] = source.decision().depth_note;
     }

@@ -127,6 +127,7 @@ class Viewer {
     view::ViewerWindow window(scene_.camera.width, scene_.camera.height, "nearcap view: " + options_.scene);
     std::fprintf(stderr, "nearcap view: %s on %s\nkeys: %s\n", options_.scene.c_str(), window.renderer().c_str(),
                  view::key_help().c_str());
+    std::fputs(policy_profile_note(methods_, window.renderer()).c_str(), stderr);
     window_ = &window;
     render::LitFrameRenderer renderer;  // in the window's context, its programs kept between frames
     renderer_ = &renderer;

@@ -8,7 +8,8 @@
 #                    (nearcap_DIR=<build>), nothing installed.
 # The consumer's CMakeLists.txt is the block of docs/library.md under
 # "<!-- consumer: CMakeLists.txt -->", copied verbatim; its my_tool.cpp is
-# examples/library_example.cpp (an OpenMesh mesh through nearcap).
+# examples/library_example.cpp (the front door, nearcap/nearcap.hpp, whose
+# core the README shows), run on a shipped scene and the shipped policy.
 set(work "${BUILD_DIR}/${MODE}-consumer-test")
 file(REMOVE_RECURSE "${work}")
 file(MAKE_DIRECTORY "${work}/src")
@@ -84,9 +85,15 @@ if(where EQUAL -1)
   message(FATAL_ERROR "the consumer found another nearcap (${found}), not the one in ${expected_dir}")
 endif()
 run("building the consumer" "${CMAKE_COMMAND}" --build "${work}/build")
-run("the consumer" "${work}/build/my_tool")
+# The shipped data: under the prefix once installed, in the checkout for the build tree.
+if(MODE STREQUAL "install")
+  set(data "${prefix}/share/nearcap")
+else()
+  set(data "${SOURCE_DIR}/data")
+endif()
+run("the consumer" "${work}/build/my_tool" "${data}/scenes/far_grazing.json" "${data}/policy.json")
 message("${out}")
-if(NOT out MATCHES "zpplus-corrected: [0-9]+ wrong pixels")
+if(NOT out MATCHES "zpplus-corrected: [0-9]+ wrong pixels" OR NOT out MATCHES "policy: [0-9]+ wrong pixels")
   message(FATAL_ERROR "the consumer printed no judged frame")
 endif()
 

@@ -46,9 +46,11 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "nearcap/analysis/conditioning.hpp"
@@ -162,7 +164,40 @@ struct PolicyDecision {
   std::string depth_note;
   // The emulation settings the frame needs (the policy's switch clamp).
   gl::EmulationSettings settings;
+  // With a device profile (the cost decision): the chosen frame's predicted
+  // end-to-end time (ms) and work (work_estimate.hpp), and each frame-level
+  // option weighed ("no near-cap", "clipped-sides cap", "paper cap") with
+  // its predicted ms; NaN, zero and empty without a profile.
+  double predicted_ms = std::numeric_limits<double>::quiet_NaN();
+  FrameWork predicted_work;
+  std::vector<std::pair<std::string, double>> predicted_options;
 };
+// Without a device profile, the steps in this header's opening comment.
+// With one (the cost decision), every candidate right wherever Z-fail is
+// right, per occluder, priced by the profile on the work estimate
+// (work_estimate.hpp) before drawing:
+//   Z-pass            where the near-cap is empty: certainly (the float
+//                     light-pyramid cull, no cost) or by the exact test
+//                     (exact/light_pyramid.hpp), which runs only when the
+//                     best frame with Z-pass for every occluder it would
+//                     test, the test paid for them, is predicted cheaper than
+//                     the best frame without it;
+//                     only with exact_zpass and the light off the near plane;
+//   ZP+, clipped-sides cap;
+//   the policy's capped method with the paper's cap, where the light frustum
+//                     exists and the crack model predicts no crack (a policy
+//                     whose light_projection is paper: its model is the paper
+//                     cap's);
+//   Z-fail.
+// A frame has one near-cap kind (its light projection; the paper's also
+// makes the frame's projection finite, so Z-fail beside it clamps as
+// switch_clamp says): the decision weighs three frame-level options (no
+// near-cap, the clipped-sides cap, the paper cap), in each the cheapest
+// candidate per occluder (pass intercepts left out of the per-occluder
+// comparison), and keeps the option with the least predicted frame time,
+// the shared passes (depth pre-pass, lit pass, silhouettes) and each drawn
+// pass's intercept counted once.  Reasons name the chosen method and every
+// candidate's predicted ms.
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
                       const gl::EmulationSettings& base);
 

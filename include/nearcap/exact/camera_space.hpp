@@ -1,4 +1,4 @@
-// nearcap/camera_space.hpp — the scene's geometry in camera space, certified.
+// nearcap/exact/camera_space.hpp — the scene's geometry in camera space, certified.
 //
 // Every exact predicate in nearcap works in camera space (OpenGL eye space:
 // camera at the origin looking down -z; near plane z = -near), where pixel

@@ -1,4 +1,4 @@
-// nearcap/central_grid.hpp — triangles binned by their direction from a centre.
+// nearcap/exact/central_grid.hpp — triangles binned by their direction from a centre.
 //
 // Every query of the per-pixel reference is a segment or a ray from a fixed
 // centre: the eye (view rays through pixel centres) or the light (segments

@@ -1,4 +1,4 @@
-// nearcap/classification.hpp — silhouettes and A-D cases of a whole scene.
+// nearcap/exact/classification.hpp — silhouettes and A-D cases of a whole scene.
 //
 // For every light and every occluder: the exact silhouette edges and the exact
 // case of each edge's side quad.  The float engine's answer for the same edges

@@ -1,4 +1,4 @@
-// nearcap/crack_distance.hpp — how far a wrong pixel is from the exact shadow
+// nearcap/exact/crack_distance.hpp — how far a wrong pixel is from the exact shadow
 // boundary: rasterization noise or a crack a person sees.
 //
 // Every method, Z-fail included, gets a few pixels wrong whose centre lies

@@ -1,4 +1,4 @@
-// nearcap/light_facing.hpp — which triangles face a point light (exact).
+// nearcap/exact/light_facing.hpp — which triangles face a point light (exact).
 //
 // A triangle is light-front-facing when the light lies strictly on its outer
 // side (the side its counter-clockwise normal points to, in object space).

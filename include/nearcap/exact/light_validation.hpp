@@ -1,4 +1,4 @@
-// nearcap/light_validation.hpp — lights must lie strictly outside every occluder.
+// nearcap/exact/light_validation.hpp — lights must lie strictly outside every occluder.
 //
 // A light on an occluder's surface makes "the side of a triangle the light is
 // on" meaningless there; a light inside an occluder makes every shadow volume

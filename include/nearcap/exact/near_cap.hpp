@@ -1,4 +1,4 @@
-// nearcap/near_cap.hpp — the true near-cap: an exact planar arrangement of the
+// nearcap/exact/near_cap.hpp — the true near-cap: an exact planar arrangement of the
 // near rectangle into faces of constant near-cap count.
 //
 // For light l and a point p of the near rectangle R (camera space, z = -near),

@@ -1,4 +1,4 @@
-// nearcap/perturbation.hpp — nearcap's one degeneracy policy for sample points.
+// nearcap/exact/perturbation.hpp — nearcap's one degeneracy policy for sample points.
 //
 // Pixel centres, near-rectangle points and probe points are perturbed
 // symbolically (Simulation of Simplicity):

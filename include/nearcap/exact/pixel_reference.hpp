@@ -1,4 +1,4 @@
-// nearcap/pixel_reference.hpp — the exact per-pixel reference: what the
+// nearcap/exact/pixel_reference.hpp — the exact per-pixel reference: what the
 // stencil buffer should hold.
 //
 // For light l and pixel (i, j) (column i from the left, row j from the bottom;

@@ -1,4 +1,4 @@
-// nearcap/quad_case.hpp — ZP+ section 5: where the near plane cuts a side quad.
+// nearcap/exact/quad_case.hpp — ZP+ section 5: where the near plane cuts a side quad.
 //
 // The infinite side quad Q of silhouette edge E_m = [A, D] for light l has the
 // finite vertices A, D and two vertices at infinity, A_inf (direction A - l)

@@ -1,4 +1,4 @@
-// nearcap/segment_crossing.hpp — does the segment from a light to a sample point
+// nearcap/exact/segment_crossing.hpp — does the segment from a light to a sample point
 // cross a triangle?  And the near-cap count built on it.
 //
 // The segment is [l, p_eps]: l the light (fixed, exact), p_eps a sample point

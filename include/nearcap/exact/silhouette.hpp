@@ -1,4 +1,4 @@
-// nearcap/silhouette.hpp — silhouette edges of a closed mesh for a light.
+// nearcap/exact/silhouette.hpp — silhouette edges of a closed mesh for a light.
 //
 // A silhouette edge separates a light-front-facing triangle from one that is
 // not (back-facing or edge-on).  It is reported as (a, d) in the winding of its

@@ -1,4 +1,4 @@
-// nearcap/engine_classification.hpp — the same silhouettes and cases in plain float.
+// nearcap/gl/engine_classification.hpp — the same silhouettes and cases in plain float.
 //
 // What a shadow-volume engine computes during silhouette extraction (ZP+ section
 // 5: "the cases are explicitly examined during the search for silhouette

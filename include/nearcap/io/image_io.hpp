@@ -1,4 +1,4 @@
-// nearcap/image_io.hpp — image encoders, to bytes in memory (the caller writes
+// nearcap/io/image_io.hpp — image encoders, to bytes in memory (the caller writes
 // them atomically).  Rows are given TOP row first, as both formats store them.
 #pragma once
 

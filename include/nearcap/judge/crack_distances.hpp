@@ -1,4 +1,4 @@
-// nearcap/crack_distances.hpp — the crack distance (exact/crack_distance.hpp)
+// nearcap/judge/crack_distances.hpp — the crack distance (exact/crack_distance.hpp)
 // of a frame's wrong pixels, measured once per pixel for every method.
 //
 // The crack distance is a property of the exact image, not of the method, so

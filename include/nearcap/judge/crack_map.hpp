@@ -1,4 +1,4 @@
-// nearcap/crack_map.hpp — a float pipeline's stencil buffer judged pixel by
+// nearcap/judge/crack_map.hpp — a float pipeline's stencil buffer judged pixel by
 // pixel against the exact reference: the crack pixels.
 //
 // Per pixel (i, j), with ref the exact reference (pixel_reference.hpp) and

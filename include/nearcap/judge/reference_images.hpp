@@ -1,4 +1,4 @@
-// nearcap/reference_images.hpp — the per-pixel reference as image files.
+// nearcap/judge/reference_images.hpp — the per-pixel reference as image files.
 //
 // cap.pgm and stencil.pgm: 16-bit binary PGM, the file's first row the image's
 // TOP row (PGM's order; PixelReference stores GL's bottom row first).  A count

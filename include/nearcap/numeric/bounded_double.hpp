@@ -1,4 +1,4 @@
-// nearcap/bounded_double.hpp — a double with a certified bound on its error.
+// nearcap/numeric/bounded_double.hpp — a double with a certified bound on its error.
 //
 // BoundedDouble{v, e} stands for an unknown exact real X with |X - v| <= e.
 // Arithmetic keeps that true under IEEE-754 binary64 round-to-nearest: every

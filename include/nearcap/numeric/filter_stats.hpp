@@ -1,4 +1,4 @@
-// nearcap/filter_stats.hpp — how often each exact predicate needed rationals.
+// nearcap/numeric/filter_stats.hpp — how often each exact predicate needed rationals.
 //
 // Every predicate first evaluates its expression in BoundedDouble; only when
 // zero lies inside the certified error bound does it recompute over rationals.

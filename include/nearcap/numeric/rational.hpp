@@ -1,4 +1,4 @@
-// nearcap/rational.hpp — the exact number type of nearcap's exact paths.
+// nearcap/numeric/rational.hpp — the exact number type of nearcap's exact paths.
 //
 // GMP's mpq_class: exact rationals, the same arithmetic CGAL's Exact_rational
 // wraps (CGAL::Gmpq), but a header that costs a tenth of a second to compile

@@ -1,4 +1,4 @@
-// nearcap/sign.hpp — the result type of every combinatorial predicate.
+// nearcap/numeric/sign.hpp — the result type of every combinatorial predicate.
 #pragma once
 
 namespace nearcap {

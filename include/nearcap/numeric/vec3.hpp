@@ -1,4 +1,4 @@
-// nearcap/vec3.hpp — a 3-vector over any number type, and affine 3x4 maps.
+// nearcap/numeric/vec3.hpp — a 3-vector over any number type, and affine 3x4 maps.
 //
 // One template serves the three arithmetics nearcap uses: double (estimates),
 // BoundedDouble (filters with a certified error bound) and exact rationals

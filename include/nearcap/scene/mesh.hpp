@@ -1,4 +1,4 @@
-// nearcap/mesh.hpp — triangle meshes: positions and topology, nothing else.
+// nearcap/scene/mesh.hpp — triangle meshes: positions and topology, nothing else.
 //
 // A TriangleMesh is what a scene object needs: vertex positions in object space
 // (doubles, exactly as read) and triangles as vertex-index triples, in the

@@ -1,4 +1,4 @@
-// nearcap/scene.hpp — what a scene is: a camera, point lights, mesh objects.
+// nearcap/scene/scene.hpp — what a scene is: a camera, point lights, mesh objects.
 //
 // Frames: object space (mesh files) --object_to_world--> world space
 // --camera.view--> camera space (OpenGL eye space: the camera at the origin

@@ -1,0 +1,96 @@
+// nearcap/analysis/work_estimate.hpp — what a frame will draw, per occluder
+// and method, estimated before drawing: the work (device_profile.hpp's
+// FrameWork) that the switch policy's cost decision prices with a device
+// profile, and that `nearcap calibrate` can pair with the passes it times so
+// that the profile is fitted against the estimate (predicted time =
+// profile(estimate)).
+//
+// Per occluder (camera space, double, from the scene's exact doubles):
+//   triangles          the mesh's;
+//   silhouette edges   facing from the object-space face planes, sign of
+//                      n . (l - a) (gl::engine_silhouette decides the same sign
+//                      in float32: the two agree except on faces within
+//                      rounding of edge-on to the light);
+//   light-facing       the light cap's triangles (the dark cap: the others);
+//   near-plane work    the triangles the clipped-sides cap builder tests (0
+//                      where it skips the occluder: its bounds on one side of
+//                      the near plane, or certainly outside the light pyramid)
+//                      and, of those, the ones that straddle the near plane
+//                      (the cap's fan has about one triangle per such one);
+//   footprints         pixel centres of the viewport in the projected convex
+//                      hull's bounding box of: the occluder's box, clipped to
+//                      the near plane; its shadow volume (the box's corners and
+//                      their directions from the light), clipped likewise; and
+//                      that volume's section by the near plane (the near-cap
+//                      can cover no more), each grown by a pixel for the
+//                      rasterizer's snapping.
+// The fragment estimates are footprints times layers: 2 for a closed surface
+// (front and back), 1 for the paper's near-cap pass (one facing culled).
+// For a convex occluder (a line meets its surface, and its convex shadow
+// volume's, at most twice) each is an upper bound on the fragments the pass
+// rasterizes; for others an estimate whose scale the fitted profile absorbs
+// (tests/cost_decision_test.cpp checks the bounds and the counts against the
+// emulation's draw counters).
+//
+// Triangle counts equal the emulation's submitted triangles (DrawCounters::
+// triangles) where the method's draws are known before drawing: the depth
+// pre-pass, Z-pass's and ZP+'s sides, Z-fail's closed volume, the paper
+// near-cap pass.  ZP+ corrected's corrective quads and case-D switches and
+// the clipped-sides cap's fan are decided while drawing: estimates.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap::analysis {
+
+// One candidate of the cost decision: a method and, for a ZP+ method, its
+// near-cap (LightProjection::ClippedSides, or the paper's light frustum;
+// Composed counts as the paper's).
+struct CandidateMethod {
+  gl::ShadowMethod method = gl::ShadowMethod::ZFail;
+  gl::LightProjection cap = gl::LightProjection::Paper;
+  std::string name() const;  // "zpass", "zfail", "zpplus-paper", "zpplus-clipped-sides", "zpplus-corrected-paper"
+};
+
+// What the estimate reads of one occluder under one light (see above).
+struct OccluderWorkInputs {
+  std::size_t object = 0;  // scene object index
+  double triangles = 0;
+  double silhouette_edges = 0;
+  double light_facing = 0;
+  double clipped_cap_tested = 0;     // triangles the clipped-sides cap builder visits
+  double near_plane_straddling = 0;  // of those, the ones with vertices on both sides of the near plane
+  double occluder_pixels = 0, volume_pixels = 0, near_cap_pixels = 0;
+  // gl::certainly_misses_light_pyramid: the near-cap is certainly empty, so
+  // Z-pass is exact without the exact test.
+  bool certainly_misses_light_pyramid = false;
+};
+
+// Occluder `object` under scene.lights[light].  The object must be an
+// occluder with adjacency (validate_occluder) and face planes.
+OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light);
+
+// The work of one occluder drawn with `c`, CPU included (its near-cap's
+// construction; `exact_test`: the exact empty-near-cap test's triangles
+// counted), shared passes and silhouettes excluded.
+FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c, bool exact_test = false);
+
+// What every method of the frame pays once: the depth pre-pass and the lit
+// pass over every object, and every occluder's silhouette.
+FrameWork shared_frame_work(const Scene& scene);
+
+// The estimate of a whole frame drawn as ShadowFrameBatch(scene, light,
+// settings).render(object_methods) draws it (the cap kind from
+// settings.light_frustum.projection; the exact test not counted): what
+// calibration pairs with the frame's measured passes.
+FrameWork estimate_frame_work(const Scene& scene, std::size_t light,
+                              const std::vector<gl::ShadowMethod>& object_methods,
+                              const gl::EmulationSettings& settings);
+
+}  // namespace nearcap::analysis
