@@ -78,7 +78,7 @@ rm -f out/sweep/tuning.csv
   --light-projection clipped-sides --zpass-far infinite --out out/sweep/tuning.csv >/dev/null
 ./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json --capped zpplus \
   --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides --no-exact-zpass \
-  --features log_light_near_distance,log_l_far_over_width,log_delta_over_width,log_skew
+  --features none
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json
 echo "== nearcap sweep --variant ...: the l_near rules and P_l formulations (out/sweep/variants/index.html)"

@@ -28,6 +28,7 @@
 namespace nearcap {
 namespace {
 
+using analysis::PassKind;
 using analysis::SwitchPolicy;
 
 // Synthetic data from a known logistic model: the fit finds its weights.
@@ -305,9 +306,21 @@ bool decisions_differ(const std::vector<SwitchPolicy>& variants) {
   return false;
 }
 
-// The crack model at P = 0 and at P = 1 (its features kept).
+// The crack model at P = 0 and at P = 1 (its features kept).  With a
+// device profile, one under which the paper cap is the cheapest candidate
+// wherever it is admitted (Z-fail's caps, the clipped-sides cap's CPU work
+// and the exact test dear), so that admitting it shows.
 bool decide_reads_crack_model(const SwitchPolicy& p) {
   SwitchPolicy never = p, always = p;
+  if (p.device_profile) {
+    analysis::DeviceProfile d;
+    d.origin = "hand";
+    for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) d.passes[k] = {1e-3, 1, 1};
+    for (PassKind k : {PassKind::LightCap, PassKind::DarkCap}) d.passes[static_cast<std::size_t>(k)] = {1, 1e6, 1e6};
+    d.cpu.ms_per_ktriangle_clipped_cap = 1e6;
+    d.cpu.ms_per_ktriangle_exact_test = 1e6;
+    never.device_profile = always.device_profile = d;
+  }
   never.crack_model.bias = -1000;
   always.crack_model.bias = 1000;
   return decisions_differ({never, always});
@@ -340,35 +353,40 @@ bool has(const std::vector<std::string>& names, const std::string& name) {
 
 // unread_policy_models (what tune refuses to write and the shipped policies
 // must not carry) says what decide() does, over the switches that decide
-// whether a model is asked: with and without the exact Z-pass test, with a
-// capped method that draws a near-cap and one that does not.
+// whether a model is asked: with and without a device profile, with and
+// without the exact Z-pass test, a capped method that draws a near-cap or
+// not, the paper's cap or the clipped-sides one.
 TEST(SwitchPolicy, TheUnreadModelsAreTheOnesDecideNeverReads) {
-  SwitchPolicy base = analysis::parse_policy(valid_policy(), "p.json");
-  base.device_profile = analysis::DeviceProfile{};
+  const SwitchPolicy base = analysis::parse_policy(valid_policy(), "p.json");
   int checked = 0;
-  for (bool exact : {true, false})
-    for (gl::ShadowMethod capped :
-         {gl::ShadowMethod::ZPPlusCorrected, gl::ShadowMethod::ZPPlus, gl::ShadowMethod::ZFail}) {
-      if (!exact && !gl::uses_near_cap(capped)) continue;  // not a policy (parse_policy refuses it)
-      SwitchPolicy p = base;
-      p.exact_zpass = exact;
-      p.capped_method = capped;
-      p.fallback_method = capped == gl::ShadowMethod::ZFail ? gl::ShadowMethod::Preload : gl::ShadowMethod::ZFail;
-      const std::vector<std::string> unread = analysis::unread_policy_models(p);
-      EXPECT_EQ(has(unread, "crack_model"), !decide_reads_crack_model(p))
-          << "exact_zpass " << exact << ", capped " << gl::to_string(capped);
-      EXPECT_EQ(has(unread, "device_profile"), !decide_reads_device_profile(p))
-          << "exact_zpass " << exact << ", capped " << gl::to_string(capped);
-      ++checked;
-    }
-  EXPECT_EQ(checked, 5);
-  // Where the model is read, the decision really changes with it.
-  EXPECT_TRUE(decide_reads_crack_model(analysis::parse_policy(valid_policy(), "p.json")));
+  for (bool profile : {false, true})
+    for (bool exact : {true, false})
+      for (gl::LightProjection projection : {gl::LightProjection::Paper, gl::LightProjection::ClippedSides})
+        for (gl::ShadowMethod capped :
+             {gl::ShadowMethod::ZPPlusCorrected, gl::ShadowMethod::ZPPlus, gl::ShadowMethod::ZFail}) {
+          if (!exact && !gl::uses_near_cap(capped)) continue;  // not a policy (parse_policy refuses it)
+          SwitchPolicy p = base;
+          if (profile) p.device_profile = analysis::DeviceProfile{};
+          p.exact_zpass = exact;
+          p.light_projection = projection;
+          p.capped_method = capped;
+          p.fallback_method = capped == gl::ShadowMethod::ZFail ? gl::ShadowMethod::Preload : gl::ShadowMethod::ZFail;
+          const std::vector<std::string> unread = analysis::unread_policy_models(p);
+          const std::string where = std::string("profile ") + (profile ? "yes" : "no") + ", exact_zpass " +
+                                    (exact ? "true" : "false") + ", " + std::string(gl::to_string(projection)) +
+                                    ", capped " + std::string(gl::to_string(capped));
+          EXPECT_EQ(has(unread, "crack_model"), !decide_reads_crack_model(p)) << where;
+          if (profile) {
+            EXPECT_FALSE(has(unread, "device_profile")) << where;
+            EXPECT_TRUE(decide_reads_device_profile(p)) << where;
+          }
+          ++checked;
+        }
+  EXPECT_EQ(checked, 20);
   // A model without features is not a fitted one: nothing to report unread.
   SwitchPolicy none = base;
   none.exact_zpass = false;
   none.crack_model = {};
-  none.device_profile.reset();
   EXPECT_TRUE(analysis::unread_policy_models(none).empty());
   none.cost_models.push_back({gl::ShadowMethod::ZFail, {}});
   EXPECT_TRUE(has(analysis::unread_policy_models(none), "cost_models"));  // decide() reads no cost model

@@ -103,7 +103,7 @@ FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms",
 PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + PASS_COLUMNS
-POLICY_VERSIONS = (1, 3)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
+POLICY_VERSIONS = (1, 4)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
 MAX_LINE_BYTES = 1 << 20  # a sweep row is under 1 kB; a longer line is not a sweep CSV
 FEATURE_POINTS = 20000  # scatter points kept per (feature, method, cracked or not) before sampling
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
@@ -852,10 +852,13 @@ class Report:
                           fmt(float(cm["ms_per_mfragment"])),
                           fmt(100 * float(errors.get("train_median_relative_error", float("nan")))),
                           fmt(100 * float(errors.get("held_out_median_relative_error", float("nan"))))])
+        cost_header = ["method", "ms", "ms per M triangles", "ms per M fragments", "train error %",
+                       "held-out error %"]
         if costs:
             text += "<p>Cost models (frame time from the work drawn; median relative error in %):</p>"
-            text += self.table(["method", "ms", "ms per M triangles", "ms per M fragments", "train error %",
-                                "held-out error %"], costs, "policy_costs.csv")
+            text += self.table(cost_header, costs, "policy_costs.csv")
+        else:
+            self.table(cost_header, costs, "policy_costs.csv")  # the CSV, header only: the decision reads none
         self.sections.append(("The switch policy's fitted models", text))
 
     # ---- 5d. the policy's cost against its targets ---------------------------

@@ -459,10 +459,14 @@ Confusion confusion(const CrackModel& model, const std::vector<PolicySample>& sa
 
 std::vector<std::string> unread_policy_models(const SwitchPolicy& policy) {
   std::vector<std::string> unread;
-  if (!policy.crack_model.features.empty() && !(policy.exact_zpass && gl::uses_near_cap(policy.capped_method)))
-    unread.push_back("crack_model");
+  // Without a profile the model is asked before drawing the capped ZP+ for
+  // an occluder the exact test could not give Z-pass; with one (the cost
+  // decision) it admits the paper-cap candidate, whatever the exact test.
+  const bool paper_cap = policy.light_projection != gl::LightProjection::ClippedSides;
+  const bool crack_model_read =
+      gl::uses_near_cap(policy.capped_method) && (policy.device_profile ? paper_cap : policy.exact_zpass);
+  if (!policy.crack_model.features.empty() && !crack_model_read) unread.push_back("crack_model");
   if (!policy.cost_models.empty()) unread.push_back("cost_models");
-  if (policy.device_profile) unread.push_back("device_profile");
   return unread;
 }
 

@@ -109,10 +109,12 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& samples, gl::ShadowMet
 
 // The models a policy carries that decide() never reads given the policy's
 // own switches, by their policy.json names: "crack_model" (with features)
-// when there is no exact Z-pass test or the capped method draws no near-cap
-// (the model is asked only for occluders that meet the light pyramid, before
-// drawing ZP+); "cost_models" when any (decide() reads none);
-// "device_profile" when one is present and decide() does not read it.
+// when the capped method draws no near-cap, or, without a device profile,
+// when there is no exact Z-pass test (the model is asked only for occluders
+// that test could not give Z-pass, before drawing ZP+), or, with one, when
+// the light projection is clipped-sides (the model admits the paper-cap
+// candidate only); "cost_models" when any (decide() reads none).  A device
+// profile is always read (the cost decision).
 // This restates decide()'s branches (switch_policy.cpp); the tests check it
 // against decide() itself, so a change there that reads a model fails them
 // until this says so.

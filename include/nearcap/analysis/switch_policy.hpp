@@ -121,8 +121,10 @@ struct SwitchPolicy {
   std::optional<gl::DepthMapping> depth_mapping;
   std::optional<gl::NearPlane> near_plane;  // the tight near plane, or the scene's
   CrackModel crack_model;
-  // Optional: fitted cost models by method (reported; the decision's order
-  // Z-pass < ZP+ corrected < Z-fail does not need them yet).
+  // Optional, read and checked where a file has them: per-method frame-time
+  // models.  decide() reads none and `nearcap tune` writes none (a model the
+  // decision never reads is not written: policy_fit.hpp,
+  // unread_policy_models); the decision's costs are the device profile's.
   std::vector<std::pair<gl::ShadowMethod, CostModel>> cost_models;
   // Version 4, optional: what each pass and CPU task costs on the GL the
   // policy was calibrated on (device_profile.hpp); the decision's costs.
