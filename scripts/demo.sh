@@ -14,7 +14,12 @@
 #   3. tunes a switch policy on the same configurations (ZP+ with the
 #      clipped-sides near-cap and Z-fail, both with the infinite far plane,
 #      out/sweep/tuning.csv), as analysis/tuning/tune_policy.sh tunes the
-#      shipped one: out/sweep/policy.json, and prints how it classifies them;
+#      shipped one, prints how it classifies them, calibrates its device
+#      profile on the real GL (40 configurations of seed 1 and the zoom and
+#      looking_at paths): out/sweep/policy.json; then judges it against the
+#      oracle and the fixed rules end to end on data it was not tuned on (40
+#      configurations of seed 4242 and near_plane_sweep's frames 40-59) and
+#      prints the table: out/sweep/oracle/table.md;
 #   4. writes the report, with that policy's fitted models:
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
@@ -72,13 +77,22 @@ if [ -e out/sweep/rows.csv ]; then
   rm -rf "$probe"
 fi
 "${sweep[@]}" "${resume[@]}"
-echo "== nearcap tune: a switch policy fitted on these configurations (out/sweep/policy.json)"
+echo "== nearcap tune: a switch policy fitted on these configurations (out/sweep/tuned.json)"
 rm -f out/sweep/tuning.csv
 ./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus,zfail \
   --light-projection clipped-sides --zpass-far infinite --out out/sweep/tuning.csv >/dev/null
-./build/nearcap tune out/sweep/tuning.csv --out out/sweep/policy.json --capped zpplus \
-  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides --no-exact-zpass \
+./build/nearcap tune out/sweep/tuning.csv --out out/sweep/tuned.json --capped zpplus \
+  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides \
   --features none
+if ./build/nearcap calibrate --samples 40 --seed 1 --path data/paths/zoom.json --path data/paths/looking_at.json \
+  --out out/sweep/calibration.csv --policy out/sweep/tuned.json --write-policy out/sweep/policy.json; then
+  echo "== nearcap evaluate: that policy against the oracle on data it was not tuned on (out/sweep/oracle/table.md)"
+  ./build/nearcap evaluate --policy out/sweep/policy.json --samples 40 --seed 4242 \
+    --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 59 --repeats 2 --out out/sweep/oracle
+else
+  echo "   (no headless OpenGL: the policy keeps no device profile and is not timed against the oracle)"
+  cp out/sweep/tuned.json out/sweep/policy.json
+fi
 echo "== nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json"
 ./build/nearcap report out/sweep/rows.csv --out out/sweep/report --policy out/sweep/policy.json
 echo "== nearcap sweep --variant ...: the l_near rules and P_l formulations (out/sweep/variants/index.html)"

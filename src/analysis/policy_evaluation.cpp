@@ -118,6 +118,8 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
       oracle.rule = std::string(kOracleRule);
       oracle.chosen = best->rule;
       ++t.oracle_choices[best->rule];
+      if (const EvaluationRow* policy = g.row("policy"); policy != nullptr && !policy->chosen.empty())
+        ++t.policy_choices[policy->chosen];
       out.oracle_rows.push_back(oracle);
       for (const std::string& rule : listed) {
         const EvaluationRow* r = rule == kOracleRule ? &oracle : g.row(rule);
@@ -204,6 +206,15 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
     }
     if (t.oracle_choices.empty()) s << " none";
     s << "\n";
+    if (!t.policy_choices.empty()) {
+      s << "- the policy's choices:";
+      sep = " ";
+      for (const auto& [methods, n] : t.policy_choices) {
+        s << sep << methods << " " << n;
+        sep = ", ";
+      }
+      s << "\n";
+    }
     s << "- the policy's decision: " << fixed(100 * t.decision_share, 2) << "% of its end-to-end time\n";
     if (t.noise_pairs > 0)
       s << "- noise floor: Z-fail's frame timed twice, end-to-end again/first " << fixed(t.noise_p05, 3) << " to "

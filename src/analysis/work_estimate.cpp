@@ -211,6 +211,10 @@ FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c, 
       pass(PassKind::LightCap, in.light_facing, 2 * in.occluder_pixels);
       pass(PassKind::DarkCap, in.triangles - in.light_facing, 2 * in.volume_pixels);
       break;
+    case gl::ShadowMethod::AtomicZP:  // Z-pass's sides, depth-clamped, and the eye count over every triangle
+      pass(PassKind::Sides, sides, 2 * in.volume_pixels);
+      pass(PassKind::NearCap, in.triangles, 0);
+      break;
     case gl::ShadowMethod::Preload:  // the closed volume twice
       pass(PassKind::Sides, 2 * sides, 4 * in.volume_pixels);
       pass(PassKind::LightCap, 2 * in.light_facing, 4 * in.occluder_pixels);

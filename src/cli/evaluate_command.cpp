@@ -73,6 +73,23 @@ struct RuleFrame {
   std::string refused;
 };
 
+// A decided frame's methods, as the candidates are named: each occluder's
+// method once, in scene order, "+"-joined ("zpass+zpplus-clipped").
+std::string methods_chosen(const Scene& scene, const RuleFrame& r) {
+  std::vector<std::string> names;
+  for (std::size_t o = 0; o < scene.objects.size() && o < r.object_methods.size(); ++o) {
+    if (!scene.objects[o].occluder) continue;
+    std::string name(gl::to_string(r.object_methods[o]));
+    if (r.object_methods[o] == gl::ShadowMethod::ZPPlus)
+      name =
+          r.settings.light_frustum.projection == gl::LightProjection::ClippedSides ? "zpplus-clipped" : "zpplus-paper";
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : "+") + n;
+  return out;
+}
+
 RuleFrame rule_frame(std::string rule, std::optional<gl::ShadowMethod> method,
                      std::vector<gl::ShadowMethod> object_methods, const gl::EmulationSettings& settings,
                      double decision_ms = 0) {
@@ -208,6 +225,7 @@ class Evaluation {
       row.rule = r.rule;
       row.applies = r.applies;
       row.decision_ms = r.decision_ms;
+      if (r.rule == "policy") row.chosen = methods_chosen(scene, r);
       try {
         r.frame = draw(scene, light, r);
         CrackReport report = judge_frame(r.frame, ref);

@@ -97,7 +97,7 @@ struct EvaluationRow {
   // biased low (the winner's curse): choosing on some rounds and counting
   // the chosen frame's time of the others is not.
   std::optional<double> choice_ms;
-  std::string chosen;  // oracle rows: the candidate it is
+  std::string chosen;  // oracle rows: the candidate it is; the policy's: its occluders' methods, "+"-joined
 };
 
 // No more wrong pixels and no more cracks than Z-fail's row of the same
@@ -126,6 +126,7 @@ struct SetTable {
   // The oracle, the policy, the fixed rules, then the candidates.
   std::vector<RuleTotals> rules;
   std::map<std::string, std::size_t> oracle_choices;  // candidate -> (configuration, light) it won
+  std::map<std::string, std::size_t> policy_choices;  // the policy's methods -> (configuration, light)
   double decision_share = 0;                          // the policy's decision_ms / its end_to_end_ms
   std::size_t noise_pairs = 0;                        // Z-fail timed twice in a compared group
   double noise_p05 = 0, noise_p95 = 0;                // again / first, 5th and 95th percentiles
