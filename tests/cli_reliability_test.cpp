@@ -345,7 +345,7 @@ TEST_F(Reliability, AMethodThatRefusesTheFrameDoesNotStopTheOthers) {
   const test::CliResult all = run("cracks " + path("k.json") + " --light 0");
   ASSERT_EQ(all.exit_code, 0) << all.err;
   const nlohmann::json records = nlohmann::json::parse(all.out)["methods"];
-  ASSERT_EQ(records.size(), 7u);  // the five methods, the switch policy and raytrace
+  ASSERT_EQ(records.size(), 8u);  // the six methods, the switch policy and raytrace
   std::size_t refused = 0;
   for (const nlohmann::json& r : records) {
     if (r.contains("refused")) {

@@ -302,7 +302,7 @@ TEST(PolicyReader, IsStrict) {
   expect_policy_error(replaced("\"l_near_over_l_far\"]", "\"log_skew\"]"), ErrorKind::Schema,
                       "crack_model.features[1]: 'log_skew' appears twice");
   expect_policy_error(replaced("\"version\": 3", "\"version\": 99"), ErrorKind::Schema,
-                      "version: 99 is not a version this nearcap reads (1 to 3)");
+                      "version: 99 is not a version this nearcap reads (1 to 4)");
   expect_policy_error(replaced("\"bias\": -3", "\"bias\": 1e999"), ErrorKind::Parse,
                       "p.json: crack_model.bias: not JSON: number overflow parsing '1e999'");
   expect_policy_error(replaced("\"mean\": [0, 0.2]", "\"mean\": [0, -1e999]"), ErrorKind::Parse,
