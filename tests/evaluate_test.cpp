@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -206,6 +207,31 @@ TEST(PolicyEvaluation, NoiseFloorDecisionShareAndWindow) {
   EXPECT_NE(md.find("frames 40-59: policy 200.00 ms against min(Z-fail, Z-pass where right) 130.00 ms"),
             std::string::npos)
       << md;
+}
+
+// The policy's predicted frame time is judged by its median relative error,
+// beside the noise floor's median deviation from 1.
+TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
+  std::vector<EvaluationRow> rows;
+  const double predicted[] = {9, 10, 12, 15, 10};  // errors 10%, 0%, 20%, 50%, 0% of the measured 10 ms
+  for (int k = 0; k < 5; ++k) {
+    const std::string c = "sample:7:" + std::to_string(k);
+    std::vector<EvaluationRow> g = group(c, 10);
+    find(g, c, "policy").predicted_ms = predicted[k];
+    find(g, c, "zfail").end_to_end_ms = 10;
+    g.push_back(row(c, std::string(analysis::kNoiseRule), k < 3 ? 11 : 9.5));  // |x - 1|: .1 .1 .1 .05 .05
+    rows = joined(rows, g);
+  }
+  const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  ASSERT_EQ(table.sets.size(), 1u);
+  EXPECT_NEAR(table.sets[0].predicted_median_error, 0.10, 1e-12);
+  EXPECT_NEAR(table.sets[0].noise_median_deviation, 0.10, 1e-12);
+  const std::string md = analysis::evaluation_table_markdown(table);
+  EXPECT_NE(md.find("predicted frame time (device profile, before drawing): median error 10.0%"), std::string::npos)
+      << md;
+  // Without a profile there is no prediction to judge.
+  for (EvaluationRow& r : rows) r.predicted_ms.reset();
+  EXPECT_TRUE(std::isnan(analysis::evaluate_rows(rows).sets[0].predicted_median_error));
 }
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {

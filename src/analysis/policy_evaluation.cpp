@@ -2,6 +2,7 @@
 #include "nearcap/analysis/policy_evaluation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -89,7 +90,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
     t.set = name;
     std::map<std::string, RuleTotals> totals;
     for (const std::string& rule : listed) totals[rule].rule = rule;
-    std::vector<double> noise;
+    std::vector<double> noise, predicted_error;
     WindowComparison window;
     for (const auto& [key, g] : sets[name]) {
       // Compared only where Z-fail, every fixed rule and the policy drew.
@@ -139,6 +140,8 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
       if (const EvaluationRow* again = g.row(kNoiseRule);
           again != nullptr && !again->refused && zfail.end_to_end_ms > 0)
         noise.push_back(again->end_to_end_ms / zfail.end_to_end_ms);
+      if (const EvaluationRow* policy = g.row("policy"); policy->predicted_ms && policy->end_to_end_ms > 0)
+        predicted_error.push_back(std::abs(*policy->predicted_ms - policy->end_to_end_ms) / policy->end_to_end_ms);
       if (name == kWindowSet && g.frame >= kWindowFirstFrame && g.frame <= kWindowLastFrame) {
         double best_ms = zfail.end_to_end_ms;
         if (const EvaluationRow* zpass = g.row("zpass");
@@ -158,9 +161,13 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
     const RuleTotals& policy = totals["policy"];
     t.decision_share = policy.end_to_end_ms > 0 ? policy.decision_ms / policy.end_to_end_ms : 0;
     t.noise_pairs = noise.size();
+    if (!predicted_error.empty()) t.predicted_median_error = quantile(predicted_error, 0.5);
     if (!noise.empty()) {
       t.noise_p05 = quantile(noise, 0.05);
       t.noise_p95 = quantile(noise, 0.95);
+      std::vector<double> deviation;
+      for (double x : noise) deviation.push_back(std::abs(x - 1));
+      t.noise_median_deviation = quantile(deviation, 0.5);
     }
     if (window.groups > 0) t.window = window;
     out.sets.push_back(std::move(t));
@@ -218,7 +225,11 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
     s << "- the policy's decision: " << fixed(100 * t.decision_share, 2) << "% of its end-to-end time\n";
     if (t.noise_pairs > 0)
       s << "- noise floor: Z-fail's frame timed twice, end-to-end again/first " << fixed(t.noise_p05, 3) << " to "
-        << fixed(t.noise_p95, 3) << " (5th to 95th percentile, " << t.noise_pairs << " pairs)\n";
+        << fixed(t.noise_p95, 3) << " (5th to 95th percentile, " << t.noise_pairs << " pairs; median |again/first - 1| "
+        << fixed(100 * t.noise_median_deviation, 1) << "%)\n";
+    if (!std::isnan(t.predicted_median_error))
+      s << "- the policy's predicted frame time (device profile, before drawing): median error "
+        << fixed(100 * t.predicted_median_error, 1) << "% of the measured end-to-end time\n";
     else
       s << "- noise floor: no pair timed\n";
     if (t.window) {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -68,6 +69,7 @@ struct RuleFrame {
   std::vector<gl::ShadowMethod> object_methods;
   gl::EmulationSettings settings;
   double decision_ms = 0;
+  std::optional<double> predicted_ms;  // the policy's, with a device profile
   bool applies = true;
   gl::ShadowFrame frame;
   std::string refused;
@@ -170,7 +172,9 @@ class Evaluation {
     auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p) {
       analysis::PolicyDecision d = analysis::decide(p, cs, light, base_);
       d.settings.record_draws = true;
-      return rule_frame(name, std::nullopt, d.object_methods, d.settings, d.decide_ms);
+      RuleFrame r = rule_frame(name, std::nullopt, d.object_methods, d.settings, d.decide_ms);
+      if (!std::isnan(d.predicted_ms)) r.predicted_ms = d.predicted_ms;
+      return r;
     };
     const RuleFrame exact_zfail =
         decided("exact-zpass+zfail", exact_zpass_rule(gl::ShadowMethod::ZFail, gl::LightProjection::Paper));
@@ -226,6 +230,7 @@ class Evaluation {
       row.applies = r.applies;
       row.decision_ms = r.decision_ms;
       if (r.rule == "policy") row.chosen = methods_chosen(scene, r);
+      row.predicted_ms = r.predicted_ms;
       try {
         r.frame = draw(scene, light, r);
         CrackReport report = judge_frame(r.frame, ref);

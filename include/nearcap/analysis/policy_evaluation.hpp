@@ -42,6 +42,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -97,6 +98,9 @@ struct EvaluationRow {
   // biased low (the winner's curse): choosing on some rounds and counting
   // the chosen frame's time of the others is not.
   std::optional<double> choice_ms;
+  // The policy's rows: the frame time its device profile predicted before
+  // drawing (absent without a profile).
+  std::optional<double> predicted_ms;
   std::string chosen;  // oracle rows: the candidate it is; the policy's: its occluders' methods, "+"-joined
 };
 
@@ -130,7 +134,11 @@ struct SetTable {
   double decision_share = 0;                          // the policy's decision_ms / its end_to_end_ms
   std::size_t noise_pairs = 0;                        // Z-fail timed twice in a compared group
   double noise_p05 = 0, noise_p95 = 0;                // again / first, 5th and 95th percentiles
-  std::optional<WindowComparison> window;             // kWindowSet only
+  // Median |x - 1| of those ratios, and the median |predicted - measured| /
+  // measured of the policy's frame time (NaN without a profile).
+  double noise_median_deviation = 0;
+  double predicted_median_error = std::numeric_limits<double>::quiet_NaN();
+  std::optional<WindowComparison> window;  // kWindowSet only
   const RuleTotals* find(std::string_view rule) const;
 };
 
