@@ -26,11 +26,12 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARCAP_SA
 cmake --build build-asan
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # The tests that drive Mesa through EGL or GLX (the rasterizer probe, the
-# frame replay and lit frame, `nearcap render`, `nearcap view` under Xvfb)
+# frame replay and lit frame, the pass-kind timing, `nearcap render`, `calibrate`,
+# `evaluate`, `nearcap view` under Xvfb)
 # run with every check but leak detection: llvmpipe's driver, loaded by EGL
 # and unloaded at eglTerminate, leaves 9 small allocations (720 bytes) whose
 # stacks end inside it.
-egl_tests='^(LlvmpipeRasterizer|GlFrameReplayTest|LitFrameTest|LitShadingTest|GlslShadowProgramsTest|SideStripsTest|VolumeCullingGlTest|FarPlaneCapGlTest|RenderCommand|ViewCommand|ViewCommandErrors)\.'
+egl_tests='^(LlvmpipeRasterizer|GlFrameReplayTest|LitFrameTest|LitShadingTest|GlslShadowProgramsTest|SideStripsTest|VolumeCullingGlTest|FarPlaneCapGlTest|RenderCommand|ViewCommand|ViewCommandErrors|PassKinds|CalibrateCommand|EvaluateCommand)\.'
 NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E "$egl_tests"
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
