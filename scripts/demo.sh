@@ -15,17 +15,17 @@
 #      clipped-sides near-cap and Z-fail, both with the infinite far plane,
 #      out/sweep/tuning.csv), as analysis/tuning/tune_policy.sh tunes the
 #      shipped one, prints how it classifies them, calibrates its device
-#      profile on the real GL (40 configurations of seed 1 and the zoom and
-#      looking_at paths): out/sweep/policy.json; then judges it against the
-#      oracle and the fixed rules end to end on data it was not tuned on (40
-#      configurations of seed 4242 and near_plane_sweep's frames 40-59) and
-#      prints the table: out/sweep/oracle/table.md;
+#      profile on the real GL (40 configurations of seed 1 and the bundled
+#      paths but near_plane_sweep and fly_around): out/sweep/policy.json; then
+#      judges it against the oracle and the fixed rules end to end on data
+#      its profile was not fitted on (40 configurations of seed 4242 and
+#      near_plane_sweep's frames 40-59) and prints the table:
+#      out/sweep/oracle/table.md;
 #   4. writes the report, with that policy's fitted models:
 #      out/sweep/report/index.html;
 #   5. compares the l_near rules and P_l formulations on 300 hard cases where
 #      they matter (one series per variant): out/sweep/variants/index.html.
-# About 8 1/2 minutes on a fresh clone of a 2-core machine, the build included
-# (measured: 8 min 27 s).  Run again, it continues the
+# Run again, it continues the
 # sweep where it stopped (--resume; a CSV from other options or an older
 # nearcap is set aside as rows.csv.old) and rewrites the report.
 # Another scene for part 1: ./scripts/demo.sh data/scenes/NAME.json
@@ -84,8 +84,12 @@ rm -f out/sweep/tuning.csv
 ./build/nearcap tune out/sweep/tuning.csv --out out/sweep/tuned.json --capped zpplus \
   --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides \
   --features none
-if ./build/nearcap calibrate --samples 40 --seed 1 --path data/paths/zoom.json --path data/paths/looking_at.json \
-  --out out/sweep/calibration.csv --policy out/sweep/tuned.json --write-policy out/sweep/policy.json; then
+calibration=()
+for p in data/paths/*.json; do
+  case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
+done
+if ./build/nearcap calibrate --samples 40 --seed 1 "${calibration[@]}" --out out/sweep/calibration.csv \
+  --policy out/sweep/tuned.json --write-policy out/sweep/policy.json; then
   echo "== nearcap evaluate: that policy against the oracle on data it was not tuned on (out/sweep/oracle/table.md)"
   ./build/nearcap evaluate --policy out/sweep/policy.json --samples 40 --seed 4242 \
     --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 59 --repeats 2 --out out/sweep/oracle
