@@ -82,7 +82,7 @@ rm -f out/sweep/tuning.csv
 ./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus,zfail \
   --light-projection clipped-sides --zpass-far infinite --out out/sweep/tuning.csv >/dev/null
 ./build/nearcap tune out/sweep/tuning.csv --out out/sweep/tuned.json --capped zpplus \
-  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides \
+  --variant light-projection=clipped-sides,zpass-far=infinite --light-projection clipped-sides --no-exact-zpass \
   --features none
 calibration=()
 for p in data/paths/*.json; do

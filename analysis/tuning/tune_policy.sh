@@ -4,27 +4,29 @@
 #      every bundled camera path (160 x 120) with ZP+ and Z-fail, ZP+ with the
 #      clipped-sides near-cap (no light frustum, docs/findings/light-projection.md)
 #      and, like Z-fail, the infinite far plane;
-#   2. nearcap tune on both: the crack model asks whether this ZP+ cracks
-#      more than Z-fail anywhere; it never does there, so none is fitted
-#      (--features none; tune refuses to write one its switches bypass); the
-#      confusion tables on the configurations not held out and on those that
-#      are (docs/findings/policy.md) still count where ZP+ cracks more than
-#      Z-fail;
+#   2. nearcap tune on both, without an exact Z-pass test (--no-exact-zpass):
+#      ZP+ with this cap is Z-pass, fragment for fragment, wherever its float
+#      sides leave no cap in the viewport, and right where the float Z-pass of
+#      an occluder with an exactly empty near-cap is not (nearcap sample
+#      --seed 7 --index 638: a box 10^6 from the origin).  Without the test
+#      the decision asks no crack model, so none is fitted (--features none;
+#      tune refuses to write one its switches bypass); the confusion tables on
+#      the configurations not held out and on those that are
+#      (docs/findings/policy.md) still count where ZP+ cracks more than Z-fail;
 #   3. nearcap calibrate: the device profile on this machine's GL (each pass
 #      kind and CPU task timed on its own, fitted with Ceres), on 100 of the
 #      sampler's configurations (seed 100) and the bundled paths except
 #      near_plane_sweep and fly_around, which `nearcap evaluate` holds out
 #      (docs/findings/policy-oracle.md).  With it the policy decides per
-#      occluder by predicted cost among Z-pass (where the exact test finds the
-#      near-cap empty), ZP+ with the clipped-sides cap and Z-fail (docs/policy.md).
+#      occluder by predicted cost between ZP+ with the clipped-sides cap and
+#      Z-fail (docs/policy.md).
 #      Without headless OpenGL the policy is written without a profile (the
 #      clipped-sides ZP+ for every occluder);
 #   4. with --reversed-z: the same with reversed-Z (a float depth buffer and
 #      the reversed depth mapping) in the sweeps and the policy:
 #      data/policy-reversed-z.json; with --tight-near: the same with the
 #      tight near plane, data/policy-tight-near.json (docs/methods.md "Depth
-#      precision").  Both without the exact Z-pass test (the tight near plane
-#      moves the near plane that test decides for) and without a profile.
+#      precision").  Both without a profile.
 # A few minutes on 2 cores.  Usage:
 #   analysis/tuning/tune_policy.sh [--reversed-z|--tight-near] [BUILD_DIR] [OUT]
 #   (default: build, data/policy.json, data/policy-reversed-z.json or
@@ -62,13 +64,11 @@ paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
 "$n" sweep --samples 20000 --seed 100 --methods zpplus,zfail "${choices[@]}" --out "$work/samples.csv"
 "$n" sweep "${paths[@]}" --methods zpplus,zfail "${choices[@]}" --out "$work/paths.csv"
-exact=(--no-exact-zpass)
-[ "$cure" = none ] && exact=()
 tuned=$policy
 [ "$cure" = none ] && tuned=$work/tuned.json
 "$n" tune "$work/samples.csv" "$work/paths.csv" --out "$tuned" --capped zpplus \
   --variant "$variant" \
-  --light-projection clipped-sides "${exact[@]}" "${depth[@]}" \
+  --light-projection clipped-sides --no-exact-zpass "${depth[@]}" \
   --features none
 if [ "$cure" = none ]; then
   calibration=()
