@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.hpp"
 #include "nearcap/analysis/policy_evaluation.hpp"
 
@@ -357,6 +359,31 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
     EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir)) << c.args;
   }
+}
+
+// The shipped policy is as right as Z-fail where the float Z-pass is wrong
+// although the occluder's exact near-cap is empty (a box 10^6 from the
+// origin): an exact-Z-pass candidate would draw Z-pass there.
+TEST(ShippedPolicyRightness, AsRightAsZFailWhereFloatZPassIsWrongOnAnExactlyEmptyNearCap) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_shipped_policy_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string scene = (dir / "c.json").string();
+  ASSERT_EQ(test::run_cli("sample --seed 7 --index 638 --kinds all --width 48 --height 36 --out '" + scene + "'",
+                          "shipped_policy")
+                .exit_code,
+            0);
+  const test::CliResult r =
+      test::run_cli("cracks '" + scene + "' --light 0 --method zpass,zfail,policy", "shipped_policy");
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::map<std::string, nlohmann::json> by_method;
+  const nlohmann::json records = nlohmann::json::parse(r.out);
+  for (const nlohmann::json& m : records["methods"]) by_method[m["method"].get<std::string>()] = m;
+  ASSERT_EQ(by_method.count("zpass") + by_method.count("zfail") + by_method.count("policy"), 3u) << r.out;
+  EXPECT_GT(by_method["zpass"]["wrong"].get<long>(), by_method["zfail"]["wrong"].get<long>());
+  EXPECT_LE(by_method["policy"]["wrong"].get<long>(), by_method["zfail"]["wrong"].get<long>());
+  EXPECT_LE(by_method["policy"]["cracks"].get<long>(), by_method["zfail"]["cracks"].get<long>());
 }
 
 }  // namespace
