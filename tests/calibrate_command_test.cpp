@@ -66,6 +66,12 @@ TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCo
   const analysis::SwitchPolicy written = analysis::load_policy(policy.string());
   ASSERT_TRUE(written.device_profile);
   EXPECT_EQ(written.device_profile->origin, "calibrated");
+  // The provenance says what the profile was measured on, beside the tuning's.
+  const nlohmann::json provenance = nlohmann::json::parse(written.provenance_json);
+  ASSERT_TRUE(provenance.contains("calibration")) << written.provenance_json;
+  EXPECT_EQ(provenance["calibration"]["gl_renderer"], written.device_profile->gl_renderer);
+  EXPECT_EQ(provenance["calibration"]["configurations"], 6);
+  EXPECT_EQ(provenance["calibration"]["seed"], 5);
   EXPECT_EQ(r.out.rfind("calibrated on " + written.device_profile->gl_renderer + ":", 0), 0u) << r.out;
   EXPECT_GT(written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mtriangle +
                 written.device_profile->passes[static_cast<std::size_t>(PassKind::Depth)].ms_per_mfragment +

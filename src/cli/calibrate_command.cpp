@@ -402,6 +402,27 @@ void run(CalibrateOptions o) {
     policy->device_profile =
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
     print_fit_report(*policy->device_profile, report);
+    // What the profile was measured on, beside how the policy was tuned.
+    nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
+    nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();
+    for (std::size_t k = 0; k < analysis::kPassKindCount; ++k)
+      if (std::isfinite(report.held_out_median_relative_error[k]))
+        held_out[std::string(analysis::kPassKindNames[k])] = report.held_out_median_relative_error[k];
+    const char* tasks[] = {"silhouette", "clipped_cap", "exact_test"};
+    for (std::size_t k = 0; k < 3; ++k)
+      if (std::isfinite(report.cpu_held_out_median_relative_error[k]))
+        cpu_held_out[tasks[k]] = report.cpu_held_out_median_relative_error[k];
+    provenance["calibration"] = {{"gl_renderer", context.renderer()},
+                                 {"samples", o.samples},
+                                 {"seed", o.sampler.seed},
+                                 {"paths", o.paths},
+                                 {"width", o.width},
+                                 {"height", o.height},
+                                 {"configurations", set.count()},
+                                 {"pass_observations", observations.passes.size()},
+                                 {"cpu_observations", observations.cpu.size()},
+                                 {"held_out_median_relative_error", {{"passes", held_out}, {"cpu", cpu_held_out}}}};
+    policy->provenance_json = json_text(provenance);
     files.push_back({o.write_policy, analysis::policy_to_json(*policy)});
   }
   io::write_output_files(files);
