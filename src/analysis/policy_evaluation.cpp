@@ -1,5 +1,6 @@
 // A switch policy judged against an oracle (see policy_evaluation.hpp).
 #include "nearcap/analysis/policy_evaluation.hpp"
+#include "csv_field.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,17 +13,6 @@ namespace nearcap::analysis {
 namespace {
 
 using GroupKey = std::pair<std::string, std::size_t>;  // configuration, light within a set
-
-// RFC 4180: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 // The p-th quantile (0..1) of `v`, linear between order statistics.
 double quantile(std::vector<double> v, double p) {

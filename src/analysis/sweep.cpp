@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "csv_field.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
@@ -21,17 +22,6 @@ namespace nearcap::analysis {
 namespace {
 
 PassWork work(const gl::DrawCounters& c, double ms) { return {c.triangles, c.fragments, c.depth_passed, ms}; }
-
-// RFC 4180: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 std::string number(double v) {
   char buf[32];

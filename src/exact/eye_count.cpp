@@ -4,22 +4,10 @@
 #include "nearcap/exact/eye_count.hpp"
 
 #include "nearcap/exact/perturbation.hpp"
+#include "orient_forms.hpp"
 
 namespace nearcap {
 namespace {
-
-// orient(l, P, u, v) and orient(a, b, c, P) as affine forms in P, as
-// segment_crossing.cpp builds them.
-template <class T>
-AffineForm<T> edge_form(const Vec3<T>& l, const Vec3<T>& u, const Vec3<T>& v) {
-  const Vec3<T> g = cross(u - l, v - l);
-  return {g, T(-dot(g, l))};
-}
-template <class T>
-AffineForm<T> plane_form(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
-  const Vec3<T> n = cross(b - a, c - a);
-  return {n, T(-dot(n, a))};
-}
 
 // The perturbed sign of a form at the eye (the origin, where its value is
 // h0); `tie` is set when the value itself is exactly zero.

@@ -4,24 +4,9 @@
 #include <cmath>
 
 #include "nearcap/exact/perturbation.hpp"
+#include "orient_forms.hpp"
 
 namespace nearcap {
-namespace {
-
-// orient(l, P, u, v) = (P - l) . ((u - l) x (v - l)) as an affine form in P.
-template <class T>
-AffineForm<T> edge_form(const Vec3<T>& l, const Vec3<T>& u, const Vec3<T>& v) {
-  const Vec3<T> g = cross(u - l, v - l);
-  return {g, T(-dot(g, l))};
-}
-// orient(a, b, c, P) = ((b - a) x (c - a)) . (P - a) as an affine form in P.
-template <class T>
-AffineForm<T> plane_form(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
-  const Vec3<T> n = cross(b - a, c - a);
-  return {n, T(-dot(n, a))};
-}
-
-}  // namespace
 
 bool segment_crosses_triangle(const CameraSpaceScene& scene, std::size_t o, FaceIndex f, std::size_t light,
                               Facing facing, const SamplePoint& p, FilterStats* stats) {
