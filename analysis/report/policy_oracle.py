@@ -5,7 +5,7 @@ of the policy and of the oracle (every light's summed), and Z-fail's.
 Usage: policy_oracle.py EVALUATION.csv SET OUT.png [TITLE]
 EVALUATION.csv is what `nearcap evaluate --path PATH --out DIR` writes:
 set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,
-cpu_ms,end_to_end_ms,chosen (rows of rule "oracle": the fastest candidate as
+cpu_ms,end_to_end_ms,choice_ms,chosen (rows of rule "oracle": the fastest candidate as
 right as Z-fail, per frame and light).  SET is the path file's stem.
 Errors are one line on stderr, exit code 2.
 """

@@ -160,7 +160,11 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // The clipped-sides cap builder's work (gl/shadow_methods.cpp,
   // clipped_sides_cap): nothing where every part of the volume is on one
   // side of the near plane or the occluder certainly misses the pyramid;
-  // else the sides, and each cap whose bounds straddle the plane.
+  // else the sides, and each cap whose bounds straddle the plane.  An
+  // estimate, in double from the box's corners: the builder decides the
+  // same question on the float32 program's inputs with a certified bound
+  // (gl/near_plane_cap.hpp, near_plane_side_of_box); within this margin of
+  // the plane the estimate counts the cap as built.
   const double margin = 1e-5 * magnitude;
   const int points = side_of(point_distance, margin), directions = side_of(direction_distance, margin);
   const bool sides_needed = points == 0 || directions == 0 || points != directions;
