@@ -382,6 +382,7 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_depth_ms += p.gpu_depth_ms;
         pass_totals[m].gpu_stencil_ms += p.gpu_stencil_ms;
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
+        pass_totals[m].eye_count_ms += p.eye_count_ms;
       }
       per_method[m].push_back({f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu});
       total_ms[m] += mf.ms;
@@ -465,6 +466,8 @@ void run_lit(const RenderOptions& o) {
         std::printf("  depth %.2f + stencil %.2f + lit %.2f ms (timer queries %.3f + %.3f + %.3f)",
                     pass_totals[m].depth_ms / n, pass_totals[m].stencil_ms / n, pass_totals[m].lit_ms / n,
                     pass_totals[m].gpu_depth_ms / n, pass_totals[m].gpu_stencil_ms / n, pass_totals[m].gpu_lit_ms / n);
+        if (pass_totals[m].eye_count_ms > 0)
+          std::printf("  eye count %.2f ms (of the stencil)", pass_totals[m].eye_count_ms / n);
         std::printf("  cpu %.2f ms, end to end %.2f ms", cpu_total_ms[m] / n, end_to_end_total_ms[m] / n);
       }
       std::printf("\n");
