@@ -23,13 +23,15 @@
 // light in camera space (gl::light_in_camera_space).  The vertices are the
 // mesh's positions rounded to float32, 3 per triangle in mesh order, w = 1.
 //
-// What can still differ from the emulation: a GPU that flushes subnormal
-// floats to zero (llvmpipe does) decides differently only where an
-// intermediate is below 2^-126, far below any coordinate a scene holds; and
-// a driver whose fma() is not a single rounding (GLSL allows it) differs
-// under Arithmetic::Fused.  tests/eye_count_pass_test.cpp holds the GL's
-// count against the emulation's on every bundled scene and on eyes within
-// a float32 ulp of a side plane, where the float count itself goes wrong.
+// What can still differ from the emulation: a driver whose fma() is two
+// roundings (GLSL allows it; llvmpipe's is) runs the shader's part of
+// Arithmetic::Fused unfused, while the uniforms, computed on the CPU, stay
+// fused; and a GPU that flushes
+// subnormal floats to zero (llvmpipe does) decides differently only where an
+// intermediate is below 2^-126.  tests/eye_count_pass_test.cpp holds the
+// GL's count against the emulation's on every bundled scene, on eyes within
+// 3 float32 ulps of a side plane (where the float count itself goes wrong),
+// and on triangles whose eye -> light line grazes an edge.
 //
 // The count into the stencil: a full-screen triangle whose fragment shader
 // reads the counter and exports it as the stencil reference
