@@ -24,6 +24,7 @@
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/eye_count_pass.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
 #include "nearcap/render/lit_frame.hpp"
 
@@ -59,6 +60,13 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
   return nearcap::encode_pgm16(width, height, top_first);
 }
 
+// `draws` with their volume draws' stencil clear (AtomicZP's count) set to `count` mod 256.
+std::vector<gl::DrawCall> with_stencil_clear(std::vector<gl::DrawCall> draws, std::size_t count) {
+  for (gl::DrawCall& d : draws)
+    if (d.pass == gl::DrawPass::Volume) d.state.stencil_clear = static_cast<std::uint8_t>(count & 0xffu);
+  return draws;
+}
+
 // --compare --table: one row per method, the JSON record's figures, and the
 // policy's choice per occluder below.
 void print_compare_table(const nlohmann::json& root, const std::string& scene, std::size_t light) {
@@ -87,6 +95,13 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
                     oc["why"].get<std::string>().c_str());
       std::printf("\n");
       if (r.value("depth_limited", false)) std::printf("  %s\n", r["depth_note"].get<std::string>().c_str());
+    }
+  for (const nlohmann::json& r : root["methods"])
+    if (r.contains("eye_count")) {
+      const nlohmann::json& e = r["eye_count"];
+      std::printf("%s: eye count gl %zu, emulation %zu, over %zu triangles (pass %.3f ms, read back %.3f ms)\n",
+                  r["method"].get<std::string>().c_str(), e["gl"].get<std::size_t>(), e["emulation"].get<std::size_t>(),
+                  e["triangles"].get<std::size_t>(), e["pass_ms"].get<double>(), e["read_back_ms"].get<double>());
     }
   std::printf(
       "gl!=emul: stencil pixels where the real GL and the emulation differ; obj!=: pixels where they see "
@@ -367,6 +382,7 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_depth_ms += p.gpu_depth_ms;
         pass_totals[m].gpu_stencil_ms += p.gpu_stencil_ms;
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
+        pass_totals[m].eye_count_ms += p.eye_count_ms;
       }
       per_method[m].push_back({f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu});
       total_ms[m] += mf.ms;
@@ -394,6 +410,7 @@ void run_lit(const RenderOptions& o) {
           entry["passes"] = {
               {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
               {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
+          if (p.eye_count_ms > 0) entry["passes"]["eye_count_ms"] = p.eye_count_ms;
           entry["cpu_ms"] = fr.cpu_ms;
           entry["end_to_end_ms"] = fr.end_to_end_ms;
           entry["cpu"] = cpu_json(fr);
@@ -449,6 +466,8 @@ void run_lit(const RenderOptions& o) {
         std::printf("  depth %.2f + stencil %.2f + lit %.2f ms (timer queries %.3f + %.3f + %.3f)",
                     pass_totals[m].depth_ms / n, pass_totals[m].stencil_ms / n, pass_totals[m].lit_ms / n,
                     pass_totals[m].gpu_depth_ms / n, pass_totals[m].gpu_stencil_ms / n, pass_totals[m].gpu_lit_ms / n);
+        if (pass_totals[m].eye_count_ms > 0)
+          std::printf("  eye count %.2f ms (of the stencil)", pass_totals[m].eye_count_ms / n);
         std::printf("  cpu %.2f ms, end to end %.2f ms", cpu_total_ms[m] / n, end_to_end_total_ms[m] / n);
       }
       std::printf("\n");
@@ -511,19 +530,31 @@ void run(const RenderOptions& o) {
   nlohmann::json records = nlohmann::json::array();
   std::vector<io::OutputFile> files;
   FrameSource source(scene, o.light, methods, settings);
-  std::unique_ptr<render::GlFrameReplay> replay;  // made for each depth buffer the methods need
+  std::unique_ptr<render::GlFrameReplay> replay;   // made for each depth buffer the methods need
+  std::unique_ptr<render::EyeCountPass> eye_pass;  // made for the first AtomicZP frame
   gl::DepthFormat replay_depth = settings.depth;
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);
     gl::ShadowFrame frame;
     render::ReplayedFrame real;
+    // AtomicZP: the GL's own eye count, read back so that the replay clears
+    // the stencil to it rather than to the emulation's.
+    std::optional<render::EyeCountReadBack> eye;
     try {
       frame = source.frame(m);
       if (!replay || replay_depth != source.depth(m)) {
         replay_depth = source.depth(m);
         replay = std::make_unique<render::GlFrameReplay>(scene.camera.width, scene.camera.height, replay_depth);
       }
-      real = replay->replay(frame.draws, 0, *render::vertex_stage_from_string(o.vertex_stage));
+      const render::VertexStage stage = *render::vertex_stage_from_string(o.vertex_stage);
+      if (frame.eye_count) {
+        if (!eye_pass) eye_pass = std::make_unique<render::EyeCountPass>();
+        eye = eye_pass->run_and_read_back(render::eye_count_inputs(
+            scene, frame.light, render::eye_counted_objects(frame), render::recorded_arithmetic(frame)));
+        real = replay->replay(with_stencil_clear(frame.draws, eye->count), 0, stage);
+      } else {
+        real = replay->replay(frame.draws, 0, stage);
+      }
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.
@@ -548,6 +579,12 @@ void run(const RenderOptions& o) {
                           {"emulation_vs_exact", emulated.wrong},
                           {"ms", real.ms},
                           {"emulation_ms", frame.times.total()}};
+    if (eye)
+      record["eye_count"] = {{"gl", eye->count},
+                             {"emulation", *frame.eye_count},
+                             {"triangles", eye->triangles},
+                             {"pass_ms", eye->pass_ms},
+                             {"read_back_ms", eye->read_back_ms}};
     if (m >= methods.methods.size()) {
       record["occluders"] = policy_occluders_json(scene, source.decision());
       if (std::isfinite(source.decision().predicted_ms)) record["predicted_ms"] = source.decision().predicted_ms;
