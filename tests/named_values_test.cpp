@@ -167,12 +167,17 @@ TEST(NamedValues, EveryShadowMethodIsInAllAndInTheTablesOrder) {
   EXPECT_EQ(analysis::kAllEnginePolicies, values_of<analysis::EnginePolicy>());
 }
 
-// The help of `flag` in `help`: from the flag to the next option's line.
+// The help sentence of `flag` in `help`: from the flag to the next option's
+// line, without CLI11's list of accepted values (":{a,b}"), so that the
+// sentence itself must name every value.
 std::string option_help(const std::string& help, const std::string& flag) {
   const std::size_t at = help.find("  " + flag + " ");
   if (at == std::string::npos) return "";
   const std::size_t end = help.find("\n  -", at + 1);
-  return help.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  std::string text = help.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  const std::size_t open = text.find(":{"), close = text.find('}');
+  if (open != std::string::npos && close != std::string::npos && open < close) text.erase(open, close + 1 - open);
+  return text;
 }
 
 template <class E>
