@@ -44,7 +44,7 @@ struct RenderOptions {
   bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
   bool one_sided_stencil = false;
   bool side_strips = false;
-  std::string vertex_stage = "glsl";  // render::VertexStage
+  render::VertexStage vertex_stage = render::VertexStage::Glsl;
   std::string out;
   EmulationOptions emulation;
   double max_memory_gb = 0;
@@ -172,7 +172,7 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
   options.read_stencils = o.stencil && keep_images;
   options.pass_times = o.bench;
   options.one_sided_stencil = o.one_sided_stencil;
-  options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
+  options.vertex_stage = o.vertex_stage;
   options.side_strips = o.side_strips;
   const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
   out.passes = lit.passes;
@@ -335,9 +335,9 @@ void run_lit(const RenderOptions& o) {
     const render::LitFramePasses& p = mf.passes;
     char row[320];
     std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
-                  stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), mf.ms, p.depth_ms,
-                  p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms, mf.cpu_ms(),
-                  mf.end_to_end_ms());
+                  stencil_sides.c_str(), std::string(name_of(o.vertex_stage)).c_str(), layout.c_str(), culling.c_str(),
+                  mf.ms, p.depth_ms, p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms,
+                  mf.cpu_ms(), mf.end_to_end_ms());
     bench_csv += row;
   };
   // The noise floor: the first method's end-to-end time drawn twice per frame, again over first.
@@ -432,7 +432,7 @@ void run_lit(const RenderOptions& o) {
   }
   nlohmann::json root{{"renderer", context.renderer()},
                       {"version", context.version()},
-                      {"vertex_stage", o.vertex_stage},
+                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
   if (o.bench && !again_ratio.empty())
@@ -478,7 +478,8 @@ void run_lit(const RenderOptions& o) {
     std::printf(
         "bench: %s/bench.csv (%s stencil, vertex stage %s, %s, volume culling %s, a glFinish after each "
         "pass)\n",
-        o.out.c_str(), stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str());
+        o.out.c_str(), stencil_sides.c_str(), std::string(name_of(o.vertex_stage)).c_str(), layout.c_str(),
+        culling.c_str());
     if (!again_ratio.empty())
       std::printf(
           "bench: noise floor: %s drawn twice per frame (%s rows): end-to-end time again/first %.3f to %.3f "
@@ -546,7 +547,7 @@ void run(const RenderOptions& o) {
         replay_depth = source.depth(m);
         replay = std::make_unique<render::GlFrameReplay>(scene.camera.width, scene.camera.height, replay_depth);
       }
-      const render::VertexStage stage = *render::vertex_stage_from_string(o.vertex_stage);
+      const render::VertexStage stage = o.vertex_stage;
       if (frame.eye_count) {
         if (!eye_pass) eye_pass = std::make_unique<render::EyeCountPass>();
         eye = eye_pass->run_and_read_back(render::eye_count_inputs(
@@ -602,7 +603,7 @@ void run(const RenderOptions& o) {
   }
   nlohmann::json root{{"renderer", context.renderer()},
                       {"version", context.version()},
-                      {"vertex_stage", o.vertex_stage},
+                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
                       {"methods", records}};
   if (!o.out.empty()) {
     files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
@@ -653,13 +654,8 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--side-strips", o->side_strips,
                 "draw the volumes' sides as triangle strips along the silhouette's chains (the paper's layout for "
                 "ZP+'s sides; the same triangles), caps and corrective quads as independent triangles");
-  cmd->add_option("--vertex-stage", o->vertex_stage,
-                  "where each draw's clip-space vertices come from: glsl (the GL's own GLSL vertex programs, "
-                  "Figure 7 among them, on the object-space vertices) or recorded (the emulation's float32 "
-                  "results, uploaded)")
-      ->check(CLI::IsMember({std::string(render::to_string(render::VertexStage::Glsl)),
-                             std::string(render::to_string(render::VertexStage::Recorded))}))
-      ->capture_default_str();
+  add_choice_option(*cmd, "--vertex-stage", o->vertex_stage,
+                    "where each draw's clip-space vertices come from: " + values_described<render::VertexStage>());
   cmd->add_option("--out", o->out,
                   "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
                   "if missing)");
