@@ -33,19 +33,20 @@ class SceneReader {
   SceneReader(std::string source, std::string base, MeshCache* cache)
       : source_(std::move(source)), base_(std::move(base)), cache_(cache) {}
 
-  int pixels(const JsonValue& j) const {
-    long long v = 0;
-    if (j.is_integer()) {
-      v = j.integer();
-    } else if (j.is_number() && j.number() == std::floor(j.number()) && std::fabs(j.number()) <= 1e9) {
-      v = static_cast<long long>(j.number());  // 64.0 is the integer 64
-    } else {
+  static int pixels(const JsonValue& j) {
+    // 64.0 is the integer 64; an integer too large for long long is outside the range too.
+    const bool whole =
+        j.is_integer() || (j.is_number() && j.number() == std::floor(j.number()) && std::fabs(j.number()) <= 1e9);
+    if (!whole)
       j.fail(j.is_number() ? "must be an integer number of pixels"
                            : "expected an integer pixel count, found " + std::string(j.type_name()));
+    if (j.number() < 1 || j.number() > 16384) {
+      std::ostringstream m;
+      m.precision(17);
+      m << "viewport size " << j.number() << " is outside [1, 16384] pixels";
+      j.fail(ErrorKind::Camera, m.str());
     }
-    if (v < 1 || v > 16384)
-      j.fail(ErrorKind::Camera, "viewport size " + std::to_string(v) + " is outside [1, 16384] pixels");
-    return static_cast<int>(v);
+    return static_cast<int>(j.number());
   }
 
   static Vec3d vec3(const JsonValue& j) {

@@ -19,7 +19,7 @@
 //   PATH.key: unknown key (allowed: a, b, c)
 //   PATH.key: missing required key
 //   PATH: expected a number, found string
-//   PATH: must be "a", "b" or "c"
+//   PATH: must be "a", "b" or "c", not "d"
 // Each file's own checks (ranges, cross-field rules) fail through
 // JsonValue::fail, so they name the file and the path the same way.
 //
@@ -91,7 +91,7 @@ class JsonValue {
   bool boolean() const;
 
   // A string from a list of names: `names` pairs each name with its value;
-  // another string fails "must be \"a\", \"b\" or \"c\"".
+  // another string fails "must be \"a\", \"b\" or \"c\", not \"d\"".
   template <class E>
   E choice(std::initializer_list<std::pair<std::string_view, E>> names) const {
     const std::string s = string();
@@ -99,16 +99,16 @@ class JsonValue {
       if (s == name) return value;
     std::vector<std::string_view> list;
     for (const auto& n : names) list.push_back(n.first);
-    fail(must_be(list));
+    fail(must_be(list) + ", not \"" + s + "\"");
   }
   // A string converted by `from_string` (returning std::optional<E>, as the
   // settings' *_from_string functions do); one it refuses fails "must be
-  // EXPECTED" (e.g. "\"standard\" or \"reversed\"").
+  // EXPECTED, not \"d\"" (EXPECTED e.g. "\"standard\" or \"reversed\"").
   template <class F>
   auto parsed(F from_string, std::string_view expected) const -> typename decltype(from_string(""))::value_type {
     if (!is_string()) fail("must be " + std::string(expected) + ", found " + type_name());
     const auto v = from_string(string());
-    if (!v) fail("must be " + std::string(expected));
+    if (!v) fail("must be " + std::string(expected) + ", not \"" + string() + "\"");
     return *v;
   }
 
