@@ -33,6 +33,7 @@ class KeyTracker {
       case Event::object_end:
       case Event::array_end:
         st.open.pop_back();
+        member_done(st);
         break;
       case Event::key: {
         Open& o = st.open.back();
@@ -44,6 +45,7 @@ class KeyTracker {
       }
       case Event::value:
         next_element(st);
+        member_done(st);
         break;
     }
     return true;
@@ -79,6 +81,11 @@ class KeyTracker {
   // A value, object or array starts: in an array it is the next element.
   static void next_element(State& st) {
     if (!st.open.empty() && st.open.back().array) ++st.open.back().index;
+  }
+  // A value, object or array ends: in an object the parser is past its key
+  // (a fault after it is the object's, not the member's).
+  static void member_done(State& st) {
+    if (!st.open.empty() && !st.open.back().array) st.open.back().key.clear();
   }
   std::string source_;
   std::shared_ptr<State> state_;  // shared: the parser copies the callback
