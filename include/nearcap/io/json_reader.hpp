@@ -6,7 +6,9 @@
 // where PATH is the JSON path of the offending value ("objects[2].mesh",
 // "crack_model.mean[1]"), or "(top level)" for the document itself.  The kinds:
 //   Parse      the text is not JSON (the message has the line and column), or
-//              a number lies beyond double's range (1e999; PATH names it);
+//              a number lies beyond double's range (1e999); PATH is where the
+//              parser was: the member being read, or the object or array past
+//              its last complete member;
 //   Schema     a duplicate key (nlohmann::json would keep the last silently),
 //              an unknown key, a missing required key, a wrong type, a value
 //              not in its list of names;
@@ -24,7 +26,7 @@
 // JsonValue::fail, so they name the file and the path the same way.
 //
 // JsonValue is a view into a parsed document it shares: copies are cheap
-// (a pointer and the path), and a value outlives the JsonDocument it came from.
+// (a shared pointer and the path), and a value outlives the JsonDocument it came from.
 // The JSON library stays inside nearcap (this header needs none).
 #pragma once
 
