@@ -6,8 +6,9 @@
 #   NEARCAP_QUICK=1 ./scripts/test.sh   skips the sanitizer build and the fuzzers
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# The suite writes outputs onto FIFOs, symlinks and /proc/self/fd/1; an
-# earlier version replaced /dev/null when run as root.  Checked before and after.
+# The suite writes outputs onto FIFOs, symlinks and /proc/self/fd/1; a test
+# that renames over such a path run as root could replace /dev/null with a
+# regular file, so it is checked before and after.
 check_dev_null() {
   if [ ! -c /dev/null ]; then
     echo "test.sh: /dev/null is not a character device; restore it with: rm /dev/null && mknod -m 666 /dev/null c 1 3" >&2

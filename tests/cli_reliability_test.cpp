@@ -159,8 +159,9 @@ TEST_F(Reliability, AnEyeBeyondTheFloatRangeIsARangeError) {
 }
 
 TEST_F(Reliability, TinyViewDirectionsAndUpVectorsGiveTheRightBasis) {
-  // Both used to overflow the look-at normalisation (SIGFPE); both are
-  // legitimate cameras: looking down +z, up +y.
+  // Both vectors' squared lengths underflow, so gluLookAt's plain
+  // normalisation would divide by zero (scene/camera.cpp rescales them
+  // first); both are legitimate cameras: looking down +z, up +y.
   nlohmann::json tiny_target = scene_b();
   tiny_target["camera"]["eye"] = {0, 0.7, 0};
   tiny_target["camera"]["target"] = {0, 0.7, 1e-300};

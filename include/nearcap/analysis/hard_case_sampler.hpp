@@ -49,8 +49,8 @@ enum class HardCaseKind {
   // signed 2^-18 .. 2^-40 (or 0) from a plane its tests use (the ray from the
   // light through a box corner, or through an edge's midpoint), near the
   // light, or with the box behind it on the segment to the light.  Not
-  // among all_hard_case_kinds(), so that a seed keeps the configurations it
-  // had before this kind existed; asked for by name.
+  // among all_hard_case_kinds(), so that adding it leaves every seed's
+  // configurations of the default kinds as they are; asked for by name.
   EyeNearVolume,
 };
 // The kinds' names (named_values.hpp), in the enum's order.

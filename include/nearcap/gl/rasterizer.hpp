@@ -109,11 +109,12 @@ struct RasterSettings {
   // as llvmpipe does; larger: a hardware-style guard band (the pipeline caps
   // it at safe_guard_band() so snapped coordinates stay in range).
   float guard_band = 1.0f;
-  // Divide by default (what every earlier figure used); Llvmpipe is what
-  // Mesa computes (render/gl_frame_replay.hpp measures the difference).
+  // Divide by default (the figures in the docs use it unless they name
+  // llvmpipe's model); Llvmpipe is what Mesa computes
+  // (render/gl_frame_replay.hpp measures the difference).
   ViewportArithmetic viewport = ViewportArithmetic::Divide;
-  // Exact by default (every earlier figure); Llvmpipe follows Mesa's depth
-  // plane (render/gl_frame_replay.hpp measures the difference).
+  // Exact by default (as for the viewport above); Llvmpipe follows Mesa's
+  // depth plane (render/gl_frame_replay.hpp measures the difference).
   DepthInterpolation depth = DepthInterpolation::Exact;
   // Mesa's clipper (ClipSettings::mesa) and its fan order for a clipped
   // polygon (emit_poly: triangle i is (v[i-1], v[i], v[0])); false: the
