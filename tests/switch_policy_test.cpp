@@ -215,7 +215,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
        "light_projection: is a version 2 field"},
       {replaced("\"version\": 1, \"capped_method\"",
                 "\"version\": 2, \"light_projection\": \"sides\", \"capped_method\""),
-       "light_projection: must be paper"},
+       "light_projection: must be \"paper\""},
       {replaced("\"version\": 1, \"capped_method\"", "\"version\": 2, \"exact_zpass\": 0, \"capped_method\""),
        "exact_zpass: expected true or false, found number"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"exact_zpass\": false"),
@@ -227,7 +227,8 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"log_skew\"", "\"log_magic\""), "crack_model.features[0]: 'log_magic' is not a policy feature"},
       {replaced("\"zfail\"", "\"zpplus\""), "fallback_method: must be zfail or preload"},
       {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""),
-       "capped_method: must be a method (zpass, zfail, zpplus, zpplus-corrected, preload), not \"zpplus-improved\""},
+       "capped_method: must be \"zpass\", \"zfail\", \"zpplus\", \"zpplus-corrected\", \"preload\" or \"atomiczp\", "
+       "not \"zpplus-improved\""},
       {replaced("\"zpplus-corrected\"", "\"zpass\""), "capped_method: must not be zpass"},
       {replaced("\"scale\": [1, 0.1]", "\"scale\": [1, 0]"), "crack_model.scale[1]: must be positive"},
       {replaced("\"threshold\": 0.01", "\"threshold\": 2"), "crack_model.threshold: must be in (0, 1]"},

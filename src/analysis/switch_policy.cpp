@@ -28,9 +28,7 @@ double log10_or_nan(double v) { return std::isfinite(v) ? std::log10(std::max(st
 
 using io::JsonValue;
 
-gl::ShadowMethod method_field(const JsonValue& v) {
-  return v.parsed(gl::shadow_method_from_string, "a method (zpass, zfail, zpplus, zpplus-corrected, preload)");
-}
+gl::ShadowMethod method_field(const JsonValue& v) { return v.named<gl::ShadowMethod>(); }
 
 // A cost coefficient: a finite number, not negative.
 double cost_number(const JsonValue& object, std::string_view key) {
@@ -174,8 +172,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   SwitchPolicy p;
   if (const auto v = j.find("light_projection")) {
     since(*v, 2);
-    p.light_projection =
-        v->parsed(gl::light_projection_from_string, "paper, glfrustum, composed, rebased or clipped-sides");
+    p.light_projection = v->named<gl::LightProjection>();
   }
   if (const auto v = j.find("exact_zpass")) {
     since(*v, 2);
@@ -183,16 +180,15 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   }
   if (const auto v = j.find("depth")) {
     since(*v, 3);
-    p.depth =
-        v->choice<gl::DepthFormat>({{"fixed24", gl::DepthFormat::Fixed24}, {"float32", gl::DepthFormat::Float32}});
+    p.depth = v->named<gl::DepthFormat>();
   }
   if (const auto v = j.find("depth_mapping")) {
     since(*v, 3);
-    p.depth_mapping = v->parsed(gl::depth_mapping_from_string, "\"standard\" or \"reversed\"");
+    p.depth_mapping = v->named<gl::DepthMapping>();
   }
   if (const auto v = j.find("near_plane")) {
     since(*v, 3);
-    p.near_plane = v->parsed(gl::near_plane_from_string, "\"scene\" or \"tight\"");
+    p.near_plane = v->named<gl::NearPlane>();
   }
   p.capped_method = method_field(j.at("capped_method"));
   p.fallback_method = method_field(j.at("fallback_method"));
@@ -206,8 +202,8 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     j.at("exact_zpass").fail("false needs a ZP+ capped method (zpplus or zpplus-corrected)");
   if (p.near_plane == gl::NearPlane::Tight && p.exact_zpass)
     j.at("near_plane").fail("tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
-  p.switch_clamp = j.at("switch_clamp").parsed(gl::switch_clamp_from_string, "\"clamp\", \"clamp-far\" or \"far-cap\"");
-  p.zpass_far = j.at("zpass_far").parsed(gl::zpass_far_from_string, "\"finite\" or \"infinite\"");
+  p.switch_clamp = j.at("switch_clamp").named<gl::SwitchClamp>();
+  p.zpass_far = j.at("zpass_far").named<gl::ZPassFar>();
   const JsonValue m = j.at("crack_model");
   m.only_keys({"features", "mean", "scale", "weights", "bias", "threshold"});
   const JsonValue names = m.at("features");

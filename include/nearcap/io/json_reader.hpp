@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "nearcap/error.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap::io {
 
@@ -101,6 +102,16 @@ class JsonValue {
       if (s == name) return value;
     std::vector<std::string_view> list;
     for (const auto& n : names) list.push_back(n.first);
+    fail(must_be(list) + ", not \"" + s + "\"");
+  }
+  // A setting's name, from its one table (nearcap/named_values.hpp);
+  // another string fails "must be \"a\", \"b\" or \"c\", not \"d\"".
+  template <class E>
+  E named() const {
+    const std::string s = string();
+    if (const auto v = value_named<E>(s)) return *v;
+    std::vector<std::string_view> list;
+    for (const auto& entry : table_of<E>()) list.push_back(entry.name);
     fail(must_be(list) + ", not \"" + s + "\"");
   }
   // A string converted by `from_string` (returning std::optional<E>, as the
