@@ -216,7 +216,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   }
   pass_done(out.passes.depth_ms, out.passes.gpu_depth_ms);
   if (options.pass_kind_times)
-    out.kind_times.push_back({0, DrawKind::Depth, out.passes.depth_ms, out.passes.gpu_depth_ms});
+    out.kind_times.push_back({0, gl::PassKind::Depth, out.passes.depth_ms, out.passes.gpu_depth_ms});
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
@@ -248,7 +248,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);
     } else {
       pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);  // the stencil's clear
-      for (const DrawKind kind : {DrawKind::NearCap, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap}) {
+      for (const gl::PassKind kind :
+           {gl::PassKind::NearCap, gl::PassKind::Sides, gl::PassKind::LightCap, gl::PassKind::DarkCap}) {
         bool drawn = false;
         pass_begin();
         for (const gl::DrawCall& d : light_frames[k].draws)
@@ -287,7 +288,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
       draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
-    KindTime lit{k, DrawKind::Lit, 0, 0};
+    KindTime lit{k, gl::PassKind::Lit, 0, 0};
     pass_done(lit.ms, lit.gpu_ms);
     out.passes.lit_ms += lit.ms;
     out.passes.gpu_lit_ms += lit.gpu_ms;
