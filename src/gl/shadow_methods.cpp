@@ -254,7 +254,7 @@ class FrameRenderer {
         cap_kind_(near_cap_kind(settings.light_frustum.projection)),
         plans_(methods_.size(), nullptr) {
     NEARCAP_CHECK(methods_.size() == scene.objects.size());
-    bool finite_needed = false, infinite_wanted = false;
+    bool finite_needed = false, infinite_wanted = false, infinite_needed = false;
     for (std::size_t o = 0; o < methods_.size(); ++o) {
       if (!scene.objects[o].occluder) continue;
       const ShadowPlan& plan = shadow_plan(methods_[o], settings_.light_frustum.projection);
@@ -265,6 +265,7 @@ class FrameRenderer {
           light_frustum_needed_ || (plan.cap_pass == CapPass::NearCap && plan.near_cap == NearCapKind::LightFrustum);
       finite_needed = finite_needed || plan.far_plane == FarPlane::FiniteNeeded;
       infinite_wanted = infinite_wanted || wants_infinite(plan.far_plane, settings_);
+      infinite_needed = infinite_needed || plan.far_plane == FarPlane::InfiniteWanted;
     }
     // The infinite far plane when a method wants it (preload; Z-fail by
     // default; Z-pass, and ZP+ with the clipped-sides cap, which is Z-pass
@@ -272,9 +273,7 @@ class FrameRenderer {
     // method needs the finite one (ZP+'s light-frustum cap and case-D
     // switch: section 5.2).
     infinite_ = !finite_needed && infinite_wanted;
-    bool preload = false;
-    for (const ShadowPlan* plan : plans_) preload = preload || (plan && plan->far_plane == FarPlane::InfiniteWanted);
-    if (finite_needed && preload)
+    if (finite_needed && infinite_needed)
       throw Error(ErrorKind::Usage,
                   "preload cannot share a frame with a ZP+ method (preload needs the infinite projection, ZP+ the "
                   "finite one)");
