@@ -10,6 +10,7 @@
 #include <tuple>
 #include <utility>
 
+#include "glm_affine.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
@@ -39,10 +40,7 @@ struct ObjectSetup {
 };
 
 Vec4f light_in_object_space(const SceneObject& obj, const Vec3d& light) {
-  glm::dmat4 m(1.0);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) m[c][r] = obj.object_to_world.rows[r][c];
-  const glm::dvec4 p = glm::inverse(m) * glm::dvec4(light.x, light.y, light.z, 1.0);
+  const glm::dvec4 p = glm::inverse(to_glm(obj.object_to_world)) * glm::dvec4(light.x, light.y, light.z, 1.0);
   return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f};
 }
 
