@@ -65,6 +65,8 @@ constexpr ShadowPlan kPlans[] = {
      2,
      ZFailSwitch::NoLightFrustumOrCaseD,
      CullingUse::ScissorAndDepthBounds},
+    // With the clipped-sides cap there is no light frustum, so no case-D
+    // switch and no corrective quads: the row is ZP+'s.
     {ShadowMethod::ZPPlusCorrected,
      NearCapKind::ClippedSides,
      FarPlane::ZPassChoice,

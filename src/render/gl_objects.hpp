@@ -19,32 +19,18 @@ inline void check_gl(const char* step) {
   if (e != GL_NO_ERROR) throw Error(ErrorKind::Gl, std::string("GL error ") + std::to_string(e) + " after " + step);
 }
 
-// A new object of each kind (glGen*, glCreateProgram), owned.
-inline GlBuffer new_buffer() {
+// A new object of each kind (glGen*), owned.
+template <GlObject Kind, class Generate>
+GlHandle<Kind> generated(Generate generate) {
   GLuint n = 0;
-  glGenBuffers(1, &n);
-  return GlBuffer(n);
+  generate(1, &n);
+  return GlHandle<Kind>(n);
 }
-inline GlVertexArray new_vertex_array() {
-  GLuint n = 0;
-  glGenVertexArrays(1, &n);
-  return GlVertexArray(n);
-}
-inline GlFramebuffer new_framebuffer() {
-  GLuint n = 0;
-  glGenFramebuffers(1, &n);
-  return GlFramebuffer(n);
-}
-inline GlRenderbuffer new_renderbuffer() {
-  GLuint n = 0;
-  glGenRenderbuffers(1, &n);
-  return GlRenderbuffer(n);
-}
-inline GlQuery new_query() {
-  GLuint n = 0;
-  glGenQueries(1, &n);
-  return GlQuery(n);
-}
+inline GlBuffer new_buffer() { return generated<GlObject::Buffer>(glGenBuffers); }
+inline GlVertexArray new_vertex_array() { return generated<GlObject::VertexArray>(glGenVertexArrays); }
+inline GlFramebuffer new_framebuffer() { return generated<GlObject::Framebuffer>(glGenFramebuffers); }
+inline GlRenderbuffer new_renderbuffer() { return generated<GlObject::Renderbuffer>(glGenRenderbuffers); }
+inline GlQuery new_query() { return generated<GlObject::Query>(glGenQueries); }
 
 inline GlShader compiled_shader(GLenum stage, const char* source) {
   GlShader shader(glCreateShader(stage));
