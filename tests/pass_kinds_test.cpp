@@ -20,8 +20,8 @@
 namespace nearcap {
 namespace {
 
+using gl::PassKind;
 using gl::ShadowMethod;
-using render::DrawKind;
 
 // data/scenes/eye_in_shadow.json at 64x48 (the same 4:3 frustum): the eye in
 // the slab's shadow, so ZP+'s near-cap pass draws.
@@ -32,8 +32,8 @@ Scene eye_in_shadow() {
   return s;
 }
 
-std::set<DrawKind> kinds_of(const gl::ShadowFrame& f) {
-  std::set<DrawKind> out;
+std::set<PassKind> kinds_of(const gl::ShadowFrame& f) {
+  std::set<PassKind> out;
   for (const gl::DrawCall& d : f.draws) out.insert(render::draw_kind(d));
   return out;
 }
@@ -52,15 +52,15 @@ TEST(PassKinds, EachMethodDrawsItsKinds) {
   gl::EmulationSettings clipped = settings;
   clipped.light_frustum.projection = gl::LightProjection::ClippedSides;
   gl::ShadowFrameBatch batch(scene, 0, settings), clipped_batch(scene, 0, clipped);
-  const std::set<DrawKind> zpass = kinds_of(batch.render(ShadowMethod::ZPass));
-  EXPECT_EQ(zpass, (std::set<DrawKind>{DrawKind::Depth, DrawKind::Sides}));
-  const std::set<DrawKind> zfail = kinds_of(batch.render(ShadowMethod::ZFail));
-  EXPECT_EQ(zfail, (std::set<DrawKind>{DrawKind::Depth, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap}));
+  const std::set<PassKind> zpass = kinds_of(batch.render(ShadowMethod::ZPass));
+  EXPECT_EQ(zpass, (std::set<PassKind>{PassKind::Depth, PassKind::Sides}));
+  const std::set<PassKind> zfail = kinds_of(batch.render(ShadowMethod::ZFail));
+  EXPECT_EQ(zfail, (std::set<PassKind>{PassKind::Depth, PassKind::Sides, PassKind::LightCap, PassKind::DarkCap}));
   for (gl::ShadowFrameBatch* b : {&batch, &clipped_batch}) {
-    const std::set<DrawKind> zpplus = kinds_of(b->render(ShadowMethod::ZPPlus));
-    EXPECT_EQ(zpplus, (std::set<DrawKind>{DrawKind::Depth, DrawKind::NearCap, DrawKind::Sides}));
+    const std::set<PassKind> zpplus = kinds_of(b->render(ShadowMethod::ZPPlus));
+    EXPECT_EQ(zpplus, (std::set<PassKind>{PassKind::Depth, PassKind::NearCap, PassKind::Sides}));
   }
-  EXPECT_EQ(render::to_string(DrawKind::LightCap), "light_cap");
+  EXPECT_EQ(gl::to_string(PassKind::LightCap), "light_cap");
 }
 
 TEST(PassKinds, DrawCountersAddUpToTheFramesPasses) {
@@ -118,16 +118,16 @@ TEST(PassKinds, DrawingKindByKindLeavesTheStencilAsRecorded) {
     ASSERT_EQ(b.stencils.size(), 1u);
     EXPECT_EQ(a.stencils[0], b.stencils[0]) << gl::to_string(m);
     EXPECT_TRUE(a.kind_times.empty());
-    std::vector<DrawKind> kinds;
+    std::vector<PassKind> kinds;
     for (const render::KindTime& t : b.kind_times) {
       kinds.push_back(t.kind);
       EXPECT_GE(t.ms, 0.0);
     }
-    const std::vector<DrawKind> expected =
+    const std::vector<PassKind> expected =
         m == ShadowMethod::ZFail
-            ? std::vector<DrawKind>{DrawKind::Depth, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap,
-                                    DrawKind::Lit}
-            : std::vector<DrawKind>{DrawKind::Depth, DrawKind::NearCap, DrawKind::Sides, DrawKind::Lit};
+            ? std::vector<PassKind>{PassKind::Depth, PassKind::Sides, PassKind::LightCap, PassKind::DarkCap,
+                                    PassKind::Lit}
+            : std::vector<PassKind>{PassKind::Depth, PassKind::NearCap, PassKind::Sides, PassKind::Lit};
     EXPECT_EQ(kinds, expected) << gl::to_string(m);
   }
 }

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 
+#include "../gl/glm_affine.hpp"
+
 namespace nearcap::analysis {
 namespace {
 
@@ -138,10 +140,7 @@ CameraFrame camera_frame(const Scene& scene, std::size_t light) {
   const Frustum& f = scene.camera.frustum;
   // The inverse of the view's affine map, in double (the engine has the
   // camera's world position and axes as floats).
-  glm::dmat4 m(1.0);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) m[c][r] = v.rows[r][c];
-  const glm::dmat4 inv = glm::inverse(m);
+  const glm::dmat4 inv = glm::inverse(gl::to_glm(v));
   auto to_world = [&](double x, double y, double z) {
     const glm::dvec4 p = inv * glm::dvec4(x, y, z, 1.0);
     return glm::vec3(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));

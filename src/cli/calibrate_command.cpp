@@ -42,15 +42,6 @@
 namespace nearcap::cli {
 namespace {
 
-// render::DrawKind and analysis::PassKind name the same kinds in the same
-// order: a draw kind's index is its pass kind's.
-constexpr bool same_kind_names() {
-  for (std::size_t k = 0; k < render::kDrawKindCount; ++k)
-    if (render::kDrawKindNames[k] != analysis::kPassKindNames[k]) return false;
-  return render::kDrawKindCount == analysis::kPassKindCount;
-}
-static_assert(same_kind_names());
-
 struct CalibrateOptions {
   std::uint64_t samples = 40;
   SamplerOptions sampler;
@@ -133,7 +124,7 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 // stencil kinds' triangles and fragments, and the depth pre-pass's (the lit
 // passes draw the same).
 struct MethodWork {
-  std::vector<std::array<gl::DrawCounters, render::kDrawKindCount>> per_light;
+  std::vector<std::array<gl::DrawCounters, gl::kPassKindCount>> per_light;
   gl::DrawCounters depth;
 };
 
@@ -141,10 +132,10 @@ MethodWork method_work(const std::vector<gl::ShadowFrame>& frames, const gl::Emu
   MethodWork w;
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::vector<gl::DrawCounters> counters = render::draw_counters(frames[k], settings.raster, settings.depth);
-    std::array<gl::DrawCounters, render::kDrawKindCount>& by_kind = w.per_light.emplace_back();
+    std::array<gl::DrawCounters, gl::kPassKindCount>& by_kind = w.per_light.emplace_back();
     for (std::size_t d = 0; d < counters.size(); ++d)
       by_kind[static_cast<std::size_t>(render::draw_kind(frames[k].draws[d]))] += counters[d];
-    if (k == 0) w.depth = by_kind[static_cast<std::size_t>(render::DrawKind::Depth)];
+    if (k == 0) w.depth = by_kind[static_cast<std::size_t>(gl::PassKind::Depth)];
   }
   return w;
 }
@@ -220,13 +211,12 @@ void add_observations(const render::LitFrame& lit, const MethodWork& work, const
                       const std::string& id, const std::string& method, std::vector<analysis::PassObservation>& to) {
   for (const render::KindTime& t : lit.kind_times) {
     const std::size_t kind = static_cast<std::size_t>(t.kind);
-    const bool whole_frame = t.kind == render::DrawKind::Depth;
+    const bool whole_frame = t.kind == gl::PassKind::Depth;
     const gl::DrawCounters& c =
-        whole_frame || t.kind == render::DrawKind::Lit ? work.depth : work.per_light[t.light_frame][kind];
+        whole_frame || t.kind == gl::PassKind::Lit ? work.depth : work.per_light[t.light_frame][kind];
     const std::string frame =
         whole_frame ? id + ":" + method : id + ":light" + std::to_string(frames[t.light_frame].light) + ":" + method;
-    to.push_back({frame, static_cast<analysis::PassKind>(kind), static_cast<double>(c.triangles),
-                  static_cast<double>(c.fragments), t.ms});
+    to.push_back({frame, t.kind, static_cast<double>(c.triangles), static_cast<double>(c.fragments), t.ms});
   }
 }
 

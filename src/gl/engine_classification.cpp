@@ -3,17 +3,11 @@
 
 #include <glm/glm.hpp>
 
+#include "glm_affine.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 
 namespace nearcap {
 namespace {
-
-glm::mat4 to_glm_float(const Affine3d& a) {
-  glm::mat4 m(1.0f);  // column-major: m[column][row]
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) m[c][r] = static_cast<float>(a.rows[r][c]);
-  return m;
-}
 
 Sign float_side(float v) { return v >= 0.0f ? Sign::Positive : Sign::Negative; }
 
@@ -22,8 +16,8 @@ Sign float_side(float v) { return v >= 0.0f ? Sign::Positive : Sign::Negative; }
 EngineSilhouette engine_silhouette(const Scene& scene, std::size_t object, std::size_t light) {
   const SceneObject& obj = scene.objects[object];
   const TriangleMesh& mesh = *obj.mesh;
-  const glm::mat4 view = to_glm_float(scene.camera.view);
-  const glm::mat4 modelview = view * to_glm_float(obj.object_to_world);
+  const glm::mat4 view = gl::to_glm_float(scene.camera.view);
+  const glm::mat4 modelview = view * gl::to_glm_float(obj.object_to_world);
   // The same float32 light position as the light frustum's Delta (one computation).
   const gl::Vec4f light_camera = gl::light_in_camera_space(scene, light);
   const glm::vec3 l(light_camera.x, light_camera.y, light_camera.z);

@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include "glm_affine.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 
@@ -45,9 +46,7 @@ bool all_finite(const Mat4f& m) {
 }  // namespace
 
 Vec4f light_in_camera_space(const Scene& scene, std::size_t light) {
-  glm::mat4 view(1.0f);  // column-major, as engine_classification.cpp builds it
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) view[c][r] = static_cast<float>(scene.camera.view.rows[r][c]);
+  const glm::mat4 view = to_glm_float(scene.camera.view);  // as engine_classification.cpp builds it
   const Vec3d& p = scene.lights[light].position;
   const glm::vec4 l = view * glm::vec4(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f);
   return {l.x, l.y, l.z, 1.0f};

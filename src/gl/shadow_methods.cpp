@@ -10,12 +10,14 @@
 #include <tuple>
 #include <utility>
 
+#include "glm_affine.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/eye_count.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
+#include "nearcap/gl/shadow_plan.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/gl/volume_bounds.hpp"
 
@@ -38,10 +40,7 @@ struct ObjectSetup {
 };
 
 Vec4f light_in_object_space(const SceneObject& obj, const Vec3d& light) {
-  glm::dmat4 m(1.0);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) m[c][r] = obj.object_to_world.rows[r][c];
-  const glm::dvec4 p = glm::inverse(m) * glm::dvec4(light.x, light.y, light.z, 1.0);
+  const glm::dvec4 p = glm::inverse(to_glm(obj.object_to_world)) * glm::dvec4(light.x, light.y, light.z, 1.0);
   return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f};
 }
 
@@ -155,6 +154,60 @@ DrawState zfail_state(ZFailFar far) {
   s.far_first = far == ZFailFar::FarCap;
   return s;
 }
+DrawState preload_state() {
+  DrawState s;
+  s.front = kUncountAlways;
+  s.back = kCountAlways;
+  return s;
+}
+
+// The state a plan's volume draw counts with; `far`: the frame's Z-fail far
+// plane for the occluder, `eye_clear`: AtomicZP's stencil clear.
+DrawState volume_state(VolumeCount c, ZFailFar far, std::uint8_t eye_clear) {
+  switch (c) {
+    case VolumeCount::ZPass:
+      return zpass_state();
+    case VolumeCount::ZPassClamped:
+      return atomiczp_state(eye_clear);
+    case VolumeCount::ZFail:
+      return zfail_state(far);
+    case VolumeCount::PreloadAlways:
+      break;
+  }
+  return preload_state();
+}
+
+GeometryPart geometry_part(VolumeGeometry g) {
+  switch (g) {
+    case VolumeGeometry::Sides:
+      return GeometryPart::Sides;
+    case VolumeGeometry::Corrective:
+      return GeometryPart::Corrective;
+    case VolumeGeometry::LightCap:
+      return GeometryPart::LightCap;
+    case VolumeGeometry::DarkCap:
+      return GeometryPart::DarkCap;
+    case VolumeGeometry::FarPlaneCap:
+      break;
+  }
+  NEARCAP_CHECK(g != VolumeGeometry::FarPlaneCap);  // built on the CPU, from no geometry part
+  return GeometryPart::Mesh;
+}
+
+// Whether a method of the plan wants the infinite far plane under `settings`.
+bool wants_infinite(FarPlane f, const EmulationSettings& settings) {
+  switch (f) {
+    case FarPlane::FiniteNeeded:
+      return false;
+    case FarPlane::InfiniteWanted:
+      return true;
+    case FarPlane::ZPassChoice:
+      return settings.zpass_far == ZPassFar::Infinite;
+    case FarPlane::ZFailChoice:
+      break;
+  }
+  return settings.zfail_far == ZFailFar::Infinite;
+}
 
 }  // namespace
 
@@ -196,18 +249,29 @@ class FrameRenderer {
         settings_(settings),
         shared_(shared),
         fb_(scene.camera.width, scene.camera.height, settings.depth),
-        clipped_sides_(settings.light_frustum.projection == LightProjection::ClippedSides) {
+        cap_kind_(near_cap_kind(settings.light_frustum.projection)),
+        plans_(methods_.size(), nullptr) {
     NEARCAP_CHECK(methods_.size() == scene.objects.size());
+    bool finite_needed = false, infinite_wanted = false, infinite_needed = false;
     for (std::size_t o = 0; o < methods_.size(); ++o) {
       if (!scene.objects[o].occluder) continue;
-      any_near_cap_ = any_near_cap_ || uses_near_cap(methods_[o]);
-      any_preload_ = any_preload_ || methods_[o] == ShadowMethod::Preload;
-      any_zpass_ = any_zpass_ || methods_[o] == ShadowMethod::ZPass || methods_[o] == ShadowMethod::AtomicZP;
-      any_atomiczp_ = any_atomiczp_ || methods_[o] == ShadowMethod::AtomicZP;
-      any_infinite_zfail_ =
-          any_infinite_zfail_ || (methods_[o] == ShadowMethod::ZFail && settings_.zfail_far == ZFailFar::Infinite);
+      const ShadowPlan& plan = shadow_plan(methods_[o], settings_.light_frustum.projection);
+      plans_[o] = &plan;
+      near_cap_pass_ = near_cap_pass_ || plan.cap_pass == CapPass::NearCap;
+      eye_count_pass_ = eye_count_pass_ || plan.cap_pass == CapPass::EyeCount;
+      light_frustum_needed_ =
+          light_frustum_needed_ || (plan.cap_pass == CapPass::NearCap && plan.near_cap == NearCapKind::LightFrustum);
+      finite_needed = finite_needed || plan.far_plane == FarPlane::FiniteNeeded;
+      infinite_wanted = infinite_wanted || wants_infinite(plan.far_plane, settings_);
+      infinite_needed = infinite_needed || plan.far_plane == FarPlane::InfiniteWanted;
     }
-    if (any_near_cap_ && any_preload_ && !clipped_sides_)
+    // The infinite far plane when a method wants it (preload; Z-fail by
+    // default; Z-pass, and ZP+ with the clipped-sides cap, which is Z-pass
+    // plus a cap clipped by the sides' own projection, when asked) and no
+    // method needs the finite one (ZP+'s light-frustum cap and case-D
+    // switch: section 5.2).
+    infinite_ = !finite_needed && infinite_wanted;
+    if (finite_needed && infinite_needed)
       throw Error(ErrorKind::Usage,
                   "preload cannot share a frame with a ZP+ method (preload needs the infinite projection, ZP+ the "
                   "finite one)");
@@ -222,7 +286,7 @@ class FrameRenderer {
     for (std::size_t o = 0; o < methods_.size(); ++o)
       if (scene_.objects[o].occluder) frame.object_methods.push_back({o, methods_[o]});
     const auto t_setup = Clock::now();
-    if (any_near_cap_ && !clipped_sides_) {  // clipped-sides needs no light frustum
+    if (light_frustum_needed_) {  // clipped-sides needs no light frustum
       if (!shared_.light_frustum) {
         const auto t = Clock::now();
         shared_.light_frustum = light_frustum(scene_, light_, settings_.light_frustum);
@@ -232,25 +296,16 @@ class FrameRenderer {
       frame.cpu.light_frustum_ms = shared_.light_frustum_ms;
       if (!frame.light_frustum.defined) frame.fallback = frame.light_frustum.undefined_reason;
     }
-    // The infinite far plane when a method needs it (preload; Z-fail by
-    // default; Z-pass, and ZP+ with the clipped-sides cap, which is Z-pass
-    // plus a cap clipped by the sides' own projection, when asked) and no
-    // ZP+ method needs the finite one (its light-frustum cap and case-D
-    // switch: section 5.2).
-    const bool finite_required = any_near_cap_ && !clipped_sides_;
-    const bool infinite =
-        !finite_required && (any_preload_ || any_infinite_zfail_ ||
-                             ((any_zpass_ || any_near_cap_) && settings_.zpass_far == ZPassFar::Infinite));
     const Mat4f projection =
-        infinite ? infinite_frustum_matrix(scene_.camera.frustum, settings_.infinite_far, settings_.depth_mapping)
-                 : frustum_matrix(scene_.camera.frustum, settings_.depth_mapping);
+        infinite_ ? infinite_frustum_matrix(scene_.camera.frustum, settings_.infinite_far, settings_.depth_mapping)
+                  : frustum_matrix(scene_.camera.frustum, settings_.depth_mapping);
     prepare_objects(projection, frame);
     // Every method's setup includes the silhouettes and volume geometry, also
     // when an earlier method of the batch computed them.
     frame.times.setup_ms = ms_since(t_setup) - computed_here_ms_ + shared_.silhouette_ms;
 
     // The depth pre-pass: the same for every method with this projection.
-    std::optional<SharedWork::DepthPass>& depth = shared_.depth[infinite ? 1 : 0];
+    std::optional<SharedWork::DepthPass>& depth = shared_.depth[infinite_ ? 1 : 0];
     if (!depth) {
       const auto t = Clock::now();
       Framebuffer fb(scene_.camera.width, scene_.camera.height, settings_.depth);
@@ -276,8 +331,7 @@ class FrameRenderer {
     frame.times.depth_ms = depth->ms;
 
     auto t = Clock::now();
-    const bool zpplus = any_near_cap_ && frame.fallback.empty();
-    if (zpplus) {
+    if (near_cap_pass_ && frame.fallback.empty()) {
       near_cap_pass(frame);
       frame.near_cap = fb_.stencil();
     }
@@ -285,10 +339,10 @@ class FrameRenderer {
     // stencil cleared to it (timed as the frame's cap pass: it stands where
     // ZP+'s near-cap pass stands).
     std::uint8_t eye_clear = 0;
-    if (any_atomiczp_) {
+    if (eye_count_pass_) {
       std::vector<std::size_t> counted;
-      for (std::size_t o = 0; o < methods_.size(); ++o)
-        if (scene_.objects[o].occluder && methods_[o] == ShadowMethod::AtomicZP) counted.push_back(o);
+      for (std::size_t o = 0; o < plans_.size(); ++o)
+        if (plans_[o] && plans_[o]->cap_pass == CapPass::EyeCount) counted.push_back(o);
       const FloatEyeCount eye = float_eye_count(scene_, light_, counted, settings_.arithmetic);
       frame.eye_count = eye.count;
       frame.eye_count_triangles = eye.triangles;
@@ -298,37 +352,32 @@ class FrameRenderer {
     frame.times.cap_ms = ms_since(t);
 
     t = Clock::now();
+    const ShadowPlan& zfail = shadow_plan(ShadowMethod::ZFail, settings_.light_frustum.projection);
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder) continue;
-      const ShadowMethod m = methods_[o];
-      if (m == ShadowMethod::AtomicZP) {
-        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, atomiczp_state(eye_clear), frame);
-      } else if (m == ShadowMethod::ZPass || (m == ShadowMethod::ZPPlus && zpplus)) {
-        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
-      } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && clipped_sides_) {
-        draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, zpass_state(), frame);
-      } else if (m == ShadowMethod::ZPPlusCorrected && zpplus && !obj.case_d) {
-        draw(obj, GeometryPart::Sides, VertexProgram::Figure7, zpass_state(), frame);
-        draw(obj, GeometryPart::Corrective, VertexProgram::Figure7, zpass_state(), frame);
-      } else if (m == ShadowMethod::Preload) {
-        DrawState preload;
-        preload.front = kUncountAlways;
-        preload.back = kCountAlways;
-        draw_closed_volume(obj, preload, frame);
-        draw_closed_volume(obj, zpass_state(), frame);
-      } else {
-        // zfail, or a ZP+ method's switch to zfail (case D, or no light
-        // frustum); Z-fail beside a ZP+ method has the finite projection, so
-        // it clamps as the switch does.
-        const bool own_far = m == ShadowMethod::ZFail && (infinite || settings_.zfail_far != ZFailFar::Infinite);
-        const ZFailFar far = own_far ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
-        // ZF+: the far plane's cap, where there is a far plane, from the
-        // clip-space vertices the volume was drawn with.
-        const bool far_cap = far == ZFailFar::FarCap && !infinite;
-        std::vector<Vec4f> boundary;
-        draw_closed_volume(obj, zfail_state(far), frame, far_cap ? &boundary : nullptr);
-        if (far_cap) far_plane_cap(obj, boundary, frame);
+      const bool switched = switches_to_zfail(obj, frame);
+      const ShadowPlan& plan = switched ? zfail : *plans_[o];
+      // Z-fail's far plane: the method's own where the frame's projection
+      // has it; a switch's clamp for a ZP+ method's switch, and for Z-fail
+      // beside a ZP+ method (the finite projection: it clamps as the switch
+      // does).
+      const bool own_far = !switched && plan.far_plane == FarPlane::ZFailChoice &&
+                           (infinite_ || settings_.zfail_far != ZFailFar::Infinite);
+      const ZFailFar far = own_far ? settings_.zfail_far : as_zfail_far(settings_.switch_clamp);
+      // ZF+: the far plane's cap, where there is a far plane, from the
+      // clip-space vertices the volume was drawn with.
+      const bool far_cap = far == ZFailFar::FarCap && !infinite_;
+      std::vector<Vec4f> boundary;
+      for (std::size_t k = 0; k < plan.draw_count; ++k) {
+        const VolumeDraw& d = plan.draws[k];
+        if (d.geometry == VolumeGeometry::FarPlaneCap) {
+          if (far_cap) far_plane_cap(obj, boundary, frame);
+          continue;
+        }
+        const bool keep = far_cap && d.count == VolumeCount::ZFail;
+        draw(obj, geometry_part(d.geometry), d.program, volume_state(d.count, far, eye_clear), frame,
+             keep ? &boundary : nullptr);
       }
     }
     frame.times.volume_ms = ms_since(t);
@@ -390,7 +439,7 @@ class FrameRenderer {
           ++frame.float_cases[static_cast<std::size_t>(c)];
           obj.case_d = obj.case_d || c == QuadCase::D;
         }
-        if (methods_[o] == ShadowMethod::ZPPlusCorrected && obj.case_d && frame.fallback.empty() && !clipped_sides_)
+        if (plans_[o]->zfail_switch == ZFailSwitch::NoLightFrustumOrCaseD && obj.case_d && frame.fallback.empty())
           frame.zfail_objects.push_back(o);
       }
       if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
@@ -398,8 +447,22 @@ class FrameRenderer {
     }
   }
 
+  // Whether the occluder draws the zfail row's volume instead of its
+  // method's, and stays out of the near-cap pass.
+  bool switches_to_zfail(const ObjectSetup& obj, const ShadowFrame& frame) const {
+    switch (plans_[obj.index]->zfail_switch) {
+      case ZFailSwitch::Never:
+        return false;
+      case ZFailSwitch::NoLightFrustum:
+        return !frame.fallback.empty();
+      case ZFailSwitch::NoLightFrustumOrCaseD:
+        break;
+    }
+    return !frame.fallback.empty() || obj.case_d;
+  }
+
   void near_cap_pass(ShadowFrame& frame) {
-    if (clipped_sides_) {
+    if (cap_kind_ == NearCapKind::ClippedSides) {
       clipped_sides_cap_pass(frame);
       return;
     }
@@ -411,8 +474,7 @@ class FrameRenderer {
     s.back = kCountAlways;
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
-      const ShadowMethod m = methods_[o];
-      if (!obj.occluder || !uses_near_cap(m) || (m == ShadowMethod::ZPPlusCorrected && obj.case_d)) continue;
+      if (!obj.occluder || plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
       std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, VertexProgram::NearCap);
       frame.cap_pass += fb_.draw(clip, bounded(oriented(s, obj.mirrored), obj), settings_.raster);
       if (settings_.record_draws)
@@ -435,7 +497,7 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder) continue;
       OccluderCpuTimes& cpu = frame.cpu.occluders[occluder++];
-      if (!uses_near_cap(methods_[o])) continue;
+      if (plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
       const auto t = Clock::now();
       std::vector<Vec4f> fan = clipped_sides_cap(obj);
       cpu.cap_build_ms = ms_since(t);
@@ -551,11 +613,13 @@ class FrameRenderer {
   // near plane too, where the bounds (of the volume beyond the near plane)
   // do not reach.
   DrawState bounded(DrawState s, const ObjectSetup& obj) const {
-    if (!obj.bounds || methods_[obj.index] == ShadowMethod::AtomicZP) return s;
+    if (!obj.bounds) return s;
+    const CullingUse use = plans_[obj.index]->culling;
+    if (use == CullingUse::None) return s;
     const VolumeCulling c = settings_.volume_culling;
     if (c == VolumeCulling::Scissor || c == VolumeCulling::Both) s.scissor = obj.bounds->scissor;
-    const bool zpass = methods_[obj.index] == ShadowMethod::ZPass;
-    if ((c == VolumeCulling::DepthBounds || c == VolumeCulling::Both) && !(zpass && obj.bounds->meets_near_plane))
+    const bool near_plane_unbounded = use == CullingUse::NoDepthBoundsAtNearPlane && obj.bounds->meets_near_plane;
+    if ((c == VolumeCulling::DepthBounds || c == VolumeCulling::Both) && !near_plane_unbounded)
       s.depth_bounds = std::array<double, 2>{obj.bounds->depth_min, obj.bounds->depth_max};
     return s;
   }
@@ -568,24 +632,18 @@ class FrameRenderer {
     return s;
   }
 
-  void draw_closed_volume(const ObjectSetup& obj, const DrawState& s, ShadowFrame& frame,
-                          std::vector<Vec4f>* keep = nullptr) {
-    draw(obj, GeometryPart::Sides, VertexProgram::Extrusion, s, frame, keep);
-    draw(obj, GeometryPart::LightCap, VertexProgram::Extrusion, s, frame, keep);
-    draw(obj, GeometryPart::DarkCap, VertexProgram::Extrusion, s, frame, keep);
-  }
-
   const Scene& scene_;
   std::size_t light_;
   ShadowMethod method_;
   std::vector<ShadowMethod> methods_;
-  bool any_near_cap_ = false, any_preload_ = false, any_infinite_zfail_ = false, any_zpass_ = false,
-       any_atomiczp_ = false;
   EmulationSettings settings_;
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
   Framebuffer fb_;
-  bool clipped_sides_;  // LightProjection::ClippedSides: the near-cap from the clipped volume, no light frustum
+  NearCapKind cap_kind_;
+  std::vector<const ShadowPlan*> plans_;  // each occluder's method's row; null for the other objects
+  bool near_cap_pass_ = false, eye_count_pass_ = false, light_frustum_needed_ = false;
+  bool infinite_ = false;  // the camera's projection has its far plane at infinity
   std::vector<ObjectSetup> objects_;
 };
 

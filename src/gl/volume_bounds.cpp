@@ -10,6 +10,8 @@
 #include <limits>
 #include <vector>
 
+#include "glm_affine.hpp"
+
 namespace nearcap::gl {
 namespace {
 
@@ -66,10 +68,7 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
   // The near rectangle's corners, camera space to world space.
   const Affine3d& view = scene.camera.view;
   const Frustum& f = scene.camera.frustum;
-  glm::dmat4 view_matrix(1.0);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) view_matrix[c][r] = view.rows[r][c];
-  const glm::dmat4 to_world = glm::inverse(view_matrix);
+  const glm::dmat4 to_world = glm::inverse(to_glm(view));
   for (const double x : {f.left, f.right})
     for (const double y : {f.bottom, f.top}) {
       const glm::dvec4 w = to_world * glm::dvec4(x, y, -f.near, 1.0);

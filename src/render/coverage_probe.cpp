@@ -30,32 +30,14 @@ CoverageProbe::CoverageProbe(int width, int height) : width_(width), height_(hei
   if (!is_power_of_two(width) || !is_power_of_two(height) || width > 16384 || height > 16384)
     throw Error(ErrorKind::Usage, "coverage probe size " + std::to_string(width) + "x" + std::to_string(height) +
                                       " is not a power of two up to 16384");
-  glGenFramebuffers(1, &framebuffer_);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  colour_ = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width, height);
-  depth_stencil_ = attach_renderbuffer(GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL_ATTACHMENT, width, height);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error(ErrorKind::Gl, "the coverage probe's framebuffer object is incomplete");
-
-  program_ = link_program(kVertexShader, kFragmentShader, "the coverage probe's program");
-
-  glGenVertexArrays(1, &vertex_array_);
-  glBindVertexArray(vertex_array_);
-  glGenBuffers(1, &buffer_);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+  target_ = make_offscreen_target(width, height, GL_RGBA8, GL_DEPTH24_STENCIL8, "the coverage probe");
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(0);
+  program_ = linked_program(kVertexShader, kFragmentShader, "the coverage probe's program");
   check_gl("creating the coverage probe");
 }
 
-CoverageProbe::~CoverageProbe() {
-  glDeleteBuffers(1, &buffer_);
-  glDeleteVertexArrays(1, &vertex_array_);
-  glDeleteProgram(program_);
-  glDeleteRenderbuffers(1, &depth_stencil_);
-  glDeleteRenderbuffers(1, &colour_);
-  glDeleteFramebuffers(1, &framebuffer_);
-}
+CoverageProbe::~CoverageProbe() = default;
 
 std::vector<std::uint8_t> CoverageProbe::coverage(const std::vector<std::array<gl::WindowVertex, 3>>& triangles) {
   // Window -> NDC: x_ndc = 2 x / width - 1, exact for power-of-two sizes and
@@ -67,7 +49,7 @@ std::vector<std::uint8_t> CoverageProbe::coverage(const std::vector<std::array<g
       ndc.push_back(2.0f * v.x / static_cast<float>(width_) - 1.0f);
       ndc.push_back(2.0f * v.y / static_cast<float>(height_) - 1.0f);
     }
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer.get());
   glViewport(0, 0, width_, height_);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_TEST);
@@ -79,9 +61,9 @@ std::vector<std::uint8_t> CoverageProbe::coverage(const std::vector<std::array<g
   glClear(GL_STENCIL_BUFFER_BIT);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
   glStencilOp(GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-  glUseProgram(program_);
-  glBindVertexArray(vertex_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+  glUseProgram(program_.get());
+  glBindVertexArray(target_.vertex_array.get());
+  glBindBuffer(GL_ARRAY_BUFFER, target_.vertices.get());
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ndc.size() * sizeof(float)), ndc.data(), GL_STREAM_DRAW);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size() * 3));
   std::vector<std::uint8_t> counts(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));

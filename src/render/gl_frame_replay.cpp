@@ -26,40 +26,24 @@ GlFrameReplay::GlFrameReplay(int width, int height, gl::DepthFormat depth) : wid
     throw Error(ErrorKind::Usage,
                 "frame size " + std::to_string(width) + "x" + std::to_string(height) + " is not 1 to 16384 pixels");
   far_only_clamp_ = epoxy_has_gl_extension("GL_AMD_depth_clamp_separate");
-  glGenFramebuffers(1, &framebuffer_);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  objects_ = attach_renderbuffer(GL_R32I, GL_COLOR_ATTACHMENT0, width, height);
-  depth_stencil_ = attach_renderbuffer(depth_stencil_format(depth == gl::DepthFormat::Fixed24),
-                                       GL_DEPTH_STENCIL_ATTACHMENT, width, height);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error(ErrorKind::Gl, "the replay's framebuffer object is incomplete");
-
-  programs_ = std::make_unique<ShadowPrograms>(kFragmentShader, "the replay's program");
-
-  glGenVertexArrays(1, &vertex_array_);
-  glBindVertexArray(vertex_array_);
-  glGenBuffers(1, &buffer_);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+  // The colour attachment holds each pixel's object id.
+  target_ = make_offscreen_target(width, height, GL_R32I, depth_stencil_format(depth == gl::DepthFormat::Fixed24),
+                                  "the replay");
   glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(0);
+
+  programs_ = std::make_unique<ShadowPrograms>(kFragmentShader, "the replay's program");
   check_gl("creating the replay");
 }
 
-GlFrameReplay::~GlFrameReplay() {
-  glDeleteBuffers(1, &buffer_);
-  glDeleteVertexArrays(1, &vertex_array_);
-  programs_.reset();
-  glDeleteRenderbuffers(1, &depth_stencil_);
-  glDeleteRenderbuffers(1, &objects_);
-  glDeleteFramebuffers(1, &framebuffer_);
-}
+GlFrameReplay::~GlFrameReplay() = default;
 
 ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, float volume_depth_offset,
                                     VertexStage stage) {
   const bool depth_bounds_test = has_depth_bounds_test();
   check_depth_bounds(draws, depth_bounds_test);
   const auto t0 = std::chrono::steady_clock::now();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer.get());
   glViewport(0, 0, width_, height_);
   glDisable(GL_MULTISAMPLE);
   disable_volume_culling(depth_bounds_test);
@@ -74,8 +58,8 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glClearBufferiv(GL_COLOR, 0, no_object);
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glBindVertexArray(vertex_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_);
+  glBindVertexArray(target_.vertex_array.get());
+  glBindBuffer(GL_ARRAY_BUFFER, target_.vertices.get());
 
   ReplayedFrame out;
   out.width = width_;

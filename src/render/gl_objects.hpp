@@ -1,5 +1,6 @@
 // What every real-GL class of nearcap_render does with the GL the same way:
-// errors as nearcap::Error (kind Gl), shaders and programs from source.
+// errors as nearcap::Error (kind Gl), new objects owned by their handles
+// (gl_handle.hpp), shaders and programs from source, the offscreen target.
 // Needs a current context (EglContext).  Private to src/render/.
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "nearcap/error.hpp"
+#include "nearcap/render/gl_handle.hpp"
 
 namespace nearcap::render {
 
@@ -17,16 +19,29 @@ inline void check_gl(const char* step) {
   if (e != GL_NO_ERROR) throw Error(ErrorKind::Gl, std::string("GL error ") + std::to_string(e) + " after " + step);
 }
 
-inline GLuint compile_shader(GLenum stage, const char* source) {
-  const GLuint shader = glCreateShader(stage);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
+// A new object of each kind (glGen*), owned.
+template <GlObject Kind, class Generate>
+GlHandle<Kind> generated(Generate generate) {
+  GLuint n = 0;
+  generate(1, &n);
+  return GlHandle<Kind>(n);
+}
+inline GlBuffer new_buffer() { return generated<GlObject::Buffer>(glGenBuffers); }
+inline GlVertexArray new_vertex_array() { return generated<GlObject::VertexArray>(glGenVertexArrays); }
+inline GlFramebuffer new_framebuffer() { return generated<GlObject::Framebuffer>(glGenFramebuffers); }
+inline GlRenderbuffer new_renderbuffer() { return generated<GlObject::Renderbuffer>(glGenRenderbuffers); }
+inline GlQuery new_query() { return generated<GlObject::Query>(glGenQueries); }
+
+inline GlShader compiled_shader(GLenum stage, const char* source) {
+  GlShader shader(glCreateShader(stage));
+  const GLuint s = shader.get();
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
   GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
   if (!ok) {
     char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
     throw Error(ErrorKind::Gl, std::string("shader compilation failed: ") + log);
   }
   return shader;
@@ -34,37 +49,65 @@ inline GLuint compile_shader(GLenum stage, const char* source) {
 
 // A program of a vertex and a fragment shader; `what` names it in the error.
 // `captured`: a vertex output transform feedback may capture (or null).
-inline GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& what,
-                           const char* captured = nullptr) {
-  const GLuint vs = compile_shader(GL_VERTEX_SHADER, vertex_source);
-  const GLuint fs = compile_shader(GL_FRAGMENT_SHADER, fragment_source);
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  if (captured) glTransformFeedbackVaryings(program, 1, &captured, GL_INTERLEAVED_ATTRIBS);
-  glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+inline GlProgram linked_program(const char* vertex_source, const char* fragment_source, const std::string& what,
+                                const char* captured = nullptr) {
+  const GlShader vs = compiled_shader(GL_VERTEX_SHADER, vertex_source);
+  const GlShader fs = compiled_shader(GL_FRAGMENT_SHADER, fragment_source);
+  GlProgram program(glCreateProgram());
+  const GLuint p = program.get();
+  glAttachShader(p, vs.get());
+  glAttachShader(p, fs.get());
+  if (captured) glTransformFeedbackVaryings(p, 1, &captured, GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(p);
   GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  glGetProgramiv(p, GL_LINK_STATUS, &linked);
   if (!linked) {
     char log[1024] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
     throw Error(ErrorKind::Gl, what + " does not link: " + log);
   }
   return program;
 }
 
+// The same as names the caller deletes.
+inline GLuint compile_shader(GLenum stage, const char* source) { return compiled_shader(stage, source).release(); }
+inline GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& what,
+                           const char* captured = nullptr) {
+  return linked_program(vertex_source, fragment_source, what, captured).release();
+}
+
 // A width x height renderbuffer of `format` attached to the bound
 // framebuffer at `attachment`.
-inline GLuint attach_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
-  GLuint buffer = 0;
-  glGenRenderbuffers(1, &buffer);
-  glBindRenderbuffer(GL_RENDERBUFFER, buffer);
+inline GlRenderbuffer attached_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
+  GlRenderbuffer buffer = new_renderbuffer();
+  glBindRenderbuffer(GL_RENDERBUFFER, buffer.get());
   glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer.get());
   return buffer;
+}
+inline GLuint attach_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
+  return attached_renderbuffer(format, attachment, width, height).release();
+}
+
+// A width x height framebuffer object with a `colour_format` renderbuffer
+// at colour attachment 0 and a `depth_stencil_format` one at the
+// depth-stencil attachment, and a vertex array with one buffer; all three
+// left bound (GL_FRAMEBUFFER, the vertex array, GL_ARRAY_BUFFER).  Throws
+// Error(Gl) "`what`'s framebuffer object is incomplete", deleting what it made.
+inline OffscreenTarget make_offscreen_target(int width, int height, GLenum colour_format, GLenum depth_stencil_format,
+                                             const std::string& what) {
+  OffscreenTarget t;
+  t.framebuffer = new_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, t.framebuffer.get());
+  t.colour = attached_renderbuffer(colour_format, GL_COLOR_ATTACHMENT0, width, height);
+  t.depth_stencil = attached_renderbuffer(depth_stencil_format, GL_DEPTH_STENCIL_ATTACHMENT, width, height);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error(ErrorKind::Gl, what + "'s framebuffer object is incomplete");
+  t.vertex_array = new_vertex_array();
+  glBindVertexArray(t.vertex_array.get());
+  t.vertices = new_buffer();
+  glBindBuffer(GL_ARRAY_BUFFER, t.vertices.get());
+  return t;
 }
 
 // The depth-stencil format of a depth buffer format (8 stencil bits either way).

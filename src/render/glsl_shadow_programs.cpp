@@ -111,24 +111,16 @@ std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Ari
 ShadowPrograms::ShadowPrograms(std::string fragment_source, std::string what)
     : fragment_source_(std::move(fragment_source)), what_(std::move(what)) {}
 
-ShadowPrograms::~ShadowPrograms() {
-  for (unsigned p : programs_)
-    if (p) glDeleteProgram(p);
-  if (capture_buffer_) glDeleteBuffers(1, &capture_buffer_);
-  if (capture_vertices_) glDeleteBuffers(1, &capture_vertices_);
-  if (capture_array_) glDeleteVertexArrays(1, &capture_array_);
-  if (capture_target_) glDeleteRenderbuffers(1, &capture_target_);
-  if (capture_framebuffer_) glDeleteFramebuffers(1, &capture_framebuffer_);
-}
+ShadowPrograms::~ShadowPrograms() = default;
 
 unsigned ShadowPrograms::program(std::optional<gl::VertexProgram> p, gl::Arithmetic a, bool clip_distance) {
-  unsigned& out = programs_[slot(p, a, clip_distance)];
-  if (out) return out;
+  GlProgram& out = programs_[slot(p, a, clip_distance)];
+  if (out) return out.get();
   const std::string vertex = glsl_vertex_shader(p, a, clip_distance);
-  out = link_program(vertex.c_str(), fragment_source_.c_str(),
-                     what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") + " vertex program)",
-                     "gl_Position");
-  return out;
+  out = linked_program(vertex.c_str(), fragment_source_.c_str(),
+                       what_ + " (" + std::string(p ? gl::to_string(*p) : "pass-through") + " vertex program)",
+                       "gl_Position");
+  return out.get();
 }
 
 void ShadowPrograms::prepare(const gl::DrawCall& d, VertexStage stage, bool clip_distance) {
@@ -179,29 +171,29 @@ std::vector<gl::Vec4f> ShadowPrograms::capture(const gl::DrawCall& d) {
   glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &previous_array);
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
   if (!capture_array_) {
-    glGenVertexArrays(1, &capture_array_);
-    glGenBuffers(1, &capture_vertices_);
-    glGenBuffers(1, &capture_buffer_);
+    capture_array_ = new_vertex_array();
+    capture_vertices_ = new_buffer();
+    capture_buffer_ = new_buffer();
     // A draw needs a complete framebuffer even with rasterization discarded
     // (a surfaceless context has none): 1x1, never written.
-    glGenFramebuffers(1, &capture_framebuffer_);
-    glBindFramebuffer(GL_FRAMEBUFFER, capture_framebuffer_);
-    capture_target_ = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, 1, 1);
+    capture_framebuffer_ = new_framebuffer();
+    glBindFramebuffer(GL_FRAMEBUFFER, capture_framebuffer_.get());
+    capture_target_ = attached_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, 1, 1);
   }
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, capture_framebuffer_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, capture_framebuffer_.get());
   const ShadowProgramUse u = use(d, VertexStage::Glsl);
   std::vector<gl::Vec4f> out(u.count);
   if (u.count == 0) return out;
   const auto bytes = static_cast<GLsizeiptr>(u.count * sizeof(gl::Vec4f));
-  glBindVertexArray(capture_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, capture_vertices_);
+  glBindVertexArray(capture_array_.get());
+  glBindBuffer(GL_ARRAY_BUFFER, capture_vertices_.get());
   glBufferData(GL_ARRAY_BUFFER, bytes, u.vertices, GL_STREAM_DRAW);
   glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(0);
   glVertexAttrib3f(1, 0, 0, 0);
-  glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, capture_buffer_);
+  glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, capture_buffer_.get());
   glBufferData(GL_TRANSFORM_FEEDBACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
-  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, capture_buffer_);
+  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, capture_buffer_.get());
   glEnable(GL_RASTERIZER_DISCARD);
   glBeginTransformFeedback(GL_TRIANGLES);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(u.count - u.count % 3));

@@ -92,61 +92,37 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   for (const gl::ShadowFrame& f : light_frames) check_depth_bounds(f.draws, depth_bounds_test);
   LitFrame out;
   double read_ms = 0;  // reading the stencils back, left out of the frame's time
-  GLuint framebuffer = 0, colour = 0, depth_stencil = 0, vertex_array = 0, buffers[3] = {0, 0, 0};
-  glGenFramebuffers(1, &framebuffer);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  colour = attach_renderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width, height);
-  depth_stencil = attach_renderbuffer(depth_stencil_format(depth == gl::DepthFormat::Fixed24),
-                                      GL_DEPTH_STENCIL_ATTACHMENT, width, height);
-  const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  glGenVertexArrays(1, &vertex_array);
-  glBindVertexArray(vertex_array);
-  glGenBuffers(3, buffers);
-  auto release = [&] {
-    glDeleteBuffers(3, buffers);
-    glDeleteVertexArrays(1, &vertex_array);
-    glDeleteRenderbuffers(1, &depth_stencil);
-    glDeleteRenderbuffers(1, &colour);
-    glDeleteFramebuffers(1, &framebuffer);
-  };
-  if (!complete) {
-    release();
-    throw Error(ErrorKind::Gl, "the lit frame's framebuffer object is incomplete");
-  }
+  const OffscreenTarget offscreen = make_offscreen_target(
+      width, height, GL_RGBA8, depth_stencil_format(depth == gl::DepthFormat::Fixed24), "the lit frame");
+  const GlBuffer colours_buffer = new_buffer(), strip_buffer = new_buffer();  // attribute 1; strip indices
   // Every program the frame needs, linked before the clock starts.
   // With side_strips, each sides draw's strip indices, built before it too.
   std::map<const gl::DrawCall*, std::vector<std::uint32_t>> strips;
   // AtomicZP's eye-count pass: each light frame's inputs (the counted
   // occluders' float32 vertices and uniforms), built before it too.
   std::vector<std::optional<EyeCountInputs>> eye_inputs(light_frames.size());
-  try {
-    for (std::size_t k = 0; k < light_frames.size(); ++k) {
-      const gl::ShadowFrame& f = light_frames[k];
-      if (!f.eye_count) continue;
-      if (!eye_pass_) eye_pass_ = std::make_unique<EyeCountPass>();
-      eye_inputs[k] = eye_count_inputs(scene, f.light, eye_counted_objects(f), recorded_arithmetic(f));
-    }
-    for (const gl::ShadowFrame& f : light_frames)
-      for (const gl::DrawCall& d : f.draws) {
-        programs.prepare(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
-        if (options.side_strips && d.vertex_stage && d.vertex_stage->part == gl::GeometryPart::Sides)
-          strips[&d] = gl::side_strip_indices(d.vertex_stage->inputs);
-      }
-  } catch (...) {
-    release();
-    throw;
+  for (std::size_t k = 0; k < light_frames.size(); ++k) {
+    const gl::ShadowFrame& f = light_frames[k];
+    if (!f.eye_count) continue;
+    if (!eye_pass_) eye_pass_ = std::make_unique<EyeCountPass>();
+    eye_inputs[k] = eye_count_inputs(scene, f.light, eye_counted_objects(f), recorded_arithmetic(f));
   }
+  for (const gl::ShadowFrame& f : light_frames)
+    for (const gl::DrawCall& d : f.draws) {
+      programs.prepare(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
+      if (options.side_strips && d.vertex_stage && d.vertex_stage->part == gl::GeometryPart::Sides)
+        strips[&d] = gl::side_strip_indices(d.vertex_stage->inputs);
+    }
   const auto t0 = std::chrono::steady_clock::now();
   gl::StencilOps second_ops;  // the back faces' operations, for a one-sided stencil's second draw
   // With pass_times: a GL_TIME_ELAPSED query around each pass (pass_begin,
   // pass_done), then glFinish, and the wall time since the last mark and the
   // query's time added to `into` and `gpu_into`.
   auto mark = std::chrono::steady_clock::now();
-  GLuint timer = 0;
   const bool pass_times = options.pass_times || options.pass_kind_times;
-  if (pass_times) glGenQueries(1, &timer);
+  const GlQuery timer = pass_times ? new_query() : GlQuery();
   auto pass_begin = [&] {
-    if (pass_times) glBeginQuery(GL_TIME_ELAPSED, timer);
+    if (pass_times) glBeginQuery(GL_TIME_ELAPSED, timer.get());
   };
   auto pass_done = [&](double& into, double& gpu_into) {
     if (!pass_times) return;
@@ -156,7 +132,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     into += std::chrono::duration<double, std::milli>(now - mark).count();
     mark = now;
     GLuint64 ns = 0;
-    glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
+    glGetQueryObjectui64v(timer.get(), GL_QUERY_RESULT, &ns);
     gpu_into += static_cast<double>(ns) * 1e-6;
   };
   auto draw = [&](const gl::DrawCall& d, const std::vector<float>& rgb, int times = 1) {
@@ -167,7 +143,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
       out.upload_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0).count();
     };
-    glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+    glBindBuffer(GL_ARRAY_BUFFER, offscreen.vertices.get());
     upload(GL_ARRAY_BUFFER, use.count * sizeof(gl::Vec4f), use.vertices);
     glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
     glEnableVertexAttribArray(0);
@@ -175,7 +151,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       glDisableVertexAttribArray(1);
       glVertexAttrib3f(1, 0, 0, 0);
     } else {
-      glBindBuffer(GL_ARRAY_BUFFER, buffers[1]);
+      glBindBuffer(GL_ARRAY_BUFFER, colours_buffer.get());
       upload(GL_ARRAY_BUFFER, rgb.size() * sizeof(float), rgb.data());
       glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
       glEnableVertexAttribArray(1);
@@ -189,7 +165,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       }
     };
     if (strip != strips.end()) {
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[2]);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, strip_buffer.get());
       upload(GL_ELEMENT_ARRAY_BUFFER, strip->second.size() * sizeof(std::uint32_t), strip->second.data());
     }
     submit();
@@ -227,7 +203,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   }
   pass_done(out.passes.depth_ms, out.passes.gpu_depth_ms);
   if (options.pass_kind_times)
-    out.kind_times.push_back({0, DrawKind::Depth, out.passes.depth_ms, out.passes.gpu_depth_ms});
+    out.kind_times.push_back({0, gl::PassKind::Depth, out.passes.depth_ms, out.passes.gpu_depth_ms});
   // 2. Per light: its stencil, then its diffuse light where the stencil is 0.
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
@@ -272,7 +248,8 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);
     } else {
       pass_done(out.passes.stencil_ms, out.passes.gpu_stencil_ms);  // the stencil's clear
-      for (const DrawKind kind : {DrawKind::NearCap, DrawKind::Sides, DrawKind::LightCap, DrawKind::DarkCap}) {
+      for (const gl::PassKind kind :
+           {gl::PassKind::NearCap, gl::PassKind::Sides, gl::PassKind::LightCap, gl::PassKind::DarkCap}) {
         bool drawn = false;
         pass_begin();
         for (const gl::DrawCall& d : light_frames[k].draws)
@@ -312,7 +289,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
     const Vec3d& light = scene.lights[light_frames[k].light].position;
     for (const gl::DrawCall* d : depth_draws)
       draw(*d, colours(scene, static_cast<std::size_t>(d->state.object_id), &light, light_frames.size()));
-    KindTime lit{k, DrawKind::Lit, 0, 0};
+    KindTime lit{k, gl::PassKind::Lit, 0, 0};
     pass_done(lit.ms, lit.gpu_ms);
     out.passes.lit_ms += lit.ms;
     out.passes.gpu_lit_ms += lit.gpu_ms;
@@ -320,7 +297,6 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   }
   glFinish();
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - read_ms;
-  if (timer) glDeleteQueries(1, &timer);
   out.width = width;
   out.height = height;
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
@@ -333,7 +309,6 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   apply_depth_mapping(gl::DepthMapping::Standard);
-  release();
   check_gl("drawing the lit frame");
   out.rgb.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   for (int j = 0; j < height; ++j)

@@ -5,29 +5,29 @@
 
 namespace nearcap::render {
 
-DrawKind draw_kind(const gl::DrawCall& d) {
+gl::PassKind draw_kind(const gl::DrawCall& d) {
   switch (d.pass) {
     case gl::DrawPass::Depth:
-      return DrawKind::Depth;
+      return gl::PassKind::Depth;
     case gl::DrawPass::NearCap:
-      return DrawKind::NearCap;
+      return gl::PassKind::NearCap;
     case gl::DrawPass::Volume:
       break;
   }
   // A volume draw the CPU built is ZF+'s far-plane cap: it closes the
   // volume at the far end, as the dark cap does.
-  if (!d.vertex_stage) return DrawKind::DarkCap;
+  if (!d.vertex_stage) return gl::PassKind::DarkCap;
   switch (d.vertex_stage->part) {
     case gl::GeometryPart::LightCap:
-      return DrawKind::LightCap;
+      return gl::PassKind::LightCap;
     case gl::GeometryPart::DarkCap:
-      return DrawKind::DarkCap;
+      return gl::PassKind::DarkCap;
     case gl::GeometryPart::Sides:
     case gl::GeometryPart::Corrective:
     case gl::GeometryPart::Mesh:
       break;
   }
-  return DrawKind::Sides;
+  return gl::PassKind::Sides;
 }
 
 std::vector<gl::DrawCounters> draw_counters(const gl::ShadowFrame& frame, const gl::RasterSettings& raster,

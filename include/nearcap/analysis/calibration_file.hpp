@@ -35,7 +35,7 @@ namespace nearcap::analysis {
 
 inline constexpr std::array<std::string_view, 3> kCpuTaskNames{"silhouette", "clipped_cap", "exact_test"};
 inline std::string_view to_string(CpuTask t) { return kCpuTaskNames[static_cast<std::size_t>(t)]; }
-inline std::string_view to_string(PassKind k) { return kPassKindNames[static_cast<std::size_t>(k)]; }
+using gl::to_string;  // of a PassKind (pass_kind.hpp)
 std::optional<PassKind> pass_kind_from_string(std::string_view name);
 std::optional<CpuTask> cpu_task_from_string(std::string_view name);
 

@@ -21,13 +21,15 @@
 #include <string_view>
 #include <vector>
 
+#include "nearcap/gl/pass_kind.hpp"
+
 namespace nearcap::analysis {
 
-// The passes a frame draws, each timed on its own when calibrating.
-enum class PassKind { Depth, Sides, LightCap, DarkCap, NearCap, Lit };
-inline constexpr std::size_t kPassKindCount = 6;
-inline constexpr std::array<std::string_view, kPassKindCount> kPassKindNames{"depth",    "sides",    "light_cap",
-                                                                             "dark_cap", "near_cap", "lit"};
+// The passes a frame draws, each timed on its own when calibrating: the
+// gl layer's kinds (pass_kind.hpp), by which the emulation names its draws.
+using gl::kPassKindCount;
+using gl::kPassKindNames;
+using gl::PassKind;
 
 struct PassCost {
   double intercept_ms = 0;      // per pass drawn (state changes, the draw call)

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "nearcap/gl/rasterizer.hpp"
+#include "nearcap/render/gl_handle.hpp"
 
 namespace nearcap::render {
 
@@ -35,7 +36,8 @@ class CoverageProbe {
 
  private:
   int width_, height_;
-  unsigned framebuffer_ = 0, colour_ = 0, depth_stencil_ = 0, program_ = 0, vertex_array_ = 0, buffer_ = 0;
+  OffscreenTarget target_;
+  GlProgram program_;
 };
 
 }  // namespace nearcap::render

@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/render/gl_handle.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::render {
@@ -77,7 +78,7 @@ class GlFrameReplay {
  private:
   int width_, height_;
   bool far_only_clamp_ = false;
-  unsigned framebuffer_ = 0, objects_ = 0, depth_stencil_ = 0, vertex_array_ = 0, buffer_ = 0;
+  OffscreenTarget target_;  // colour: each pixel's object id (GL_R32I)
   std::unique_ptr<ShadowPrograms> programs_;
 };
 

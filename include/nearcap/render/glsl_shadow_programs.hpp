@@ -28,6 +28,7 @@
 
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/named_values.hpp"
+#include "nearcap/render/gl_handle.hpp"
 
 namespace nearcap::render {
 
@@ -84,9 +85,12 @@ class ShadowPrograms {
  private:
   unsigned program(std::optional<gl::VertexProgram> p, gl::Arithmetic a, bool clip_distance);
   std::string fragment_source_, what_;
-  std::array<unsigned, 16> programs_{};  // [1 + program][arithmetic][clip distance]: 0 pass-through
-  unsigned capture_buffer_ = 0, capture_vertices_ = 0, capture_array_ = 0, capture_framebuffer_ = 0,
-           capture_target_ = 0;
+  std::array<GlProgram, 16> programs_;  // [1 + program][arithmetic][clip distance]: 0 pass-through
+  // capture's objects, made on its first call.
+  GlFramebuffer capture_framebuffer_;
+  GlRenderbuffer capture_target_;
+  GlVertexArray capture_array_;
+  GlBuffer capture_vertices_, capture_buffer_;
 };
 
 }  // namespace nearcap::render

@@ -89,7 +89,7 @@ struct LitFramePasses {
 // first draw to the glFinish after its last.
 struct KindTime {
   std::size_t light_frame = 0;  // index into the light frames (0 for the depth pre-pass)
-  DrawKind kind = DrawKind::Depth;
+  gl::PassKind kind = gl::PassKind::Depth;
   double ms = 0;
   double gpu_ms = 0;  // the GL_TIME_ELAPSED query around the same draws
 };

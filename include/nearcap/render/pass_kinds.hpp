@@ -1,39 +1,31 @@
 // nearcap/render/pass_kinds.hpp — a lit frame's draws by the kind of pass
-// they belong to, and the work each draw does, for timing each kind on its
-// own (`nearcap calibrate`, docs/calibration.md).
+// they belong to (gl::PassKind, gl/pass_kind.hpp), and the work each draw
+// does, for timing each kind on its own (`nearcap calibrate`,
+// docs/calibration.md).
 //
-// The kinds, in the order a lit frame draws them:
-//   depth      the depth pre-pass (DrawPass::Depth), once per frame;
-//   near_cap   ZP+'s near-cap pass (DrawPass::NearCap): the light-frustum
-//              pass over the occluders' meshes, or the clipped-sides fan;
-//   sides      the volumes' sides, with ZP+ corrected's corrective quads
-//              (GeometryPart::Sides and Corrective);
-//   light_cap  the volumes' light caps (GeometryPart::LightCap);
-//   dark_cap   the volumes' dark caps (GeometryPart::DarkCap), and ZF+'s
-//              far-plane cap (a volume draw the CPU built: no vertex stage);
-//   lit        a light's additive diffuse pass: the depth pre-pass's draws
-//              again (depth test GL_EQUAL), so its triangles and fragments
-//              are the depth pass's.
-// The order of the names is analysis::PassKind's (device_profile.hpp).
+// A recorded draw's kind:
+//   depth      DrawPass::Depth;
+//   near_cap   DrawPass::NearCap: the light-frustum pass over the occluders'
+//              meshes, or the clipped-sides fan;
+//   sides      GeometryPart::Sides and Corrective (ZP+ corrected's
+//              corrective quads);
+//   light_cap  GeometryPart::LightCap;
+//   dark_cap   GeometryPart::DarkCap, and ZF+'s far-plane cap (a volume
+//              draw the CPU built: no vertex stage);
+//   lit        none: the lit pass draws the depth pre-pass's draws again
+//              (depth test GL_EQUAL), so its triangles and fragments are the
+//              depth pass's.
 #pragma once
 
-#include <array>
-#include <cstddef>
-#include <string_view>
 #include <vector>
 
+#include "nearcap/gl/pass_kind.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 
 namespace nearcap::render {
 
-enum class DrawKind { Depth, Sides, LightCap, DarkCap, NearCap, Lit };
-inline constexpr std::size_t kDrawKindCount = 6;
-inline constexpr std::array<std::string_view, kDrawKindCount> kDrawKindNames{"depth",    "sides",    "light_cap",
-                                                                             "dark_cap", "near_cap", "lit"};
-inline std::string_view to_string(DrawKind k) { return kDrawKindNames[static_cast<std::size_t>(k)]; }
-
 // The kind of a recorded draw (never Lit: the lit pass is no recorded draw).
-DrawKind draw_kind(const gl::DrawCall& d);
+gl::PassKind draw_kind(const gl::DrawCall& d);
 
 // What the emulation's pipeline did with each of `frame.draws` (recorded,
 // EmulationSettings::record_draws), one entry per draw: the draws replayed
