@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -612,10 +613,18 @@ double marginal_ms(const DeviceProfile& profile, FrameWork w) {
   return profile.predict_ms(w);
 }
 
-std::string ms_text(double ms) {
+// printf's %.4g, without printf's locale and format parsing (the reasons
+// are written on every decision).
+void append_ms(std::string& out, double ms) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", ms);
-  return buf;
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, ms, std::chars_format::general, 4);
+  out.append(buf, r.ptr);
+}
+
+std::string ms_text(double ms) {
+  std::string s;
+  append_ms(s, ms);
+  return s;
 }
 
 // Whether the policy's capped method with the paper's cap is a candidate in
@@ -680,7 +689,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     if (!scene.objects[o].occluder) continue;
     Occluder oc;
     oc.object = o;
-    oc.in = occluder_work_inputs(scene, o, light);
+    // The cull decides Z-pass only where the policy may pick it.
+    oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
@@ -791,15 +801,34 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   d.predicted_work = chosen.work;
   d.settings.light_frustum.projection = chosen.projection;
   d.predicted_ms = best_total;
+  const std::string clipped_name = clipped.name() + " ", paper_name = ", " + paper.name() + " ";
+  const std::string paper_not = "not a candidate (" + paper_why + ")";
   for (std::size_t k = 0; k < occluders.size(); ++k) {
     const Occluder& oc = occluders[k];
     const CandidateMethod& c = best_choice[k];
     d.object_methods[oc.object] = c.method;
-    std::string why = "cost: " + c.name() + "; predicted ms: zfail " + ms_text(oc.zfail_ms) + ", " + clipped.name() +
-                      " " + ms_text(oc.clipped_ms) + ", " + paper.name() + " " +
-                      (paper_ok ? ms_text(oc.paper_ms) : "not a candidate (" + paper_why + ")") + ", zpass " +
-                      (oc.zpass_ok ? ms_text(oc.zpass_ms) : "not a candidate") + " (" + oc.zpass_why + ")";
-    d.reasons[oc.object] = why;
+    std::string& why = d.reasons[oc.object];
+    why.reserve(160 + paper_not.size() + oc.zpass_why.size());
+    why = "cost: ";
+    why += c.name();
+    why += "; predicted ms: zfail ";
+    append_ms(why, oc.zfail_ms);
+    why += ", ";
+    why += clipped_name;
+    append_ms(why, oc.clipped_ms);
+    why += paper_name;
+    if (paper_ok)
+      append_ms(why, oc.paper_ms);
+    else
+      why += paper_not;
+    why += ", zpass ";
+    if (oc.zpass_ok)
+      append_ms(why, oc.zpass_ms);
+    else
+      why += "not a candidate";
+    why += " (";
+    why += oc.zpass_why;
+    why += ")";
   }
   return d;
 }
