@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "../src/analysis/general4.hpp"
 #include "box_scene.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
@@ -270,6 +272,31 @@ TEST(CostDecision, BundledPathFramesDecideRightly) {
   EXPECT_EQ(frames, 38u);
   EXPECT_GT(empty, 0u);
   EXPECT_EQ(zpass, empty) << "Z-pass wherever the exact test finds the near-cap empty, with this profile";
+}
+
+// The reasons' number format is printf's %.4g, on random values over forty
+// decades (uniform in the exponent) and on the cases it must hand to the
+// exact path: ties, powers of ten, values that round up to one, zero,
+// negatives, infinities and NaN.
+TEST(CostDecision, ReasonNumbersArePrintfs4g) {
+  std::vector<double> values{0.0,     -0.0,     1.0,     0.1,     1e-5,       9.9995,    9.99949,  0.00125,
+                             0.00135, 1234.5,   1235.5,  99995.0, 99994.9,    1e20,      1e-20,    3e-21,
+                             -2.5,    2.5e-5,   1.00005, 0.0001,  0.00009999, 123456789, INFINITY, -INFINITY,
+                             NAN,     7.125e-3, 0.3,     0.05,    5e-324,     1.7e308};
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> exponent(-22, 22), mantissa(1, 10);
+  for (int k = 0; k < 200000; ++k) values.push_back(mantissa(rng) * std::pow(10.0, std::floor(exponent(rng))));
+  for (int k = 0; k < 20000; ++k)  // four digits and a half: ties in decimal, near-ties in binary
+    values.push_back((std::floor(mantissa(rng) * 1000) + 0.5) * std::pow(10.0, std::floor(exponent(rng))));
+  std::size_t mismatches = 0;
+  for (double v : values) {
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "%.4g", v);
+    std::string got;
+    analysis::append_general4(got, v);
+    if (got != expected && ++mismatches <= 10) ADD_FAILURE() << "value " << v << ": " << got << " against " << expected;
+  }
+  EXPECT_EQ(mismatches, 0u);
 }
 
 // The work estimate's inputs as first written: facing into a vector, the

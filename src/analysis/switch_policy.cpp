@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "general4.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
@@ -613,13 +613,8 @@ double marginal_ms(const DeviceProfile& profile, FrameWork w) {
   return profile.predict_ms(w);
 }
 
-// printf's %.4g, without printf's locale and format parsing (the reasons
-// are written on every decision).
-void append_ms(std::string& out, double ms) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, ms, std::chars_format::general, 4);
-  out.append(buf, r.ptr);
-}
+// printf's %.4g (general4.hpp).
+void append_ms(std::string& out, double ms) { append_general4(out, ms); }
 
 std::string ms_text(double ms) {
   std::string s;
