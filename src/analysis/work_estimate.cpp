@@ -198,11 +198,14 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   if (!sides_needed || in.certainly_misses_light_pyramid) return in;
   in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
                           (directions == 0 ? in.triangles - in.light_facing : 0);
+  // Only the camera-space z is read: modelview.apply's third row, in its order.
+  const auto& z_row = modelview.rows[2];
   std::vector<double> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Vec3d c = modelview.apply(mesh.positions[v]);
-    as_point[v] = -c.z - near;
-    as_direction[v] = -(c.z - l.z);
+    const Vec3d& p = mesh.positions[v];
+    const double z = z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3];
+    as_point[v] = -z - near;
+    as_direction[v] = -(z - l.z);
   }
   auto straddles = [](double a, double b, double c) {
     const bool any_beyond = a > 0 || b > 0 || c > 0, all_beyond = a > 0 && b > 0 && c > 0;
