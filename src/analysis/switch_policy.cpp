@@ -656,6 +656,21 @@ bool paper_cap_admitted(const SwitchPolicy& policy, const CameraSpaceScene& cs, 
   return true;
 }
 
+// Whether cheap_conditioning_features(cs, light).light_near_distance is 0,
+// the light's exact signed distance to the near plane over near rounded to
+// a double: certainly not where the filtered estimate of z + near is away
+// from zero by more than its bound and far above underflow (the quotient
+// then rounds to a normal double); else as cheap_conditioning_features
+// computes it, over rationals.
+bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
+  const double near = cs.frustum().near;
+  const BoundedDouble side = cs.light(light).z + BoundedDouble(near);
+  if (side.is_finite() && side.sign().value_or(Sign::Zero) != Sign::Zero &&
+      std::fabs(side.v) - side.e > 0x1p-900 * near)
+    return false;
+  return cheap_conditioning_features(cs, light).light_near_distance == 0;
+}
+
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
                               const gl::EmulationSettings& base, PolicyDecision d) {
   const DeviceProfile& profile = *policy.device_profile;
@@ -666,7 +681,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper};
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
-  const bool light_on_near_plane = cheap_conditioning_features(cs, light).light_near_distance == 0;
+  const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
   std::string paper_why;
   const bool paper_ok =
       !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability, paper_why);
