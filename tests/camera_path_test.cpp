@@ -100,7 +100,7 @@ TEST_F(BadPath, NamesTheFileAndTheField) {
   const std::string key = "{\"eye\": [0, 2, 5], \"target\": [0, 2, 0]}";
   expect_error("{" + scene + ", \"frames\": 10}", "keyframes");
   expect_error("{" + scene + ", \"frames\": 0, \"keyframes\": [" + key + "]}", "frames");
-  expect_error("{" + scene + ", \"frames\": 10, \"keyframes\": [" + key + "], \"speed\": 2}", "unknown key 'speed'");
+  expect_error("{" + scene + ", \"frames\": 10, \"keyframes\": [" + key + "], \"speed\": 2}", "speed: unknown key");
   expect_error("{" + scene + ", \"frames\": 10, \"keyframes\": [{\"eye\": [0, 2, 5]}]}", "keyframes[0]");
   expect_error("{" + scene +
                    ", \"frames\": 10, \"keyframes\": [{\"eye\": [0, 2, 5], \"target\": [0, 2, 0], "

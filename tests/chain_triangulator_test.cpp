@@ -18,6 +18,7 @@
 #include "nearcap/error.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/pipeline.hpp"
+#include "support/cap_draw_state.hpp"
 
 namespace nearcap {
 namespace {
@@ -72,23 +73,13 @@ std::map<Key, int> boundary_of_triangles(const std::vector<Vec4f>& t) {
   return b;
 }
 
-// The near-cap pass's state: no depth test, +1 front, -1 back.
-gl::DrawState cap_state() {
-  gl::DrawState s;
-  s.depth_func = gl::DepthFunc::Always;
-  s.vertices_on_near_plane = true;
-  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
-  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
-  return s;
-}
-
 struct Drawn {
   std::vector<std::uint8_t> stencil;
   std::uint64_t fragments;
 };
 Drawn draw(const std::vector<Vec4f>& triangles, int width, int height) {
   gl::Framebuffer fb(width, height, gl::DepthFormat::Fixed24);
-  const gl::DrawCounters c = fb.draw(triangles, cap_state(), {});
+  const gl::DrawCounters c = fb.draw(triangles, test::cap_draw_state(), {});
   return {fb.stencil(), c.fragments};
 }
 

@@ -14,6 +14,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -106,11 +107,9 @@ void check_scene(const Scene& scene, Tally& tally, std::size_t pixel_budget) {
 }
 
 analysis::SamplerSpec sampler_spec(std::uint64_t seed) {
-  analysis::SamplerSpec s;
-  s.seed = seed;
+  analysis::SamplerSpec s = test::bundled_sampler_spec(seed);
   s.width = 40;
   s.height = 30;
-  s.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   return s;
 }
 
@@ -118,19 +117,11 @@ TEST(CrackDistance, EveryClaimedSquareIsConstantUnderDenseSamplingOnSampledScene
   Tally tally;
   std::size_t scenes = 0;
   for (std::uint64_t seed : {3u, 11u}) {
-    const analysis::HardCaseSampler sampler(sampler_spec(seed));
-    for (std::uint64_t index = 0; index < 12; ++index) {
-      const analysis::HardCase c = sampler.sample(index);
-      std::optional<Scene> scene;
-      try {
-        scene = parse_scene(c.scene_json, "sample " + std::to_string(index), ".");
-      } catch (const Error&) {
-        continue;  // a light inside an occluder: the sampler does not avoid it
-      }
-      ++scenes;
-      check_scene(*scene, tally, 60);
-      if (HasFatalFailure()) return;
-    }
+    scenes += test::for_each_sampled_scene(
+                  analysis::HardCaseSampler(sampler_spec(seed)), 12,
+                  [&](const Scene& scene, const analysis::HardCase&) { check_scene(scene, tally, 60); })
+                  .scenes;
+    if (HasFatalFailure()) return;
   }
   EXPECT_GE(scenes, 16u);
   // Both outcomes occur, so the brute force checked real claims.
@@ -160,28 +151,22 @@ TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
 }
 
 TEST(CrackDistance, LevelsDoNotDependOnTheOrderOfMeasurement) {
-  const analysis::HardCaseSampler sampler(sampler_spec(5));
-  for (std::uint64_t index = 0; index < 6; ++index) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(index).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;
-    }
-    const CameraSpaceScene cs(scene);
-    const PixelReferenceTracer tracer(cs, 0);
-    const PixelReference ref = compute_pixel_reference(tracer);
-    const CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
-    const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail), ref);
-    CrackDistances a(tracer, ref), b(tracer, ref);
-    CrackReport a1 = zpass, a2 = zfail, b1 = zfail, b2 = zpass;
-    a.measure(a1);
-    a.measure(a2);
-    b.measure(b1);
-    b.measure(b2);
-    EXPECT_EQ(a1.distance, b2.distance) << index;
-    EXPECT_EQ(a2.distance, b1.distance) << index;
-  }
+  test::for_each_sampled_scene(
+      analysis::HardCaseSampler(sampler_spec(5)), 6, [&](const Scene& scene, const analysis::HardCase& sample) {
+        const CameraSpaceScene cs(scene);
+        const PixelReferenceTracer tracer(cs, 0);
+        const PixelReference ref = compute_pixel_reference(tracer);
+        const CrackReport zpass = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPass), ref);
+        const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZFail), ref);
+        CrackDistances a(tracer, ref), b(tracer, ref);
+        CrackReport a1 = zpass, a2 = zfail, b1 = zfail, b2 = zpass;
+        a.measure(a1);
+        a.measure(a2);
+        b.measure(b1);
+        b.measure(b2);
+        EXPECT_EQ(a1.distance, b2.distance) << sample.index;
+        EXPECT_EQ(a2.distance, b1.distance) << sample.index;
+      });
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -103,29 +104,25 @@ struct Tally {
   std::size_t frames = 0, wrong = 0, cracks = 0;
 };
 
-// Z-fail on the first 100 tiny-near configurations of the sampler (seed 5:
-// near planes from 2^-10 down to 10^-6 with scenes of size 1), judged
-// against the exact reference with crack distances.
+// The sampler's tiny-near configurations of seed 5: near planes from 2^-10
+// down to 10^-6 with scenes of size 1.  The tests below walk the first 100.
+analysis::HardCaseSampler tiny_near_sampler() {
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(5);
+  spec.kinds = {analysis::HardCaseKind::TinyNear};
+  return analysis::HardCaseSampler(spec);
+}
+
+// Z-fail on the first 100 tiny-near configurations (tiny_near_sampler),
+// judged against the exact reference with crack distances.
 Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl::ShadowMethod method,
                                 gl::NearPlane near_plane = gl::NearPlane::Scene) {
-  analysis::SamplerSpec spec;
-  spec.seed = 5;
-  spec.kinds = {analysis::HardCaseKind::TinyNear};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
   gl::EmulationSettings settings;
   settings.depth = depth;
   settings.depth_mapping = mapping;
   settings.near_plane = near_plane;
   settings.light_frustum.projection = gl::LightProjection::ClippedSides;
   Tally t;
-  for (std::uint64_t i = 0; i < 100; ++i) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // the sampler's rejections
-    }
+  test::for_each_sampled_scene(tiny_near_sampler(), 100, [&](const Scene& scene, const analysis::HardCase&) {
     const CameraSpaceScene cs(scene);
     for (std::size_t light = 0; light < scene.lights.size(); ++light) {
       const PixelReferenceTracer tracer(cs, light);
@@ -136,7 +133,7 @@ Tally zfail_on_tiny_near_planes(gl::DepthFormat depth, DepthMapping mapping, gl:
       t.wrong += r.wrong;
       t.cracks += *r.cracks;
     }
-  }
+  });
   return t;
 }
 
@@ -295,19 +292,8 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
   const analysis::SwitchPolicy shipped = analysis::load_policy(data + "policy.json");
   const analysis::SwitchPolicy reversed = analysis::load_policy(data + "policy-reversed-z.json");
   const analysis::SwitchPolicy tight = analysis::load_policy(data + "policy-tight-near.json");
-  analysis::SamplerSpec spec;
-  spec.seed = 5;
-  spec.kinds = {analysis::HardCaseKind::TinyNear};
-  spec.mesh_directory = data + "meshes";
-  const analysis::HardCaseSampler sampler(spec);
   std::size_t frames = 0, flagged = 0, cracking = 0, cracking_unflagged = 0, cracks = 0, alternatives_flagged = 0;
-  for (std::uint64_t i = 0; i < 100; ++i) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // the sampler's rejections
-    }
+  test::for_each_sampled_scene(tiny_near_sampler(), 100, [&](const Scene& scene, const analysis::HardCase&) {
     const CameraSpaceScene cs(scene);
     for (std::size_t light = 0; light < scene.lights.size(); ++light) {
       const analysis::PolicyDecision d = analysis::decide(shipped, cs, light, {});
@@ -330,7 +316,7 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
       alternatives_flagged += analysis::decide(reversed, cs, light, {}).depth_limited;
       alternatives_flagged += analysis::decide(tight, cs, light, {}).depth_limited;
     }
-  }
+  });
   std::printf(
       "[ depth    ] %zu frames: %zu flagged depth-limited; Z-fail cracks in %zu (%zu cracks), %zu of them "
       "unflagged\n",

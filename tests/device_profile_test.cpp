@@ -342,20 +342,20 @@ TEST(DeviceProfileJson, EachSchemaErrorIsOneLineNamingTheField) {
        "d.json: passes.dark_cap.setup_ms: unknown key"},
       {replaced("\"ms_per_ktriangle_silhouette\"", "\"ms_per_edge\": 1, \"ms_per_ktriangle_silhouette\""),
        "d.json: cpu.ms_per_edge: unknown key"},
-      {replaced("\"llvmpipe (LLVM 15.0.7, 256 bits)\"", "7"), "d.json: gl_renderer: must be a string"},
+      {replaced("\"llvmpipe (LLVM 15.0.7, 256 bits)\"", "7"), "d.json: gl_renderer: expected a string, found number"},
       {replaced("\"calibrated\"", "\"measured\""), "d.json: origin: must be \"calibrated\", \"hand\" or \"scaled\""},
-      {with({"passes"}, nlohmann::json::array()), "d.json: passes: must be an object"},
-      {with({"cpu"}, 1), "d.json: cpu: must be an object"},
-      {with({"passes", "near_cap"}, "fast"), "d.json: passes.near_cap: must be an object"},
+      {with({"passes"}, nlohmann::json::array()), "d.json: passes: expected a JSON object, found array"},
+      {with({"cpu"}, 1), "d.json: cpu: expected a JSON object, found number"},
+      {with({"passes", "near_cap"}, "fast"), "d.json: passes.near_cap: expected a JSON object, found string"},
       {replaced("\"intercept_ms\": 0.02", "\"intercept_ms\": \"0.02\""),
-       "d.json: passes.depth.intercept_ms: must be a number"},
+       "d.json: passes.depth.intercept_ms: expected a number, found string"},
       {replaced("\"intercept_ms\": 0.02", "\"intercept_ms\": -0.02"),
        "d.json: passes.depth.intercept_ms: must not be negative"},
       {replaced("\"ms_per_ktriangle_clipped_cap\": 0.03", "\"ms_per_ktriangle_clipped_cap\": -1"),
        "d.json: cpu.ms_per_ktriangle_clipped_cap: must not be negative"},
       {replaced("\"ms_per_ktriangle_clipped_cap\": 0.03", "\"ms_per_ktriangle_clipped_cap\": 1e999"),
-       "d.json: cpu.ms_per_ktriangle_clipped_cap: not JSON"},
-      {"[]", "d.json: (top level): must be an object"},
+       "d.json: cpu.ms_per_ktriangle_clipped_cap: malformed JSON"},
+      {"[]", "d.json: (top level): expected a JSON object, found array"},
   };
   for (const auto& [text, fragment] : cases) {
     try {
@@ -363,7 +363,7 @@ TEST(DeviceProfileJson, EachSchemaErrorIsOneLineNamingTheField) {
       ADD_FAILURE() << "accepted: " << fragment << "\n" << text;
     } catch (const Error& e) {
       const std::string what = e.what();
-      EXPECT_EQ(e.kind(), fragment.find("not JSON") != std::string::npos ? ErrorKind::Parse : ErrorKind::Schema)
+      EXPECT_EQ(e.kind(), fragment.find("malformed JSON") != std::string::npos ? ErrorKind::Parse : ErrorKind::Schema)
           << what;
       EXPECT_NE(what.find(fragment), std::string::npos) << what;
       EXPECT_EQ(what.find('\n'), std::string::npos) << what;

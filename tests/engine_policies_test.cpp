@@ -4,6 +4,7 @@
 // a method per occluder (gl::ShadowFrameBatch::render).
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 
 #include "box_scene.hpp"
@@ -16,6 +17,7 @@
 #include "nearcap/io/mesh_file.hpp"
 #include "nearcap/io/scene_builder.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -87,44 +89,40 @@ TEST(EnginePolicies, NamesRoundTrip) {
 // The per-occluder truth: each occluder's pixels are those of the scene in
 // which it is the only occluder.
 TEST(EnginePolicies, CapPixelsByObjectAreEachOccludersOwnNearCap) {
-  analysis::SamplerSpec spec;
-  spec.seed = 11;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(11);
   spec.kinds = {analysis::HardCaseKind::SeveralOccluders};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   const analysis::HardCaseSampler sampler(spec);
   std::size_t nonzero = 0;
-  for (std::uint64_t i = 0; i < 6; ++i) {
-    const Scene s = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    const CameraSpaceScene cs(s);
-    const PixelReference all = compute_pixel_reference(cs, 0);
-    for (std::size_t o = 0; o < s.objects.size(); ++o) {
-      if (!s.objects[o].occluder) continue;
-      Scene alone = s;
-      for (std::size_t k = 0; k < alone.objects.size(); ++k) alone.objects[k].occluder = (k == o);
-      const CameraSpaceScene cs_alone(alone);
-      const PixelReference ref = compute_pixel_reference(cs_alone, 0);
-      std::size_t covered = 0;
-      for (std::uint32_t c : ref.cap) covered += c > 0;
-      EXPECT_EQ(all.cap_pixels_by_object[o], covered) << "sample " << i << " object " << o;
-      nonzero += covered > 0;
-    }
-  }
+  const test::SampleWalk walk =
+      test::for_each_sampled_scene(sampler, 6, [&](const Scene& s, const analysis::HardCase& sample) {
+        const CameraSpaceScene cs(s);
+        const PixelReference all = compute_pixel_reference(cs, 0);
+        for (std::size_t o = 0; o < s.objects.size(); ++o) {
+          if (!s.objects[o].occluder) continue;
+          Scene alone = s;
+          for (std::size_t k = 0; k < alone.objects.size(); ++k) alone.objects[k].occluder = (k == o);
+          const CameraSpaceScene cs_alone(alone);
+          const PixelReference ref = compute_pixel_reference(cs_alone, 0);
+          std::size_t covered = 0;
+          for (std::uint32_t c : ref.cap) covered += c > 0;
+          EXPECT_EQ(all.cap_pixels_by_object[o], covered) << "sample " << sample.index << " object " << o;
+          nonzero += covered > 0;
+        }
+      });
+  EXPECT_EQ(walk.scenes, 6u);  // the reader accepts every one of these samples
   EXPECT_GT(nonzero, 0u);
 }
 
 // A frame with a method per occluder: with one method everywhere it is that
 // method's frame; mixed, each occluder adds its own method's counts.
 TEST(EnginePolicies, PerOccluderFrameAddsEachOccludersMethod) {
-  analysis::SamplerSpec spec;
-  spec.seed = 3;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(3);
   spec.kinds = {analysis::HardCaseKind::SeveralOccluders};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   const analysis::HardCaseSampler sampler(spec);
   gl::EmulationSettings settings;
   settings.zfail_far = gl::ZFailFar::DepthClampFar;  // every frame below on the finite projection
   std::size_t checked = 0;
-  for (std::uint64_t i = 0; i < 6; ++i) {
-    const Scene s = parse_scene(sampler.sample(i).scene_json, "sample", ".");
+  test::for_each_sampled_scene(sampler, 6, [&](const Scene& s, const analysis::HardCase&) {
     gl::ShadowFrameBatch batch(s, 0, settings);
     for (gl::ShadowMethod m : gl::kAllShadowMethods) {
       const gl::ShadowFrame one = batch.render(m);
@@ -149,16 +147,16 @@ TEST(EnginePolicies, PerOccluderFrameAddsEachOccludersMethod) {
     for (std::size_t k = 0; k < frame.stencil.size(); ++k)
       EXPECT_EQ(frame.stencil[k], static_cast<std::uint8_t>(a.stencil[k] + b.stencil[k])) << "pixel " << k;
     ++checked;
-  }
+  });
   EXPECT_EQ(checked, 6u);
 }
 
 TEST(EnginePolicies, PreloadBesideZpPlusAndAWrongCountAreRefused) {
-  analysis::SamplerSpec spec;
-  spec.seed = 3;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(3);
   spec.kinds = {analysis::HardCaseKind::SeveralOccluders};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const Scene s = parse_scene(analysis::HardCaseSampler(spec).sample(0).scene_json, "sample", ".");
+  const std::optional<Scene> sampled = test::sampled_scene(analysis::HardCaseSampler(spec).sample(0));
+  ASSERT_TRUE(sampled.has_value());
+  const Scene& s = *sampled;
   std::vector<std::size_t> occluders;
   for (std::size_t o = 0; o < s.objects.size(); ++o)
     if (s.objects[o].occluder) occluders.push_back(o);

@@ -21,6 +21,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -104,18 +105,9 @@ TEST(FarPlaneCap, AsRightAsFarOnlyClampOnTheBundledScenes) {
 // pixels more than far-only clamp in a frame (the cap's fan and the clamped
 // faces round differently at the far plane).
 TEST(FarPlaneCap, OnASliceOfTheSampler) {
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(7));
   std::size_t frames = 0, far_cap_wrong = 0, clamp_far_wrong = 0;
-  for (std::uint64_t k = 0; k < 200; ++k) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
-    } catch (const Error&) {
-      continue;
-    }
+  test::for_each_sampled_scene(sampler, 200, [&](const Scene& scene, const analysis::HardCase& sample) {
     const CameraSpaceScene cs(scene);
     for (std::size_t light = 0; light < scene.lights.size(); ++light) {
       PixelReference ref;
@@ -137,9 +129,9 @@ TEST(FarPlaneCap, OnASliceOfTheSampler) {
       ++frames;
       far_cap_wrong += a;
       clamp_far_wrong += b;
-      EXPECT_LE(a, b + 2) << "sample " << k << " light " << light;
+      EXPECT_LE(a, b + 2) << "sample " << sample.index << " light " << light;
     }
-  }
+  });
   std::printf("[ ZF+      ] %zu frames: %zu wrong pixels with the far cap, %zu with far-only clamp\n", frames,
               far_cap_wrong, clamp_far_wrong);
   EXPECT_GT(frames, 150u);

@@ -23,6 +23,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -76,23 +77,10 @@ std::optional<ExactAndModelled> render_exact_and_modelled(const Scene& scene, st
   return f;
 }
 
-// The hard-case sampler's first `count` configurations of seed 7 that it
-// does not reject, each as a scene.
-template <typename Visit>
-void for_each_sampled_scene(std::uint64_t count, Visit visit) {
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
-  for (std::uint64_t i = 0; i < count; ++i) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // the sampler's rejections
-    }
-    visit(scene, i);
-  }
+// The hard-case sampler of seed 7, every kind: the slices below walk its first configurations.
+const analysis::HardCaseSampler& seed_7_sampler() {
+  static const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(7));
+  return sampler;
 }
 
 // Recording changes nothing the emulation computes.
@@ -241,7 +229,7 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
 // frames the float pipeline draws, replayed on llvmpipe.
 TEST_F(GlFrameReplayTest, TheLlvmpipeModelOnASliceOfTheSampler) {
   std::size_t frames = 0, differing_frames = 0, differences = 0, default_differences = 0;
-  for_each_sampled_scene(60, [&](const Scene& scene, std::uint64_t) {
+  test::for_each_sampled_scene(seed_7_sampler(), 60, [&](const Scene& scene, const analysis::HardCase&) {
     for (std::size_t light = 0; light < scene.lights.size(); ++light)
       for (gl::ShadowMethod m : gl::kAllShadowMethods) {
         const std::optional<ExactAndModelled> f = render_exact_and_modelled(scene, light, m, {});
@@ -355,9 +343,9 @@ TEST_F(GlFrameReplayTest, OneSidedDepthClampThroughAClipDistance) {
                            "eye_in_shadow.json", "far_grazing.json", "case_d.json", "light_on_near_plane.json"})
     check(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name), 0, name);
   // The hard-case sampler's first 60 configurations of seed 7, every light.
-  for_each_sampled_scene(60, [&](const Scene& scene, std::uint64_t i) {
+  test::for_each_sampled_scene(seed_7_sampler(), 60, [&](const Scene& scene, const analysis::HardCase& sample) {
     for (std::size_t light = 0; light < scene.lights.size(); ++light)
-      check(scene, light, "sample " + std::to_string(i));
+      check(scene, light, "sample " + std::to_string(sample.index));
   });
   std::printf(
       "[ replay   ] one-sided depth clamp: %zu frames (%zu draws clamped at one side), %zu stencil differences with "

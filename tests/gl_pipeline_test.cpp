@@ -140,7 +140,7 @@ TEST(InfiniteProjection, EachNudgePutsInfinityWhereItSays) {
   EXPECT_GT(ndc_z(InfiniteFar::OneUlp), 1 - std::ldexp(1.0, -22));
   // The near plane stays where it is (z = -w at z_eye = -near; epsilon's
   // (eps - 2) n keeps it there) for all but doom3, which moves it to NDC
-  // -1.001 (a sliver in front of the near plane is no longer clipped).
+  // -1.001 (so a sliver in front of the near plane escapes clipping).
   for (InfiniteFar nudge : {InfiniteFar::Exact, InfiniteFar::Epsilon, InfiniteFar::Doom3, InfiniteFar::OneUlp}) {
     const Vec4f c = transform(infinite_frustum_matrix(f, nudge), {0, 0, -0.5f, 1});
     // The float32 depth row, a product and a division: 4 ulps of 1 (2^-23 each).

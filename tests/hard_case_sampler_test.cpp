@@ -18,6 +18,7 @@
 #include "nearcap/exact/eye_count.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -26,12 +27,10 @@ using analysis::HardCase;
 using analysis::HardCaseKind;
 
 analysis::SamplerSpec spec(std::uint64_t seed, std::vector<HardCaseKind> kinds = analysis::all_hard_case_kinds()) {
-  analysis::SamplerSpec s;
-  s.seed = seed;
+  analysis::SamplerSpec s = test::bundled_sampler_spec(seed);
   s.kinds = std::move(kinds);
   s.width = 16;
   s.height = 12;
-  s.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   return s;
 }
 

@@ -12,27 +12,22 @@
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
 
 std::vector<analysis::KnobConfiguration> configurations(std::uint64_t seed, int count) {
-  analysis::SamplerSpec spec;
-  spec.seed = seed;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(seed);
   spec.kinds = {analysis::HardCaseKind::LightNearNearPlane, analysis::HardCaseKind::Straddling,
                 analysis::HardCaseKind::EyeInShadow, analysis::HardCaseKind::Grazing};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
   std::vector<analysis::KnobConfiguration> out;
-  for (int i = 0; i < count; ++i) {
-    try {
-      const std::string id = "sample:" + std::to_string(seed) + ":" + std::to_string(i);
-      const Scene s = parse_scene(sampler.sample(static_cast<std::uint64_t>(i)).scene_json, id, ".");
-      for (std::size_t l = 0; l < s.lights.size(); ++l) out.push_back({id, s, l});
-    } catch (const Error&) {
-      // a sampled light inside an occluder: not a configuration
-    }
-  }
+  test::for_each_sampled_scene(analysis::HardCaseSampler(spec), static_cast<std::uint64_t>(count),
+                               [&](const Scene& s, const analysis::HardCase& sample) {
+                                 const std::string id =
+                                     "sample:" + std::to_string(seed) + ":" + std::to_string(sample.index);
+                                 for (std::size_t l = 0; l < s.lights.size(); ++l) out.push_back({id, s, l});
+                               });
   return out;
 }
 

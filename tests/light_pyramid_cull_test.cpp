@@ -12,6 +12,7 @@
 #include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -58,22 +59,14 @@ TEST(LightPyramidCull, ALightInTheNearPlaneIsNotDecided) {
 // point of the exact pyramid, and the frame with the skip is the frame
 // without it, stencil and near-cap alike.
 TEST(LightPyramidCull, AgreesWithTheExactPyramidAndChangesNoFrame) {
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(7));
   gl::EmulationSettings on;
   on.light_frustum.projection = gl::LightProjection::ClippedSides;
   gl::EmulationSettings off = on;
   off.cull_light_pyramid = false;
   std::size_t skipped = 0, kept = 0, frames = 0;
-  for (std::uint64_t k = 0; k < 160; ++k) {
-    Scene s;
-    try {
-      s = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
-    } catch (const Error&) {
-      continue;  // the sampler may put a light inside an occluder
-    }
+  test::for_each_sampled_scene(sampler, 160, [&](const Scene& s, const analysis::HardCase& sample) {
+    const std::uint64_t k = sample.index;
     const CameraSpaceScene cs(s);
     for (std::size_t light = 0; light < s.lights.size(); ++light) {
       std::vector<bool> meets;
@@ -109,7 +102,7 @@ TEST(LightPyramidCull, AgreesWithTheExactPyramidAndChangesNoFrame) {
       EXPECT_EQ(a.near_cap, b.near_cap) << "sample " << k << " light " << light;
       EXPECT_LE(a.cap_pass.triangles, b.cap_pass.triangles);
     }
-  }
+  });
   // Not vacuous: most occluders of the sampler stay clear of the pyramid.
   EXPECT_GT(skipped, 100u);
   EXPECT_GT(kept, 20u);

@@ -11,6 +11,7 @@
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -121,33 +122,25 @@ std::optional<Rational> enumerated_l_near(const CameraSpaceScene& cs) {
 }
 
 TEST(LightPyramid, EqualsTheEnumerationOfEveryCandidatePoint) {
-  analysis::SamplerSpec spec;
-  spec.seed = 31;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(31);
   spec.width = 8;
   spec.height = 8;
   spec.kinds = {analysis::HardCaseKind::Straddling, analysis::HardCaseKind::SeveralOccluders,
                 analysis::HardCaseKind::EyeInShadow, analysis::HardCaseKind::LightNearNearPlane};
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   const analysis::HardCaseSampler sampler(spec);
   int compared = 0, nonempty = 0;
-  for (std::uint64_t k = 0; k < 36; ++k) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
-    } catch (const Error&) {
-      continue;
-    }
+  test::for_each_sampled_scene(sampler, 36, [&](const Scene& scene, const analysis::HardCase& sample) {
     const CameraSpaceScene cs(scene);
-    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) continue;
+    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) return;
     const AdmissibleLightNear a = max_admissible_light_near(cs, 0);
     const std::optional<Rational> brute = enumerated_l_near(cs);
     ++compared;
     nonempty += brute.has_value();
-    ASSERT_EQ(a.l_near.has_value(), brute.has_value()) << "sample " << k;
+    ASSERT_EQ(a.l_near.has_value(), brute.has_value()) << "sample " << sample.index;
     if (brute) {
-      EXPECT_EQ(*a.l_near, *brute) << "sample " << k;
+      EXPECT_EQ(*a.l_near, *brute) << "sample " << sample.index;
     }
-  }
+  });
   EXPECT_GE(compared, 24);
   EXPECT_GE(nonempty, 6);
 }
@@ -156,25 +149,18 @@ TEST(LightPyramid, EqualsTheEnumerationOfEveryCandidatePoint) {
 // admissible by construction); no occluder vertex in the pyramid lies nearer
 // than L*; exact-max's float l_near never exceeds L*.
 TEST(LightPyramid, ThePaperRatioIsAdmissibleAndNoVertexIsNearer) {
-  analysis::SamplerSpec spec;
-  spec.seed = 77;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(77);
   spec.width = 8;
   spec.height = 8;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
   const analysis::HardCaseSampler sampler(spec);
   int checked = 0, with_l_near = 0;
-  for (std::uint64_t k = 0; k < 120; ++k) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
-    } catch (const Error&) {
-      continue;
-    }
+  test::for_each_sampled_scene(sampler, 120, [&](const Scene& scene, const analysis::HardCase& sample) {
+    const std::uint64_t k = sample.index;
     const CameraSpaceScene cs(scene);
-    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) continue;
+    if (sgn(Rational(cs.exact_light(0).z + Rational(scene.camera.frustum.near))) == 0) return;
     const AdmissibleLightNear a = max_admissible_light_near(cs, 0);
     ++checked;
-    if (!a.l_near) continue;
+    if (!a.l_near) return;
     ++with_l_near;
     const Rational& best = *a.l_near;
     // The paper's rule without the cap, in double (d and d_max as the light frustum computes them).
@@ -210,7 +196,7 @@ TEST(LightPyramid, ThePaperRatioIsAdmissibleAndNoVertexIsNearer) {
     if (le.defined) {
       EXPECT_LE(Rational(static_cast<double>(le.l_near)), best) << "sample " << k;
     }
-  }
+  });
   EXPECT_GE(checked, 80);
   EXPECT_GE(with_l_near, 20);
 }
@@ -223,18 +209,10 @@ TEST(LightPyramid, OccludersMeetingThePyramidAreThoseWithANearCap) {
   for (analysis::HardCaseKind kind : {analysis::HardCaseKind::SeveralOccluders, analysis::HardCaseKind::EyeInShadow,
                                       analysis::HardCaseKind::Straddling, analysis::HardCaseKind::LightNearNearPlane,
                                       analysis::HardCaseKind::Grazing}) {
-    analysis::SamplerSpec spec;
-    spec.seed = 21;
+    analysis::SamplerSpec spec = test::bundled_sampler_spec(21);
     spec.kinds = {kind};
-    spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
     const analysis::HardCaseSampler sampler(spec);
-    for (std::uint64_t i = 0; i < 12; ++i) {
-      Scene s;
-      try {
-        s = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-      } catch (const Error&) {
-        continue;  // the sampler may put a light inside an occluder
-      }
+    test::for_each_sampled_scene(sampler, 12, [&](const Scene& s, const analysis::HardCase& sample) {
       const CameraSpaceScene cs(s);
       for (std::size_t light = 0; light < s.lights.size(); ++light) {
         std::vector<bool> meets;
@@ -253,14 +231,14 @@ TEST(LightPyramid, OccludersMeetingThePyramidAreThoseWithANearCap) {
           }
           const bool covers = ref.cap_pixels_by_object[o] > 0;
           if (covers) {
-            EXPECT_TRUE(meets[o]) << to_string(kind) << " sample " << i << " object " << o;
+            EXPECT_TRUE(meets[o]) << to_string(kind) << " sample " << sample.index << " object " << o;
           }
           meeting += meets[o];
           covering += covers;
           between_centres += meets[o] && !covers;
         }
       }
-    }
+    });
   }
   EXPECT_GT(scenes, 40u);
   EXPECT_GT(covering, 20u);

@@ -24,6 +24,8 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "random_scene.hpp"
+#include "support/cap_draw_state.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -90,11 +92,7 @@ TEST(NearPlaneCap, TheFanCountsOneInsideTheBoxsCrossSectionAndZeroOutside) {
   // The box crosses the near plane (z = -1): its cross-section there is
   // [-0.5, 0.25] x [-0.25, 0.5] in camera space, window x in [16, 40], y in [16, 40].
   const std::vector<Vec4f> box = box_in_clip_space(projection, -0.5f, 0.25f, -0.25f, 0.5f, -3.0f, -0.5f);
-  gl::DrawState s;
-  s.depth_func = gl::DepthFunc::Always;
-  s.vertices_on_near_plane = true;
-  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
-  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  const gl::DrawState s = test::cap_draw_state();
   for (bool centre : {true, false}) {
     const std::vector<Vec4f> fan =
         centre ? gl::near_plane_cap_fan(box) : gl::near_plane_cap_fan(box, {0.9f, -0.7f, -1.0f, 1.0f});
@@ -146,11 +144,7 @@ TEST(NearPlaneCap, TheWindingOfCurvesOutsideTheViewportIsOneNumber) {
                                   {-1, 0, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}, {8, 0, -1, 1}};
   EXPECT_EQ(gl::near_plane_cap_constant_winding(around, 0.1, 0.1), 1);
   // Rasterized, the shortcut's full-viewport triangles give what the fan gives.
-  gl::DrawState s;
-  s.depth_func = gl::DepthFunc::Always;
-  s.vertices_on_near_plane = true;
-  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
-  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  const gl::DrawState s = test::cap_draw_state();
   for (const std::vector<Vec4f>& edges : {square(0, 0, 30, 1e-6f, true), square(3, -2, 40, 2.0f, false), around}) {
     std::vector<Vec4f> fan, full;
     for (std::size_t e = 0; e + 1 < edges.size(); e += 2)
@@ -186,11 +180,7 @@ TEST(NearPlaneCap, LoopsAndTheirShortcutsCountWhatTheFanCounts) {
   const std::vector<std::vector<Vec4f>> loops = gl::near_plane_cap_loops(shuffled);
   ASSERT_EQ(loops.size(), 2u);
   EXPECT_EQ(loops[0].size() + loops[1].size(), shuffled.size());
-  gl::DrawState s;
-  s.depth_func = gl::DepthFunc::Always;
-  s.vertices_on_near_plane = true;
-  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
-  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  const gl::DrawState s = test::cap_draw_state();
   // Boundary triangles whose near edges these are: each edge a -> b of the
   // cap is the edge b -> a, lying in the near plane, of a triangle (b, a, x)
   // beyond it.
@@ -248,13 +238,12 @@ TEST(NearPlaneCap, ADetourAroundTheViewportWhereTheCurveCirclesIt) {
 // 742 and 542 edges through the bunny's silhouette, crossing themselves and
 // passing through infinity), fly_around frame 20 (a short loop around the
 // viewport twice, zigzagging across it) and frame 39 (two layers over the
-// whole viewport with a hole).  With an anchor per run of edges (the
-// construction before this one) they drew 14,637, 16,188, 33,423 and 42,983
-// cap fragments; cut into triangles of their own vertices, 10,675, 14,354,
-// 30,693 and 33,817: within 1 % of the paper's cap, and in frames 35, 20
-// and 39 each pixel's |count| once (the least any cap can draw; asserted
-// within 0.1 %), with the single fan's counts: no wrong pixel, the near-cap
-// pass as close to the exact cap.
+// whole viewport with a hole).  Fanned from an anchor per run of edges they
+// draw 14,637, 16,188, 33,423 and 42,983 cap fragments; cut into triangles
+// of their own vertices, 10,675, 14,354, 30,693 and 33,817: within 1 % of
+// the paper's cap, and in frames 35, 20 and 39 each pixel's |count| once
+// (the least any cap can draw; asserted within 0.1 %), with the single
+// fan's counts: no wrong pixel, the near-cap pass as close to the exact cap.
 TEST(NearPlaneCap, CurvesThatWindAcrossTheViewportAreCutIntoTriangles) {
   for (const auto& [name, frame, mismatches, least_possible] :
        {std::tuple{"near_plane_sweep", 35, 0u, true}, std::tuple{"near_plane_sweep", 44, 4u, false},
@@ -310,11 +299,7 @@ TEST(NearPlaneCap, ACombIsCutIntoTrianglesOfItsOwnVertices) {
     const Vec4f a{p[0], p[1], -1, 1}, b{q[0], q[1], -1, 1};
     boundary.insert(boundary.end(), {b, a, {0.5f * (a.x + b.x), 0.5f * (a.y + b.y), 0.5f, 1.0f}});
   }
-  gl::DrawState s;
-  s.depth_func = gl::DepthFunc::Always;
-  s.vertices_on_near_plane = true;
-  s.front = {gl::StencilOp::Keep, gl::StencilOp::IncrementWrap};
-  s.back = {gl::StencilOp::Keep, gl::StencilOp::DecrementWrap};
+  const gl::DrawState s = test::cap_draw_state();
   const int size = 256;
   gl::Framebuffer by_fan(size, size, gl::DepthFormat::Fixed24), by_pass(size, size, gl::DepthFormat::Fixed24);
   const gl::DrawCounters fan = by_fan.draw(gl::near_plane_cap_fan(boundary), s, {});
@@ -389,34 +374,25 @@ RC_GTEST_PROP(NearPlaneCap, NeverWrongerThanZFailOnRandomScenes, ()) {
 // near the near plane, tiny near planes, far from the origin, real meshes),
 // every light: the slice the README's 10,000-configuration figure comes from.
 TEST(NearPlaneCap, NeverWrongerThanZFailOnASliceOfTheHardCaseSampler) {
-  analysis::SamplerSpec spec;
-  spec.seed = 21;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(21));
   std::size_t frames = 0, capped = 0;
   // The first 300, and two tiny-near configurations (near 2^-20 and 10^-6)
-  // where a fan anchored on the curve itself was wrong on 68 and 110 more
+  // where a fan anchored on the curve itself is wrong on 68 and 110 more
   // pixels than Z-fail (near_plane_cap.hpp says why the anchor is the centre).
   std::vector<std::uint64_t> indices{3119, 8814};
   for (std::uint64_t i = 0; i < 300; ++i) indices.push_back(i);
-  for (std::uint64_t i : indices) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(i).scene_json, "sample", ".");
-    } catch (const Error&) {
-      continue;  // a light inside an occluder: the sampler's rejections
-    }
+  test::for_each_sampled_scene(sampler, indices, [&](const Scene& scene, const analysis::HardCase& sample) {
     const CameraSpaceScene cs(scene);
     for (std::size_t light = 0; light < scene.lights.size(); ++light) {
       const PixelReference ref = compute_pixel_reference(cs, light);
       const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, light, ShadowMethod::ZFail), ref);
       const gl::ShadowFrame frame = gl::render_shadow_frame(scene, light, ShadowMethod::ZPPlus, clipped_sides());
-      EXPECT_TRUE(frame.fallback.empty()) << "sample " << i;
-      EXPECT_LE(judge_frame(frame, ref).wrong, zfail.wrong) << "sample " << i << " light " << light;
+      EXPECT_TRUE(frame.fallback.empty()) << "sample " << sample.index;
+      EXPECT_LE(judge_frame(frame, ref).wrong, zfail.wrong) << "sample " << sample.index << " light " << light;
       ++frames;
       for (std::uint8_t c : frame.near_cap) capped += c != 0;
     }
-  }
+  });
   EXPECT_GT(frames, 250u);
   EXPECT_GT(capped, 0u);
 }

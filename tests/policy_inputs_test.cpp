@@ -252,7 +252,7 @@ TEST_F(PolicyInputs, APolicyNumberBeyondDoubleIsAParseError) {
   expect_one_line_error(
       test::run_cli("cracks data/scenes/near_cap_bunny_wall.json --light 0 --method policy --policy " + file,
                     "policy_overflow"),
-      "parse", file + ": crack_model.bias: not JSON: number overflow");
+      "parse", file + ": crack_model.bias: malformed JSON: number overflow");
 }
 
 // The reader, on text: each fault a Schema error naming the field.
@@ -304,9 +304,9 @@ TEST(PolicyReader, IsStrict) {
   expect_policy_error(replaced("\"version\": 3", "\"version\": 99"), ErrorKind::Schema,
                       "version: 99 is not a version this nearcap reads (1 to 4)");
   expect_policy_error(replaced("\"bias\": -3", "\"bias\": 1e999"), ErrorKind::Parse,
-                      "p.json: crack_model.bias: not JSON: number overflow parsing '1e999'");
+                      "p.json: crack_model.bias: malformed JSON: number overflow parsing '1e999'");
   expect_policy_error(replaced("\"mean\": [0, 0.2]", "\"mean\": [0, -1e999]"), ErrorKind::Parse,
-                      "crack_model.mean[1]: not JSON: number overflow");
+                      "crack_model.mean[1]: malformed JSON: number overflow");
   expect_policy_error(replaced("\"command\": \"test\"", "\"command\": \"t\xff\""), ErrorKind::Parse,
                       "ill-formed UTF-8");
 }

@@ -1,5 +1,5 @@
-// The regression corpus (data/regress/regressions.json): every scene keeps the
-// figures recorded when it was added.
+// The regression corpus (data/regress/regressions.json): every scene gives
+// the figures the corpus records for it.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 

@@ -117,7 +117,7 @@ TEST_F(Report, BadInputIsOneLineAndWritesNothing) {
        {Case{"report " + bad.string(), "missing column"},
         Case{"report " + (dir_ / "absent.csv").string(), "absent.csv"}, Case{"report " + garbled.string(), "line 2"},
         Case{"report " + dir_.string(), "not a regular file"},
-        Case{"report " + (dir_ / "rows.csv").string() + " --policy " + bad.string(), "not JSON"},
+        Case{"report " + (dir_ / "rows.csv").string() + " --policy " + bad.string(), "malformed JSON"},
         Case{"report " + (dir_ / "rows.csv").string() + " --policy " + (dir_ / "nope.json").string(), "nope.json"},
         Case{"report " + (dir_ / "rows.csv").string() + " " + (dir_ / "rows.csv").string(), "a second row"}}) {
     const test::CliResult r = test::run_cli(c.args + " --out " + out.string(), "report_bad");

@@ -222,53 +222,53 @@ TEST(LookAtCamera, AxisAlignedViewIsExact) {
 TEST(SceneErrors, UnknownKeysAreNamedAtEveryLevel) {
   Json j = minimal_scene();
   j["lihgts"] = Json::array();
-  expect_error(j, ErrorKind::Schema, "'lihgts'");
+  expect_error(j, ErrorKind::Schema, "lihgts: unknown key");
   j = minimal_scene();
   j["camera"]["fov"] = 60;
-  expect_error(j, ErrorKind::Schema, "'fov'");
+  expect_error(j, ErrorKind::Schema, "fov: unknown key");
   j = minimal_scene();
   j["camera"] = exact_camera_json();
   j["camera"]["frustum"]["zfar"] = 1;
-  expect_error(j, ErrorKind::Schema, "'zfar'");
+  expect_error(j, ErrorKind::Schema, "zfar: unknown key");
   j = minimal_scene();
   j["lights"][0]["colour"] = {1, 1, 1};
-  expect_error(j, ErrorKind::Schema, "'colour'");
+  expect_error(j, ErrorKind::Schema, "colour: unknown key");
   j = minimal_scene();
   j["objects"][0]["rotate"] = {0, 0, 0};
-  expect_error(j, ErrorKind::Schema, "'rotate'");
+  expect_error(j, ErrorKind::Schema, "rotate: unknown key");
 }
 
 TEST(SceneErrors, MixedCameraFormsNameTheStrayKey) {
   Json j = minimal_scene();
   j["camera"] = exact_camera_json();
   j["camera"]["eye"] = {0, 0, 1};
-  expect_error(j, ErrorKind::Schema, "'eye'");
+  expect_error(j, ErrorKind::Schema, "camera.eye: unknown key");
   j = minimal_scene();
   j["camera"]["view"] = exact_camera_json()["view"];
-  expect_error(j, ErrorKind::Schema, "'eye'");  // "view" selects the exact form
+  expect_error(j, ErrorKind::Schema, "camera.eye: unknown key");  // "view" selects the exact form
 }
 
 TEST(SceneErrors, MissingKeysAreNamed) {
   for (const char* key : {"camera", "lights", "objects"}) {
     Json j = minimal_scene();
     j.erase(key);
-    expect_error(j, ErrorKind::Schema, std::string("missing required key '") + key + "'");
+    expect_error(j, ErrorKind::Schema, key + std::string(": missing required key"));
   }
   for (const char* key : {"eye", "target", "fovy_deg", "near", "far", "width", "height"}) {
     Json j = minimal_scene();
     j["camera"].erase(key);
-    expect_error(j, ErrorKind::Schema, std::string("missing required key '") + key + "'");
+    expect_error(j, ErrorKind::Schema, key + std::string(": missing required key"));
   }
   Json j = minimal_scene();
   j["camera"] = exact_camera_json();
   j["camera"].erase("frustum");
-  expect_error(j, ErrorKind::Schema, "missing required key 'frustum'");
+  expect_error(j, ErrorKind::Schema, "camera.frustum: missing required key");
   j = minimal_scene();
   j["objects"][0].erase("mesh");
-  expect_error(j, ErrorKind::Schema, "missing required key 'mesh'");
+  expect_error(j, ErrorKind::Schema, "objects[0].mesh: missing required key");
   j = minimal_scene();
   j["lights"][0].erase("position");
-  expect_error(j, ErrorKind::Schema, "missing required key 'position'");
+  expect_error(j, ErrorKind::Schema, "lights[0].position: missing required key");
 }
 
 TEST(SceneErrors, WrongTypes) {

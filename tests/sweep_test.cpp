@@ -27,15 +27,42 @@ std::vector<std::string> split(const std::string& line) {  // no quoted commas i
   return out;
 }
 
+// A sweep CSV's text read as its header, then row by row.
+class SweepCsv {
+ public:
+  explicit SweepCsv(const std::string& text) : in_(text) {
+    std::string line;
+    std::getline(in_, line);
+    header_ = split(line);
+  }
+  const std::vector<std::string>& header() const { return header_; }
+  // The index of column `name`; a column the header lacks fails the test
+  // (and gives header().size()).
+  std::size_t column(const std::string& name) const {
+    const auto k = static_cast<std::size_t>(std::find(header_.begin(), header_.end(), name) - header_.begin());
+    EXPECT_LT(k, header_.size()) << "no column " << name;
+    return k;
+  }
+  // The next row: its line and cells; false after the last.
+  bool next(std::string& line, std::vector<std::string>& cells) {
+    if (!std::getline(in_, line)) return false;
+    cells = split(line);
+    return true;
+  }
+
+ private:
+  std::stringstream in_;
+  std::vector<std::string> header_;
+};
+
 // The rows without their timing columns (*_ms), which differ run to run.
 std::vector<std::string> untimed_rows(const std::string& csv) {
-  std::stringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line);
+  SweepCsv in(csv);
+  const std::vector<std::string>& header = in.header();
   std::vector<std::string> rows;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> cells = split(line);
+  std::string line;
+  std::vector<std::string> cells;
+  while (in.next(line, cells)) {
     std::string kept;
     for (std::size_t k = 0; k < cells.size() && k < header.size(); ++k)
       if (header[k].size() < 3 || header[k].compare(header[k].size() - 3, 3, "_ms") != 0) kept += cells[k] + ",";
@@ -65,13 +92,12 @@ TEST_F(Sweep, WritesOneRowPerConfigurationLightAndMethod) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = test::slurp(path("a.csv"));
   EXPECT_EQ(csv.rfind(analysis::csv_header(), 0), 0u);
-  std::stringstream in(csv);
+  SweepCsv in(csv);
   std::string line;
-  std::getline(in, line);
+  std::vector<std::string> cells;
   std::map<std::string, int> rows_per_configuration;
   int rejected = 0;
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
+  while (in.next(line, cells)) {
     ++rows_per_configuration[cells[0]];
     rejected += cells[5] == "rejected";
   }
@@ -89,20 +115,16 @@ TEST_F(Sweep, PoliciesAddRowsWithTheirOccluderDecisions) {
   const test::CliResult r =
       test::run_cli(args(path("p.csv")) + " --methods zpass,zfail --policies doom3,ogre", "sweep_policies");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::stringstream in(test::slurp(path("p.csv")));
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line);
-  auto column = [&](const std::string& name) {
-    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-  };
-  const std::size_t method = column("method"), occluders = column("occluders"), truth = column("zpass_wrong_occluders"),
-                    fn = column("false_negatives"), fp = column("false_positives");
-  ASSERT_LT(fp, header.size());
+  SweepCsv in(test::slurp(path("p.csv")));
+  const std::size_t method = in.column("method"), occluders = in.column("occluders"),
+                    truth = in.column("zpass_wrong_occluders"), fn = in.column("false_negatives"),
+                    fp = in.column("false_positives");
+  ASSERT_FALSE(HasFailure());
   std::map<std::string, std::map<std::string, std::vector<std::string>>> rows;  // configuration, method
   std::size_t wrong_somewhere = 0;
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
+  std::string line;
+  std::vector<std::string> cells;
+  while (in.next(line, cells)) {
     if (cells[method] == "rejected") continue;
     rows[cells[0] + "/" + cells[4]][cells[method]] = cells;
   }
@@ -143,30 +165,23 @@ TEST_F(Sweep, AResumedSweepEqualsAnUninterruptedOne) {
 
 TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
   ASSERT_EQ(test::run_cli(args(path("b.csv")), "sweep_buckets").exit_code, 0);
-  std::stringstream in(test::slurp(path("b.csv")));
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line);
-  const auto column = [&](const std::string& name) {
-    const auto k = static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-    EXPECT_LT(k, header.size()) << name;
-    return k;
-  };
+  SweepCsv in(test::slurp(path("b.csv")));
   std::size_t rows = 0, with_cracks = 0;
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
+  std::string line;
+  std::vector<std::string> cells;
+  while (in.next(line, cells)) {
     if (cells[5] == "rejected") continue;
     ++rows;
     long long buckets = 0;
     for (const char* b : {"lt_1_512", "1_512", "1_64", "1_8", "1_2", "2", "8"})
-      buckets += std::stoll(cells[column(std::string("wrong_r_") + b)]);
-    const long long cracks = std::stoll(cells[column("cracks")]);
-    EXPECT_EQ(buckets, std::stoll(cells[column("wrong")])) << line;
-    EXPECT_EQ(cracks, std::stoll(cells[column("wrong_r_1_2")]) + std::stoll(cells[column("wrong_r_2")]) +
-                          std::stoll(cells[column("wrong_r_8")]))
+      buckets += std::stoll(cells[in.column(std::string("wrong_r_") + b)]);
+    const long long cracks = std::stoll(cells[in.column("cracks")]);
+    EXPECT_EQ(buckets, std::stoll(cells[in.column("wrong")])) << line;
+    EXPECT_EQ(cracks, std::stoll(cells[in.column("wrong_r_1_2")]) + std::stoll(cells[in.column("wrong_r_2")]) +
+                          std::stoll(cells[in.column("wrong_r_8")]))
         << line;
     with_cracks += cracks > 0;
-    EXPECT_FALSE(cells[column("light_near_distance")].empty()) << line;
+    EXPECT_FALSE(cells[in.column("light_near_distance")].empty()) << line;
   }
   EXPECT_GT(rows, 300u);
   EXPECT_GT(with_cracks, 0u);
@@ -177,21 +192,14 @@ TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {
 // column empty, and so does a sweep without Z-pass.
 TEST_F(Sweep, ZPassRowsHoldASecondTimingOfTheirFrame) {
   const auto read = [&](const std::string& file) {
-    std::stringstream in(test::slurp(path(file)));
-    std::string line;
-    std::getline(in, line);
-    const std::vector<std::string> header = split(line);
-    const auto column = [&](const std::string& name) {
-      const auto k = static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-      EXPECT_LT(k, header.size()) << name;
-      return k;
-    };
-    const std::size_t method = column("method"), variant = column("variant"), refused = column("refused"),
-                      first = column("frame_ms"), again = column("frame_again_ms");
+    SweepCsv in(test::slurp(path(file)));
+    const std::size_t method = in.column("method"), variant = in.column("variant"), refused = in.column("refused"),
+                      first = in.column("frame_ms"), again = in.column("frame_again_ms");
     std::map<std::string, std::size_t> timed_twice;  // method [variant] -> rows with a second timing
     std::size_t rows = 0;
-    while (std::getline(in, line)) {
-      std::vector<std::string> cells = split(line);
+    std::string line;
+    std::vector<std::string> cells;
+    while (in.next(line, cells)) {
       if (cells[method] == "rejected" || cells[refused] == "1") continue;
       ++rows;
       if (cells[method] != "zpass") {
@@ -229,13 +237,12 @@ TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
           path("v.csv"),
       "sweep_variants");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::stringstream in(test::slurp(path("v.csv")));
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line);
-  ASSERT_EQ(header[6], "variant");
+  SweepCsv in(test::slurp(path("v.csv")));
+  ASSERT_EQ(in.header()[6], "variant");
   std::map<std::string, int> per_variant;
-  while (std::getline(in, line)) ++per_variant[split(line)[6]];
+  std::string line;
+  std::vector<std::string> cells;
+  while (in.next(line, cells)) ++per_variant[cells[6]];
   EXPECT_EQ(per_variant.size(), 3u);
   EXPECT_EQ(per_variant["default"], 60 * 6);
   EXPECT_EQ(per_variant["light-projection=glfrustum"], 60 * 6);
@@ -278,29 +285,24 @@ TEST_F(Sweep, TwoMpiRanksWriteWhatOneProcessWrites) {
 
 TEST_F(Sweep, ARowReplaysAlone) {
   ASSERT_EQ(test::run_cli(args(path("a.csv")), "sweep_replay").exit_code, 0);
-  std::stringstream in(test::slurp(path("a.csv")));
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line);
-  const auto column = [&](const std::string& name) {
-    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-  };
+  SweepCsv in(test::slurp(path("a.csv")));
   int replayed = 0;
-  while (std::getline(in, line) && replayed < 3) {
-    const auto cells = split(line);
+  std::string line;
+  std::vector<std::string> cells;
+  while (replayed < 3 && in.next(line, cells)) {
     if (cells[5] != "zpplus-corrected" || cells[0].rfind("sample:", 0) != 0) continue;
     // The replay column: "nearcap sample ... --out c.json"; run it with this build's program.
-    std::string replay = cells[column("replay")];
+    std::string replay = cells[in.column("replay")];
     replay.replace(0, std::string("nearcap ").size(), "");
     replay.replace(replay.find("c.json"), 6, path("c.json"));
     ASSERT_EQ(test::run_cli(replay, "replay").exit_code, 0) << replay;
     const test::CliResult c = test::run_cli(
         "cracks " + path("c.json") + " --light " + cells[4] + " --method zpplus-corrected", "replay_cracks");
     ASSERT_EQ(c.exit_code, 0) << c.err;
-    EXPECT_NE(c.out.find("\"wrong\":" + cells[column("wrong")] + ","), std::string::npos)
-        << cells[0] << ": the sweep said " << cells[column("wrong")] << " wrong; cracks says " << c.out;
-    EXPECT_NE(c.out.find("\"cracks\":" + cells[column("cracks")] + ","), std::string::npos)
-        << cells[0] << ": the sweep said " << cells[column("cracks")] << " cracks; cracks says " << c.out;
+    EXPECT_NE(c.out.find("\"wrong\":" + cells[in.column("wrong")] + ","), std::string::npos)
+        << cells[0] << ": the sweep said " << cells[in.column("wrong")] << " wrong; cracks says " << c.out;
+    EXPECT_NE(c.out.find("\"cracks\":" + cells[in.column("cracks")] + ","), std::string::npos)
+        << cells[0] << ": the sweep said " << cells[in.column("cracks")] << " cracks; cracks says " << c.out;
     ++replayed;
   }
   EXPECT_GT(replayed, 0);

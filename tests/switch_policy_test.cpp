@@ -200,7 +200,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
     return s.replace(at, from.size(), to);
   };
   const std::pair<std::string, std::string> cases[] = {
-      {"{", "not JSON"},
+      {"{", "malformed JSON"},
       {replaced("\"version\": 1", "\"version\": 5"), "version: 5 is not a version"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"depth\": \"float32\""),
        "depth: is a version 3 field (this file says version 1)"},
@@ -217,7 +217,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
                 "\"version\": 2, \"light_projection\": \"sides\", \"capped_method\""),
        "light_projection: must be paper"},
       {replaced("\"version\": 1, \"capped_method\"", "\"version\": 2, \"exact_zpass\": 0, \"capped_method\""),
-       "exact_zpass: must be true or false"},
+       "exact_zpass: expected true or false, found number"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"exact_zpass\": false"),
        "exact_zpass: is a version 2 field"},
       {replaced("\"version\": 1,", ""), "version: missing"},
@@ -226,11 +226,13 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"mean\": [0, 0.2]", "\"mean\": [0]"), "crack_model.mean: 1 values for 2 features"},
       {replaced("\"log_skew\"", "\"log_magic\""), "crack_model.features[0]: 'log_magic' is not a policy feature"},
       {replaced("\"zfail\"", "\"zpplus\""), "fallback_method: must be zfail or preload"},
-      {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""), "capped_method: 'zpplus-improved' is not a method"},
+      {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""),
+       "capped_method: must be a method (zpass, zfail, zpplus, zpplus-corrected, preload), not \"zpplus-improved\""},
       {replaced("\"zpplus-corrected\"", "\"zpass\""), "capped_method: must not be zpass"},
       {replaced("\"scale\": [1, 0.1]", "\"scale\": [1, 0]"), "crack_model.scale[1]: must be positive"},
       {replaced("\"threshold\": 0.01", "\"threshold\": 2"), "crack_model.threshold: must be in (0, 1]"},
-      {replaced("\"threshold\": 0.01", "\"threshold\": \"low\""), "crack_model.threshold: must be a number"},
+      {replaced("\"threshold\": 0.01", "\"threshold\": \"low\""),
+       "crack_model.threshold: expected a number, found string"},
       {replaced("\"clamp-far\"", "\"clamp-near\""), "switch_clamp"},
       {replaced("\"cost_models\": {}", "\"cost_models\": {\"zfast\": {}}"),
        "cost_models.zfast: 'zfast' is not a method"},
@@ -243,7 +245,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       ADD_FAILURE() << "accepted: " << fragment;
     } catch (const Error& e) {
       // Text that is not JSON is a parse error; JSON that is not a policy, a schema error.
-      EXPECT_EQ(e.kind(), fragment == "not JSON" ? ErrorKind::Parse : ErrorKind::Schema) << e.what();
+      EXPECT_EQ(e.kind(), fragment == "malformed JSON" ? ErrorKind::Parse : ErrorKind::Schema) << e.what();
       const std::string what = e.what();
       EXPECT_NE(what.find(fragment), std::string::npos) << what;
       EXPECT_EQ(what.find('\n'), std::string::npos) << what;

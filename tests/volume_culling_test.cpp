@@ -15,6 +15,7 @@
 #include "nearcap/gl/volume_bounds.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -104,19 +105,10 @@ TEST(VolumeCulling, TheSameStencilOnEveryBundledScene) {
 // is drawn through another projection), and the culling then drops that
 // wrong count: never a new wrong pixel.
 TEST(VolumeCulling, OnASliceOfTheSampler) {
-  analysis::SamplerSpec spec;
-  spec.seed = 7;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(7));
   std::size_t frames = 0;
   std::uint64_t plain = 0, culled = 0;
-  for (std::uint64_t k = 0; k < 150; ++k) {
-    Scene scene;
-    try {
-      scene = parse_scene(sampler.sample(k).scene_json, "sample " + std::to_string(k), ".");
-    } catch (const Error&) {
-      continue;
-    }
+  test::for_each_sampled_scene(sampler, 150, [&](const Scene& scene, const analysis::HardCase& sample) {
     for (std::size_t light = 0; light < scene.lights.size(); ++light)
       for (gl::ShadowMethod m : gl::kAllShadowMethods) {
         gl::EmulationSettings settings;
@@ -134,10 +126,11 @@ TEST(VolumeCulling, OnASliceOfTheSampler) {
         plain += volume_fragments(none);
         culled += volume_fragments(f);
         if (m != gl::ShadowMethod::ZPPlus) {
-          EXPECT_EQ(seen_differences(none, f), 0u) << "sample " << k << " light " << light << " " << to_string(m);
+          EXPECT_EQ(seen_differences(none, f), 0u)
+              << "sample " << sample.index << " light " << light << " " << to_string(m);
         }
       }
-  }
+  });
   EXPECT_GT(frames, 500u);
   EXPECT_LT(culled * 4, plain * 3);  // at least a quarter fewer
 }

@@ -8,6 +8,7 @@
 
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/json_reader.hpp"
 #include "nearcap/io/scene_file.hpp"
 
 namespace nearcap::analysis {
@@ -15,31 +16,9 @@ namespace {
 
 using Json = nlohmann::json;
 
-[[noreturn]] void fail(const std::string& source, ErrorKind kind, const std::string& where, const std::string& what) {
-  throw Error(kind, source + ": " + where + ": " + what);
-}
-
-double number(const std::string& source, const Json& j, const std::string& where) {
-  if (!j.is_number()) fail(source, ErrorKind::Schema, where, "expected a number, found " + std::string(j.type_name()));
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) fail(source, ErrorKind::NonFinite, where, "the number is not finite");
-  return v;
-}
-
-Vec3d vec3(const std::string& source, const Json& j, const std::string& where) {
-  if (!j.is_array() || j.size() != 3) fail(source, ErrorKind::Schema, where, "expected an array of 3 numbers");
-  return {number(source, j[0], where + "[0]"), number(source, j[1], where + "[1]"),
-          number(source, j[2], where + "[2]")};
-}
-
-void only_keys(const std::string& source, const Json& j, const std::string& where,
-               std::initializer_list<const char*> allowed) {
-  if (!j.is_object()) fail(source, ErrorKind::Schema, where, "expected a JSON object");
-  for (const auto& [key, value] : j.items()) {
-    bool ok = false;
-    for (const char* a : allowed) ok = ok || key == a;
-    if (!ok) fail(source, ErrorKind::Schema, where, "unknown key '" + key + "'");
-  }
+Vec3d vec3(const io::JsonValue& j) {
+  const std::vector<io::JsonValue> e = j.elements(3, "numbers");
+  return {e[0].number(), e[1].number(), e[2].number()};
 }
 
 Vec3d lerp(const Vec3d& a, const Vec3d& b, double t) {
@@ -51,26 +30,17 @@ Vec3d lerp(const Vec3d& a, const Vec3d& b, double t) {
 CameraPath load_camera_path(const std::string& file) {
   CameraPath p;
   p.source = file;
-  Json root;
-  try {
-    root = Json::parse(io::read_input_file(file, "camera path file"));
-  } catch (const Json::exception& e) {
-    fail(file, ErrorKind::Parse, "path", std::string("malformed JSON: ") + e.what());
-  }
-  only_keys(file, root, "path", {"description", "scene", "frames", "width", "height", "keyframes"});
-  if (root.contains("description")) {
-    if (!root["description"].is_string()) fail(file, ErrorKind::Schema, "description", "expected a string");
-    p.description = root["description"].get<std::string>();
-  }
-  if (!root.contains("scene") || !root["scene"].is_string())
-    fail(file, ErrorKind::Schema, "scene", "expected the base scene's file name (a string)");
-  std::filesystem::path scene(root["scene"].get<std::string>());
+  const io::JsonDocument doc = io::JsonDocument::parse(io::read_input_file(file, "camera path file"), file);
+  const io::JsonValue root = doc.root();
+  root.only_keys({"description", "scene", "frames", "width", "height", "keyframes"});
+  if (const auto description = root.optional<std::string>("description")) p.description = *description;
+  const io::JsonValue scene_value = root.at("scene");
+  if (!scene_value.is_string())
+    scene_value.fail("expected the base scene's file name (a string), found " + std::string(scene_value.type_name()));
+  std::filesystem::path scene(scene_value.string());
   if (scene.is_relative()) scene = std::filesystem::path(file).parent_path() / scene;
   p.scene_file = scene.lexically_normal().string();
-  if (!root.contains("frames") || !root["frames"].is_number_integer() || root["frames"].get<long long>() < 1 ||
-      root["frames"].get<long long>() > 1000000)
-    fail(file, ErrorKind::Schema, "frames", "expected a whole number of frames in [1, 1000000]");
-  p.frames = root["frames"].get<int>();
+  p.frames = static_cast<int>(root.at("frames").integer(1, 1000000, "a whole number of frames"));
 
   // The base scene: it must load; its camera gives the defaults.
   Json base;
@@ -84,7 +54,8 @@ CameraPath load_camera_path(const std::string& file) {
   CameraKeyframe previous;
   const bool look_at = camera.contains("eye");
   if (look_at) {
-    previous.up = camera.contains("up") ? vec3(p.scene_file, camera["up"], "camera.up") : Vec3d{0, 1, 0};
+    if (camera.contains("up"))
+      for (int k = 0; k < 3; ++k) previous.up[k] = camera["up"][k].get<double>();
     previous.fovy_deg = camera.at("fovy_deg").get<double>();
     previous.near = camera.at("near").get<double>();
     p.far = camera.at("far").get<double>();
@@ -93,38 +64,34 @@ CameraPath load_camera_path(const std::string& file) {
   }
   p.width = camera.at("width").get<int>();
   p.height = camera.at("height").get<int>();
-  for (const auto& [key, value] : {std::pair<const char*, int*>{"width", &p.width}, {"height", &p.height}}) {
-    if (!root.contains(key)) continue;
-    if (!root[key].is_number_integer() || root[key].get<long long>() < 1 || root[key].get<long long>() > 16384)
-      fail(file, ErrorKind::Schema, key, "expected a whole number of pixels in [1, 16384]");
-    *value = root[key].get<int>();
-  }
+  for (const auto& [key, value] : {std::pair<const char*, int*>{"width", &p.width}, {"height", &p.height}})
+    if (const auto size = root.find(key))
+      *value = static_cast<int>(size->integer(1, 16384, "a whole number of pixels"));
   // Mesh paths made absolute, so that a frame's text is a scene file anywhere.
   base = Json::parse(with_absolute_mesh_paths(base.dump(), p.scene_file));
   base.erase("camera");
   base.erase("description");
   p.base_scene_json = base.dump();
 
-  if (!root.contains("keyframes") || !root["keyframes"].is_array() || root["keyframes"].empty())
-    fail(file, ErrorKind::Schema, "keyframes", "expected a non-empty array of keyframes");
-  for (std::size_t k = 0; k < root["keyframes"].size(); ++k) {
-    const Json& j = root["keyframes"][k];
-    const std::string where = "keyframes[" + std::to_string(k) + "]";
-    only_keys(file, j, where, {"eye", "target", "up", "fovy_deg", "near"});
-    if (!j.contains("eye") || !j.contains("target")) fail(file, ErrorKind::Schema, where, "needs 'eye' and 'target'");
+  const io::JsonValue keyframes = root.at("keyframes");
+  if (!keyframes.is_array() || keyframes.size() == 0) keyframes.fail("expected a non-empty array of keyframes");
+  for (const io::JsonValue& j : keyframes.elements()) {
+    const bool first = p.keyframes.empty();
+    j.only_keys({"eye", "target", "up", "fovy_deg", "near"});
     CameraKeyframe kf = previous;
-    kf.eye = vec3(file, j["eye"], where + ".eye");
-    kf.target = vec3(file, j["target"], where + ".target");
-    if (j.contains("up")) kf.up = vec3(file, j["up"], where + ".up");
-    if (j.contains("fovy_deg")) kf.fovy_deg = number(file, j["fovy_deg"], where + ".fovy_deg");
-    if (j.contains("near")) kf.near = number(file, j["near"], where + ".near");
-    if (k == 0 && !look_at && (!j.contains("fovy_deg") || !j.contains("near")))
-      fail(file, ErrorKind::Schema, where,
-           "the base scene's camera has no fovy_deg and near (view/frustum form): give them here");
+    kf.eye = vec3(j.at("eye"));
+    kf.target = vec3(j.at("target"));
+    if (j.has("up")) kf.up = vec3(j.at("up"));
+    if (const auto fovy = j.optional<double>("fovy_deg")) kf.fovy_deg = *fovy;
+    if (const auto near = j.optional<double>("near")) kf.near = *near;
+    if (first && !look_at && (!j.has("fovy_deg") || !j.has("near")))
+      j.fail("the base scene's camera has no fovy_deg and near (view/frustum form): give them here");
+    // Inherited values were checked where they were given: a fault is this keyframe's.
     if (!(kf.fovy_deg > 0 && kf.fovy_deg < 180))
-      fail(file, ErrorKind::Camera, where + ".fovy_deg", "must lie strictly between 0 and 180 degrees");
+      throw Error(ErrorKind::Camera, file + ": " + j.path() + ".fovy_deg: must lie strictly between 0 and 180 degrees");
     if (!(kf.near > 0 && kf.near < p.far))
-      fail(file, ErrorKind::Camera, where + ".near", "must lie strictly between 0 and the scene's far plane");
+      throw Error(ErrorKind::Camera,
+                  file + ": " + j.path() + ".near: must lie strictly between 0 and the scene's far plane");
     p.keyframes.push_back(kf);
     previous = kf;
   }

@@ -18,6 +18,7 @@
 
 #include "nearcap/analysis/sweep.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/json_reader.hpp"
 
 namespace nearcap::analysis {
 namespace {
@@ -132,36 +133,26 @@ std::string sweep_meta_json(const SweepMeta& meta) {
 }
 
 SweepMeta parse_sweep_meta(const std::string& text, const std::string& file) {
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw Error(ErrorKind::Parse, file + ": not JSON (" + e.what() + ")");
-  }
-  const auto bad = [&file](const std::string& what) {
-    return Error(ErrorKind::Schema, file + ": not a nearcap sweep sidecar (" + what + ")");
-  };
-  if (!j.is_object() || !j.contains("format") || j["format"] != kFormat)
-    throw bad("no \"format\": \"" + std::string(kFormat) + "\"");
-  if (!j.contains("format_version") || j["format_version"] != kFormatVersion)
-    throw bad("\"format_version\" is not " + std::to_string(kFormatVersion));
+  const io::JsonDocument doc = io::JsonDocument::parse(text, file);
+  const io::JsonValue j = doc.root();
+  // The format's name first: another JSON file is named as not a sidecar.
+  if (!j.is_object() || !j.has("format") || !j.at("format").is_string() || j.at("format").string() != kFormat)
+    j.fail("not a nearcap sweep sidecar (no \"format\": \"" + std::string(kFormat) + "\")");
+  const io::JsonValue version = j.at("format_version");
+  if (!version.is_integer() || version.integer() != kFormatVersion)
+    version.fail("is not " + std::to_string(kFormatVersion) + " (a sidecar of another format version)");
   SweepMeta meta;
-  if (!j.contains("nearcap") || !j["nearcap"].is_string()) throw bad("\"nearcap\" is not a version string");
-  meta.nearcap_version = j["nearcap"].get<std::string>();
-  if (!j.contains("samples") || !j["samples"].is_number_unsigned()) throw bad("\"samples\" is not a count");
-  meta.samples = j["samples"].get<std::uint64_t>();
-  if (!j.contains("options") || !j["options"].is_object()) throw bad("\"options\" is not an object");
-  for (const auto& [name, values] : j["options"].items()) {
-    std::vector<std::string> list;
+  meta.nearcap_version = j.required<std::string>("nearcap");
+  meta.samples = j.required<std::uint64_t>("samples");
+  for (const auto& [name, values] : j.at("options").members()) {
     if (values.is_string()) {
-      meta.options.emplace_back(name, std::vector<std::string>{values.get<std::string>()});
+      meta.options.emplace_back(name, std::vector<std::string>{values.string()});
       continue;
     }
-    if (!values.is_array()) throw bad("option " + name + " is neither a string nor a list");
-    for (const Json& v : values) {
-      if (!v.is_string()) throw bad("option " + name + " holds a value that is not a string");
-      list.push_back(v.get<std::string>());
-    }
+    if (!values.is_array())
+      values.fail("expected a string or an array of strings, found " + std::string(values.type_name()));
+    std::vector<std::string> list;
+    for (const io::JsonValue& v : values.elements()) list.push_back(v.string());
     meta.options.emplace_back(name, std::move(list));
   }
   return meta;

@@ -17,6 +17,7 @@
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/json_reader.hpp"
 
 namespace nearcap::analysis {
 namespace {
@@ -26,173 +27,39 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double log10_or_nan(double v) { return std::isfinite(v) ? std::log10(std::max(std::fabs(v), 1e-15)) : kNaN; }
 
-// A well-formed JSON file that is not a policy: a Schema error naming the field.
-[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
-  throw Error(ErrorKind::Schema, source + ": " + field + ": " + what);
-}
+using io::JsonValue;
 
-// The parser callback: nlohmann::json keeps the last of two equal keys, so a
-// policy with one would be read silently with half of it ignored; here it is
-// a Schema error naming the key's path.  It also tracks the path of the value
-// being parsed, so that a parse error (1e999 overflows a double) can name the
-// field it is in.
-class KeyTracker {
- public:
-  explicit KeyTracker(std::string source) : source_(std::move(source)), state_(std::make_shared<State>()) {}
-
-  bool operator()(int, Json::parse_event_t event, Json& parsed) const {
-    State& st = *state_;
-    switch (event) {
-      case Json::parse_event_t::object_start:
-      case Json::parse_event_t::array_start:
-        next_element(st);
-        st.open.push_back({event == Json::parse_event_t::array_start, {}, "", -1});
-        break;
-      case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        st.open.pop_back();
-        break;
-      case Json::parse_event_t::key: {
-        Open& o = st.open.back();
-        o.key = parsed.get<std::string>();
-        if (!o.keys.insert(o.key).second) fail(source_, path(), "duplicate key (each key appears once in an object)");
-        break;
-      }
-      case Json::parse_event_t::value:
-        next_element(st);
-        break;
-    }
-    return true;
-  }
-
-  // Where the parser is: "crack_model.bias", "crack_model.mean[2]", or
-  // "(top level)".
-  std::string path() const {
-    std::string p;
-    const std::vector<Open>& open = state_->open;
-    for (std::size_t k = 0; k < open.size(); ++k) {
-      const Open& o = open[k];
-      // The innermost array's next element is the one being parsed; an outer
-      // array's current one holds the containers opened inside it.
-      if (o.array)
-        p += "[" + std::to_string(k + 1 == open.size() ? o.index + 1 : o.index) + "]";
-      else if (!o.key.empty())
-        p += (p.empty() ? "" : ".") + o.key;
-    }
-    return p.empty() ? "(top level)" : p;
-  }
-
- private:
-  struct Open {
-    bool array;
-    std::set<std::string> keys;
-    std::string key;  // objects: the current member's
-    long index;       // arrays: the current element's
-  };
-  struct State {
-    std::vector<Open> open;
-  };
-  // A value, object or array starts: in an array it is the next element.
-  static void next_element(State& st) {
-    if (!st.open.empty() && st.open.back().array) ++st.open.back().index;
-  }
-  std::string source_;
-  std::shared_ptr<State> state_;  // shared: the parser copies the callback
-};
-
-// nlohmann's message without its "[json.exception.parse_error.101] " tag.
-std::string json_message(const Json::exception& e) {
-  std::string m = e.what();
-  if (m.rfind("[json.exception.", 0) == 0)
-    if (const std::size_t end = m.find("] "); end != std::string::npos) m.erase(0, end + 2);
-  return m;
-}
-
-const Json& field(const Json& object, const std::string& key, const std::string& path, const std::string& source) {
-  const auto it = object.find(key);
-  if (it == object.end()) fail(source, path + key, "missing");
-  return *it;
-}
-
-void only_keys(const Json& object, const std::set<std::string>& keys, const std::string& path,
-               const std::string& source) {
-  for (const auto& [key, value] : object.items()) {
-    (void)value;
-    if (!keys.count(key)) fail(source, path + key, "unknown key");
-  }
-}
-
-double finite_number(const Json& v, const std::string& path, const std::string& source) {
-  if (!v.is_number()) fail(source, path, "must be a number");
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) fail(source, path, "must be finite");
-  return d;
-}
-
-std::vector<double> numbers(const Json& v, const std::string& path, const std::string& source) {
-  if (!v.is_array()) fail(source, path, "must be an array of numbers");
-  std::vector<double> out;
-  for (std::size_t k = 0; k < v.size(); ++k)
-    out.push_back(finite_number(v[k], path + "[" + std::to_string(k) + "]", source));
-  return out;
-}
-
-gl::ShadowMethod method_field(const Json& v, const std::string& path, const std::string& source) {
-  if (!v.is_string()) fail(source, path, "must be a method name");
-  const auto m = gl::shadow_method_from_string(v.get<std::string>());
-  if (!m)
-    fail(source, path,
-         "'" + v.get<std::string>() + "' is not a method (zpass, zfail, zpplus, zpplus-corrected, preload)");
-  return *m;
+gl::ShadowMethod method_field(const JsonValue& v) {
+  return v.parsed(gl::shadow_method_from_string, "a method (zpass, zfail, zpplus, zpplus-corrected, preload)");
 }
 
 // A cost coefficient: a finite number, not negative.
-double cost_number(const Json& object, const std::string& key, const std::string& path, const std::string& source) {
-  const double v = finite_number(field(object, key, path, source), path + key, source);
-  if (v < 0) fail(source, path + key, "must not be negative (a cost)");
-  return v;
+double cost_number(const JsonValue& object, std::string_view key) {
+  const JsonValue v = object.at(key);
+  const double d = v.number();
+  if (d < 0) v.fail("must not be negative (a cost)");
+  return d;
 }
 
-const Json& object_field(const Json& object, const std::string& key, const std::string& path,
-                         const std::string& source) {
-  const Json& v = field(object, key, path, source);
-  if (!v.is_object()) fail(source, path + key, "must be an object");
-  return v;
-}
-
-// The "device_profile" object; `path` is the prefix its fields are named
-// with ("device_profile." in a policy, "" on its own).
-DeviceProfile device_profile_of(const Json& j, const std::string& path, const std::string& source) {
-  if (!j.is_object()) fail(source, path.empty() ? "(top level)" : path.substr(0, path.size() - 1), "must be an object");
-  only_keys(j, {"gl_renderer", "origin", "passes", "cpu"}, path, source);
+DeviceProfile device_profile_of(const JsonValue& j) {
+  j.only_keys({"gl_renderer", "origin", "passes", "cpu"});
   DeviceProfile d;
-  const Json& renderer = field(j, "gl_renderer", path, source);
-  if (!renderer.is_string())
-    fail(source, path + "gl_renderer", "must be a string (the GL_RENDERER it was measured on)");
-  d.gl_renderer = renderer.get<std::string>();
-  const Json& origin = field(j, "origin", path, source);
-  if (!origin.is_string() || (origin != "calibrated" && origin != "hand" && origin != "scaled"))
-    fail(source, path + "origin", "must be \"calibrated\", \"hand\" or \"scaled\"");
-  d.origin = origin.get<std::string>();
-  const Json& passes = object_field(j, "passes", path, source);
-  const std::set<std::string> kinds(kPassKindNames.begin(), kPassKindNames.end());
-  only_keys(passes, kinds, path + "passes.", source);
+  d.gl_renderer = j.required<std::string>("gl_renderer");
+  d.origin = j.at("origin").choice<std::string>({{"calibrated", "calibrated"}, {"hand", "hand"}, {"scaled", "scaled"}});
+  const JsonValue passes = j.at("passes");
+  passes.only_keys(std::vector<std::string_view>(kPassKindNames.begin(), kPassKindNames.end()));
   for (std::size_t k = 0; k < kPassKindCount; ++k) {
-    const std::string name(kPassKindNames[k]);
-    const std::string at = path + "passes." + name + ".";
-    const Json& pass = object_field(passes, name, path + "passes.", source);
-    only_keys(pass, {"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"}, at, source);
-    d.passes[k].intercept_ms = cost_number(pass, "intercept_ms", at, source);
-    d.passes[k].ms_per_mtriangle = cost_number(pass, "ms_per_mtriangle", at, source);
-    d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment", at, source);
+    const JsonValue pass = passes.at(kPassKindNames[k]);
+    pass.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
+    d.passes[k].intercept_ms = cost_number(pass, "intercept_ms");
+    d.passes[k].ms_per_mtriangle = cost_number(pass, "ms_per_mtriangle");
+    d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment");
   }
-  const Json& cpu = object_field(j, "cpu", path, source);
-  const std::string at = path + "cpu.";
-  only_keys(cpu, {"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"}, at,
-            source);
-  d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette", at, source);
-  d.cpu.ms_per_ktriangle_clipped_cap = cost_number(cpu, "ms_per_ktriangle_clipped_cap", at, source);
-  d.cpu.ms_per_ktriangle_exact_test = cost_number(cpu, "ms_per_ktriangle_exact_test", at, source);
+  const JsonValue cpu = j.at("cpu");
+  cpu.only_keys({"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"});
+  d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette");
+  d.cpu.ms_per_ktriangle_clipped_cap = cost_number(cpu, "ms_per_ktriangle_clipped_cap");
+  d.cpu.ms_per_ktriangle_exact_test = cost_number(cpu, "ms_per_ktriangle_exact_test");
   return d;
 }
 
@@ -209,19 +76,6 @@ Json device_profile_json(const DeviceProfile& d) {
            {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
             {"ms_per_ktriangle_clipped_cap", d.cpu.ms_per_ktriangle_clipped_cap},
             {"ms_per_ktriangle_exact_test", d.cpu.ms_per_ktriangle_exact_test}}}};
-}
-
-// Text to JSON with the policy's strictness: duplicate keys are Schema
-// errors, text that is not JSON a Parse error naming where.
-Json parse_json(const std::string& text, const std::string& source) {
-  const KeyTracker tracker(source);
-  try {
-    return Json::parse(text, tracker);
-  } catch (const Json::exception& e) {
-    // parse_error (syntax, ill-formed UTF-8: its message has the line and
-    // column) and out_of_range (a number beyond double, 1e999).
-    throw Error(ErrorKind::Parse, source + ": " + tracker.path() + ": not JSON: " + json_message(e));
-  }
 }
 
 }  // namespace
@@ -275,7 +129,7 @@ double CrackModel::probability(const ConditioningFeatures& f) const {
 }
 
 DeviceProfile parse_device_profile(const std::string& text, const std::string& source) {
-  return device_profile_of(parse_json(text, source), "", source);
+  return device_profile_of(io::JsonDocument::parse(text, source).root());
 }
 
 std::string device_profile_to_json(const DeviceProfile& profile) {
@@ -301,136 +155,106 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 }
 
 SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
-  const Json j = parse_json(text, source);
-  if (!j.is_object()) fail(source, "(top level)", "must be an object");
-  only_keys(j,
-            {"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
-             "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "device_profile",
-             "provenance"},
-            "", source);
-  const Json& format = field(j, "format", "", source);
-  if (format != "nearcap-policy") fail(source, "format", "must be \"nearcap-policy\"");
-  const Json& version = field(j, "version", "", source);
-  if (!version.is_number_integer()) fail(source, "version", "must be an integer");
-  const long long file_version = version.get<long long>();
+  const io::JsonDocument doc = io::JsonDocument::parse(text, source);
+  const JsonValue j = doc.root();
+  j.only_keys({"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
+               "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "device_profile",
+               "provenance"});
+  j.at("format").choice<bool>({{"nearcap-policy", true}});
+  const JsonValue version = j.at("version");
+  const long long file_version = version.integer();
   if (file_version < 1 || file_version > kPolicyVersion)
-    fail(source, "version",
-         std::to_string(file_version) + " is not a version this nearcap reads (1 to " + std::to_string(kPolicyVersion) +
-             ")");
+    version.fail(std::to_string(file_version) + " is not a version this nearcap reads (1 to " +
+                 std::to_string(kPolicyVersion) + ")");
+  // A field newer than the file's version.
+  const auto since = [file_version](const JsonValue& v, long long field_version) {
+    if (file_version < field_version)
+      v.fail("is a version " + std::to_string(field_version) + " field (this file says version " +
+             std::to_string(file_version) + ")");
+  };
   SwitchPolicy p;
-  if (const auto it = j.find("light_projection"); it != j.end()) {
-    if (file_version < 2) fail(source, "light_projection", "is a version 2 field (this file says version 1)");
-    if (!it->is_string() || !gl::light_projection_from_string(it->get<std::string>()))
-      fail(source, "light_projection", "must be paper, glfrustum, composed, rebased or clipped-sides");
-    p.light_projection = *gl::light_projection_from_string(it->get<std::string>());
+  if (const auto v = j.find("light_projection")) {
+    since(*v, 2);
+    p.light_projection =
+        v->parsed(gl::light_projection_from_string, "paper, glfrustum, composed, rebased or clipped-sides");
   }
-  if (const auto it = j.find("exact_zpass"); it != j.end()) {
-    if (file_version < 2) fail(source, "exact_zpass", "is a version 2 field (this file says version 1)");
-    if (!it->is_boolean()) fail(source, "exact_zpass", "must be true or false");
-    p.exact_zpass = it->get<bool>();
+  if (const auto v = j.find("exact_zpass")) {
+    since(*v, 2);
+    p.exact_zpass = v->boolean();
   }
-  if (const auto it = j.find("depth"); it != j.end()) {
-    if (file_version < 3)
-      fail(source, "depth", "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
-    if (!it->is_string() || (*it != "fixed24" && *it != "float32"))
-      fail(source, "depth", "must be \"fixed24\" or \"float32\"");
-    p.depth = *it == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
+  if (const auto v = j.find("depth")) {
+    since(*v, 3);
+    p.depth =
+        v->choice<gl::DepthFormat>({{"fixed24", gl::DepthFormat::Fixed24}, {"float32", gl::DepthFormat::Float32}});
   }
-  if (const auto it = j.find("depth_mapping"); it != j.end()) {
-    if (file_version < 3)
-      fail(source, "depth_mapping",
-           "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
-    if (!it->is_string() || !gl::depth_mapping_from_string(it->get<std::string>()))
-      fail(source, "depth_mapping", "must be \"standard\" or \"reversed\"");
-    p.depth_mapping = *gl::depth_mapping_from_string(it->get<std::string>());
+  if (const auto v = j.find("depth_mapping")) {
+    since(*v, 3);
+    p.depth_mapping = v->parsed(gl::depth_mapping_from_string, "\"standard\" or \"reversed\"");
   }
-  if (const auto it = j.find("near_plane"); it != j.end()) {
-    if (file_version < 3)
-      fail(source, "near_plane", "is a version 3 field (this file says version " + std::to_string(file_version) + ")");
-    if (!it->is_string() || !gl::near_plane_from_string(it->get<std::string>()))
-      fail(source, "near_plane", "must be \"scene\" or \"tight\"");
-    p.near_plane = *gl::near_plane_from_string(it->get<std::string>());
+  if (const auto v = j.find("near_plane")) {
+    since(*v, 3);
+    p.near_plane = v->parsed(gl::near_plane_from_string, "\"scene\" or \"tight\"");
   }
-  p.capped_method = method_field(field(j, "capped_method", "", source), "capped_method", source);
-  p.fallback_method = method_field(field(j, "fallback_method", "", source), "fallback_method", source);
+  p.capped_method = method_field(j.at("capped_method"));
+  p.fallback_method = method_field(j.at("fallback_method"));
   if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
-    fail(source, "fallback_method", "must be zfail or preload (a method right without a near-cap)");
+    j.at("fallback_method").fail("must be zfail or preload (a method right without a near-cap)");
   if (p.capped_method == gl::ShadowMethod::ZPass)
-    fail(source, "capped_method", "must not be zpass (it is wrong for the occluders that meet the light pyramid)");
+    j.at("capped_method").fail("must not be zpass (it is wrong for the occluders that meet the light pyramid)");
   if (p.capped_method == gl::ShadowMethod::Preload && gl::uses_near_cap(p.fallback_method))
-    fail(source, "capped_method", "preload cannot share a frame with a ZP+ method");
+    j.at("capped_method").fail("preload cannot share a frame with a ZP+ method");
   if (!p.exact_zpass && !gl::uses_near_cap(p.capped_method))
-    fail(source, "exact_zpass", "false needs a ZP+ capped method (zpplus or zpplus-corrected)");
+    j.at("exact_zpass").fail("false needs a ZP+ capped method (zpplus or zpplus-corrected)");
   if (p.near_plane == gl::NearPlane::Tight && p.exact_zpass)
-    fail(source, "near_plane",
-         "tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
-  const Json& clamp = field(j, "switch_clamp", "", source);
-  if (!clamp.is_string() || !gl::switch_clamp_from_string(clamp.get<std::string>()))
-    fail(source, "switch_clamp", "must be \"clamp\", \"clamp-far\" or \"far-cap\"");
-  p.switch_clamp = *gl::switch_clamp_from_string(clamp.get<std::string>());
-  const Json& zpass_far = field(j, "zpass_far", "", source);
-  if (!zpass_far.is_string() || !gl::zpass_far_from_string(zpass_far.get<std::string>()))
-    fail(source, "zpass_far", "must be \"finite\" or \"infinite\"");
-  p.zpass_far = *gl::zpass_far_from_string(zpass_far.get<std::string>());
-  const Json& m = field(j, "crack_model", "", source);
-  if (!m.is_object()) fail(source, "crack_model", "must be an object");
-  only_keys(m, {"features", "mean", "scale", "weights", "bias", "threshold"}, "crack_model.", source);
-  const Json& names = field(m, "features", "crack_model.", source);
-  if (!names.is_array()) fail(source, "crack_model.features", "must be an array of feature names");
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const std::string path = "crack_model.features[" + std::to_string(k) + "]";
-    if (!names[k].is_string()) fail(source, path, "must be a feature name");
-    const std::string name = names[k].get<std::string>();
+    j.at("near_plane").fail("tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
+  p.switch_clamp = j.at("switch_clamp").parsed(gl::switch_clamp_from_string, "\"clamp\", \"clamp-far\" or \"far-cap\"");
+  p.zpass_far = j.at("zpass_far").parsed(gl::zpass_far_from_string, "\"finite\" or \"infinite\"");
+  const JsonValue m = j.at("crack_model");
+  m.only_keys({"features", "mean", "scale", "weights", "bias", "threshold"});
+  const JsonValue names = m.at("features");
+  if (!names.is_array()) names.fail("expected an array of feature names, found " + std::string(names.type_name()));
+  for (const JsonValue& f : names.elements()) {
+    const std::string name = f.string();
     bool known = false;
-    for (std::string_view f : kPolicyFeatures) known = known || f == name;
-    if (!known) fail(source, path, "'" + name + "' is not a policy feature");
+    for (std::string_view k : kPolicyFeatures) known = known || k == name;
+    if (!known) f.fail("'" + name + "' is not a policy feature");
     if (std::find(p.crack_model.features.begin(), p.crack_model.features.end(), name) != p.crack_model.features.end())
-      fail(source, path, "'" + name + "' appears twice (each feature once)");
+      f.fail("'" + name + "' appears twice (each feature once)");
     p.crack_model.features.push_back(name);
   }
-  p.crack_model.mean = numbers(field(m, "mean", "crack_model.", source), "crack_model.mean", source);
-  p.crack_model.scale = numbers(field(m, "scale", "crack_model.", source), "crack_model.scale", source);
-  p.crack_model.weights = numbers(field(m, "weights", "crack_model.", source), "crack_model.weights", source);
+  p.crack_model.mean = m.at("mean").numbers();
+  p.crack_model.scale = m.at("scale").numbers();
+  p.crack_model.weights = m.at("weights").numbers();
   const std::size_t n = p.crack_model.features.size();
   for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"mean", &p.crack_model.mean},
                                 {"scale", &p.crack_model.scale},
                                 {"weights", &p.crack_model.weights}})
-    if (v->size() != n)
-      fail(source, std::string("crack_model.") + name,
-           std::to_string(v->size()) + " values for " + std::to_string(n) + " features");
+    if (v->size() != n) m.at(name).fail(std::to_string(v->size()) + " values for " + std::to_string(n) + " features");
   for (std::size_t k = 0; k < n; ++k)
-    if (!(p.crack_model.scale[k] > 0)) fail(source, "crack_model.scale[" + std::to_string(k) + "]", "must be positive");
-  p.crack_model.bias = finite_number(field(m, "bias", "crack_model.", source), "crack_model.bias", source);
-  p.crack_model.threshold =
-      finite_number(field(m, "threshold", "crack_model.", source), "crack_model.threshold", source);
-  if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1))
-    fail(source, "crack_model.threshold", "must be in (0, 1]");
-  {
-    const Json& costs = field(j, "cost_models", "", source);
-    if (!costs.is_object()) fail(source, "cost_models", "must be an object of methods");
-    for (const auto& [name, model] : costs.items()) {
-      const std::string path = "cost_models." + name;
-      const auto method = gl::shadow_method_from_string(name);
-      if (!method) fail(source, path, "'" + name + "' is not a method");
-      if (!model.is_object()) fail(source, path, "must be an object");
-      only_keys(model, {"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"}, path + ".", source);
-      CostModel cm;
-      cm.intercept_ms = finite_number(field(model, "intercept_ms", path + ".", source), path + ".intercept_ms", source);
-      cm.ms_per_mtriangle =
-          finite_number(field(model, "ms_per_mtriangle", path + ".", source), path + ".ms_per_mtriangle", source);
-      cm.ms_per_mfragment =
-          finite_number(field(model, "ms_per_mfragment", path + ".", source), path + ".ms_per_mfragment", source);
-      p.cost_models.emplace_back(*method, cm);
-    }
+    if (!(p.crack_model.scale[k] > 0)) m.at("scale").elements()[k].fail("must be positive");
+  p.crack_model.bias = m.required<double>("bias");
+  const JsonValue threshold = m.at("threshold");
+  p.crack_model.threshold = threshold.number();
+  if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1)) threshold.fail("must be in (0, 1]");
+  // By name, whatever order the file has them in.
+  auto cost_models = j.at("cost_models").members();
+  std::sort(cost_models.begin(), cost_models.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [name, model] : cost_models) {
+    const auto method = gl::shadow_method_from_string(name);
+    if (!method) model.fail("'" + name + "' is not a method");
+    model.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
+    CostModel cm;
+    cm.intercept_ms = model.required<double>("intercept_ms");
+    cm.ms_per_mtriangle = model.required<double>("ms_per_mtriangle");
+    cm.ms_per_mfragment = model.required<double>("ms_per_mfragment");
+    p.cost_models.emplace_back(*method, cm);
   }
-  if (const auto it = j.find("device_profile"); it != j.end()) {
-    if (file_version < 4)
-      fail(source, "device_profile",
-           "is a version 4 field (this file says version " + std::to_string(file_version) + ")");
-    p.device_profile = device_profile_of(*it, "device_profile.", source);
+  if (const auto v = j.find("device_profile")) {
+    since(*v, 4);
+    p.device_profile = device_profile_of(*v);
   }
-  const Json& provenance = field(j, "provenance", "", source);
-  if (!provenance.is_object()) fail(source, "provenance", "must be an object");
+  const JsonValue provenance = j.at("provenance");
+  if (!provenance.is_object()) provenance.fail("expected a JSON object, found " + std::string(provenance.type_name()));
   p.provenance_json = provenance.dump();
   return p;
 }
@@ -449,7 +273,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
   j["light_projection"] = std::string(gl::to_string(p.light_projection));
   j["exact_zpass"] = p.exact_zpass;
-  if (p.depth) j["depth"] = *p.depth == gl::DepthFormat::Fixed24 ? "fixed24" : "float32";
+  if (p.depth) j["depth"] = std::string(name_of(*p.depth));
   if (p.depth_mapping) j["depth_mapping"] = std::string(gl::to_string(*p.depth_mapping));
   if (p.near_plane) j["near_plane"] = std::string(gl::to_string(*p.near_plane));
   Json m;

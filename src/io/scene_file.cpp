@@ -16,6 +16,7 @@
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_validation.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/json_reader.hpp"
 #include "nearcap/io/mesh_file.hpp"
 #include "nearcap/numeric/rational.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -25,96 +26,64 @@ namespace nearcap {
 namespace {
 
 using Json = nlohmann::json;
+using io::JsonValue;
 
 class SceneReader {
  public:
   SceneReader(std::string source, std::string base, MeshCache* cache)
       : source_(std::move(source)), base_(std::move(base)), cache_(cache) {}
 
-  [[noreturn]] void fail(ErrorKind kind, const std::string& where, const std::string& what) const {
-    throw Error(kind, source_ + ": " + where + ": " + what);
-  }
-
-  void only_keys(const Json& obj, const std::string& where, std::initializer_list<const char*> allowed) const {
-    if (!obj.is_object())
-      fail(ErrorKind::Schema, where, "expected a JSON object, found " + std::string(obj.type_name()));
-    std::set<std::string> ok(allowed.begin(), allowed.end());
-    std::string unknown;
-    for (const auto& [k, v] : obj.items())
-      if (!ok.count(k)) unknown += (unknown.empty() ? "'" : ", '") + k + "'";
-    if (!unknown.empty()) {
-      std::string expected;
-      for (const auto* a : allowed) expected += (expected.empty() ? "" : ", ") + std::string(a);
-      fail(ErrorKind::Schema, where, "unknown key(s) " + unknown + " (allowed: " + expected + ")");
+  static int pixels(const JsonValue& j) {
+    // 64.0 is the integer 64; an integer too large for long long is outside the range too.
+    const bool whole =
+        j.is_integer() || (j.is_number() && j.number() == std::floor(j.number()) && std::fabs(j.number()) <= 1e9);
+    if (!whole)
+      j.fail(j.is_number() ? "must be an integer number of pixels"
+                           : "expected an integer pixel count, found " + std::string(j.type_name()));
+    if (j.number() < 1 || j.number() > 16384) {
+      std::ostringstream m;
+      m.precision(17);
+      m << "viewport size " << j.number() << " is outside [1, 16384] pixels";
+      j.fail(ErrorKind::Camera, m.str());
     }
+    return static_cast<int>(j.number());
   }
 
-  const Json& need(const Json& obj, const char* key, const std::string& where) const {
-    auto it = obj.find(key);
-    if (it == obj.end()) fail(ErrorKind::Schema, where, std::string("missing required key '") + key + "'");
-    return *it;
-  }
-
-  double number(const Json& j, const std::string& where) const {
-    if (!j.is_number()) fail(ErrorKind::Schema, where, "expected a number, found " + std::string(j.type_name()));
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(ErrorKind::NonFinite, where, "the number is not finite");
-    return v;
-  }
-
-  int pixels(const Json& j, const std::string& where) const {
-    long long v = 0;
-    if (j.is_number_integer() || j.is_number_unsigned()) {
-      v = j.get<long long>();
-    } else if (j.is_number_float() && std::isfinite(j.get<double>()) &&
-               j.get<double>() == std::floor(j.get<double>()) && std::fabs(j.get<double>()) <= 1e9) {
-      v = static_cast<long long>(j.get<double>());  // 64.0 is the integer 64
-    } else {
-      fail(ErrorKind::Schema, where,
-           j.is_number() ? "must be an integer number of pixels"
-                         : "expected an integer pixel count, found " + std::string(j.type_name()));
-    }
-    if (v < 1 || v > 16384)
-      fail(ErrorKind::Camera, where, "viewport size " + std::to_string(v) + " is outside [1, 16384] pixels");
-    return static_cast<int>(v);
-  }
-
-  Vec3d vec3(const Json& j, const std::string& where) const {
-    if (!j.is_array() || j.size() != 3) fail(ErrorKind::Schema, where, "expected an array of 3 numbers");
-    return {number(j[0], where + "[0]"), number(j[1], where + "[1]"), number(j[2], where + "[2]")};
+  static Vec3d vec3(const JsonValue& j) {
+    const std::vector<JsonValue> e = j.elements(3, "numbers");
+    return {e[0].number(), e[1].number(), e[2].number()};
   }
 
   // Four rows; the last must be [0, 0, 0, 1] (affine); the linear part invertible.
-  Affine3d affine(const Json& j, const std::string& where, ErrorKind singular_kind) const {
-    if (!j.is_array() || j.size() != 4)
-      fail(ErrorKind::Schema, where, "expected 4 rows of 4 numbers, the last [0, 0, 0, 1]");
+  Affine3d affine(const JsonValue& j, ErrorKind singular_kind) const {
+    if (!j.is_array() || j.size() != 4) j.fail("expected 4 rows of 4 numbers, the last [0, 0, 0, 1]");
     Affine3d m;
+    const std::vector<JsonValue> rows = j.elements();
     for (int i = 0; i < 4; ++i) {
-      const std::string w = where + "[" + std::to_string(i) + "]";
-      if (!j[i].is_array() || j[i].size() != 4) fail(ErrorKind::Schema, w, "expected a row of 4 numbers");
+      const std::vector<JsonValue> row = rows[i].elements(4, "numbers (a row)");
       for (int k = 0; k < 4; ++k) {
-        const double v = number(j[i][k], w + "[" + std::to_string(k) + "]");
+        const double v = row[k].number();
         if (i < 3)
           m.rows[i][k] = v;
         else if (v != (k == 3 ? 1.0 : 0.0))
-          fail(ErrorKind::Schema, where, "the last row must be exactly [0, 0, 0, 1] (an affine map)");
+          j.fail("the last row must be exactly [0, 0, 0, 1] (an affine map)");
       }
     }
     if (!scene_checks::invertible(m))
-      fail(singular_kind, where, "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+      j.fail(singular_kind, "the matrix is not invertible (its 3x3 linear part has determinant 0)");
     return m;
   }
 
-  Frustum frustum(const Json& j, const std::string& where) const {
-    only_keys(j, where, {"left", "right", "bottom", "top", "near", "far"});
+  Frustum frustum(const JsonValue& j) const {
+    j.only_keys({"left", "right", "bottom", "top", "near", "far"});
     Frustum f;
-    f.left = number(need(j, "left", where), where + ".left");
-    f.right = number(need(j, "right", where), where + ".right");
-    f.bottom = number(need(j, "bottom", where), where + ".bottom");
-    f.top = number(need(j, "top", where), where + ".top");
-    f.near = number(need(j, "near", where), where + ".near");
-    f.far = number(need(j, "far", where), where + ".far");
-    check_frustum(f, where);
+    f.left = j.required<double>("left");
+    f.right = j.required<double>("right");
+    f.bottom = j.required<double>("bottom");
+    f.top = j.required<double>("top");
+    f.near = j.required<double>("near");
+    f.far = j.required<double>("far");
+    check_frustum(f, j.path());
     return f;
   }
 
@@ -122,29 +91,28 @@ class SceneReader {
     scene_checks::check_frustum(f, source_, where);
   }
 
-  Camera camera(const Json& j) const {
-    const std::string where = "camera";
-    if (!j.is_object()) fail(ErrorKind::Schema, where, "expected a JSON object");
-    if (j.contains("view") || j.contains("frustum")) {
-      only_keys(j, where, {"view", "frustum", "width", "height"});
+  Camera camera(const JsonValue& j) const {
+    const std::string where = j.path();
+    if (j.has("view") || j.has("frustum")) {
+      j.only_keys({"view", "frustum", "width", "height"});
       Camera c;
-      c.view = affine(need(j, "view", where), where + ".view", ErrorKind::Camera);
-      c.frustum = frustum(need(j, "frustum", where), where + ".frustum");
-      c.width = pixels(need(j, "width", where), where + ".width");
-      c.height = pixels(need(j, "height", where), where + ".height");
+      c.view = affine(j.at("view"), ErrorKind::Camera);
+      c.frustum = frustum(j.at("frustum"));
+      c.width = pixels(j.at("width"));
+      c.height = pixels(j.at("height"));
       return c;
     }
-    only_keys(j, where, {"eye", "target", "up", "fovy_deg", "near", "far", "width", "height"});
-    const Vec3d eye = vec3(need(j, "eye", where), where + ".eye");
-    const Vec3d target = vec3(need(j, "target", where), where + ".target");
-    const Vec3d up = j.contains("up") ? vec3(j["up"], where + ".up") : Vec3d{0, 1, 0};
-    const double fovy = number(need(j, "fovy_deg", where), where + ".fovy_deg");
-    if (!(fovy > 0 && fovy < 180))
-      fail(ErrorKind::Camera, where + ".fovy_deg", "must lie strictly between 0 and 180 degrees");
-    const double near = number(need(j, "near", where), where + ".near");
-    const double far = number(need(j, "far", where), where + ".far");
-    const int width = pixels(need(j, "width", where), where + ".width");
-    const int height = pixels(need(j, "height", where), where + ".height");
+    j.only_keys({"eye", "target", "up", "fovy_deg", "near", "far", "width", "height"});
+    const Vec3d eye = vec3(j.at("eye"));
+    const Vec3d target = vec3(j.at("target"));
+    const Vec3d up = j.has("up") ? vec3(j.at("up")) : Vec3d{0, 1, 0};
+    const JsonValue fovy_value = j.at("fovy_deg");
+    const double fovy = fovy_value.number();
+    if (!(fovy > 0 && fovy < 180)) fovy_value.fail(ErrorKind::Camera, "must lie strictly between 0 and 180 degrees");
+    const double near = j.required<double>("near");
+    const double far = j.required<double>("far");
+    const int width = pixels(j.at("width"));
+    const int height = pixels(j.at("height"));
     Frustum probe;
     probe.near = near;
     probe.far = far;
@@ -160,7 +128,7 @@ class SceneReader {
           fail(ErrorKind::Range, where + "." + name + "[" + std::to_string(k) + "]", m.str());
         }
     const Vec3d f = target - eye;
-    if (f.x == 0 && f.y == 0 && f.z == 0) fail(ErrorKind::Camera, where, "eye and target coincide: no view direction");
+    if (f.x == 0 && f.y == 0 && f.z == 0) j.fail(ErrorKind::Camera, "eye and target coincide: no view direction");
     if (up.x == 0 && up.y == 0 && up.z == 0)
       fail(ErrorKind::Camera, where + ".up",
            "is the zero vector (up must be non-zero and not parallel to the view direction)");
@@ -184,34 +152,41 @@ class SceneReader {
     return c;
   }
 
-  Light light(const Json& j, const std::string& where) const {
-    only_keys(j, where, {"position"});
-    return Light{vec3(need(j, "position", where), where + ".position")};
+  // A fault at a path the document does not hold (a derived value).
+  [[noreturn]] void fail(ErrorKind kind, const std::string& where, const std::string& what) const {
+    throw Error(kind, source_ + ": " + where + ": " + what);
   }
 
-  SceneObject object(const Json& j, const std::string& where,
-                     std::map<std::string, std::shared_ptr<TriangleMesh>>& meshes,
+  static Light light(const JsonValue& j) {
+    j.only_keys({"position"});
+    return Light{vec3(j.at("position"))};
+  }
+
+  SceneObject object(const JsonValue& j, std::map<std::string, std::shared_ptr<TriangleMesh>>& meshes,
                      std::set<std::string>& validated) const {
-    only_keys(j, where, {"mesh", "translate", "scale", "rotate_deg", "matrix", "occluder"});
+    const std::string where = j.path();
+    j.only_keys({"mesh", "translate", "scale", "rotate_deg", "matrix", "occluder"});
     SceneObject o;
-    const Json& mesh = need(j, "mesh", where);
-    if (!mesh.is_string()) fail(ErrorKind::Schema, where + ".mesh", "expected a file name string");
-    if (j.contains("occluder")) {
-      if (!j["occluder"].is_boolean()) fail(ErrorKind::Schema, where + ".occluder", "expected true or false");
-      o.occluder = j["occluder"].get<bool>();
-    }
-    if (j.contains("matrix")) {
-      if (j.contains("translate") || j.contains("scale") || j.contains("rotate_deg"))
-        fail(ErrorKind::Schema, where, "'matrix' excludes 'translate', 'scale' and 'rotate_deg'");
-      o.object_to_world = affine(j["matrix"], where + ".matrix", ErrorKind::Schema);
+    const JsonValue mesh_value = j.at("mesh");
+    if (!mesh_value.is_string())
+      mesh_value.fail("expected a file name string, found " + std::string(mesh_value.type_name()));
+    const std::string mesh = mesh_value.string();
+    if (const auto occluder = j.optional<bool>("occluder")) o.occluder = *occluder;
+    if (j.has("matrix")) {
+      if (j.has("translate") || j.has("scale") || j.has("rotate_deg"))
+        j.fail("'matrix' excludes 'translate', 'scale' and 'rotate_deg'");
+      o.object_to_world = affine(j.at("matrix"), ErrorKind::Schema);
     } else {
-      const Vec3d t = j.contains("translate") ? vec3(j["translate"], where + ".translate") : Vec3d{0, 0, 0};
-      const double s = j.contains("scale") ? number(j["scale"], where + ".scale") : 1.0;
-      if (s == 0) fail(ErrorKind::Schema, where + ".scale", "a zero scale is not invertible");
-      const Vec3d r = j.contains("rotate_deg") ? vec3(j["rotate_deg"], where + ".rotate_deg") : Vec3d{0, 0, 0};
+      const Vec3d t = j.has("translate") ? vec3(j.at("translate")) : Vec3d{0, 0, 0};
+      double s = 1.0;
+      if (const auto scale = j.find("scale")) {
+        s = scale->number();
+        if (s == 0) scale->fail("a zero scale is not invertible");
+      }
+      const Vec3d r = j.has("rotate_deg") ? vec3(j.at("rotate_deg")) : Vec3d{0, 0, 0};
       o.object_to_world = trs_matrix(t, r, s);
     }
-    std::filesystem::path p(mesh.get<std::string>());
+    std::filesystem::path p(mesh);
     if (p.is_relative()) p = std::filesystem::path(base_) / p;
     o.mesh_path = p.lexically_normal().string();
     try {
@@ -237,8 +212,8 @@ class SceneReader {
       if ((e.kind() == ErrorKind::Io || e.kind() == ErrorKind::Resource) && what.rfind(o.mesh_path + ": ", 0) == 0) {
         std::error_code ec;
         const std::filesystem::path resolved = std::filesystem::absolute(o.mesh_path, ec);
-        what = "mesh '" + mesh.get<std::string>() + "' (resolved to " +
-               (ec ? o.mesh_path : resolved.lexically_normal().string()) + ")" + what.substr(o.mesh_path.size());
+        what = "mesh '" + mesh + "' (resolved to " + (ec ? o.mesh_path : resolved.lexically_normal().string()) + ")" +
+               what.substr(o.mesh_path.size());
       }
       throw Error(e.kind(), source_ + ": " + where + (o.occluder ? " (occluder)" : "") + ": " + what);
     }
@@ -270,24 +245,20 @@ class SceneReader {
     return m;
   }
 
-  Scene scene(const Json& root) const {
-    only_keys(root, "scene", {"camera", "lights", "objects", "description"});
+  Scene scene(const JsonValue& root) const {
+    root.only_keys({"camera", "lights", "objects", "description"});
     Scene sc;
     sc.source = source_;
-    sc.camera = camera(need(root, "camera", "scene"));
-    const Json& lights = need(root, "lights", "scene");
-    if (!lights.is_array() || lights.empty()) fail(ErrorKind::Schema, "lights", "expected a non-empty array of lights");
-    for (std::size_t i = 0; i < lights.size(); ++i)
-      sc.lights.push_back(light(lights[i], "lights[" + std::to_string(i) + "]"));
-    const Json& objects = need(root, "objects", "scene");
-    if (!objects.is_array() || objects.empty())
-      fail(ErrorKind::Schema, "objects", "expected a non-empty array of objects");
+    sc.camera = camera(root.at("camera"));
+    const JsonValue lights = root.at("lights");
+    if (!lights.is_array() || lights.size() == 0) lights.fail("expected a non-empty array of lights");
+    for (const JsonValue& l : lights.elements()) sc.lights.push_back(light(l));
+    const JsonValue objects = root.at("objects");
+    if (!objects.is_array() || objects.size() == 0) objects.fail("expected a non-empty array of objects");
     std::map<std::string, std::shared_ptr<TriangleMesh>> meshes;
     std::set<std::string> validated;
-    for (std::size_t i = 0; i < objects.size(); ++i)
-      sc.objects.push_back(object(objects[i], "objects[" + std::to_string(i) + "]", meshes, validated));
-    if (root.contains("description") && !root["description"].is_string())
-      fail(ErrorKind::Schema, "description", "expected a string");
+    for (const JsonValue& o : objects.elements()) sc.objects.push_back(object(o, meshes, validated));
+    (void)root.optional<std::string>("description");
     return sc;
   }
 
@@ -297,86 +268,14 @@ class SceneReader {
   MeshCache* cache_;
 };
 
-// nlohmann::json keeps the last of two equal keys; a scene file with one is
-// rejected, like an unknown key.  The parser callback sees every key; a stack
-// of open containers gives the JSON path for the message.
-class DuplicateKeyCheck {
- public:
-  explicit DuplicateKeyCheck(std::string source) : source_(std::move(source)), state_(std::make_shared<State>()) {}
-  bool operator()(int, Json::parse_event_t event, Json& parsed) const {
-    State& st = *state_;
-    switch (event) {
-      case Json::parse_event_t::object_start:
-      case Json::parse_event_t::array_start:
-        enter_value(st);
-        st.open.push_back({event == Json::parse_event_t::array_start, {}, {}, -1});
-        break;
-      case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        st.open.pop_back();
-        break;
-      case Json::parse_event_t::key: {
-        Container& c = st.open.back();
-        const std::string key = parsed.get<std::string>();
-        if (!c.keys.insert(key).second)
-          throw Error(ErrorKind::Schema, source_ + ": " + path(st) + ": duplicate key '" + key +
-                                             "' (each key may appear once in an object)");
-        c.key = key;
-        break;
-      }
-      case Json::parse_event_t::value:
-        enter_value(st);
-        break;
-    }
-    return true;
-  }
-
- private:
-  struct Container {
-    bool array;
-    std::set<std::string> keys;
-    std::string key;  // the current member's key (objects)
-    long index;       // the current element's index (arrays)
-  };
-  struct State {
-    std::vector<Container> open;
-  };
-  static void enter_value(State& st) {
-    if (!st.open.empty() && st.open.back().array) ++st.open.back().index;
-  }
-  static std::string path(const State& st) {
-    std::string p;
-    for (std::size_t k = 0; k + 1 < st.open.size(); ++k) {
-      const Container& c = st.open[k];
-      if (c.array)
-        p += "[" + std::to_string(c.index) + "]";
-      else
-        p += (p.empty() ? "" : ".") + c.key;
-    }
-    return p.empty() ? "scene" : p;
-  }
-  std::string source_;
-  std::shared_ptr<State> state_;  // the callback is copied by the parser
-};
-
 }  // namespace
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& base_directory,
                   MeshCache* cache) {
-  Json root;
-  try {
-    root = Json::parse(json_text, DuplicateKeyCheck(source));
-  } catch (const nlohmann::json::exception& e) {
-    // parse_error, and out_of_range for numbers beyond double (5e7154): both
-    // are malformed input.  (Found by fuzz_scene; fuzz/regressions/scene.)
-    throw Error(ErrorKind::Parse, source + ": malformed JSON: " + e.what());
-  }
-  Scene sc;
-  try {
-    sc = SceneReader(source, base_directory, cache).scene(root);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(ErrorKind::Schema, source + ": " + e.what());
-  }
+  // A number beyond double (5e7154) is malformed JSON, found by fuzz_scene
+  // (fuzz/regressions/scene).
+  const io::JsonDocument doc = io::JsonDocument::parse(json_text, source);
+  Scene sc = SceneReader(source, base_directory, cache).scene(doc.root());
   validate_scene_geometry(sc);
   return sc;
 }

@@ -3,8 +3,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdlib>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "nearcap/check.hpp"
 #include "nearcap/io/image_io.hpp"
@@ -13,37 +17,59 @@
 
 namespace nearcap {
 
-CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref) {
-  NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
+namespace {
+
+// What a frame's per-pixel byte says: a stencil value (compared with the
+// reference's count mod 256) or a shadow status alone (ray tracing: no
+// count, so a pixel's count differs exactly where its status does).
+enum class FrameByte { StencilCount, ShadowStatus };
+
+// The judgement both frame kinds share (crack_map.hpp).  `object` and
+// `shadow` are the frame's per-pixel visible object and byte, row 0 at the
+// bottom, ref.width x ref.height.
+CrackReport judge_pixels(std::string method, const std::vector<std::int32_t>& object,
+                         const std::vector<std::uint8_t>& shadow, FrameByte byte, const PixelReference& ref) {
   CrackReport r;
-  r.method = std::string(to_string(frame.method));
+  r.method = std::move(method);
   const std::size_t n = static_cast<std::size_t>(ref.width) * ref.height;
   r.verdict.assign(n, PixelVerdict::NothingSeen);
   for (std::size_t p = 0; p < n; ++p) {
     const bool seen = ref.stencil[p] != PixelReference::kNothingSeen;
     if (seen) ++r.pixels_seen;
-    if (ref.object[p] != frame.object[p]) {
+    if (ref.object[p] != object[p]) {
       r.verdict[p] = PixelVerdict::VisibilityMismatch;
       ++r.visibility_mismatch;
       continue;
     }
     if (!seen) continue;
-    const std::uint8_t exact = static_cast<std::uint8_t>(ref.stencil[p] & 0xffu);
-    const bool ref_shadowed = ref.stencil[p] > 0, frame_shadowed = frame.stencil[p] != 0;
+    const bool ref_shadowed = ref.stencil[p] > 0, frame_shadowed = shadow[p] != 0;
+    const bool count_differs = byte == FrameByte::StencilCount
+                                   ? shadow[p] != static_cast<std::uint8_t>(ref.stencil[p] & 0xffu)
+                                   : ref_shadowed != frame_shadowed;
     PixelVerdict v = PixelVerdict::Right;
     if (ref_shadowed && !frame_shadowed)
       v = PixelVerdict::WrongLit;
     else if (!ref_shadowed && frame_shadowed)
       v = PixelVerdict::WrongShadowed;
-    else if (frame.stencil[p] != exact)
+    else if (count_differs)
       v = PixelVerdict::CountOnly;
     r.verdict[p] = v;
     if (v == PixelVerdict::WrongLit) ++r.wrong_lit;
     if (v == PixelVerdict::WrongShadowed) ++r.wrong_shadowed;
-    if (frame.stencil[p] != exact) ++r.count_mismatch;
+    if (count_differs) ++r.count_mismatch;
   }
   r.wrong = r.wrong_lit + r.wrong_shadowed;
+  return r;
+}
+
+}  // namespace
+
+CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref) {
+  NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
+  CrackReport r =
+      judge_pixels(std::string(to_string(frame.method)), frame.object, frame.stencil, FrameByte::StencilCount, ref);
   if (!frame.near_cap.empty() && frame.zfail_objects.empty() && !frame.near_moved) {
+    const std::size_t n = r.verdict.size();
     r.cap_wrong.assign(n, false);
     std::size_t mismatches = 0;
     for (std::size_t p = 0; p < n; ++p)
@@ -58,33 +84,7 @@ CrackReport judge_frame(const gl::ShadowFrame& frame, const PixelReference& ref)
 
 CrackReport judge_raytrace_frame(const raytrace::RaytraceFrame& frame, const PixelReference& ref) {
   NEARCAP_CHECK(frame.width == ref.width && frame.height == ref.height);
-  CrackReport r;
-  r.method = "raytrace";
-  const std::size_t n = static_cast<std::size_t>(ref.width) * ref.height;
-  r.verdict.assign(n, PixelVerdict::NothingSeen);
-  for (std::size_t p = 0; p < n; ++p) {
-    const bool seen = ref.stencil[p] != PixelReference::kNothingSeen;
-    if (seen) ++r.pixels_seen;
-    if (ref.object[p] != frame.object[p]) {
-      r.verdict[p] = PixelVerdict::VisibilityMismatch;
-      ++r.visibility_mismatch;
-      continue;
-    }
-    if (!seen) continue;
-    const bool ref_shadowed = ref.stencil[p] > 0, frame_shadowed = frame.shadowed[p] != 0;
-    PixelVerdict v = PixelVerdict::Right;
-    if (ref_shadowed && !frame_shadowed) {
-      v = PixelVerdict::WrongLit;
-      ++r.wrong_lit;
-    } else if (!ref_shadowed && frame_shadowed) {
-      v = PixelVerdict::WrongShadowed;
-      ++r.wrong_shadowed;
-    }
-    r.verdict[p] = v;
-  }
-  r.wrong = r.wrong_lit + r.wrong_shadowed;
-  r.count_mismatch = r.wrong;
-  return r;
+  return judge_pixels("raytrace", frame.object, frame.shadowed, FrameByte::ShadowStatus, ref);
 }
 
 namespace {

@@ -9,8 +9,8 @@
 // the same question exactly, for the switch policy).  The clipped-sides cap
 // pass (near_plane_cap.hpp) otherwise evaluates z + w at every vertex of
 // an occluder whose box straddles the near plane, and clips and fans what
-// reaches it, only to find nothing in the viewport: on the bundled paths
-// that was 11 % of the frame where Z-pass is right.
+// reaches it, only to find nothing in the viewport: on the bundled paths,
+// without this filter, 11 % of the frame's time where Z-pass is right.
 //
 // The filter answers "certainly misses" only with room to spare for the
 // float pipeline's own error, since skipping must not change the float

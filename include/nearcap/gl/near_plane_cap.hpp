@@ -94,42 +94,42 @@ std::optional<int> near_plane_cap_constant_winding(const std::vector<Vec4f>& edg
 // edges of closed volumes) come last, together.
 std::vector<std::vector<Vec4f>> near_plane_cap_loops(const std::vector<Vec4f>& edges);
 
-// What the near-cap pass draws for a width x height viewport, loop by loop
-// (the winding numbers add up, and each loop gets an anchor of its own
-// inside the viewport: a small loop far from one shared anchor would cost
-// two thin wedges across the viewport per edge): a loop that stays outside
-// the viewport adds its constant winding c, drawn at the end as |c|
-// triangles covering the viewport (counter-clockwise when c > 0; none when
-// the loops' sum is 0, the common case); every other loop its fan, after
-// each run of its edges that stays away from the viewport is replaced by
-// chords where the closed run-and-chords-back has a constant count there
-// (added to c), halving the run until it does, or, where that count is not
-// 0 and it covers less, by a detour through corners of a box around the
-// viewport on the run's own side (count 0: no triangle over the viewport);
-// the fan's anchor is then the mean above or a point of a 5 x 5 grid over
-// the viewport, whichever fan covers the least of it (estimated in double:
-// each triangle clipped to the viewport in homogeneous coordinates).  Where
-// that fan still draws 256 fragments or more twice, the loop is cut into
-// triangles of its own vertices instead, ear by ear, after it is split
-// where it crosses itself (at shared new vertices, with sliver triangles
-// that keep the counts) and its runs through infinity are detoured or
-// fanned apart: a curve that winds across the viewport is then drawn
-// without overdraw where its pieces are simple (`near_plane_sweep` frame
-// 35: 14,637 -> 10,675 fragments, the cap's own sum of |count|).  And
-// where c is not 0 and a loop counts the other way (a hole in those
-// layers), one layer and that loop are cut as one polygon with a bridge
-// between them (`fly_around` frame 39: 42,983 -> 33,817, again the sum of
-// |count|).  Every triangle's boundary sums with the others' to the loops'
-// edges, so the counts are the fan's: measured, the same wrong pixels and
-// count mismatches as the single fan in every row of the hard-case
-// samples and the paths (docs/findings/light-projection.md).  The margin,
-// a twentieth of the viewport plus 8 pixels, keeps the shortcut away from
-// edges the float pipeline might still rasterize inside the viewport (its
-// cuts of far-away, ill-conditioned vertices move them); the fan would
-// match a side's such edge exactly, the shortcut would not.  Measured on
-// 10,000 hard cases: the plain fan's wrong pixels, cap and count mismatches
-// in every configuration, near-cap fragments 6.7 M -> 4.6 M (README "P_l
-// formulations"); `twisted`'s 4.3 M -> 0.
+// What the near-cap pass draws for a width x height viewport.  The loops'
+// winding numbers add up, so each loop is drawn on its own, with an anchor
+// of its own inside the viewport (a small loop far from one shared anchor
+// would cost two thin wedges across the viewport per edge):
+//   - a loop that stays outside the viewport adds its constant winding
+//     (near_plane_cap_constant_winding) to a sum c, drawn last as |c|
+//     triangles covering the viewport (counter-clockwise when c > 0; none
+//     when c is 0, the common case);
+//   - every other loop is fanned.  Before that, each run of its edges that
+//     stays away from the viewport is replaced by chords where the closed
+//     run-and-chords-back has a constant count over the viewport (added to
+//     c), halving the run until it does; or, where that count is not 0 and
+//     a detour covers less, by a detour through corners of a box around the
+//     viewport on the run's own side (count 0: no triangle over the
+//     viewport).  The fan's anchor is the mean above or a point of a 5 x 5
+//     grid over the viewport, whichever fan covers the least of it
+//     (estimated in double: each triangle clipped to the viewport in
+//     homogeneous coordinates);
+//   - where that fan would still draw 256 fragments or more twice, the loop
+//     is cut into triangles of its own vertices instead: split where it
+//     crosses itself (at shared new vertices, with sliver triangles that
+//     keep the counts), its runs through infinity detoured or fanned apart,
+//     then cut ear by ear, so a curve that winds across the viewport is
+//     drawn without overdraw where its pieces are simple;
+//   - where c is not 0 and a loop counts the other way (a hole in those
+//     layers), one layer and that loop are cut as one polygon, with a
+//     bridge between them.
+// Every triangle's boundary sums with the others' to the loops' edges, so
+// each pixel's count is the single fan's (the tests check it on synthetic
+// loops, path frames and the hard-case sampler; docs/findings/
+// light-projection.md, "Overdraw of the cap's fan", has the fragments it
+// draws on the frames where this matters).  The margin (near_plane_cap_margin: a twentieth of the
+// viewport plus 8 pixels) keeps the shortcuts away from edges the float
+// pipeline might still rasterize inside the viewport (its cuts of
+// far-away, ill-conditioned vertices move them): the fan matches a side's
+// such edge exactly, a shortcut would not.
 std::vector<Vec4f> near_plane_cap_triangles(const std::vector<Vec4f>& boundary_clip_vertices, int width, int height,
                                             DepthMapping mapping = DepthMapping::Standard);
 // That margin in NDC units for a viewport `pixels` wide (or high): 2 / 20 + 16 / pixels.
