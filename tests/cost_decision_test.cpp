@@ -18,12 +18,12 @@
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
-#include "nearcap/error.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/exact/silhouette.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -456,17 +456,8 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
     for (int f = 0; f < path.frames; f += 10)
       loaded.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
   }
-  analysis::SamplerSpec spec;
-  spec.seed = 27;
-  spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
-  const analysis::HardCaseSampler sampler(spec);
-  for (std::uint64_t i = 0; i < 60; ++i) {
-    try {
-      loaded.push_back(parse_scene(sampler.sample(i).scene_json, "sample", "."));
-    } catch (const Error&) {
-      // a sampled light inside an occluder: not a configuration
-    }
-  }
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
+  test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
   std::size_t compared = 0, cull_skipped = 0, counted = 0;
   for (std::size_t k = 0; k < loaded.size(); ++k) {
     const Scene& s = loaded[k];
