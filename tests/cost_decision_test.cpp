@@ -8,17 +8,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "../src/analysis/general4.hpp"
 #include "box_scene.hpp"
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/exact/silhouette.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -267,6 +272,219 @@ TEST(CostDecision, BundledPathFramesDecideRightly) {
   EXPECT_EQ(frames, 38u);
   EXPECT_GT(empty, 0u);
   EXPECT_EQ(zpass, empty) << "Z-pass wherever the exact test finds the near-cap empty, with this profile";
+}
+
+// The reasons' number format is printf's %.4g, on random values over forty
+// decades (uniform in the exponent) and on the cases it must hand to the
+// exact path: ties, powers of ten, values that round up to one, zero,
+// negatives, infinities and NaN.
+TEST(CostDecision, ReasonNumbersArePrintfs4g) {
+  std::vector<double> values{0.0,     -0.0,     1.0,     0.1,     1e-5,       9.9995,    9.99949,  0.00125,
+                             0.00135, 1234.5,   1235.5,  99995.0, 99994.9,    1e20,      1e-20,    3e-21,
+                             -2.5,    2.5e-5,   1.00005, 0.0001,  0.00009999, 123456789, INFINITY, -INFINITY,
+                             NAN,     7.125e-3, 0.3,     0.05,    5e-324,     1.7e308};
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> exponent(-22, 22), mantissa(1, 10);
+  for (int k = 0; k < 200000; ++k) values.push_back(mantissa(rng) * std::pow(10.0, std::floor(exponent(rng))));
+  for (int k = 0; k < 20000; ++k)  // four digits and a half: ties in decimal, near-ties in binary
+    values.push_back((std::floor(mantissa(rng) * 1000) + 0.5) * std::pow(10.0, std::floor(exponent(rng))));
+  std::size_t mismatches = 0;
+  for (double v : values) {
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "%.4g", v);
+    std::string got;
+    analysis::append_general4(got, v);
+    if (got != expected && ++mismatches <= 10) ADD_FAILURE() << "value " << v << ": " << got << " against " << expected;
+  }
+  EXPECT_EQ(mismatches, 0u);
+}
+
+// The work estimate's inputs as first written: facing into a vector, the
+// silhouette's edges built by silhouette_edges() (exact/silhouette.hpp) and
+// walked for the straddle counts, the footprints from clipped generator
+// lists.  occluder_work_inputs counts the same without building them.
+struct Homogeneous {
+  double x = 0, y = 0, z = 0, w = 0;
+};
+
+std::vector<Homogeneous> reference_clip_cone(const std::vector<Homogeneous>& g, double near, bool section) {
+  auto s = [near](const Homogeneous& p) { return -p.z - near * p.w; };
+  std::vector<Homogeneous> out;
+  for (const Homogeneous& p : g)
+    if (section ? s(p) == 0 : s(p) >= 0) out.push_back(p);
+  for (const Homogeneous& a : g)
+    for (const Homogeneous& b : g) {
+      const double sa = s(a), sb = s(b), t = sa / (sa - sb);
+      if (sa > 0 && sb < 0) out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z), 0});
+    }
+  return out;
+}
+
+double reference_footprint(const std::vector<Homogeneous>& g, const Camera& camera) {
+  if (g.empty()) return 0;
+  const Frustum& f = camera.frustum;
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const Homogeneous& p : g) {
+    const double x = p.x * f.near / -p.z, y = p.y * f.near / -p.z;
+    if (!(-p.z > 0) || !std::isfinite(x) || !std::isfinite(y)) return static_cast<double>(camera.width) * camera.height;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  auto centres = [](double lo, double hi, double from, double to, int pixels) {
+    const double a = (lo - from) / (to - from) * pixels - 1.0, b = (hi - from) / (to - from) * pixels + 1.0;
+    const double first = std::max(0.0, std::ceil(a - 0.5)), last = std::min(pixels - 1.0, std::floor(b - 0.5));
+    return std::max(0.0, last - first + 1.0);
+  };
+  return centres(x0, x1, f.left, f.right, camera.width) * centres(y0, y1, f.bottom, f.top, camera.height);
+}
+
+Vec3d reference_inverse_apply(const Affine3d& a, const Vec3d& p) {
+  const auto& r = a.rows;
+  const double m00 = r[1][1] * r[2][2] - r[1][2] * r[2][1], m01 = r[0][2] * r[2][1] - r[0][1] * r[2][2],
+               m02 = r[0][1] * r[1][2] - r[0][2] * r[1][1];
+  const double m10 = r[1][2] * r[2][0] - r[1][0] * r[2][2], m11 = r[0][0] * r[2][2] - r[0][2] * r[2][0],
+               m12 = r[0][2] * r[1][0] - r[0][0] * r[1][2];
+  const double m20 = r[1][0] * r[2][1] - r[1][1] * r[2][0], m21 = r[0][1] * r[2][0] - r[0][0] * r[2][1],
+               m22 = r[0][0] * r[1][1] - r[0][1] * r[1][0];
+  const double det = r[0][0] * m00 + r[0][1] * m10 + r[0][2] * m20;
+  const Vec3d q{p.x - r[0][3], p.y - r[1][3], p.z - r[2][3]};
+  return {(m00 * q.x + m01 * q.y + m02 * q.z) / det, (m10 * q.x + m11 * q.y + m12 * q.z) / det,
+          (m20 * q.x + m21 * q.y + m22 * q.z) / det};
+}
+
+// Every input but the pyramid cull's flag, which the caller passes in.
+analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t object, std::size_t light,
+                                              bool certainly_misses) {
+  const SceneObject& obj = scene.objects[object];
+  const TriangleMesh& mesh = *obj.mesh;
+  const Camera& camera = scene.camera;
+  const double near = camera.frustum.near;
+  analysis::OccluderWorkInputs in;
+  in.object = object;
+  in.triangles = static_cast<double>(mesh.triangle_count());
+  const Vec3d l_object = reference_inverse_apply(obj.object_to_world, scene.lights[light].position);
+  std::vector<Facing> facing(mesh.triangle_count());
+  for (std::size_t f = 0; f < facing.size(); ++f) {
+    const auto& pl = mesh.face_planes.plane[f];
+    const bool front = pl[0] * l_object.x + pl[1] * l_object.y + pl[2] * l_object.z - pl[3] > 0;
+    facing[f] = front ? Facing::Front : Facing::Back;
+    in.light_facing += front ? 1 : 0;
+  }
+  const std::vector<SilhouetteEdge> edges = silhouette_edges(mesh, facing);
+  in.silhouette_edges = static_cast<double>(edges.size());
+  const Affine3d modelview = compose_rounded(camera.view, obj.object_to_world);
+  const Vec3d l = camera.view.apply(scene.lights[light].position);
+  std::vector<Homogeneous> box, volume;
+  double magnitude = near;
+  bool point_beyond = true, point_front = true, direction_beyond = true, direction_front = true;
+  std::vector<double> point_distance, direction_distance;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3d& lo = mesh.face_planes.box_lo;
+    const Vec3d& hi = mesh.face_planes.box_hi;
+    const Vec3d c = modelview.apply({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
+    box.push_back({c.x, c.y, c.z, 1});
+    volume.push_back({c.x, c.y, c.z, 1});
+    volume.push_back({c.x - l.x, c.y - l.y, c.z - l.z, 0});
+    point_distance.push_back(-c.z - near);
+    direction_distance.push_back(-(c.z - l.z));
+    magnitude = std::max({magnitude, std::fabs(c.z), std::fabs(l.z)});
+  }
+  in.occluder_pixels = reference_footprint(reference_clip_cone(box, near, false), camera);
+  in.volume_pixels = reference_footprint(reference_clip_cone(volume, near, false), camera);
+  in.near_cap_pixels = reference_footprint(reference_clip_cone(volume, near, true), camera);
+  in.certainly_misses_light_pyramid = certainly_misses;
+  const double margin = 1e-5 * magnitude;
+  for (int k = 0; k < 8; ++k) {
+    point_beyond = point_beyond && point_distance[k] > margin;
+    point_front = point_front && point_distance[k] < -margin;
+    direction_beyond = direction_beyond && direction_distance[k] > margin;
+    direction_front = direction_front && direction_distance[k] < -margin;
+  }
+  const int points = point_beyond ? 1 : point_front ? -1 : 0;
+  const int directions = direction_beyond ? 1 : direction_front ? -1 : 0;
+  if (!(points == 0 || directions == 0 || points != directions) || certainly_misses) return in;
+  in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
+                          (directions == 0 ? in.triangles - in.light_facing : 0);
+  std::vector<double> as_point, as_direction;
+  for (const Vec3d& v : mesh.positions) {
+    const Vec3d c = modelview.apply(v);
+    as_point.push_back(-c.z - near);
+    as_direction.push_back(-(c.z - l.z));
+  }
+  auto straddles = [](double a, double b, double c) { return (a > 0 || b > 0 || c > 0) && !(a > 0 && b > 0 && c > 0); };
+  for (const SilhouetteEdge& e : edges) {
+    in.near_plane_straddling += straddles(as_point[e.d], as_point[e.a], as_direction[e.a]) ? 1 : 0;
+    in.near_plane_straddling += straddles(as_point[e.d], as_direction[e.a], as_direction[e.d]) ? 1 : 0;
+  }
+  for (std::size_t f = 0; f < facing.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    if (facing[f] == Facing::Front && points == 0)
+      in.near_plane_straddling += straddles(as_point[t[0]], as_point[t[1]], as_point[t[2]]) ? 1 : 0;
+    if (facing[f] != Facing::Front && directions == 0)
+      in.near_plane_straddling += straddles(as_direction[t[0]], as_direction[t[1]], as_direction[t[2]]) ? 1 : 0;
+  }
+  return in;
+}
+
+void expect_same_inputs(const analysis::OccluderWorkInputs& a, const analysis::OccluderWorkInputs& b,
+                        const std::string& what) {
+  EXPECT_EQ(a.triangles, b.triangles) << what;
+  EXPECT_EQ(a.silhouette_edges, b.silhouette_edges) << what;
+  EXPECT_EQ(a.light_facing, b.light_facing) << what;
+  EXPECT_EQ(a.clipped_cap_tested, b.clipped_cap_tested) << what;
+  EXPECT_EQ(a.near_plane_straddling, b.near_plane_straddling) << what;
+  EXPECT_EQ(a.occluder_pixels, b.occluder_pixels) << what;
+  EXPECT_EQ(a.volume_pixels, b.volume_pixels) << what;
+  EXPECT_EQ(a.near_cap_pixels, b.near_cap_pixels) << what;
+  EXPECT_EQ(a.certainly_misses_light_pyramid, b.certainly_misses_light_pyramid) << what;
+}
+
+// The decision's inputs, counted without building the silhouette and with
+// the pyramid cull run only where the clipped-sides cap's work depends on it,
+// equal the first formulation's, field by field, on bundled scenes, every
+// tenth frame of the bundled paths and sampled configurations (every kind).
+TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
+  std::vector<Scene> loaded;
+  for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
+                           "room_side_light", "no_near_clip", "twisted", "near_cap_bunny_wall"})
+    loaded.push_back(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
+  for (const char* name : {"near_plane_sweep", "fly_around"}) {
+    const analysis::CameraPath path =
+        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
+    for (int f = 0; f < path.frames; f += 10)
+      loaded.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
+  }
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
+  test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
+  std::size_t compared = 0, cull_skipped = 0, counted = 0;
+  for (std::size_t k = 0; k < loaded.size(); ++k) {
+    const Scene& s = loaded[k];
+    for (std::size_t light = 0; light < s.lights.size(); ++light)
+      for (std::size_t o = 0; o < s.objects.size(); ++o) {
+        if (!s.objects[o].occluder) continue;
+        const std::string what =
+            "scene " + std::to_string(k) + " light " + std::to_string(light) + " object " + std::to_string(o);
+        const analysis::OccluderWorkInputs full = analysis::occluder_work_inputs(s, o, light, true);
+        ASSERT_TRUE(full.pyramid_cull_run) << what;
+        expect_same_inputs(full, reference_inputs(s, o, light, full.certainly_misses_light_pyramid), what);
+        analysis::OccluderWorkInputs lazy = analysis::occluder_work_inputs(s, o, light, false);
+        if (!lazy.pyramid_cull_run) {
+          ++cull_skipped;
+          EXPECT_FALSE(lazy.certainly_misses_light_pyramid) << what;
+          lazy.certainly_misses_light_pyramid = full.certainly_misses_light_pyramid;
+        }
+        expect_same_inputs(lazy, full, what + " (cull where needed)");
+        counted += full.near_plane_straddling > 0 ? 1 : 0;
+        ++compared;
+      }
+  }
+  std::printf("%zu (scene, light, occluder) compared, the cull skipped in %zu, straddling triangles in %zu\n", compared,
+              cull_skipped, counted);
+  EXPECT_GT(cull_skipped, 0u);
+  EXPECT_GT(counted, 0u);
+  EXPECT_LT(cull_skipped, compared);
 }
 
 // The estimate's triangle counts are the emulation's where the draws are

@@ -2,6 +2,7 @@
 #include "nearcap/analysis/conditioning.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -75,11 +76,17 @@ double depth_step_over_size(const CameraSpaceScene& cs) {
 }
 
 double depth_step_over_size(const CameraSpaceScene& cs, double near, gl::DepthFormat format, gl::DepthMapping mapping) {
-  double farthest = 0;
+  // Four running maxima (a max is exact and ignores a NaN either way): the
+  // loop is not one chain of dependent comparisons.
+  std::array<double, 4> far{};
   for (std::size_t o = 0; o < cs.object_count(); ++o) {
-    const TriangleMesh& mesh = cs.mesh(o);
-    for (VertexIndex v = 0; v < mesh.positions.size(); ++v) farthest = std::max(farthest, -cs.vertex_estimate(o, v).z);
+    const std::size_t n = cs.mesh(o).positions.size();
+    VertexIndex v = 0;
+    for (; v + 4 <= n; v += 4)
+      for (int k = 0; k < 4; ++k) far[k] = std::max(far[k], -cs.vertex_estimate(o, v + k).z);
+    for (; v < n; ++v) far[0] = std::max(far[0], -cs.vertex_estimate(o, v).z);
   }
+  const double farthest = std::max({far[0], far[1], far[2], far[3]});
   const double diagonal = scene_diagonal(cs.scene());
   if (!(farthest > near) || !(diagonal > 0)) return kNaN;
   if (mapping == gl::DepthMapping::Reversed && format == gl::DepthFormat::Float32)

@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "general4.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
@@ -432,10 +433,13 @@ double marginal_ms(const DeviceProfile& profile, FrameWork w) {
   return profile.predict_ms(w);
 }
 
+// printf's %.4g (general4.hpp).
+void append_ms(std::string& out, double ms) { append_general4(out, ms); }
+
 std::string ms_text(double ms) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", ms);
-  return buf;
+  std::string s;
+  append_ms(s, ms);
+  return s;
 }
 
 // Whether the policy's capped method with the paper's cap is a candidate in
@@ -472,6 +476,21 @@ bool paper_cap_admitted(const SwitchPolicy& policy, const CameraSpaceScene& cs, 
   return true;
 }
 
+// Whether cheap_conditioning_features(cs, light).light_near_distance is 0,
+// the light's exact signed distance to the near plane over near rounded to
+// a double: certainly not where the filtered estimate of z + near is away
+// from zero by more than its bound and far above underflow (the quotient
+// then rounds to a normal double); else as cheap_conditioning_features
+// computes it, over rationals.
+bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
+  const double near = cs.frustum().near;
+  const BoundedDouble side = cs.light(light).z + BoundedDouble(near);
+  if (side.is_finite() && side.sign().value_or(Sign::Zero) != Sign::Zero &&
+      std::fabs(side.v) - side.e > 0x1p-900 * near)
+    return false;
+  return cheap_conditioning_features(cs, light).light_near_distance == 0;
+}
+
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
                               const gl::EmulationSettings& base, PolicyDecision d) {
   const DeviceProfile& profile = *policy.device_profile;
@@ -482,7 +501,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper};
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
-  const bool light_on_near_plane = cheap_conditioning_features(cs, light).light_near_distance == 0;
+  const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
   std::string paper_why;
   const bool paper_ok =
       !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability, paper_why);
@@ -500,7 +519,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     if (!scene.objects[o].occluder) continue;
     Occluder oc;
     oc.object = o;
-    oc.in = occluder_work_inputs(scene, o, light);
+    // The cull decides Z-pass only where the policy may pick it.
+    oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
@@ -611,15 +631,34 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   d.predicted_work = chosen.work;
   d.settings.light_frustum.projection = chosen.projection;
   d.predicted_ms = best_total;
+  const std::string clipped_name = clipped.name() + " ", paper_name = ", " + paper.name() + " ";
+  const std::string paper_not = "not a candidate (" + paper_why + ")";
   for (std::size_t k = 0; k < occluders.size(); ++k) {
     const Occluder& oc = occluders[k];
     const CandidateMethod& c = best_choice[k];
     d.object_methods[oc.object] = c.method;
-    std::string why = "cost: " + c.name() + "; predicted ms: zfail " + ms_text(oc.zfail_ms) + ", " + clipped.name() +
-                      " " + ms_text(oc.clipped_ms) + ", " + paper.name() + " " +
-                      (paper_ok ? ms_text(oc.paper_ms) : "not a candidate (" + paper_why + ")") + ", zpass " +
-                      (oc.zpass_ok ? ms_text(oc.zpass_ms) : "not a candidate") + " (" + oc.zpass_why + ")";
-    d.reasons[oc.object] = why;
+    std::string& why = d.reasons[oc.object];
+    why.reserve(160 + paper_not.size() + oc.zpass_why.size());
+    why = "cost: ";
+    why += c.name();
+    why += "; predicted ms: zfail ";
+    append_ms(why, oc.zfail_ms);
+    why += ", ";
+    why += clipped_name;
+    append_ms(why, oc.clipped_ms);
+    why += paper_name;
+    if (paper_ok)
+      append_ms(why, oc.paper_ms);
+    else
+      why += paper_not;
+    why += ", zpass ";
+    if (oc.zpass_ok)
+      append_ms(why, oc.zpass_ms);
+    else
+      why += "not a candidate";
+    why += " (";
+    why += oc.zpass_why;
+    why += ")";
   }
   return d;
 }

@@ -17,8 +17,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
-#include "nearcap/exact/silhouette.hpp"
+#include "nearcap/check.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
 
@@ -33,37 +34,44 @@ Homogeneous lerp(const Homogeneous& a, const Homogeneous& b, double t) {
   return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z), a.w + t * (b.w - a.w)};
 }
 
-// The generators of cone(g) ∩ {s >= 0} (section false) or ∩ {s = 0}
-// (section true), s = -z - near w.
-std::vector<Homogeneous> clip_cone(const std::vector<Homogeneous>& g, double near, bool section) {
-  auto s = [near](const Homogeneous& p) { return -p.z - near * p.w; };
-  std::vector<Homogeneous> out;
-  for (const Homogeneous& p : g)
-    if (section ? s(p) == 0 : s(p) >= 0) out.push_back(p);
-  for (const Homogeneous& a : g)
-    for (const Homogeneous& b : g) {
-      const double sa = s(a), sb = s(b);
-      if (sa > 0 && sb < 0) out.push_back(lerp(a, b, sa / (sa - sb)));
-    }
-  return out;
-}
-
-// Pixel centres of the viewport in the bounding box of the generators'
-// images on the near rectangle, grown by a pixel on each side.
-double footprint_pixels(const std::vector<Homogeneous>& g, const Camera& camera) {
-  if (g.empty()) return 0;
+// Pixel centres of the viewport in the bounding box, grown by a pixel on
+// each side, of the images on the near rectangle of the generators of
+// cone(g) ∩ {s >= 0} (section false) or ∩ {s = 0} (section true), s = -z -
+// near w: the generators inside, and the intersections of each segment from
+// one inside to one outside.  The generators are folded into the box as they
+// are found (a box does not depend on their order), so nothing is allocated.
+template <std::size_t N>
+double clipped_footprint_pixels(const std::array<Homogeneous, N>& g, double near, bool section, const Camera& camera) {
   const Frustum& f = camera.frustum;
   const double all = static_cast<double>(camera.width) * camera.height;
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const Homogeneous& p : g) {
-    if (!(-p.z > 0)) return all;  // an image at infinity (or not finite)
+  bool any = false, at_infinity = false;
+  auto add = [&](const Homogeneous& p) {
+    any = true;
+    if (!(-p.z > 0)) {  // an image at infinity (or not finite)
+      at_infinity = true;
+      return;
+    }
     const double x = p.x * f.near / -p.z, y = p.y * f.near / -p.z;
-    if (!std::isfinite(x) || !std::isfinite(y)) return all;
+    if (!std::isfinite(x) || !std::isfinite(y)) {
+      at_infinity = true;
+      return;
+    }
     x0 = std::min(x0, x);
     x1 = std::max(x1, x);
     y0 = std::min(y0, y);
     y1 = std::max(y1, y);
+  };
+  std::array<double, N> s;
+  for (std::size_t k = 0; k < N; ++k) {
+    s[k] = -g[k].z - near * g[k].w;
+    if (section ? s[k] == 0 : s[k] >= 0) add(g[k]);
   }
+  for (std::size_t a = 0; a < N; ++a)
+    for (std::size_t b = 0; b < N && !at_infinity; ++b)
+      if (s[a] > 0 && s[b] < 0) add(lerp(g[a], g[b], s[a] / (s[a] - s[b])));
+  if (!any) return 0;
+  if (at_infinity) return all;
   auto centres = [](double lo, double hi, double from, double to, int pixels) {
     // Pixel i's centre i + 0.5 in [lo, hi] (window units), grown by one.
     const double a = (lo - from) / (to - from) * pixels - 1.0, b = (hi - from) / (to - from) * pixels + 1.0;
@@ -113,7 +121,7 @@ std::string CandidateMethod::name() const {
   return n;
 }
 
-OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light) {
+OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light, bool pyramid_cull) {
   const SceneObject& obj = scene.objects[object];
   const TriangleMesh& mesh = *obj.mesh;
   const Camera& camera = scene.camera;
@@ -122,40 +130,52 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   in.object = object;
   in.triangles = static_cast<double>(mesh.triangle_count());
 
-  // Facing and silhouette, in object space.
+  // Facing, in object space, and the silhouette edges counted as
+  // silhouette_edges() (exact/silhouette.hpp) finds them: a front face's
+  // edges whose neighbour is not front.  The edges themselves are walked
+  // again below only where the near-plane counts need them.
   const Vec3d l_object = inverse_apply(obj.object_to_world, scene.lights[light].position);
-  std::vector<Facing> facing(mesh.triangle_count());
-  for (std::size_t f = 0; f < facing.size(); ++f) {
+  const std::size_t faces = mesh.triangle_count();
+  std::vector<std::uint8_t> front(faces);
+  std::size_t light_facing = 0;
+  for (std::size_t f = 0; f < faces; ++f) {
     const auto& pl = mesh.face_planes.plane[f];
-    const bool front = pl[0] * l_object.x + pl[1] * l_object.y + pl[2] * l_object.z - pl[3] > 0;
-    facing[f] = front ? Facing::Front : Facing::Back;
-    in.light_facing += front ? 1 : 0;
+    front[f] = pl[0] * l_object.x + pl[1] * l_object.y + pl[2] * l_object.z - pl[3] > 0;
+    light_facing += front[f];
   }
-  const std::vector<SilhouetteEdge> edges = silhouette_edges(mesh, facing);
-  in.silhouette_edges = static_cast<double>(edges.size());
+  NEARCAP_CHECK(mesh.has_adjacency());
+  std::size_t silhouette = 0;
+  for (std::size_t f = 0; f < faces; ++f) {
+    if (!front[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const FaceIndex g = mesh.neighbours[f][k];
+      NEARCAP_CHECK(g != kNoFace);
+      silhouette += front[g] ? 0 : 1;
+    }
+  }
+  in.light_facing = static_cast<double>(light_facing);
+  in.silhouette_edges = static_cast<double>(silhouette);
 
   // Camera space: the box's corners and their directions from the light.
   const Affine3d modelview = compose_rounded(camera.view, obj.object_to_world);
   const Vec3d l = camera.view.apply(scene.lights[light].position);
-  std::vector<Homogeneous> box, volume;
+  std::array<Homogeneous, 8> box;
+  std::array<Homogeneous, 16> volume;
   std::array<double, 8> point_distance{}, direction_distance{};
   double magnitude = near;
   const auto corners = box_corners(mesh.face_planes.box_lo, mesh.face_planes.box_hi);
   for (int k = 0; k < 8; ++k) {
     const Vec3d c = modelview.apply(corners[k]);
-    box.push_back({c.x, c.y, c.z, 1});
-    volume.push_back({c.x, c.y, c.z, 1});
-    volume.push_back({c.x - l.x, c.y - l.y, c.z - l.z, 0});
+    box[k] = {c.x, c.y, c.z, 1};
+    volume[2 * k] = {c.x, c.y, c.z, 1};
+    volume[2 * k + 1] = {c.x - l.x, c.y - l.y, c.z - l.z, 0};
     point_distance[k] = -c.z - near;
     direction_distance[k] = -(c.z - l.z);
     magnitude = std::max({magnitude, std::fabs(c.z), std::fabs(l.z)});
   }
-  in.occluder_pixels = footprint_pixels(clip_cone(box, near, false), camera);
-  in.volume_pixels = footprint_pixels(clip_cone(volume, near, false), camera);
-  in.near_cap_pixels = footprint_pixels(clip_cone(volume, near, true), camera);
-  in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(scene, object, scene.lights[light].position,
-                                                                         gl::near_plane_cap_margin(camera.width),
-                                                                         gl::near_plane_cap_margin(camera.height));
+  in.occluder_pixels = clipped_footprint_pixels(box, near, false, camera);
+  in.volume_pixels = clipped_footprint_pixels(volume, near, false, camera);
+  in.near_cap_pixels = clipped_footprint_pixels(volume, near, true, camera);
 
   // The clipped-sides cap builder's work (gl/shadow_methods.cpp,
   // clipped_sides_cap): nothing where every part of the volume is on one
@@ -168,30 +188,45 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   const double margin = 1e-5 * magnitude;
   const int points = side_of(point_distance, margin), directions = side_of(direction_distance, margin);
   const bool sides_needed = points == 0 || directions == 0 || points != directions;
+  // The pyramid cull, the dearest input, runs where the cap's work depends
+  // on it or the caller asks.
+  in.pyramid_cull_run = pyramid_cull || sides_needed;
+  if (in.pyramid_cull_run)
+    in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(scene, object, scene.lights[light].position,
+                                                                           gl::near_plane_cap_margin(camera.width),
+                                                                           gl::near_plane_cap_margin(camera.height));
   if (!sides_needed || in.certainly_misses_light_pyramid) return in;
   in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
                           (directions == 0 ? in.triangles - in.light_facing : 0);
+  // Only the camera-space z is read: modelview.apply's third row, in its order.
+  const auto& z_row = modelview.rows[2];
   std::vector<double> as_point(mesh.positions.size()), as_direction(mesh.positions.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Vec3d c = modelview.apply(mesh.positions[v]);
-    as_point[v] = -c.z - near;
-    as_direction[v] = -(c.z - l.z);
+    const Vec3d& p = mesh.positions[v];
+    const double z = z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3];
+    as_point[v] = -z - near;
+    as_direction[v] = -(z - l.z);
   }
   auto straddles = [](double a, double b, double c) {
     const bool any_beyond = a > 0 || b > 0 || c > 0, all_beyond = a > 0 && b > 0 && c > 0;
     return any_beyond && !all_beyond;
   };
   double count = 0;
-  for (const SilhouetteEdge& e : edges) {  // the quad (D,1) (A,1) (A,0) (D,0) as two triangles
-    count += straddles(as_point[e.d], as_point[e.a], as_direction[e.a]) ? 1 : 0;
-    count += straddles(as_point[e.d], as_direction[e.a], as_direction[e.d]) ? 1 : 0;
-  }
-  for (std::size_t f = 0; f < facing.size(); ++f) {
+  for (std::size_t f = 0; f < faces; ++f) {
     const auto& t = mesh.triangles[f];
-    const bool front = facing[f] == Facing::Front;
-    if (front && points == 0) count += straddles(as_point[t[0]], as_point[t[1]], as_point[t[2]]) ? 1 : 0;
-    if (!front && directions == 0)
+    if (front[f]) {
+      // The silhouette edge (A, D) = (t[k], t[k + 1]) of a front face: its
+      // quad (D,1) (A,1) (A,0) (D,0) as two triangles.
+      for (int k = 0; k < 3; ++k) {
+        if (front[mesh.neighbours[f][k]]) continue;
+        const VertexIndex ea = t[k], ed = t[(k + 1) % 3];
+        count += straddles(as_point[ed], as_point[ea], as_direction[ea]) ? 1 : 0;
+        count += straddles(as_point[ed], as_direction[ea], as_direction[ed]) ? 1 : 0;
+      }
+      if (points == 0) count += straddles(as_point[t[0]], as_point[t[1]], as_point[t[2]]) ? 1 : 0;
+    } else if (directions == 0) {
       count += straddles(as_direction[t[0]], as_direction[t[1]], as_direction[t[2]]) ? 1 : 0;
+    }
   }
   in.near_plane_straddling = count;
   return in;
@@ -247,12 +282,13 @@ FrameWork shared_frame_work(const Scene& scene) {
     const TriangleMesh& mesh = *obj.mesh;
     const double t = static_cast<double>(mesh.triangle_count());
     const Affine3d modelview = compose_rounded(scene.camera.view, obj.object_to_world);
-    std::vector<Homogeneous> box;
-    for (const Vec3d& c : box_corners(mesh.face_planes.box_lo, mesh.face_planes.box_hi)) {
-      const Vec3d p = modelview.apply(c);
-      box.push_back({p.x, p.y, p.z, 1});
+    std::array<Homogeneous, 8> box;
+    const auto corners = box_corners(mesh.face_planes.box_lo, mesh.face_planes.box_hi);
+    for (int k = 0; k < 8; ++k) {
+      const Vec3d p = modelview.apply(corners[k]);
+      box[k] = {p.x, p.y, p.z, 1};
     }
-    const double pixels = 2 * footprint_pixels(clip_cone(box, scene.camera.frustum.near, false), scene.camera);
+    const double pixels = 2 * clipped_footprint_pixels(box, scene.camera.frustum.near, false, scene.camera);
     w.triangles[depth] += t;
     w.fragments[depth] += pixels;
     w.triangles[lit] += t;

@@ -53,6 +53,14 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
   normal[5] = -1.0 * normal[4];
   through[5] = l;
 
+  // The planes' lengths, once: every box below is measured against them.
+  std::array<double, 6> length;
+  std::array<bool, 6> plane_usable;
+  for (int k = 0; k < 6; ++k) {
+    length[k] = std::sqrt(dot(normal[k], normal[k]));
+    plane_usable[k] = length[k] > 0 && std::isfinite(length[k]);
+  }
+
   const Affine3d& model = obj.object_to_world;
   double model_mag = 0;
   for (const auto& row : model.rows)
@@ -75,10 +83,9 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
     // its exact camera-space position.
     const double slack = kFloatAllowance * mag;
     for (int k = 0; k < 6; ++k) {
-      const double length = std::sqrt(dot(normal[k], normal[k]));
-      if (!(length > 0) || !std::isfinite(length)) return false;
+      if (!plane_usable[k]) return false;
       bool all_beyond = true;
-      for (int c = 0; c < 8 && all_beyond; ++c) all_beyond = dot(normal[k], p[c] - through[k]) < -slack * length;
+      for (int c = 0; c < 8 && all_beyond; ++c) all_beyond = dot(normal[k], p[c] - through[k]) < -slack * length[k];
       if (all_beyond) return true;
     }
     return false;

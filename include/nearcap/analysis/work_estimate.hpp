@@ -68,13 +68,21 @@ struct OccluderWorkInputs {
   double near_plane_straddling = 0;  // of those, the ones with vertices on both sides of the near plane
   double occluder_pixels = 0, volume_pixels = 0, near_cap_pixels = 0;
   // gl::certainly_misses_light_pyramid: the near-cap is certainly empty, so
-  // Z-pass is exact without the exact test.
+  // Z-pass is exact without the exact test.  Run only where
+  // `pyramid_cull_run` (else false: not known).
   bool certainly_misses_light_pyramid = false;
+  bool pyramid_cull_run = true;
 };
 
 // Occluder `object` under scene.lights[light].  The object must be an
 // occluder with adjacency (validate_occluder) and face planes.
-OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light);
+// The light-pyramid cull (the dearest input on a mesh near the pyramid) runs
+// where the clipped-sides cap's work depends on it (the volume reaches the
+// near plane), and everywhere with `pyramid_cull`; every other field is the
+// same either way (tests/cost_decision_test.cpp).  Allocates only the
+// per-face facing and, where the cap's work is counted, per-vertex distances.
+OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
+                                        bool pyramid_cull = true);
 
 // The work of one occluder drawn with `c`, CPU included (its near-cap's
 // construction; `exact_test`: the exact empty-near-cap test's triangles
