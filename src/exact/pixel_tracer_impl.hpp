@@ -5,6 +5,7 @@
 #pragma once
 
 #include <tbb/blocked_range.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -103,6 +104,8 @@ struct PixelReferenceTracer::Impl {
   const CentralGrid* light_grid = nullptr;  // setup->grid
   WorldDirections to_world;
   double setup_ms = 0;  // building this (PixelReferenceTracer's constructor)
+  mutable tbb::collaborative_once_flag region_light_grid_once;
+  mutable std::unique_ptr<CentralGrid> region_light_grid_;
   // Exact coplanarity of (light triangle, visible triangle) pairs, per thread:
   // the two triangles of a flat quad make the side form vanish identically,
   // and without this cache each such pixel would pay for rationals.
@@ -424,15 +427,33 @@ struct PixelReferenceTracer::Impl {
     if (!std::isfinite(world_error)) return light_grid->all();
     return light_grid->candidates(ww, world_error);
   }
-  // The same for every direction within w_error (per coordinate) of the
-  // camera-space direction w (CentralGrid::candidates_in), w the difference
-  // of two estimates rounded once: its rounding is added here.
-  bool light_candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const {
-    const double mag = std::max({std::fabs(w.x), std::fabs(w.y), std::fabs(w.z)});
-    double world_error = 0;
-    const Vec3d ww = to_world.apply(w, w_error * (1.0 + 0x1p-50) + 0x1p-52 * mag, world_error);
-    if (!std::isfinite(world_error)) return false;
-    return light_grid->candidates_in(ww, world_error, ids);
+  // The lit triangles binned around the light in CAMERA space, for the crack
+  // distance's region queries (crack_distance.cpp).  A region proof fails on
+  // any listed triangle it cannot prove never crossed, so a level depends on
+  // which candidates a grid lists, not only on the geometry; this is the grid
+  // the levels are defined with.  Built on the first region query (a frame
+  // whose wrong pixels are measured); the pixel traces use the world-space
+  // grid, whose candidates never change an answer.
+  const CentralGrid& region_light_grid() const {
+    tbb::collaborative_call_once(region_light_grid_once, [&] {
+      const BoundedVec3& l = cs.light(light);
+      std::vector<CentralGrid::Triangle> items(lit.size());
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, lit.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t m = r.begin(); m < r.end(); ++m) {
+              const LightTriangle& lt = lit[m];
+              const auto& t = cs.mesh(lt.object).triangles[lt.face];
+              items[m] =
+                  CentralGrid::Triangle{{cs.vertex_estimate(lt.object, t[0]), cs.vertex_estimate(lt.object, t[1]),
+                                         cs.vertex_estimate(lt.object, t[2])},
+                                        cs.max_error(lt.object),
+                                        static_cast<std::uint32_t>(m)};
+            }
+          });
+      region_light_grid_ =
+          std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}), items, 1.0);
+    });
+    return *region_light_grid_;
   }
 
   // No light triangle remembered (ShadowHint).
