@@ -179,17 +179,8 @@ TEST(AtomicZP, ExactEyeCountMatchesBruteForceOnRandomConfigurations) {
   EXPECT_GT(inside, 20);
 }
 
-// The slab-and-box scene of the hard case: a unit box under a light at
-// (0, 5, 0), the eye below the box at height -0.1 next to the side plane
-// through the light and the top edge x = 0.5 (x = 0.5 (5 + 0.1) / 4.5).
-Scene eye_near_side_plane(double x) {
-  test::BoxSceneOptions o;
-  o.width = 32;
-  o.height = 24;
-  o.target = {x + 1, -0.3, 1};
-  return test::box_scene({x, -0.1, 0}, {0, 5, 0}, o);
-}
-constexpr double kSidePlaneX = 0.5 * 5.1 / 4.5;
+using test::eye_near_side_plane;
+using test::kSidePlaneX;
 
 // Eyes within 32 float32 ulps (of x, 2^-24 here) inside and outside the side
 // plane, in steps of 1/64 ulp: the exact count follows the plane (1 inside,

@@ -41,4 +41,16 @@ inline Scene box_scene(const Vec3d& eye, const Vec3d& light, const BoxSceneOptio
   return b.build();
 }
 
+// AtomicZP's hard case: the unit box under a light at (0, 5, 0), the eye
+// below the box at height -0.1 and x = `x`, next to the side plane through
+// the light and the top edge x = 0.5 (at x = kSidePlaneX), on a 32x24 frame.
+constexpr double kSidePlaneX = 0.5 * 5.1 / 4.5;
+inline Scene eye_near_side_plane(double x) {
+  BoxSceneOptions o;
+  o.width = 32;
+  o.height = 24;
+  o.target = {x + 1, -0.3, 1};
+  return box_scene({x, -0.1, 0}, {0, 5, 0}, o);
+}
+
 }  // namespace nearcap::test

@@ -203,25 +203,9 @@ OccluderChoice ogre(const SceneObject& o, std::size_t index, const CameraFrame& 
 
 }  // namespace
 
-std::string_view to_string(EnginePolicy p) {
-  switch (p) {
-    case EnginePolicy::Doom3:
-      return "doom3";
-    case EnginePolicy::Doom3BFG:
-      return "doom3-bfg";
-    case EnginePolicy::Ogre:
-      return "ogre";
-    case EnginePolicy::AlwaysZFail:
-      return "always-zfail";
-  }
-  return "?";
-}
+std::string_view to_string(EnginePolicy p) { return name_of(p); }
 
-std::optional<EnginePolicy> engine_policy_from_string(std::string_view name) {
-  for (EnginePolicy p : kAllEnginePolicies)
-    if (to_string(p) == name) return p;
-  return std::nullopt;
-}
+std::optional<EnginePolicy> engine_policy_from_string(std::string_view name) { return value_named<EnginePolicy>(name); }
 
 std::vector<OccluderChoice> engine_choices(EnginePolicy policy, const Scene& scene, std::size_t light) {
   const CameraFrame cam = camera_frame(scene, light);

@@ -17,10 +17,6 @@ namespace {
 using Json = nlohmann::json;
 using V3 = std::array<double, 3>;
 
-constexpr std::array<std::string_view, kHardCaseKindCount> kNames = {
-    "light-near-plane", "light-in-near-plane", "grazing",        "eye-in-shadow", "far-from-origin", "tiny-near",
-    "straddling",       "several-occluders",   "several-lights", "real-mesh",     "eye-near-volume"};
-
 // SplitMix64: decorrelates (seed, index) into one generator seed.
 std::uint64_t splitmix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ull;
@@ -247,7 +243,7 @@ class Builder {
 
 }  // namespace
 
-std::string_view to_string(HardCaseKind kind) { return kNames.at(static_cast<std::size_t>(kind)); }
+std::string_view to_string(HardCaseKind kind) { return name_of(kind); }
 
 std::vector<HardCaseKind> all_hard_case_kinds() {
   std::vector<HardCaseKind> kinds;
@@ -257,11 +253,9 @@ std::vector<HardCaseKind> all_hard_case_kinds() {
 }
 
 HardCaseKind hard_case_kind_from_string(std::string_view name) {
-  for (int k = 0; k < kHardCaseKindCount; ++k)
-    if (kNames[static_cast<std::size_t>(k)] == name) return static_cast<HardCaseKind>(k);
-  std::string known;
-  for (std::string_view n : kNames) known += (known.empty() ? "" : ", ") + std::string(n);
-  throw Error(ErrorKind::Usage, "unknown hard-case kind '" + std::string(name) + "' (one of " + known + ")");
+  if (const std::optional<HardCaseKind> kind = value_named<HardCaseKind>(name)) return *kind;
+  throw Error(ErrorKind::Usage,
+              "unknown hard-case kind '" + std::string(name) + "' (one of " + names_joined<HardCaseKind>() + ")");
 }
 
 HardCaseSampler::HardCaseSampler(SamplerSpec spec) : spec_(std::move(spec)) {

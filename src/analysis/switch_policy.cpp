@@ -448,7 +448,7 @@ std::string policy_to_json(const SwitchPolicy& p) {
   j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
   j["light_projection"] = std::string(gl::to_string(p.light_projection));
   j["exact_zpass"] = p.exact_zpass;
-  if (p.depth) j["depth"] = *p.depth == gl::DepthFormat::Fixed24 ? "fixed24" : "float32";
+  if (p.depth) j["depth"] = std::string(name_of(*p.depth));
   if (p.depth_mapping) j["depth_mapping"] = std::string(gl::to_string(*p.depth_mapping));
   if (p.near_plane) j["near_plane"] = std::string(gl::to_string(*p.near_plane));
   Json m;

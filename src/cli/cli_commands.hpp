@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -16,6 +17,7 @@
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/output_files.hpp"
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::cli {
@@ -91,25 +93,27 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
 
-// The float pipeline's named choices, as command-line options (cracks, sweep).
+// The float pipeline's choices, as command-line options (cracks, sweep, ...):
+// each named choice holds its enum, parsed once where the command line is
+// read, by the name table next to the enum (nearcap/named_values.hpp).
 struct EmulationOptions {
   int subpixel_bits = 8;
-  std::string depth = "fixed24";
-  std::string fill_rule = "bottom-left";
+  gl::DepthFormat depth = gl::DepthFormat::Fixed24;
+  gl::FillRule fill_rule = gl::FillRule::BottomLeft;
   float guard_band = 1.0f;
-  std::string viewport = "divide";
-  std::string depth_interpolation = "exact";
-  std::string clipper = "inside";
-  std::string light_projection = "paper";
-  std::string l_near = "paper-ratio";
+  gl::ViewportArithmetic viewport = gl::ViewportArithmetic::Divide;
+  gl::DepthInterpolation depth_interpolation = gl::DepthInterpolation::Exact;
+  gl::ClipperArithmetic clipper = gl::ClipperArithmetic::Inside;
+  gl::LightProjection light_projection = gl::LightProjection::Paper;
+  gl::LightNearRule l_near = gl::LightNearRule::PaperRatio;
   double l_near_scale = 1.0;
-  std::string zfail_far = "infinite";
-  std::string switch_clamp = "clamp";
-  std::string zpass_far = "finite";
-  std::string infinite_far = "exact";
-  std::string depth_mapping = "standard";
-  std::string near_plane = "scene";
-  std::string volume_culling = "none";
+  gl::ZFailFar zfail_far = gl::ZFailFar::Infinite;
+  gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClamp;
+  gl::ZPassFar zpass_far = gl::ZPassFar::Finite;
+  gl::InfiniteFar infinite_far = gl::InfiniteFar::Exact;
+  gl::DepthMapping depth_mapping = gl::DepthMapping::Standard;
+  gl::NearPlane near_plane = gl::NearPlane::Scene;
+  gl::VolumeCulling volume_culling = gl::VolumeCulling::None;
   bool fma = false;
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
@@ -120,13 +124,13 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec);
 // The choices that differ from the defaults, as a variant spec; "default" when none.
 std::string variant_label(const EmulationOptions& options);
-// Every emulation option by name (without its dashes) and value, as text, in a fixed order.
+// Every emulation option by name (without its dashes) and value, as text, in
+// a fixed order (the sweep's header and variant labels): the order of
+// visit_emulation_options.
 std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options);
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 
-// The methods named by --method/--methods: one name, a comma-separated list,
-// or "all".  Throws Error(Usage) naming an unknown one.
 // The hard-case sampler's options (sample, sweep, fit-l-near).
 struct SamplerOptions {
   std::uint64_t seed = 1;
@@ -138,6 +142,8 @@ struct SamplerOptions {
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
 // `sizes`: the --width and --height options too.
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
+// The methods named by --method/--methods: one name, a comma-separated list,
+// or "all".  Throws Error(Usage) naming an unknown one.
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);
 // --method of cracks and render: the stencil methods, and two names that are
 // not one: "policy" (the switch policy, a method per occluder) and
@@ -153,12 +159,26 @@ MethodChoice method_choice(const std::string& names);
 // The policy's method per occluder and why, as a JSON array of
 // {"object", "method", "why"}.
 nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyDecision& d);
-// The names --light-projection, --infinite-far, --depth-mapping and
-// --near-plane take, for the options of every command that has them.
-const std::vector<std::string>& light_projection_names();
-const std::vector<std::string>& infinite_far_names();
-const std::vector<std::string>& depth_mapping_names();
-const std::vector<std::string>& near_plane_names();
+// An option whose value is one of E's names (named_values.hpp): the help is
+// `help`, the accepted values and the default are the table's (CLI11 lists
+// them), and the option stores the value, not the name.
+template <class E>
+CLI::Option* add_choice_option(CLI::App& cmd, const std::string& flag, E& value, const std::string& help) {
+  return cmd
+      .add_option_function<std::string>(
+          flag, [&value](const std::string& name) { value = *value_named<E>(name); }, help)
+      ->check(CLI::IsMember(names_of<E>()))
+      ->default_str(std::string(name_of(value)));
+}
+// The same for a choice with no default: nullopt when the option is not given.
+template <class E>
+CLI::Option* add_choice_option(CLI::App& cmd, const std::string& flag, std::optional<E>& value,
+                               const std::string& help) {
+  return cmd
+      .add_option_function<std::string>(
+          flag, [&value](const std::string& name) { value = value_named<E>(name); }, help)
+      ->check(CLI::IsMember(names_of<E>()));
+}
 
 // What the cases A, B, C1, C2, D and degenerate mean (ZP+ section 5), a line each.
 void print_case_legend(std::ostream& out);

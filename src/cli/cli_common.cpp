@@ -14,6 +14,7 @@
 #include <initializer_list>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include "cli_commands.hpp"
@@ -22,15 +23,6 @@
 extern char** environ;
 
 namespace nearcap::cli {
-namespace {
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  return list;
-}
-
-}  // namespace
 
 std::string json_text(const nlohmann::json& j, int indent) {
   return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -116,118 +108,73 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
   throw Error(ErrorKind::Resource, message);
 }
 
-void add_emulation_options(CLI::App& cmd, EmulationOptions& o) {
-  cmd.add_option("--subpixel-bits", o.subpixel_bits, "fixed-point sub-pixel bits of the rasterizer")
-      ->transform(integer_in(0, 12))
-      ->capture_default_str();
-  cmd.add_option("--depth", o.depth, "depth buffer: fixed24 or float32")
-      ->check(CLI::IsMember({"fixed24", "float32"}))
-      ->capture_default_str();
-  cmd.add_option("--fill-rule", o.fill_rule,
-                 "pixel centres on an edge: bottom-left (llvmpipe's, GL window coordinates) or top-left")
-      ->check(CLI::IsMember({"top-left", "bottom-left"}))
-      ->capture_default_str();
-  cmd.add_option("--guard-band", o.guard_band,
-                 "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard band")
-      ->check(finite_number())
-      ->capture_default_str();
-  cmd.add_option("--viewport", o.viewport,
-                 "perspective divide and viewport arithmetic: divide ((x/w + 1) W/2) or llvmpipe (1/w, then "
-                 "fused multiply-add where Mesa fuses: what llvmpipe computes)")
-      ->check(CLI::IsMember({"divide", "llvmpipe"}))
-      ->capture_default_str();
-  cmd.add_option("--depth-interpolation", o.depth_interpolation,
-                 "a fragment's depth: exact (from exact barycentrics, rounded once) or llvmpipe (Mesa's float32 "
-                 "plane and 24-bit conversion)")
-      ->check(CLI::IsMember({"exact", "llvmpipe"}))
-      ->capture_default_str();
-  cmd.add_option("--clipper", o.clipper,
-                 "the clipper's arithmetic: inside (intersections from the inside vertex) or mesa (Mesa's plane "
-                 "order, from the outside vertex, its fan order); --viewport llvmpipe --depth-interpolation llvmpipe "
-                 "--clipper mesa is the llvmpipe model")
-      ->check(CLI::IsMember({"inside", "mesa"}))
-      ->capture_default_str();
-  cmd.add_option("--light-projection", o.light_projection,
-                 "P_l formulation: paper, glfrustum, composed (P_l M_l MV in double, rounded once), rebased "
-                 "(origin at the near rectangle's centre) or clipped-sides (no light frustum: the near-cap is the "
-                 "fan over the edges the clipper leaves in the near plane)")
-      ->check(CLI::IsMember(light_projection_names()))
-      ->capture_default_str();
-  cmd.add_option("--l-near", o.l_near,
-                 "how ZP+'s light frustum picks l_near: paper-ratio (l_far min(d / d_max, 1/2)), exact-max (the "
-                 "largest admissible, exactly, capped at l_far / 2) or near-clamp (depth clamp at the near side)")
-      ->check(CLI::IsMember({"paper-ratio", "exact-max", "near-clamp"}))
-      ->capture_default_str();
-  cmd.add_option("--l-near-scale", o.l_near_scale, "l_near multiplied by this safety margin in (0, 1]")
-      ->check(finite_number())
-      ->capture_default_str();
-  cmd.add_option("--zfail-far", o.zfail_far,
-                 "zfail's far plane: infinite, clamp (GL_DEPTH_CLAMP), clamp-far (far plane only) or far-cap (ZF+: "
-                 "no clamp, the far-plane cap of the clipped volume)")
-      ->check(CLI::IsMember({"infinite", "clamp", "clamp-far", "far-cap"}))
-      ->capture_default_str();
-  cmd.add_option("--switch-clamp", o.switch_clamp,
-                 "depth clamp of ZP+'s switch to zfail (case D, no light frustum): clamp, clamp-far or far-cap "
-                 "(ZF+: no clamp, the far-plane cap)")
-      ->check(CLI::IsMember({"clamp", "clamp-far", "far-cap"}))
-      ->capture_default_str();
-  cmd.add_option("--zpass-far", o.zpass_far,
-                 "zpass's projection: finite (its own frustum) or infinite (the infinite far plane, as Doom 3 "
-                 "draws; kept finite in a frame with a ZP+ method)")
-      ->check(CLI::IsMember({"finite", "infinite"}))
-      ->capture_default_str();
-  cmd.add_option("--infinite-far", o.infinite_far,
-                 "the infinite projection's depth row: exact (-1, -2 near), epsilon (Everitt and Kilgard's 2^-22 "
-                 "margin), doom3 (-0.999) or one-ulp (-(1 - 2^-23))")
-      ->check(CLI::IsMember(infinite_far_names()))
-      ->capture_default_str();
-  cmd.add_option("--depth-mapping", o.depth_mapping,
-                 "the camera's depth: standard (GL's -1..1 clip depth, near at 0, GL_LESS) or reversed "
-                 "(glClipControl GL_ZERO_TO_ONE, near at 1, far or infinity at 0, GL_GREATER: with --depth float32, "
-                 "reversed-Z)")
-      ->check(CLI::IsMember(depth_mapping_names()))
-      ->capture_default_str();
-  cmd.add_option("--near-plane", o.near_plane,
-                 "the camera's near plane: scene (the scene file's) or tight (moved out to half the depth of the "
-                 "nearest point in view, when farther: the same image, more depth precision)")
-      ->check(CLI::IsMember(near_plane_names()))
-      ->capture_default_str();
-  cmd.add_option("--volume-culling", o.volume_culling,
-                 "each occluder's draws limited to where its volume can change a pixel: none, scissor (glScissor), "
-                 "depth-bounds (GL_EXT_depth_bounds_test) or both; the same stencil, fewer fragments")
-      ->check(CLI::IsMember(gl::volume_culling_names()))
-      ->capture_default_str();
-  cmd.add_flag("--fma", o.fma,
-               "vertex transforms with fused multiply-add (a GPU that fuses; llvmpipe's GLSL fma() does not)");
-}
-
 namespace {
 
-// The emulation options by name, as text: what a variant spec overrides.
-std::vector<std::pair<std::string, std::string>> option_values(const EmulationOptions& o) {
-  auto number = [](double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-  };
-  return {{"subpixel-bits", std::to_string(o.subpixel_bits)},
-          {"depth", o.depth},
-          {"fill-rule", o.fill_rule},
-          {"guard-band", number(o.guard_band)},
-          {"viewport", o.viewport},
-          {"depth-interpolation", o.depth_interpolation},
-          {"clipper", o.clipper},
-          {"light-projection", o.light_projection},
-          {"l-near", o.l_near},
-          {"l-near-scale", number(o.l_near_scale)},
-          {"zfail-far", o.zfail_far},
-          {"switch-clamp", o.switch_clamp},
-          {"zpass-far", o.zpass_far},
-          {"infinite-far", o.infinite_far},
-          {"fma", o.fma ? "1" : "0"},
-          {"depth-mapping", o.depth_mapping},
-          {"near-plane", o.near_plane},
-          {"volume-culling", o.volume_culling}};
+// One emulation option: its name on the command line (without the dashes)
+// and in a variant spec, and its help.  A named choice's help is
+// "LEAD: the table's values and descriptions TAIL".
+struct EmulationOption {
+  const char* name;
+  const char* lead;
+  const char* tail = "";
+};
+
+// Calls visit(option, field) for every emulation option, in the order of the
+// sweep's header and of variant labels (files written by earlier sweeps hold
+// it, and a resumed sweep compares it).
+template <class Options, class Visit>
+void visit_emulation_options(Options& o, Visit&& visit) {
+  visit(EmulationOption{"subpixel-bits", "fixed-point sub-pixel bits of the rasterizer"}, o.subpixel_bits);
+  visit(EmulationOption{"depth", "depth buffer"}, o.depth);
+  visit(EmulationOption{"fill-rule", "pixel centres on an edge"}, o.fill_rule);
+  visit(EmulationOption{"guard-band",
+                        "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard "
+                        "band"},
+        o.guard_band);
+  visit(EmulationOption{"viewport", "perspective divide and viewport arithmetic"}, o.viewport);
+  visit(EmulationOption{"depth-interpolation", "a fragment's depth"}, o.depth_interpolation);
+  visit(EmulationOption{"clipper", "the clipper's arithmetic",
+                        "; --viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa is the llvmpipe model"},
+        o.clipper);
+  visit(EmulationOption{"light-projection", "P_l formulation"}, o.light_projection);
+  visit(EmulationOption{"l-near", "how ZP+'s light frustum picks l_near"}, o.l_near);
+  visit(EmulationOption{"l-near-scale", "l_near multiplied by this safety margin in (0, 1]"}, o.l_near_scale);
+  visit(EmulationOption{"zfail-far", "zfail's far plane"}, o.zfail_far);
+  visit(EmulationOption{"switch-clamp", "depth clamp of ZP+'s switch to zfail (case D, no light frustum)"},
+        o.switch_clamp);
+  visit(EmulationOption{"zpass-far", "zpass's projection"}, o.zpass_far);
+  visit(EmulationOption{"infinite-far", "the infinite projection's depth row"}, o.infinite_far);
+  visit(EmulationOption{"fma",
+                        "vertex transforms with fused multiply-add (a GPU that fuses; llvmpipe's GLSL fma() does "
+                        "not)"},
+        o.fma);
+  visit(EmulationOption{"depth-mapping", "the camera's depth"}, o.depth_mapping);
+  visit(EmulationOption{"near-plane", "the camera's near plane"}, o.near_plane);
+  visit(EmulationOption{"volume-culling", "each occluder's draws limited to where its volume can change a pixel",
+                        "; the same stencil, fewer fragments"},
+        o.volume_culling);
+}
+
+template <class T>
+constexpr bool kIsChoice = std::is_enum_v<T>;
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// The option's value as a variant spec writes it.
+template <class T>
+std::string value_text(const T& v) {
+  if constexpr (kIsChoice<T>)
+    return std::string(name_of(v));
+  else if constexpr (std::is_same_v<T, bool>)
+    return v ? "1" : "0";
+  else if constexpr (std::is_integral_v<T>)
+    return std::to_string(v);
+  else
+    return number_text(static_cast<double>(v));
 }
 
 double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
@@ -243,18 +190,51 @@ double parse_number(const std::string& spec, const std::string& name, const std:
   return v;
 }
 
-void need_one_of(const std::string& spec, const std::string& name, const std::string& value,
-                 const std::vector<std::string>& allowed) {
-  for (const std::string& a : allowed)
-    if (value == a) return;
-  const std::string list = joined(allowed);
-  throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not one of " + list);
+// Sets `field` from a variant spec's VALUE: a name of the choice's table,
+// 0 or 1 for a flag, a number otherwise (its range is settings_from's).
+template <class T>
+void set_from_text(const std::string& spec, const std::string& name, const std::string& value, T& field) {
+  if constexpr (kIsChoice<T>) {
+    const std::optional<T> v = value_named<T>(value);
+    if (!v)
+      throw Error(ErrorKind::Usage,
+                  "--variant '" + spec + "': " + name + " '" + value + "' is not one of " + names_joined<T>());
+    field = *v;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    if (value != "0" && value != "1")
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not one of 0, 1");
+    field = value == "1";
+  } else {
+    field = static_cast<T>(parse_number(spec, name, value));
+  }
 }
 
 }  // namespace
 
+void add_emulation_options(CLI::App& cmd, EmulationOptions& options) {
+  // The flags after the valued options.
+  std::vector<std::pair<EmulationOption, bool*>> flags;
+  visit_emulation_options(options, [&](const EmulationOption& e, auto& field) {
+    using T = std::decay_t<decltype(field)>;
+    const std::string flag = std::string("--") + e.name;
+    if constexpr (kIsChoice<T>) {
+      add_choice_option(cmd, flag, field, std::string(e.lead) + ": " + values_described<T>() + e.tail);
+    } else if constexpr (std::is_same_v<T, bool>) {
+      flags.emplace_back(e, &field);
+    } else if constexpr (std::is_integral_v<T>) {  // --subpixel-bits, the one whole number
+      cmd.add_option(flag, field, e.lead)->transform(integer_in(0, 12))->capture_default_str();
+    } else {
+      cmd.add_option(flag, field, e.lead)->check(finite_number())->capture_default_str();
+    }
+  });
+  for (auto& [e, field] : flags) cmd.add_flag(std::string("--") + e.name, *field, e.lead);
+}
+
 std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options) {
-  return option_values(options);
+  std::vector<std::pair<std::string, std::string>> values;
+  visit_emulation_options(
+      options, [&](const EmulationOption& e, const auto& field) { values.emplace_back(e.name, value_text(field)); });
+  return values;
 }
 
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec) {
@@ -268,65 +248,18 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': expected NAME=VALUE, got '" + part + "'");
     const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
     any = true;
-    if (name == "subpixel-bits") {
-      o.subpixel_bits = static_cast<int>(parse_number(spec, name, value));
-    } else if (name == "depth") {
-      need_one_of(spec, name, value, {"fixed24", "float32"});
-      o.depth = value;
-    } else if (name == "fill-rule") {
-      need_one_of(spec, name, value, {"bottom-left", "top-left"});
-      o.fill_rule = value;
-    } else if (name == "guard-band") {
-      o.guard_band = static_cast<float>(parse_number(spec, name, value));
-    } else if (name == "viewport") {
-      need_one_of(spec, name, value, {"divide", "llvmpipe"});
-      o.viewport = value;
-    } else if (name == "depth-interpolation") {
-      need_one_of(spec, name, value, {"exact", "llvmpipe"});
-      o.depth_interpolation = value;
-    } else if (name == "clipper") {
-      need_one_of(spec, name, value, {"inside", "mesa"});
-      o.clipper = value;
-    } else if (name == "light-projection") {
-      need_one_of(spec, name, value, light_projection_names());
-      o.light_projection = value;
-    } else if (name == "l-near") {
-      need_one_of(spec, name, value, {"paper-ratio", "exact-max", "near-clamp"});
-      o.l_near = value;
-    } else if (name == "l-near-scale") {
-      o.l_near_scale = parse_number(spec, name, value);
-    } else if (name == "zfail-far") {
-      need_one_of(spec, name, value, {"infinite", "clamp", "clamp-far", "far-cap"});
-      o.zfail_far = value;
-    } else if (name == "switch-clamp") {
-      need_one_of(spec, name, value, {"clamp", "clamp-far", "far-cap"});
-      o.switch_clamp = value;
-    } else if (name == "zpass-far") {
-      need_one_of(spec, name, value, {"finite", "infinite"});
-      o.zpass_far = value;
-    } else if (name == "infinite-far") {
-      need_one_of(spec, name, value, infinite_far_names());
-      o.infinite_far = value;
-    } else if (name == "fma") {
-      need_one_of(spec, name, value, {"0", "1"});
-      o.fma = value == "1";
-    } else if (name == "depth-mapping") {
-      need_one_of(spec, name, value, depth_mapping_names());
-      o.depth_mapping = value;
-    } else if (name == "near-plane") {
-      need_one_of(spec, name, value, near_plane_names());
-      o.near_plane = value;
-    } else if (name == "volume-culling") {
-      need_one_of(spec, name, value, gl::volume_culling_names());
-      o.volume_culling = value;
-    } else {
+    bool known = false;
+    std::string valued, flags;  // the names, for the message: the flags last, as in the help
+    visit_emulation_options(o, [&](const EmulationOption& e, auto& field) {
+      std::string& list = std::is_same_v<std::decay_t<decltype(field)>, bool> ? flags : valued;
+      list += (list.empty() ? "" : ", ") + std::string(e.name);
+      if (name != e.name) return;
+      known = true;
+      set_from_text(spec, name, value, field);
+    });
+    if (!known)
       throw Error(ErrorKind::Usage,
-                  "--variant '" + spec + "': unknown choice '" + name +
-                      "' (subpixel-bits, depth, fill-rule, guard-band, viewport, depth-interpolation, clipper, "
-                      "light-projection, "
-                      "l-near, l-near-scale, zfail-far, switch-clamp, zpass-far, infinite-far, "
-                      "depth-mapping, near-plane, volume-culling, fma)");
-    }
+                  "--variant '" + spec + "': unknown choice '" + name + "' (" + valued + ", " + flags + ")");
   }
   if (!any) throw Error(ErrorKind::Usage, "--variant '': expected NAME=VALUE");
   settings_from(o);  // the ranges
@@ -334,7 +267,7 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
 }
 
 std::string variant_label(const EmulationOptions& options) {
-  const auto now = option_values(options), defaults = option_values(EmulationOptions{});
+  const auto now = emulation_option_values(options), defaults = emulation_option_values(EmulationOptions{});
   std::string label;
   for (std::size_t k = 0; k < now.size(); ++k)
     if (now[k].second != defaults[k].second) label += (label.empty() ? "" : ",") + now[k].first + "=" + now[k].second;
@@ -346,50 +279,30 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   if (o.subpixel_bits < 0 || o.subpixel_bits > 12)
     throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(o.subpixel_bits) + " is not in [0, 12]");
   s.raster.subpixel_bits = o.subpixel_bits;
-  s.raster.fill_rule = o.fill_rule == "top-left" ? gl::FillRule::TopLeft : gl::FillRule::BottomLeft;
+  s.raster.fill_rule = o.fill_rule;
   if (!(o.guard_band >= 1.0f))
     throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
   s.raster.guard_band = o.guard_band;
-  s.raster.viewport = o.viewport == "llvmpipe" ? gl::ViewportArithmetic::Llvmpipe : gl::ViewportArithmetic::Divide;
-  s.raster.depth =
-      o.depth_interpolation == "llvmpipe" ? gl::DepthInterpolation::Llvmpipe : gl::DepthInterpolation::Exact;
-  s.raster.mesa_clipper = o.clipper == "mesa";
-  s.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
+  s.raster.viewport = o.viewport;
+  s.raster.depth = o.depth_interpolation;
+  s.raster.mesa_clipper = o.clipper == gl::ClipperArithmetic::Mesa;
+  s.depth = o.depth;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
-  const auto projection = gl::light_projection_from_string(o.light_projection);
-  if (!projection)
-    throw Error(ErrorKind::Usage,
-                "--light-projection '" + o.light_projection + "' is not one of " + joined(light_projection_names()));
-  s.light_frustum.projection = *projection;
+  s.light_frustum.projection = o.light_projection;
   if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
     throw Error(ErrorKind::Usage,
                 "--l-near-scale must be in (0, 1] (a margin below the rule's l_near; above it clips the occluder)");
   s.light_frustum.near_scale = o.l_near_scale;
-  const auto rule = gl::light_near_rule_from_string(o.l_near);
-  if (!rule)
-    throw Error(ErrorKind::Usage, "--l-near '" + o.l_near + "' is not one of paper-ratio, exact-max, near-clamp");
-  s.light_frustum.near_rule = *rule;
-  s.zfail_far = *gl::zfail_far_from_string(o.zfail_far);
-  s.switch_clamp = *gl::switch_clamp_from_string(o.switch_clamp);
-  s.zpass_far = *gl::zpass_far_from_string(o.zpass_far);
-  const auto infinite_far = gl::infinite_far_from_string(o.infinite_far);
-  if (!infinite_far)
-    throw Error(ErrorKind::Usage,
-                "--infinite-far '" + o.infinite_far + "' is not one of " + joined(infinite_far_names()));
-  s.infinite_far = *infinite_far;
-  const auto mapping = gl::depth_mapping_from_string(o.depth_mapping);
-  if (!mapping) throw Error(ErrorKind::Usage, "--depth-mapping '" + o.depth_mapping + "' is not standard or reversed");
-  s.depth_mapping = *mapping;
-  const auto near_plane = gl::near_plane_from_string(o.near_plane);
-  if (!near_plane) throw Error(ErrorKind::Usage, "--near-plane '" + o.near_plane + "' is not scene or tight");
-  s.near_plane = *near_plane;
-  const auto culling = gl::volume_culling_from_string(o.volume_culling);
-  if (!culling)
-    throw Error(ErrorKind::Usage,
-                "--volume-culling '" + o.volume_culling + "' is not one of " + joined(gl::volume_culling_names()));
-  s.volume_culling = *culling;
+  s.light_frustum.near_rule = o.l_near;
+  s.zfail_far = o.zfail_far;
+  s.switch_clamp = o.switch_clamp;
+  s.zpass_far = o.zpass_far;
+  s.infinite_far = o.infinite_far;
+  s.depth_mapping = o.depth_mapping;
+  s.near_plane = o.near_plane;
+  s.volume_culling = o.volume_culling;
   if (s.depth_mapping == gl::DepthMapping::Reversed && s.infinite_far != gl::InfiniteFar::Exact)
-    throw Error(ErrorKind::Usage, "--infinite-far " + o.infinite_far +
+    throw Error(ErrorKind::Usage, "--infinite-far " + std::string(name_of(o.infinite_far)) +
                                       " nudges the standard depth row; --depth-mapping reversed puts infinity at "
                                       "depth 0 exactly (use --infinite-far exact)");
   return s;
@@ -443,9 +356,8 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
-                 "comma-separated hard-case kinds (light-near-plane, light-in-near-plane, grazing, eye-in-shadow, "
-                 "far-from-origin, tiny-near, straddling, several-occluders, several-lights, real-mesh, "
-                 "eye-near-volume) or all (every kind but eye-near-volume)")
+                 "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
+                     ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) + ")")
       ->capture_default_str();
   if (sizes) {
     cmd.add_option("--width", o.width, "viewport width of every configuration")
@@ -456,28 +368,6 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
         ->capture_default_str();
   }
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
-}
-
-const std::vector<std::string>& light_projection_names() {
-  static const std::vector<std::string> names{"paper", "glfrustum", "composed", "rebased", "clipped-sides"};
-  return names;
-}
-
-const std::vector<std::string>& depth_mapping_names() {
-  static const std::vector<std::string> names{std::string(gl::to_string(gl::DepthMapping::Standard)),
-                                              std::string(gl::to_string(gl::DepthMapping::Reversed))};
-  return names;
-}
-
-const std::vector<std::string>& near_plane_names() {
-  static const std::vector<std::string> names{std::string(gl::to_string(gl::NearPlane::Scene)),
-                                              std::string(gl::to_string(gl::NearPlane::Tight))};
-  return names;
-}
-
-const std::vector<std::string>& infinite_far_names() {
-  static const std::vector<std::string> names{"exact", "epsilon", "doom3", "one-ulp"};
-  return names;
 }
 
 MethodChoice method_choice(const std::string& names) {
@@ -523,9 +413,8 @@ std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::
     const std::string name = names.substr(start, comma - start);
     const auto m = gl::shadow_method_from_string(name);
     if (!m)
-      throw Error(
-          ErrorKind::Usage,
-          option + " '" + name + "' is not one of zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp (or all)");
+      throw Error(ErrorKind::Usage,
+                  option + " '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() + " (or all)");
     methods.push_back(*m);
     start = comma + 1;
   }

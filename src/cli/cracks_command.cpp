@@ -28,7 +28,7 @@ struct CracksOptions {
   std::size_t light = 0;
   std::string method = "all";
   std::string policy = shipped_data_dir() + "/policy.json";
-  std::string shadow_epsilon = "fixed";
+  raytrace::ShadowEpsilon shadow_epsilon = raytrace::ShadowEpsilon::Fixed;
   EmulationOptions emulation;
   std::string out;
   bool table = false;
@@ -157,10 +157,6 @@ void run(const CracksOptions& o) {
   std::optional<analysis::SwitchPolicy> policy;
   if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);
-  const auto epsilon = raytrace::shadow_epsilon_from_string(o.shadow_epsilon);
-  if (!epsilon)
-    throw Error(ErrorKind::Usage,
-                "--shadow-epsilon: unknown choice '" + o.shadow_epsilon + "' (fixed, relative, primitive-id)");
   const Scene scene = load_scene(o.scene);
   check_light_index(scene, o.light);
   check_memory_estimate(scene, "cracks",
@@ -238,11 +234,11 @@ void run(const CracksOptions& o) {
     try {
       const raytrace::EmbreeScene embree(scene);
       raytrace::RaytraceSettings rs;
-      rs.epsilon = *epsilon;
+      rs.epsilon = o.shadow_epsilon;
       const raytrace::RaytraceFrame frame = embree.trace(o.light, rs);
       CrackReport report = judge_raytrace_frame(frame, ref);
       distances.measure(report);
-      records.push_back(raytrace_json(frame, report, embree.build_ms(), *epsilon));
+      records.push_back(raytrace_json(frame, report, embree.build_ms(), o.shadow_epsilon));
       // The exact side beside Embree's: its setup (light and eye sides, like
       // the BVHs) and its tracing.
       records.back()["reference_ms"] = {{"setup", ref.setup_ms}, {"trace", ref.trace_ms}};
@@ -317,16 +313,15 @@ void register_cracks(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   add_light_option(*cmd, o->light);
   cmd->add_option("--method", o->method,
-                  "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, raytrace (Embree, float32), policy (a "
-                  "method per occluder, from --policy), comma-separated, or all (the six, raytrace and the policy)")
+                  names_joined<gl::ShadowMethod>() +
+                      ", raytrace (Embree, float32), policy (a method per occluder, from --policy), comma-separated, "
+                      "or all (the six, raytrace and the policy)")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
-  cmd->add_option("--shadow-epsilon", o->shadow_epsilon,
-                  "how raytrace's shadow rays leave their surface: fixed (1e-4 along the normal), relative "
-                  "(1e-5 times the point's largest coordinate), primitive-id (no offset; Embree ignores the "
-                  "starting triangle)")
-      ->capture_default_str();
+  add_choice_option(
+      *cmd, "--shadow-epsilon", o->shadow_epsilon,
+      "how raytrace's shadow rays leave their surface: " + values_described<raytrace::ShadowEpsilon>(", "));
   add_emulation_options(*cmd, o->emulation);
   cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");
   cmd->add_flag("--table", o->table, "print a human-readable table instead of JSON");

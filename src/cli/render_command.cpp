@@ -24,6 +24,7 @@
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
+#include "nearcap/render/eye_count_pass.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
 #include "nearcap/render/lit_frame.hpp"
 
@@ -43,7 +44,7 @@ struct RenderOptions {
   bool bench = false;    // per-pass times, DIR/bench.csv and (along a path) DIR/bench.png
   bool one_sided_stencil = false;
   bool side_strips = false;
-  std::string vertex_stage = "glsl";  // render::VertexStage
+  render::VertexStage vertex_stage = render::VertexStage::Glsl;
   std::string out;
   EmulationOptions emulation;
   double max_memory_gb = 0;
@@ -57,6 +58,13 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
       top_first[static_cast<std::size_t>(height - 1 - j) * width + i] =
           stencil[static_cast<std::size_t>(j) * width + i];
   return nearcap::encode_pgm16(width, height, top_first);
+}
+
+// `draws` with their volume draws' stencil clear (AtomicZP's count) set to `count` mod 256.
+std::vector<gl::DrawCall> with_stencil_clear(std::vector<gl::DrawCall> draws, std::size_t count) {
+  for (gl::DrawCall& d : draws)
+    if (d.pass == gl::DrawPass::Volume) d.state.stencil_clear = static_cast<std::uint8_t>(count & 0xffu);
+  return draws;
 }
 
 // --compare --table: one row per method, the JSON record's figures, and the
@@ -87,6 +95,13 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
                     oc["why"].get<std::string>().c_str());
       std::printf("\n");
       if (r.value("depth_limited", false)) std::printf("  %s\n", r["depth_note"].get<std::string>().c_str());
+    }
+  for (const nlohmann::json& r : root["methods"])
+    if (r.contains("eye_count")) {
+      const nlohmann::json& e = r["eye_count"];
+      std::printf("%s: eye count gl %zu, emulation %zu, over %zu triangles (pass %.3f ms, read back %.3f ms)\n",
+                  r["method"].get<std::string>().c_str(), e["gl"].get<std::size_t>(), e["emulation"].get<std::size_t>(),
+                  e["triangles"].get<std::size_t>(), e["pass_ms"].get<double>(), e["read_back_ms"].get<double>());
     }
   std::printf(
       "gl!=emul: stencil pixels where the real GL and the emulation differ; obj!=: pixels where they see "
@@ -157,7 +172,7 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
   options.read_stencils = o.stencil && keep_images;
   options.pass_times = o.bench;
   options.one_sided_stencil = o.one_sided_stencil;
-  options.vertex_stage = *render::vertex_stage_from_string(o.vertex_stage);
+  options.vertex_stage = o.vertex_stage;
   options.side_strips = o.side_strips;
   const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
   out.passes = lit.passes;
@@ -320,9 +335,9 @@ void run_lit(const RenderOptions& o) {
     const render::LitFramePasses& p = mf.passes;
     char row[320];
     std::snprintf(row, sizeof row, "%zu,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", f, name.c_str(),
-                  stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str(), mf.ms, p.depth_ms,
-                  p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms, mf.cpu_ms(),
-                  mf.end_to_end_ms());
+                  stencil_sides.c_str(), std::string(name_of(o.vertex_stage)).c_str(), layout.c_str(), culling.c_str(),
+                  mf.ms, p.depth_ms, p.stencil_ms, p.lit_ms, p.gpu_depth_ms, p.gpu_stencil_ms, p.gpu_lit_ms,
+                  mf.cpu_ms(), mf.end_to_end_ms());
     bench_csv += row;
   };
   // The noise floor: the first method's end-to-end time drawn twice per frame, again over first.
@@ -367,6 +382,7 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_depth_ms += p.gpu_depth_ms;
         pass_totals[m].gpu_stencil_ms += p.gpu_stencil_ms;
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
+        pass_totals[m].eye_count_ms += p.eye_count_ms;
       }
       per_method[m].push_back({f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu});
       total_ms[m] += mf.ms;
@@ -394,6 +410,7 @@ void run_lit(const RenderOptions& o) {
           entry["passes"] = {
               {"depth_ms", p.depth_ms},         {"stencil_ms", p.stencil_ms},         {"lit_ms", p.lit_ms},
               {"gpu_depth_ms", p.gpu_depth_ms}, {"gpu_stencil_ms", p.gpu_stencil_ms}, {"gpu_lit_ms", p.gpu_lit_ms}};
+          if (p.eye_count_ms > 0) entry["passes"]["eye_count_ms"] = p.eye_count_ms;
           entry["cpu_ms"] = fr.cpu_ms;
           entry["end_to_end_ms"] = fr.end_to_end_ms;
           entry["cpu"] = cpu_json(fr);
@@ -415,7 +432,7 @@ void run_lit(const RenderOptions& o) {
   }
   nlohmann::json root{{"renderer", context.renderer()},
                       {"version", context.version()},
-                      {"vertex_stage", o.vertex_stage},
+                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
                       {"methods", records}};
   if (!o.path.empty()) root["path"] = o.path;
   if (o.bench && !again_ratio.empty())
@@ -449,6 +466,8 @@ void run_lit(const RenderOptions& o) {
         std::printf("  depth %.2f + stencil %.2f + lit %.2f ms (timer queries %.3f + %.3f + %.3f)",
                     pass_totals[m].depth_ms / n, pass_totals[m].stencil_ms / n, pass_totals[m].lit_ms / n,
                     pass_totals[m].gpu_depth_ms / n, pass_totals[m].gpu_stencil_ms / n, pass_totals[m].gpu_lit_ms / n);
+        if (pass_totals[m].eye_count_ms > 0)
+          std::printf("  eye count %.2f ms (of the stencil)", pass_totals[m].eye_count_ms / n);
         std::printf("  cpu %.2f ms, end to end %.2f ms", cpu_total_ms[m] / n, end_to_end_total_ms[m] / n);
       }
       std::printf("\n");
@@ -459,7 +478,8 @@ void run_lit(const RenderOptions& o) {
     std::printf(
         "bench: %s/bench.csv (%s stencil, vertex stage %s, %s, volume culling %s, a glFinish after each "
         "pass)\n",
-        o.out.c_str(), stencil_sides.c_str(), o.vertex_stage.c_str(), layout.c_str(), culling.c_str());
+        o.out.c_str(), stencil_sides.c_str(), std::string(name_of(o.vertex_stage)).c_str(), layout.c_str(),
+        culling.c_str());
     if (!again_ratio.empty())
       std::printf(
           "bench: noise floor: %s drawn twice per frame (%s rows): end-to-end time again/first %.3f to %.3f "
@@ -511,19 +531,31 @@ void run(const RenderOptions& o) {
   nlohmann::json records = nlohmann::json::array();
   std::vector<io::OutputFile> files;
   FrameSource source(scene, o.light, methods, settings);
-  std::unique_ptr<render::GlFrameReplay> replay;  // made for each depth buffer the methods need
+  std::unique_ptr<render::GlFrameReplay> replay;   // made for each depth buffer the methods need
+  std::unique_ptr<render::EyeCountPass> eye_pass;  // made for the first AtomicZP frame
   gl::DepthFormat replay_depth = settings.depth;
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);
     gl::ShadowFrame frame;
     render::ReplayedFrame real;
+    // AtomicZP: the GL's own eye count, read back so that the replay clears
+    // the stencil to it rather than to the emulation's.
+    std::optional<render::EyeCountReadBack> eye;
     try {
       frame = source.frame(m);
       if (!replay || replay_depth != source.depth(m)) {
         replay_depth = source.depth(m);
         replay = std::make_unique<render::GlFrameReplay>(scene.camera.width, scene.camera.height, replay_depth);
       }
-      real = replay->replay(frame.draws, 0, *render::vertex_stage_from_string(o.vertex_stage));
+      const render::VertexStage stage = o.vertex_stage;
+      if (frame.eye_count) {
+        if (!eye_pass) eye_pass = std::make_unique<render::EyeCountPass>();
+        eye = eye_pass->run_and_read_back(render::eye_count_inputs(
+            scene, frame.light, render::eye_counted_objects(frame), render::recorded_arithmetic(frame)));
+        real = replay->replay(with_stencil_clear(frame.draws, eye->count), 0, stage);
+      } else {
+        real = replay->replay(frame.draws, 0, stage);
+      }
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.
@@ -548,6 +580,12 @@ void run(const RenderOptions& o) {
                           {"emulation_vs_exact", emulated.wrong},
                           {"ms", real.ms},
                           {"emulation_ms", frame.times.total()}};
+    if (eye)
+      record["eye_count"] = {{"gl", eye->count},
+                             {"emulation", *frame.eye_count},
+                             {"triangles", eye->triangles},
+                             {"pass_ms", eye->pass_ms},
+                             {"read_back_ms", eye->read_back_ms}};
     if (m >= methods.methods.size()) {
       record["occluders"] = policy_occluders_json(scene, source.decision());
       if (std::isfinite(source.decision().predicted_ms)) record["predicted_ms"] = source.decision().predicted_ms;
@@ -565,7 +603,7 @@ void run(const RenderOptions& o) {
   }
   nlohmann::json root{{"renderer", context.renderer()},
                       {"version", context.version()},
-                      {"vertex_stage", o.vertex_stage},
+                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
                       {"methods", records}};
   if (!o.out.empty()) {
     files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
@@ -616,13 +654,8 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--side-strips", o->side_strips,
                 "draw the volumes' sides as triangle strips along the silhouette's chains (the paper's layout for "
                 "ZP+'s sides; the same triangles), caps and corrective quads as independent triangles");
-  cmd->add_option("--vertex-stage", o->vertex_stage,
-                  "where each draw's clip-space vertices come from: glsl (the GL's own GLSL vertex programs, "
-                  "Figure 7 among them, on the object-space vertices) or recorded (the emulation's float32 "
-                  "results, uploaded)")
-      ->check(CLI::IsMember({std::string(render::to_string(render::VertexStage::Glsl)),
-                             std::string(render::to_string(render::VertexStage::Recorded))}))
-      ->capture_default_str();
+  add_choice_option(*cmd, "--vertex-stage", o->vertex_stage,
+                    "where each draw's clip-space vertices come from: " + values_described<render::VertexStage>());
   cmd->add_option("--out", o->out,
                   "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
                   "if missing)");

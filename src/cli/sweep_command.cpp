@@ -401,9 +401,8 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     if (name == "policy") {
       switch_policy = true;
     } else if (!p) {
-      throw Error(
-          ErrorKind::Usage,
-          "--policies '" + name + "' is not one of doom3, doom3-bfg, ogre, always-zfail, policy (or all, or none)");
+      throw Error(ErrorKind::Usage, "--policies '" + name + "' is not one of " +
+                                        names_joined<analysis::EnginePolicy>() + ", policy (or all, or none)");
     } else {
       out.push_back(*p);
     }
@@ -604,8 +603,9 @@ void register_sweep(CLI::App& app) {
       ->transform(integer_in(1, kMaxViewportPixels));
   cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
   cmd->add_option("--policies", o->policies,
-                  "engine rules run beside the methods, one row each: comma-separated doom3, doom3-bfg, ogre, "
-                  "always-zfail, policy (the switch policy of --policy), or all, or none")
+                  "engine rules run beside the methods, one row each: comma-separated " +
+                      names_joined<analysis::EnginePolicy>() +
+                      ", policy (the switch policy of --policy), or all, or none")
       ->capture_default_str();
   cmd->add_option("--policy", o->policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
       ->capture_default_str();

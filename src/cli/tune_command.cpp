@@ -22,11 +22,11 @@ struct TuneOptions {
   std::string variant = "switch-clamp=clamp-far";
   bool plain = false;
   std::string features = "all";
-  std::string light_projection = "paper";
+  gl::LightProjection light_projection = gl::LightProjection::Paper;
   bool no_exact_zpass = false;
-  std::string depth;          // "": not written
-  std::string depth_mapping;  // "": not written
-  std::string near_plane;     // "": not written
+  std::optional<gl::DepthFormat> depth;           // nullopt: not written
+  std::optional<gl::DepthMapping> depth_mapping;  // nullopt: not written
+  std::optional<gl::NearPlane> near_plane;        // nullopt: not written
 };
 
 // --out must not name one of the inputs: writing the policy would replace the
@@ -63,22 +63,19 @@ void run(const TuneOptions& o, const std::string& command) {
       start = comma + 1;
     }
   }
-  const auto projection = gl::light_projection_from_string(o.light_projection);
-  if (!projection)
-    throw Error(ErrorKind::Usage, "--light-projection '" + o.light_projection + "' is not a formulation");
   analysis::SwitchPolicy policy =
       analysis::tune_policy(samples, *capped, *fallback, command, fit, features, crack_model);
-  policy.light_projection = *projection;
+  policy.light_projection = o.light_projection;
   if (o.no_exact_zpass) {
-    if (*projection != gl::LightProjection::ClippedSides)
+    if (o.light_projection != gl::LightProjection::ClippedSides)
       throw Error(ErrorKind::Usage,
                   "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
                   "near-cap is empty)");
     policy.exact_zpass = false;
   }
-  if (!o.depth.empty()) policy.depth = o.depth == "fixed24" ? gl::DepthFormat::Fixed24 : gl::DepthFormat::Float32;
-  if (!o.depth_mapping.empty()) policy.depth_mapping = *gl::depth_mapping_from_string(o.depth_mapping);
-  if (!o.near_plane.empty()) policy.near_plane = *gl::near_plane_from_string(o.near_plane);
+  if (o.depth) policy.depth = o.depth;
+  if (o.depth_mapping) policy.depth_mapping = o.depth_mapping;
+  if (o.near_plane) policy.near_plane = o.near_plane;
   // The provenance holds the confusion tables; print them too.
   std::cout << "tune: " << samples.size() << " samples from " << o.results.size() << " file(s)\n";
   const nlohmann::json provenance = nlohmann::json::parse(policy.provenance_json);
@@ -139,26 +136,25 @@ void register_tune(CLI::App& app) {
                   "or one of its --variant)")
       ->capture_default_str();
   cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
-  cmd->add_option("--light-projection", o->light_projection,
-                  "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): paper, "
-                  "glfrustum, composed, rebased or clipped-sides (no light frustum; docs/findings/light-projection.md)")
-      ->check(CLI::IsMember(light_projection_names()))
-      ->capture_default_str();
+  add_choice_option(*cmd, "--light-projection", o->light_projection,
+                    "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): " +
+                        names_joined<gl::LightProjection>(" or ") +
+                        " (no light frustum; docs/findings/light-projection.md)");
   cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,
                 "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "
                 "clipped-sides, which is Z-pass wherever its sides leave no cap in the viewport)");
-  cmd->add_option("--depth", o->depth,
-                  "the depth buffer the policy's frames use, written to the policy (the rows' variant should have "
-                  "it): fixed24 or float32; not given, the caller's")
-      ->check(CLI::IsMember({"fixed24", "float32"}));
-  cmd->add_option("--depth-mapping", o->depth_mapping,
-                  "the camera's depth mapping the policy's frames use, written to the policy: standard or reversed "
-                  "(with --depth float32: reversed-Z); not given, the caller's")
-      ->check(CLI::IsMember(depth_mapping_names()));
-  cmd->add_option("--near-plane", o->near_plane,
-                  "the camera's near plane the policy's frames use, written to the policy: scene or tight; not "
-                  "given, the caller's")
-      ->check(CLI::IsMember(near_plane_names()));
+  add_choice_option(*cmd, "--depth", o->depth,
+                    "the depth buffer the policy's frames use, written to the policy (the rows' variant should have "
+                    "it): " +
+                        names_joined<gl::DepthFormat>(" or ") + "; not given, the caller's");
+  add_choice_option(*cmd, "--depth-mapping", o->depth_mapping,
+                    "the camera's depth mapping the policy's frames use, written to the policy: " +
+                        names_joined<gl::DepthMapping>(" or ") +
+                        " (with --depth float32: reversed-Z); not given, "
+                        "the caller's");
+  add_choice_option(*cmd, "--near-plane", o->near_plane,
+                    "the camera's near plane the policy's frames use, written to the policy: " +
+                        names_joined<gl::NearPlane>(" or ") + "; not given, the caller's");
   cmd->add_option("--features", o->features,
                   "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
                   "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model: "
@@ -173,11 +169,12 @@ void register_tune(CLI::App& app) {
     if (o->variant != "switch-clamp=clamp-far") command += " --variant " + o->variant;
     if (o->plain) command += " --plain";
     if (o->features != "all") command += " --features " + o->features;
-    if (o->light_projection != "paper") command += " --light-projection " + o->light_projection;
+    if (o->light_projection != gl::LightProjection::Paper)
+      command += " --light-projection " + std::string(name_of(o->light_projection));
     if (o->no_exact_zpass) command += " --no-exact-zpass";
-    if (!o->depth.empty()) command += " --depth " + o->depth;
-    if (!o->depth_mapping.empty()) command += " --depth-mapping " + o->depth_mapping;
-    if (!o->near_plane.empty()) command += " --near-plane " + o->near_plane;
+    if (o->depth) command += " --depth " + std::string(name_of(*o->depth));
+    if (o->depth_mapping) command += " --depth-mapping " + std::string(name_of(*o->depth_mapping));
+    if (o->near_plane) command += " --near-plane " + std::string(name_of(*o->near_plane));
     run(*o, command);
   });
 }

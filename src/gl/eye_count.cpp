@@ -54,6 +54,13 @@ bool float_eye_segment_crosses(const Vec4f& p0, const Vec4f& p1, const Vec4f& p2
   return (s0 > 0.0f && s1 > 0.0f && s2 > 0.0f) || (s0 < 0.0f && s1 < 0.0f && s2 < 0.0f);
 }
 
+EyeCountObject eye_count_object(const Scene& scene, std::size_t object, Arithmetic ar) {
+  EyeCountObject out;
+  out.modelview = multiply(to_mat4f(scene.camera.view), to_mat4f(scene.objects[object].object_to_world), ar);
+  out.mirrored = mirrors(out.modelview);
+  return out;
+}
+
 FloatEyeCount float_eye_count(const Scene& scene, std::size_t light, Arithmetic ar) {
   std::vector<std::size_t> occluders;
   for (std::size_t o = 0; o < scene.objects.size(); ++o)
@@ -65,22 +72,20 @@ FloatEyeCount float_eye_count(const Scene& scene, std::size_t light, const std::
                               Arithmetic ar) {
   FloatEyeCount out;
   const Vec4f l = light_in_camera_space(scene, light);
-  const Mat4f view = to_mat4f(scene.camera.view);
   for (std::size_t o : objects) {
     const SceneObject& obj = scene.objects[o];
     if (!obj.occluder) continue;
-    const Mat4f modelview = multiply(view, to_mat4f(obj.object_to_world), ar);
-    const bool mirrored = mirrors(modelview);
+    const EyeCountObject uniforms = eye_count_object(scene, o, ar);
     const TriangleMesh& mesh = *obj.mesh;
     std::vector<Vec4f> p(mesh.positions.size());
     for (std::size_t v = 0; v < p.size(); ++v) {
       const Vec3d& q = mesh.positions[v];
-      p[v] =
-          transform(modelview, {static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z), 1.0f}, ar);
+      p[v] = transform(uniforms.modelview,
+                       {static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z), 1.0f}, ar);
     }
     for (const auto& t : mesh.triangles) {
       ++out.triangles;
-      if (float_eye_segment_crosses(p[t[0]], p[t[1]], p[t[2]], l, mirrored, ar)) ++out.count;
+      if (float_eye_segment_crosses(p[t[0]], p[t[1]], p[t[2]], l, uniforms.mirrored, ar)) ++out.count;
     }
   }
   return out;

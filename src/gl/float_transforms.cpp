@@ -32,14 +32,6 @@ Mat4f to_mat4f(const Affine3d& a) {
   return m;
 }
 
-std::string_view to_string(DepthMapping m) { return m == DepthMapping::Standard ? "standard" : "reversed"; }
-
-std::optional<DepthMapping> depth_mapping_from_string(std::string_view name) {
-  for (DepthMapping m : {DepthMapping::Standard, DepthMapping::Reversed})
-    if (to_string(m) == name) return m;
-  return std::nullopt;
-}
-
 Mat4f frustum_matrix(const Frustum& f, DepthMapping mapping) {
   Mat4f m;
   m.at(0, 0) = static_cast<float>(2 * f.near / (f.right - f.left));
@@ -54,26 +46,6 @@ Mat4f frustum_matrix(const Frustum& f, DepthMapping mapping) {
   }
   m.at(3, 2) = -1.0f;
   return m;
-}
-
-std::string_view to_string(InfiniteFar f) {
-  switch (f) {
-    case InfiniteFar::Exact:
-      return "exact";
-    case InfiniteFar::Epsilon:
-      return "epsilon";
-    case InfiniteFar::Doom3:
-      return "doom3";
-    case InfiniteFar::OneUlp:
-      return "one-ulp";
-  }
-  return "?";
-}
-
-std::optional<InfiniteFar> infinite_far_from_string(std::string_view name) {
-  for (InfiniteFar f : {InfiniteFar::Exact, InfiniteFar::Epsilon, InfiniteFar::Doom3, InfiniteFar::OneUlp})
-    if (to_string(f) == name) return f;
-  return std::nullopt;
 }
 
 Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge, DepthMapping mapping) {

@@ -44,46 +44,6 @@ bool all_finite(const Mat4f& m) {
 
 }  // namespace
 
-std::string_view to_string(LightProjection p) {
-  switch (p) {
-    case LightProjection::Paper:
-      return "paper";
-    case LightProjection::GlFrustum:
-      return "glfrustum";
-    case LightProjection::Composed:
-      return "composed";
-    case LightProjection::Rebased:
-      return "rebased";
-    case LightProjection::ClippedSides:
-      return "clipped-sides";
-  }
-  return "?";
-}
-
-std::optional<LightProjection> light_projection_from_string(std::string_view name) {
-  for (LightProjection p : {LightProjection::Paper, LightProjection::GlFrustum, LightProjection::Composed,
-                            LightProjection::Rebased, LightProjection::ClippedSides})
-    if (to_string(p) == name) return p;
-  return std::nullopt;
-}
-std::string_view to_string(LightNearRule r) {
-  switch (r) {
-    case LightNearRule::PaperRatio:
-      return "paper-ratio";
-    case LightNearRule::ExactMax:
-      return "exact-max";
-    case LightNearRule::NearClamp:
-      return "near-clamp";
-  }
-  return "?";
-}
-
-std::optional<LightNearRule> light_near_rule_from_string(std::string_view name) {
-  for (LightNearRule r : {LightNearRule::PaperRatio, LightNearRule::ExactMax, LightNearRule::NearClamp})
-    if (to_string(r) == name) return r;
-  return std::nullopt;
-}
-
 Vec4f light_in_camera_space(const Scene& scene, std::size_t light) {
   glm::mat4 view(1.0f);  // column-major, as engine_classification.cpp builds it
   for (int r = 0; r < 3; ++r)

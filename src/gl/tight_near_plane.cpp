@@ -31,14 +31,6 @@ std::vector<Vec3d> clipped(std::vector<Vec3d> poly, const Plane& plane) {
 
 }  // namespace
 
-std::string_view to_string(NearPlane p) { return p == NearPlane::Scene ? "scene" : "tight"; }
-
-std::optional<NearPlane> near_plane_from_string(std::string_view name) {
-  for (NearPlane p : {NearPlane::Scene, NearPlane::Tight})
-    if (to_string(p) == name) return p;
-  return std::nullopt;
-}
-
 Frustum tight_frustum(const Scene& scene) {
   const Frustum& f = scene.camera.frustum;
   // The side planes at depth 1 (x = left / near ... at z = -1), each moved

@@ -93,13 +93,9 @@ void set_matrix(GLuint program, const char* name, const gl::Mat4f& m) {
 
 }  // namespace
 
-std::string_view to_string(VertexStage s) { return s == VertexStage::Recorded ? "recorded" : "glsl"; }
+std::string_view to_string(VertexStage s) { return name_of(s); }
 
-std::optional<VertexStage> vertex_stage_from_string(std::string_view name) {
-  for (VertexStage s : {VertexStage::Recorded, VertexStage::Glsl})
-    if (to_string(s) == name) return s;
-  return std::nullopt;
-}
+std::optional<VertexStage> vertex_stage_from_string(std::string_view name) { return value_named<VertexStage>(name); }
 
 std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Arithmetic arithmetic,
                                bool clip_distance) {

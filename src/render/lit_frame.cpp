@@ -7,12 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "draw_state.hpp"
 #include "gl_objects.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
+#include "nearcap/render/eye_count_pass.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::render {
@@ -114,7 +116,16 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   // Every program the frame needs, linked before the clock starts.
   // With side_strips, each sides draw's strip indices, built before it too.
   std::map<const gl::DrawCall*, std::vector<std::uint32_t>> strips;
+  // AtomicZP's eye-count pass: each light frame's inputs (the counted
+  // occluders' float32 vertices and uniforms), built before it too.
+  std::vector<std::optional<EyeCountInputs>> eye_inputs(light_frames.size());
   try {
+    for (std::size_t k = 0; k < light_frames.size(); ++k) {
+      const gl::ShadowFrame& f = light_frames[k];
+      if (!f.eye_count) continue;
+      if (!eye_pass_) eye_pass_ = std::make_unique<EyeCountPass>();
+      eye_inputs[k] = eye_count_inputs(scene, f.light, eye_counted_objects(f), recorded_arithmetic(f));
+    }
     for (const gl::ShadowFrame& f : light_frames)
       for (const gl::DrawCall& d : f.draws) {
         programs.prepare(d, options.vertex_stage, clamps_by_clip_distance(d.state, far_only_clamp));
@@ -221,8 +232,21 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   for (std::size_t k = 0; k < light_frames.size(); ++k) {
     pass_begin();
     disable_volume_culling(depth_bounds_test);  // glClear honours the scissor
-    glClearStencil(cleared_stencil(light_frames[k].draws));
-    glClear(GL_STENCIL_BUFFER_BIT);
+    if (eye_inputs[k]) {
+      // AtomicZP: the eye count on the GPU, written into the stencil there
+      // (render/eye_count_pass.hpp), where the emulation clears to its count.
+      const auto e0 = std::chrono::steady_clock::now();
+      eye_pass_->run(*eye_inputs[k], &out.upload_ms);
+      eye_pass_->write_stencil();
+      if (pass_times) {
+        glFinish();
+        out.passes.eye_count_ms +=
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+      }
+    } else {
+      glClearStencil(cleared_stencil(light_frames[k].draws));
+      glClear(GL_STENCIL_BUFFER_BIT);
+    }
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     glDisable(GL_BLEND);
     auto draw_stencil = [&](const gl::DrawCall& d) {
@@ -268,6 +292,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       std::vector<std::uint8_t>& st = out.stencils.emplace_back(static_cast<std::size_t>(width) * height);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, st.data());
+      out.eye_counts.push_back(eye_inputs[k] ? std::optional<std::size_t>(eye_pass_->read_count()) : std::nullopt);
       read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
       mark = std::chrono::steady_clock::now();  // the read is no pass
     }

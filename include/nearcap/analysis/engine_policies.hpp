@@ -34,14 +34,22 @@
 #include <vector>
 
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::analysis {
 
 enum class EnginePolicy { Doom3, Doom3BFG, Ogre, AlwaysZFail };
-inline constexpr std::array<EnginePolicy, 4> kAllEnginePolicies{EnginePolicy::Doom3, EnginePolicy::Doom3BFG,
-                                                                EnginePolicy::Ogre, EnginePolicy::AlwaysZFail};
-std::string_view to_string(EnginePolicy p);  // "doom3", "doom3-bfg", "ogre", "always-zfail"
+inline constexpr NamedValue<EnginePolicy> kEnginePolicyTable[] = {
+    {EnginePolicy::Doom3, "doom3", "Doom 3's box test grown by 2 znear"},
+    {EnginePolicy::Doom3BFG, "doom3-bfg", "Doom 3 BFG's box test, then its precise test"},
+    {EnginePolicy::Ogre, "ogre", "Ogre's near-clip volume against the caster's box"},
+    {EnginePolicy::AlwaysZFail, "always-zfail", "Z-fail for every occluder"},
+};
+constexpr const auto& named_values(EnginePolicy) { return kEnginePolicyTable; }
+static_assert(names_are_unique<EnginePolicy>());
+inline constexpr auto kAllEnginePolicies = values_of<EnginePolicy>();
+std::string_view to_string(EnginePolicy p);
 std::optional<EnginePolicy> engine_policy_from_string(std::string_view name);
 
 // One occluder's choice and the test that made it.

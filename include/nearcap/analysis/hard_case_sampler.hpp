@@ -30,6 +30,8 @@
 #include <string_view>
 #include <vector>
 
+#include "nearcap/named_values.hpp"
+
 namespace nearcap::analysis {
 
 enum class HardCaseKind {
@@ -51,8 +53,24 @@ enum class HardCaseKind {
   // had before this kind existed; asked for by name.
   EyeNearVolume,
 };
-inline constexpr int kHardCaseKindCount = 11;
-std::string_view to_string(HardCaseKind kind);  // "light-near-plane", ...
+// The kinds' names (named_values.hpp), in the enum's order.
+inline constexpr NamedValue<HardCaseKind> kHardCaseKindTable[] = {
+    {HardCaseKind::LightNearNearPlane, "light-near-plane", "the light 2^-k from the camera's near plane"},
+    {HardCaseKind::LightInNearPlane, "light-in-near-plane", "the light exactly in the near plane"},
+    {HardCaseKind::Grazing, "grazing", "the light level with a box's face"},
+    {HardCaseKind::EyeInShadow, "eye-in-shadow", "an occluder between the eye and the light"},
+    {HardCaseKind::FarFromOrigin, "far-from-origin", "everything moved 2^20 m or 10^6 m from the origin"},
+    {HardCaseKind::TinyNear, "tiny-near", "near planes from 2^-10 down to 10^-6"},
+    {HardCaseKind::Straddling, "straddling", "an occluder cut by the near plane"},
+    {HardCaseKind::SeveralOccluders, "several-occluders", "two to four occluders"},
+    {HardCaseKind::SeveralLights, "several-lights", "two or three lights"},
+    {HardCaseKind::RealMesh, "real-mesh", "a bundled real mesh"},
+    {HardCaseKind::EyeNearVolume, "eye-near-volume", "the eye next to a plane of AtomicZP's eye count"},
+};
+constexpr const auto& named_values(HardCaseKind) { return kHardCaseKindTable; }
+static_assert(names_are_unique<HardCaseKind>());
+inline constexpr int kHardCaseKindCount = static_cast<int>(named_count<HardCaseKind>());
+std::string_view to_string(HardCaseKind kind);
 // The kinds a sweep samples by default: every kind but EyeNearVolume.
 std::vector<HardCaseKind> all_hard_case_kinds();
 // Throws Error(Usage) naming the unknown kind.

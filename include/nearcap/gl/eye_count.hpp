@@ -52,6 +52,17 @@ FloatEyeCount float_eye_count(const Scene& scene, std::size_t light, Arithmetic 
 FloatEyeCount float_eye_count(const Scene& scene, std::size_t light, const std::vector<std::size_t>& objects,
                               Arithmetic arithmetic = Arithmetic::Separate);
 
+// What the pass takes for one occluder besides its vertices: the float32
+// modelview (view * object, multiply() in `arithmetic`, as the vertex
+// programs' modelview) and whether it mirrors (the sign of its 3x3
+// determinant in float32: h = -1).  A GPU pass gets these as uniforms
+// (render/eye_count_pass.hpp).
+struct EyeCountObject {
+  Mat4f modelview;
+  bool mirrored = false;
+};
+EyeCountObject eye_count_object(const Scene& scene, std::size_t object, Arithmetic arithmetic = Arithmetic::Separate);
+
 // One triangle's test, camera-space float32 inputs (the eye at the origin):
 // what one invocation of the pass decides.  `mirrored`: the modelview
 // reverses orientation (h = -1).

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string_view>
 
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::gl {
@@ -44,8 +45,17 @@ Mat4f to_mat4f(const Affine3d& a);
 //             towards 1 in the standard mapping (Reed 2015; Lapidous and
 //             Jiao 1999).
 enum class DepthMapping { Standard, Reversed };
-std::string_view to_string(DepthMapping m);  // "standard", "reversed"
-std::optional<DepthMapping> depth_mapping_from_string(std::string_view name);
+inline constexpr NamedValue<DepthMapping> kDepthMappingTable[] = {
+    {DepthMapping::Standard, "standard", "GL's -1..1 clip depth, near at 0, GL_LESS"},
+    {DepthMapping::Reversed, "reversed",
+     "glClipControl GL_ZERO_TO_ONE, near at 1, far or infinity at 0, GL_GREATER: with --depth float32, reversed-Z"},
+};
+constexpr const auto& named_values(DepthMapping) { return kDepthMappingTable; }
+static_assert(names_are_unique<DepthMapping>());
+inline std::string_view to_string(DepthMapping m) { return name_of(m); }
+inline std::optional<DepthMapping> depth_mapping_from_string(std::string_view name) {
+  return value_named<DepthMapping>(name);
+}
 
 // glFrustum(left, right, bottom, top, near, far), computed in double and
 // rounded to float32 (what an application computing in double uploads).
@@ -68,8 +78,18 @@ Mat4f frustum_matrix(const Frustum& f, DepthMapping mapping = DepthMapping::Stan
 // clipping keeps); the nudges are the standard row's and are refused there
 // (Error(Usage)).
 enum class InfiniteFar { Exact, Epsilon, Doom3, OneUlp };
-std::string_view to_string(InfiniteFar f);  // "exact", "epsilon", "doom3", "one-ulp"
-std::optional<InfiniteFar> infinite_far_from_string(std::string_view name);
+inline constexpr NamedValue<InfiniteFar> kInfiniteFarTable[] = {
+    {InfiniteFar::Exact, "exact", "-1, -2 near"},
+    {InfiniteFar::Epsilon, "epsilon", "Everitt and Kilgard's 2^-22 margin"},
+    {InfiniteFar::Doom3, "doom3", "-0.999"},
+    {InfiniteFar::OneUlp, "one-ulp", "-(1 - 2^-23)"},
+};
+constexpr const auto& named_values(InfiniteFar) { return kInfiniteFarTable; }
+static_assert(names_are_unique<InfiniteFar>());
+inline std::string_view to_string(InfiniteFar f) { return name_of(f); }
+inline std::optional<InfiniteFar> infinite_far_from_string(std::string_view name) {
+  return value_named<InfiniteFar>(name);
+}
 Mat4f infinite_frustum_matrix(const Frustum& f, InfiniteFar nudge = InfiniteFar::Exact,
                               DepthMapping mapping = DepthMapping::Standard);
 // a * b in float32 (each entry a dot product in the reference order).

@@ -33,6 +33,7 @@
 #include <string_view>
 
 #include "nearcap/gl/float_transforms.hpp"
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::gl {
@@ -57,8 +58,20 @@ enum class LightProjection {
                  // the same frame.  light_frustum() still computes the paper's M_l and P_l for the
                  // conditioning features; no pass uses them.
 };
-std::string_view to_string(LightProjection p);  // "paper", "glfrustum", "composed", "rebased", "clipped-sides"
-std::optional<LightProjection> light_projection_from_string(std::string_view name);
+inline constexpr NamedValue<LightProjection> kLightProjectionTable[] = {
+    {LightProjection::Paper, "paper", ""},
+    {LightProjection::GlFrustum, "glfrustum", ""},
+    {LightProjection::Composed, "composed", "P_l M_l MV in double, rounded once"},
+    {LightProjection::Rebased, "rebased", "origin at the near rectangle's centre"},
+    {LightProjection::ClippedSides, "clipped-sides",
+     "no light frustum: the near-cap is the fan over the edges the clipper leaves in the near plane"},
+};
+constexpr const auto& named_values(LightProjection) { return kLightProjectionTable; }
+static_assert(names_are_unique<LightProjection>());
+inline std::string_view to_string(LightProjection p) { return name_of(p); }
+inline std::optional<LightProjection> light_projection_from_string(std::string_view name) {
+  return value_named<LightProjection>(name);
+}
 
 // How l_near is chosen.
 enum class LightNearRule {
@@ -69,8 +82,17 @@ enum class LightNearRule {
                // its near side instead of clipping there, so no occluder is lost
                // whatever l_near is; l_near = l_far / 2 keeps P_l well-conditioned
 };
-std::string_view to_string(LightNearRule r);  // "paper-ratio", "exact-max", "near-clamp"
-std::optional<LightNearRule> light_near_rule_from_string(std::string_view name);
+inline constexpr NamedValue<LightNearRule> kLightNearRuleTable[] = {
+    {LightNearRule::PaperRatio, "paper-ratio", "l_far min(d / d_max, 1/2)"},
+    {LightNearRule::ExactMax, "exact-max", "the largest admissible, exactly, capped at l_far / 2"},
+    {LightNearRule::NearClamp, "near-clamp", "depth clamp at the near side"},
+};
+constexpr const auto& named_values(LightNearRule) { return kLightNearRuleTable; }
+static_assert(names_are_unique<LightNearRule>());
+inline std::string_view to_string(LightNearRule r) { return name_of(r); }
+inline std::optional<LightNearRule> light_near_rule_from_string(std::string_view name) {
+  return value_named<LightNearRule>(name);
+}
 
 struct LightFrustumChoice {
   LightProjection projection = LightProjection::Paper;

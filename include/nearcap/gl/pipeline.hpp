@@ -19,12 +19,14 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "nearcap/gl/clipping.hpp"
 #include "nearcap/gl/float_transforms.hpp"
 #include "nearcap/gl/rasterizer.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap::gl {
 
@@ -32,6 +34,13 @@ enum class DepthFormat {
   Fixed24,  // GL_DEPTH24_STENCIL8: round(z_w * (2^24 - 1))
   Float32,  // GL_DEPTH32F_STENCIL8: z_w as stored float
 };
+inline constexpr NamedValue<DepthFormat> kDepthFormatTable[] = {
+    {DepthFormat::Fixed24, "fixed24", ""},
+    {DepthFormat::Float32, "float32", ""},
+};
+constexpr const auto& named_values(DepthFormat) { return kDepthFormatTable; }
+static_assert(names_are_unique<DepthFormat>());
+inline std::string_view to_string(DepthFormat f) { return name_of(f); }
 
 enum class CullFace { None, Back, Front };
 // Less: the standard depth mapping's test; Greater: the reversed mapping's.

@@ -28,6 +28,7 @@
 #include <functional>
 
 #include "nearcap/check.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap::gl {
 
@@ -39,6 +40,12 @@ enum class FillRule {
   TopLeft,     // horizontal edges with the interior below, and left edges (interior to the right)
   BottomLeft,  // horizontal edges with the interior above, and left edges: llvmpipe's, in GL window coordinates
 };
+inline constexpr NamedValue<FillRule> kFillRuleTable[] = {
+    {FillRule::BottomLeft, "bottom-left", "llvmpipe's, GL window coordinates"},
+    {FillRule::TopLeft, "top-left", ""},
+};
+constexpr const auto& named_values(FillRule) { return kFillRuleTable; }
+static_assert(names_are_unique<FillRule>());
 
 // The perspective divide and viewport transform's float32 arithmetic.
 enum class ViewportArithmetic {
@@ -48,6 +55,12 @@ enum class ViewportArithmetic {
              // FMA), a vertex the clipper made gets (x r) (W/2) + W/2
              // unfused (Mesa's C clipper); z alike with 1/2, 1/2
 };
+inline constexpr NamedValue<ViewportArithmetic> kViewportArithmeticTable[] = {
+    {ViewportArithmetic::Divide, "divide", "(x/w + 1) W/2"},
+    {ViewportArithmetic::Llvmpipe, "llvmpipe", "1/w, then fused multiply-add where Mesa fuses: what llvmpipe computes"},
+};
+constexpr const auto& named_values(ViewportArithmetic) { return kViewportArithmeticTable; }
+static_assert(names_are_unique<ViewportArithmetic>());
 
 // How a fragment's depth is computed from the triangle's three window z.
 enum class DepthInterpolation {
@@ -66,6 +79,24 @@ enum class DepthInterpolation {
              // the CPU has FMA), clamped to [0, 1]; 24-bit depth as
              // round-to-nearest-even of the float32 product z * (2^24 - 1)
 };
+inline constexpr NamedValue<DepthInterpolation> kDepthInterpolationTable[] = {
+    {DepthInterpolation::Exact, "exact", "from exact barycentrics, rounded once"},
+    {DepthInterpolation::Llvmpipe, "llvmpipe", "Mesa's float32 plane and 24-bit conversion"},
+};
+constexpr const auto& named_values(DepthInterpolation) { return kDepthInterpolationTable; }
+static_assert(names_are_unique<DepthInterpolation>());
+
+// The clipper's arithmetic, as RasterSettings::mesa_clipper holds it.
+enum class ClipperArithmetic {
+  Inside,  // clipping.hpp's clipper and fan: mesa_clipper = false
+  Mesa,    // Mesa's plane order and fan: mesa_clipper = true
+};
+inline constexpr NamedValue<ClipperArithmetic> kClipperArithmeticTable[] = {
+    {ClipperArithmetic::Inside, "inside", "intersections from the inside vertex"},
+    {ClipperArithmetic::Mesa, "mesa", "Mesa's plane order, from the outside vertex, its fan order"},
+};
+constexpr const auto& named_values(ClipperArithmetic) { return kClipperArithmeticTable; }
+static_assert(names_are_unique<ClipperArithmetic>());
 
 // The defaults are llvmpipe's (Mesa 22.3), as observed through a headless EGL
 // context (tests/llvmpipe_rasterizer_test.cpp): 8 sub-pixel bits, pixel

@@ -62,16 +62,27 @@
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/tight_near_plane.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap::gl {
 
 enum class ShadowMethod { ZPass, ZFail, ZPPlus, ZPPlusCorrected, Preload, AtomicZP };
-inline constexpr std::array<ShadowMethod, 6> kAllShadowMethods{ShadowMethod::ZPass,   ShadowMethod::ZFail,
-                                                               ShadowMethod::ZPPlus,  ShadowMethod::ZPPlusCorrected,
-                                                               ShadowMethod::Preload, ShadowMethod::AtomicZP};
-// "zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp"
-std::string_view to_string(ShadowMethod m);
-std::optional<ShadowMethod> shadow_method_from_string(std::string_view name);
+// The methods' names (named_values.hpp), in the order "all" lists them.
+inline constexpr NamedValue<ShadowMethod> kShadowMethodTable[] = {
+    {ShadowMethod::ZPass, "zpass", "Z-pass"},
+    {ShadowMethod::ZFail, "zfail", "Z-fail with caps (Everitt and Kilgard 2002)"},
+    {ShadowMethod::ZPPlus, "zpplus", "ZP+ as published (section 3)"},
+    {ShadowMethod::ZPPlusCorrected, "zpplus-corrected", "ZP+ with section 5's corrections"},
+    {ShadowMethod::Preload, "preload", "Doom 3 BFG's stencil preload"},
+    {ShadowMethod::AtomicZP, "atomiczp", "AtomicZP: the stencil cleared to the eye's count"},
+};
+constexpr const auto& named_values(ShadowMethod) { return kShadowMethodTable; }
+static_assert(names_are_unique<ShadowMethod>());
+inline constexpr auto kAllShadowMethods = values_of<ShadowMethod>();
+inline std::string_view to_string(ShadowMethod m) { return name_of(m); }
+inline std::optional<ShadowMethod> shadow_method_from_string(std::string_view name) {
+  return value_named<ShadowMethod>(name);
+}
 bool uses_near_cap(ShadowMethod m);
 
 enum class ZFailFar {
@@ -81,8 +92,16 @@ enum class ZFailFar {
   FarCap,         // ZF+: the finite frustum, no clamp, and the far-plane cap its clipped volume leaves
                   // (near_plane_cap.hpp: far_plane_cap_triangles), counted as Z-fail counts back faces
 };
-std::string_view to_string(ZFailFar f);  // "infinite", "clamp", "clamp-far", "far-cap"
-std::optional<ZFailFar> zfail_far_from_string(std::string_view name);
+inline constexpr NamedValue<ZFailFar> kZFailFarTable[] = {
+    {ZFailFar::Infinite, "infinite", ""},
+    {ZFailFar::DepthClamp, "clamp", "GL_DEPTH_CLAMP"},
+    {ZFailFar::DepthClampFar, "clamp-far", "far plane only"},
+    {ZFailFar::FarCap, "far-cap", "ZF+: no clamp, the far-plane cap of the clipped volume"},
+};
+constexpr const auto& named_values(ZFailFar) { return kZFailFarTable; }
+static_assert(names_are_unique<ZFailFar>());
+inline std::string_view to_string(ZFailFar f) { return name_of(f); }
+inline std::optional<ZFailFar> zfail_far_from_string(std::string_view name) { return value_named<ZFailFar>(name); }
 
 // How a ZP+ method's switch to Z-fail (case D, or no light frustum) clamps
 // depth: the paper's NV_depth_clamp, or far only.  A type of its own, without
@@ -100,11 +119,28 @@ enum class SwitchClamp {
 // cap is LightProjection::ClippedSides: that ZP+ is Z-pass plus a cap the
 // sides' own projection clips, and takes this choice like Z-pass.
 enum class ZPassFar { Finite, Infinite };
-std::string_view to_string(ZPassFar f);  // "finite", "infinite"
-std::optional<ZPassFar> zpass_far_from_string(std::string_view name);
+inline constexpr NamedValue<ZPassFar> kZPassFarTable[] = {
+    {ZPassFar::Finite, "finite", "its own frustum"},
+    {ZPassFar::Infinite, "infinite",
+     "the infinite far plane, as Doom 3 draws; kept finite in a frame with a ZP+ method"},
+};
+constexpr const auto& named_values(ZPassFar) { return kZPassFarTable; }
+static_assert(names_are_unique<ZPassFar>());
+inline std::string_view to_string(ZPassFar f) { return name_of(f); }
+inline std::optional<ZPassFar> zpass_far_from_string(std::string_view name) { return value_named<ZPassFar>(name); }
 
-std::string_view to_string(SwitchClamp c);  // "clamp", "clamp-far", "far-cap"
-std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name);
+// The same names as the ZFailFar each one is (as_zfail_far).
+inline constexpr NamedValue<SwitchClamp> kSwitchClampTable[] = {
+    {SwitchClamp::DepthClamp, "clamp", ""},
+    {SwitchClamp::DepthClampFar, "clamp-far", ""},
+    {SwitchClamp::FarCap, "far-cap", "ZF+: no clamp, the far-plane cap"},
+};
+constexpr const auto& named_values(SwitchClamp) { return kSwitchClampTable; }
+static_assert(names_are_unique<SwitchClamp>());
+inline std::string_view to_string(SwitchClamp c) { return name_of(c); }
+inline std::optional<SwitchClamp> switch_clamp_from_string(std::string_view name) {
+  return value_named<SwitchClamp>(name);
+}
 ZFailFar as_zfail_far(SwitchClamp c);
 
 // Volume culling (volume_bounds.hpp): each occluder's draws limited to the
@@ -113,9 +149,18 @@ ZFailFar as_zfail_far(SwitchClamp c);
 // speed argument; the real GL needs GL_EXT_depth_bounds_test for depth
 // bounds).
 enum class VolumeCulling { None, Scissor, DepthBounds, Both };
-std::string_view to_string(VolumeCulling c);  // "none", "scissor", "depth-bounds", "both"
-std::optional<VolumeCulling> volume_culling_from_string(std::string_view name);
-std::vector<std::string> volume_culling_names();
+inline constexpr NamedValue<VolumeCulling> kVolumeCullingTable[] = {
+    {VolumeCulling::None, "none", ""},
+    {VolumeCulling::Scissor, "scissor", "glScissor"},
+    {VolumeCulling::DepthBounds, "depth-bounds", "GL_EXT_depth_bounds_test"},
+    {VolumeCulling::Both, "both", ""},
+};
+constexpr const auto& named_values(VolumeCulling) { return kVolumeCullingTable; }
+static_assert(names_are_unique<VolumeCulling>());
+inline std::string_view to_string(VolumeCulling c) { return name_of(c); }
+inline std::optional<VolumeCulling> volume_culling_from_string(std::string_view name) {
+  return value_named<VolumeCulling>(name);
+}
 
 struct EmulationSettings {
   RasterSettings raster;

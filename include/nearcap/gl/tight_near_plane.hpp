@@ -20,6 +20,7 @@
 #include <optional>
 #include <string_view>
 
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::gl {
@@ -28,8 +29,15 @@ enum class NearPlane {
   Scene,  // the scene file's
   Tight,  // half the depth of the nearest point in view, when farther
 };
-std::string_view to_string(NearPlane p);  // "scene", "tight"
-std::optional<NearPlane> near_plane_from_string(std::string_view name);
+inline constexpr NamedValue<NearPlane> kNearPlaneTable[] = {
+    {NearPlane::Scene, "scene", "the scene file's"},
+    {NearPlane::Tight, "tight",
+     "moved out to half the depth of the nearest point in view, when farther: the same image, more depth precision"},
+};
+constexpr const auto& named_values(NearPlane) { return kNearPlaneTable; }
+static_assert(names_are_unique<NearPlane>());
+inline std::string_view to_string(NearPlane p) { return name_of(p); }
+inline std::optional<NearPlane> near_plane_from_string(std::string_view name) { return value_named<NearPlane>(name); }
 
 // The scene camera's frustum with the tight near plane: the same frustum
 // when no triangle is in view or half the nearest depth is not beyond the

@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "nearcap/named_values.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::raytrace {
@@ -45,7 +46,14 @@ enum class ShadowEpsilon {
                 // Embree filter ignores the triangle it starts on (primitive
                 // ID), so only other triangles can shadow the point.
 };
-std::string_view to_string(ShadowEpsilon e);  // "fixed", "relative", "primitive-id"
+inline constexpr NamedValue<ShadowEpsilon> kShadowEpsilonTable[] = {
+    {ShadowEpsilon::Fixed, "fixed", "1e-4 along the normal"},
+    {ShadowEpsilon::Relative, "relative", "1e-5 times the point's largest coordinate"},
+    {ShadowEpsilon::PrimitiveId, "primitive-id", "no offset; Embree ignores the starting triangle"},
+};
+constexpr const auto& named_values(ShadowEpsilon) { return kShadowEpsilonTable; }
+static_assert(names_are_unique<ShadowEpsilon>());
+std::string_view to_string(ShadowEpsilon e);
 std::optional<ShadowEpsilon> shadow_epsilon_from_string(std::string_view name);
 
 struct RaytraceSettings {

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "nearcap/gl/pipeline.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap::render {
 
@@ -34,7 +35,13 @@ namespace nearcap::render {
 //   recorded  the emulation's float32 results, uploaded (a pass-through shader);
 //   glsl      the GLSL programs above, run by the GL on the object-space inputs.
 enum class VertexStage { Recorded, Glsl };
-std::string_view to_string(VertexStage s);  // "recorded", "glsl"
+inline constexpr NamedValue<VertexStage> kVertexStageTable[] = {
+    {VertexStage::Glsl, "glsl", "the GL's own GLSL vertex programs, Figure 7 among them, on the object-space vertices"},
+    {VertexStage::Recorded, "recorded", "the emulation's float32 results, uploaded"},
+};
+constexpr const auto& named_values(VertexStage) { return kVertexStageTable; }
+static_assert(names_are_unique<VertexStage>());
+std::string_view to_string(VertexStage s);
 std::optional<VertexStage> vertex_stage_from_string(std::string_view name);
 
 // The vertex shader's source: `program`'s (nullopt: pass-through) with

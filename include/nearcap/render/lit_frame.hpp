@@ -5,7 +5,8 @@
 // programs from the draw's object-space inputs and uniforms (LitFrameOptions::
 // vertex_stage), or uploaded as the emulation computed them.
 //   1. the depth pre-pass, writing depth and the ambient colour;
-//   2. per light: the stencil cleared, that light's near-cap and volume
+//   2. per light: the stencil cleared (AtomicZP: set to the eye count by
+//      its GPU pass, render/eye_count_pass.hpp), that light's near-cap and volume
 //      draws (its ShadowFrame::draws, recorded), then every object again
 //      with its diffuse colour for the light, depth test GL_EQUAL (the same
 //      clip-space vertices, so the same depths), stencil test EQUAL 0, added
@@ -24,6 +25,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "nearcap/gl/shadow_methods.hpp"
@@ -76,6 +78,10 @@ struct LitFramePasses {
   // The same passes by GL_TIME_ELAPSED queries: a GPU's own time; llvmpipe's
   // queries do not measure its rasterization (far below the wall clock).
   double gpu_depth_ms = 0, gpu_stencil_ms = 0, gpu_lit_ms = 0;
+  // AtomicZP's eye-count pass (render/eye_count_pass.hpp: the count and its
+  // write into the stencil, a glFinish after), wall time, every light; a
+  // part of stencil_ms.
+  double eye_count_ms = 0;
 };
 
 // One pass kind of one light frame, timed on its own
@@ -103,11 +109,17 @@ struct LitFrame {
   // With read_stencils: each light's stencil as its volumes left it (row 0
   // at the bottom, like ShadowFrame::stencil), one per light frame.
   std::vector<std::vector<std::uint8_t>> stencils;
+  // With read_stencils: each light frame's eye count as the GL's pass
+  // counted it (AtomicZP frames; nullopt for the others), read back after
+  // its stencil pass.
+  std::vector<std::optional<std::size_t>> eye_counts;
 };
 
 // Draws lit frames in the current context, keeping its GLSL programs
 // between frames (as a renderer links its programs once: a program's first
 // draw on llvmpipe compiles its machine code, which no frame should pay).
+class EyeCountPass;
+
 class LitFrameRenderer {
  public:
   LitFrameRenderer();
@@ -123,6 +135,7 @@ class LitFrameRenderer {
 
  private:
   std::unique_ptr<ShadowPrograms> programs_;
+  std::unique_ptr<EyeCountPass> eye_pass_;  // made for the first AtomicZP frame
 };
 
 // One frame with a renderer of its own (its programs compiled for it).
