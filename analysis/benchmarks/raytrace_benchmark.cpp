@@ -7,7 +7,11 @@
 //   exact_status   the exact reference with PixelContent::ShadowStatus: what
 //                  the ray tracer computes (the surface seen, in shadow or
 //                  not), camera-space scene and grids included;
-//   exact_full     the whole reference (near-cap count and stencil count).
+//   exact_full     the whole reference (near-cap count and stencil count);
+//   exact_moving   exact_status as a camera path has it: the camera moves
+//                  every iteration (two views in turn, 1 cm apart), the light
+//                  side comes from a LightSetupCache kept across iterations
+//                  (light_setup.hpp), the eye side is built anew.
 // Counters: each one's mean milliseconds, its setup and tracing parts, the
 // ratios exact / embree (target for exact_status: <= 2 at 1920x1080 with the
 // bunny, and on the sweep's 160x120 frames), and the pixels whose shadow
@@ -39,7 +43,11 @@ void BM_ExactVsEmbree(benchmark::State& state) {
     scene.camera.height = static_cast<int>(state.range(2));
   }
   double embree_build = 0, embree_trace = 0, status_setup = 0, status_trace = 0, full_setup = 0, full_trace = 0;
+  double moving_setup = 0, moving_trace = 0;
   std::size_t disagree = 0, seen = 0;
+  nearcap::LightSetupCache cache;
+  nearcap::Scene moving = scene;  // shares the meshes
+  bool step = false;
   for (auto _ : state) {
     // Each side alone: Embree's device is released before the exact side runs.
     nearcap::raytrace::RaytraceFrame rt;
@@ -76,6 +84,18 @@ void BM_ExactVsEmbree(benchmark::State& state) {
       full_trace += ref.trace_ms;
       benchmark::DoNotOptimize(ref.stencil.data());
     }
+    moving.camera.view.rows[0][3] = scene.camera.view.rows[0][3] + (step ? 0.01 : 0.0);
+    step = !step;
+    t0 = std::chrono::steady_clock::now();
+    {
+      const nearcap::CameraSpaceScene cs(moving);
+      const nearcap::PixelReferenceTracer tracer(cs, 0, &cache);
+      const double setup = ms_since(t0);
+      const nearcap::PixelReference ref = nearcap::compute_pixel_reference(tracer, nearcap::PixelContent::ShadowStatus);
+      moving_setup += setup;
+      moving_trace += ref.trace_ms;
+      benchmark::DoNotOptimize(ref.stencil.data());
+    }
   }
   const double n = static_cast<double>(state.iterations());
   const double embree = (embree_build + embree_trace) / n, status = (status_setup + status_trace) / n,
@@ -89,7 +109,11 @@ void BM_ExactVsEmbree(benchmark::State& state) {
   state.counters["exact_status_trace_ms"] = status_trace / n;
   state.counters["exact_status_ms"] = status;
   state.counters["exact_full_ms"] = full;
+  state.counters["exact_moving_setup_ms"] = moving_setup / n;
+  state.counters["exact_moving_trace_ms"] = moving_trace / n;
+  state.counters["exact_moving_ms"] = (moving_setup + moving_trace) / n;
   state.counters["ratio_status"] = status / embree;
+  state.counters["ratio_moving"] = (moving_setup + moving_trace) / n / embree;
   state.counters["ratio_full"] = full / embree;
   state.counters["status_disagreements"] = static_cast<double>(disagree);
   state.counters["pixels_compared"] = static_cast<double>(seen);

@@ -5,9 +5,13 @@
 // the pixels, and say how many predicate calls each stage made.
 #include <benchmark/benchmark.h>
 
+#include <tbb/global_control.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <string>
 
+#include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -46,5 +50,46 @@ void BM_PixelReference(benchmark::State& state) {
   state.counters["exact_calls"] = static_cast<double>(exact);
 }
 BENCHMARK(BM_PixelReference)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// The reference's setup alone (building the tracer) on `threads` threads
+// (tbb::global_control), at the scene's resolution:
+//   cold_ms   nothing cached: the light side and the eye side;
+//   warm_ms   the light side from a LightSetupCache (the camera moved 1 cm):
+//             the eye side alone, what a camera path pays per frame.
+// The serial fraction of each (Amdahl): f = 2 T2 / T1 - 1 from the runs with
+// threads 1 and 2, on an otherwise idle machine:
+//   ./analysis/benchmarks/nearcap_benchmarks --benchmark_filter=ReferenceSetup
+void BM_ReferenceSetup(benchmark::State& state) {
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(state.range(0)));
+  const nearcap::Scene s = nearcap::load_scene(bench_scene());
+  nearcap::Scene moved = s;
+  nearcap::LightSetupCache cache;
+  double cold = 0, warm = 0;
+  bool step = false;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    {
+      const nearcap::CameraSpaceScene cs(s);
+      const nearcap::PixelReferenceTracer tracer(cs, 0);
+      benchmark::DoNotOptimize(&tracer);
+    }
+    cold += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    moved.camera.view.rows[0][3] = s.camera.view.rows[0][3] + (step ? 0.01 : 0.0);
+    step = !step;
+    t0 = std::chrono::steady_clock::now();
+    {
+      const nearcap::CameraSpaceScene cs(moved);
+      const nearcap::PixelReferenceTracer tracer(cs, 0, &cache);
+      benchmark::DoNotOptimize(&tracer);
+    }
+    warm += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["threads"] = static_cast<double>(state.range(0));
+  state.counters["cold_ms"] = cold / n;
+  state.counters["warm_ms"] = warm / n;
+}
+BENCHMARK(BM_ReferenceSetup)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 }  // namespace

@@ -16,6 +16,7 @@ import random
 import sys
 
 PERTURBED = ["frame_ms", "frame_again_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms",
+             "reference_setup_ms", "reference_trace_ms",
              "light_near_distance", "l_far_over_width", "delta_over_width", "skew", "cond_projection", "cond_light_transform",
              "coordinate_over_size", "depth_step_over_size", "cap_window_error_px", "cap_window_error_ulp"]
 

@@ -57,7 +57,7 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
   std::vector<SweepRow> rows;
   for (std::size_t light = 0; light < scene.lights.size(); ++light) {
     const auto t0 = std::chrono::steady_clock::now();
-    const PixelReferenceTracer tracer(cs, light);
+    const PixelReferenceTracer tracer(cs, light, options.light_setups);
     const PixelReference ref = compute_pixel_reference(tracer);
     const double reference_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -128,6 +128,8 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         r.exact_cases = exact_cases;
         r.case_disagreements = engine.total(light);
         r.reference_ms = reference_ms;
+        r.reference_setup_ms = ref.setup_ms;
+        r.reference_trace_ms = ref.trace_ms;
         r.decide_ms = entry.decide_ms;
         r.features = features;
         gl::ShadowFrame frame;
@@ -194,7 +196,8 @@ std::string csv_header() {
   for (const char* pass : {"depth", "near_cap", "volume"})
     h += std::string(",") + pass + "_triangles," + pass + "_fragments," + pass + "_depth_pass," + pass +
          "_depth_fail," + pass + "_ms";
-  h += ",setup_ms,frame_ms,frame_again_ms,decide_ms,reference_ms,crack_distance_ms,replay\n";
+  h += ",setup_ms,frame_ms,frame_again_ms,decide_ms,reference_ms,crack_distance_ms,replay,reference_setup_ms,reference_"
+       "trace_ms\n";
   return h;
 }
 
@@ -227,7 +230,7 @@ std::string csv_line(const SweepRow& r) {
   s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',';
   if (r.frame_again_ms) s << number(*r.frame_again_ms);
   s << ',' << number(r.decide_ms) << ',' << number(r.reference_ms) << ',' << number(r.crack_distance_ms) << ','
-    << csv_field(r.replay) << '\n';
+    << csv_field(r.replay) << ',' << number(r.reference_setup_ms) << ',' << number(r.reference_trace_ms) << '\n';
   return s.str();
 }
 

@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
 
 #include "nearcap/analysis/sweep.hpp"
 #include "nearcap/error.hpp"
@@ -207,6 +209,10 @@ SweepFileCheck check_sweep_file(int fd, const std::string& file, const SweepLayo
       throw Error(ErrorKind::Schema, file + ": line 1 is not the header of this nearcap's sweep files");
   }
   const std::size_t columns = static_cast<std::size_t>(std::count(header.begin(), header.end(), ',')) + 1;
+  // The replay column's index (columns are appended after it).
+  const std::string_view before_replay(header.data(), header.find(",replay,"));
+  const std::size_t replay_column =
+      static_cast<std::size_t>(std::count(before_replay.begin(), before_replay.end(), ',')) + 1;
   const std::size_t per_light = layout.variants.size() * layout.entries.size();
   RecordReader reader(fd, file, header.size());
   SweepFileCheck check;
@@ -250,7 +256,7 @@ SweepFileCheck check_sweep_file(int fd, const std::string& file, const SweepLayo
     if (id != group.id)
       throw fault("configuration '" + id + "' inside the rows of configuration '" + group.id + "' (row " +
                   std::to_string(seen + 1) + " of " + std::to_string(size) + " missing)");
-    if (row[1] != group.source || row[2] != group.kind || row[3] != group.detail || row.back() != group.replay)
+    if (row[1] != group.source || row[2] != group.kind || row[3] != group.detail || row[replay_column] != group.replay)
       throw fault("configuration '" + id +
                   "' has other source, kind, detail or replay columns than these options make");
     if (size == 1 && method == "rejected") {

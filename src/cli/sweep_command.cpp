@@ -484,6 +484,8 @@ void run_sweep(const SweepCommandOptions& o) {
   if (options.switch_policy) layout.entries.emplace_back("policy");
   MeshCache meshes;
   options.meshes = &meshes;
+  LightSetupCache light_setups;
+  options.light_setups = &light_setups;
   const Configurations configurations(o);
   const std::uint64_t total = configurations.count();
   MpiWorld* const world_ptr = mpi_world();  // made by main

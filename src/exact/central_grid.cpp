@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -306,46 +307,72 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
     face.du = width / face.nu;
     face.dv = height / face.nv;
 
-    // Two passes over a CSR layout: count, then fill.
+    // Two passes over a CSR layout: count, then fill.  Each pass runs on all
+    // cores over bands of cell rows; a band's task visits every placed
+    // triangle in order and touches only its own rows, so each cell lists its
+    // triangles in the order a sequential pass gives.
     const std::size_t cell_count = static_cast<std::size_t>(face.nu) * static_cast<std::size_t>(face.nv);
     std::vector<std::uint32_t> counts(cell_count + 1, 0);
     std::vector<Entry> whole;
-    auto for_cells = [&](const Box& b, auto&& fn) {
-      const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
-      const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
-      for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) fn(static_cast<std::size_t>(j) * face.nu + i);
+    struct CellSpan {
+      int i0, i1, j0, j1;
     };
-    for (const Placed& p : placed) {
-      if (p.placement.placement == Placement::Boxed)
-        for_cells(p.placement.box, [&](std::size_t c) { ++counts[c]; });
-      else
+    auto span_of = [&](const Box& b) {
+      return CellSpan{cell_index(b.u_lo, face.u0, face.du, face.nu), cell_index(b.u_hi, face.u0, face.du, face.nu),
+                      cell_index(b.v_lo, face.v0, face.dv, face.nv), cell_index(b.v_hi, face.v0, face.dv, face.nv)};
+    };
+    std::vector<CellSpan> spans(placed.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, placed.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k < r.end(); ++k)
+                          if (placed[k].placement.placement == Placement::Boxed)
+                            spans[k] = span_of(placed[k].placement.box);
+                      });
+    // One band per thread: every band scans the whole list, so more bands
+    // than threads would only repeat that scan.
+    const int bands = std::max(1, std::min(face.nv, tbb::this_task_arena::max_concurrency()));
+    auto for_band_cells = [&](auto&& fn) {
+      tbb::parallel_for(0, bands, [&](int band) {
+        const int row_lo = static_cast<int>(static_cast<long long>(face.nv) * band / bands);
+        const int row_hi = static_cast<int>(static_cast<long long>(face.nv) * (band + 1) / bands);
+        for (std::size_t k = 0; k < placed.size(); ++k) {
+          if (placed[k].placement.placement != Placement::Boxed) continue;
+          const CellSpan& sp = spans[k];
+          for (int j = std::max(sp.j0, row_lo); j <= std::min(sp.j1, row_hi - 1); ++j)
+            for (int i = sp.i0; i <= sp.i1; ++i) fn(k, static_cast<std::size_t>(j) * face.nu + i);
+        }
+      });
+    };
+    for_band_cells([&](std::size_t, std::size_t c) { ++counts[c]; });
+    for (const Placed& p : placed)
+      if (p.placement.placement != Placement::Boxed)
         whole.push_back({triangles[p.index].id, p.placement.axis_lower_bound});
-    }
     constexpr float kInf = std::numeric_limits<float>::infinity();
     // Only ids listed in a cell are ever looked up: a face that lists none
     // needs no boxes.
     face.box_of.assign(placed.empty() ? 0 : static_cast<std::size_t>(max_id) + 1,
                        std::array<float, 4>{kInf, -kInf, kInf, -kInf});
-    for (const Placed& p : placed) {
-      std::array<float, 4>& b = face.box_of[triangles[p.index].id];
-      if (p.placement.placement == Placement::Whole) {
-        b = {-kInf, kInf, -kInf, kInf};
-      } else {
-        const Box& x = p.placement.box;
-        b = {float_below(x.u_lo), float_above(x.u_hi), float_below(x.v_lo), float_above(x.v_hi)};
-      }
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, placed.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const Placed& p = placed[k];
+                          std::array<float, 4>& b = face.box_of[triangles[p.index].id];
+                          if (p.placement.placement == Placement::Whole) {
+                            b = {-kInf, kInf, -kInf, kInf};
+                          } else {
+                            const Box& x = p.placement.box;
+                            b = {float_below(x.u_lo), float_above(x.u_hi), float_below(x.v_lo), float_above(x.v_hi)};
+                          }
+                        }
+                      });
     face.offsets.assign(cell_count + 1, 0);
     for (std::size_t c = 0; c < cell_count; ++c)
       face.offsets[c + 1] = face.offsets[c] + counts[c] + static_cast<std::uint32_t>(whole.size());
     face.entries.resize(face.offsets[cell_count]);
     std::vector<std::uint32_t> fill(face.offsets.begin(), face.offsets.end() - 1);
-    for (const Placed& p : placed)
-      if (p.placement.placement == Placement::Boxed)
-        for_cells(p.placement.box, [&](std::size_t c) {
-          face.entries[fill[c]++] = {triangles[p.index].id, p.placement.axis_lower_bound};
-        });
+    for_band_cells([&](std::size_t k, std::size_t c) {
+      face.entries[fill[c]++] = {triangles[placed[k].index].id, placed[k].placement.axis_lower_bound};
+    });
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, cell_count, 256), [&](const tbb::blocked_range<std::size_t>& r) {
           for (std::size_t c = r.begin(); c < r.end(); ++c) {

@@ -216,7 +216,7 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
     const Region points = region_of(q);
     const Vec3d w{points.centre.x - l.x.v, points.centre.y - l.y.v, points.centre.z - l.z.v};
     const double err = points.half_extent + std::max({l.x.e, l.y.e, l.z.e}) * (1.0 + 0x1p-40);
-    listed = t.light_grid->candidates_in(w, err, ids);
+    listed = t.region_light_grid().candidates_in(w, err, ids);
   }
   if (!listed) {
     ids.clear();

@@ -17,8 +17,12 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 }  // namespace
 
-PixelReferenceTracer::PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light)
-    : impl_(std::make_unique<Impl>(scene, light)) {}
+PixelReferenceTracer::PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache) {
+  const auto t0 = std::chrono::steady_clock::now();
+  impl_ = std::make_unique<Impl>(scene, light, cache);
+  impl_->setup_ms = elapsed_ms(t0);
+}
+double PixelReferenceTracer::setup_ms() const { return impl_->setup_ms; }
 PixelReferenceTracer::~PixelReferenceTracer() = default;
 
 PixelSample PixelReferenceTracer::trace(int i, int j, FilterStats* stats) const {
@@ -86,13 +90,12 @@ PixelReference trace_every_pixel(const PixelReferenceTracer& tracer, double setu
 }  // namespace
 
 PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light, PixelContent content) {
-  const auto t0 = std::chrono::steady_clock::now();
   const PixelReferenceTracer tracer(scene, light);
-  return trace_every_pixel(tracer, elapsed_ms(t0), content);
+  return trace_every_pixel(tracer, tracer.setup_ms(), content);
 }
 
 PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer, PixelContent content) {
-  return trace_every_pixel(tracer, 0.0, content);
+  return trace_every_pixel(tracer, tracer.setup_ms(), content);
 }
 
 }  // namespace nearcap

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <tbb/blocked_range.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "nearcap/exact/light_facing.hpp"
+#include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/perturbation.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/exact/segment_crossing.hpp"
@@ -96,61 +98,46 @@ struct PixelReferenceTracer::Impl {
   std::vector<EyeTriangle> eye;
   std::vector<LightTriangle> lit;
   std::unique_ptr<CentralGrid> eye_grid;
-  std::unique_ptr<CentralGrid> light_grid;
+  // The camera-independent light side (light_setup.hpp): the facing, the
+  // lit triangles and their grid around the light, in world space.
+  std::shared_ptr<const LightSetup> setup;
+  const CentralGrid* light_grid = nullptr;  // setup->grid
+  WorldDirections to_world;
+  double setup_ms = 0;  // building this (PixelReferenceTracer's constructor)
+  mutable tbb::collaborative_once_flag region_light_grid_once;
+  mutable std::unique_ptr<CentralGrid> region_light_grid_;
   // Exact coplanarity of (light triangle, visible triangle) pairs, per thread:
   // the two triangles of a flat quad make the side form vanish identically,
   // and without this cache each such pixel would pay for rationals.
   mutable tbb::enumerable_thread_specific<std::unordered_map<std::uint64_t, bool>> coplanar_cache;
 
-  Impl(const CameraSpaceScene& scene, std::size_t k) : cs(scene), light(k) {
-    // Every triangle's data, per face on all cores, then the light-facing
-    // ones gathered in order; the two grids are built side by side.
+  Impl(const CameraSpaceScene& scene, std::size_t k, LightSetupCache* cache)
+      : cs(scene), light(k), to_world(scene.scene().camera.view) {
+    // The light side (from the cache, or built) beside the eye side: every
+    // triangle's camera-space data, per face on all cores, then the grid
+    // around the eye; then the lit triangles' camera-space data.
     std::size_t total = 0;
     std::vector<std::size_t> first_face(cs.object_count() + 1, 0);
     for (std::size_t o = 0; o < cs.object_count(); ++o) first_face[o + 1] = total += cs.mesh(o).triangles.size();
     eye.resize(total);
-    std::vector<CentralGrid::Triangle> eye_items(total), light_items;
-    std::vector<std::uint8_t> is_lit(total, 0);
+    tbb::parallel_invoke([&] { setup = light_setup(cs, light, cache); },
+                         [&] {
+                           std::vector<CentralGrid::Triangle> eye_items(total);
+                           for (std::size_t o = 0; o < cs.object_count(); ++o)
+                             build_eye_triangles(o, first_face[o], eye_items);
+                           // Half a cell per triangle around the eye: building
+                           // the grid is a large part of a small frame, and
+                           // tracing 1920x1080 is no slower for it (measured on
+                           // the bunny).
+                           eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 0.5);
+                         });
+    light_grid = setup->grid.get();
     const BoundedVec3& l = cs.light(light);
-    for (std::size_t o = 0; o < cs.object_count(); ++o) {
-      const TriangleMesh& mesh = cs.mesh(o);
-      std::vector<Facing> facing;
-      if (cs.object(o).occluder) facing = light_facing(cs, o, light, nullptr);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1024),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t fi = r.begin(); fi < r.end(); ++fi) {
-                            const auto f = static_cast<FaceIndex>(fi);
-                            const auto& t = mesh.triangles[f];
-                            const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
-                            EyeTriangle et{{cross(a, b), cross(b, c), cross(c, a)},
-                                           plane_data(a, b, c),
-                                           static_cast<std::uint32_t>(o),
-                                           f,
-                                           Sign::Zero};
-                            et.sigma = sign_of_d(et, nullptr);
-                            et.before_near = true;
-                            for (const BoundedVec3* v : {&a, &b, &c})
-                              et.before_near =
-                                  et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
-                            const auto eye_index = static_cast<std::uint32_t>(first_face[o] + fi);
-                            eye[eye_index] = et;
-                            eye_items[eye_index] = CentralGrid::Triangle{
-                                {cs.vertex_estimate(o, t[0]), cs.vertex_estimate(o, t[1]), cs.vertex_estimate(o, t[2])},
-                                cs.max_error(o),
-                                eye_index};
-                            if (!facing.empty() && facing[f] == Facing::Front) is_lit[eye_index] = 1;
-                          }
-                        });
-    }
-    std::vector<std::uint32_t> lit_eye_index;
-    for (std::size_t i = 0; i < total; ++i)
-      if (is_lit[i]) lit_eye_index.push_back(static_cast<std::uint32_t>(i));
-    lit.resize(lit_eye_index.size());
-    light_items.resize(lit_eye_index.size());
+    lit.resize(setup->lit.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lit.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t m = r.begin(); m < r.end(); ++m) {
-                          const std::uint32_t eye_index = lit_eye_index[m];
+                          const std::uint32_t eye_index = setup->lit[m];
                           const EyeTriangle& et = eye[eye_index];
                           const auto& t = cs.mesh(et.object).triangles[et.face];
                           const std::array<BoundedVec3, 3> v{cs.vertex(et.object, t[0]), cs.vertex(et.object, t[1]),
@@ -165,20 +152,34 @@ struct PixelReferenceTracer::Impl {
                           lt.face = et.face;
                           lt.light_side = cs.handedness(et.object);
                           lt.eye_index = eye_index;
-                          light_items[m] = eye_items[eye_index];
-                          light_items[m].id = static_cast<std::uint32_t>(m);
                         }
                       });
-    // Half a cell per triangle around the eye: building the grid is a large
-    // part of a small frame, and tracing 1920x1080 is no slower for it
-    // (measured on the bunny).
-    const double light_error = std::max({l.x.e, l.y.e, l.z.e});
-    tbb::parallel_invoke(
-        [&] {
-          eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 0.5);
-        },
-        [&] {
-          light_grid = std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, light_error, light_items, 1.0);
+  }
+
+  void build_eye_triangles(std::size_t o, std::size_t first, std::vector<CentralGrid::Triangle>& eye_items) {
+    const TriangleMesh& mesh = cs.mesh(o);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t fi = r.begin(); fi < r.end(); ++fi) {
+            const auto f = static_cast<FaceIndex>(fi);
+            const auto& t = mesh.triangles[f];
+            const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
+            EyeTriangle et{{cross(a, b), cross(b, c), cross(c, a)},
+                           plane_data(a, b, c),
+                           static_cast<std::uint32_t>(o),
+                           f,
+                           Sign::Zero};
+            et.sigma = sign_of_d(et, nullptr);
+            et.before_near = true;
+            for (const BoundedVec3* v : {&a, &b, &c})
+              et.before_near = et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
+            const auto eye_index = static_cast<std::uint32_t>(first + fi);
+            eye[eye_index] = et;
+            eye_items[eye_index] = CentralGrid::Triangle{
+                {cs.vertex_estimate(o, t[0]), cs.vertex_estimate(o, t[1]), cs.vertex_estimate(o, t[2])},
+                cs.max_error(o),
+                eye_index};
+          }
         });
   }
 
@@ -415,12 +416,44 @@ struct PixelReferenceTracer::Impl {
   }
 
   // The light-grid query for direction w = target - l, target's estimate within
-  // `target_error`; nothing certain -> every front-facing triangle.
+  // its certified error: the camera-space direction mapped to world space,
+  // where the grid is; nothing certain -> every front-facing triangle.
   CentralGrid::EntryRange light_candidates(const BoundedVec3& target) const {
     const BoundedVec3 w = target - cs.light(light);
     const double err = std::max({w.x.e, w.y.e, w.z.e});
     if (!std::isfinite(err)) return light_grid->all();
-    return light_grid->candidates({w.x.v, w.y.v, w.z.v}, err);
+    double world_error = 0;
+    const Vec3d ww = to_world.apply({w.x.v, w.y.v, w.z.v}, err, world_error);
+    if (!std::isfinite(world_error)) return light_grid->all();
+    return light_grid->candidates(ww, world_error);
+  }
+  // The lit triangles binned around the light in CAMERA space, for the crack
+  // distance's region queries (crack_distance.cpp).  A region proof fails on
+  // any listed triangle it cannot prove never crossed, so a level depends on
+  // which candidates a grid lists, not only on the geometry; this is the grid
+  // the levels are defined with.  Built on the first region query (a frame
+  // whose wrong pixels are measured); the pixel traces use the world-space
+  // grid, whose candidates never change an answer.
+  const CentralGrid& region_light_grid() const {
+    tbb::collaborative_call_once(region_light_grid_once, [&] {
+      const BoundedVec3& l = cs.light(light);
+      std::vector<CentralGrid::Triangle> items(lit.size());
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, lit.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t m = r.begin(); m < r.end(); ++m) {
+              const LightTriangle& lt = lit[m];
+              const auto& t = cs.mesh(lt.object).triangles[lt.face];
+              items[m] =
+                  CentralGrid::Triangle{{cs.vertex_estimate(lt.object, t[0]), cs.vertex_estimate(lt.object, t[1]),
+                                         cs.vertex_estimate(lt.object, t[2])},
+                                        cs.max_error(lt.object),
+                                        static_cast<std::uint32_t>(m)};
+            }
+          });
+      region_light_grid_ =
+          std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}), items, 1.0);
+    });
+    return *region_light_grid_;
   }
 
   // No light triangle remembered (ShadowHint).

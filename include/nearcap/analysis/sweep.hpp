@@ -22,6 +22,7 @@
 #include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/exact/crack_distance.hpp"
+#include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/quad_case.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -68,7 +69,11 @@ struct SweepRow {
   std::size_t occluders = 0, zpass_wrong_occluders = 0;
   long long false_negatives = -1, false_positives = -1;
   PassWork setup, depth, near_cap, volume;
-  double reference_ms = 0;       // the exact reference for this light (shared by its methods)
+  double reference_ms = 0;  // the exact reference for this light (shared by its methods)
+  // Its two parts: building the tracer (the light side, reused across frames
+  // when the objects and the light stay put, and the eye side: light_setup.hpp)
+  // and tracing the pixels.
+  double reference_setup_ms = 0, reference_trace_ms = 0;
   double decide_ms = 0;          // the switch policy's decision (its row only)
   double crack_distance_ms = 0;  // measuring this method's wrong pixels not measured before
   // Z-pass's rows: the same frame timed a second time, in a batch of its own
@@ -99,6 +104,9 @@ struct SweepOptions {
   // The switch policy, one row (method "policy") when given.
   std::optional<SwitchPolicy> switch_policy;
   MeshCache* meshes = nullptr;  // shared by the configurations (a path's frames read their mesh once)
+  // Shared by the configurations: the exact reference's light side, built
+  // once while the objects and the light stay put (a camera path's frames).
+  LightSetupCache* light_setups = nullptr;
 };
 
 // Loads the configuration's scene and runs every light, variant and method.  Throws

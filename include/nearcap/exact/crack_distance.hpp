@@ -33,7 +33,8 @@
 //      one light-front-facing triangle L is crossed by (l, q(P)) for all P in S
 //      (its three edge forms share one strict sign at the four corners and its
 //      side form is on the crossing side at the four corners): in shadow; or
-//      every L the light grid lists for S's points q(P) is proven never crossed
+//      every L the light grid (the camera-space one, around the light) lists
+//      for S's points q(P) is proven never crossed
 //      (its side form on the other side at all four corners, or two of its
 //      edge forms of strictly opposite signs at all four corners): lit.
 // Each corner sign is filtered (BoundedDouble) and recomputed over rationals

@@ -48,6 +48,7 @@
 
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/central_grid.hpp"
+#include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/segment_crossing.hpp"
 #include "nearcap/numeric/filter_stats.hpp"
 
@@ -113,7 +114,9 @@ struct PixelReference {
   // meets no pixel centre of the near rectangle).
   std::vector<std::size_t> cap_pixels_by_object;
   FilterStats stats;
-  double setup_ms = 0, trace_ms = 0;  // building the grids; tracing the pixels
+  // Building the tracer (light side, eye side: PixelReferenceTracer) and
+  // tracing the pixels, wall-clock milliseconds.
+  double setup_ms = 0, trace_ms = 0;
 
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * width + i; }
   bool seen(int i, int j) const { return stencil[index(i, j)] != kNothingSeen; }
@@ -122,9 +125,16 @@ struct PixelReference {
 
 // Traces single pixels; built once per (scene, light).  Thread-safe: trace()
 // is const and each caller passes its own FilterStats.
+//
+// Building it is the reference's setup: the light side (facing, lit
+// triangles, their grid around the light: light_setup.hpp) and the eye side
+// (camera-space triangle data, the grid around the eye), side by side on all
+// cores.  With a LightSetupCache the light side is taken from it when the
+// objects and the light have not moved since it was built: a camera path
+// with a fixed scene builds it once.  The traces are the same either way.
 class PixelReferenceTracer {
  public:
-  PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light);
+  PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache = nullptr);
   ~PixelReferenceTracer();
   PixelReferenceTracer(const PixelReferenceTracer&) = delete;
   PixelReferenceTracer& operator=(const PixelReferenceTracer&) = delete;
@@ -144,8 +154,9 @@ class PixelReferenceTracer {
   // The oracle the grids are tested against (slow).
   PixelSample trace_brute_force(int i, int j, FilterStats* stats) const;
 
-  const CentralGrid& eye_grid() const;
-  const CentralGrid& light_grid() const;
+  const CentralGrid& eye_grid() const;    // camera space, around the eye
+  const CentralGrid& light_grid() const;  // WORLD space, around the light
+  double setup_ms() const;                // building this tracer
   std::size_t front_facing_triangles() const;
   const CameraSpaceScene& scene() const;
   std::size_t light() const;
@@ -160,7 +171,8 @@ class PixelReferenceTracer {
 // Every pixel of the camera's viewport, on all cores (TBB).
 PixelReference compute_pixel_reference(const CameraSpaceScene& scene, std::size_t light,
                                        PixelContent content = PixelContent::Full);
-// The same with a tracer the caller keeps (for the crack distance).
+// The same with a tracer the caller keeps (for the crack distance); setup_ms
+// is the tracer's.
 PixelReference compute_pixel_reference(const PixelReferenceTracer& tracer, PixelContent content = PixelContent::Full);
 
 }  // namespace nearcap

@@ -1,0 +1,170 @@
+// The exact reference's light side kept across frames (light_setup.hpp): a
+// sequence of frames that share one cache, the camera moving, then the light,
+// then an object, gives every frame the reference a fresh tracer gives, and
+// the grids still agree with brute force on every pixel.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "nearcap/exact/light_setup.hpp"
+#include "nearcap/exact/pixel_reference.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "random_scene.hpp"
+
+namespace nearcap {
+namespace {
+
+bool same_reference(const PixelReference& a, const PixelReference& b) {
+  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face &&
+         a.cap_pixels_by_object == b.cap_pixels_by_object;
+}
+
+bool same_sample(const PixelSample& a, const PixelSample& b) {
+  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
+}
+
+// One frame's JSON with the camera turned by `degrees` about its y axis
+// after the translation (the view's rotation part is no longer the identity).
+std::string turned(const std::string& json, double degrees) {
+  nlohmann::json j = nlohmann::json::parse(json);
+  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
+  auto& v = j["camera"]["view"];
+  const double t[3] = {v[0][3].get<double>(), v[1][3].get<double>(), v[2][3].get<double>()};
+  v = {{c, 0, s, c * t[0] + s * t[2]}, {0, 1, 0, t[1]}, {-s, 0, c, -s * t[0] + c * t[2]}, {0, 0, 0, 1}};
+  return j.dump();
+}
+
+struct Frame {
+  const char* what;
+  std::string json;
+};
+
+// The frames of one property case: still, the camera moved twice, the light
+// moved, the first box moved.
+std::vector<Frame> frames_of(test::RandomSceneParams p) {
+  std::vector<Frame> frames;
+  frames.push_back({"first frame", test::random_scene_json(p)});
+  p.eye16[0] += 3;
+  frames.push_back({"camera moved", test::random_scene_json(p)});
+  p.eye16[1] -= 2;
+  frames.push_back({"camera moved and turned", turned(test::random_scene_json(p), 10)});
+  p.light16[0] += 24;
+  p.light16[2] -= 16;
+  frames.push_back({"light moved", turned(test::random_scene_json(p), 10)});
+  p.box_centres16[0][0] += 5;
+  frames.push_back({"object moved", turned(test::random_scene_json(p), 10)});
+  return frames;
+}
+
+RC_GTEST_PROP(LightSetupCache, FramesSharingTheCacheEqualFreshReferences, ()) {
+  const std::vector<Frame> frames = frames_of(*test::random_scene_params());
+  MeshCache meshes;  // one mesh object for every frame, as a sweep has it
+  LightSetupCache cache;
+  std::vector<Scene> scenes;
+  for (const Frame& f : frames) {
+    try {
+      scenes.push_back(parse_scene(f.json, f.what, ".", &meshes));
+    } catch (const Error&) {
+      RC_DISCARD("a frame's scene is rejected (a light inside a box)");
+    }
+  }
+  std::size_t occluders = 0;
+  for (const SceneObject& o : scenes.front().objects) occluders += o.occluder ? 1 : 0;
+  for (std::size_t k = 0; k < scenes.size(); ++k) {
+    RC_LOG() << frames[k].what << "\n";
+    const CameraSpaceScene cs(scenes[k]);
+    const PixelReferenceTracer cached(cs, 0, &cache), fresh(cs, 0);
+    RC_ASSERT(same_reference(compute_pixel_reference(cached), compute_pixel_reference(fresh)));
+    for (int j = 0; j < scenes[k].camera.height; ++j)
+      for (int i = 0; i < scenes[k].camera.width; ++i)
+        RC_ASSERT(same_sample(cached.trace(i, j, nullptr), cached.trace_brute_force(i, j, nullptr)));
+  }
+  // Built for the first frame, reused for the two camera moves, built again
+  // for the moved light and the moved box; the moved box's facing alone is
+  // computed again, the other boxes' are reused.
+  const LightSetupCache::Counts n = cache.counts();
+  RC_ASSERT(n.setup_builds == 3u);
+  RC_ASSERT(n.setup_hits == 2u);
+  RC_ASSERT(n.facing_builds == 2 * occluders + 1);
+  RC_ASSERT(n.facing_hits == occluders - 1);
+}
+
+// A bundled mesh scene along a few frames of the same kind, at a small
+// resolution: the cached and fresh references agree on every frame.
+TEST(LightSetupCache, BundledSceneFramesEqualFreshReferences) {
+  MeshCache meshes;
+  LightSetupCache cache;
+  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/twisted.json";
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 40;
+  j["camera"]["height"] = 30;
+  const std::string base = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes";
+  auto frame = [&](const char* what) {
+    SCOPED_TRACE(what);
+    const Scene scene = parse_scene(j.dump(), what, base, &meshes);
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer cached(cs, 0, &cache), fresh(cs, 0);
+    const PixelReference a = compute_pixel_reference(cached), b = compute_pixel_reference(fresh);
+    EXPECT_TRUE(same_reference(a, b));
+    std::size_t shadowed = 0;
+    for (std::size_t p = 0; p < a.stencil.size(); ++p)
+      shadowed += a.stencil[p] != PixelReference::kNothingSeen && a.stencil[p] > 0;
+    return shadowed;
+  };
+  const std::size_t still = frame("first frame");
+  j["camera"]["eye"][0] = 0.35;
+  j["camera"]["target"][1] = -0.45;
+  frame("camera moved");
+  j["lights"][0]["position"][0] = -1.0;
+  frame("light moved");
+  j["objects"][0]["translate"][0] = 0.25;
+  frame("object moved");
+  EXPECT_GT(still, 0u) << "the first frame has shadowed pixels";
+  const LightSetupCache::Counts n = cache.counts();
+  EXPECT_EQ(n.setup_builds, 3u);
+  EXPECT_EQ(n.setup_hits, 1u);
+}
+
+// WorldDirections: the world direction's estimate lies within its bound of
+// the exact V^-1 w (Cramer's rule over rationals) for turned views.
+TEST(WorldDirections, BoundHoldsForTurnedViews) {
+  for (int k = 0; k < 50; ++k) {
+    const double a = 0.37 * k, b = 0.11 * k + 0.2;
+    const Camera cam = look_at_camera({std::cos(a) * 3, std::sin(b), std::sin(a) * 3 + 0.1 * k}, {0.1, -0.2, 0.05},
+                                      {0, 1, 0}, 60, 0.1, 100, 4, 3);
+    const WorldDirections map(cam.view);
+    const Vec3d w{0.3 - 0.01 * k, -1.7 + 0.05 * k, 2.5};
+    double err = 0;
+    const Vec3d y = map.apply(w, 0.0, err);
+    ASSERT_TRUE(std::isfinite(err));
+    // Exact V^-1 w by Cramer's rule over rationals.
+    Rational m[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 3; ++c) m[i][c] = cam.view.rows[i][c];
+    auto det3 = [](const Rational(&q)[3][3]) {
+      return Rational(q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) -
+                      q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                      q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]));
+    };
+    const Rational det = det3(m);
+    const Rational wr[3] = {w.x, w.y, w.z};
+    for (int c = 0; c < 3; ++c) {
+      Rational q[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int cc = 0; cc < 3; ++cc) q[i][cc] = cc == c ? wr[i] : m[i][cc];
+      const Rational exact = det3(q) / det;
+      const Rational diff = Rational(y[c]) - exact;
+      EXPECT_NE(sign_of(Rational(Rational(err) - diff)), Sign::Negative) << "view " << k << ", coordinate " << c;
+      EXPECT_NE(sign_of(Rational(Rational(err) + diff)), Sign::Negative) << "view " << k << ", coordinate " << c;
+    }
+    EXPECT_LT(err, 1e-12) << "a usable bound";
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
