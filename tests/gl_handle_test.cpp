@@ -12,6 +12,7 @@
 #include "../src/render/gl_objects.hpp"
 #include "llvmpipe_fixture.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/render/eye_count_pass.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap {
@@ -77,6 +78,31 @@ TEST_F(GlHandleTest, AnIncompleteOffscreenTargetLeavesNoObject) {
     EXPECT_TRUE(glIsFramebuffer(t.framebuffer.get()));
     EXPECT_TRUE(glIsRenderbuffer(t.colour.get()));
     EXPECT_TRUE(glIsVertexArray(t.vertex_array.get()));
+  }
+  EXPECT_EQ(live_objects(), "");
+}
+
+// The eye-count pass's constructor ends with a GL error check; a GL error
+// left pending before it makes that check throw after every program,
+// buffer and vertex array of the pass is made, and they all go.  A pass
+// made without the error keeps its objects until it goes.  The constructor
+// leaves a compute program in use, and the GL deletes a program in use only
+// once it is no longer current: glUseProgram(0) before each look.
+TEST_F(GlHandleTest, AnEyeCountPassThatThrowsLeavesNoObject) {
+  glEnable(0xFFFFu);  // GL_INVALID_ENUM, pending until the next glGetError
+  try {
+    const render::EyeCountPass pass;
+    ADD_FAILURE() << "a pending GL error was not reported";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Gl);
+    EXPECT_NE(std::string(e.what()).find("creating the eye-count pass"), std::string::npos) << e.what();
+  }
+  glUseProgram(0);
+  EXPECT_EQ(live_objects(), "");
+  {
+    const render::EyeCountPass pass;
+    glUseProgram(0);
+    EXPECT_NE(live_objects(), "");
   }
   EXPECT_EQ(live_objects(), "");
 }

@@ -106,18 +106,17 @@ layout(binding = 0, offset = 0) uniform atomic_uint eye_count;
 void main() { gl_FragStencilRefARB = int(atomicCounter(eye_count) & 255u); }
 )";
 
-GLuint link_compute_program(const std::string& source) {
-  const GLuint shader = compile_shader(GL_COMPUTE_SHADER, source.c_str());
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, shader);
-  glLinkProgram(program);
-  glDeleteShader(shader);
+GlProgram linked_compute_program(const std::string& source) {
+  const GlShader shader = compiled_shader(GL_COMPUTE_SHADER, source.c_str());
+  GlProgram program(glCreateProgram());
+  const GLuint p = program.get();
+  glAttachShader(p, shader.get());
+  glLinkProgram(p);
   GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  glGetProgramiv(p, GL_LINK_STATUS, &linked);
   if (!linked) {
     char log[1024] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
     throw Error(ErrorKind::Gl, std::string("the eye-count pass's compute program does not link: ") + log);
   }
   return program;
@@ -164,55 +163,46 @@ EyeCountPass::EyeCountPass() {
                                    std::to_string(epoxy_gl_version() / 10) + "." +
                                    std::to_string(epoxy_gl_version() % 10));
   for (int fused = 0; fused < 2; ++fused)
-    count_programs_[fused] = link_compute_program(std::string("#version 450 core\n#define FUSED ") +
-                                                  (fused ? "1" : "0") + "\n" + kCountShader);
+    count_programs_[fused] = linked_compute_program(std::string("#version 450 core\n#define FUSED ") +
+                                                    (fused ? "1" : "0") + "\n" + kCountShader);
   if (epoxy_has_gl_extension("GL_ARB_shader_stencil_export"))
-    stencil_program_ = link_program(kStencilVertexShader, kStencilFragmentShader, "the eye count's stencil program");
-  glGenBuffers(1, &vertices_);
-  glGenBuffers(1, &counter_);
-  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_);
+    stencil_program_ = linked_program(kStencilVertexShader, kStencilFragmentShader, "the eye count's stencil program");
+  vertices_ = new_buffer();
+  counter_ = new_buffer();
+  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_.get());
   glBufferData(GL_ATOMIC_COUNTER_BUFFER, sizeof(GLuint), nullptr, GL_DYNAMIC_COPY);
-  glGenVertexArrays(1, &empty_array_);
+  empty_array_ = new_vertex_array();
   // llvmpipe compiles a program's machine code at its first dispatch: one
   // empty dispatch of each here, so that no timed frame pays for it.
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, vertices_);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, vertices_.get());
   glBufferData(GL_SHADER_STORAGE_BUFFER, 16, nullptr, GL_STREAM_DRAW);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, vertices_);
-  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_);
-  for (unsigned program : count_programs_) {
-    glUseProgram(program);
-    glUniform1ui(glGetUniformLocation(program, "triangles"), 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, vertices_.get());
+  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.get());
+  for (const GlProgram& program : count_programs_) {
+    glUseProgram(program.get());
+    glUniform1ui(glGetUniformLocation(program.get(), "triangles"), 0);
     glDispatchCompute(1, 1, 1);
   }
   glFinish();
   check_gl("creating the eye-count pass");
 }
 
-EyeCountPass::~EyeCountPass() {
-  for (unsigned p : count_programs_) glDeleteProgram(p);
-  if (stencil_program_) glDeleteProgram(stencil_program_);
-  glDeleteBuffers(1, &vertices_);
-  glDeleteBuffers(1, &counter_);
-  glDeleteVertexArrays(1, &empty_array_);
-}
+EyeCountPass::~EyeCountPass() = default;
 
-void EyeCountPass::use_read_back_stencil() {
-  if (stencil_program_) glDeleteProgram(stencil_program_);
-  stencil_program_ = 0;
-}
+void EyeCountPass::use_read_back_stencil() { stencil_program_.reset(); }
 
 void EyeCountPass::run(const EyeCountInputs& in, double* upload_ms) {
   const GLuint zero = 0;
-  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_);
+  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_.get());
   glBufferSubData(GL_ATOMIC_COUNTER_BUFFER, 0, sizeof zero, &zero);
-  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_);
+  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.get());
   const auto u0 = std::chrono::steady_clock::now();
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, vertices_);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, vertices_.get());
   glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, in.vertices.size()) * 16),
                in.vertices.empty() ? nullptr : &in.vertices.front().x, GL_STREAM_DRAW);
   if (upload_ms) *upload_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0).count();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, vertices_);
-  const GLuint program = count_programs_[in.arithmetic == gl::Arithmetic::Fused ? 1 : 0];
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, vertices_.get());
+  const GLuint program = count_programs_[in.arithmetic == gl::Arithmetic::Fused ? 1 : 0].get();
   glUseProgram(program);
   glUniform4f(glGetUniformLocation(program, "light"), in.light.x, in.light.y, in.light.z, in.light.w);
   const GLint modelview = glGetUniformLocation(program, "modelview"),
@@ -237,7 +227,7 @@ void EyeCountPass::run(const EyeCountInputs& in, double* upload_ms) {
 std::size_t EyeCountPass::read_count() {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
   GLuint count = 0;
-  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_);
+  glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter_.get());
   glGetBufferSubData(GL_ATOMIC_COUNTER_BUFFER, 0, sizeof count, &count);
   check_gl("reading the eye count back");
   return count;
@@ -271,12 +261,12 @@ void EyeCountPass::write_stencil() {
   GLint previous_array = 0;
   glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &previous_array);
   glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT);
-  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_);
-  glUseProgram(stencil_program_);
+  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.get());
+  glUseProgram(stencil_program_.get());
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-  glBindVertexArray(empty_array_);
+  glBindVertexArray(empty_array_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(static_cast<GLuint>(previous_array));
   check_gl("writing the eye count into the stencil");

@@ -69,13 +69,6 @@ inline GlProgram linked_program(const char* vertex_source, const char* fragment_
   return program;
 }
 
-// The same as names the caller deletes.
-inline GLuint compile_shader(GLenum stage, const char* source) { return compiled_shader(stage, source).release(); }
-inline GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& what,
-                           const char* captured = nullptr) {
-  return linked_program(vertex_source, fragment_source, what, captured).release();
-}
-
 // A width x height renderbuffer of `format` attached to the bound
 // framebuffer at `attachment`.
 inline GlRenderbuffer attached_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
@@ -84,9 +77,6 @@ inline GlRenderbuffer attached_renderbuffer(GLenum format, GLenum attachment, in
   glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, buffer.get());
   return buffer;
-}
-inline GLuint attach_renderbuffer(GLenum format, GLenum attachment, int width, int height) {
-  return attached_renderbuffer(format, attachment, width, height).release();
 }
 
 // A width x height framebuffer object with a `colour_format` renderbuffer

@@ -49,6 +49,7 @@
 #include "nearcap/gl/eye_count.hpp"
 #include "nearcap/gl/float_transforms.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/render/gl_handle.hpp"
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::render {
@@ -89,12 +90,13 @@ struct EyeCountReadBack {
   double read_back_ms = 0;    // reading the counter back after that: the CPU round trip
 };
 
-// The pass: its programs and buffers, made once per context.
+// The pass: its programs and buffers, made once per context and owned by
+// handles (gl_handle.hpp), so they go with the pass.
 class EyeCountPass {
  public:
   // Compiles the compute program (both arithmetics) and, where the driver
   // has GL_ARB_shader_stencil_export, the stencil program.  Throws
-  // Error(Gl) when the context cannot run them.
+  // Error(Gl) when the context cannot run them, leaving no GL object.
   EyeCountPass();
   ~EyeCountPass();
   EyeCountPass(const EyeCountPass&) = delete;
@@ -119,15 +121,16 @@ class EyeCountPass {
   // operations; restores the vertex array binding.  Callers set their own
   // draw state after it.
   void write_stencil();
-  bool stencil_on_gpu() const { return stencil_program_ != 0; }
+  bool stencil_on_gpu() const { return static_cast<bool>(stencil_program_); }
 
   // Forces the read-back path of write_stencil (tests of both paths).
   void use_read_back_stencil();
 
  private:
-  unsigned count_programs_[2] = {0, 0};  // [Arithmetic::Fused]
-  unsigned stencil_program_ = 0;
-  unsigned vertices_ = 0, counter_ = 0, empty_array_ = 0;
+  GlProgram count_programs_[2];  // [Arithmetic::Fused]
+  GlProgram stencil_program_;    // none without GL_ARB_shader_stencil_export
+  GlBuffer vertices_, counter_;
+  GlVertexArray empty_array_;
 };
 
 }  // namespace nearcap::render
