@@ -24,6 +24,9 @@
 //     the start of one group (perhaps a last line without its newline): that is
 //     an error which names --repair, and --repair cuts the file back to the
 //     last whole group, says so on stderr, and runs that configuration again.
+// One file of over 600 lines on purpose: the lock, the create-and-link, the
+// resume check and the ordered writer below are these rules' code and share
+// the configurations' fixed order, so they are read against the rules here.
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>

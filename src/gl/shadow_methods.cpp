@@ -1,7 +1,7 @@
-// The shadow methods through the software pipeline (see shadow_methods.hpp).
+// The shadow methods through the software pipeline (see shadow_methods.hpp):
+// the frame renderer and the batch; what it draws with per object and per
+// method is shadow_draw_setup.cpp.
 #include "nearcap/gl/shadow_methods.hpp"
-
-#include <glm/glm.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -10,7 +10,6 @@
 #include <tuple>
 #include <utility>
 
-#include "glm_affine.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
@@ -20,6 +19,7 @@
 #include "nearcap/gl/shadow_plan.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/gl/volume_bounds.hpp"
+#include "shadow_draw_setup.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -27,187 +27,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// What the application prepares for one object.
-struct ObjectSetup {
-  ShadowUniforms uniforms;
-  bool mirrored = false;  // the modelview reverses orientation: glFrontFace(GL_CW)
-  bool occluder = false;
-  const EngineSilhouette* silhouette = nullptr;  // in the batch's shared work
-  const ShadowVolumeGeometry* geometry = nullptr;
-  bool case_d = false;
-  std::optional<VolumeBounds> bounds;  // EmulationSettings::volume_culling
-  std::size_t index = 0;               // in the scene's objects
-};
-
-Vec4f light_in_object_space(const SceneObject& obj, const Vec3d& light) {
-  const glm::dvec4 p = glm::inverse(to_glm(obj.object_to_world)) * glm::dvec4(light.x, light.y, light.z, 1.0);
-  return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f};
-}
-
-float determinant3(const Mat4f& m) {
-  return m.at(0, 0) * (m.at(1, 1) * m.at(2, 2) - m.at(1, 2) * m.at(2, 1)) -
-         m.at(0, 1) * (m.at(1, 0) * m.at(2, 2) - m.at(1, 2) * m.at(2, 0)) +
-         m.at(0, 2) * (m.at(1, 0) * m.at(2, 1) - m.at(1, 1) * m.at(2, 0));
-}
-
-Mat4f identity_matrix() {
-  Mat4f m;
-  for (int k = 0; k < 4; ++k) m.at(k, k) = 1.0f;
-  return m;
-}
-
-// (P_l M_l) * view * object_to_world, all in double, rounded to float32 once.
-Mat4f composed_light_matrix(const LightFrustum& lf, const Affine3d& view, const Affine3d& object_to_world) {
-  std::array<std::array<double, 4>, 4> mv{};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) {
-      double v = c == 3 ? view.rows[r][3] : 0.0;
-      for (int k = 0; k < 3; ++k) v += view.rows[r][k] * object_to_world.rows[k][c];
-      mv[r][c] = v;
-    }
-  mv[3][3] = 1.0;
-  Mat4f out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) {
-      double v = 0;
-      for (int k = 0; k < 4; ++k) v += lf.composed[r][k] * mv[k][c];
-      out.at(r, c) = static_cast<float>(v);
-    }
-  return out;
-}
-
-DrawState oriented(DrawState s, bool mirrored) {
-  if (!mirrored) return s;
-  std::swap(s.front, s.back);
-  if (s.cull == CullFace::Back)
-    s.cull = CullFace::Front;
-  else if (s.cull == CullFace::Front)
-    s.cull = CullFace::Back;
-  return s;
-}
-
-template <class Program>
-std::vector<Vec4f> run_each(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
-  std::vector<Vec4f> out(in.size());
-  for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
-  return out;
-}
-
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program) {
-  switch (program) {
-    case VertexProgram::Extrusion:
-      return run_each(in, u, extrusion_program);
-    case VertexProgram::Figure7:
-      return run_each(in, u, figure7_program);
-    case VertexProgram::NearCap:
-      return run_each(in, u, near_cap_program);
-  }
-  return {};
-}
-
-// A recorded draw call whose vertices `program` made from `in`.
-DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
-                      GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u) {
-  return {pass, std::move(clip), s, VertexProgramRun{program, part, in, u}};
-}
-
-std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
-  std::vector<ShadowVertex> out;
-  out.reserve(3 * mesh.triangle_count());
-  for (const auto& t : mesh.triangles)
-    for (VertexIndex v : t) {
-      const Vec3d& p = mesh.positions[v];
-      out.push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f});
-    }
-  return out;
-}
-
-constexpr StencilOps kCountOnPass{StencilOp::Keep, StencilOp::IncrementWrap};
-constexpr StencilOps kUncountOnPass{StencilOp::Keep, StencilOp::DecrementWrap};
-constexpr StencilOps kCountOnFail{StencilOp::IncrementWrap, StencilOp::Keep};
-constexpr StencilOps kUncountOnFail{StencilOp::DecrementWrap, StencilOp::Keep};
-constexpr StencilOps kCountAlways{StencilOp::IncrementWrap, StencilOp::IncrementWrap};
-constexpr StencilOps kUncountAlways{StencilOp::DecrementWrap, StencilOp::DecrementWrap};
-
-DrawState zpass_state() {
-  DrawState s;
-  s.front = kCountOnPass;
-  s.back = kUncountOnPass;
-  return s;
-}
-// AtomicZP's volumes: Z-pass counting with GL_DEPTH_CLAMP, so that nothing
-// is clipped at the near plane (the crossings between the eye and the near
-// plane pass the depth test at the clamped depth) nor at the far one.
-DrawState atomiczp_state(std::uint8_t eye_count) {
-  DrawState s = zpass_state();
-  s.depth_clamp_near = true;
-  s.depth_clamp_far = true;
-  s.stencil_clear = eye_count;
-  return s;
-}
-DrawState zfail_state(ZFailFar far) {
-  DrawState s;
-  s.front = kUncountOnFail;
-  s.back = kCountOnFail;
-  s.depth_clamp_near = far == ZFailFar::DepthClamp;
-  s.depth_clamp_far = far == ZFailFar::DepthClamp || far == ZFailFar::DepthClampFar;
-  s.far_first = far == ZFailFar::FarCap;
-  return s;
-}
-DrawState preload_state() {
-  DrawState s;
-  s.front = kUncountAlways;
-  s.back = kCountAlways;
-  return s;
-}
-
-// The state a plan's volume draw counts with; `far`: the frame's Z-fail far
-// plane for the occluder, `eye_clear`: AtomicZP's stencil clear.
-DrawState volume_state(VolumeCount c, ZFailFar far, std::uint8_t eye_clear) {
-  switch (c) {
-    case VolumeCount::ZPass:
-      return zpass_state();
-    case VolumeCount::ZPassClamped:
-      return atomiczp_state(eye_clear);
-    case VolumeCount::ZFail:
-      return zfail_state(far);
-    case VolumeCount::PreloadAlways:
-      break;
-  }
-  return preload_state();
-}
-
-GeometryPart geometry_part(VolumeGeometry g) {
-  switch (g) {
-    case VolumeGeometry::Sides:
-      return GeometryPart::Sides;
-    case VolumeGeometry::Corrective:
-      return GeometryPart::Corrective;
-    case VolumeGeometry::LightCap:
-      return GeometryPart::LightCap;
-    case VolumeGeometry::DarkCap:
-      return GeometryPart::DarkCap;
-    case VolumeGeometry::FarPlaneCap:
-      break;
-  }
-  NEARCAP_CHECK(g != VolumeGeometry::FarPlaneCap);  // built on the CPU, from no geometry part
-  return GeometryPart::Mesh;
-}
-
-// Whether a method of the plan wants the infinite far plane under `settings`.
-bool wants_infinite(FarPlane f, const EmulationSettings& settings) {
-  switch (f) {
-    case FarPlane::FiniteNeeded:
-      return false;
-    case FarPlane::InfiniteWanted:
-      return true;
-    case FarPlane::ZPassChoice:
-      return settings.zpass_far == ZPassFar::Infinite;
-    case FarPlane::ZFailChoice:
-      break;
-  }
-  return settings.zfail_far == ZFailFar::Infinite;
-}
+// The per-object setup and per-method draw states (shadow_draw_setup.hpp).
+using namespace draw_setup;
 
 }  // namespace
 

@@ -1,0 +1,219 @@
+// The policy file (see switch_policy.hpp): reading and writing policy.json
+// and its device profile; the decision that uses them is switch_policy.cpp.
+#include "nearcap/analysis/switch_policy.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nearcap/io/input_files.hpp"
+#include "nearcap/io/json_reader.hpp"
+
+namespace nearcap::analysis {
+namespace {
+
+using Json = nlohmann::json;
+using io::JsonValue;
+
+gl::ShadowMethod method_field(const JsonValue& v) { return v.named<gl::ShadowMethod>(); }
+
+// A cost coefficient: a finite number, not negative.
+double cost_number(const JsonValue& object, std::string_view key) {
+  const JsonValue v = object.at(key);
+  const double d = v.number();
+  if (d < 0) v.fail("must not be negative (a cost)");
+  return d;
+}
+
+DeviceProfile device_profile_of(const JsonValue& j) {
+  j.only_keys({"gl_renderer", "origin", "passes", "cpu"});
+  DeviceProfile d;
+  d.gl_renderer = j.required<std::string>("gl_renderer");
+  d.origin = j.at("origin").choice<std::string>({{"calibrated", "calibrated"}, {"hand", "hand"}, {"scaled", "scaled"}});
+  const JsonValue passes = j.at("passes");
+  passes.only_keys(std::vector<std::string_view>(kPassKindNames.begin(), kPassKindNames.end()));
+  for (std::size_t k = 0; k < kPassKindCount; ++k) {
+    const JsonValue pass = passes.at(kPassKindNames[k]);
+    pass.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
+    d.passes[k].intercept_ms = cost_number(pass, "intercept_ms");
+    d.passes[k].ms_per_mtriangle = cost_number(pass, "ms_per_mtriangle");
+    d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment");
+  }
+  const JsonValue cpu = j.at("cpu");
+  cpu.only_keys({"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"});
+  d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette");
+  d.cpu.ms_per_ktriangle_clipped_cap = cost_number(cpu, "ms_per_ktriangle_clipped_cap");
+  d.cpu.ms_per_ktriangle_exact_test = cost_number(cpu, "ms_per_ktriangle_exact_test");
+  return d;
+}
+
+Json device_profile_json(const DeviceProfile& d) {
+  Json passes = Json::object();
+  for (std::size_t k = 0; k < kPassKindCount; ++k)
+    passes[std::string(kPassKindNames[k])] = {{"intercept_ms", d.passes[k].intercept_ms},
+                                              {"ms_per_mtriangle", d.passes[k].ms_per_mtriangle},
+                                              {"ms_per_mfragment", d.passes[k].ms_per_mfragment}};
+  return {{"gl_renderer", d.gl_renderer},
+          {"origin", d.origin},
+          {"passes", passes},
+          {"cpu",
+           {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
+            {"ms_per_ktriangle_clipped_cap", d.cpu.ms_per_ktriangle_clipped_cap},
+            {"ms_per_ktriangle_exact_test", d.cpu.ms_per_ktriangle_exact_test}}}};
+}
+
+}  // namespace
+
+DeviceProfile parse_device_profile(const std::string& text, const std::string& source) {
+  return device_profile_of(io::JsonDocument::parse(text, source).root());
+}
+
+std::string device_profile_to_json(const DeviceProfile& profile) {
+  // The renderer string comes from the GL: one that is not UTF-8 gets U+FFFD.
+  return device_profile_json(profile).dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
+  const io::JsonDocument doc = io::JsonDocument::parse(text, source);
+  const JsonValue j = doc.root();
+  j.only_keys({"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
+               "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "device_profile",
+               "provenance"});
+  j.at("format").choice<bool>({{"nearcap-policy", true}});
+  const JsonValue version = j.at("version");
+  const long long file_version = version.integer();
+  if (file_version < 1 || file_version > kPolicyVersion)
+    version.fail(std::to_string(file_version) + " is not a version this nearcap reads (1 to " +
+                 std::to_string(kPolicyVersion) + ")");
+  // A field newer than the file's version.
+  const auto since = [file_version](const JsonValue& v, long long field_version) {
+    if (file_version < field_version)
+      v.fail("is a version " + std::to_string(field_version) + " field (this file says version " +
+             std::to_string(file_version) + ")");
+  };
+  SwitchPolicy p;
+  if (const auto v = j.find("light_projection")) {
+    since(*v, 2);
+    p.light_projection = v->named<gl::LightProjection>();
+  }
+  if (const auto v = j.find("exact_zpass")) {
+    since(*v, 2);
+    p.exact_zpass = v->boolean();
+  }
+  if (const auto v = j.find("depth")) {
+    since(*v, 3);
+    p.depth = v->named<gl::DepthFormat>();
+  }
+  if (const auto v = j.find("depth_mapping")) {
+    since(*v, 3);
+    p.depth_mapping = v->named<gl::DepthMapping>();
+  }
+  if (const auto v = j.find("near_plane")) {
+    since(*v, 3);
+    p.near_plane = v->named<gl::NearPlane>();
+  }
+  p.capped_method = method_field(j.at("capped_method"));
+  p.fallback_method = method_field(j.at("fallback_method"));
+  if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
+    j.at("fallback_method").fail("must be zfail or preload (a method right without a near-cap)");
+  if (p.capped_method == gl::ShadowMethod::ZPass)
+    j.at("capped_method").fail("must not be zpass (it is wrong for the occluders that meet the light pyramid)");
+  if (p.capped_method == gl::ShadowMethod::Preload && gl::uses_near_cap(p.fallback_method))
+    j.at("capped_method").fail("preload cannot share a frame with a ZP+ method");
+  if (!p.exact_zpass && !gl::uses_near_cap(p.capped_method))
+    j.at("exact_zpass").fail("false needs a ZP+ capped method (zpplus or zpplus-corrected)");
+  if (p.near_plane == gl::NearPlane::Tight && p.exact_zpass)
+    j.at("near_plane").fail("tight needs exact_zpass false (the exact Z-pass test decides for the scene's near plane)");
+  p.switch_clamp = j.at("switch_clamp").named<gl::SwitchClamp>();
+  p.zpass_far = j.at("zpass_far").named<gl::ZPassFar>();
+  const JsonValue m = j.at("crack_model");
+  m.only_keys({"features", "mean", "scale", "weights", "bias", "threshold"});
+  const JsonValue names = m.at("features");
+  if (!names.is_array()) names.fail("expected an array of feature names, found " + std::string(names.type_name()));
+  for (const JsonValue& f : names.elements()) {
+    const std::string name = f.string();
+    bool known = false;
+    for (std::string_view k : kPolicyFeatures) known = known || k == name;
+    if (!known) f.fail("'" + name + "' is not a policy feature");
+    if (std::find(p.crack_model.features.begin(), p.crack_model.features.end(), name) != p.crack_model.features.end())
+      f.fail("'" + name + "' appears twice (each feature once)");
+    p.crack_model.features.push_back(name);
+  }
+  p.crack_model.mean = m.at("mean").numbers();
+  p.crack_model.scale = m.at("scale").numbers();
+  p.crack_model.weights = m.at("weights").numbers();
+  const std::size_t n = p.crack_model.features.size();
+  for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"mean", &p.crack_model.mean},
+                                {"scale", &p.crack_model.scale},
+                                {"weights", &p.crack_model.weights}})
+    if (v->size() != n) m.at(name).fail(std::to_string(v->size()) + " values for " + std::to_string(n) + " features");
+  for (std::size_t k = 0; k < n; ++k)
+    if (!(p.crack_model.scale[k] > 0)) m.at("scale").elements()[k].fail("must be positive");
+  p.crack_model.bias = m.required<double>("bias");
+  const JsonValue threshold = m.at("threshold");
+  p.crack_model.threshold = threshold.number();
+  if (!(p.crack_model.threshold > 0 && p.crack_model.threshold <= 1)) threshold.fail("must be in (0, 1]");
+  // By name, whatever order the file has them in.
+  auto cost_models = j.at("cost_models").members();
+  std::sort(cost_models.begin(), cost_models.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [name, model] : cost_models) {
+    const auto method = gl::shadow_method_from_string(name);
+    if (!method) model.fail("'" + name + "' is not a method");
+    model.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
+    CostModel cm;
+    cm.intercept_ms = model.required<double>("intercept_ms");
+    cm.ms_per_mtriangle = model.required<double>("ms_per_mtriangle");
+    cm.ms_per_mfragment = model.required<double>("ms_per_mfragment");
+    p.cost_models.emplace_back(*method, cm);
+  }
+  if (const auto v = j.find("device_profile")) {
+    since(*v, 4);
+    p.device_profile = device_profile_of(*v);
+  }
+  const JsonValue provenance = j.at("provenance");
+  if (!provenance.is_object()) provenance.fail("expected a JSON object, found " + std::string(provenance.type_name()));
+  p.provenance_json = provenance.dump();
+  return p;
+}
+
+SwitchPolicy load_policy(const std::string& path) {
+  return parse_policy(io::read_input_file(path, "policy file"), path);
+}
+
+std::string policy_to_json(const SwitchPolicy& p) {
+  Json j;
+  j["format"] = "nearcap-policy";
+  j["version"] = kPolicyVersion;
+  j["capped_method"] = std::string(gl::to_string(p.capped_method));
+  j["fallback_method"] = std::string(gl::to_string(p.fallback_method));
+  j["switch_clamp"] = std::string(gl::to_string(p.switch_clamp));
+  j["zpass_far"] = std::string(gl::to_string(p.zpass_far));
+  j["light_projection"] = std::string(gl::to_string(p.light_projection));
+  j["exact_zpass"] = p.exact_zpass;
+  if (p.depth) j["depth"] = std::string(name_of(*p.depth));
+  if (p.depth_mapping) j["depth_mapping"] = std::string(gl::to_string(*p.depth_mapping));
+  if (p.near_plane) j["near_plane"] = std::string(gl::to_string(*p.near_plane));
+  Json m;
+  m["features"] = p.crack_model.features;
+  m["mean"] = p.crack_model.mean;
+  m["scale"] = p.crack_model.scale;
+  m["weights"] = p.crack_model.weights;
+  m["bias"] = p.crack_model.bias;
+  m["threshold"] = p.crack_model.threshold;
+  j["crack_model"] = m;
+  Json costs = Json::object();
+  for (const auto& [method, cm] : p.cost_models)
+    costs[std::string(gl::to_string(method))] = {{"intercept_ms", cm.intercept_ms},
+                                                 {"ms_per_mtriangle", cm.ms_per_mtriangle},
+                                                 {"ms_per_mfragment", cm.ms_per_mfragment}};
+  j["cost_models"] = costs;
+  if (p.device_profile) j["device_profile"] = device_profile_json(*p.device_profile);
+  j["provenance"] = Json::parse(p.provenance_json);
+  // The provenance names files: a name that is not UTF-8 gets U+FFFD.
+  return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace nearcap::analysis
