@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gl_objects.hpp"
+#include "glsl_float32.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 
@@ -31,20 +32,6 @@ uniform bool mirrored;    // h = -1
 uniform uint first;       // the occluder's first triangle in `vertices`
 uniform uint triangles;   // its triangle count
 uniform uint group_offset;  // the dispatch's first work group (dispatches of at most 65535 groups)
-
-float dot4(vec4 a, vec4 b) {
-  precise float r = a.x * b.x;
-#if FUSED
-  r = fma(a.y, b.y, r);
-  r = fma(a.z, b.z, r);
-  r = fma(a.w, b.w, r);
-#else
-  r = r + a.y * b.y;
-  r = r + a.z * b.z;
-  r = r + a.w * b.w;
-#endif
-  return r;
-}
 
 vec3 camera_space(vec4 v) { return vec3(dot4(modelview[0], v), dot4(modelview[1], v), dot4(modelview[2], v)); }
 
@@ -106,22 +93,6 @@ layout(binding = 0, offset = 0) uniform atomic_uint eye_count;
 void main() { gl_FragStencilRefARB = int(atomicCounter(eye_count) & 255u); }
 )";
 
-GlProgram linked_compute_program(const std::string& source) {
-  const GlShader shader = compiled_shader(GL_COMPUTE_SHADER, source.c_str());
-  GlProgram program(glCreateProgram());
-  const GLuint p = program.get();
-  glAttachShader(p, shader.get());
-  glLinkProgram(p);
-  GLint linked = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    char log[1024] = {};
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw Error(ErrorKind::Gl, std::string("the eye-count pass's compute program does not link: ") + log);
-  }
-  return program;
-}
-
 }  // namespace
 
 EyeCountInputs eye_count_inputs(const Scene& scene, std::size_t light, const std::vector<std::size_t>& objects,
@@ -163,8 +134,9 @@ EyeCountPass::EyeCountPass() {
                                    std::to_string(epoxy_gl_version() / 10) + "." +
                                    std::to_string(epoxy_gl_version() % 10));
   for (int fused = 0; fused < 2; ++fused)
-    count_programs_[fused] = linked_compute_program(std::string("#version 450 core\n#define FUSED ") +
-                                                    (fused ? "1" : "0") + "\n" + kCountShader);
+    count_programs_[fused] = linked_compute_program(
+        std::string("#version 450 core\n#define FUSED ") + (fused ? "1" : "0") + "\n" + kGlslDot4 + kCountShader,
+        "the eye-count pass's compute program");
   if (epoxy_has_gl_extension("GL_ARB_shader_stencil_export"))
     stencil_program_ = linked_program(kStencilVertexShader, kStencilFragmentShader, "the eye count's stencil program");
   vertices_ = new_buffer();

@@ -47,6 +47,18 @@ inline GlShader compiled_shader(GLenum stage, const char* source) {
   return shader;
 }
 
+// Links `program`; a failure throws Gl "WHAT does not link: LOG".
+inline void link_checked(GLuint program, const std::string& what) {
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[1024] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    throw Error(ErrorKind::Gl, what + " does not link: " + log);
+  }
+}
+
 // A program of a vertex and a fragment shader; `what` names it in the error.
 // `captured`: a vertex output transform feedback may capture (or null).
 inline GlProgram linked_program(const char* vertex_source, const char* fragment_source, const std::string& what,
@@ -58,14 +70,16 @@ inline GlProgram linked_program(const char* vertex_source, const char* fragment_
   glAttachShader(p, vs.get());
   glAttachShader(p, fs.get());
   if (captured) glTransformFeedbackVaryings(p, 1, &captured, GL_INTERLEAVED_ATTRIBS);
-  glLinkProgram(p);
-  GLint linked = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    char log[1024] = {};
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw Error(ErrorKind::Gl, what + " does not link: " + log);
-  }
+  link_checked(p, what);
+  return program;
+}
+
+// A program of one compute shader; `what` names it in the error.
+inline GlProgram linked_compute_program(const std::string& source, const std::string& what) {
+  const GlShader cs = compiled_shader(GL_COMPUTE_SHADER, source.c_str());
+  GlProgram program(glCreateProgram());
+  glAttachShader(program.get(), cs.get());
+  link_checked(program.get(), what);
   return program;
 }
 

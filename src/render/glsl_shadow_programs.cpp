@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gl_objects.hpp"
+#include "glsl_float32.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::render {
@@ -23,20 +24,6 @@ uniform mat4 light_modelview;
 uniform mat4 light_projection;
 uniform vec4 light_position;        // object space
 uniform bool reversed;              // the camera's reversed depth mapping
-
-float dot4(vec4 a, vec4 b) {
-  precise float r = a.x * b.x;
-#if FUSED
-  r = fma(a.y, b.y, r);
-  r = fma(a.z, b.z, r);
-  r = fma(a.w, b.w, r);
-#else
-  r = r + a.y * b.y;
-  r = r + a.z * b.z;
-  r = r + a.w * b.w;
-#endif
-  return r;
-}
 
 vec4 transform(mat4 m, vec4 v) { return vec4(dot4(m[0], v), dot4(m[1], v), dot4(m[2], v), dot4(m[3], v)); }
 
@@ -105,7 +92,8 @@ std::string glsl_vertex_shader(std::optional<gl::VertexProgram> program, gl::Ari
     if (*program == gl::VertexProgram::NearCap) name = "near_cap_program";
   }
   return std::string("#version 450 core\n#define FUSED ") + (arithmetic == gl::Arithmetic::Fused ? "1" : "0") +
-         "\n#define CLIP_DISTANCE " + (clip_distance ? "1" : "0") + "\n#define PROGRAM " + name + "\n" + kCommon;
+         "\n#define CLIP_DISTANCE " + (clip_distance ? "1" : "0") + "\n#define PROGRAM " + name + "\n" + kGlslDot4 +
+         kCommon;
 }
 
 ShadowPrograms::ShadowPrograms(std::string fragment_source, std::string what)
