@@ -155,7 +155,14 @@ TEST_F(SweepFile, TheWriterHoldsTheLockUntilItEndsKilledOrNot) {
     EXPECT_EQ(errno, EWOULDBLOCK);
     ::close(fd);
   }
-  EXPECT_TRUE(fs::exists(analysis::sweep_meta_path(csv)));
+  // The sidecar follows the locked CSV (create_csv links the CSV first, so
+  // that a sweep that loses the race for the name writes no sidecar).
+  bool sidecar = false;
+  for (int k = 0; k < 6000 && !sidecar; ++k) {
+    sidecar = fs::exists(analysis::sweep_meta_path(csv));
+    if (!sidecar) ::usleep(10000);
+  }
+  EXPECT_TRUE(sidecar) << analysis::sweep_meta_path(csv) << " never appeared";
   const test::CliResult fresh = test::run_cli(args(csv), "sweep_file_fresh_beside");
   EXPECT_EQ(fresh.exit_code, 2) << fresh.err;
   // (timeout: where a resume would not be refused, it would run for hours)
