@@ -44,7 +44,9 @@ DeviceProfile flat_profile() {
   DeviceProfile p;
   p.origin = "hand";
   for (analysis::PassCost& c : p.passes) c = {0.1, 10.0, 1.0};
-  p.cpu = {0.01, 0.01, 0.01};
+  p.cpu.ms_per_ktriangle_silhouette = 0.01;
+  p.cpu.clipped_cap.ms_per_ktested = 0.01;
+  p.cpu.exact_test.ms_per_ktested = 0.01;
   return p;
 }
 
@@ -91,12 +93,12 @@ TEST(CostDecision, ExpensiveNearCapPassGivesZFailExpensiveCapsGiveZPPlus) {
   d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_TRUE(gl::uses_near_cap(d.object_methods[0])) << d.reasons[0];
   // ... the paper's when building the clipped-sides cap costs the CPU much,
-  p.cpu.ms_per_ktriangle_clipped_cap = 1e3;
+  p.cpu.clipped_cap.ms_per_ktested = 1e3;
   d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_TRUE(paper_cap_chosen(d, 0)) << d.reasons[0];
   // ... the clipped-sides cap when the paper's pass (every occluder
   // triangle through the light frustum) costs more.
-  p.cpu.ms_per_ktriangle_clipped_cap = 0;
+  p.cpu.clipped_cap.ms_per_ktested = 0;
   p.passes[k(PassKind::NearCap)].ms_per_mtriangle = 1e6;
   d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_TRUE(clipped_cap_chosen(d, 0)) << d.reasons[0];
@@ -109,7 +111,7 @@ TEST(CostDecision, APredictedCrackRemovesThePaperCap) {
   DeviceProfile p = flat_profile();
   p.passes[k(PassKind::LightCap)].ms_per_mfragment = 1e4;
   p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 1e4;
-  p.cpu.ms_per_ktriangle_clipped_cap = 1e3;  // the paper's cap would win
+  p.cpu.clipped_cap.ms_per_ktested = 1e3;  // the paper's cap would win
   analysis::PolicyDecision d = analysis::decide(cost_policy(p, true), cs, 0, {});
   EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
@@ -137,16 +139,16 @@ TEST(CostDecision, ExactTestTooCostlyMeansNoZPass) {
   ASSERT_GT(in.clipped_cap_tested, 0);
   DeviceProfile p = flat_profile();
   p.passes[k(PassKind::NearCap)].intercept_ms = 5;  // no cap is worth it
-  p.cpu.ms_per_ktriangle_clipped_cap = 10;
+  p.cpu.clipped_cap.ms_per_ktested = 10;
   analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPass) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("exact: meets no point"), std::string::npos) << d.reasons[0];
-  EXPECT_GT(d.predicted_work.exact_test_triangles, 0);
-  p.cpu.ms_per_ktriangle_exact_test = 1e4;
+  EXPECT_GT(d.predicted_work.exact_test.runs, 0);
+  p.cpu.exact_test.ms_per_ktested = 1e4;
   d = analysis::decide(cost_policy(p), cs, 0, {});
   EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reasons[0];
   EXPECT_NE(d.reasons[0].find("exact test not run"), std::string::npos) << d.reasons[0];
-  EXPECT_EQ(d.predicted_work.exact_test_triangles, 0);
+  EXPECT_EQ(d.predicted_work.exact_test.runs, 0);
   // The policy's switch holds: without exact_zpass there is no Z-pass.
   SwitchPolicy no_test = cost_policy(flat_profile());
   no_test.exact_zpass = false;
@@ -179,7 +181,7 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
     DeviceProfile p = flat_profile();
     for (std::size_t q = 0; q < analysis::kPassKindCount; ++q)
       if (q != k(cheap) && q != k(PassKind::Depth) && q != k(PassKind::Lit)) p.passes[q].ms_per_mfragment = 100;
-    p.cpu = {0, 0, 0};
+    p.cpu = {};
     profiles.push_back(p);
   }
   std::size_t zpass = 0, paper = 0, clipped = 0, zfail = 0;
@@ -226,9 +228,9 @@ TEST(CostDecision, BundledPathFramesDecideRightly) {
   DeviceProfile p = flat_profile();
   p.passes[k(PassKind::LightCap)].ms_per_mfragment = 50;  // Z-fail's caps dear
   p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 50;
-  p.cpu.ms_per_ktriangle_clipped_cap = 10;  // and the clipped-sides cap's construction
+  p.cpu.clipped_cap.ms_per_ktested = 10;  // and the clipped-sides cap's construction
   DeviceProfile no_test = p;
-  no_test.cpu.ms_per_ktriangle_exact_test = 1e6;
+  no_test.cpu.exact_test.ms_per_ktested = 1e6;
   struct Range {
     const char* path;
     int first, last, step;

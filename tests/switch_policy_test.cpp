@@ -320,8 +320,8 @@ bool decide_reads_crack_model(const SwitchPolicy& p) {
     d.origin = "hand";
     for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) d.passes[k] = {1e-3, 1, 1};
     for (PassKind k : {PassKind::LightCap, PassKind::DarkCap}) d.passes[static_cast<std::size_t>(k)] = {1, 1e6, 1e6};
-    d.cpu.ms_per_ktriangle_clipped_cap = 1e6;
-    d.cpu.ms_per_ktriangle_exact_test = 1e6;
+    d.cpu.clipped_cap.ms_per_ktested = 1e6;
+    d.cpu.exact_test.ms_per_ktested = 1e6;
     never.device_profile = always.device_profile = d;
   }
   never.crack_model.bias = -1000;
@@ -340,9 +340,9 @@ bool decide_reads_device_profile(const SwitchPolicy& p) {
     else if (k == analysis::kPassKindCount)
       d.cpu.ms_per_ktriangle_silhouette = 1e6;
     else if (k == analysis::kPassKindCount + 1)
-      d.cpu.ms_per_ktriangle_clipped_cap = 1e6;
+      d.cpu.clipped_cap.ms_per_ktested = 1e6;
     else
-      d.cpu.ms_per_ktriangle_exact_test = 1e6;
+      d.cpu.exact_test.ms_per_ktested = 1e6;
     SwitchPolicy v = p;
     v.device_profile = d;
     variants.push_back(v);

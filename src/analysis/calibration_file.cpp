@@ -11,8 +11,11 @@
 namespace nearcap::analysis {
 namespace {
 
-constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms";
-constexpr std::array<std::string_view, 6> kColumns{"record", "frame", "kind", "triangles", "fragments", "ms"};
+constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling";
+// The header of the files whose cpu rows carry the triangles alone.
+constexpr std::string_view kTrianglesOnlyHeader = "record,frame,kind,triangles,fragments,ms";
+constexpr std::array<std::string_view, 9> kColumns{"record", "frame",    "kind",   "triangles", "fragments",
+                                                   "ms",     "reaching", "tested", "straddling"};
 
 // The shortest text that reads back to `v` exactly (std::to_chars).
 std::string number(double v, std::string_view what) {
@@ -31,7 +34,7 @@ std::string pass_line(std::string_view record, const PassObservation& o) {
   check_frame(o.frame);
   return std::string(record) + "," + o.frame + "," + std::string(to_string(o.kind)) + "," +
          number(o.triangles, "triangle count") + "," + number(o.fragments, "fragment count") + "," +
-         number(o.ms, "time") + "\n";
+         number(o.ms, "time") + ",,,\n";
 }
 
 }  // namespace
@@ -57,7 +60,12 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
   for (const CpuObservation& o : set.cpu) {
     check_frame(o.frame);
     out += "cpu," + o.frame + "," + std::string(to_string(o.task)) + "," + number(o.triangles, "triangle count") +
-           ",," + number(o.ms, "time") + "\n";
+           ",," + number(o.ms, "time");
+    if (o.task == CpuTask::Silhouette)
+      out += ",,,\n";
+    else
+      out += "," + number(o.reaching, "reaching count") + "," + number(o.tested, "tested count") + "," +
+             number(o.straddling, "straddling count") + "\n";
   }
   return out;
 }
@@ -77,6 +85,10 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (!header) {
+      if (line == kTrianglesOnlyHeader)
+        throw fail(ErrorKind::Schema, "the header is '" + std::string(kTrianglesOnlyHeader) +
+                                          "': its cpu rows lack the counts reaching, tested and straddling that the "
+                                          "device profile's CPU tasks are priced by (run nearcap calibrate again)");
       if (line != kHeader)
         throw fail(ErrorKind::Parse, "the header is not '" + std::string(kHeader) +
                                          "' (a calibration CSV of "
@@ -85,7 +97,7 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
       continue;
     }
     if (line.empty()) continue;
-    std::array<std::string_view, 6> field;
+    std::array<std::string_view, kColumns.size()> field;
     std::size_t n = 0, from = 0;
     while (true) {
       const std::size_t comma = line.find(',', from);
@@ -113,16 +125,33 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
     const std::string_view record = field[0];
     const std::string frame(field[1]);
     if (frame.empty()) throw fail(ErrorKind::Parse, "an empty frame");
+    // The counts columns: numbers for the clipped-sides cap's and the exact
+    // test's cpu rows, empty for the others.
+    auto counts_empty = [&](const std::string& what) {
+      for (std::size_t column = 6; column < kColumns.size(); ++column)
+        if (!field[column].empty())
+          throw fail(ErrorKind::Schema,
+                     std::string(kColumns[column]) + " '" + std::string(field[column]) + "': " + what + " (empty)");
+    };
     if (record == "pass" || record == "again") {
       const std::optional<PassKind> kind = pass_kind_from_string(field[2]);
       if (!kind) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a pass kind");
+      counts_empty("a " + std::string(record) + " record has no CPU task counts");
       PassObservation o{frame, *kind, value(3), value(4), value(5)};
       (record == "pass" ? set.passes : set.again).push_back(std::move(o));
     } else if (record == "cpu") {
       const std::optional<CpuTask> task = cpu_task_from_string(field[2]);
       if (!task) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a CPU task");
       if (!field[4].empty()) throw fail(ErrorKind::Parse, "a cpu record has no fragments (the column is empty)");
-      set.cpu.push_back({frame, *task, value(3), value(5)});
+      CpuObservation o{frame, *task, value(3), value(5)};
+      if (*task == CpuTask::Silhouette) {
+        counts_empty("a silhouette record has no near-plane counts");
+      } else {
+        o.reaching = value(6);
+        o.tested = value(7);
+        o.straddling = value(8);
+      }
+      set.cpu.push_back(std::move(o));
     } else {
       throw fail(ErrorKind::Parse, "record '" + std::string(record) + "' is not pass, again or cpu");
     }

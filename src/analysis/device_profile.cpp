@@ -1,8 +1,9 @@
 // Fitting a device cost profile with Ceres (see device_profile.hpp).
 //
 // Each pass kind is one small problem: ms ~ intercept + a * Mtriangles +
-// b * Mfragments, three non-negative unknowns; each CPU task one unknown,
-// ms ~ c * ktriangles.  The arrangement, and why:
+// b * Mfragments, three non-negative unknowns; the silhouette one unknown,
+// ms ~ c * ktriangles; the clipped-sides cap and the exact test five,
+// ms ~ intercept + the four counts' (CpuTaskWork) coefficients.  The arrangement, and why:
 // - The residual is log(predicted) - log(measured).  Timings scatter in
 //   proportion to their size (a frame of twice the work varies twice as
 //   much), so an absolute residual would let the largest frames decide and
@@ -121,6 +122,9 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
   }
   for (const CpuObservation& o : cpu) {
     check_measure(o.triangles, "the triangle count", o.frame, "CPU observation");
+    check_measure(o.reaching, "the reaching count", o.frame, "CPU observation");
+    check_measure(o.tested, "the tested count", o.frame, "CPU observation");
+    check_measure(o.straddling, "the straddling count", o.frame, "CPU observation");
     check_measure(o.ms, "the time", o.frame, "CPU observation");
   }
   DeviceProfile profile;
@@ -171,43 +175,67 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
     }
   }
 
+  // The silhouette: one unknown, ms per thousand occluder triangles.
+  // The clipped-sides cap and the exact test: CpuTaskCost's five, each
+  // count scaled by its training mean (a count that is 0 in every training
+  // observation keeps its coefficient at 0).
+  static constexpr std::array<const char*, 3> kTaskNames{"silhouette CPU cost", "clipped cap CPU cost",
+                                                         "exact test CPU cost"};
+  auto counts = [](const CpuObservation& o) -> std::array<double, 5> {
+    return {1.0, o.triangles * 1e-3, o.reaching * 1e-3, o.tested * 1e-3, o.straddling * 1e-3};
+  };
   for (std::size_t task = 0; task < 3; ++task) {
+    const bool silhouette = task == static_cast<std::size_t>(CpuTask::Silhouette);
     std::vector<const CpuObservation*> train, held;
     for (const CpuObservation& o : cpu)
-      if (static_cast<std::size_t>(o.task) == task && o.triangles > 0)
+      if (static_cast<std::size_t>(o.task) == task && (!silhouette || o.triangles > 0))
         (held_out_configuration(o.frame) ? held : train).push_back(&o);
     std::vector<double> times;
-    double mean_k = 0;
+    std::array<double, 5> mean{};
     for (const CpuObservation* o : train) {
       times.push_back(o->ms);
-      mean_k += o->triangles * 1e-3 / static_cast<double>(train.size());
+      const std::array<double, 5> c = counts(*o);
+      for (std::size_t j = 0; j < 5; ++j) mean[j] += c[j] / static_cast<double>(train.size());
     }
     const double m = median(times);
-    double per_ktriangle = 0;
+    CpuTaskCost cost;  // the silhouette's per-ktriangle cost in ms_per_ktriangle
     if (m > 0) {
-      std::vector<std::array<double, 1>> x;
       std::vector<double> y;
-      for (const CpuObservation* o : train) {
-        x.push_back({o->triangles * 1e-3 / mean_k});
-        y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
+      for (const CpuObservation* o : train) y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
+      if (silhouette) {
+        std::vector<std::array<double, 1>> x;
+        for (const CpuObservation* o : train) x.push_back({o->triangles * 1e-3 / mean[1]});
+        std::array<double, 1> theta{1.0};
+        solve_log_linear<1>(x, y, options.robust, kTaskNames[task], theta);
+        cost.ms_per_ktriangle = m * theta[0] / mean[1];
+      } else {
+        std::vector<std::array<double, 5>> x;
+        for (const CpuObservation* o : train) {
+          const std::array<double, 5> c = counts(*o);
+          std::array<double, 5>& row = x.emplace_back();
+          for (std::size_t j = 0; j < 5; ++j) row[j] = mean[j] > 0 ? c[j] / mean[j] : 0.0;
+        }
+        std::array<double, 5> theta{0.2, 0.2, 0.2, 0.2, 0.2};
+        solve_log_linear<5>(x, y, options.robust, kTaskNames[task], theta);
+        std::array<double, 5> coefficient{};
+        for (std::size_t j = 0; j < 5; ++j) coefficient[j] = mean[j] > 0 ? m * theta[j] / mean[j] : 0.0;
+        cost = {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4]};
       }
-      std::array<double, 1> theta{1.0};
-      static constexpr std::array<const char*, 3> kTaskNames{"silhouette CPU cost", "clipped cap CPU cost",
-                                                             "exact test CPU cost"};
-      solve_log_linear<1>(x, y, options.robust, kTaskNames[task], theta);
-      per_ktriangle = m * theta[0] / mean_k;
     }
-    double* coefficient = task == 0   ? &profile.cpu.ms_per_ktriangle_silhouette
-                          : task == 1 ? &profile.cpu.ms_per_ktriangle_clipped_cap
-                                      : &profile.cpu.ms_per_ktriangle_exact_test;
-    *coefficient = per_ktriangle;
+    if (silhouette)
+      profile.cpu.ms_per_ktriangle_silhouette = cost.ms_per_ktriangle;
+    else
+      (task == static_cast<std::size_t>(CpuTask::ClippedCap) ? profile.cpu.clipped_cap : profile.cpu.exact_test) = cost;
     for (const auto& [side, error, count] :
          {std::tuple{&train, &r.cpu_train_median_relative_error[task], &r.cpu_train_count[task]},
           std::tuple{&held, &r.cpu_held_out_median_relative_error[task], &r.cpu_held_out_count[task]}}) {
       Side s;
       s.count = side->size();
       for (const CpuObservation* o : *side)
-        if (o->ms > 0) s.errors.push_back(std::fabs(per_ktriangle * o->triangles * 1e-3 - o->ms) / o->ms);
+        if (o->ms > 0) {
+          const double predicted = silhouette ? cost.ms_per_ktriangle * o->triangles * 1e-3 : cost.ms(o->work());
+          s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
+        }
       *error = median_error(s);
       *count = s.count;
     }

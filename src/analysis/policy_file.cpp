@@ -20,6 +20,10 @@ using io::JsonValue;
 
 gl::ShadowMethod method_field(const JsonValue& v) { return v.named<gl::ShadowMethod>(); }
 
+// A CPU task's cost (device_profile.hpp, CpuTaskCost), by its JSON keys.
+const std::vector<std::string_view> kCpuTaskCostKeys{"intercept_ms", "ms_per_ktriangle", "ms_per_kreaching",
+                                                     "ms_per_ktested", "ms_per_kstraddling"};
+
 // A cost coefficient: a finite number, not negative.
 double cost_number(const JsonValue& object, std::string_view key) {
   const JsonValue v = object.at(key);
@@ -43,11 +47,33 @@ DeviceProfile device_profile_of(const JsonValue& j) {
     d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment");
   }
   const JsonValue cpu = j.at("cpu");
-  cpu.only_keys({"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"});
   d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette");
-  d.cpu.ms_per_ktriangle_clipped_cap = cost_number(cpu, "ms_per_ktriangle_clipped_cap");
-  d.cpu.ms_per_ktriangle_exact_test = cost_number(cpu, "ms_per_ktriangle_exact_test");
+  if (cpu.find("ms_per_ktriangle_clipped_cap") || cpu.find("ms_per_ktriangle_exact_test")) {
+    // The per-triangle layout: each task priced per thousand of the
+    // triangles the decision priced it by, the counts' `tested`.
+    cpu.only_keys({"ms_per_ktriangle_silhouette", "ms_per_ktriangle_clipped_cap", "ms_per_ktriangle_exact_test"});
+    d.cpu.clipped_cap.ms_per_ktested = cost_number(cpu, "ms_per_ktriangle_clipped_cap");
+    d.cpu.exact_test.ms_per_ktested = cost_number(cpu, "ms_per_ktriangle_exact_test");
+    return d;
+  }
+  cpu.only_keys({"ms_per_ktriangle_silhouette", "clipped_cap", "exact_test"});
+  for (const auto& [key, cost] :
+       {std::pair{"clipped_cap", &d.cpu.clipped_cap}, std::pair{"exact_test", &d.cpu.exact_test}}) {
+    const JsonValue task = cpu.at(key);
+    task.only_keys(kCpuTaskCostKeys);
+    *cost = {cost_number(task, "intercept_ms"), cost_number(task, "ms_per_ktriangle"),
+             cost_number(task, "ms_per_kreaching"), cost_number(task, "ms_per_ktested"),
+             cost_number(task, "ms_per_kstraddling")};
+  }
   return d;
+}
+
+Json cpu_task_cost_json(const CpuTaskCost& c) {
+  return {{"intercept_ms", c.intercept_ms},
+          {"ms_per_ktriangle", c.ms_per_ktriangle},
+          {"ms_per_kreaching", c.ms_per_kreaching},
+          {"ms_per_ktested", c.ms_per_ktested},
+          {"ms_per_kstraddling", c.ms_per_kstraddling}};
 }
 
 Json device_profile_json(const DeviceProfile& d) {
@@ -61,8 +87,8 @@ Json device_profile_json(const DeviceProfile& d) {
           {"passes", passes},
           {"cpu",
            {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
-            {"ms_per_ktriangle_clipped_cap", d.cpu.ms_per_ktriangle_clipped_cap},
-            {"ms_per_ktriangle_exact_test", d.cpu.ms_per_ktriangle_exact_test}}}};
+            {"clipped_cap", cpu_task_cost_json(d.cpu.clipped_cap)},
+            {"exact_test", cpu_task_cost_json(d.cpu.exact_test)}}}};
 }
 
 }  // namespace

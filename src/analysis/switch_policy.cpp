@@ -85,8 +85,13 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     c.ms_per_mfragment /= gl_factor;
   }
   s.cpu.ms_per_ktriangle_silhouette /= cpu_factor;
-  s.cpu.ms_per_ktriangle_clipped_cap /= cpu_factor;
-  s.cpu.ms_per_ktriangle_exact_test /= cpu_factor;
+  for (CpuTaskCost* c : {&s.cpu.clipped_cap, &s.cpu.exact_test}) {
+    c->intercept_ms /= cpu_factor;
+    c->ms_per_ktriangle /= cpu_factor;
+    c->ms_per_kreaching /= cpu_factor;
+    c->ms_per_ktested /= cpu_factor;
+    c->ms_per_kstraddling /= cpu_factor;
+  }
   return s;
 }
 
@@ -398,12 +403,13 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     // The test runs when the frame it could give at best, Z-pass for every
     // occluder it tests and the test paid, beats the frame without it.
     FrameWork test_work;
+    std::vector<OccluderWorkInputs> inputs;
+    inputs.reserve(occluders.size());
+    for (const Occluder& oc : occluders) inputs.push_back(oc.in);
+    test_work.exact_test = exact_test_work(inputs);
     std::vector<bool> optimistic = allowed;
     for (std::size_t i = 0; i < occluders.size(); ++i)
-      if (untested[i]) {
-        test_work.exact_test_triangles += occluders[i].in.triangles;
-        optimistic[i] = true;
-      }
+      if (untested[i]) optimistic[i] = true;
     const double test_ms = profile.cpu_ms(test_work);
     if (best_frame(optimistic, test_work, nullptr).ms < chosen.ms) {
       const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);

@@ -195,6 +195,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(scene, object, scene.lights[light].position,
                                                                            gl::near_plane_cap_margin(camera.width),
                                                                            gl::near_plane_cap_margin(camera.height));
+  in.reaches_near_plane = sides_needed;
   if (!sides_needed || in.certainly_misses_light_pyramid) return in;
   in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
                           (directions == 0 ? in.triangles - in.light_facing : 0);
@@ -232,7 +233,29 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   return in;
 }
 
-FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c, bool exact_test) {
+CpuTaskWork clipped_cap_work(const OccluderWorkInputs& in) {
+  CpuTaskWork w;
+  w.runs = 1;
+  w.triangles = 2 * in.silhouette_edges;
+  w.reaching = in.reaches_near_plane ? in.triangles : 0;
+  w.tested = in.clipped_cap_tested;
+  w.straddling = in.near_plane_straddling;
+  return w;
+}
+
+CpuTaskWork exact_test_work(const std::vector<OccluderWorkInputs>& occluders) {
+  CpuTaskWork w;
+  w.runs = 1;
+  for (const OccluderWorkInputs& in : occluders) {
+    w.triangles += in.triangles;
+    w.reaching += in.reaches_near_plane ? in.triangles : 0;
+    w.tested += in.pyramid_cull_run && !in.certainly_misses_light_pyramid ? in.triangles : 0;
+    w.straddling += in.near_plane_straddling;
+  }
+  return w;
+}
+
+FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c) {
   FrameWork w;
   auto pass = [&w](PassKind k, double triangles, double fragments) {
     const auto i = static_cast<std::size_t>(k);
@@ -263,14 +286,13 @@ FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c, 
     case gl::ShadowMethod::ZPPlusCorrected:
       pass(PassKind::Sides, sides, 2 * in.volume_pixels);
       if (c.cap == gl::LightProjection::ClippedSides) {
-        w.clipped_cap_triangles = in.clipped_cap_tested;
+        w.clipped_cap = clipped_cap_work(in);
         if (in.near_plane_straddling > 0) pass(PassKind::NearCap, in.near_plane_straddling, 2 * in.near_cap_pixels);
       } else {
         pass(PassKind::NearCap, in.triangles, in.near_cap_pixels);
       }
       break;
   }
-  if (exact_test) w.exact_test_triangles = in.triangles;
   return w;
 }
 

@@ -27,6 +27,8 @@
 #include "nearcap/analysis/device_profile.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/analysis/work_estimate.hpp"
+#include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
@@ -180,24 +182,34 @@ EmulatedConfiguration emulate(const Scene& scene, const std::string& id) {
       for (const gl::OccluderCpuTimes& t : zpass.back().cpu.occluders)
         out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::Silhouette,
                            static_cast<double>(scene.objects[t.object].mesh->triangles.size()), t.silhouette_ms});
-    // The clipped-sides cap's construction, with the occluder's side triangles.
+    // The counts the decision prices the clipped-sides cap and the exact
+    // test by (analysis/work_estimate.hpp), per occluder of this light.
+    std::vector<analysis::OccluderWorkInputs> inputs;
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder) inputs.push_back(analysis::occluder_work_inputs(scene, o, k));
+    auto inputs_of = [&inputs](std::size_t object) -> const analysis::OccluderWorkInputs& {
+      const auto in = std::find_if(inputs.begin(), inputs.end(),
+                                   [object](const analysis::OccluderWorkInputs& i) { return i.object == object; });
+      NEARCAP_CHECK(in != inputs.end());
+      return *in;
+    };
+    // The clipped-sides cap's construction, with its counts.
     if (clipped_zpplus.size() == k + 1)
       for (const gl::OccluderCpuTimes& t : clipped_zpplus.back().cpu.occluders) {
-        const gl::ShadowVolumeGeometry g =
-            gl::shadow_volume_geometry(*scene.objects[t.object].mesh, engine_silhouette(scene, t.object, k));
-        out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::ClippedCap,
-                           static_cast<double>(g.sides.size() / 3), t.cap_build_ms});
+        const analysis::CpuTaskWork w = analysis::clipped_cap_work(inputs_of(t.object));
+        out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::ClippedCap, w.triangles,
+                           t.cap_build_ms, w.reaching, w.tested, w.straddling});
       }
     // The exact empty-near-cap test of every occluder for this light.
     if (cs) {
-      double triangles = 0;
-      for (const SceneObject& obj : scene.objects)
-        if (obj.occluder) triangles += static_cast<double>(obj.mesh->triangles.size());
+      const analysis::CpuTaskWork w = analysis::exact_test_work(inputs);
       try {
         const auto t = std::chrono::steady_clock::now();
         const std::vector<bool> meets = occluders_meeting_light_pyramid(*cs, k);
         const double ms = ms_since(t);
-        if (!meets.empty()) out.cpu.push_back({light_id, analysis::CpuTask::ExactTest, triangles, ms});
+        if (!meets.empty())
+          out.cpu.push_back(
+              {light_id, analysis::CpuTask::ExactTest, w.triangles, ms, w.reaching, w.tested, w.straddling});
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::Degenerate) throw;  // the light in the near plane: no pyramid
       }
@@ -269,14 +281,17 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                 c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
                 percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
   }
-  const double cpu[3] = {p.cpu.ms_per_ktriangle_silhouette, p.cpu.ms_per_ktriangle_clipped_cap,
-                         p.cpu.ms_per_ktriangle_exact_test};
-  std::printf("  %-12s %11s %13s %13s %10s %10s\n", "cpu task", "", "ms per ktri", "", "train err", "held out");
+  std::printf("  %-12s %11s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri", "per kreaching",
+              "per ktested", "per kstraddle", "train err", "held out");
+  const analysis::CpuTaskCost silhouette{0, p.cpu.ms_per_ktriangle_silhouette, 0, 0, 0};
+  const analysis::CpuTaskCost* cost[3] = {&silhouette, &p.cpu.clipped_cap, &p.cpu.exact_test};
   for (std::size_t t = 0; t < 3; ++t)
-    std::printf(
-        "  %-12s %11s %13.4g %13s %10s %10s  (%zu / %zu tasks)\n", std::string(analysis::kCpuTaskNames[t]).c_str(), "",
-        cpu[t], "", percent(r.cpu_train_median_relative_error[t]).c_str(),
-        percent(r.cpu_held_out_median_relative_error[t]).c_str(), r.cpu_train_count[t], r.cpu_held_out_count[t]);
+    std::printf("  %-12s %11.4g %13.4g %13.4g %13.4g %13.4g %10s %10s  (%zu / %zu tasks)\n",
+                std::string(analysis::kCpuTaskNames[t]).c_str(), cost[t]->intercept_ms, cost[t]->ms_per_ktriangle,
+                cost[t]->ms_per_kreaching, cost[t]->ms_per_ktested, cost[t]->ms_per_kstraddling,
+                percent(r.cpu_train_median_relative_error[t]).c_str(),
+                percent(r.cpu_held_out_median_relative_error[t]).c_str(), r.cpu_train_count[t],
+                r.cpu_held_out_count[t]);
   std::printf("  (error: median |predicted - measured| / measured)\n");
 }
 

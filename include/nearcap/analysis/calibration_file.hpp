@@ -3,10 +3,11 @@
 // CpuObservation) as a CSV file, and read back; docs/calibration.md
 // describes the format for readers in other languages.
 //
-//   record,frame,kind,triangles,fragments,ms
-//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184
-//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171
-//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052
+//   record,frame,kind,triangles,fragments,ms,reaching,tested,straddling
+//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184,,,
+//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,
+//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,
+//   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21
 //
 // record   "pass": one pass kind of one frame, timed on its own;
 //          "again": the same pass of the same frame drawn a second time,
@@ -19,6 +20,9 @@
 //          (silhouette, clipped_cap, exact_test) for cpu.
 // triangles, fragments, ms: finite, non-negative numbers; fragments empty
 //          for cpu.
+// reaching, tested, straddling: the clipped_cap's and exact_test's counts
+//          (device_profile.hpp, CpuTaskWork; with `triangles`, one run's),
+//          finite and non-negative; empty in every other row.
 // Numbers are written in the shortest form that reads back to the same
 // double, so a file round-trips exactly.
 #pragma once
@@ -55,10 +59,12 @@ inline std::string calibration_csv(const CalibrationSet& set) {
 }
 
 // Reads calibration_csv's text; `source` names it in errors.  A wrong
-// header, a line without six fields, an unknown record or kind, or a number
+// header, a line without nine fields, an unknown record or kind, or a number
 // that is not one is an Error(Parse); a non-finite number an
-// Error(NonFinite); a negative one an Error(Schema): each names the line and
-// the column.
+// Error(NonFinite); a negative one, or a count in a row that has none, an
+// Error(Schema): each names the line and the column.  A file with the
+// six-column header (cpu rows without the counts) is an Error(Schema)
+// saying so: its CPU tasks cannot be priced by the counts.
 CalibrationSet parse_calibration_csv(std::string_view text, const std::string& source);
 
 // The ratio again / pass of each "again" row whose frame and kind have a

@@ -7,9 +7,18 @@
 //   time = sum over pass kinds k of (intercept_k [if the pass is drawn]
 //            + a_k * triangles_k + b_k * fragments_k)
 //        + cpu.ms_per_ktriangle_silhouette * silhouette_triangles / 1000
-//        + cpu.ms_per_ktriangle_clipped_cap * clipped_cap_triangles / 1000
-//        + cpu.ms_per_ktriangle_exact_test * exact_test_triangles / 1000
-// with a_k in ms per million triangles and b_k in ms per million fragments.
+//        + cpu.clipped_cap.ms(clipped_cap) + cpu.exact_test.ms(exact_test)
+// with a_k in ms per million triangles and b_k in ms per million fragments,
+// and each of the two dear CPU tasks linear in counts of its work:
+//   ms = intercept_ms * runs + (ms_per_ktriangle * triangles
+//        + ms_per_kreaching * reaching + ms_per_ktested * tested
+//        + ms_per_kstraddling * straddling) / 1000.
+// A task's cost follows how much of the mesh the near plane and the light
+// pyramid involve, not the mesh's size: the clipped-sides cap is nearly free
+// where the occluder's volume does not reach the near plane, and the exact
+// test scans only occluders its float cull cannot settle.  The counts
+// (CpuTaskWork) are ones the decision computes anyway (work_estimate.hpp),
+// so pricing them costs no extra work per decision.
 // The work (FrameWork) is what the decision can compute before drawing
 // (triangle counts, silhouette size, cheap bounds on each pass's screen
 // area) or, when calibrating, what the frame really drew.
@@ -37,17 +46,64 @@ struct PassCost {
   double ms_per_mfragment = 0;  // per million fragments rasterized
 };
 
+// The counts one of the two dear CPU tasks is priced by, summed over its
+// runs.  What each count is, per task:
+//   clipped_cap (building the clipped-sides near-cap, one run per occluder
+//   drawn with it; gl/shadow_methods.cpp, clipped_sides_cap):
+//     triangles   the side triangles, two per silhouette edge;
+//     reaching    the occluder's triangles where its volume's bounds reach
+//                 the near plane (the builder then runs the light-pyramid
+//                 cull and, unless it culls, the near-plane distance of
+//                 every vertex); 0 where the box test skips it;
+//     tested      the triangles the builder tests against the near plane
+//                 (OccluderWorkInputs::clipped_cap_tested);
+//     straddling  of those, the ones with vertices on both sides (the
+//                 extrusion program, the clipping and the fan run on them).
+//   exact_test (the exact empty-near-cap test of every occluder under one
+//   light, one run per light; exact/light_pyramid.hpp,
+//   occluders_meeting_light_pyramid):
+//     triangles   every occluder's;
+//     reaching    the triangles of the occluders whose volume reaches the
+//                 near plane;
+//     tested      the triangles of the occluders the float light-pyramid
+//                 cull leaves undecided (those the test scans face by face);
+//     straddling  the occluders' near-plane straddling triangles.
+struct CpuTaskWork {
+  double runs = 0, triangles = 0, reaching = 0, tested = 0, straddling = 0;
+  CpuTaskWork& operator+=(const CpuTaskWork& o) {
+    runs += o.runs;
+    triangles += o.triangles;
+    reaching += o.reaching;
+    tested += o.tested;
+    straddling += o.straddling;
+    return *this;
+  }
+};
+
+// A CPU task's cost, linear in its counts: ms per run, and ms per thousand
+// of each count.  All finite and not negative.
+struct CpuTaskCost {
+  double intercept_ms = 0;
+  double ms_per_ktriangle = 0, ms_per_kreaching = 0, ms_per_ktested = 0, ms_per_kstraddling = 0;
+  double ms(const CpuTaskWork& w) const {
+    return intercept_ms * w.runs + (ms_per_ktriangle * w.triangles + ms_per_kreaching * w.reaching +
+                                    ms_per_ktested * w.tested + ms_per_kstraddling * w.straddling) *
+                                       1e-3;
+  }
+};
+
 struct CpuCost {
-  double ms_per_ktriangle_silhouette = 0;   // finding an occluder's silhouette, per thousand occluder triangles
-  double ms_per_ktriangle_clipped_cap = 0;  // building the clipped-sides near-cap, per thousand side triangles
-  double ms_per_ktriangle_exact_test = 0;   // the exact empty-near-cap test, per thousand occluder triangles
+  double ms_per_ktriangle_silhouette = 0;  // finding an occluder's silhouette, per thousand occluder triangles
+  CpuTaskCost clipped_cap;                 // building the clipped-sides near-cap (CpuTaskWork)
+  CpuTaskCost exact_test;                  // the exact empty-near-cap test (CpuTaskWork)
 };
 
 // One frame's (or one occluder's) work, by pass kind and CPU task.
 struct FrameWork {
   std::array<bool, kPassKindCount> drawn{};
   std::array<double, kPassKindCount> triangles{}, fragments{};
-  double silhouette_triangles = 0, clipped_cap_triangles = 0, exact_test_triangles = 0;
+  double silhouette_triangles = 0;
+  CpuTaskWork clipped_cap, exact_test;
   FrameWork& operator+=(const FrameWork& o) {
     for (std::size_t k = 0; k < kPassKindCount; ++k) {
       drawn[k] = drawn[k] || o.drawn[k];
@@ -55,8 +111,8 @@ struct FrameWork {
       fragments[k] += o.fragments[k];
     }
     silhouette_triangles += o.silhouette_triangles;
-    clipped_cap_triangles += o.clipped_cap_triangles;
-    exact_test_triangles += o.exact_test_triangles;
+    clipped_cap += o.clipped_cap;
+    exact_test += o.exact_test;
     return *this;
   }
 };
@@ -74,10 +130,8 @@ struct DeviceProfile {
     return t;
   }
   double cpu_ms(const FrameWork& w) const {
-    return (cpu.ms_per_ktriangle_silhouette * w.silhouette_triangles +
-            cpu.ms_per_ktriangle_clipped_cap * w.clipped_cap_triangles +
-            cpu.ms_per_ktriangle_exact_test * w.exact_test_triangles) *
-           1e-3;
+    return cpu.ms_per_ktriangle_silhouette * w.silhouette_triangles * 1e-3 + cpu.clipped_cap.ms(w.clipped_cap) +
+           cpu.exact_test.ms(w.exact_test);
   }
   double predict_ms(const FrameWork& w) const { return gl_ms(w) + cpu_ms(w); }
 };
@@ -89,12 +143,16 @@ struct PassObservation {
   PassKind kind = PassKind::Depth;
   double triangles = 0, fragments = 0, ms = 0;
 };
-// One occluder's CPU task, timed on its own, with its size.
+// One CPU task, timed on its own, with its counts: for the silhouette the
+// occluder's triangles; for the clipped-sides cap and the exact test one
+// run's CpuTaskWork (runs = 1).
 enum class CpuTask { Silhouette, ClippedCap, ExactTest };
 struct CpuObservation {
   std::string frame;
   CpuTask task = CpuTask::Silhouette;
   double triangles = 0, ms = 0;
+  double reaching = 0, tested = 0, straddling = 0;  // 0 for the silhouette
+  CpuTaskWork work() const { return {1, triangles, reaching, tested, straddling}; }
 };
 
 // How well a fitted profile predicts: median |predicted - measured| /
@@ -115,17 +173,15 @@ struct ProfileFitOptions {
   bool robust = true;
 };
 
-// Fits each pass kind's (intercept, a, b) and each CPU task's cost per
-// thousand triangles with Ceres, a robust loss and non-negative
-// coefficients; observations whose frame hashes into the held-out fifth
-// (FNV-1a(frame) % 5 == 0) only measure the error.  Kinds or tasks with no
-// observation keep 0 and are reported as such.
-// The residual is log(predicted) - log(measured): timing noise is
-// multiplicative (a frame twice the work scatters twice as far), and the
-// target is a relative error.  Measured times below a thousandth of the
-// kind's median training time are read as that floor (a timer's zero).  CPU
-// observations of no triangles are skipped (the CPU model has no intercept).
-// A negative or non-finite count or time is an error (non-finite) naming the
+// Fits each pass kind's (intercept, a, b), the silhouette's cost per
+// thousand triangles and the clipped-sides cap's and the exact test's
+// CpuTaskCost with Ceres, a robust loss and non-negative coefficients (a
+// coefficient whose count is 0 in every training observation stays 0); observations whose frame hashes into the
+// held-out fifth (FNV-1a(frame) % 5 == 0) only measure the error.  Kinds or tasks with no observation keep 0 and are
+// reported as such. The residual is log(predicted) - log(measured): timing noise is multiplicative (a frame twice the
+// work scatters twice as far), and the target is a relative error.  Measured times below a thousandth of the kind's
+// median training time are read as that floor (a timer's zero). Silhouette observations of no triangles are skipped
+// (that model has no intercept). A negative or non-finite count or time is an error (non-finite) naming the
 // observation's frame.  In the tuning library (Ceres).
 DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
                                  const std::string& gl_renderer, ProfileFitReport* report = nullptr,

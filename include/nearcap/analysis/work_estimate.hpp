@@ -64,6 +64,9 @@ struct OccluderWorkInputs {
   double triangles = 0;
   double silhouette_edges = 0;
   double light_facing = 0;
+  // The occluder's volume's bounds reach the near plane: the clipped-sides
+  // cap builder gets past its box test (and then runs the pyramid cull).
+  bool reaches_near_plane = false;
   double clipped_cap_tested = 0;     // triangles the clipped-sides cap builder visits
   double near_plane_straddling = 0;  // of those, the ones with vertices on both sides of the near plane
   double occluder_pixels = 0, volume_pixels = 0, near_cap_pixels = 0;
@@ -84,10 +87,19 @@ struct OccluderWorkInputs {
 OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                         bool pyramid_cull = true);
 
-// The work of one occluder drawn with `c`, CPU included (its near-cap's
-// construction; `exact_test`: the exact empty-near-cap test's triangles
-// counted), shared passes and silhouettes excluded.
-FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c, bool exact_test = false);
+// The work of one occluder drawn with `c`, CPU included (its clipped-sides
+// cap's construction, one run of CpuTaskWork), shared passes and
+// silhouettes excluded.  The exact test is per light: exact_test_work.
+FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c);
+
+// The counts of the clipped-sides cap's construction for one occluder (one
+// run; device_profile.hpp, CpuTaskWork).
+CpuTaskWork clipped_cap_work(const OccluderWorkInputs& in);
+
+// The counts of one run of the exact empty-near-cap test (all occluders of
+// one light; CpuTaskWork), from every occluder's inputs; `tested` counts
+// the occluders whose float pyramid cull ran and did not settle them.
+CpuTaskWork exact_test_work(const std::vector<OccluderWorkInputs>& occluders);
 
 // What every method of the frame pays once: the depth pre-pass and the lit
 // pass over every object, and every occluder's silhouette.
