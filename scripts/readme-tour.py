@@ -9,9 +9,10 @@ and the output the README shows for it.
   scripts/readme-tour.py --update [--nearcap BIN]   rewrite the blocks with today's output
 
 Times vary from run to run: every decimal number (`2703.38 ms`, the `ms`
-column) is compared as a placeholder, every integer (pixel counts, cases,
-faces) exactly.  Outputs the commands write (`out/tour/...`) go to a
-temporary directory.
+column) and every number followed by ` ms` (a time printed with six
+significant digits can come out whole: `147 ms`) is compared as a
+placeholder, every other integer (pixel counts, cases, faces) exactly.
+Outputs the commands write (`out/tour/...`) go to a temporary directory.
 """
 import argparse
 import re
@@ -23,7 +24,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BLOCK = re.compile(r"```console\n\$ (?P<command>[^\n]*)\n(?P<output>.*?)```", re.S)
-DECIMAL = re.compile(r"[ \t]*\d+\.\d+(e[-+]\d+)?")
+DECIMAL = re.compile(r"[ \t]*(\d+\.\d+(e[-+]\d+)?|\d+(?= ms\b))")
 
 
 def tour_span(text):

@@ -51,7 +51,7 @@ TEST_P(BadInput, LibraryThrowsTheCataloguedKind) {
 TEST_P(BadInput, ProgramExitsWithTwoAndWritesNothing) {
   const CatalogueEntry& e = GetParam();
   const std::string scene = "data/bad/" + e.file;
-  const auto out_dir = std::filesystem::temp_directory_path() / ("nearcap_bad_" + e.file);
+  const auto out_dir = test::temp_path("nearcap_bad_" + e.file);
   std::filesystem::remove_all(out_dir);
   const std::string tag = "bad";
   for (const std::string& args :

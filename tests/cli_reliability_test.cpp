@@ -42,7 +42,7 @@ class Reliability : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   void write_scene(const std::string& name, const nlohmann::json& j) const { std::ofstream(dir_ / name) << j.dump(); }
   void write_text(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
-  test::CliResult run(const std::string& args, const std::string& prefix = "timeout 120") const {
+  test::CliResult run(const std::string& args, const std::string& prefix = test::kHangBound) const {
     return test::run_cli(args, "reliability", prefix);
   }
   // One line, "nearcap: error", exit 2, containing `fragment`, nothing on stdout.
@@ -220,7 +220,7 @@ TEST_F(Reliability, MeshesThatAreNotRegularFilesAreRefusedWithoutReading) {
     j["objects"][0]["mesh"] = mesh;
     write_scene("m.json", j);
     // A reader that read /dev/zero or waited on the FIFO would be killed by the timeout.
-    const test::CliResult r = run("classify " + path("m.json"), "timeout 30");
+    const test::CliResult r = run("classify " + path("m.json"), test::kHangBound);
     expect_one_line_error(r, fragment, mesh);
   }
 }

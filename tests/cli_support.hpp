@@ -17,12 +17,25 @@ struct CliResult {
   std::string out, err;
 };
 
+// A path in the temp directory that no other test process uses: `name` and
+// this process's id (ctest runs tests in parallel processes, and other test
+// runs may share the machine's temp directory).
+inline std::filesystem::path temp_path(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
 }
+
+// The `prefix` of runs that end in seconds, also under AddressSanitizer on
+// a loaded 2-core machine, but would never end where the program under test
+// is wrong (it reads a FIFO or /dev/zero, a resume is not refused): a bound on
+// a hang, far above any run's work, so that only a hang reaches it.
+inline const std::string kHangBound = "timeout 300";
 
 // Runs `nearcap ARGS` (NEARCAP_CLI) from the source directory; `prefix` goes
 // before the program (environment assignments, `timeout 30`).

@@ -61,23 +61,25 @@ TEST(CapCommand, AreasAndCountsAgreeWithTheReference) {
   // area fraction up to the pixel grid (640 x 480).  Point sampling can only
   // misjudge the pixels the region's outline crosses: about its length in
   // pixels, under two frame widths (1280 of 640 x 480 pixels, 2/480) here.
-  const auto dir = std::filesystem::temp_directory_path() / "nearcap_cli_test_ref";
+  const auto dir = test::temp_path("nearcap_cli_test_ref");
   const test::CliResult ref =
       test::run_cli("reference data/scenes/near_split.json --light 0 --out " + dir.string(), "ref");
   ASSERT_EQ(ref.exit_code, 0) << ref.err;
   const auto summary = nlohmann::json::parse(ref.out);
   const double pixel_fraction = summary.at("pixels_cap_nonzero").get<double>() / (640.0 * 480.0);
   EXPECT_NEAR(pixel_fraction, fraction, 2.0 / 480.0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CapCommand, SvgIsWritten) {
-  const auto svg = std::filesystem::temp_directory_path() / "nearcap_cli_test_cap.svg";
+  const auto svg = test::temp_path("nearcap_cli_test_cap") += ".svg";
   std::filesystem::remove(svg);
   const test::CliResult r = test::run_cli("cap data/scenes/case_d.json --light 0 --svg " + svg.string(), "svg");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = test::slurp(svg);
   EXPECT_NE(text.find("<svg"), std::string::npos);
   EXPECT_NE(text.find("count 1"), std::string::npos);
+  std::filesystem::remove(svg);
 }
 
 TEST(CapCommand, AFailingSecondOutputLeavesNoFirstOutput) {

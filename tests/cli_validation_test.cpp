@@ -54,7 +54,7 @@ class CliValidation : public ::testing::Test {
   }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  test::CliResult run(const std::string& args) const { return test::run_cli(args, "validation", "timeout 60"); }
+  test::CliResult run(const std::string& args) const { return test::run_cli(args, "validation", test::kHangBound); }
   std::vector<std::string> written() const {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir_ / "out")) names.push_back(e.path().filename().string());

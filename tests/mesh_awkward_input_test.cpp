@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_support.hpp"
 #include "nearcap/exact/light_facing.hpp"
 #include "nearcap/io/mesh_file.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -48,7 +49,7 @@ std::string sliver_box() {
 TEST(AwkwardMesh, ZeroAreaTriangleIsLegalAndEdgeOnForEveryLight) {
   TriangleMesh mesh = parse_off(sliver_box(), "sliver.off");
   ASSERT_NO_THROW(validate_occluder(mesh));
-  const auto path = std::filesystem::temp_directory_path() / "nearcap_sliver_box.off";
+  const auto path = test::temp_path("nearcap_sliver_box") += ".off";
   std::ofstream(path) << sliver_box();
   for (const auto& light : {std::array<double, 3>{0, 5, 0}, std::array<double, 3>{3, -2, 4}}) {
     nlohmann::json j;
@@ -63,6 +64,7 @@ TEST(AwkwardMesh, ZeroAreaTriangleIsLegalAndEdgeOnForEveryLight) {
     ASSERT_EQ(scene.objects[0].mesh->triangles[sliver], (std::array<VertexIndex, 3>{8, 3, 7}));
     EXPECT_EQ(facing[sliver], Facing::EdgeOn);
   }
+  std::filesystem::remove(path);
 }
 
 }  // namespace

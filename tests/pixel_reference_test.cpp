@@ -164,7 +164,7 @@ int run_cli(const std::string& args, std::string* err) {
 }
 
 std::filesystem::path fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
+  const auto dir = test::temp_path(name);
   std::filesystem::remove_all(dir);
   return dir;
 }
@@ -174,7 +174,7 @@ std::string small_scene_file(const std::string& name) {
   nlohmann::json j = nlohmann::json::parse(edge_scene_json(true));
   j["camera"]["width"] = 64;
   j["camera"]["height"] = 48;
-  const auto path = std::filesystem::temp_directory_path() / ("nearcap_reference_test_" + name + ".json");
+  const auto path = test::temp_path("nearcap_reference_test_" + name) += ".json";
   std::ofstream(path) << j.dump();
   return path.string();
 }
@@ -193,6 +193,8 @@ TEST(ReferenceCommand, WritesTheFourFiles) {
   EXPECT_NO_THROW(decode_pgm16(ss.str(), "stencil.pgm", &w, &h));
   EXPECT_EQ(w, 64);
   EXPECT_EQ(h, 48);
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(scene);
 }
 
 TEST(ReferenceCommand, BadInputLeavesNoOutput) {
@@ -207,6 +209,7 @@ TEST(ReferenceCommand, BadInputLeavesNoOutput) {
   EXPECT_EQ(run_cli("reference " + bad + " --light 0 --out " + dir.string(), &err), 2);
   EXPECT_NE(err.find("error (light)"), std::string::npos) << err;
   EXPECT_FALSE(std::filesystem::exists(dir));
+  std::filesystem::remove(scene);
 }
 
 }  // namespace

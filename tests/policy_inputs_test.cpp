@@ -117,11 +117,11 @@ TEST_F(PolicyInputs, TuneRefusesAnOutputThatIsAnInput) {
 
 TEST_F(PolicyInputs, TuneRefusesInputsThatAreNotRegularFiles) {
   const std::string out = (dir_ / "p.json").string();
-  expect_one_line_error(test::run_cli("tune /dev/zero --out " + out, "tune_zero", "timeout 60"), "io",
+  expect_one_line_error(test::run_cli("tune /dev/zero --out " + out, "tune_zero", test::kHangBound), "io",
                         "/dev/zero: is a character device");
   ASSERT_EQ(::mkfifo((dir_ / "fifo.csv").c_str(), 0600), 0);
   expect_one_line_error(
-      test::run_cli("tune " + (dir_ / "fifo.csv").string() + " --out " + out, "tune_fifo", "timeout 60"), "io",
+      test::run_cli("tune " + (dir_ / "fifo.csv").string() + " --out " + out, "tune_fifo", test::kHangBound), "io",
       "is a FIFO");
   expect_one_line_error(test::run_cli("tune " + dir_.string() + " --out " + out, "tune_dir"), "io", "is a directory");
   EXPECT_FALSE(fs::exists(out));
@@ -145,7 +145,7 @@ TEST_F(PolicyInputs, TheInputLimitAppliesToSweepCsvsAndPolicies) {
       "resource", "NEARCAP_MAX_INPUT_MB");
   expect_one_line_error(test::run_cli("cracks data/scenes/near_cap_bunny_wall.json --light 0 --method policy --policy "
                                       "/dev/zero",
-                                      "policy_zero", "timeout 60"),
+                                      "policy_zero", test::kHangBound),
                         "io", "/dev/zero: is a character device");
 }
 

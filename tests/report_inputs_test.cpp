@@ -214,11 +214,12 @@ TEST_F(ReportInputs, InputsThatAreNotRegularFilesAreRefused) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const fs::path out = path("never_fifo");
   // `timeout`: a FIFO read would block for ever.
-  test::CliResult r = test::run_cli("report " + fifo.string() + " --out " + out.string(), "fifo", "timeout 20");
+  test::CliResult r = test::run_cli("report " + fifo.string() + " --out " + out.string(), "fifo", test::kHangBound);
   expect_one_line(r, "not a regular file", "FIFO CSV");
-  r = test::run_cli("report " + rows() + " --policy " + fifo.string() + " --out " + out.string(), "fifo", "timeout 20");
+  r = test::run_cli("report " + rows() + " --policy " + fifo.string() + " --out " + out.string(), "fifo",
+                    test::kHangBound);
   expect_one_line(r, "a FIFO", "FIFO policy");
-  r = test::run_cli("report " + rows() + " --policy /dev/zero --out " + out.string(), "zero", "timeout 20");
+  r = test::run_cli("report " + rows() + " --policy /dev/zero --out " + out.string(), "zero", test::kHangBound);
   expect_one_line(r, "a character device", "/dev/zero policy");
   EXPECT_FALSE(fs::exists(out));
 }

@@ -130,6 +130,20 @@ TEST_F(SweepFile, ASecondWriterIsRefusedWhileTheFirstHoldsTheLock) {
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(full));
 }
 
+// Polls `ready` every 10 ms while `child` runs, for at most `bound_s`
+// seconds: true once it holds.  A child that has ended is reaped (`*ended`
+// set, its status in `*status`) and the wait stops there.
+template <class Ready>
+bool wait_while_running(pid_t child, Ready ready, int bound_s, bool* ended, int* status) {
+  for (int k = 0; k < bound_s * 100; ++k) {
+    if (ready()) return true;
+    if (!*ended && ::waitpid(child, status, WNOHANG) == child) *ended = true;
+    if (*ended) return ready();
+    ::usleep(10000);
+  }
+  return ready();
+}
+
 // A running sweep holds the lock on its CSV; killed (SIGKILL), it holds it no more.
 TEST_F(SweepFile, TheWriterHoldsTheLockUntilItEndsKilledOrNot) {
   const std::string csv = path("running.csv");
@@ -142,37 +156,40 @@ TEST_F(SweepFile, TheWriterHoldsTheLockUntilItEndsKilledOrNot) {
             "zpass", "--out", csv.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  // The file appears under its name already locked: wait for it (no deadline
-  // on the sweep itself, which has a million samples to run), then look.
+  // The file appears under its name already locked, and its sidecar after it
+  // (create_csv links the CSV first, so that a sweep that loses the race for
+  // the name writes no sidecar).  Both are waited for while the sweep runs
+  // (it has a million samples to run), with a bound far above a start under
+  // AddressSanitizer on a loaded machine; no ASSERT before the child is killed.
+  constexpr int kStartBoundS = 300;
+  bool ended = false;
+  int status = 0;
   int fd = -1;
-  for (int k = 0; k < 6000 && fd < 0; ++k) {
-    fd = ::open(csv.c_str(), O_RDONLY);
-    if (fd < 0) ::usleep(10000);
-  }
-  EXPECT_GE(fd, 0) << csv << " never appeared";  // no ASSERT before the child is killed
+  const bool appeared = wait_while_running(
+      child, [&] { return (fd = ::open(csv.c_str(), O_RDONLY)) >= 0; }, kStartBoundS, &ended, &status);
+  EXPECT_TRUE(appeared) << csv << " never appeared"
+                        << (ended ? "; the sweep ended with status " + std::to_string(status) : std::string());
   if (fd >= 0) {
     EXPECT_NE(::flock(fd, LOCK_SH | LOCK_NB), 0) << "the running sweep does not hold the lock on " << csv;
     EXPECT_EQ(errno, EWOULDBLOCK);
     ::close(fd);
   }
-  // The sidecar follows the locked CSV (create_csv links the CSV first, so
-  // that a sweep that loses the race for the name writes no sidecar).
-  bool sidecar = false;
-  for (int k = 0; k < 6000 && !sidecar; ++k) {
-    sidecar = fs::exists(analysis::sweep_meta_path(csv));
-    if (!sidecar) ::usleep(10000);
-  }
-  EXPECT_TRUE(sidecar) << analysis::sweep_meta_path(csv) << " never appeared";
+  const std::string meta = analysis::sweep_meta_path(csv);
+  const bool sidecar = wait_while_running(
+      child, [&] { return fs::exists(meta); }, kStartBoundS, &ended, &status);
+  EXPECT_TRUE(sidecar) << meta << " never appeared";
+  EXPECT_FALSE(ended) << "the sweep of a million samples ended, status " << status;
   const test::CliResult fresh = test::run_cli(args(csv), "sweep_file_fresh_beside");
   EXPECT_EQ(fresh.exit_code, 2) << fresh.err;
   // (timeout: where a resume would not be refused, it would run for hours)
   const test::CliResult resume =
       test::run_cli("sweep --samples 1000000 --width 16 --height 12 --methods zpass --resume --out " + csv,
-                    "sweep_file_beside", "timeout 30");
+                    "sweep_file_beside", test::kHangBound);
   expect_one_line_error(resume, "io", "another nearcap sweep is writing it", "a resume beside a running sweep");
-  ::kill(child, SIGKILL);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  if (!ended) {
+    ::kill(child, SIGKILL);
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+  }
   fd = ::open(csv.c_str(), O_RDONLY);
   ASSERT_GE(fd, 0);
   EXPECT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0) << "the lock outlived the killed sweep";
