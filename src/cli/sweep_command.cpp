@@ -55,6 +55,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -394,10 +395,7 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     return {analysis::kAllEnginePolicies.begin(), analysis::kAllEnginePolicies.end()};
   }
   std::vector<analysis::EnginePolicy> out;
-  std::size_t start = 0;
-  while (start <= names.size()) {
-    const std::size_t comma = std::min(names.find(',', start), names.size());
-    const std::string name = names.substr(start, comma - start);
+  for (const std::string& name : comma_separated(names)) {
     const auto p = analysis::engine_policy_from_string(name);
     if ((name == "policy" && switch_policy) || (p && std::find(out.begin(), out.end(), *p) != out.end()))
       throw Error(ErrorKind::Usage, "--policies names " + name + " twice");
@@ -409,7 +407,6 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     } else {
       out.push_back(*p);
     }
-    start = comma + 1;
   }
   return out;
 }
@@ -441,8 +438,10 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
                                  : "unused")}};
   char exact[40];
   for (auto [name, value] : emulation_option_values(o.emulation)) {
-    if (name == "guard-band") std::snprintf(exact, sizeof exact, "%.9g", static_cast<double>(o.emulation.guard_band));
-    if (name == "l-near-scale") std::snprintf(exact, sizeof exact, "%.17g", o.emulation.l_near_scale);
+    if (name == "guard-band")
+      std::snprintf(exact, sizeof exact, "%.9g", static_cast<double>(o.emulation.settings.raster.guard_band));
+    if (name == "l-near-scale")
+      std::snprintf(exact, sizeof exact, "%.17g", o.emulation.settings.light_frustum.near_scale);
     if (name == "guard-band" || name == "l-near-scale") value = exact;
     meta.options.push_back({"--" + name, one(value)});
   }
@@ -591,36 +590,35 @@ void register_sample(CLI::App& app) {
 }
 
 void register_sweep(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "sweep",
+  auto [cmd, o] = add_subcommand<SweepCommandOptions>(
+      app, "sweep",
       "camera paths and hard-case samples through the exact reference and the float methods: one CSV row per "
-      "configuration, light and method (docs/sweeps-and-report.md)");
-  auto o = std::make_shared<SweepCommandOptions>();
-  cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
-  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")
+      "configuration, light and method (docs/sweeps-and-report.md)",
+      run_sweep);
+  cmd.add_option("--path", o.paths, "a camera path file (repeatable)");
+  cmd.add_option("--samples", o.samples, "this many hard-case configurations from the sampler")
       ->transform(integer_in(0, kMaxSweepSamples));
-  add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)")
+  add_sampler_options(cmd, o.sampler, false);
+  cmd.add_option("--width", o.width, "viewport width of every configuration (default: the path's; 48 sampled)")
       ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)")
+  cmd.add_option("--height", o.height, "viewport height of every configuration (default: the path's; 36 sampled)")
       ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
-  cmd->add_option("--policies", o->policies,
-                  "engine rules run beside the methods, one row each: comma-separated " +
-                      names_joined<analysis::EnginePolicy>() +
-                      ", policy (the switch policy of --policy), or all, or none")
+  cmd.add_option("--methods", o.methods, "comma-separated methods, or all")->capture_default_str();
+  cmd.add_option("--policies", o.policies,
+                 "engine rules run beside the methods, one row each: comma-separated " +
+                     names_joined<analysis::EnginePolicy>() +
+                     ", policy (the switch policy of --policy), or all, or none")
       ->capture_default_str();
-  cmd->add_option("--policy", o->policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
+  cmd.add_option("--policy", o.policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
       ->capture_default_str();
-  add_emulation_options(*cmd, o->emulation);
-  cmd->add_option("--variant", o->variants,
-                  "run every method under these choices too, NAME=VALUE[,...] over the options above "
-                  "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
-  cmd->add_option("--out", o->out, "the results CSV")->required();
-  cmd->add_flag("--resume", o->resume, "continue the sweep already in --out (docs/sweep-files.md)");
-  cmd->add_flag("--repair", o->repair,
-                "with --resume: remove a configuration cut off mid-write at the end of --out and run it again");
-  cmd->callback([o] { run_sweep(*o); });
+  add_emulation_options(cmd, o.emulation);
+  cmd.add_option("--variant", o.variants,
+                 "run every method under these choices too, NAME=VALUE[,...] over the options above "
+                 "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
+  cmd.add_option("--out", o.out, "the results CSV")->required();
+  cmd.add_flag("--resume", o.resume, "continue the sweep already in --out (docs/sweep-files.md)");
+  cmd.add_flag("--repair", o.repair,
+               "with --resume: remove a configuration cut off mid-write at the end of --out and run it again");
 }
 
 }  // namespace nearcap::cli
