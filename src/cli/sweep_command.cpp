@@ -82,6 +82,12 @@ std::string sample_replay(const SamplerOptions& o, std::uint64_t index) {
 
 // ---- nearcap sample --------------------------------------------------------
 
+struct SampleOptions {
+  SamplerOptions sampler;
+  std::uint64_t index = 0;
+  std::string out;
+};
+
 void run_sample(const SamplerOptions& o, std::uint64_t index, const std::string& out) {
   const analysis::HardCase c = analysis::HardCaseSampler(sampler_spec(o)).sample(index);
   const std::string json = c.scene_json + "\n";
@@ -577,16 +583,14 @@ void run_sweep(const SweepCommandOptions& o) {
 }  // namespace
 
 void register_sample(CLI::App& app) {
-  auto* cmd = app.add_subcommand("sample", "one hard-case configuration of the sampler as a scene file");
-  auto o = std::make_shared<SamplerOptions>();
-  auto index = std::make_shared<std::uint64_t>(0);
-  auto out = std::make_shared<std::string>();
-  add_sampler_options(*cmd, *o, true);
-  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")
+  auto [cmd, o] =
+      add_subcommand<SampleOptions>(app, "sample", "one hard-case configuration of the sampler as a scene file",
+                                    [](const SampleOptions& s) { run_sample(s.sampler, s.index, s.out); });
+  add_sampler_options(cmd, o.sampler, true);
+  cmd.add_option("--index", o.index, "configuration index (0, 1, ...)")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->required();
-  cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
-  cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
+  cmd.add_option("--out", o.out, "write the scene file here (default: stdout)");
 }
 
 void register_sweep(CLI::App& app) {
