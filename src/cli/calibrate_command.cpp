@@ -458,12 +458,7 @@ void register_calibrate(CLI::App& app) {
   cmd.add_option("--path", o.paths,
                  "a camera path file, or a bundled path's name (near_plane_sweep, fly_around, ...): its every frame "
                  "(repeatable)");
-  cmd.add_option("--width", o.width, "viewport width of every configuration")
-      ->transform(integer_in(1, kMaxViewportPixels))
-      ->capture_default_str();
-  cmd.add_option("--height", o.height, "viewport height of every configuration")
-      ->transform(integer_in(1, kMaxViewportPixels))
-      ->capture_default_str();
+  add_viewport_options(cmd, o.width, o.height);
   cmd.add_option("--out", o.out, "the observations' CSV file")->required();
   note_given(cmd.add_option("--policy", o.policy, "the policy the device profile is added to (with --write-policy)")
                  ->capture_default_str(),

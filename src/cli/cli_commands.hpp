@@ -129,6 +129,13 @@ std::vector<std::pair<std::string, std::string>> emulation_option_values(const E
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 
+// --width and --height, the viewport of every configuration in pixels (1 to
+// kMaxViewportPixels).  `width_default` and `height_default` are what the
+// help says of the defaults (" (default: ...)"); empty, it shows the values
+// the options start with.
+void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::string& width_default = "",
+                          const std::string& height_default = "");
+
 // The hard-case sampler's options (sample, sweep, fit-l-near).
 struct SamplerOptions {
   std::uint64_t seed = 1;

@@ -349,6 +349,16 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   return spec;
 }
 
+void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::string& width_default,
+                          const std::string& height_default) {
+  CLI::Option* w = cmd.add_option("--width", width, "viewport width of every configuration" + width_default)
+                       ->transform(integer_in(1, kMaxViewportPixels));
+  CLI::Option* h = cmd.add_option("--height", height, "viewport height of every configuration" + height_default)
+                       ->transform(integer_in(1, kMaxViewportPixels));
+  if (width_default.empty()) w->capture_default_str();
+  if (height_default.empty()) h->capture_default_str();
+}
+
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
   cmd.add_option("--seed", o.seed, "the sampler's seed")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
@@ -357,14 +367,7 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
                  "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
                      ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) + ")")
       ->capture_default_str();
-  if (sizes) {
-    cmd.add_option("--width", o.width, "viewport width of every configuration")
-        ->transform(integer_in(1, kMaxViewportPixels))
-        ->capture_default_str();
-    cmd.add_option("--height", o.height, "viewport height of every configuration")
-        ->transform(integer_in(1, kMaxViewportPixels))
-        ->capture_default_str();
-  }
+  if (sizes) add_viewport_options(cmd, o.width, o.height);
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
 }
 

@@ -401,10 +401,8 @@ void register_evaluate(CLI::App& app) {
   cmd.add_option("--samples", o.samples, "held-out configurations of the hard-case sampler (the set seed-S)")
       ->transform(integer_in(0, kMaxSweepSamples));
   add_sampler_options(cmd, o.sampler, false);
-  cmd.add_option("--width", o.width, "viewport width of every configuration (default: 48 sampled, a path's own)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd.add_option("--height", o.height, "viewport height of every configuration (default: 36 sampled, a path's own)")
-      ->transform(integer_in(1, kMaxViewportPixels));
+  add_viewport_options(cmd, o.width, o.height, " (default: 48 sampled, a path's own)",
+                       " (default: 36 sampled, a path's own)");
   cmd.add_option("--first-frame", o.first_frame, "the first frame of each path")
       ->transform(integer_in(0, 1000000))
       ->capture_default_str();

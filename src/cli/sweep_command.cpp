@@ -603,10 +603,8 @@ void register_sweep(CLI::App& app) {
   cmd.add_option("--samples", o.samples, "this many hard-case configurations from the sampler")
       ->transform(integer_in(0, kMaxSweepSamples));
   add_sampler_options(cmd, o.sampler, false);
-  cmd.add_option("--width", o.width, "viewport width of every configuration (default: the path's; 48 sampled)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd.add_option("--height", o.height, "viewport height of every configuration (default: the path's; 36 sampled)")
-      ->transform(integer_in(1, kMaxViewportPixels));
+  add_viewport_options(cmd, o.width, o.height, " (default: the path's; 48 sampled)",
+                       " (default: the path's; 36 sampled)");
   cmd.add_option("--methods", o.methods, "comma-separated methods, or all")->capture_default_str();
   cmd.add_option("--policies", o.policies,
                  "engine rules run beside the methods, one row each: comma-separated " +
