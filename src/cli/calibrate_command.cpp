@@ -451,8 +451,7 @@ void register_calibrate(CLI::App& app) {
       "prints the noise floor (zpass drawn twice); with --write-policy, fits a device profile and writes the policy "
       "with it",
       run);
-  cmd.add_option("--samples", o.samples, "hard-case configurations of the sampler")
-      ->transform(integer_in(0, kMaxSweepSamples))
+  add_samples_option(cmd, o.samples, "hard-case configurations of the sampler", 0, kMaxSweepSamples)
       ->capture_default_str();
   add_sampler_options(cmd, o.sampler, false);
   cmd.add_option("--path", o.paths,

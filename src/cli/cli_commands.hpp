@@ -129,6 +129,10 @@ std::vector<std::pair<std::string, std::string>> emulation_option_values(const E
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 
+// --samples N, how many configurations the hard-case sampler draws: a whole
+// number in [lo, hi]; `help` says what they are for.
+CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,
+                                std::uint64_t hi);
 // --width and --height, the viewport of every configuration in pixels (1 to
 // kMaxViewportPixels).  `width_default` and `height_default` are what the
 // help says of the defaults (" (default: ...)"); empty, it shows the values

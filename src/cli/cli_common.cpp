@@ -349,6 +349,11 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   return spec;
 }
 
+CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,
+                                std::uint64_t hi) {
+  return cmd.add_option("--samples", samples, help)->transform(integer_in(lo, hi));
+}
+
 void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::string& width_default,
                           const std::string& height_default) {
   CLI::Option* w = cmd.add_option("--width", width, "viewport width of every configuration" + width_default)

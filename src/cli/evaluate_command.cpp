@@ -398,8 +398,8 @@ void register_evaluate(CLI::App& app) {
       run);
   cmd.add_option("--policy", o.policy, "the switch policy under test (nearcap tune writes one)")->capture_default_str();
   cmd.add_option("--path", o.paths, "a held-out camera path (data/paths/), repeatable: one set each");
-  cmd.add_option("--samples", o.samples, "held-out configurations of the hard-case sampler (the set seed-S)")
-      ->transform(integer_in(0, kMaxSweepSamples));
+  add_samples_option(cmd, o.samples, "held-out configurations of the hard-case sampler (the set seed-S)", 0,
+                     kMaxSweepSamples);
   add_sampler_options(cmd, o.sampler, false);
   add_viewport_options(cmd, o.width, o.height, " (default: 48 sampled, a path's own)",
                        " (default: 36 sampled, a path's own)");

@@ -66,8 +66,7 @@ void register_fit_l_near(CLI::App& app) {
                                  "fit the l_near safety margin (--l-near-scale) with Ceres, minimizing the mean "
                                  "log10 cond(P_l M_l) over hard cases of the sampler (docs/findings/l-near.md)",
                                  run);
-  cmd.add_option("--samples", o.samples, "this many configurations of the sampler")
-      ->transform(integer_in(1, kMaxFitSamples))
+  add_samples_option(cmd, o.samples, "this many configurations of the sampler", 1, kMaxFitSamples)
       ->capture_default_str();
   add_sampler_options(cmd, o.sampler, true);
   add_emulation_options(cmd, o.emulation);

@@ -600,8 +600,7 @@ void register_sweep(CLI::App& app) {
       "configuration, light and method (docs/sweeps-and-report.md)",
       run_sweep);
   cmd.add_option("--path", o.paths, "a camera path file (repeatable)");
-  cmd.add_option("--samples", o.samples, "this many hard-case configurations from the sampler")
-      ->transform(integer_in(0, kMaxSweepSamples));
+  add_samples_option(cmd, o.samples, "this many hard-case configurations from the sampler", 0, kMaxSweepSamples);
   add_sampler_options(cmd, o.sampler, false);
   add_viewport_options(cmd, o.width, o.height, " (default: the path's; 48 sampled)",
                        " (default: the path's; 36 sampled)");
