@@ -290,5 +290,19 @@ TEST_F(CliValidation, AMeshFolderJsonCannotNameIsOneIoError) {
   }
 }
 
+// render's lit frames and view draw every light unless --light K names one:
+// a K the scene does not have is a usage error there too, before any GL.
+TEST_F(CliValidation, AnOptionalLightOutOfRangeIsAUsageError) {
+  const std::string scene = "'" + (dir_ / "B.json").string() + "'";
+  const test::CliResult render = run("render " + scene + " --light 1 --out '" + (dir_ / "out/r").string() + "'");
+  EXPECT_EQ(render.exit_code, 2) << render.err;
+  EXPECT_NE(render.err.find("--light 1 is out of range (the scene has 1 light(s))"), std::string::npos) << render.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out/r"));
+  const test::CliResult view = test::run_cli("view " + scene + " --light 1", "validation",
+                                             test::kHangBound + " env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(view.exit_code, 2) << view.err;
+  EXPECT_NE(view.err.find("--light 1 is out of range (the scene has 1 light(s))"), std::string::npos) << view.err;
+}
+
 }  // namespace
 }  // namespace nearcap

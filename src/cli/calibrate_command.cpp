@@ -40,6 +40,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
 #include "nearcap/render/pass_kinds.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -51,6 +52,7 @@ struct CalibrateOptions {
   int width = 160, height = 120;
   std::string out;
   std::string policy = shipped_data_dir() + "/policy.json";
+  bool policy_given = false;  // --policy on the command line
   std::string write_policy;
 };
 
@@ -311,6 +313,8 @@ void refuse_directory(const std::string& file, const std::string& option) {
 }
 
 void run(CalibrateOptions o) {
+  if (o.policy_given && o.write_policy.empty())
+    throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap calibrate writes its observations to --out FILE.csv");
   refuse_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
@@ -437,41 +441,30 @@ void run(CalibrateOptions o) {
 }  // namespace
 
 void register_calibrate(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "calibrate",
+  auto [cmd, o] = add_subcommand<CalibrateOptions>(
+      app, "calibrate",
       "measure what each pass kind (depth pre-pass, sides, light cap, dark cap, near-cap, lit pass) and each CPU task "
       "(silhouettes, the clipped-sides cap, the exact empty-near-cap test) costs on the current OpenGL (headless "
       "EGL): a calibration set of hard-case samples and camera paths drawn with zpass, zfail, zpplus, "
       "zpplus-clipped-sides and zpplus-corrected, interleaved per configuration after a warm-up, each pass timed on "
       "its own with the triangles and fragments it drew; writes the observations as CSV (docs/calibration.md) and "
       "prints the noise floor (zpass drawn twice); with --write-policy, fits a device profile and writes the policy "
-      "with it");
-  auto o = std::make_shared<CalibrateOptions>();
-  cmd->add_option("--samples", o->samples, "hard-case configurations of the sampler")
-      ->transform(integer_in(0, kMaxSweepSamples))
+      "with it",
+      run);
+  add_samples_option(cmd, o.samples, "hard-case configurations of the sampler", 0, kMaxSweepSamples)
       ->capture_default_str();
-  add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--path", o->paths,
-                  "a camera path file, or a bundled path's name (near_plane_sweep, fly_around, ...): its every frame "
-                  "(repeatable)");
-  cmd->add_option("--width", o->width, "viewport width of every configuration")
-      ->transform(integer_in(1, kMaxViewportPixels))
-      ->capture_default_str();
-  cmd->add_option("--height", o->height, "viewport height of every configuration")
-      ->transform(integer_in(1, kMaxViewportPixels))
-      ->capture_default_str();
-  cmd->add_option("--out", o->out, "the observations' CSV file")->required();
-  auto* policy =
-      cmd->add_option("--policy", o->policy, "the policy the device profile is added to (with --write-policy)")
-          ->capture_default_str();
-  cmd->add_option("--write-policy", o->write_policy,
-                  "fit a device profile on the observations (Ceres), print its fit report, and write --policy with "
-                  "it here (never over --policy)");
-  cmd->callback([o, policy] {
-    if (policy->count() > 0 && o->write_policy.empty())
-      throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
-    run(*o);
-  });
+  add_sampler_options(cmd, o.sampler, false);
+  cmd.add_option("--path", o.paths,
+                 "a camera path file, or a bundled path's name (near_plane_sweep, fly_around, ...): its every frame "
+                 "(repeatable)");
+  add_viewport_options(cmd, o.width, o.height);
+  cmd.add_option("--out", o.out, "the observations' CSV file")->required();
+  note_given(cmd.add_option("--policy", o.policy, "the policy the device profile is added to (with --write-policy)")
+                 ->capture_default_str(),
+             o.policy_given);
+  cmd.add_option("--write-policy", o.write_policy,
+                 "fit a device profile on the observations (Ceres), print its fit report, and write --policy with "
+                 "it here (never over --policy)");
 }
 
 }  // namespace nearcap::cli

@@ -14,9 +14,11 @@
 #include <map>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/exact/near_cap.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/near_cap_svg.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -29,6 +31,13 @@ nlohmann::json ring_json(const std::vector<NearCapPoint>& ring) {
   for (const NearCapPoint& p : ring) j.push_back(point_json(p));
   return j;
 }
+
+struct CapOptions {
+  std::string scene;
+  std::size_t light = 0;
+  std::string out;
+  std::string svg;
+};
 
 void run(const std::string& scene_path, std::size_t light, const std::string& out, const std::string& svg_path) {
   const Scene scene = load_scene(scene_path);
@@ -71,11 +80,11 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
                               ? std::string()
                               : near_cap_svg(cap, scene.camera, scene.source + ", light " + std::to_string(light));
   std::vector<io::OutputFile> files;
-  if (!out.empty()) files.push_back({out, json_text(j, 1) + "\n"});
+  if (!out.empty()) files.push_back({out, json_file_text(j)});
   if (!svg_path.empty()) files.push_back({svg_path, svg});
   io::write_output_files(files);
   if (out.empty()) {
-    std::cout << json_text(j) << "\n";
+    print_json_line(j);
   } else {
     std::map<std::size_t, double> area;
     for (const NearCapFace& f : cap.faces()) area[f.count] += f.area_estimate;
@@ -91,18 +100,14 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
 }  // namespace
 
 void register_cap(CLI::App& app) {
-  auto* cmd = app.add_subcommand("cap",
-                                 "the exact near-cap: faces of the near rectangle with their counts (JSON), "
-                                 "optionally a picture (SVG)");
-  auto scene = std::make_shared<std::string>();
-  auto light = std::make_shared<std::size_t>(0);
-  auto out = std::make_shared<std::string>();
-  auto svg = std::make_shared<std::string>();
-  cmd->add_option("scene", *scene, "scene file (JSON)")->required();
-  add_light_option(*cmd, *light);
-  cmd->add_option("--out", *out, "write the JSON here (default: stdout)");
-  cmd->add_option("--svg", *svg, "write an SVG picture here");
-  cmd->callback([scene, light, out, svg] { run(*scene, *light, *out, *svg); });
+  auto [cmd, o] = add_subcommand<CapOptions>(
+      app, "cap",
+      "the exact near-cap: faces of the near rectangle with their counts (JSON), optionally a picture (SVG)",
+      [](const CapOptions& c) { run(c.scene, c.light, c.out, c.svg); });
+  add_scene_argument(cmd, o.scene)->required();
+  add_light_option(cmd, o.light);
+  cmd.add_option("--out", o.out, "write the JSON here (default: stdout)");
+  cmd.add_option("--svg", o.svg, "write an SVG picture here");
 }
 
 }  // namespace nearcap::cli

@@ -5,9 +5,11 @@
 #include <iostream>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/exact/classification.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/case_comparison.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -17,6 +19,11 @@ nlohmann::json cases_json(const std::array<std::size_t, kQuadCaseCount>& counts)
   for (std::size_t c = 0; c < kQuadCaseCount; ++c) j[std::string(to_string(static_cast<QuadCase>(c)))] = counts[c];
   return j;
 }
+
+struct ClassifyOptions {
+  std::string scene;
+  bool json = false;
+};
 
 void run(const std::string& scene_path, bool as_json) {
   const Scene scene = load_scene(scene_path);
@@ -68,7 +75,7 @@ void run(const std::string& scene_path, bool as_json) {
       filter[std::string(to_string(static_cast<Predicate>(p)))] = {{"filtered", result.stats.filtered[p]},
                                                                    {"exact", result.stats.exact[p]}};
     root["filter"] = filter;
-    std::cout << json_text(root) << "\n";
+    print_json_line(root);
     return;
   }
   std::cout << "scene " << scene.source << ": " << scene.lights.size() << " light(s), " << scene.objects.size()
@@ -91,12 +98,11 @@ void run(const std::string& scene_path, bool as_json) {
 }  // namespace
 
 void register_classify(CLI::App& app) {
-  auto* cmd = app.add_subcommand("classify", "silhouette edges and ZP+ cases A-D per light and occluder");
-  auto scene = std::make_shared<std::string>();
-  auto json = std::make_shared<bool>(false);
-  cmd->add_option("scene", *scene, "scene file (JSON)")->required();
-  cmd->add_flag("--json", *json, "print every edge as JSON");
-  cmd->callback([scene, json] { run(*scene, *json); });
+  auto [cmd, o] =
+      add_subcommand<ClassifyOptions>(app, "classify", "silhouette edges and ZP+ cases A-D per light and occluder",
+                                      [](const ClassifyOptions& c) { run(c.scene, c.json); });
+  add_scene_argument(cmd, o.scene)->required();
+  cmd.add_flag("--json", o.json, "print every edge as JSON");
 }
 
 }  // namespace nearcap::cli

@@ -83,6 +83,14 @@ CLI::Validator finite_number();
 // non-negative integer written in digits ("-1", "1e0", "" and "abc" are usage
 // errors naming the value).
 CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required = true);
+// The same, not required: `given` says whether the command line gives it.
+CLI::Option* add_optional_light_option(CLI::App& cmd, std::size_t& light, bool& given);
+
+// `option`, with `given` set when the command line gives it.
+CLI::Option* note_given(CLI::Option* option, bool& given);
+
+// The SCENE argument: the scene file's path.
+CLI::Option* add_scene_argument(CLI::App& cmd, std::string& scene);
 
 // --max-memory GB, for the commands whose memory grows with the pixel count.
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
@@ -93,28 +101,18 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
 
-// The float pipeline's choices, as command-line options (cracks, sweep, ...):
-// each named choice holds its enum, parsed once where the command line is
-// read, by the name table next to the enum (nearcap/named_values.hpp).
+// The float pipeline's choices, as command-line options (cracks, sweep, ...).
+// The options set the fields of gl::EmulationSettings itself, so each
+// default is the pipeline's own; a named choice holds its enum, parsed once
+// where the command line is read, by the name table next to the enum
+// (nearcap/named_values.hpp).  Two choices read differently on the command
+// line and are held in their command-line form: settings_from turns them
+// into settings.raster.mesa_clipper and settings.arithmetic, whose values in
+// `settings` are not read.
 struct EmulationOptions {
-  int subpixel_bits = 8;
-  gl::DepthFormat depth = gl::DepthFormat::Fixed24;
-  gl::FillRule fill_rule = gl::FillRule::BottomLeft;
-  float guard_band = 1.0f;
-  gl::ViewportArithmetic viewport = gl::ViewportArithmetic::Divide;
-  gl::DepthInterpolation depth_interpolation = gl::DepthInterpolation::Exact;
-  gl::ClipperArithmetic clipper = gl::ClipperArithmetic::Inside;
-  gl::LightProjection light_projection = gl::LightProjection::Paper;
-  gl::LightNearRule l_near = gl::LightNearRule::PaperRatio;
-  double l_near_scale = 1.0;
-  gl::ZFailFar zfail_far = gl::ZFailFar::Infinite;
-  gl::SwitchClamp switch_clamp = gl::SwitchClamp::DepthClamp;
-  gl::ZPassFar zpass_far = gl::ZPassFar::Finite;
-  gl::InfiniteFar infinite_far = gl::InfiniteFar::Exact;
-  gl::DepthMapping depth_mapping = gl::DepthMapping::Standard;
-  gl::NearPlane near_plane = gl::NearPlane::Scene;
-  gl::VolumeCulling volume_culling = gl::VolumeCulling::None;
-  bool fma = false;
+  gl::EmulationSettings settings;
+  gl::ClipperArithmetic clipper = gl::ClipperArithmetic::Inside;  // --clipper
+  bool fma = false;                                               // --fma
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
 // `base` with the choices of a variant spec "NAME=VALUE[,NAME=VALUE...]"
@@ -131,6 +129,17 @@ std::vector<std::pair<std::string, std::string>> emulation_option_values(const E
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
 
+// --samples N, how many configurations the hard-case sampler draws: a whole
+// number in [lo, hi]; `help` says what they are for.
+CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,
+                                std::uint64_t hi);
+// --width and --height, the viewport of every configuration in pixels (1 to
+// kMaxViewportPixels).  `width_default` and `height_default` are what the
+// help says of the defaults (" (default: ...)"); empty, it shows the values
+// the options start with.
+void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::string& width_default = "",
+                          const std::string& height_default = "");
+
 // The hard-case sampler's options (sample, sweep, fit-l-near).
 struct SamplerOptions {
   std::uint64_t seed = 1;
@@ -142,6 +151,9 @@ struct SamplerOptions {
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
 // `sizes`: the --width and --height options too.
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
+// The names of a comma-separated list, in order, empty ones kept: "" is one
+// empty name, "a,,b" three (the caller's name table refuses them).
+std::vector<std::string> comma_separated(const std::string& names);
 // The methods named by --method/--methods: one name, a comma-separated list,
 // or "all".  Throws Error(Usage) naming an unknown one.
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);

@@ -82,6 +82,18 @@ CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) 
   return option;
 }
 
+CLI::Option* add_optional_light_option(CLI::App& cmd, std::size_t& light, bool& given) {
+  return note_given(add_light_option(cmd, light, false), given);
+}
+
+CLI::Option* note_given(CLI::Option* option, bool& given) {
+  return option->each([&given](const std::string&) { given = true; });
+}
+
+CLI::Option* add_scene_argument(CLI::App& cmd, std::string& scene) {
+  return cmd.add_option("scene", scene, "scene file (JSON)");
+}
+
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
   cmd.add_option("--max-memory", max_memory_gb,
                  "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
@@ -124,35 +136,37 @@ struct EmulationOption {
 // it, and a resumed sweep compares it).
 template <class Options, class Visit>
 void visit_emulation_options(Options& o, Visit&& visit) {
-  visit(EmulationOption{"subpixel-bits", "fixed-point sub-pixel bits of the rasterizer"}, o.subpixel_bits);
-  visit(EmulationOption{"depth", "depth buffer"}, o.depth);
-  visit(EmulationOption{"fill-rule", "pixel centres on an edge"}, o.fill_rule);
+  auto& s = o.settings;
+  visit(EmulationOption{"subpixel-bits", "fixed-point sub-pixel bits of the rasterizer"}, s.raster.subpixel_bits);
+  visit(EmulationOption{"depth", "depth buffer"}, s.depth);
+  visit(EmulationOption{"fill-rule", "pixel centres on an edge"}, s.raster.fill_rule);
   visit(EmulationOption{"guard-band",
                         "x/y clipping at |x|,|y| <= G w: 1 is llvmpipe's view-volume clip, larger a GPU-style guard "
                         "band"},
-        o.guard_band);
-  visit(EmulationOption{"viewport", "perspective divide and viewport arithmetic"}, o.viewport);
-  visit(EmulationOption{"depth-interpolation", "a fragment's depth"}, o.depth_interpolation);
+        s.raster.guard_band);
+  visit(EmulationOption{"viewport", "perspective divide and viewport arithmetic"}, s.raster.viewport);
+  visit(EmulationOption{"depth-interpolation", "a fragment's depth"}, s.raster.depth);
   visit(EmulationOption{"clipper", "the clipper's arithmetic",
                         "; --viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa is the llvmpipe model"},
         o.clipper);
-  visit(EmulationOption{"light-projection", "P_l formulation"}, o.light_projection);
-  visit(EmulationOption{"l-near", "how ZP+'s light frustum picks l_near"}, o.l_near);
-  visit(EmulationOption{"l-near-scale", "l_near multiplied by this safety margin in (0, 1]"}, o.l_near_scale);
-  visit(EmulationOption{"zfail-far", "zfail's far plane"}, o.zfail_far);
+  visit(EmulationOption{"light-projection", "P_l formulation"}, s.light_frustum.projection);
+  visit(EmulationOption{"l-near", "how ZP+'s light frustum picks l_near"}, s.light_frustum.near_rule);
+  visit(EmulationOption{"l-near-scale", "l_near multiplied by this safety margin in (0, 1]"},
+        s.light_frustum.near_scale);
+  visit(EmulationOption{"zfail-far", "zfail's far plane"}, s.zfail_far);
   visit(EmulationOption{"switch-clamp", "depth clamp of ZP+'s switch to zfail (case D, no light frustum)"},
-        o.switch_clamp);
-  visit(EmulationOption{"zpass-far", "zpass's projection"}, o.zpass_far);
-  visit(EmulationOption{"infinite-far", "the infinite projection's depth row"}, o.infinite_far);
+        s.switch_clamp);
+  visit(EmulationOption{"zpass-far", "zpass's projection"}, s.zpass_far);
+  visit(EmulationOption{"infinite-far", "the infinite projection's depth row"}, s.infinite_far);
   visit(EmulationOption{"fma",
                         "vertex transforms with fused multiply-add (a GPU that fuses; llvmpipe's GLSL fma() does "
                         "not)"},
         o.fma);
-  visit(EmulationOption{"depth-mapping", "the camera's depth"}, o.depth_mapping);
-  visit(EmulationOption{"near-plane", "the camera's near plane"}, o.near_plane);
+  visit(EmulationOption{"depth-mapping", "the camera's depth"}, s.depth_mapping);
+  visit(EmulationOption{"near-plane", "the camera's near plane"}, s.near_plane);
   visit(EmulationOption{"volume-culling", "each occluder's draws limited to where its volume can change a pixel",
                         "; the same stencil, fewer fragments"},
-        o.volume_culling);
+        s.volume_culling);
 }
 
 template <class T>
@@ -275,34 +289,18 @@ std::string variant_label(const EmulationOptions& options) {
 }
 
 gl::EmulationSettings settings_from(const EmulationOptions& o) {
-  gl::EmulationSettings s;
-  if (o.subpixel_bits < 0 || o.subpixel_bits > 12)
-    throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(o.subpixel_bits) + " is not in [0, 12]");
-  s.raster.subpixel_bits = o.subpixel_bits;
-  s.raster.fill_rule = o.fill_rule;
-  if (!(o.guard_band >= 1.0f))
+  gl::EmulationSettings s = o.settings;
+  if (s.raster.subpixel_bits < 0 || s.raster.subpixel_bits > 12)
+    throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(s.raster.subpixel_bits) + " is not in [0, 12]");
+  if (!(s.raster.guard_band >= 1.0f))
     throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
-  s.raster.guard_band = o.guard_band;
-  s.raster.viewport = o.viewport;
-  s.raster.depth = o.depth_interpolation;
   s.raster.mesa_clipper = o.clipper == gl::ClipperArithmetic::Mesa;
-  s.depth = o.depth;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
-  s.light_frustum.projection = o.light_projection;
-  if (!(o.l_near_scale > 0 && o.l_near_scale <= 1))
+  if (!(s.light_frustum.near_scale > 0 && s.light_frustum.near_scale <= 1))
     throw Error(ErrorKind::Usage,
                 "--l-near-scale must be in (0, 1] (a margin below the rule's l_near; above it clips the occluder)");
-  s.light_frustum.near_scale = o.l_near_scale;
-  s.light_frustum.near_rule = o.l_near;
-  s.zfail_far = o.zfail_far;
-  s.switch_clamp = o.switch_clamp;
-  s.zpass_far = o.zpass_far;
-  s.infinite_far = o.infinite_far;
-  s.depth_mapping = o.depth_mapping;
-  s.near_plane = o.near_plane;
-  s.volume_culling = o.volume_culling;
   if (s.depth_mapping == gl::DepthMapping::Reversed && s.infinite_far != gl::InfiniteFar::Exact)
-    throw Error(ErrorKind::Usage, "--infinite-far " + std::string(name_of(o.infinite_far)) +
+    throw Error(ErrorKind::Usage, "--infinite-far " + std::string(name_of(s.infinite_far)) +
                                       " nudges the standard depth row; --depth-mapping reversed puts infinity at "
                                       "depth 0 exactly (use --infinite-far exact)");
   return s;
@@ -351,6 +349,21 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   return spec;
 }
 
+CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,
+                                std::uint64_t hi) {
+  return cmd.add_option("--samples", samples, help)->transform(integer_in(lo, hi));
+}
+
+void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::string& width_default,
+                          const std::string& height_default) {
+  CLI::Option* w = cmd.add_option("--width", width, "viewport width of every configuration" + width_default)
+                       ->transform(integer_in(1, kMaxViewportPixels));
+  CLI::Option* h = cmd.add_option("--height", height, "viewport height of every configuration" + height_default)
+                       ->transform(integer_in(1, kMaxViewportPixels));
+  if (width_default.empty()) w->capture_default_str();
+  if (height_default.empty()) h->capture_default_str();
+}
+
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
   cmd.add_option("--seed", o.seed, "the sampler's seed")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
@@ -359,15 +372,19 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
                  "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
                      ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) + ")")
       ->capture_default_str();
-  if (sizes) {
-    cmd.add_option("--width", o.width, "viewport width of every configuration")
-        ->transform(integer_in(1, kMaxViewportPixels))
-        ->capture_default_str();
-    cmd.add_option("--height", o.height, "viewport height of every configuration")
-        ->transform(integer_in(1, kMaxViewportPixels))
-        ->capture_default_str();
-  }
+  if (sizes) add_viewport_options(cmd, o.width, o.height);
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
+}
+
+std::vector<std::string> comma_separated(const std::string& names) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', start), names.size());
+    out.push_back(names.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
 }
 
 MethodChoice method_choice(const std::string& names) {
@@ -379,17 +396,13 @@ MethodChoice method_choice(const std::string& names) {
     return c;
   }
   std::string rest;
-  std::size_t start = 0;
-  while (start <= names.size()) {
-    const std::size_t comma = std::min(names.find(',', start), names.size());
-    const std::string name = names.substr(start, comma - start);
+  for (const std::string& name : comma_separated(names)) {
     if (name == "policy")
       c.policy = true;
     else if (name == "raytrace")
       c.raytrace = true;
     else
       rest += (rest.empty() ? "" : ",") + name;
-    start = comma + 1;
   }
   if (!rest.empty() || (!c.policy && !c.raytrace)) c.methods = methods_from(rest, "--method");
   return c;
@@ -407,16 +420,12 @@ nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyD
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option) {
   if (names == "all") return {gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
   std::vector<gl::ShadowMethod> methods;
-  std::size_t start = 0;
-  while (start <= names.size()) {
-    const std::size_t comma = std::min(names.find(',', start), names.size());
-    const std::string name = names.substr(start, comma - start);
+  for (const std::string& name : comma_separated(names)) {
     const auto m = gl::shadow_method_from_string(name);
     if (!m)
       throw Error(ErrorKind::Usage,
                   option + " '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() + " (or all)");
     methods.push_back(*m);
-    start = comma + 1;
   }
   return methods;
 }

@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
+#include "method_records.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
@@ -19,6 +20,7 @@
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/raytrace/shadow_ray_tracer.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -100,13 +102,14 @@ nlohmann::json record_json(const gl::ShadowFrame& f, const CrackReport& r, std::
   return j;
 }
 
-void print_table(const std::vector<nlohmann::json>& records) {
+// --table: a row per method, the raytrace and policy lines, and the float
+// engine's cases with their legend.
+void print_table(const std::vector<nlohmann::json>& records, const PixelReference& ref, std::size_t light) {
   std::printf("%-17s %9s %7s %7s %9s %9s %8s %8s %7s %9s %9s\n", "method", "seen", "wrong", "cracks", "wrong-lit",
               "wrong-shd", "count!=", "cap!=", "cases!=", "visib!=", "ms");
   for (const nlohmann::json& r : records) {
     if (r.contains("refused")) {
-      std::printf("%-17s refused: %s\n", r["method"].get<std::string>().c_str(),
-                  r["refused"].get<std::string>().c_str());
+      print_refused_row(r);
       continue;
     }
     const std::string cap = r["cap_mismatch"].is_null() ? "-" : std::to_string(r["cap_mismatch"].get<std::size_t>());
@@ -118,6 +121,28 @@ void print_table(const std::vector<nlohmann::json>& records) {
                 r["count_mismatch"].get<std::size_t>(), cap.c_str(), cases.c_str(),
                 r["visibility_mismatch"].get<std::size_t>(), r["ms"].get<double>(),
                 r["fallback"].is_null() ? "" : "  (fell back to zfail)");
+  }
+  for (const nlohmann::json& r : records)
+    if (r.contains("shadow_epsilon"))
+      std::printf(
+          "raytrace: Embree float32, shadow epsilon %s, BVH %.1f ms, rays %.1f ms; exact reference: setup %.1f ms, "
+          "trace %.1f ms\n",
+          r["shadow_epsilon"].get<std::string>().c_str(), r["pass_ms"]["build"].get<double>(),
+          r["pass_ms"]["trace"].get<double>(), ref.setup_ms, ref.trace_ms);
+  for (const nlohmann::json& r : records)
+    if (r.contains("occluders")) {
+      std::printf("policy (decided in %.3f ms):", r["decide_ms"].get<double>());
+      print_occluder_lines(r["occluders"]);
+    }
+  const auto drawn =
+      std::find_if(records.begin(), records.end(), [](const nlohmann::json& r) { return r.contains("float_cases"); });
+  if (drawn != records.end()) {  // a stencil method ran (not raytrace alone)
+    const nlohmann::json& cases = (*drawn)["float_cases"];
+    std::printf("float engine's cases for light %zu:", light);
+    for (const char* c : {"A", "B", "C1", "C2", "D"}) std::printf(" %s %zu", c, cases[c].get<std::size_t>());
+    std::printf("\n");
+    std::fflush(stdout);
+    print_case_legend(std::cout);
   }
 }
 
@@ -170,32 +195,30 @@ void run(const CracksOptions& o) {
   const SceneClassification classification = classify_scene(cs);
   const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 
-  std::vector<nlohmann::json> records;
-  std::vector<io::OutputFile> files;
-  const std::filesystem::path dir(o.out);
-  std::size_t refusals = 0;
+  MethodRecords records(choice.count());
+  OutputDir out(o.out);
+  // A method's crack image: cracks.png when it runs alone.
+  const auto image_name = [&](const std::string& method) {
+    return choice.count() == 1 ? std::string("cracks.png") : "cracks-" + method + ".png";
+  };
   gl::ShadowFrameBatch batch(scene, o.light, settings);
   std::optional<ExactEyeCount> exact_eye;  // computed for the first AtomicZP frame
   for (gl::ShadowMethod m : methods) {
+    const std::string name(to_string(m));
     gl::ShadowFrame frame;
     try {
       frame = batch.render(m);
     } catch (const Error& e) {
       // Float32 transforms too degenerate to draw (a clipped vertex at
       // (0, 0, 0, 0)): this method refuses the frame, the others still run.
-      if (e.kind() != ErrorKind::Range || choice.count() == 1) throw;
-      records.push_back({{"method", std::string(to_string(m))}, {"refused", e.what()}});
-      if (++refusals == choice.count()) throw;  // no method can draw this frame
+      if (records.refuse(name, e, {ErrorKind::Range}) == choice.count()) throw;  // no method can draw this frame
       continue;
     }
     CrackReport report = judge_frame(frame, ref);
     distances.measure(report);
     if (frame.eye_count && !exact_eye) exact_eye = exact_eye_count(cs, o.light);
-    records.push_back(record_json(frame, report, case_disagreements, exact_eye));
-    if (!o.out.empty()) {
-      const std::string name = choice.count() == 1 ? "cracks.png" : "cracks-" + std::string(to_string(m)) + ".png";
-      files.push_back({(dir / name).string(), crack_png(cs, ref, report)});
-    }
+    records.add(record_json(frame, report, case_disagreements, exact_eye));
+    out.add(image_name(name), [&] { return crack_png(cs, ref, report); });
   }
   if (policy) {
     // The policy decides per occluder, then its frame is drawn with the
@@ -206,27 +229,21 @@ void run(const CracksOptions& o) {
     try {
       frame = policy_batch.render(d.object_methods);
     } catch (const Error& e) {
-      if (e.kind() != ErrorKind::Range || choice.count() == 1) throw;
-      records.push_back({{"method", "policy"}, {"refused", e.what()}});
-      if (++refusals == choice.count()) throw;
+      if (records.refuse("policy", e, {ErrorKind::Range}) == choice.count()) throw;
       frame.width = 0;
     }
     if (frame.width > 0) {
       CrackReport report = judge_frame(frame, ref);
       distances.measure(report);
       nlohmann::json r = record_json(frame, report, case_disagreements);
+      r.update(policy_decision_json(scene, d));
       r["method"] = "policy";
-      r["occluders"] = policy_occluders_json(scene, d);
       r["decide_ms"] = d.decide_ms;
-      r["depth_limited"] = d.depth_limited;
-      if (d.depth_limited) r["depth_note"] = d.depth_note;
       r["crack_probability"] =
           std::isfinite(d.crack_probability) ? nlohmann::json(d.crack_probability) : nlohmann::json(nullptr);
-      records.push_back(r);
+      records.add(r);
       report.method = policy_label(scene, d);
-      if (!o.out.empty())
-        files.push_back(
-            {(dir / (choice.count() == 1 ? "cracks.png" : "cracks-policy.png")).string(), crack_png(cs, ref, report)});
+      out.add(image_name("policy"), [&] { return crack_png(cs, ref, report); });
     }
   }
   if (choice.raytrace) {
@@ -238,95 +255,59 @@ void run(const CracksOptions& o) {
       const raytrace::RaytraceFrame frame = embree.trace(o.light, rs);
       CrackReport report = judge_raytrace_frame(frame, ref);
       distances.measure(report);
-      records.push_back(raytrace_json(frame, report, embree.build_ms(), o.shadow_epsilon));
+      nlohmann::json r = raytrace_json(frame, report, embree.build_ms(), o.shadow_epsilon);
       // The exact side beside Embree's: its setup (light and eye sides, like
       // the BVHs) and its tracing.
-      records.back()["reference_ms"] = {{"setup", ref.setup_ms}, {"trace", ref.trace_ms}};
-      if (!o.out.empty())
-        files.push_back({(dir / (choice.count() == 1 ? "cracks.png" : "cracks-raytrace.png")).string(),
-                         crack_png(cs, ref, report)});
+      r["reference_ms"] = {{"setup", ref.setup_ms}, {"trace", ref.trace_ms}};
+      records.add(r);
+      out.add(image_name("raytrace"), [&] { return crack_png(cs, ref, report); });
     } catch (const Error& e) {
       // Built without Embree, or rays beyond float32: `all` still runs the
       // rest and says why not.
-      if ((e.kind() != ErrorKind::Unavailable && e.kind() != ErrorKind::Range) || choice.count() == 1) throw;
-      records.push_back({{"method", "raytrace"}, {"refused", e.what()}});
-      if (++refusals == choice.count()) throw;
+      if (records.refuse("raytrace", e, {ErrorKind::Unavailable, ErrorKind::Range}) == choice.count()) throw;
     }
   }
-  nlohmann::json root;
-  if (choice.count() == 1) {
-    root = records.front();
-  } else {
-    root["methods"] = records;
-  }
-  if (!o.out.empty()) {
-    nlohmann::json full = root;
-    full["scene"] = scene.source;
-    full["light"] = o.light;
-    full["reference_ms"] = ref.setup_ms + ref.trace_ms;
-    full["reference_setup_ms"] = ref.setup_ms;
-    full["reference_trace_ms"] = ref.trace_ms;
-    full["crack_distance_ms"] = distances.ms();
-    files.push_back({(dir / "cracks.json").string(), json_text(full, 1) + "\n"});
-    io::write_output_files(files);
-  }
-  if (o.table) {
-    print_table(records);
-    for (const nlohmann::json& r : records)
-      if (r.contains("shadow_epsilon"))
-        std::printf(
-            "raytrace: Embree float32, shadow epsilon %s, BVH %.1f ms, rays %.1f ms; exact reference: setup %.1f ms, "
-            "trace %.1f ms\n",
-            r["shadow_epsilon"].get<std::string>().c_str(), r["pass_ms"]["build"].get<double>(),
-            r["pass_ms"]["trace"].get<double>(), ref.setup_ms, ref.trace_ms);
-    for (const nlohmann::json& r : records)
-      if (r.contains("occluders")) {
-        std::printf("policy (decided in %.3f ms):", r["decide_ms"].get<double>());
-        for (const nlohmann::json& oc : r["occluders"])
-          std::printf("\n  object %zu: %s, %s", oc["object"].get<std::size_t>(),
-                      oc["method"].get<std::string>().c_str(), oc["why"].get<std::string>().c_str());
-        std::printf("\n");
-      }
-    const auto drawn =
-        std::find_if(records.begin(), records.end(), [](const nlohmann::json& r) { return r.contains("float_cases"); });
-    if (drawn != records.end()) {  // a stencil method ran (not raytrace alone)
-      const nlohmann::json& cases = (*drawn)["float_cases"];
-      std::printf("float engine's cases for light %zu:", o.light);
-      for (const char* c : {"A", "B", "C1", "C2", "D"}) std::printf(" %s %zu", c, cases[c].get<std::size_t>());
-      std::printf("\n");
-      std::fflush(stdout);
-      print_case_legend(std::cout);
-    }
-  } else
-    std::cout << json_text(root) << "\n";
+  const nlohmann::json root =
+      choice.count() == 1 ? records.records().front() : nlohmann::json{{"methods", records.records()}};
+  nlohmann::json file = root;
+  file["scene"] = scene.source;
+  file["light"] = o.light;
+  file["reference_ms"] = ref.setup_ms + ref.trace_ms;
+  file["reference_setup_ms"] = ref.setup_ms;
+  file["reference_trace_ms"] = ref.trace_ms;
+  file["crack_distance_ms"] = distances.ms();
+  out.write("cracks.json", file);
+  if (o.table)
+    print_table(records.records(), ref, o.light);
+  else
+    print_json_line(root);
 }
 
 }  // namespace
 
 void register_cracks(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "cracks",
+  auto [cmd, o] = add_subcommand<CracksOptions>(
+      app, "cracks",
       "emulate the float GL pipeline's shadow methods and count the pixels they get wrong against the exact "
       "reference: one JSON record per method (or a table with --table); with --out DIR, DIR/cracks.png "
-      "(cracks-METHOD.png for several methods) and DIR/cracks.json");
-  auto o = std::make_shared<CracksOptions>();
-  cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
-  add_light_option(*cmd, o->light);
-  cmd->add_option("--method", o->method,
-                  names_joined<gl::ShadowMethod>() +
-                      ", raytrace (Embree, float32), policy (a method per occluder, from --policy), comma-separated, "
-                      "or all (the six, raytrace and the policy)")
+      "(cracks-METHOD.png for several methods) and DIR/cracks.json",
+      run);
+  add_scene_argument(cmd, o.scene)->required();
+  add_light_option(cmd, o.light);
+  cmd.add_option("--method", o.method,
+                 names_joined<gl::ShadowMethod>() +
+                     ", raytrace (Embree, float32), policy (a method per occluder, from --policy), comma-separated, "
+                     "or all (the six, raytrace and the policy)")
       ->capture_default_str();
-  cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
+  cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
   add_choice_option(
-      *cmd, "--shadow-epsilon", o->shadow_epsilon,
+      cmd, "--shadow-epsilon", o.shadow_epsilon,
       "how raytrace's shadow rays leave their surface: " + values_described<raytrace::ShadowEpsilon>(", "));
-  add_emulation_options(*cmd, o->emulation);
-  cmd->add_option("--out", o->out, "output directory for the crack images and cracks.json (created if missing)");
-  cmd->add_flag("--table", o->table, "print a human-readable table instead of JSON");
-  add_max_memory_option(*cmd, o->max_memory_gb);
-  cmd->callback([o] { run(*o); });
+  add_emulation_options(cmd, o.emulation);
+  cmd.add_option("--out", o.out, "output directory for the crack images and cracks.json (created if missing)");
+  cmd.add_flag("--table", o.table, "print a human-readable table instead of JSON");
+  add_max_memory_option(cmd, o.max_memory_gb);
 }
 
 }  // namespace nearcap::cli

@@ -34,6 +34,7 @@
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -386,38 +387,34 @@ void run(const EvaluateOptions& o) {
 }  // namespace
 
 void register_evaluate(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "evaluate",
+  auto [cmd, o] = add_subcommand<EvaluateOptions>(
+      app, "evaluate",
       "judge a switch policy against the oracle (the fastest candidate as right as Z-fail, in hindsight, per "
       "configuration and light) and the fixed rules (always Z-fail, always clipped-sides ZP+, exact Z-pass + Z-fail, "
       "exact Z-pass + clipped-sides ZP+, Doom 3, BFG) on held-out data: each judged by the exact reference, each "
       "timed end to end (CPU work and the GL's passes to glFinish) on the real GL, interleaved per frame after a "
       "warm-up, Z-fail timed twice for the noise floor; DIR/evaluation.csv, DIR/table.md (also on stdout) and per "
-      "path DIR/oracle-NAME.png");
-  auto o = std::make_shared<EvaluateOptions>();
-  cmd->add_option("--policy", o->policy, "the switch policy under test (nearcap tune writes one)")
-      ->capture_default_str();
-  cmd->add_option("--path", o->paths, "a held-out camera path (data/paths/), repeatable: one set each");
-  cmd->add_option("--samples", o->samples, "held-out configurations of the hard-case sampler (the set seed-S)")
-      ->transform(integer_in(0, kMaxSweepSamples));
-  add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--width", o->width, "viewport width of every configuration (default: 48 sampled, a path's own)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--height", o->height, "viewport height of every configuration (default: 36 sampled, a path's own)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--first-frame", o->first_frame, "the first frame of each path")
+      "path DIR/oracle-NAME.png",
+      run);
+  cmd.add_option("--policy", o.policy, "the switch policy under test (nearcap tune writes one)")->capture_default_str();
+  cmd.add_option("--path", o.paths, "a held-out camera path (data/paths/), repeatable: one set each");
+  add_samples_option(cmd, o.samples, "held-out configurations of the hard-case sampler (the set seed-S)", 0,
+                     kMaxSweepSamples);
+  add_sampler_options(cmd, o.sampler, false);
+  add_viewport_options(cmd, o.width, o.height, " (default: 48 sampled, a path's own)",
+                       " (default: 36 sampled, a path's own)");
+  cmd.add_option("--first-frame", o.first_frame, "the first frame of each path")
       ->transform(integer_in(0, 1000000))
       ->capture_default_str();
-  cmd->add_option("--last-frame", o->last_frame, "the last frame of each path (default: its last)")
+  cmd.add_option("--last-frame", o.last_frame, "the last frame of each path (default: its last)")
       ->transform(integer_in(0, 1000000));
-  cmd->add_option("--repeats", o->repeats,
-                  "timing rounds per configuration and light: every rule's frame drawn once per round, "
-                  "interleaved; the oracle chooses by the median of the even rounds and every time counted is the "
-                  "median of the odd rounds (one round: that round, for both)")
+  cmd.add_option("--repeats", o.repeats,
+                 "timing rounds per configuration and light: every rule's frame drawn once per round, "
+                 "interleaved; the oracle chooses by the median of the even rounds and every time counted is the "
+                 "median of the odd rounds (one round: that round, for both)")
       ->transform(integer_in(1, 1000))
       ->capture_default_str();
-  cmd->add_option("--out", o->out, "output directory (created if missing)");
-  cmd->callback([o] { run(*o); });
+  cmd.add_option("--out", o.out, "output directory (created if missing)");
 }
 
 }  // namespace nearcap::cli

@@ -6,9 +6,11 @@
 #include <iostream>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/analysis/l_near_fit.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -20,7 +22,9 @@ struct FitOptions {
   std::string out;
 };
 
-void run(const FitOptions& o, const std::string& command) {
+void run(const FitOptions& o) {
+  const std::string command = "nearcap fit-l-near --samples " + std::to_string(o.samples) + " --seed " +
+                              std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds;
   if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
   const analysis::HardCaseSampler sampler(sampler_spec(o.sampler));
   std::vector<analysis::KnobConfiguration> configurations;
@@ -51,27 +55,22 @@ void run(const FitOptions& o, const std::string& command) {
             << "cond(P_l M_l): train " << fit.train_objective << " (" << fit.train_objective_at_one << " at scale 1, "
             << fit.train << " configurations), held out " << fit.held_out_objective << " ("
             << fit.held_out_objective_at_one << " at scale 1, " << fit.held_out << ")\n";
-  if (!o.out.empty()) io::write_output_files({{o.out, json_text(j, 1) + "\n"}});
+  if (!o.out.empty()) io::write_output_files({{o.out, json_file_text(j)}});
 }
 
 }  // namespace
 
 void register_fit_l_near(CLI::App& app) {
-  auto* cmd = app.add_subcommand("fit-l-near",
+  auto [cmd, o] =
+      add_subcommand<FitOptions>(app, "fit-l-near",
                                  "fit the l_near safety margin (--l-near-scale) with Ceres, minimizing the mean "
-                                 "log10 cond(P_l M_l) over hard cases of the sampler (docs/findings/l-near.md)");
-  auto o = std::make_shared<FitOptions>();
-  cmd->add_option("--samples", o->samples, "this many configurations of the sampler")
-      ->transform(integer_in(1, kMaxFitSamples))
+                                 "log10 cond(P_l M_l) over hard cases of the sampler (docs/findings/l-near.md)",
+                                 run);
+  add_samples_option(cmd, o.samples, "this many configurations of the sampler", 1, kMaxFitSamples)
       ->capture_default_str();
-  add_sampler_options(*cmd, o->sampler, true);
-  add_emulation_options(*cmd, o->emulation);
-  cmd->add_option("--out", o->out, "write the fit as JSON here too");
-  cmd->callback([o] {
-    const std::string command = "nearcap fit-l-near --samples " + std::to_string(o->samples) + " --seed " +
-                                std::to_string(o->sampler.seed) + " --kinds " + o->sampler.kinds;
-    run(*o, command);
-  });
+  add_sampler_options(cmd, o.sampler, true);
+  add_emulation_options(cmd, o.emulation);
+  cmd.add_option("--out", o.out, "write the fit as JSON here too");
 }
 
 }  // namespace nearcap::cli

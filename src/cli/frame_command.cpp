@@ -5,9 +5,17 @@
 #include "cli_commands.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/error.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
+
+struct FrameOptions {
+  std::string path;
+  int frame = 0;
+  int width = 0, height = 0;  // 0: the path's
+  std::string out;
+};
 
 void run(const std::string& path_file, int frame, int width, int height, const std::string& out) {
   analysis::CameraPath path = analysis::load_camera_path(path_file);
@@ -27,22 +35,18 @@ void run(const std::string& path_file, int frame, int width, int height, const s
 }  // namespace
 
 void register_frame(CLI::App& app) {
-  auto* cmd =
-      app.add_subcommand("frame", "one frame of a camera path (data/paths/) as a scene file: stdout, or --out FILE");
-  auto path = std::make_shared<std::string>();
-  auto frame = std::make_shared<int>(0);
-  auto out = std::make_shared<std::string>();
-  cmd->add_option("path", *path, "camera path file (JSON)")->required();
-  cmd->add_option("--frame", *frame, "frame index (0 = the first)")
+  auto [cmd, o] = add_subcommand<FrameOptions>(
+      app, "frame", "one frame of a camera path (data/paths/) as a scene file: stdout, or --out FILE",
+      [](const FrameOptions& f) { run(f.path, f.frame, f.width, f.height, f.out); });
+  cmd.add_option("path", o.path, "camera path file (JSON)")->required();
+  cmd.add_option("--frame", o.frame, "frame index (0 = the first)")
       ->transform(integer_in(0, std::numeric_limits<int>::max()))
       ->required();
-  auto width = std::make_shared<int>(0), height = std::make_shared<int>(0);
-  cmd->add_option("--width", *width, "viewport width (default: the path's)")
+  cmd.add_option("--width", o.width, "viewport width (default: the path's)")
       ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--height", *height, "viewport height (default: the path's)")
+  cmd.add_option("--height", o.height, "viewport height (default: the path's)")
       ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
-  cmd->callback([path, frame, width, height, out] { run(*path, *frame, *width, *height, *out); });
+  cmd.add_option("--out", o.out, "write the scene file here (default: stdout)");
 }
 
 }  // namespace nearcap::cli

@@ -2,13 +2,14 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <iostream>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/reference_images.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -47,6 +48,13 @@ nlohmann::json summary_json(const Scene& scene, const PixelReference& ref) {
 // stencil counts, the per-pixel scratch of the trace, the encoded images.
 constexpr double kReferenceBytesPerPixel = 30;  // 28.5 measured at 2048x2048
 
+struct ReferenceOptions {
+  std::string scene;
+  std::size_t light = 0;
+  std::string out;
+  double max_memory_gb = 0;
+};
+
 void run(const std::string& scene_path, std::size_t light, const std::string& out_dir, double max_memory_gb) {
   const Scene scene = load_scene(scene_path);
   check_light_index(scene, light);
@@ -60,25 +68,22 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   io::write_output_files({{(dir / "cap.pgm").string(), cap},
                           {(dir / "stencil.pgm").string(), stencil},
                           {(dir / "shadow.png").string(), shadow},
-                          {(dir / "reference.json").string(), json_text(summary, 1) + "\n"}});
-  std::cout << json_text(summary) << "\n";
+                          {(dir / "reference.json").string(), json_file_text(summary)}});
+  print_json_line(summary);
 }
 
 }  // namespace
 
 void register_reference(CLI::App& app) {
-  auto* cmd = app.add_subcommand("reference",
-                                 "exact per-pixel near-cap and stencil counts: DIR/cap.pgm, DIR/stencil.pgm (16-bit, "
-                                 "top row first, 65535 = nothing seen), DIR/shadow.png, DIR/reference.json");
-  auto scene = std::make_shared<std::string>();
-  auto light = std::make_shared<std::size_t>(0);
-  auto out = std::make_shared<std::string>();
-  cmd->add_option("scene", *scene, "scene file (JSON)")->required();
-  add_light_option(*cmd, *light);
-  cmd->add_option("--out", *out, "output directory (created if missing)")->required();
-  auto max_memory = std::make_shared<double>(0);
-  add_max_memory_option(*cmd, *max_memory);
-  cmd->callback([scene, light, out, max_memory] { run(*scene, *light, *out, *max_memory); });
+  auto [cmd, o] = add_subcommand<ReferenceOptions>(
+      app, "reference",
+      "exact per-pixel near-cap and stencil counts: DIR/cap.pgm, DIR/stencil.pgm (16-bit, top row first, 65535 = "
+      "nothing seen), DIR/shadow.png, DIR/reference.json",
+      [](const ReferenceOptions& r) { run(r.scene, r.light, r.out, r.max_memory_gb); });
+  add_scene_argument(cmd, o.scene)->required();
+  add_light_option(cmd, o.light);
+  cmd.add_option("--out", o.out, "output directory (created if missing)")->required();
+  add_max_memory_option(cmd, o.max_memory_gb);
 }
 
 }  // namespace nearcap::cli

@@ -8,13 +8,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <iostream>
 #include <memory>
 #include <optional>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "frame_source.hpp"
+#include "method_records.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
@@ -26,6 +26,7 @@
 #include "nearcap/render/eye_count_pass.hpp"
 #include "nearcap/render/gl_frame_replay.hpp"
 #include "render_command.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 
@@ -37,6 +38,14 @@ std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& 
       top_first[static_cast<std::size_t>(height - 1 - j) * width + i] =
           stencil[static_cast<std::size_t>(j) * width + i];
   return nearcap::encode_pgm16(width, height, top_first);
+}
+
+nlohmann::json render_json(const render::EglContext& context, render::VertexStage stage,
+                           const std::vector<nlohmann::json>& methods) {
+  return {{"renderer", context.renderer()},
+          {"version", context.version()},
+          {"vertex_stage", std::string(name_of(stage))},
+          {"methods", methods}};
 }
 
 namespace {
@@ -59,7 +68,7 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
   for (const nlohmann::json& r : root["methods"]) {
     const std::string method = r["method"].get<std::string>();
     if (r.contains("refused")) {
-      std::printf("%-17s refused: %s\n", method.c_str(), r["refused"].get<std::string>().c_str());
+      print_refused_row(r);
       continue;
     }
     std::printf("%-17s %10zu %8zu %8zu %9zu %7zu %10zu %9.2f %9.2f\n", method.c_str(),
@@ -71,10 +80,7 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
   for (const nlohmann::json& r : root["methods"])
     if (r.contains("occluders")) {
       std::printf("%s:", r["method"].get<std::string>().c_str());
-      for (const nlohmann::json& oc : r["occluders"])
-        std::printf("\n  object %zu: %s, %s", oc["object"].get<std::size_t>(), oc["method"].get<std::string>().c_str(),
-                    oc["why"].get<std::string>().c_str());
-      std::printf("\n");
+      print_occluder_lines(r["occluders"]);
       if (r.value("depth_limited", false)) std::printf("  %s\n", r["depth_note"].get<std::string>().c_str());
     }
   for (const nlohmann::json& r : root["methods"])
@@ -115,8 +121,8 @@ void run(const RenderOptions& o) {
   const PixelReference ref = compute_pixel_reference(tracer);
   CrackDistances distances(tracer, ref);
 
-  nlohmann::json records = nlohmann::json::array();
-  std::vector<io::OutputFile> files;
+  MethodRecords records(methods.count());
+  OutputDir out(o.out);
   FrameSource source(scene, o.light, methods, settings);
   std::unique_ptr<render::GlFrameReplay> replay;   // made for each depth buffer the methods need
   std::unique_ptr<render::EyeCountPass> eye_pass;  // made for the first AtomicZP frame
@@ -146,8 +152,7 @@ void run(const RenderOptions& o) {
     } catch (const Error& e) {
       // The float pipeline refuses the frame (range), or this GL cannot draw
       // it (a missing extension): the other methods still run.
-      if ((e.kind() != ErrorKind::Range && e.kind() != ErrorKind::Gl) || methods.count() == 1) throw;
-      records.push_back({{"method", name}, {"refused", e.what()}});
+      records.refuse(name, e, {ErrorKind::Range, ErrorKind::Gl});
       continue;
     }
     const render::ReplayComparison diff = render::compare(real, frame);
@@ -174,84 +179,68 @@ void run(const RenderOptions& o) {
                              {"pass_ms", eye->pass_ms},
                              {"read_back_ms", eye->read_back_ms}};
     if (m >= methods.methods.size()) {
-      record["occluders"] = policy_occluders_json(scene, source.decision());
+      record.update(policy_decision_json(scene, source.decision()));
       if (std::isfinite(source.decision().predicted_ms)) record["predicted_ms"] = source.decision().predicted_ms;
-      record["depth_limited"] = source.decision().depth_limited;
-      if (source.decision().depth_limited) record["depth_note"] = source.decision().depth_note;
     }
-    records.push_back(record);
-    if (!o.out.empty()) {
-      const std::filesystem::path dir(o.out);
-      files.push_back(
-          {(dir / ("stencil-gl-" + name + ".pgm")).string(), stencil_pgm(real.width, real.height, real.stencil)});
-      files.push_back({(dir / ("stencil-emulation-" + name + ".pgm")).string(),
-                       stencil_pgm(frame.width, frame.height, frame.stencil)});
-    }
+    records.add(record);
+    out.add("stencil-gl-" + name + ".pgm", [&] { return stencil_pgm(real.width, real.height, real.stencil); });
+    out.add("stencil-emulation-" + name + ".pgm",
+            [&] { return stencil_pgm(frame.width, frame.height, frame.stencil); });
   }
-  nlohmann::json root{{"renderer", context.renderer()},
-                      {"version", context.version()},
-                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
-                      {"methods", records}};
-  if (!o.out.empty()) {
-    files.push_back({(std::filesystem::path(o.out) / "render.json").string(), json_text(root, 1) + "\n"});
-    io::write_output_files(files);
-  }
+  const nlohmann::json root = render_json(context, o.vertex_stage, records.records());
+  out.write("render.json", root);
   if (o.table)
     print_compare_table(root, scene.source, o.light);
   else
-    std::cout << json_text(root) << "\n";
+    print_json_line(root);
 }
 
 }  // namespace
 
 void register_render(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "render",
+  auto [cmd, o] = add_subcommand<RenderOptions>(
+      app, "render",
       "draw the stencil methods on a real OpenGL (headless EGL: llvmpipe, or a GPU's driver) from the emulation's "
       "own draw calls, each volume built by the GL's GLSL vertex programs: the lit frame with its shadows, every light "
       "(or --light K), as DIR/frame-METHOD.png; with "
       "--compare --light K, one JSON record per method: stencil pixels where GL and the emulation differ, and wrong "
       "pixels of each against the exact reference (or a table with --table; with --out DIR, both stencils as 16-bit "
-      "PGM)");
-  auto o = std::make_shared<RenderOptions>();
-  cmd->add_option("scene", o->scene, "scene file (JSON)");
-  cmd->add_option("--path", o->path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
-  auto* light = add_light_option(*cmd, o->light, false);
-  cmd->add_option("--method", o->method,
-                  "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, policy (a method per occluder, from "
-                  "--policy), comma-separated, or all (the six and the policy)")
+      "PGM)",
+      run);
+  add_scene_argument(cmd, o.scene);
+  cmd.add_option("--path", o.path, "a camera path (data/paths/): its frames' lit frames, DIR/METHOD/frame-NNNN.png");
+  add_optional_light_option(cmd, o.light, o.light_given);
+  cmd.add_option("--method", o.method,
+                 "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, policy (a method per occluder, from "
+                 "--policy), comma-separated, or all (the six and the policy)")
       ->capture_default_str();
-  cmd->add_option("--policy", o->policy, "the switch policy for --method policy (nearcap tune writes one)")
+  cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)")
       ->capture_default_str();
-  cmd->add_flag("--compare", o->compare, "compare the real GL's stencil with the emulation's and the exact reference");
-  cmd->add_flag("--table", o->table, "with --compare, print a human-readable table instead of JSON");
-  cmd->add_flag("--stencil", o->stencil,
-                "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
-                "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
-  cmd->add_flag("--bench", o->bench,
-                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes) "
-                "and the CPU work that builds the draw calls (silhouettes, the clipped-sides cap, the policy's "
-                "decision, uploads), the methods interleaved frame by frame and the first drawn twice (its "
-                "METHOD#again rows: the noise floor): the breakdown on stdout, DIR/bench.csv, the CPU work per "
-                "light and occluder in DIR/render.json, and along a path DIR/bench.png (each frame's time "
-                "relative to Z-pass, as the paper's Figures 9-11)");
-  cmd->add_flag("--one-sided-stencil", o->one_sided_stencil,
-                "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "
-                "without two-sided stencil does: the same stencil, twice the vertex work");
-  cmd->add_flag("--side-strips", o->side_strips,
-                "draw the volumes' sides as triangle strips along the silhouette's chains (the paper's layout for "
-                "ZP+'s sides; the same triangles), caps and corrective quads as independent triangles");
-  add_choice_option(*cmd, "--vertex-stage", o->vertex_stage,
+  cmd.add_flag("--compare", o.compare, "compare the real GL's stencil with the emulation's and the exact reference");
+  cmd.add_flag("--table", o.table, "with --compare, print a human-readable table instead of JSON");
+  cmd.add_flag("--stencil", o.stencil,
+               "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
+               "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
+  cmd.add_flag("--bench", o.bench,
+               "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes) "
+               "and the CPU work that builds the draw calls (silhouettes, the clipped-sides cap, the policy's "
+               "decision, uploads), the methods interleaved frame by frame and the first drawn twice (its "
+               "METHOD#again rows: the noise floor): the breakdown on stdout, DIR/bench.csv, the CPU work per "
+               "light and occluder in DIR/render.json, and along a path DIR/bench.png (each frame's time "
+               "relative to Z-pass, as the paper's Figures 9-11)");
+  cmd.add_flag("--one-sided-stencil", o.one_sided_stencil,
+               "draw each two-sided stencil draw as two one-sided draws (back faces culled, then front), as GL "
+               "without two-sided stencil does: the same stencil, twice the vertex work");
+  cmd.add_flag("--side-strips", o.side_strips,
+               "draw the volumes' sides as triangle strips along the silhouette's chains (the paper's layout for "
+               "ZP+'s sides; the same triangles), caps and corrective quads as independent triangles");
+  add_choice_option(cmd, "--vertex-stage", o.vertex_stage,
                     "where each draw's clip-space vertices come from: " + values_described<render::VertexStage>());
-  cmd->add_option("--out", o->out,
-                  "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
-                  "if missing)");
-  add_emulation_options(*cmd, o->emulation);
-  add_max_memory_option(*cmd, o->max_memory_gb);
-  cmd->callback([o, light] {
-    o->light_given = light->count() > 0;
-    run(*o);
-  });
+  cmd.add_option("--out", o.out,
+                 "output directory for the lit frames (or, with --compare, the stencils) and render.json (created "
+                 "if missing)");
+  add_emulation_options(cmd, o.emulation);
+  add_max_memory_option(cmd, o.max_memory_gb);
 }
 
 }  // namespace nearcap::cli

@@ -3,12 +3,15 @@
 // (render_command.cpp).
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "cli_commands.hpp"
+#include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/glsl_shadow_programs.hpp"
 
 namespace nearcap::cli {
@@ -34,6 +37,11 @@ struct RenderOptions {
 
 // The stencil as the reference's 16-bit PGM (top row first).
 std::string stencil_pgm(int width, int height, const std::vector<std::uint8_t>& stencil);
+
+// render.json and the line on stdout: the GL that drew (`context`), the
+// vertex stage and a record per method.
+nlohmann::json render_json(const render::EglContext& context, render::VertexStage stage,
+                           const std::vector<nlohmann::json>& methods);
 
 // Without --compare: the lit frames (render_lit.cpp).
 void run_lit(const RenderOptions& o);

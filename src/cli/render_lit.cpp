@@ -7,13 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <limits>
 #include <memory>
 #include <optional>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "frame_source.hpp"
+#include "method_records.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
@@ -313,7 +314,7 @@ void run_lit(const RenderOptions& o) {
   }
   if (progress.open) std::fprintf(stderr, "\n");
   progress.open = false;
-  nlohmann::json records = nlohmann::json::array();
+  std::vector<nlohmann::json> records;
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);
     nlohmann::json r{{"method", name}, {"lights", lights}};
@@ -349,21 +350,18 @@ void run_lit(const RenderOptions& o) {
     }
     records.push_back(r);
   }
-  nlohmann::json root{{"renderer", context.renderer()},
-                      {"version", context.version()},
-                      {"vertex_stage", std::string(name_of(o.vertex_stage))},
-                      {"methods", records}};
+  nlohmann::json root = render_json(context, o.vertex_stage, records);
   if (!o.path.empty()) root["path"] = o.path;
   if (o.bench && !again_ratio.empty())
     root["noise_floor"] = {{"method", methods.name(0)},
                            {"frames", again_ratio.size()},
                            {"end_to_end_again_over_first_p05", quantile(again_ratio, 0.05)},
                            {"end_to_end_again_over_first_p95", quantile(again_ratio, 0.95)}};
-  files.add({(dir / "render.json").string(), json_text(root, 1) + "\n"});
+  files.add({(dir / "render.json").string(), json_file_text(root)});
   if (o.bench) files.add({(dir / "bench.csv").string(), bench_csv});
   files.commit();
   if (o.path.empty()) {
-    std::cout << json_text(root) << "\n";
+    print_json_line(root);
   } else {
     // The summary a person reads: mean GL time per frame, relative to Z-pass's.
     double zpass_ms = 0;
@@ -372,8 +370,7 @@ void run_lit(const RenderOptions& o) {
     std::printf("%s, %zu frames (%s):\n", o.path.c_str(), scenes.count(), context.renderer().c_str());
     for (const nlohmann::json& r : records) {
       if (!r.contains("mean_ms")) {
-        std::printf("  %-17s refused: %s\n", r["method"].get<std::string>().c_str(),
-                    r["refused"].get<std::string>().c_str());
+        print_refused_row(r, "  ");
         continue;
       }
       const double mean = r["mean_ms"].get<double>();

@@ -37,6 +37,7 @@
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -111,6 +112,12 @@ std::string temporary_log() {
   return name;
 }
 
+struct ReportOptions {
+  std::vector<std::string> results;
+  std::string out;
+  std::string policy;
+};
+
 void run(const std::vector<std::string>& results, const std::string& out, const std::string& policy) {
   const std::uint64_t limit = csv_limit();
   for (const std::string& r : results) check_csv(r, limit);
@@ -172,19 +179,16 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
 }  // namespace
 
 void register_report(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "report",
-      "the sweep report: DIR/index.html with plots (matplotlib) and tables from one or more `nearcap sweep` CSVs");
-  auto results = std::make_shared<std::vector<std::string>>();
-  auto out = std::make_shared<std::string>();
-  auto policy = std::make_shared<std::string>();
-  cmd->add_option("results", *results, "sweep CSV files (rows of several sweeps or MPI runs are merged)")->required();
-  cmd->add_option("--out", *out,
-                  "the report's directory (created; the report's own files in it are replaced, other files kept; "
-                  "refused when that would replace an input)")
+  auto [cmd, o] = add_subcommand<ReportOptions>(
+      app, "report",
+      "the sweep report: DIR/index.html with plots (matplotlib) and tables from one or more `nearcap sweep` CSVs",
+      [](const ReportOptions& r) { run(r.results, r.out, r.policy); });
+  cmd.add_option("results", o.results, "sweep CSV files (rows of several sweeps or MPI runs are merged)")->required();
+  cmd.add_option("--out", o.out,
+                 "the report's directory (created; the report's own files in it are replaced, other files kept; "
+                 "refused when that would replace an input)")
       ->required();
-  cmd->add_option("--policy", *policy, "a switch policy (nearcap tune) whose fitted models the report shows");
-  cmd->callback([results, out, policy] { run(*results, *out, *policy); });
+  cmd.add_option("--policy", o.policy, "a switch policy (nearcap tune) whose fitted models the report shows");
 }
 
 }  // namespace nearcap::cli

@@ -55,6 +55,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -80,6 +81,12 @@ std::string sample_replay(const SamplerOptions& o, std::uint64_t index) {
 }
 
 // ---- nearcap sample --------------------------------------------------------
+
+struct SampleOptions {
+  SamplerOptions sampler;
+  std::uint64_t index = 0;
+  std::string out;
+};
 
 void run_sample(const SamplerOptions& o, std::uint64_t index, const std::string& out) {
   const analysis::HardCase c = analysis::HardCaseSampler(sampler_spec(o)).sample(index);
@@ -394,10 +401,7 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     return {analysis::kAllEnginePolicies.begin(), analysis::kAllEnginePolicies.end()};
   }
   std::vector<analysis::EnginePolicy> out;
-  std::size_t start = 0;
-  while (start <= names.size()) {
-    const std::size_t comma = std::min(names.find(',', start), names.size());
-    const std::string name = names.substr(start, comma - start);
+  for (const std::string& name : comma_separated(names)) {
     const auto p = analysis::engine_policy_from_string(name);
     if ((name == "policy" && switch_policy) || (p && std::find(out.begin(), out.end(), *p) != out.end()))
       throw Error(ErrorKind::Usage, "--policies names " + name + " twice");
@@ -409,7 +413,6 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
     } else {
       out.push_back(*p);
     }
-    start = comma + 1;
   }
   return out;
 }
@@ -441,8 +444,10 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
                                  : "unused")}};
   char exact[40];
   for (auto [name, value] : emulation_option_values(o.emulation)) {
-    if (name == "guard-band") std::snprintf(exact, sizeof exact, "%.9g", static_cast<double>(o.emulation.guard_band));
-    if (name == "l-near-scale") std::snprintf(exact, sizeof exact, "%.17g", o.emulation.l_near_scale);
+    if (name == "guard-band")
+      std::snprintf(exact, sizeof exact, "%.9g", static_cast<double>(o.emulation.settings.raster.guard_band));
+    if (name == "l-near-scale")
+      std::snprintf(exact, sizeof exact, "%.17g", o.emulation.settings.light_frustum.near_scale);
     if (name == "guard-band" || name == "l-near-scale") value = exact;
     meta.options.push_back({"--" + name, one(value)});
   }
@@ -578,49 +583,43 @@ void run_sweep(const SweepCommandOptions& o) {
 }  // namespace
 
 void register_sample(CLI::App& app) {
-  auto* cmd = app.add_subcommand("sample", "one hard-case configuration of the sampler as a scene file");
-  auto o = std::make_shared<SamplerOptions>();
-  auto index = std::make_shared<std::uint64_t>(0);
-  auto out = std::make_shared<std::string>();
-  add_sampler_options(*cmd, *o, true);
-  cmd->add_option("--index", *index, "configuration index (0, 1, ...)")
+  auto [cmd, o] =
+      add_subcommand<SampleOptions>(app, "sample", "one hard-case configuration of the sampler as a scene file",
+                                    [](const SampleOptions& s) { run_sample(s.sampler, s.index, s.out); });
+  add_sampler_options(cmd, o.sampler, true);
+  cmd.add_option("--index", o.index, "configuration index (0, 1, ...)")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->required();
-  cmd->add_option("--out", *out, "write the scene file here (default: stdout)");
-  cmd->callback([o, index, out] { run_sample(*o, *index, *out); });
+  cmd.add_option("--out", o.out, "write the scene file here (default: stdout)");
 }
 
 void register_sweep(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "sweep",
+  auto [cmd, o] = add_subcommand<SweepCommandOptions>(
+      app, "sweep",
       "camera paths and hard-case samples through the exact reference and the float methods: one CSV row per "
-      "configuration, light and method (docs/sweeps-and-report.md)");
-  auto o = std::make_shared<SweepCommandOptions>();
-  cmd->add_option("--path", o->paths, "a camera path file (repeatable)");
-  cmd->add_option("--samples", o->samples, "this many hard-case configurations from the sampler")
-      ->transform(integer_in(0, kMaxSweepSamples));
-  add_sampler_options(*cmd, o->sampler, false);
-  cmd->add_option("--width", o->width, "viewport width of every configuration (default: the path's; 48 sampled)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--height", o->height, "viewport height of every configuration (default: the path's; 36 sampled)")
-      ->transform(integer_in(1, kMaxViewportPixels));
-  cmd->add_option("--methods", o->methods, "comma-separated methods, or all")->capture_default_str();
-  cmd->add_option("--policies", o->policies,
-                  "engine rules run beside the methods, one row each: comma-separated " +
-                      names_joined<analysis::EnginePolicy>() +
-                      ", policy (the switch policy of --policy), or all, or none")
+      "configuration, light and method (docs/sweeps-and-report.md)",
+      run_sweep);
+  cmd.add_option("--path", o.paths, "a camera path file (repeatable)");
+  add_samples_option(cmd, o.samples, "this many hard-case configurations from the sampler", 0, kMaxSweepSamples);
+  add_sampler_options(cmd, o.sampler, false);
+  add_viewport_options(cmd, o.width, o.height, " (default: the path's; 48 sampled)",
+                       " (default: the path's; 36 sampled)");
+  cmd.add_option("--methods", o.methods, "comma-separated methods, or all")->capture_default_str();
+  cmd.add_option("--policies", o.policies,
+                 "engine rules run beside the methods, one row each: comma-separated " +
+                     names_joined<analysis::EnginePolicy>() +
+                     ", policy (the switch policy of --policy), or all, or none")
       ->capture_default_str();
-  cmd->add_option("--policy", o->policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
+  cmd.add_option("--policy", o.policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
       ->capture_default_str();
-  add_emulation_options(*cmd, o->emulation);
-  cmd->add_option("--variant", o->variants,
-                  "run every method under these choices too, NAME=VALUE[,...] over the options above "
-                  "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
-  cmd->add_option("--out", o->out, "the results CSV")->required();
-  cmd->add_flag("--resume", o->resume, "continue the sweep already in --out (docs/sweep-files.md)");
-  cmd->add_flag("--repair", o->repair,
-                "with --resume: remove a configuration cut off mid-write at the end of --out and run it again");
-  cmd->callback([o] { run_sweep(*o); });
+  add_emulation_options(cmd, o.emulation);
+  cmd.add_option("--variant", o.variants,
+                 "run every method under these choices too, NAME=VALUE[,...] over the options above "
+                 "(repeatable; e.g. light-projection=glfrustum,l-near-scale=0.5)");
+  cmd.add_option("--out", o.out, "the results CSV")->required();
+  cmd.add_flag("--resume", o.resume, "continue the sweep already in --out (docs/sweep-files.md)");
+  cmd.add_flag("--repair", o.repair,
+               "with --resume: remove a configuration cut off mid-write at the end of --out and run it again");
 }
 
 }  // namespace nearcap::cli

@@ -10,6 +10,7 @@
 #include "cli_commands.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -41,7 +42,28 @@ void refuse_output_over_input(const std::string& out, const std::vector<std::str
   }
 }
 
-void run(const TuneOptions& o, const std::string& command) {
+// The command line that makes this fit again, written into the policy: the
+// options that differ from their defaults.
+std::string command_line(const TuneOptions& o) {
+  std::string command = "nearcap tune";
+  for (const std::string& r : o.results) command += " " + r;
+  command += " --out " + o.out;
+  if (o.capped != "zpplus-corrected") command += " --capped " + o.capped;
+  if (o.fallback != "zfail") command += " --fallback " + o.fallback;
+  if (o.variant != "switch-clamp=clamp-far") command += " --variant " + o.variant;
+  if (o.plain) command += " --plain";
+  if (o.features != "all") command += " --features " + o.features;
+  if (o.light_projection != gl::LightProjection::Paper)
+    command += " --light-projection " + std::string(name_of(o.light_projection));
+  if (o.no_exact_zpass) command += " --no-exact-zpass";
+  if (o.depth) command += " --depth " + std::string(name_of(*o.depth));
+  if (o.depth_mapping) command += " --depth-mapping " + std::string(name_of(*o.depth_mapping));
+  if (o.near_plane) command += " --near-plane " + std::string(name_of(*o.near_plane));
+  return command;
+}
+
+void run(const TuneOptions& o) {
+  const std::string command = command_line(o);
   refuse_output_over_input(o.out, o.results);
   const auto capped = gl::shadow_method_from_string(o.capped);
   const auto fallback = gl::shadow_method_from_string(o.fallback);
@@ -122,61 +144,44 @@ void run(const TuneOptions& o, const std::string& command) {
 }  // namespace
 
 void register_tune(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "tune",
+  auto [cmd, o] = add_subcommand<TuneOptions>(
+      app, "tune",
       "fit the switch policy's crack model (Ceres) on sweep CSVs and write policy.json (docs/policy.md), printing "
-      "which fits the policy's decision reads; the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1");
-  auto o = std::make_shared<TuneOptions>();
-  cmd->add_option("results", o->results, "sweep CSV files with rows of both methods")->required();
-  cmd->add_option("--out", o->out, "the policy file to write")->required();
-  cmd->add_option("--capped", o->capped, "the method for occluders that meet the light pyramid")->capture_default_str();
-  cmd->add_option("--fallback", o->fallback, "the method where a crack is predicted")->capture_default_str();
-  cmd->add_option("--variant", o->variant,
-                  "the sweep variant whose rows are used: the policy's switch clamp (the sweep's own choices, "
-                  "or one of its --variant)")
+      "which fits the policy's decision reads; the solver's own log goes to stderr with NEARCAP_SOLVER_LOG=1",
+      run);
+  cmd.add_option("results", o.results, "sweep CSV files with rows of both methods")->required();
+  cmd.add_option("--out", o.out, "the policy file to write")->required();
+  cmd.add_option("--capped", o.capped, "the method for occluders that meet the light pyramid")->capture_default_str();
+  cmd.add_option("--fallback", o.fallback, "the method where a crack is predicted")->capture_default_str();
+  cmd.add_option("--variant", o.variant,
+                 "the sweep variant whose rows are used: the policy's switch clamp (the sweep's own choices, "
+                 "or one of its --variant)")
       ->capture_default_str();
-  cmd->add_flag("--plain", o->plain, "plain logistic regression (no robust loss)");
-  add_choice_option(*cmd, "--light-projection", o->light_projection,
+  cmd.add_flag("--plain", o.plain, "plain logistic regression (no robust loss)");
+  add_choice_option(cmd, "--light-projection", o.light_projection,
                     "the capped ZP+'s near-cap, written to the policy (the rows' variant should have it): " +
                         names_joined<gl::LightProjection>(" or ") +
                         " (no light frustum; docs/findings/light-projection.md)");
-  cmd->add_flag("--no-exact-zpass", o->no_exact_zpass,
-                "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "
-                "clipped-sides, which is Z-pass wherever its sides leave no cap in the viewport)");
-  add_choice_option(*cmd, "--depth", o->depth,
+  cmd.add_flag("--no-exact-zpass", o.no_exact_zpass,
+               "no exact Z-pass test per occluder: the capped method everywhere (with --light-projection "
+               "clipped-sides, which is Z-pass wherever its sides leave no cap in the viewport)");
+  add_choice_option(cmd, "--depth", o.depth,
                     "the depth buffer the policy's frames use, written to the policy (the rows' variant should have "
                     "it): " +
                         names_joined<gl::DepthFormat>(" or ") + "; not given, the caller's");
-  add_choice_option(*cmd, "--depth-mapping", o->depth_mapping,
+  add_choice_option(cmd, "--depth-mapping", o.depth_mapping,
                     "the camera's depth mapping the policy's frames use, written to the policy: " +
                         names_joined<gl::DepthMapping>(" or ") +
                         " (with --depth float32: reversed-Z); not given, "
                         "the caller's");
-  add_choice_option(*cmd, "--near-plane", o->near_plane,
+  add_choice_option(cmd, "--near-plane", o.near_plane,
                     "the camera's near plane the policy's frames use, written to the policy: " +
                         names_joined<gl::NearPlane>(" or ") + "; not given, the caller's");
-  cmd->add_option("--features", o->features,
-                  "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
-                  "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model: "
-                  "with --no-exact-zpass the decision reads none)")
+  cmd.add_option("--features", o.features,
+                 "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
+                 "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model: "
+                 "with --no-exact-zpass the decision reads none)")
       ->capture_default_str();
-  cmd->callback([o] {
-    std::string command = "nearcap tune";
-    for (const std::string& r : o->results) command += " " + r;
-    command += " --out " + o->out;
-    if (o->capped != "zpplus-corrected") command += " --capped " + o->capped;
-    if (o->fallback != "zfail") command += " --fallback " + o->fallback;
-    if (o->variant != "switch-clamp=clamp-far") command += " --variant " + o->variant;
-    if (o->plain) command += " --plain";
-    if (o->features != "all") command += " --features " + o->features;
-    if (o->light_projection != gl::LightProjection::Paper)
-      command += " --light-projection " + std::string(name_of(o->light_projection));
-    if (o->no_exact_zpass) command += " --no-exact-zpass";
-    if (o->depth) command += " --depth " + std::string(name_of(*o->depth));
-    if (o->depth_mapping) command += " --depth-mapping " + std::string(name_of(*o->depth_mapping));
-    if (o->near_plane) command += " --near-plane " + std::string(name_of(*o->near_plane));
-    run(*o, command);
-  });
 }
 
 }  // namespace nearcap::cli

@@ -13,12 +13,12 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
-#include <iostream>
 #include <limits>
 #include <memory>
 #include <sstream>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "frame_source.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
@@ -31,6 +31,7 @@
 #include "nearcap/view/status_panel.hpp"
 #include "nearcap/view/viewer_commands.hpp"
 #include "nearcap/view/viewer_window.hpp"
+#include "subcommand.hpp"
 
 namespace nearcap::cli {
 namespace {
@@ -368,7 +369,7 @@ class Viewer {
     root["camera"] = camera_json(s.camera);
     root["description"] = "nearcap view of " + options_.scene + ", saved with method " + methods_.name(method_) +
                           (light_choice_ < 0 ? "" : ", light " + std::to_string(light_choice_));
-    io::write_output_files({{file.string(), json_text(root, 1) + "\n"}});
+    io::write_output_files({{file.string(), json_file_text(root)}});
     std::printf("saved %s\n", file.string().c_str());
     std::fflush(stdout);
   }
@@ -400,26 +401,27 @@ class Viewer {
 }  // namespace
 
 void register_view(CLI::App& app) {
-  auto* cmd = app.add_subcommand("view", "an interactive window: the real GL's frame, a fly camera, the cracks");
-  cmd->footer(
+  auto [cmd, o] =
+      add_subcommand<ViewOptions>(app, "view", "an interactive window: the real GL's frame, a fly camera, the cracks",
+                                  [](const ViewOptions& v) { Viewer(v).run(); });
+  cmd.footer(
       "The window (GLFW) shows the lit frame drawn by the real GL like nearcap render, with a fly camera, keys to "
       "switch method, policy and light, and an overlay of the frame's cracks against the exact reference.\nKeys: " +
       view::key_help());
-  auto o = std::make_shared<ViewOptions>();
-  cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
-  auto* light = add_light_option(*cmd, o->light, false);
-  cmd->add_option("--method", o->method,
-                  "the methods the m key cycles through: zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, "
-                  "policy, comma-separated, or all (the six and the policy); the first is shown first")
+  add_scene_argument(cmd, o.scene)->required();
+  add_optional_light_option(cmd, o.light, o.light_given);
+  cmd.add_option("--method", o.method,
+                 "the methods the m key cycles through: zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, "
+                 "policy, comma-separated, or all (the six and the policy); the first is shown first")
       ->capture_default_str();
-  cmd->add_option("--policy", o->policy, "the switch policy for the policy method")->capture_default_str();
-  cmd->add_option("--keys", o->keys,
-                  "a key sequence played first, through the same commands as the keys (names as in the key list, "
-                  "separated by spaces; 'wait' waits for the crack overlay)");
-  cmd->add_option("--screenshot", o->screenshot,
-                  "after the key sequence, write the window's pixels as PNG to FILE and exit");
-  cmd->add_option("--out", o->out, "directory where the p key saves views (view-NNN.json)")->capture_default_str();
-  cmd->add_option("--step", o->step, "distance of one move (default: 1/50 of the scene's diagonal)")
+  cmd.add_option("--policy", o.policy, "the switch policy for the policy method")->capture_default_str();
+  cmd.add_option("--keys", o.keys,
+                 "a key sequence played first, through the same commands as the keys (names as in the key list, "
+                 "separated by spaces; 'wait' waits for the crack overlay)");
+  cmd.add_option("--screenshot", o.screenshot,
+                 "after the key sequence, write the window's pixels as PNG to FILE and exit");
+  cmd.add_option("--out", o.out, "directory where the p key saves views (view-NNN.json)")->capture_default_str();
+  cmd.add_option("--step", o.step, "distance of one move (default: 1/50 of the scene's diagonal)")
       ->check(CLI::Validator(
           [](std::string& v) {
             char* end = nullptr;
@@ -428,12 +430,8 @@ void register_view(CLI::App& app) {
                                                                                  : "must be a positive distance";
           },
           "DISTANCE"));
-  add_emulation_options(*cmd, o->emulation);
-  add_max_memory_option(*cmd, o->max_memory_gb);
-  cmd->callback([o, light] {
-    o->light_given = light->count() > 0;
-    Viewer(*o).run();
-  });
+  add_emulation_options(cmd, o.emulation);
+  add_max_memory_option(cmd, o.max_memory_gb);
 }
 
 }  // namespace nearcap::cli

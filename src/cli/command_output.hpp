@@ -1,0 +1,43 @@
+// A command's outputs: the files it writes into its --out DIR, all or
+// nothing, and the JSON it prints on stdout.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "nearcap/io/output_files.hpp"
+
+namespace nearcap::cli {
+
+// The text of a JSON output file: `j` indented by one space (json_text),
+// ending in a newline.
+std::string json_file_text(const nlohmann::json& j);
+
+// Prints `j` on stdout as one line of JSON.
+void print_json_line(const nlohmann::json& j);
+
+// The files of a command's --out DIR, gathered while the command runs and
+// written together at its end by io::write_output_files (every file or
+// none).  Without --out (an empty DIR) nothing is gathered or written, and
+// no output's bytes are made.
+class OutputDir {
+ public:
+  explicit OutputDir(const std::string& dir) : dir_(dir) {}
+  bool given() const { return !dir_.empty(); }
+  // DIR/name.
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // DIR/name with the bytes that `make` returns; `make` runs only with a DIR.
+  void add(const std::string& name, const std::function<std::string()>& make);
+  // DIR/json_name with `j`'s text (json_file_text), then every file written.
+  void write(const std::string& json_name, const nlohmann::json& j);
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<io::OutputFile> files_;
+};
+
+}  // namespace nearcap::cli
