@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace nearcap {
 namespace {
@@ -75,7 +76,7 @@ std::unique_ptr<CentralGrid> world_light_grid(const Scene& scene, std::size_t li
               {w.position[t[0]], w.position[t[1]], w.position[t[2]]}, w.error, static_cast<std::uint32_t>(m)};
         }
       });
-  return std::make_unique<CentralGrid>(scene.lights[light].position, 0.0, items, 1.0);
+  return std::make_unique<CentralGrid>(scene.lights[light].position, 0.0, std::move(items), 1.0);
 }
 
 }  // namespace

@@ -458,8 +458,8 @@ struct PixelReferenceTracer::Impl {
                                 static_cast<std::uint32_t>(m)};
                           }
                         });
-      region_light_grid_ =
-          std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}), items, 1.0);
+      region_light_grid_ = std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}),
+                                                         std::move(items), 1.0);
     });
     return *region_light_grid_;
   }
