@@ -293,6 +293,20 @@ const CentralGrid::Face& CentralGrid::face(int f) const {
   return faces_[static_cast<std::size_t>(f)];
 }
 
+void CentralGrid::build_faces_meeting(const Vec3d& lo, const Vec3d& hi) const {
+  // The smallest |x| over [lo_a, hi_a].
+  auto closest_to_zero = [](double lo_a, double hi_a) {
+    return lo_a <= 0 && hi_a >= 0 ? 0.0 : std::min(std::fabs(lo_a), std::fabs(hi_a));
+  };
+  for (int f = 0; f < 6; ++f) {
+    const FaceAxes ax = face_axes(f);
+    // The largest sign * w_axis over the box; the face's cone holds the
+    // directions with sign * w_axis >= |w_u|, |w_v|.
+    const double m = (ax.sign > 0 ? hi[ax.axis] : -lo[ax.axis]) * (1.0 + 0x1p-20);
+    if (m > 0 && m >= closest_to_zero(lo[ax.u], hi[ax.u]) && m >= closest_to_zero(lo[ax.v], hi[ax.v])) face(f);
+  }
+}
+
 void CentralGrid::build_face(int f) const {
   const Pending& pending = *pending_;
   const std::vector<Triangle>& triangles = pending.triangles;

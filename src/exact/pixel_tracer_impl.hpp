@@ -167,6 +167,11 @@ struct PixelReferenceTracer::Impl {
     // by side.  The per-triangle data of both is computed on first read.
     tbb::parallel_invoke([&] { setup = light_setup(cs, light, cache); }, [&] { eye_side = eye_setup(cs, eye_cache); });
     eye_grid = eye_side->grid.get();
+    // The faces of the grid around the eye that the pixels' view rays read
+    // (those the near rectangle meets), built here so that the setup holds
+    // them; other faces are built if a query reaches them.
+    const Frustum& fr = cs.frustum();
+    eye_grid->build_faces_meeting({fr.left, fr.bottom, -fr.near}, {fr.right, fr.top, -fr.near});
     light_grid = setup->grid.get();
     lit = LazyTable<LightTriangle>(setup->lit.size());
   }

@@ -74,6 +74,11 @@ class CentralGrid {
   // beyond one face or is too wide to be worth it: the caller takes all().
   bool candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const;
   EntryRange all() const { return {all_.data(), all_.data() + all_.size()}; }
+  // Builds now (if not yet built) every face whose cone meets a direction of
+  // the box lo <= w <= hi (per coordinate, relative to the centre; widened
+  // by a relative 2^-20): the faces a known set of queries will read, so
+  // that building them is paid here rather than by the first query.
+  void build_faces_meeting(const Vec3d& lo, const Vec3d& hi) const;
 
   std::size_t triangle_count() const { return all_.size(); }
   std::size_t listed_entries() const;  // total over all cells (memory / quality)
