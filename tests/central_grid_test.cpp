@@ -3,6 +3,7 @@
 // and for region queries, including regions that span several cube faces,
 // reach the face diagonals, or surround the centre.
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -144,6 +145,50 @@ TEST(CentralGrid, RegionAroundTheCentreOnAFineGridAsksForAll) {
   const CentralGrid grid(f.centre, 0.0, f.triangles, 200.0);  // 200 cells per triangle
   std::vector<std::uint32_t> ids;
   EXPECT_FALSE(grid.candidates_in({0.1, 0.0, 0.0}, 0.5, ids));
+}
+
+// Each cube face is built when a query first reaches it: a grid queried from
+// several threads at once, faces first reached in a shuffled order, lists
+// exactly what a grid queried face by face in order lists (the same entries,
+// in the same order), for point and region queries.
+TEST(CentralGrid, FacesBuiltOnDemandListTheSameInAnyOrder) {
+  std::mt19937 rng(31);
+  const Fixture f = make_fixture(rng, 400);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Vec3d> directions;
+  for (int k = 0; k < 600; ++k) directions.push_back({unit(rng), unit(rng), unit(rng)});
+  auto answers = [&](const CentralGrid& grid, std::size_t k) {
+    std::vector<std::uint32_t> out;
+    for (const CentralGrid::Entry& e : grid.candidates(directions[k], 0.0)) out.push_back(e.id);
+    std::vector<std::uint32_t> ids;
+    out.push_back(grid.candidates_in(directions[k], 0.01, ids) ? 1u : 0u);
+    out.insert(out.end(), ids.begin(), ids.end());
+    return out;
+  };
+  const CentralGrid in_order(f.centre, 0.0, f.triangles);
+  // Faces in order +x, -x, +y, -y, +z, -z first.
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {1.0, -1.0}) {
+      Vec3d w{0, 0, 0};
+      w[axis] = sign;
+      in_order.candidates(w, 0.0);
+    }
+  std::vector<std::vector<std::uint32_t>> expected;
+  for (std::size_t k = 0; k < directions.size(); ++k) expected.push_back(answers(in_order, k));
+
+  for (int run = 0; run < 4; ++run) {
+    const CentralGrid shuffled(f.centre, 0.0, f.triangles);
+    std::vector<std::size_t> order(directions.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<std::vector<std::uint32_t>> got(directions.size());
+    tbb::parallel_for(std::size_t{0}, order.size(),
+                      [&](std::size_t n) { got[order[n]] = answers(shuffled, order[n]); });
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < directions.size(); ++k) differ += got[k] != expected[k];
+    EXPECT_EQ(differ, 0u) << "run " << run;
+    EXPECT_EQ(shuffled.listed_entries(), in_order.listed_entries()) << "run " << run;
+  }
 }
 
 }  // namespace

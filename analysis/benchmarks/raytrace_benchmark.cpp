@@ -11,7 +11,11 @@
 //   exact_moving   exact_status as a camera path has it: the camera moves
 //                  every iteration (two views in turn, 1 cm apart), the light
 //                  side comes from a LightSetupCache kept across iterations
-//                  (light_setup.hpp), the eye side is built anew.
+//                  (light_setup.hpp), the eye side is built anew;
+//   exact_light_moving  exact_status with the light moving every iteration
+//                  (1 cm) and the camera still: the eye side comes from an
+//                  EyeSetupCache (eye_setup.hpp), the light side is built
+//                  anew (what each light after the first of a frame pays).
 // Counters: each one's mean milliseconds, its setup and tracing parts, the
 // ratios exact / embree (target for exact_status: <= 2 at 1920x1080 with the
 // bunny, and on the sweep's 160x120 frames), and the pixels whose shadow
@@ -47,6 +51,9 @@ void BM_ExactVsEmbree(benchmark::State& state) {
   std::size_t disagree = 0, seen = 0;
   nearcap::LightSetupCache cache;
   nearcap::Scene moving = scene;  // shares the meshes
+  double light_moving_setup = 0, light_moving_trace = 0;
+  nearcap::EyeSetupCache eye_cache;
+  nearcap::Scene light_moving = scene;
   bool step = false;
   for (auto _ : state) {
     // Each side alone: Embree's device is released before the exact side runs.
@@ -96,6 +103,17 @@ void BM_ExactVsEmbree(benchmark::State& state) {
       moving_trace += ref.trace_ms;
       benchmark::DoNotOptimize(ref.stencil.data());
     }
+    light_moving.lights[0].position.x = scene.lights[0].position.x + (step ? 0.01 : 0.0);
+    t0 = std::chrono::steady_clock::now();
+    {
+      const nearcap::CameraSpaceScene cs(light_moving);
+      const nearcap::PixelReferenceTracer tracer(cs, 0, nullptr, &eye_cache);
+      const double setup = ms_since(t0);
+      const nearcap::PixelReference ref = nearcap::compute_pixel_reference(tracer, nearcap::PixelContent::ShadowStatus);
+      light_moving_setup += setup;
+      light_moving_trace += ref.trace_ms;
+      benchmark::DoNotOptimize(ref.stencil.data());
+    }
   }
   const double n = static_cast<double>(state.iterations());
   const double embree = (embree_build + embree_trace) / n, status = (status_setup + status_trace) / n,
@@ -112,7 +130,10 @@ void BM_ExactVsEmbree(benchmark::State& state) {
   state.counters["exact_moving_setup_ms"] = moving_setup / n;
   state.counters["exact_moving_trace_ms"] = moving_trace / n;
   state.counters["exact_moving_ms"] = (moving_setup + moving_trace) / n;
+  state.counters["exact_light_moving_setup_ms"] = light_moving_setup / n;
+  state.counters["exact_light_moving_ms"] = (light_moving_setup + light_moving_trace) / n;
   state.counters["ratio_status"] = status / embree;
+  state.counters["ratio_light_moving"] = (light_moving_setup + light_moving_trace) / n / embree;
   state.counters["ratio_moving"] = (moving_setup + moving_trace) / n / embree;
   state.counters["ratio_full"] = full / embree;
   state.counters["status_disagreements"] = static_cast<double>(disagree);

@@ -55,7 +55,10 @@ BENCHMARK(BM_PixelReference)->Unit(benchmark::kMillisecond)->UseRealTime()->MinT
 // (tbb::global_control), at the scene's resolution:
 //   cold_ms   nothing cached: the light side and the eye side;
 //   warm_ms   the light side from a LightSetupCache (the camera moved 1 cm):
-//             the eye side alone, what a camera path pays per frame.
+//             the eye side alone, what a camera path pays per frame;
+//   light_moved_ms  the eye side from an EyeSetupCache (the light moved 1 cm,
+//             the camera still): the light side alone, what a frame whose
+//             light moves pays, and each light after the first of a frame.
 // The serial fraction of each (Amdahl): f = 2 T2 / T1 - 1 from the runs with
 // threads 1 and 2, on an otherwise idle machine:
 //   ./analysis/benchmarks/nearcap_benchmarks --benchmark_filter=ReferenceSetup
@@ -65,7 +68,9 @@ void BM_ReferenceSetup(benchmark::State& state) {
   const nearcap::Scene s = nearcap::load_scene(bench_scene());
   nearcap::Scene moved = s;
   nearcap::LightSetupCache cache;
-  double cold = 0, warm = 0;
+  nearcap::Scene lit = s;
+  nearcap::EyeSetupCache eye_cache;
+  double cold = 0, warm = 0, light_moved = 0;
   bool step = false;
   for (auto _ : state) {
     auto t0 = std::chrono::steady_clock::now();
@@ -84,11 +89,20 @@ void BM_ReferenceSetup(benchmark::State& state) {
       benchmark::DoNotOptimize(&tracer);
     }
     warm += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    lit.lights[0].position.x = s.lights[0].position.x + (step ? 0.01 : 0.0);
+    t0 = std::chrono::steady_clock::now();
+    {
+      const nearcap::CameraSpaceScene cs(lit);
+      const nearcap::PixelReferenceTracer tracer(cs, 0, nullptr, &eye_cache);
+      benchmark::DoNotOptimize(&tracer);
+    }
+    light_moved += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["threads"] = static_cast<double>(state.range(0));
   state.counters["cold_ms"] = cold / n;
   state.counters["warm_ms"] = warm / n;
+  state.counters["light_moved_ms"] = light_moved / n;
 }
 BENCHMARK(BM_ReferenceSetup)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 

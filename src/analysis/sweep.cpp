@@ -12,6 +12,7 @@
 #include "csv_field.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/classification.hpp"
+#include "nearcap/exact/eye_setup.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/case_comparison.hpp"
@@ -55,9 +56,10 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
   const SceneClassification exact = classify_scene(cs);
   const CaseComparison engine = compare_engine_cases(cs, exact);
   std::vector<SweepRow> rows;
+  EyeSetupCache eye_setups(1);  // the lights of this configuration share the eye side
   for (std::size_t light = 0; light < scene.lights.size(); ++light) {
     const auto t0 = std::chrono::steady_clock::now();
-    const PixelReferenceTracer tracer(cs, light, options.light_setups);
+    const PixelReferenceTracer tracer(cs, light, options.light_setups, &eye_setups);
     const PixelReference ref = compute_pixel_reference(tracer);
     const double reference_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -2,12 +2,14 @@
 #include "nearcap/exact/central_grid.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -233,35 +235,86 @@ int cell_index(double x, double origin, double size, int n) {
 
 }  // namespace
 
-CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::vector<Triangle>& triangles,
-                         double cells_per_triangle)
-    : centre_(centre), centre_error_(centre_error) {
-  all_.reserve(triangles.size());
-  for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
-
-  // Building is per triangle and per cell, on all cores; every list keeps
-  // the order a sequential build gives (the grid is the same either way).
-  std::vector<Relative> relative(triangles.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i)
-                        relative[i] = relative_to(triangles[i], centre_, centre_error_);
-                    });
+// What building a face needs, kept until all six are built.
+struct CentralGrid::Pending {
+  std::vector<Triangle> triangles;
+  std::vector<Relative> relative;
   // The triangles each face has to place: those strictly inside its cone,
   // and those that are not strictly inside one cone (or pass near the
   // centre), which every face places.
   std::array<std::vector<std::uint32_t>, 6> inside;
   std::vector<std::uint32_t> anywhere;
-  for (std::size_t i = 0; i < triangles.size(); ++i) {
-    const Relative& r = relative[i];
-    if (r.only_face >= 0 && !r.near_apex)
-      inside[static_cast<std::size_t>(r.only_face)].push_back(static_cast<std::uint32_t>(i));
-    else
-      anywhere.push_back(static_cast<std::uint32_t>(i));
-  }
   std::uint32_t max_id = 0;
-  for (const Triangle& t : triangles) max_id = std::max(max_id, t.id);
+  double cells_per_triangle = 1;
+  std::array<tbb::collaborative_once_flag, 6> built;
+  std::atomic<int> faces_built{0};
+};
 
+CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, std::vector<Triangle> triangles,
+                         double cells_per_triangle)
+    : centre_(centre), centre_error_(centre_error), pending_(std::make_unique<Pending>()) {
+  all_.reserve(triangles.size());
+  for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
+
+  // Building is per triangle and per cell, on all cores; every list keeps
+  // the order a sequential build gives (the grid is the same either way).
+  Pending& p = *pending_;
+  p.cells_per_triangle = cells_per_triangle;
+  p.relative.resize(triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i)
+                        p.relative[i] = relative_to(triangles[i], centre_, centre_error_);
+                    });
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const Relative& r = p.relative[i];
+    if (r.only_face >= 0 && !r.near_apex)
+      p.inside[static_cast<std::size_t>(r.only_face)].push_back(static_cast<std::uint32_t>(i));
+    else
+      p.anywhere.push_back(static_cast<std::uint32_t>(i));
+  }
+  for (const Triangle& t : triangles) p.max_id = std::max(p.max_id, t.id);
+  p.triangles = std::move(triangles);
+}
+
+CentralGrid::~CentralGrid() = default;
+
+const CentralGrid::Face& CentralGrid::face(int f) const {
+  tbb::collaborative_call_once(pending_->built[static_cast<std::size_t>(f)], [&] {
+    build_face(f);
+    // The last face built: nothing reads the inputs any more.
+    if (pending_->faces_built.fetch_add(1) + 1 == 6) {
+      std::vector<Triangle>().swap(pending_->triangles);
+      std::vector<Relative>().swap(pending_->relative);
+      for (auto& v : pending_->inside) std::vector<std::uint32_t>().swap(v);
+      std::vector<std::uint32_t>().swap(pending_->anywhere);
+    }
+  });
+  return faces_[static_cast<std::size_t>(f)];
+}
+
+void CentralGrid::build_faces_meeting(const Vec3d& lo, const Vec3d& hi) const {
+  // The smallest |x| over [lo_a, hi_a].
+  auto closest_to_zero = [](double lo_a, double hi_a) {
+    return lo_a <= 0 && hi_a >= 0 ? 0.0 : std::min(std::fabs(lo_a), std::fabs(hi_a));
+  };
+  for (int f = 0; f < 6; ++f) {
+    const FaceAxes ax = face_axes(f);
+    // The largest sign * w_axis over the box; the face's cone holds the
+    // directions with sign * w_axis >= |w_u|, |w_v|.
+    const double m = (ax.sign > 0 ? hi[ax.axis] : -lo[ax.axis]) * (1.0 + 0x1p-20);
+    if (m > 0 && m >= closest_to_zero(lo[ax.u], hi[ax.u]) && m >= closest_to_zero(lo[ax.v], hi[ax.v])) face(f);
+  }
+}
+
+void CentralGrid::build_face(int f) const {
+  const Pending& pending = *pending_;
+  const std::vector<Triangle>& triangles = pending.triangles;
+  const std::vector<Relative>& relative = pending.relative;
+  const std::array<std::vector<std::uint32_t>, 6>& inside = pending.inside;
+  const std::vector<std::uint32_t>& anywhere = pending.anywhere;
+  const std::uint32_t max_id = pending.max_id;
+  const double cells_per_triangle = pending.cells_per_triangle;
   struct Placed {
     std::uint32_t index;
     FacePlacement placement;
@@ -271,8 +324,8 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, const std::ve
   std::vector<FacePlacement> placements;
   tbb::enumerable_thread_specific<std::unique_ptr<std::array<SmallPolygon, 2>>> scratches(
       [] { return std::make_unique<std::array<SmallPolygon, 2>>(); });
-  for (int f = 0; f < 6; ++f) {
-    Face& face = faces_[f];
+  {
+    Face& face = faces_[static_cast<std::size_t>(f)];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
     std::size_t boxed = 0;
     placed.clear();
@@ -403,7 +456,7 @@ CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) 
   const double denom = m - err;
   const double eu = projection_error(u, err, denom), ev = projection_error(v, err, denom);
   if (eu > kQueryMargin || ev > kQueryMargin) return all();
-  const Face& face = faces_[f];
+  const Face& face = this->face(f);
   const double fi = std::floor((u - face.u0) / face.du), fj = std::floor((v - face.v0) / face.dv);
   std::size_t cell;
   if (fi < 0 || fj < 0 || fi >= face.nu || fj >= face.nv)
@@ -457,7 +510,7 @@ bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std:
       b = {std::max(b.u_lo, -kFaceRange), std::min(b.u_hi, kFaceRange), std::max(b.v_lo, -kFaceRange),
            std::min(b.v_hi, kFaceRange)};
     }
-    const Face& face = faces_[f];
+    const Face& face = this->face(f);
     const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
     const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
     cells += static_cast<long long>(i1 - i0 + 1) * (j1 - j0 + 1);
@@ -465,7 +518,7 @@ bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std:
     queries[query_count++] = {f, b};
   }
   for (std::size_t q = 0; q < query_count; ++q) {
-    const Face& face = faces_[queries[q].face];
+    const Face& face = faces_[static_cast<std::size_t>(queries[q].face)];  // built above
     const Box& b = queries[q].box;
     const int i0 = cell_index(b.u_lo, face.u0, face.du, face.nu), i1 = cell_index(b.u_hi, face.u0, face.du, face.nu);
     const int j0 = cell_index(b.v_lo, face.v0, face.dv, face.nv), j1 = cell_index(b.v_hi, face.v0, face.dv, face.nv);
@@ -489,7 +542,7 @@ bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std:
 
 std::size_t CentralGrid::listed_entries() const {
   std::size_t n = 0;
-  for (const Face& f : faces_) n += f.entries.size();
+  for (int f = 0; f < 6; ++f) n += face(f).entries.size();
   return n;
 }
 

@@ -190,7 +190,7 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   const std::optional<Hit> hit =
       t.first_hit(t.eye_grid->candidates(centre.estimate(), centre.error()), centre, true, stats);
   if (!hit) return std::nullopt;
-  const EyeTriangle& seen = t.eye[hit->eye_index];
+  const EyeTriangle& seen = t.eye(hit->eye_index);
   if (!proof.hit_everywhere(seen)) return std::nullopt;
   std::vector<std::uint32_t> ids;
   const Region directions =
@@ -200,7 +200,7 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
     for (const auto& e : t.eye_grid->all()) ids.push_back(e.id);
   }
   for (std::uint32_t id : ids)
-    if (id != hit->eye_index && !proof.hidden_everywhere(t.eye[id], seen)) return std::nullopt;
+    if (id != hit->eye_index && !proof.hidden_everywhere(t.eye(id), seen)) return std::nullopt;
 
   // q(P) over the square: the convex hull of the corners' hits on T's plane.
   std::array<BoundedVec3, 4> q;
@@ -229,13 +229,13 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   // that is not ends the proof.
   bool shadowed_at_centre = false;
   for (std::uint32_t id : ids)
-    if (t.shadow_crosses(t.lit[id], *hit, centre, stats)) {
-      if (proof.crossing(t.lit[id], seen, hit->eye_index) == SquareProof::Crossing::Always) return true;
+    if (t.shadow_crosses(t.light_triangle(id), *hit, centre, stats)) {
+      if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) == SquareProof::Crossing::Always) return true;
       shadowed_at_centre = true;
     }
   if (shadowed_at_centre) return std::nullopt;
   for (std::uint32_t id : ids)
-    if (proof.crossing(t.lit[id], seen, hit->eye_index) != SquareProof::Crossing::Never) return std::nullopt;
+    if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) != SquareProof::Crossing::Never) return std::nullopt;
   return false;
 }
 

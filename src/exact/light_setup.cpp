@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace nearcap {
 namespace {
@@ -75,7 +76,7 @@ std::unique_ptr<CentralGrid> world_light_grid(const Scene& scene, std::size_t li
               {w.position[t[0]], w.position[t[1]], w.position[t[2]]}, w.error, static_cast<std::uint32_t>(m)};
         }
       });
-  return std::make_unique<CentralGrid>(scene.lights[light].position, 0.0, items, 1.0);
+  return std::make_unique<CentralGrid>(scene.lights[light].position, 0.0, std::move(items), 1.0);
 }
 
 }  // namespace
@@ -189,6 +190,10 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
         if (facing[f] == Facing::Front) setup->lit.push_back(static_cast<std::uint32_t>(first_face[o] + f));
     }
   setup->grid = world_light_grid(scene, light, setup->lit, first_face);
+  // Segments from the light go every way: every face is built here, with the
+  // rest of the light side.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  setup->grid->build_faces_meeting({-kInf, -kInf, -kInf}, {kInf, kInf, kInf});
   if (cache) {
     const std::lock_guard<std::mutex> lock(cache->mutex_);
     ++cache->counts_.setup_builds;

@@ -17,9 +17,10 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 }  // namespace
 
-PixelReferenceTracer::PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache) {
+PixelReferenceTracer::PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache,
+                                           EyeSetupCache* eye_cache) {
   const auto t0 = std::chrono::steady_clock::now();
-  impl_ = std::make_unique<Impl>(scene, light, cache);
+  impl_ = std::make_unique<Impl>(scene, light, cache, eye_cache);
   impl_->setup_ms = elapsed_ms(t0);
 }
 double PixelReferenceTracer::setup_ms() const { return impl_->setup_ms; }

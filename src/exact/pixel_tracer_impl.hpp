@@ -17,6 +17,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "lazy_table.hpp"
+#include "nearcap/exact/eye_setup.hpp"
 #include "nearcap/exact/light_facing.hpp"
 #include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/perturbation.hpp"
@@ -92,16 +94,64 @@ struct Hit {
   BoundedDouble t;  // d / n.P estimate (may be uncertain)
 };
 
+// The sign of d = det(a, b, c) of triangle (object, f): exact.
+inline Sign plane_offset_sign(const CameraSpaceScene& cs, std::uint32_t object, FaceIndex f,
+                              const PlaneData<BoundedDouble>& plane, FilterStats* stats) {
+  return filtered_sign(
+      Predicate::RayHit, stats, [&] { return plane.d; },
+      [&] {
+        const auto& t = cs.mesh(object).triangles[f];
+        return plane_data(cs.exact_vertex(object, t[0]), cs.exact_vertex(object, t[1]), cs.exact_vertex(object, t[2]))
+            .d;
+      });
+}
+
+// Triangle f of object o as the view rays see it.
+inline EyeTriangle make_eye_triangle(const CameraSpaceScene& cs, std::uint32_t o, FaceIndex f) {
+  const auto& t = cs.mesh(o).triangles[f];
+  const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
+  EyeTriangle et{{cross(a, b), cross(b, c), cross(c, a)}, plane_data(a, b, c), o, f, Sign::Zero};
+  et.sigma = plane_offset_sign(cs, o, f, et.plane, nullptr);
+  et.before_near = true;
+  for (const BoundedVec3* v : {&a, &b, &c})
+    et.before_near = et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
+  return et;
+}
+
+// The camera-dependent, light-independent side (eye_setup.hpp).  Triangles
+// are numbered object by object, faces in order (the eye index).
+struct EyeSetup {
+  std::vector<std::size_t> first_face;  // per object, then the total
+  std::unique_ptr<CentralGrid> grid;    // camera space, around the eye
+  LazyTable<EyeTriangle> triangles;     // by eye index, computed on first read
+
+  std::uint32_t object_of(std::uint32_t eye_index) const {
+    const auto it = std::upper_bound(first_face.begin(), first_face.end(), static_cast<std::size_t>(eye_index));
+    return static_cast<std::uint32_t>(it - first_face.begin() - 1);
+  }
+  // Eye triangle `i`; `cs` is any camera-space scene with this setup's key.
+  const EyeTriangle& triangle(const CameraSpaceScene& cs, std::uint32_t i) const {
+    return triangles.get(i, [&] {
+      const std::uint32_t o = object_of(i);
+      return make_eye_triangle(cs, o, static_cast<FaceIndex>(i - first_face[o]));
+    });
+  }
+};
+
 struct PixelReferenceTracer::Impl {
   const CameraSpaceScene& cs;
   std::size_t light;
-  std::vector<EyeTriangle> eye;
-  std::vector<LightTriangle> lit;
-  std::unique_ptr<CentralGrid> eye_grid;
+  // The light-independent eye side (eye_setup.hpp): the grid around the eye
+  // and the eye triangles, in camera space.
+  std::shared_ptr<const EyeSetup> eye_side;
+  const CentralGrid* eye_grid = nullptr;  // eye_side->grid
   // The camera-independent light side (light_setup.hpp): the facing, the
   // lit triangles and their grid around the light, in world space.
   std::shared_ptr<const LightSetup> setup;
   const CentralGrid* light_grid = nullptr;  // setup->grid
+  // The lit triangles' camera-space data, by index into setup->lit,
+  // computed on first read.
+  LazyTable<LightTriangle> lit;
   WorldDirections to_world;
   double setup_ms = 0;  // building this (PixelReferenceTracer's constructor)
   mutable tbb::collaborative_once_flag region_light_grid_once;
@@ -111,76 +161,44 @@ struct PixelReferenceTracer::Impl {
   // and without this cache each such pixel would pay for rationals.
   mutable tbb::enumerable_thread_specific<std::unordered_map<std::uint64_t, bool>> coplanar_cache;
 
-  Impl(const CameraSpaceScene& scene, std::size_t k, LightSetupCache* cache)
+  Impl(const CameraSpaceScene& scene, std::size_t k, LightSetupCache* cache, EyeSetupCache* eye_cache)
       : cs(scene), light(k), to_world(scene.scene().camera.view) {
-    // The light side (from the cache, or built) beside the eye side: every
-    // triangle's camera-space data, per face on all cores, then the grid
-    // around the eye; then the lit triangles' camera-space data.
-    std::size_t total = 0;
-    std::vector<std::size_t> first_face(cs.object_count() + 1, 0);
-    for (std::size_t o = 0; o < cs.object_count(); ++o) first_face[o + 1] = total += cs.mesh(o).triangles.size();
-    eye.resize(total);
-    tbb::parallel_invoke([&] { setup = light_setup(cs, light, cache); },
-                         [&] {
-                           std::vector<CentralGrid::Triangle> eye_items(total);
-                           for (std::size_t o = 0; o < cs.object_count(); ++o)
-                             build_eye_triangles(o, first_face[o], eye_items);
-                           // Half a cell per triangle around the eye: building
-                           // the grid is a large part of a small frame, and
-                           // tracing 1920x1080 is no slower for it (measured on
-                           // the bunny).
-                           eye_grid = std::make_unique<CentralGrid>(Vec3d{0, 0, 0}, 0.0, eye_items, 0.5);
-                         });
+    // The light side and the eye side (each from its cache, or built) side
+    // by side.  The per-triangle data of both is computed on first read.
+    tbb::parallel_invoke([&] { setup = light_setup(cs, light, cache); }, [&] { eye_side = eye_setup(cs, eye_cache); });
+    eye_grid = eye_side->grid.get();
+    // The faces of the grid around the eye that the pixels' view rays read
+    // (those the near rectangle meets), built here so that the setup holds
+    // them; other faces are built if a query reaches them.
+    const Frustum& fr = cs.frustum();
+    eye_grid->build_faces_meeting({fr.left, fr.bottom, -fr.near}, {fr.right, fr.top, -fr.near});
     light_grid = setup->grid.get();
-    const BoundedVec3& l = cs.light(light);
-    lit.resize(setup->lit.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lit.size(), 1024),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t m = r.begin(); m < r.end(); ++m) {
-                          const std::uint32_t eye_index = setup->lit[m];
-                          const EyeTriangle& et = eye[eye_index];
-                          const auto& t = cs.mesh(et.object).triangles[et.face];
-                          const std::array<BoundedVec3, 3> v{cs.vertex(et.object, t[0]), cs.vertex(et.object, t[1]),
-                                                             cs.vertex(et.object, t[2])};
-                          LightTriangle& lt = lit[m];
-                          for (int e = 0; e < 3; ++e) {
-                            lt.g[e] = cross(v[e] - l, v[(e + 1) % 3] - l);
-                            lt.g0[e] = -dot(lt.g[e], l);
-                          }
-                          lt.plane = et.plane;
-                          lt.object = et.object;
-                          lt.face = et.face;
-                          lt.light_side = cs.handedness(et.object);
-                          lt.eye_index = eye_index;
-                        }
-                      });
+    lit = LazyTable<LightTriangle>(setup->lit.size());
   }
 
-  void build_eye_triangles(std::size_t o, std::size_t first, std::vector<CentralGrid::Triangle>& eye_items) {
-    const TriangleMesh& mesh = cs.mesh(o);
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t fi = r.begin(); fi < r.end(); ++fi) {
-            const auto f = static_cast<FaceIndex>(fi);
-            const auto& t = mesh.triangles[f];
-            const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
-            EyeTriangle et{{cross(a, b), cross(b, c), cross(c, a)},
-                           plane_data(a, b, c),
-                           static_cast<std::uint32_t>(o),
-                           f,
-                           Sign::Zero};
-            et.sigma = sign_of_d(et, nullptr);
-            et.before_near = true;
-            for (const BoundedVec3* v : {&a, &b, &c})
-              et.before_near = et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
-            const auto eye_index = static_cast<std::uint32_t>(first + fi);
-            eye[eye_index] = et;
-            eye_items[eye_index] = CentralGrid::Triangle{
-                {cs.vertex_estimate(o, t[0]), cs.vertex_estimate(o, t[1]), cs.vertex_estimate(o, t[2])},
-                cs.max_error(o),
-                eye_index};
-          }
-        });
+  const EyeTriangle& eye(std::uint32_t eye_index) const { return eye_side->triangle(cs, eye_index); }
+
+  // Lit triangle m (an index into setup->lit) as the segments from the light see it.
+  const LightTriangle& light_triangle(std::uint32_t m) const {
+    return lit.get(m, [&] {
+      const std::uint32_t eye_index = setup->lit[m];
+      const EyeTriangle& et = eye(eye_index);
+      const auto& t = cs.mesh(et.object).triangles[et.face];
+      const std::array<BoundedVec3, 3> v{cs.vertex(et.object, t[0]), cs.vertex(et.object, t[1]),
+                                         cs.vertex(et.object, t[2])};
+      const BoundedVec3& l = cs.light(light);
+      LightTriangle lt;
+      for (int e = 0; e < 3; ++e) {
+        lt.g[e] = cross(v[e] - l, v[(e + 1) % 3] - l);
+        lt.g0[e] = -dot(lt.g[e], l);
+      }
+      lt.plane = et.plane;
+      lt.object = et.object;
+      lt.face = et.face;
+      lt.light_side = cs.handedness(et.object);
+      lt.eye_index = eye_index;
+      return lt;
+    });
   }
 
   // ---- exact data, computed only when a filter fails ----------------------
@@ -196,11 +214,6 @@ struct PixelReferenceTracer::Impl {
     const auto v = exact_triangle(lt.object, lt.face);
     const RationalVec3& l = cs.exact_light(light);
     return cross(v[e] - l, v[(e + 1) % 3] - l);
-  }
-
-  Sign sign_of_d(const EyeTriangle& t, FilterStats* stats) const {
-    return filtered_sign(
-        Predicate::RayHit, stats, [&] { return t.plane.d; }, [&] { return exact_plane(t.object, t.face).d; });
   }
 
   // Does the view ray through P hit t beyond p and before the far plane?
@@ -280,10 +293,10 @@ struct PixelReferenceTracer::Impl {
     const double m = std::max({std::fabs(pe.x), std::fabs(pe.y), std::fabs(pe.z)}) * (1.0 + 0x1p-40);
     for (const auto& entry : candidates) {
       if (early_exit && entry.axis_lower_bound > axis_upper) break;
-      const EyeTriangle& t = eye[entry.id];
+      const EyeTriangle& t = eye(entry.id);
       const Sign s = ray_hits(t, p, stats);
       if (s == Sign::Zero) continue;
-      if (!best || before(t, s, eye[best->eye_index], best->sigma, p, stats)) {
+      if (!best || before(t, s, eye(best->eye_index), best->sigma, p, stats)) {
         best = Hit{entry.id, s, hit_parameter(t, p)};
         const double t_hi = best->t.v + best->t.e;
         axis_upper = std::isfinite(t_hi) ? t_hi * m * (1.0 + 0x1p-40) : std::numeric_limits<double>::infinity();
@@ -326,7 +339,7 @@ struct PixelReferenceTracer::Impl {
 
   bool coplanar(const LightTriangle& lt, std::uint32_t q_index) const {
     // Filter: a vertex of q certainly off T's plane decides (almost always).
-    const EyeTriangle& q_tri = eye[q_index];
+    const EyeTriangle& q_tri = eye(q_index);
     const auto& q_vertices = cs.mesh(q_tri.object).triangles[q_tri.face];
     for (int k = 0; k < 3; ++k) {
       const BoundedDouble side = dot(lt.plane.n, cs.vertex(q_tri.object, q_vertices[k])) - lt.plane.d;
@@ -335,7 +348,7 @@ struct PixelReferenceTracer::Impl {
     auto& cache = coplanar_cache.local();
     const std::uint64_t key = (static_cast<std::uint64_t>(lt.eye_index) << 32) | q_index;
     if (const auto it = cache.find(key); it != cache.end()) return it->second;
-    const EyeTriangle& q = eye[q_index];
+    const EyeTriangle& q = eye(q_index);
     const auto t = exact_triangle(lt.object, lt.face);
     const auto v = exact_triangle(q.object, q.face);
     bool flat = true;
@@ -378,7 +391,7 @@ struct PixelReferenceTracer::Impl {
         }
       }
     }
-    const EyeTriangle& q = eye[hit.eye_index];
+    const EyeTriangle& q = eye(hit.eye_index);
     auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
     // The edge tests first: they reject almost every candidate, and the side
     // test is the one that nears zero (q close to T's plane, e.g. T adjacent
@@ -438,20 +451,20 @@ struct PixelReferenceTracer::Impl {
     tbb::collaborative_call_once(region_light_grid_once, [&] {
       const BoundedVec3& l = cs.light(light);
       std::vector<CentralGrid::Triangle> items(lit.size());
-      tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, lit.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t m = r.begin(); m < r.end(); ++m) {
-              const LightTriangle& lt = lit[m];
-              const auto& t = cs.mesh(lt.object).triangles[lt.face];
-              items[m] =
-                  CentralGrid::Triangle{{cs.vertex_estimate(lt.object, t[0]), cs.vertex_estimate(lt.object, t[1]),
-                                         cs.vertex_estimate(lt.object, t[2])},
-                                        cs.max_error(lt.object),
-                                        static_cast<std::uint32_t>(m)};
-            }
-          });
-      region_light_grid_ =
-          std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}), items, 1.0);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lit.size(), 1024),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t m = r.begin(); m < r.end(); ++m) {
+                            const std::uint32_t eye_index = setup->lit[m];
+                            const std::uint32_t o = eye_side->object_of(eye_index);
+                            const auto& t = cs.mesh(o).triangles[eye_index - eye_side->first_face[o]];
+                            items[m] = CentralGrid::Triangle{
+                                {cs.vertex_estimate(o, t[0]), cs.vertex_estimate(o, t[1]), cs.vertex_estimate(o, t[2])},
+                                cs.max_error(o),
+                                static_cast<std::uint32_t>(m)};
+                          }
+                        });
+      region_light_grid_ = std::make_unique<CentralGrid>(Vec3d{l.x.v, l.y.v, l.z.v}, std::max({l.x.e, l.y.e, l.z.e}),
+                                                         std::move(items), 1.0);
     });
     return *region_light_grid_;
   }
@@ -473,16 +486,16 @@ struct PixelReferenceTracer::Impl {
     if (content == PixelContent::Full) {
       const auto cap_candidates = accelerated ? light_candidates(p.approx()) : light_grid->all();
       for (const auto& entry : cap_candidates)
-        if (cap_crosses(lit[entry.id], p, stats)) {
+        if (const LightTriangle& lt = light_triangle(entry.id); cap_crosses(lt, p, stats)) {
           ++out.cap;
-          out.cap_objects.insert(lit[entry.id].object);
+          out.cap_objects.insert(lt.object);
         }
     }
 
     const auto eye_candidates = accelerated ? eye_grid->candidates(p.estimate(), p.error()) : eye_grid->all();
     const std::optional<Hit> hit = first_hit(eye_candidates, p, accelerated, stats);
     if (!hit) return out;
-    const EyeTriangle& q = eye[hit->eye_index];
+    const EyeTriangle& q = eye(hit->eye_index);
     out.object = static_cast<std::int32_t>(q.object);
     out.face = q.face;
     CentralGrid::EntryRange shadow_candidates = light_grid->all();
@@ -494,12 +507,12 @@ struct PixelReferenceTracer::Impl {
     const BoundedVec3* q_point = accelerated && qpos ? &*qpos : nullptr;
     if (content == PixelContent::ShadowStatus) {
       if (last_shadower && *last_shadower != kNoShadower &&
-          shadow_crosses(lit[*last_shadower], *hit, p, stats, q_point)) {
+          shadow_crosses(light_triangle(*last_shadower), *hit, p, stats, q_point)) {
         out.stencil = 1;
         return out;
       }
       for (const auto& entry : shadow_candidates)
-        if (shadow_crosses(lit[entry.id], *hit, p, stats, q_point)) {
+        if (shadow_crosses(light_triangle(entry.id), *hit, p, stats, q_point)) {
           if (last_shadower) *last_shadower = entry.id;
           out.stencil = 1;
           return out;
@@ -509,7 +522,7 @@ struct PixelReferenceTracer::Impl {
     }
     std::uint32_t count = 0;
     for (const auto& entry : shadow_candidates)
-      if (shadow_crosses(lit[entry.id], *hit, p, stats, q_point)) ++count;
+      if (shadow_crosses(light_triangle(entry.id), *hit, p, stats, q_point)) ++count;
     out.stencil = count;
     return out;
   }

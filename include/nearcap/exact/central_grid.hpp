@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "nearcap/numeric/vec3.hpp"
@@ -53,9 +54,15 @@ class CentralGrid {
   static constexpr double kQueryMargin = 0x1p-20;  // in face coordinates (tan of angle)
 
   // `centre` within `centre_error` per coordinate of the exact centre.
-  // `cells_per_triangle` sets the grid resolution.
-  CentralGrid(const Vec3d& centre, double centre_error, const std::vector<Triangle>& triangles,
+  // `cells_per_triangle` sets the grid resolution.  Each face of the cube map
+  // is built when a query first reaches it (thread-safe): the grid around the
+  // eye is queried on the faces the view frustum meets, and the others cost
+  // nothing.  A face's lists are the same whenever it is built.
+  CentralGrid(const Vec3d& centre, double centre_error, std::vector<Triangle> triangles,
               double cells_per_triangle = 1.0);
+  ~CentralGrid();
+  CentralGrid(const CentralGrid&) = delete;
+  CentralGrid& operator=(const CentralGrid&) = delete;
 
   // The candidates for direction w (estimate of the exact direction, each
   // coordinate within w_error): every triangle whose projection may contain
@@ -67,6 +74,11 @@ class CentralGrid {
   // beyond one face or is too wide to be worth it: the caller takes all().
   bool candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const;
   EntryRange all() const { return {all_.data(), all_.data() + all_.size()}; }
+  // Builds now (if not yet built) every face whose cone meets a direction of
+  // the box lo <= w <= hi (per coordinate, relative to the centre; widened
+  // by a relative 2^-20): the faces a known set of queries will read, so
+  // that building them is paid here rather than by the first query.
+  void build_faces_meeting(const Vec3d& lo, const Vec3d& hi) const;
 
   std::size_t triangle_count() const { return all_.size(); }
   std::size_t listed_entries() const;  // total over all cells (memory / quality)
@@ -82,10 +94,14 @@ class CentralGrid {
     // triangles whose box meets the region's.
     std::vector<std::array<float, 4>> box_of;
   };
+  struct Pending;                 // the inputs of the faces not built yet
+  const Face& face(int f) const;  // built on first use
+  void build_face(int f) const;
   Vec3d centre_;
   double centre_error_;
-  std::array<Face, 6> faces_;
+  mutable std::array<Face, 6> faces_;
   std::vector<Entry> all_;
+  std::unique_ptr<Pending> pending_;
 };
 
 }  // namespace nearcap

@@ -48,6 +48,7 @@
 
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/central_grid.hpp"
+#include "nearcap/exact/eye_setup.hpp"
 #include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/segment_crossing.hpp"
 #include "nearcap/numeric/filter_stats.hpp"
@@ -128,13 +129,18 @@ struct PixelReference {
 //
 // Building it is the reference's setup: the light side (facing, lit
 // triangles, their grid around the light: light_setup.hpp) and the eye side
-// (camera-space triangle data, the grid around the eye), side by side on all
-// cores.  With a LightSetupCache the light side is taken from it when the
-// objects and the light have not moved since it was built: a camera path
-// with a fixed scene builds it once.  The traces are the same either way.
+// (the grid around the eye: eye_setup.hpp), side by side on all cores; the
+// per-triangle data of both sides is computed when a trace first reads it.
+// With a LightSetupCache the light side is taken from it when the objects and
+// the light have not moved since it was built: a camera path with a fixed
+// scene builds it once.  With an EyeSetupCache the eye side is taken from it
+// when the camera and the objects have not moved: the lights of one frame,
+// or frames where only the light moves, build it once.  The traces are the
+// same either way.
 class PixelReferenceTracer {
  public:
-  PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache = nullptr);
+  PixelReferenceTracer(const CameraSpaceScene& scene, std::size_t light, LightSetupCache* cache = nullptr,
+                       EyeSetupCache* eye_cache = nullptr);
   ~PixelReferenceTracer();
   PixelReferenceTracer(const PixelReferenceTracer&) = delete;
   PixelReferenceTracer& operator=(const PixelReferenceTracer&) = delete;
