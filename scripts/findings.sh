@@ -157,6 +157,21 @@ step_policy_oracle() {  # the shipped policy against the oracle and the fixed ru
   $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
     --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/policy-oracle"
 }
+step_cpu_task_models() {  # a profile fitted by counts against the shipped one, in one window, end to end
+  local calibration=()
+  for p in data/paths/*.json; do
+    case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
+  done
+  $n calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
+    --out "$dir/calibration.csv" --policy data/policy.json --write-policy "$dir/policy-counts.json"
+  local round policy
+  for round in 1 2; do
+    for policy in data/policy.json "$dir/policy-counts.json"; do
+      $n evaluate --policy "$policy" --samples 0 --width 160 --height 120 \
+        --path data/paths/near_plane_sweep.json --repeats 8 --out "$dir/$(basename "$policy" .json)-$round"
+    done
+  done
+}
 step_policy_evaluation() {  # the policies and the engines' rules on configurations not tuned on
   $n sweep --samples 3000 --seed 7 --policies all --out "$dir/ev.csv"
   $n sweep "${paths[@]}" --policies all --out "$dir/ev-paths.csv"
@@ -234,7 +249,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle sweep-rates shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle cpu-task-models sweep-rates shadow-method-speed
        classification-speed reference-speed cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
