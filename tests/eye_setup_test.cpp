@@ -18,18 +18,13 @@
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "random_scene.hpp"
+#include "support/cached_reference_frames.hpp"
 
 namespace nearcap {
 namespace {
 
-bool same_reference(const PixelReference& a, const PixelReference& b) {
-  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face &&
-         a.cap_pixels_by_object == b.cap_pixels_by_object;
-}
-
-bool same_sample(const PixelSample& a, const PixelSample& b) {
-  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
-}
+using test::ReferenceFrame;
+using test::same_reference;
 
 // The proven status over the square of half-width `half_width` pixels around
 // every pixel centre (the crack distance's question), as one list.
@@ -43,15 +38,10 @@ std::vector<std::optional<bool>> proven_statuses(const PixelReferenceTracer& tra
   return out;
 }
 
-struct Frame {
-  const char* what;
-  std::string json;
-};
-
 // The frames of one property case: still, the camera moved, the light moved
 // (the camera as before), the first box moved, the near distance moved.
-std::vector<Frame> frames_of(test::RandomSceneParams p) {
-  std::vector<Frame> frames;
+std::vector<ReferenceFrame> frames_of(test::RandomSceneParams p) {
+  std::vector<ReferenceFrame> frames;
   frames.push_back({"first frame", test::random_scene_json(p)});
   p.eye16[0] += 3;
   p.eye16[1] -= 2;
@@ -67,26 +57,16 @@ std::vector<Frame> frames_of(test::RandomSceneParams p) {
 }
 
 RC_GTEST_PROP(EyeSetupCache, FramesSharingTheCacheEqualFreshReferences, ()) {
-  const std::vector<Frame> frames = frames_of(*test::random_scene_params());
-  MeshCache meshes;  // one mesh object for every frame, as a sweep has it
+  const std::vector<ReferenceFrame> frames = frames_of(*test::random_scene_params());
+  MeshCache meshes;
+  const std::vector<Scene> scenes = test::parse_reference_frames(frames, meshes);
   LightSetupCache light_setups;
   EyeSetupCache eye_setups;
-  std::vector<Scene> scenes;
-  for (const Frame& f : frames) {
-    try {
-      scenes.push_back(parse_scene(f.json, f.what, ".", &meshes));
-    } catch (const Error&) {
-      RC_DISCARD("a frame's scene is rejected (a light inside a box)");
-    }
-  }
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     RC_LOG() << frames[k].what << "\n";
     const CameraSpaceScene cs(scenes[k]);
     const PixelReferenceTracer cached(cs, 0, &light_setups, &eye_setups), fresh(cs, 0);
-    RC_ASSERT(same_reference(compute_pixel_reference(cached), compute_pixel_reference(fresh)));
-    for (int j = 0; j < scenes[k].camera.height; ++j)
-      for (int i = 0; i < scenes[k].camera.width; ++i)
-        RC_ASSERT(same_sample(cached.trace(i, j, nullptr), cached.trace_brute_force(i, j, nullptr)));
+    test::rc_assert_cached_equals_fresh(cached, fresh);
     RC_ASSERT(proven_statuses(cached, 1) == proven_statuses(fresh, 1));
   }
   // Built for the first frame and for each move of the camera, an object or

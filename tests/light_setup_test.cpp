@@ -14,18 +14,13 @@
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "random_scene.hpp"
+#include "support/cached_reference_frames.hpp"
 
 namespace nearcap {
 namespace {
 
-bool same_reference(const PixelReference& a, const PixelReference& b) {
-  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face &&
-         a.cap_pixels_by_object == b.cap_pixels_by_object;
-}
-
-bool same_sample(const PixelSample& a, const PixelSample& b) {
-  return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
-}
+using test::ReferenceFrame;
+using test::same_reference;
 
 // One frame's JSON with the camera turned by `degrees` about its y axis
 // after the translation (the view's rotation part is no longer the identity).
@@ -38,15 +33,10 @@ std::string turned(const std::string& json, double degrees) {
   return j.dump();
 }
 
-struct Frame {
-  const char* what;
-  std::string json;
-};
-
 // The frames of one property case: still, the camera moved twice, the light
 // moved, the first box moved.
-std::vector<Frame> frames_of(test::RandomSceneParams p) {
-  std::vector<Frame> frames;
+std::vector<ReferenceFrame> frames_of(test::RandomSceneParams p) {
+  std::vector<ReferenceFrame> frames;
   frames.push_back({"first frame", test::random_scene_json(p)});
   p.eye16[0] += 3;
   frames.push_back({"camera moved", test::random_scene_json(p)});
@@ -61,27 +51,17 @@ std::vector<Frame> frames_of(test::RandomSceneParams p) {
 }
 
 RC_GTEST_PROP(LightSetupCache, FramesSharingTheCacheEqualFreshReferences, ()) {
-  const std::vector<Frame> frames = frames_of(*test::random_scene_params());
-  MeshCache meshes;  // one mesh object for every frame, as a sweep has it
+  const std::vector<ReferenceFrame> frames = frames_of(*test::random_scene_params());
+  MeshCache meshes;
+  const std::vector<Scene> scenes = test::parse_reference_frames(frames, meshes);
   LightSetupCache cache;
-  std::vector<Scene> scenes;
-  for (const Frame& f : frames) {
-    try {
-      scenes.push_back(parse_scene(f.json, f.what, ".", &meshes));
-    } catch (const Error&) {
-      RC_DISCARD("a frame's scene is rejected (a light inside a box)");
-    }
-  }
   std::size_t occluders = 0;
   for (const SceneObject& o : scenes.front().objects) occluders += o.occluder ? 1 : 0;
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     RC_LOG() << frames[k].what << "\n";
     const CameraSpaceScene cs(scenes[k]);
     const PixelReferenceTracer cached(cs, 0, &cache), fresh(cs, 0);
-    RC_ASSERT(same_reference(compute_pixel_reference(cached), compute_pixel_reference(fresh)));
-    for (int j = 0; j < scenes[k].camera.height; ++j)
-      for (int i = 0; i < scenes[k].camera.width; ++i)
-        RC_ASSERT(same_sample(cached.trace(i, j, nullptr), cached.trace_brute_force(i, j, nullptr)));
+    test::rc_assert_cached_equals_fresh(cached, fresh);
   }
   // Built for the first frame, reused for the two camera moves, built again
   // for the moved light and the moved box; the moved box's facing alone is
