@@ -201,6 +201,10 @@ step_reference_speed() {  # the per-pixel reference: the benchmark, then two sce
     $n reference "data/scenes/$scene.json" --light 0 --out "$dir/$scene"
   done
 }
+step_reference_setup() {  # the reference's setup on 1 and 2 threads: its serial fraction, two runs
+  local run
+  for run in 1 2; do $bench/nearcap_benchmarks --benchmark_filter=ReferenceSetup; done
+}
 step_cap_arrangement() {  # the exact near-cap's build time ("ms") and faces, three runs each
   for scene in near_cap_bunny_silhouettes near_split case_d bunny armadillo; do
     for run in 1 2 3; do
@@ -250,7 +254,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
        volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle cpu-task-models sweep-rates shadow-method-speed
-       classification-speed reference-speed cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
+       classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
   for s in "${steps[@]}"; do
