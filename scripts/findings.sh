@@ -201,9 +201,11 @@ step_reference_speed() {  # the per-pixel reference: the benchmark, then two sce
     $n reference "data/scenes/$scene.json" --light 0 --out "$dir/$scene"
   done
 }
-step_reference_setup() {  # the reference's setup on 1 and 2 threads: its serial fraction, two runs
+step_reference_setup() {  # the reference's setup on 1 and 2 threads, its serial fraction; then with freed memory kept
   local run
   for run in 1 2; do $bench/nearcap_benchmarks --benchmark_filter=ReferenceSetup; done
+  local keep=glibc.malloc.trim_threshold=1073741824:glibc.malloc.mmap_threshold=1073741824
+  for run in 1 2; do GLIBC_TUNABLES=$keep $bench/nearcap_benchmarks --benchmark_filter=ReferenceSetup; done
 }
 step_cap_arrangement() {  # the exact near-cap's build time ("ms") and faces, three runs each
   for scene in near_cap_bunny_silhouettes near_split case_d bunny armadillo; do
