@@ -15,6 +15,10 @@
 // it (UTF-8, columns, numbers) and refuses an --out whose files would
 // replace an input.
 //
+// The script takes the methods' names, order, descriptions and roles from
+// the settings table (`nearcap settings`), which this command writes to a
+// temporary file and passes as --settings.
+//
 // The script's stderr goes to a log file in the temporary directory; the
 // command prints one line whatever happens to the script: its own
 // "nearcap: error (KIND): ..." line (the log is kept and named only when the
@@ -101,16 +105,46 @@ void forward(const std::string& log) {
   std::cerr.flush();
 }
 
-std::string temporary_log() {
+// A new empty file in the temporary directory, named nearcap-report-XXXXXX
+// plus `suffix`; empty when none could be made.
+std::string temporary_file(const std::string& suffix) {
   std::error_code ec;
   std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
   if (ec) dir = "/tmp";
-  std::string name = (dir / "nearcap-report-XXXXXX.log").string();
-  const int fd = ::mkstemps(name.data(), 4);
-  if (fd < 0) return "";  // no log: the script's stderr stays on the terminal
+  std::string name = (dir / ("nearcap-report-XXXXXX" + suffix)).string();
+  const int fd = ::mkstemps(name.data(), static_cast<int>(suffix.size()));
+  if (fd < 0) return "";
   ::close(fd);
   return name;
 }
+
+// The settings table in a temporary file, removed with this object.
+class SettingsFile {
+ public:
+  SettingsFile() : path_(temporary_file(".json")) {
+    if (path_.empty())
+      throw Error(ErrorKind::Io, "cannot write the settings table for the report script in the temporary directory: " +
+                                     std::string(std::strerror(errno)));
+    std::ofstream out(path_, std::ios::binary);
+    out << json_text(settings_table_json(), 1) << "\n";
+    out.close();
+    if (!out) {
+      remove();
+      throw Error(ErrorKind::Io, path_ + ": cannot write the settings table for the report script");
+    }
+  }
+  SettingsFile(const SettingsFile&) = delete;
+  SettingsFile& operator=(const SettingsFile&) = delete;
+  ~SettingsFile() { remove(); }
+  const std::string& path() const { return path_; }
+
+ private:
+  void remove() {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
+  std::string path_;
+};
 
 struct ReportOptions {
   std::vector<std::string> results;
@@ -134,7 +168,10 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
     args.push_back("--policy");
     args.push_back(policy);
   }
-  const std::string log = temporary_log();
+  const SettingsFile settings;
+  args.push_back("--settings");
+  args.push_back(settings.path());
+  const std::string log = temporary_file(".log");  // none: the script's stderr stays on the terminal
   if (log.empty()) {
     const int code = run_python_script(script, args, "the report");
     if (code != 0) throw ExitCode{code};
