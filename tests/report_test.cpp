@@ -260,7 +260,8 @@ TEST_F(Report, TheMethodsTheirOrderAndRolesComeFromTheSettingsTable) {
   table["methods"] = methods;
   const fs::path fake = dir_ / "fake_settings.json";
   std::ofstream(fake) << table.dump(1);
-  // The rows: atomiczp's renamed, and each Z-pass row again as brand-new's.
+  // The rows: atomiczp's renamed, and each Z-pass row again as brand-new's,
+  // and as brand-new's under a variant.
   const fs::path rows = dir_ / "renamed_rows.csv";
   {
     std::istringstream in(test::slurp(dir_ / "rows.csv"));
@@ -269,7 +270,9 @@ TEST_F(Report, TheMethodsTheirOrderAndRolesComeFromTheSettingsTable) {
     std::getline(in, line);
     const std::vector<std::string> header = fields_of(line);
     const std::size_t method = std::find(header.begin(), header.end(), "method") - header.begin();
+    const std::size_t variant = std::find(header.begin(), header.end(), "variant") - header.begin();
     ASSERT_LT(method, header.size());
+    ASSERT_LT(variant, header.size());
     out << line << "\n";
     while (std::getline(in, line)) {
       std::vector<std::string> f = fields_of(line);
@@ -278,19 +281,36 @@ TEST_F(Report, TheMethodsTheirOrderAndRolesComeFromTheSettingsTable) {
       if (f[method] == "zpass") {
         f[method] = "brand-new";
         out << joined(f) << "\n";
+        f[variant] = "light-projection=glfrustum";
+        out << joined(f) << "\n";
       }
     }
   }
   const fs::path out = dir_ / "renamed_report";
   test::CliResult r = run_report_script(rows, fake, out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::vector<std::string> order{"brand-new", "zpass",     "zpplus",       "zpplus-corrected",
-                                       "preload",   "atomic-zp", "policy",       "doom3",
-                                       "doom3-bfg", "ogre",      "always-zfail", "zfail"};
+  const std::vector<std::string> order{"brand-new",
+                                       "brand-new [light-projection=glfrustum]",
+                                       "zpass",
+                                       "zpplus",
+                                       "zpplus-corrected",
+                                       "preload",
+                                       "atomic-zp",
+                                       "policy",
+                                       "doom3",
+                                       "doom3-bfg",
+                                       "ogre",
+                                       "always-zfail",
+                                       "zfail"};
   EXPECT_EQ(first_column(out / "summary.csv"), order);
   EXPECT_EQ(first_column(out / "crack_distance.csv"), order);
   const std::string key = test::slurp(out / "methods.csv");
   EXPECT_NE(key.find("brand-new,shadow-method,a method only this test has\r\n"), std::string::npos) << key;
+  // A variant's choices in words, from the table's emulation choices.
+  EXPECT_NE(key.find("brand-new [light-projection=glfrustum],shadow-method,a method only this test has; under "
+                     "light-projection=glfrustum (P_l formulation)\r\n"),
+            std::string::npos)
+      << key;
   EXPECT_NE(test::slurp(out / "index.html").find("Does case D flag"), std::string::npos);
 
   // Without the corrected ZP+'s role the case-D section has no subject.

@@ -173,6 +173,22 @@ class MethodTable:
                 self.holder[role] = name
             self.order.append(name)
             self.label[name], self.kind[name] = entry["label"], entry["kind"]
+        choices = table.get("choices", [])
+        if not isinstance(choices, list):
+            fail("schema", "choices", "expected an array")
+        self.choices = {}  # option -> (its help, {value: its help})
+        for k, c in enumerate(choices):
+            where = f"choices[{k}]"
+            if not isinstance(c, dict) or not isinstance(c.get("option"), str) or \
+                    not isinstance(c.get("help", ""), str) or not isinstance(c.get("values", []), list):
+                fail("schema", where, "expected {\"option\": NAME, \"help\": TEXT, \"values\": [...]}")
+            values = {}
+            for j, v in enumerate(c.get("values", [])):
+                if not isinstance(v, dict) or not isinstance(v.get("name"), str) or \
+                        not isinstance(v.get("help", ""), str):
+                    fail("schema", f"{where}.values[{j}]", "expected {\"name\": NAME, \"help\": TEXT}")
+                values[v["name"]] = v.get("help", "")
+            self.choices[c["option"]] = (c.get("help", ""), values)
         spare = iter(SPARE_COLOURS * (1 + len(self.order) // len(SPARE_COLOURS)))
         self.palette = {m: PALETTE[m] if m in PALETTE else next(spare) for m in self.order}
 
@@ -185,6 +201,18 @@ class MethodTable:
         names the table does not hold last, by name."""
         order = {m: k for k, m in enumerate(self.order)}
         return sorted(present, key=lambda m: (order.get(base_method(m), len(order)), m))
+
+    def variant_text(self, variant):
+        """A variant's choices ("light-projection=glfrustum,l-near-scale=0.5") in words, from the table's
+        choices: "light-projection=glfrustum (P_l formulation: glFrustum's ...)"; a choice the table does not
+        describe as it is."""
+        parts = []
+        for choice in variant.split(","):
+            option, _, value = choice.partition("=")
+            lead, values = self.choices.get(option, ("", {}))
+            said = "; ".join(t for t in (lead, values.get(value, "")) if t)
+            parts.append(f"{choice} ({said})" if said else choice)
+        return ", ".join(parts)
 
     def colour(self, method):
         if method in self.palette:
@@ -988,13 +1016,15 @@ class Report:
 
     # ---- 7. the methods ----------------------------------------------------------
     def method_key(self):
-        """Each series' method as the settings table describes it; a variant's row is its method's."""
+        """Each series' method as the settings table describes it, and a variant's choices."""
         body = []
         for m in self.methods:
             base = base_method(m)
             known = base in self.settings.label
-            body.append([m, self.settings.kind[base] if known else "", self.settings.label[base] if known else
-                         "not in the settings table (a CSV from another nearcap?)"])
+            what = self.settings.label[base] if known else "not in the settings table (a CSV from another nearcap?)"
+            if m != base:
+                what += "; under " + self.settings.variant_text(m[len(base) + 2:-1])
+            body.append([m, self.settings.kind[base] if known else "", what])
         self.sections.append(("The methods", "<p>The series above, described by the settings table of the nearcap "
                                              "program that ran the report (<code>nearcap settings</code>).</p>" +
                               self.table(["method", "kind", "what it is"], body, "methods.csv")))
