@@ -203,9 +203,9 @@ class MethodTable:
         return sorted(present, key=lambda m: (order.get(base_method(m), len(order)), m))
 
     def variant_text(self, variant):
-        """A variant's choices ("light-projection=glfrustum,l-near-scale=0.5") in words, from the table's
-        choices: "light-projection=glfrustum (P_l formulation: glFrustum's ...)"; a choice the table does not
-        describe as it is."""
+        """A variant's choices ("light-projection=rebased,l-near-scale=0.5") in words, from the table's
+        choices: "light-projection=rebased (P_l formulation; origin at the near rectangle's centre),
+        l-near-scale=0.5"; a choice the table does not describe stays as it is."""
         parts = []
         for choice in variant.split(","):
             option, _, value = choice.partition("=")
@@ -524,7 +524,8 @@ class Totals:
         s = self.case_d
         s["pairs"] += 1
         role = self.settings.role
-        zc, zp, zf = rows.get(role("corrected-zpplus")), rows.get(role("published-zpplus")), rows.get(role("zfail-baseline"))
+        zc, zp = rows.get(role("corrected-zpplus")), rows.get(role("published-zpplus"))
+        zf = rows.get(role("zfail-baseline"))
         if zc is None:
             return
         if zc["fallback"] and not zc["zfail_objects"]:
@@ -548,7 +549,8 @@ class Totals:
         """Issue 12's cost targets: where Z-pass is right (every occluder's exact near-cap empty), the policy's
         frame time and fragments against Z-pass's; elsewhere against ZP+ corrected's."""
         role = self.settings.role
-        z, p, zp = rows.get(role("timing-baseline")), rows.get(role("switch-policy")), rows.get(role("corrected-zpplus"))
+        z, p = rows.get(role("timing-baseline")), rows.get(role("switch-policy"))
+        zp = rows.get(role("corrected-zpplus"))
         if z is None or p is None or z["zpass_wrong_occluders"] is None:
             return
         where, base = ("Z-pass right", z) if z["zpass_wrong_occluders"] == 0 else ("elsewhere", zp)
@@ -667,7 +669,8 @@ class Report:
             xs = {m: per[m]["ms"] / max(1, per[m]["rows"]) for m in self.methods}
             ys = {m: per[m][metric] for m in self.methods}
             for k, m in enumerate(self.methods):
-                ax.scatter([xs[m]], [ys[m]], s=60, color=self.settings.colour(m), marker=MARKERS[k % len(MARKERS)],
+                ax.scatter([xs[m]], [ys[m]], s=60, color=self.settings.colour(m),
+                           marker=MARKERS[k % len(MARKERS)],
                            label=as_label(m), zorder=3, edgecolors="k", linewidths=0.4)
                 points += 1
             front = pareto_front([(xs[m], ys[m]) for m in self.methods])
@@ -805,7 +808,8 @@ class Report:
                 ys = numpy.concatenate([numpy.frombuffer(p.y, dtype=numpy.float64) for p in parts])[order]
                 # Z-pass cracks most: its points go under the others', lighter.
                 under = m == self.settings.role("timing-baseline")
-                ax.scatter(xs, ys, s=8, alpha=0.45 if under else 0.7, color=self.settings.colour(m), label=as_label(m),
+                ax.scatter(xs, ys, s=8, alpha=0.45 if under else 0.7, color=self.settings.colour(m),
+                           label=as_label(m),
                            zorder=1 if under else 2, linewidths=0)
                 points += len(xs)
                 seen += sum(p.seen for p in parts)
@@ -858,7 +862,8 @@ class Report:
         body = []
         for k, m in enumerate(self.methods):
             totals = list(self.t.buckets[m])
-            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=self.settings.colour(m), label=as_label(m))
+            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=self.settings.colour(m),
+                   label=as_label(m))
             points += len(BUCKETS)
             body.append([m] + totals)
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(BUCKETS))])
@@ -885,7 +890,8 @@ class Report:
                 ["ZP+ corrected cracks more than Z-fail despite case D", s["with_d"]],
                 ["ZP+ corrected has cracks after falling back to Z-fail (no light frustum)", s["after_fallback"]],
                 ["case-D switches to Z-fail", s["switches"]],
-                ["  of which ZP+ without the switch had no crack", s["unnecessary"] if self.settings.role("published-zpplus") in self.methods else "-"]]
+                ["  of which ZP+ without the switch had no crack",
+                 s["unnecessary"] if self.settings.role("published-zpplus") in self.methods else "-"]]
         text = ("<p>The paper switches an occluder to Z-fail when one of its silhouette quads is in case D, "
                 "assuming that case D flags the ill-conditioned configurations. Measured here, counting only "
                 "the cracks Z-fail does not have in the same frame (those come from depth precision, not the "
