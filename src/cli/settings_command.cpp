@@ -4,7 +4,7 @@
 // it beside the script's other inputs), so that a method added to or renamed
 // in a table reaches the report without editing Python.  The format is
 // documented in docs/sweeps-and-report.md ("The settings table").
-#include <cstdio>
+#include <iostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,7 +59,7 @@ nlohmann::json values_json() {
   return values;
 }
 
-void run() { std::printf("%s\n", json_text(settings_table_json(), 1).c_str()); }
+void run() { std::cout << json_text(settings_table_json(), 1) << "\n"; }
 
 struct SettingsOptions {};
 
