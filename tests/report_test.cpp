@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -331,6 +333,51 @@ TEST_F(Report, TheMethodsTheirOrderAndRolesComeFromTheSettingsTable) {
   EXPECT_EQ(r.err, "nearcap: error (parse): " + fake.string() +
                        ": format: not a nearcap settings table (nearcap settings prints one)\n");
   EXPECT_FALSE(fs::exists(never));
+}
+
+// render --bench's plot: its times are relative to the table's timing
+// baseline, whichever method holds that role.
+TEST(RenderBenchScript, TimesAreRelativeToTheTablesTimingBaseline) {
+  const fs::path dir = test::temp_path("nearcap_render_bench_script");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream csv(dir / "bench.csv");
+    csv << "frame,method,ms\n";
+    for (int f = 0; f < 4; ++f)
+      csv << f << ",zpass," << 1 + f << "\n"
+          << f << ",zpass#again," << 1.1 + f << "\n"
+          << f << ",zfail," << 2 + f << "\n";
+  }
+  nlohmann::json table = settings_table();
+  const auto run_script = [&](const std::string& name) {
+    std::ofstream(dir / (name + ".json")) << table.dump(1);
+    const char* env = std::getenv("NEARCAP_PYTHON");
+    const std::string python = env && *env ? env : "/usr/bin/python3";
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + python +
+                                "' analysis/report/render_bench.py '" + (dir / "bench.csv").string() + "' '" +
+                                (dir / (name + ".png")).string() + "' --settings '" +
+                                (dir / (name + ".json")).string() + "' 2> '" + (dir / (name + ".err")).string() + "'";
+    const int status = std::system(command.c_str());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::slurp(dir / (name + ".err")));
+  };
+  auto [code, err] = run_script("real");
+  EXPECT_EQ(code, 0) << err;
+  EXPECT_GT(fs::file_size(dir / "real.png"), 1000u);
+  // The role given to a method the bench did not draw: the script says that it needs that method's rows.
+  for (nlohmann::json& m : table["methods"])
+    m["roles"] = m["name"] == "zpplus" ? nlohmann::json::array({"timing-baseline"}) : nlohmann::json::array();
+  std::tie(code, err) = run_script("moved");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(err.find("no zpplus rows (the times are relative to zpplus's"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir / "moved.png"));
+  // ... and to one it drew: a plot.
+  for (nlohmann::json& m : table["methods"])
+    m["roles"] = m["name"] == "zfail" ? nlohmann::json::array({"timing-baseline"}) : nlohmann::json::array();
+  std::tie(code, err) = run_script("zfail");
+  EXPECT_EQ(code, 0) << err;
+  EXPECT_TRUE(fs::exists(dir / "zfail.png"));
+  fs::remove_all(dir);
 }
 
 TEST(ReportCommand, UnknownSubcommandsAreNamed) {

@@ -77,19 +77,16 @@ except ImportError:
           "scripts/install-deps.sh installs; or set NEARCAP_PYTHON to a Python that has it)", file=sys.stderr)
     sys.exit(2)
 
-SETTINGS_VERSION = 1  # the nearcap-settings version read (kSettingsTableVersion in src/cli/cli_commands.hpp)
-# The roles a settings table gives methods (src/cli/settings_command.cpp says what each means), and the ones whose
-# methods features.png draws, in this order.
-ROLES = ("timing-baseline", "zfail-baseline", "published-zpplus", "corrected-zpplus", "switch-policy")
+try:
+    import settings_table  # noqa: E402  (beside this script)
+    from settings_table import base_method  # noqa: E402
+except ImportError:
+    print(f"nearcap: error (io): {__file__}: settings_table.py is not beside it (copy analysis/report/ whole)",
+          file=sys.stderr)
+    sys.exit(2)
+
+# The roles whose methods features.png draws, in this order (settings_table.ROLES says what each is).
 FEATURE_ROLES = ("published-zpplus", "corrected-zpplus", "zfail-baseline", "timing-baseline")
-# Each method's colour by name; a method of the table without one gets the next of SPARE_COLOURS, in the table's
-# order, and a method the table does not hold grey.
-PALETTE = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
-           "preload": "#9467bd", "doom3": "#8c564b", "doom3-bfg": "#e377c2", "ogre": "#bcbd22",
-           "always-zfail": "#17becf", "atomiczp": "#aec7e8", "policy": "#000000"}
-SPARE_COLOURS = ["#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d", "#9edae5",
-                 "#393b79", "#637939", "#8c6d31", "#843c39"]
-UNKNOWN_COLOUR = "#7f7f7f"
 # Per-occluder decision columns (nearcap sweep since the engine baselines); a
 # CSV without them gets no baseline section.
 DECISION_COLUMNS = ["occluders", "zpass_wrong_occluders", "false_negatives", "false_positives"]
@@ -133,110 +130,6 @@ class ReportError(Exception):
     def __init__(self, kind, message):
         super().__init__(message)
         self.kind = kind
-
-
-# ---- the settings table ---------------------------------------------------------
-class MethodTable:
-    """The methods of a settings table (`nearcap settings`): their order, descriptions, kinds and roles, and the
-    colour each is drawn in."""
-
-    def __init__(self, table, source):
-        def fail(kind, where, what):
-            raise ReportError(kind, f"{source}: {where}: {what}")
-
-        if not isinstance(table, dict) or table.get("format") != "nearcap-settings":
-            fail("parse", "format", "not a nearcap settings table (nearcap settings prints one)")
-        version = table.get("version")
-        if not isinstance(version, int) or isinstance(version, bool) or version != SETTINGS_VERSION:
-            fail("schema", "version", f"{json.dumps(version)} is not a version this report reads ({SETTINGS_VERSION})")
-        methods = table.get("methods")
-        if not isinstance(methods, list):
-            fail("schema", "methods", "expected an array")
-        self.order, self.label, self.kind, self.holder = [], {}, {}, {}
-        for k, entry in enumerate(methods):
-            where = f"methods[{k}]"
-            if not isinstance(entry, dict):
-                fail("schema", where, "expected an object")
-            for key in ("name", "label", "kind"):
-                if not isinstance(entry.get(key), str) or (key == "name" and not entry[key]):
-                    fail("schema", f"{where}.{key}", "expected a non-empty string" if key == "name" else
-                         "expected a string")
-            name = entry["name"]
-            if name in self.label:
-                fail("schema", f"{where}.name", f"'{name}' is named twice")
-            roles = entry.get("roles", [])
-            if not isinstance(roles, list) or not all(isinstance(r, str) for r in roles):
-                fail("schema", f"{where}.roles", "expected an array of strings")
-            for role in roles:
-                if role in self.holder:
-                    fail("schema", f"{where}.roles", f"role '{role}' is held by '{self.holder[role]}' already")
-                self.holder[role] = name
-            self.order.append(name)
-            self.label[name], self.kind[name] = entry["label"], entry["kind"]
-        choices = table.get("choices", [])
-        if not isinstance(choices, list):
-            fail("schema", "choices", "expected an array")
-        self.choices = {}  # option -> (its help, {value: its help})
-        for k, c in enumerate(choices):
-            where = f"choices[{k}]"
-            if not isinstance(c, dict) or not isinstance(c.get("option"), str) or \
-                    not isinstance(c.get("help", ""), str) or not isinstance(c.get("values", []), list):
-                fail("schema", where, "expected {\"option\": NAME, \"help\": TEXT, \"values\": [...]}")
-            values = {}
-            for j, v in enumerate(c.get("values", [])):
-                if not isinstance(v, dict) or not isinstance(v.get("name"), str) or \
-                        not isinstance(v.get("help", ""), str):
-                    fail("schema", f"{where}.values[{j}]", "expected {\"name\": NAME, \"help\": TEXT}")
-                values[v["name"]] = v.get("help", "")
-            self.choices[c["option"]] = (c.get("help", ""), values)
-        spare = iter(SPARE_COLOURS * (1 + len(self.order) // len(SPARE_COLOURS)))
-        self.palette = {m: PALETTE[m] if m in PALETTE else next(spare) for m in self.order}
-
-    def role(self, role):
-        """The name of the method that has `role`; None when the table gives it to none."""
-        return self.holder.get(role)
-
-    def sorted(self, present):
-        """The method names of the rows in the table's order; a variant ("zpplus [...]") after its method, and
-        names the table does not hold last, by name."""
-        order = {m: k for k, m in enumerate(self.order)}
-        return sorted(present, key=lambda m: (order.get(base_method(m), len(order)), m))
-
-    def variant_text(self, variant):
-        """A variant's choices ("light-projection=rebased,l-near-scale=0.5") in words, from the table's
-        choices: "light-projection=rebased (P_l formulation; origin at the near rectangle's centre),
-        l-near-scale=0.5"; a choice the table does not describe stays as it is."""
-        parts = []
-        for choice in variant.split(","):
-            option, _, value = choice.partition("=")
-            lead, values = self.choices.get(option, ("", {}))
-            said = "; ".join(t for t in (lead, values.get(value, "")) if t)
-            parts.append(f"{choice} ({said})" if said else choice)
-        return ", ".join(parts)
-
-    def colour(self, method):
-        if method in self.palette:
-            return self.palette[method]
-        # A variant: its method's hue, darker.
-        base = self.palette.get(base_method(method), UNKNOWN_COLOUR)
-        r, g, b = (int(base[k:k + 2], 16) for k in (1, 3, 5))
-        return f"#{r * 3 // 5:02x}{g * 3 // 5:02x}{b * 3 // 5:02x}"
-
-
-def base_method(method):
-    """The method of a series: "zpplus" of "zpplus [light-projection=glfrustum]"."""
-    return method.split(" [")[0]
-
-
-def read_settings(settings):
-    try:
-        with open(settings, encoding="utf-8") as handle:
-            table = json.load(handle)
-    except OSError as e:
-        raise ReportError("io", f"{settings}: cannot read the settings table: {e.strerror}")
-    except ValueError as e:  # UnicodeDecodeError included
-        raise ReportError("parse", f"{settings}: not JSON: {e}")
-    return MethodTable(table, settings)
 
 
 # ---- reading: one row at a time ------------------------------------------------
@@ -403,7 +296,7 @@ class Totals:
     def __init__(self, table):
         self.settings = table
         self.timing = table.role("timing-baseline")
-        self.kept = {table.role(r) for r in ROLES} - {None}  # the methods whose rows the comparisons read
+        self.kept = {table.role(r) for r in settings_table.ROLES} - {None}  # the methods whose rows the comparisons read
         self.feature_methods = [table.role(r) for r in FEATURE_ROLES if table.role(r) is not None]
         self.rows, self.rejected, self.configurations = 0, 0, 0
         self.refused = defaultdict(int)  # method -> refused frames
@@ -1202,7 +1095,7 @@ def main(argv):
     if target.is_dir() and not os.access(target, os.W_OK | os.X_OK):
         raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
     policy_json = read_policy(policy) if policy is not None else None
-    table = read_settings(settings)
+    table = settings_table.read(settings)
     try:
         parent = target.resolve().parent
         parent.mkdir(parents=True, exist_ok=True)
@@ -1247,7 +1140,7 @@ def run(argv):
     try:
         main(argv)
         return 0
-    except ReportError as e:
+    except (ReportError, settings_table.TableError) as e:
         line = f"nearcap: error ({e.kind}): {one_line(e)}"
     except MemoryError:
         line = "nearcap: error (resource): out of memory while building the report"

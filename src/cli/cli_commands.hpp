@@ -141,6 +141,25 @@ nlohmann::json emulation_choices_json();
 inline constexpr int kSettingsTableVersion = 1;
 nlohmann::json settings_table_json();
 
+// A new empty file in the temporary directory, named PREFIX + 6 random
+// characters + SUFFIX; empty when none could be made (errno says why).
+std::string temporary_file(const std::string& prefix, const std::string& suffix);
+
+// The settings table (settings_table_json) in a temporary file, for a
+// script's --settings; removed with this object.  Throws Error(Io) when it
+// cannot be written.
+class SettingsFile {
+ public:
+  SettingsFile();
+  SettingsFile(const SettingsFile&) = delete;
+  SettingsFile& operator=(const SettingsFile&) = delete;
+  ~SettingsFile();
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 // --samples N, how many configurations the hard-case sampler draws: a whole
 // number in [lo, hi]; `help` says what they are for.
 CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,

@@ -105,47 +105,6 @@ void forward(const std::string& log) {
   std::cerr.flush();
 }
 
-// A new empty file in the temporary directory, named nearcap-report-XXXXXX
-// plus `suffix`; empty when none could be made.
-std::string temporary_file(const std::string& suffix) {
-  std::error_code ec;
-  std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-  if (ec) dir = "/tmp";
-  std::string name = (dir / ("nearcap-report-XXXXXX" + suffix)).string();
-  const int fd = ::mkstemps(name.data(), static_cast<int>(suffix.size()));
-  if (fd < 0) return "";
-  ::close(fd);
-  return name;
-}
-
-// The settings table in a temporary file, removed with this object.
-class SettingsFile {
- public:
-  SettingsFile() : path_(temporary_file(".json")) {
-    if (path_.empty())
-      throw Error(ErrorKind::Io, "cannot write the settings table for the report script in the temporary directory: " +
-                                     std::string(std::strerror(errno)));
-    std::ofstream out(path_, std::ios::binary);
-    out << json_text(settings_table_json(), 1) << "\n";
-    out.close();
-    if (!out) {
-      remove();
-      throw Error(ErrorKind::Io, path_ + ": cannot write the settings table for the report script");
-    }
-  }
-  SettingsFile(const SettingsFile&) = delete;
-  SettingsFile& operator=(const SettingsFile&) = delete;
-  ~SettingsFile() { remove(); }
-  const std::string& path() const { return path_; }
-
- private:
-  void remove() {
-    std::error_code ec;
-    std::filesystem::remove(path_, ec);
-  }
-  std::string path_;
-};
-
 struct ReportOptions {
   std::vector<std::string> results;
   std::string out;
@@ -171,7 +130,7 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
   const SettingsFile settings;
   args.push_back("--settings");
   args.push_back(settings.path());
-  const std::string log = temporary_file(".log");  // none: the script's stderr stays on the terminal
+  const std::string log = temporary_file("nearcap-report-", ".log");  // none: the script's stderr stays on the terminal
   if (log.empty()) {
     const int code = run_python_script(script, args, "the report");
     if (code != 0) throw ExitCode{code};

@@ -4,6 +4,13 @@
 // it beside the script's other inputs), so that a method added to or renamed
 // in a table reaches the report without editing Python.  The format is
 // documented in docs/sweeps-and-report.md ("The settings table").
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <string_view>
@@ -12,6 +19,7 @@
 #include "cli_commands.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/error.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "subcommand.hpp"
 
@@ -80,6 +88,36 @@ nlohmann::json settings_table_json() {
           {"methods", std::move(methods)},
           {"kinds", values_json<analysis::HardCaseKind>()},
           {"choices", emulation_choices_json()}};
+}
+
+std::string temporary_file(const std::string& prefix, const std::string& suffix) {
+  std::error_code ec;
+  std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+  if (ec) dir = "/tmp";
+  std::string name = (dir / (prefix + "XXXXXX" + suffix)).string();
+  const int fd = ::mkstemps(name.data(), static_cast<int>(suffix.size()));
+  if (fd < 0) return "";
+  ::close(fd);
+  return name;
+}
+
+SettingsFile::SettingsFile() : path_(temporary_file("nearcap-settings-", ".json")) {
+  if (path_.empty())
+    throw Error(ErrorKind::Io, "cannot write the settings table for a script in the temporary directory: " +
+                                   std::string(std::strerror(errno)));
+  std::ofstream out(path_, std::ios::binary);
+  out << json_text(settings_table_json(), 1) << "\n";
+  out.close();
+  if (!out) {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+    throw Error(ErrorKind::Io, path_ + ": cannot write the settings table for a script");
+  }
+}
+
+SettingsFile::~SettingsFile() {
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
 }
 
 void register_settings(CLI::App& app) {
