@@ -44,7 +44,7 @@ def main(argv):
              "settings_table.py lies beside this script)")
     try:
         table = settings_table.read(settings)
-    except settings_table.TableError as e:
+    except settings_table.InputError as e:
         fail(str(e))
     baseline = table.role("timing-baseline")
     times = {}  # method -> {frame: ms}

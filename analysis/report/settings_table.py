@@ -19,8 +19,8 @@ SPARE_COLOURS = ["#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2
 UNKNOWN_COLOUR = "#7f7f7f"
 
 
-class TableError(Exception):
-    """A settings table that cannot be read: `kind` is the nearcap error kind (io, parse, schema)."""
+class InputError(Exception):
+    """An input file that cannot be read: `kind` is the nearcap error kind (io, parse, schema)."""
 
     def __init__(self, kind, message):
         super().__init__(message)
@@ -33,7 +33,7 @@ class MethodTable:
 
     def __init__(self, table, source):
         def fail(kind, where, what):
-            raise TableError(kind, f"{source}: {where}: {what}")
+            raise InputError(kind, f"{source}: {where}: {what}")
 
         if not isinstance(table, dict) or table.get("format") != "nearcap-settings":
             fail("parse", "format", "not a nearcap settings table (nearcap settings prints one)")
@@ -119,12 +119,16 @@ def base_method(method):
     return method.split(" [")[0]
 
 
-def read(settings):
+def load_json(path, what):
+    """The JSON value in the file `path`; InputError naming the file, and `what` it was to hold, otherwise."""
     try:
-        with open(settings, encoding="utf-8") as handle:
-            table = json.load(handle)
+        with open(path, encoding="utf-8") as handle:
+            return json.load(handle)
     except OSError as e:
-        raise TableError("io", f"{settings}: cannot read the settings table: {e.strerror}")
+        raise InputError("io", f"{path}: cannot read the {what}: {e.strerror}")
     except ValueError as e:  # UnicodeDecodeError included
-        raise TableError("parse", f"{settings}: not JSON: {e}")
-    return MethodTable(table, settings)
+        raise InputError("parse", f"{path}: not JSON: {e}")
+
+
+def read(settings):
+    return MethodTable(load_json(settings, "settings table"), settings)

@@ -1051,13 +1051,7 @@ def fmt(v):
 
 
 def read_policy(policy):
-    try:
-        with open(policy, encoding="utf-8") as handle:
-            policy_json = json.load(handle)
-    except OSError as e:
-        raise ReportError("io", f"{policy}: cannot read the policy: {e.strerror}")
-    except ValueError as e:  # UnicodeDecodeError included
-        raise ReportError("parse", f"{policy}: not JSON: {e}")
+    policy_json = settings_table.load_json(policy, "policy")
     if not isinstance(policy_json, dict) or policy_json.get("format") != "nearcap-policy":
         raise ReportError("parse", f"{policy}: format: not a nearcap policy")
     version = policy_json.get("version")
@@ -1140,7 +1134,7 @@ def run(argv):
     try:
         main(argv)
         return 0
-    except (ReportError, settings_table.TableError) as e:
+    except (ReportError, settings_table.InputError) as e:
         line = f"nearcap: error ({e.kind}): {one_line(e)}"
     except MemoryError:
         line = "nearcap: error (resource): out of memory while building the report"
