@@ -45,6 +45,7 @@ struct Item {
 };
 
 TEST(VectorPool, ATakenVectorIsEmptyAndHasTheStorageGivenBack) {
+  release_kept_vectors();  // all pools together keep at most kMaxKeptBytes
   const ReuseSwitch reuse(true);
   VectorPool<Item>& pool = VectorPool<Item>::instance();
   std::vector<Item> v(1000, Item{7});
@@ -61,7 +62,25 @@ TEST(VectorPool, ATakenVectorIsEmptyAndHasTheStorageGivenBack) {
   EXPECT_GE(larger.capacity(), 2000u);
 }
 
+TEST(VectorPool, PoolsTogetherKeepAtMostTheirBound) {
+  release_kept_vectors();
+  EXPECT_EQ(vector_pools_kept_bytes().load(), 0u);
+  const ReuseSwitch reuse(true);
+  constexpr std::size_t kLarge = VectorPool<Item>::kMaxKeptBytes / sizeof(Item) / 3;
+  for (int k = 0; k < 5; ++k) {
+    std::vector<Item> v(kLarge);
+    VectorPool<Item>::instance().give(v);
+    std::vector<double> w(kLarge * sizeof(Item) / sizeof(double));
+    VectorPool<double>::instance().give(w);
+  }
+  EXPECT_LE(vector_pools_kept_bytes().load(), VectorPool<Item>::kMaxKeptBytes);
+  EXPECT_GE(vector_pools_kept_bytes().load(), VectorPool<Item>::kMaxKeptBytes / 2);
+  release_kept_vectors();
+  EXPECT_EQ(vector_pools_kept_bytes().load(), 0u);
+}
+
 TEST(VectorPool, SwitchedOffItKeepsNothing) {
+  release_kept_vectors();
   VectorPool<Item>& pool = VectorPool<Item>::instance();
   std::vector<Item> v(1000, Item{7});
   {

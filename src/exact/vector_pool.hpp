@@ -14,8 +14,11 @@
 //
 // A vector taken is always empty (size 0), so what a build writes into it is
 // what it would write into a fresh one: reuse changes no value, only where
-// the values live.  Pools are per element type; each keeps at most kMaxBytes
-// and kMaxVectors, dropping its smallest vectors first.
+// the values live.  Pools are per element type; together they keep at most
+// kMaxKeptBytes (each pool at most kMaxVectors), a pool dropping its smallest
+// vectors first.  The bound matters beside the float emulation of a sweep:
+// memory a pool keeps is memory malloc cannot hand to the emulation's own
+// per-frame vectors, so keeping more raises the peak resident memory.
 #pragma once
 
 #include <algorithm>
@@ -36,19 +39,55 @@ inline std::atomic<bool>& vector_reuse_enabled() {
   return enabled;
 }
 
+// The bytes all pools keep together.
+inline std::atomic<std::size_t>& vector_pools_kept_bytes() {
+  static std::atomic<std::size_t> bytes{0};
+  return bytes;
+}
+
+// Every pool's release(), for release_kept_vectors().
+struct VectorPoolRegistry {
+  std::mutex mutex;
+  std::vector<void (*)()> release;
+  static VectorPoolRegistry& instance() {
+    static VectorPoolRegistry* const registry = new VectorPoolRegistry;  // never destroyed, as the pools
+    return *registry;
+  }
+};
+
+// Frees what every pool keeps (a test's fresh start).
+inline void release_kept_vectors() {
+  VectorPoolRegistry& r = VectorPoolRegistry::instance();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  for (void (*release)() : r.release) release();
+}
+
 template <class T>
 class VectorPool {
   static_assert(std::is_trivially_destructible_v<T>, "clearing a kept vector must cost nothing");
 
  public:
-  static constexpr std::size_t kMaxBytes = std::size_t{128} << 20;
-  static constexpr std::size_t kMaxVectors = 16;
+  // About twice what the bunny's eye side (75k triangles) gives back.
+  static constexpr std::size_t kMaxKeptBytes = std::size_t{64} << 20;
+  static constexpr std::size_t kMaxVectors = 8;
 
   // Never destroyed: a grid held by a static object may be destroyed after
   // any function-local static.
   static VectorPool& instance() {
-    static VectorPool* const pool = new VectorPool;
+    static VectorPool* const pool = [] {
+      VectorPoolRegistry& r = VectorPoolRegistry::instance();
+      const std::lock_guard<std::mutex> lock(r.mutex);
+      r.release.push_back([] { VectorPool<T>::instance().release(); });
+      return new VectorPool;
+    }();
     return *pool;
+  }
+
+  // Frees every vector kept.
+  void release() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const std::vector<T>& v : kept_) vector_pools_kept_bytes() -= v.capacity() * sizeof(T);
+    kept_.clear();
   }
 
   // An empty vector with capacity for at least `n` elements: the smallest
@@ -64,7 +103,7 @@ class VectorPool {
       if (best < kept_.size()) {
         out = std::move(kept_[best]);
         kept_.erase(kept_.begin() + static_cast<std::ptrdiff_t>(best));
-        kept_bytes_ -= out.capacity() * sizeof(T);
+        vector_pools_kept_bytes() -= out.capacity() * sizeof(T);
       }
     }
     out.clear();
@@ -79,12 +118,12 @@ class VectorPool {
     if (kept.capacity() == 0 || !vector_reuse_enabled().load(std::memory_order_relaxed)) return;
     kept.clear();
     const std::lock_guard<std::mutex> lock(mutex_);
-    kept_bytes_ += kept.capacity() * sizeof(T);
+    vector_pools_kept_bytes() += kept.capacity() * sizeof(T);
     kept_.push_back(std::move(kept));
-    while (!kept_.empty() && (kept_bytes_ > kMaxBytes || kept_.size() > kMaxVectors)) {
+    while (!kept_.empty() && (vector_pools_kept_bytes() > kMaxKeptBytes || kept_.size() > kMaxVectors)) {
       const auto smallest = std::min_element(kept_.begin(), kept_.end(),
                                              [](const auto& a, const auto& b) { return a.capacity() < b.capacity(); });
-      kept_bytes_ -= smallest->capacity() * sizeof(T);
+      vector_pools_kept_bytes() -= smallest->capacity() * sizeof(T);
       kept_.erase(smallest);  // freed here
     }
   }
@@ -92,7 +131,6 @@ class VectorPool {
  private:
   std::mutex mutex_;
   std::vector<std::vector<T>> kept_;
-  std::size_t kept_bytes_ = 0;
 };
 
 // A vector from VectorPool<T>, given back when this goes out of scope: the
