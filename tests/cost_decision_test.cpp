@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../src/analysis/affine_inverse.hpp"
 #include "../src/analysis/general4.hpp"
 #include "box_scene.hpp"
 #include "nearcap/analysis/camera_path.hpp"
@@ -342,20 +343,6 @@ double reference_footprint(const std::vector<Homogeneous>& g, const Camera& came
   return centres(x0, x1, f.left, f.right, camera.width) * centres(y0, y1, f.bottom, f.top, camera.height);
 }
 
-Vec3d reference_inverse_apply(const Affine3d& a, const Vec3d& p) {
-  const auto& r = a.rows;
-  const double m00 = r[1][1] * r[2][2] - r[1][2] * r[2][1], m01 = r[0][2] * r[2][1] - r[0][1] * r[2][2],
-               m02 = r[0][1] * r[1][2] - r[0][2] * r[1][1];
-  const double m10 = r[1][2] * r[2][0] - r[1][0] * r[2][2], m11 = r[0][0] * r[2][2] - r[0][2] * r[2][0],
-               m12 = r[0][2] * r[1][0] - r[0][0] * r[1][2];
-  const double m20 = r[1][0] * r[2][1] - r[1][1] * r[2][0], m21 = r[0][1] * r[2][0] - r[0][0] * r[2][1],
-               m22 = r[0][0] * r[1][1] - r[0][1] * r[1][0];
-  const double det = r[0][0] * m00 + r[0][1] * m10 + r[0][2] * m20;
-  const Vec3d q{p.x - r[0][3], p.y - r[1][3], p.z - r[2][3]};
-  return {(m00 * q.x + m01 * q.y + m02 * q.z) / det, (m10 * q.x + m11 * q.y + m12 * q.z) / det,
-          (m20 * q.x + m21 * q.y + m22 * q.z) / det};
-}
-
 // Every input but the pyramid cull's flag, which the caller passes in.
 analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                               bool certainly_misses) {
@@ -366,7 +353,7 @@ analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t ob
   analysis::OccluderWorkInputs in;
   in.object = object;
   in.triangles = static_cast<double>(mesh.triangle_count());
-  const Vec3d l_object = reference_inverse_apply(obj.object_to_world, scene.lights[light].position);
+  const Vec3d l_object = analysis::inverse_apply(obj.object_to_world, scene.lights[light].position);
   std::vector<Facing> facing(mesh.triangle_count());
   for (std::size_t f = 0; f < facing.size(); ++f) {
     const auto& pl = mesh.face_planes.plane[f];

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "affine_inverse.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
@@ -85,21 +86,6 @@ std::array<Vec3d, 8> box_corners(const Vec3d& lo, const Vec3d& hi) {
   std::array<Vec3d, 8> c;
   for (int k = 0; k < 8; ++k) c[k] = {(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
   return c;
-}
-
-// x -> A^-1 (x - t) for the affine A x + t (the light in object space).
-Vec3d inverse_apply(const Affine3d& a, const Vec3d& p) {
-  const auto& r = a.rows;
-  const double m00 = r[1][1] * r[2][2] - r[1][2] * r[2][1], m01 = r[0][2] * r[2][1] - r[0][1] * r[2][2],
-               m02 = r[0][1] * r[1][2] - r[0][2] * r[1][1];
-  const double m10 = r[1][2] * r[2][0] - r[1][0] * r[2][2], m11 = r[0][0] * r[2][2] - r[0][2] * r[2][0],
-               m12 = r[0][2] * r[1][0] - r[0][0] * r[1][2];
-  const double m20 = r[1][0] * r[2][1] - r[1][1] * r[2][0], m21 = r[0][1] * r[2][0] - r[0][0] * r[2][1],
-               m22 = r[0][0] * r[1][1] - r[0][1] * r[1][0];
-  const double det = r[0][0] * m00 + r[0][1] * m10 + r[0][2] * m20;
-  const Vec3d q{p.x - r[0][3], p.y - r[1][3], p.z - r[2][3]};
-  return {(m00 * q.x + m01 * q.y + m02 * q.z) / det, (m10 * q.x + m11 * q.y + m12 * q.z) / det,
-          (m20 * q.x + m21 * q.y + m22 * q.z) / det};
 }
 
 // Which side of the near plane all of `d` (near-plane distances) lie on:
