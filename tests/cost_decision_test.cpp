@@ -23,6 +23,8 @@
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/exact/silhouette.hpp"
+#include "nearcap/gl/light_pyramid_cull.hpp"
+#include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "support/sampled_scenes.hpp"
 
@@ -447,7 +449,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
   }
   const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
   test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
-  std::size_t compared = 0, cull_skipped = 0, counted = 0;
+  std::size_t compared = 0, cull_skipped = 0, counted = 0, examined_counted = 0;
   for (std::size_t k = 0; k < loaded.size(); ++k) {
     const Scene& s = loaded[k];
     for (std::size_t light = 0; light < s.lights.size(); ++light)
@@ -465,6 +467,17 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
           lazy.certainly_misses_light_pyramid = full.certainly_misses_light_pyramid;
         }
         expect_same_inputs(lazy, full, what + " (cull where needed)");
+        // The cull's examined faces reach the clipped-sides cap's work where
+        // its builder runs the cull (the volume reaches the near plane).
+        std::size_t examined = 0;
+        gl::certainly_misses_light_pyramid(s, o, s.lights[light].position, gl::near_plane_cap_margin(s.camera.width),
+                                           gl::near_plane_cap_margin(s.camera.height), &examined);
+        EXPECT_EQ(full.pyramid_cull_examined, static_cast<double>(examined)) << what;
+        EXPECT_EQ(lazy.pyramid_cull_examined, lazy.pyramid_cull_run ? static_cast<double>(examined) : 0.0) << what;
+        EXPECT_EQ(analysis::clipped_cap_work(lazy).examined,
+                  full.reaches_near_plane ? static_cast<double>(examined) : 0.0)
+            << what;
+        examined_counted += analysis::clipped_cap_work(full).examined > 0 ? 1 : 0;
         counted += full.near_plane_straddling > 0 ? 1 : 0;
         ++compared;
       }
@@ -473,6 +486,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
               cull_skipped, counted);
   EXPECT_GT(cull_skipped, 0u);
   EXPECT_GT(counted, 0u);
+  EXPECT_GT(examined_counted, 0u);
   EXPECT_LT(cull_skipped, compared);
 }
 

@@ -177,10 +177,13 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // The pyramid cull, the dearest input, runs where the cap's work depends
   // on it or the caller asks.
   in.pyramid_cull_run = pyramid_cull || sides_needed;
-  if (in.pyramid_cull_run)
-    in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(scene, object, scene.lights[light].position,
-                                                                           gl::near_plane_cap_margin(camera.width),
-                                                                           gl::near_plane_cap_margin(camera.height));
+  if (in.pyramid_cull_run) {
+    std::size_t examined = 0;
+    in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(
+        scene, object, scene.lights[light].position, gl::near_plane_cap_margin(camera.width),
+        gl::near_plane_cap_margin(camera.height), &examined);
+    in.pyramid_cull_examined = static_cast<double>(examined);
+  }
   in.reaches_near_plane = sides_needed;
   if (!sides_needed || in.certainly_misses_light_pyramid) return in;
   in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
@@ -226,6 +229,9 @@ CpuTaskWork clipped_cap_work(const OccluderWorkInputs& in) {
   w.reaching = in.reaches_near_plane ? in.triangles : 0;
   w.tested = in.clipped_cap_tested;
   w.straddling = in.near_plane_straddling;
+  // The builder runs the cull where the volume reaches the near plane, and
+  // there the estimate ran the same cull.
+  w.examined = in.reaches_near_plane ? in.pyramid_cull_examined : 0;
   return w;
 }
 
