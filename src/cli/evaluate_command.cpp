@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -206,10 +207,16 @@ class Evaluation {
     }
     RuleFrame policy = decided("policy", policy_);
     // The same decision again at once, warm: what a renderer's frame loop
-    // pays.  It must decide the same.
-    const analysis::PolicyDecision again = analysis::decide(policy_, cs, light, base_);
-    NEARCAP_CHECK(again.object_methods == policy.object_methods);
-    policy.decision_warm_ms = again.decide_ms;
+    // pays.  Three calls, their median: one call of a few microseconds is
+    // at the mercy of a preemption.  Each must decide the same.
+    std::array<double, 3> warm{};
+    for (double& ms : warm) {
+      const analysis::PolicyDecision again = analysis::decide(policy_, cs, light, base_);
+      NEARCAP_CHECK(again.object_methods == policy.object_methods);
+      ms = again.decide_ms;
+    }
+    std::sort(warm.begin(), warm.end());
+    policy.decision_warm_ms = warm[1];
     out.push_back(std::move(policy));
     return out;
   }

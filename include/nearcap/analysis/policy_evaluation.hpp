@@ -101,9 +101,10 @@ struct EvaluationRow {
   // The policy's rows: the frame time its device profile predicted before
   // drawing (absent without a profile).
   std::optional<double> predicted_ms;
-  // The policy's rows: the same decision made once more right after the
-  // first (decision_ms), its code and data still in the caches: what a
-  // renderer's frame loop that decides every frame pays.  decision_ms is the
+  // The policy's rows: the same decision made again right after the first
+  // (decision_ms), its code and data still in the caches: what a renderer's
+  // frame loop that decides every frame pays (`nearcap evaluate`: the median
+  // of three such calls, against a preemption).  decision_ms is the
   // first call, made after the exact reference and the other rules'
   // decisions of the (configuration, light) evicted them: cold.  Neither
   // counts the other; cpu_ms and end_to_end_ms hold decision_ms.
