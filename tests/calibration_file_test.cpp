@@ -23,7 +23,7 @@ CalibrationSet sample_set() {
   s.passes.push_back({"sample:1:7:light1:zpass", PassKind::Lit, 3, 1e-300, 123456789.123456789});
   s.again.push_back({"sample:1:7:zpass", PassKind::Depth, 24012, 19200, 0.37});
   s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::Silhouette, 960, 0.052});
-  s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::ClippedCap, 96, 2.5e-5, 960, 0.1 + 1e-17, 0});
+  s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::ClippedCap, 96, 2.5e-5, 960, 0.1 + 1e-17, 0, 1.0 / 7.0});
   s.cpu.push_back({"sample:1:7:light0", CpuTask::ExactTest, 12000, 7.125, 12000, 6000, 31});
   return s;
 }
@@ -31,7 +31,8 @@ CalibrationSet sample_set() {
 TEST(CalibrationFile, RoundTripsExactly) {
   const CalibrationSet s = sample_set();
   const std::string text = analysis::calibration_csv(s);
-  EXPECT_EQ(text.rfind("record,frame,kind,triangles,fragments,ms,reaching,tested,straddling\n", 0), 0u) << text;
+  EXPECT_EQ(text.rfind("record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined\n", 0), 0u)
+      << text;
   const CalibrationSet r = analysis::parse_calibration_csv(text, "test.csv");
   ASSERT_EQ(r.passes.size(), s.passes.size());
   ASSERT_EQ(r.again.size(), s.again.size());
@@ -52,6 +53,7 @@ TEST(CalibrationFile, RoundTripsExactly) {
     EXPECT_EQ(r.cpu[k].reaching, s.cpu[k].reaching);
     EXPECT_EQ(r.cpu[k].tested, s.cpu[k].tested) << "bit for bit";
     EXPECT_EQ(r.cpu[k].straddling, s.cpu[k].straddling);
+    EXPECT_EQ(r.cpu[k].examined, s.cpu[k].examined) << "bit for bit";
   }
   EXPECT_EQ(analysis::calibration_csv(r), text) << "written again, the same bytes";
 }
@@ -66,7 +68,7 @@ TEST(CalibrationFile, NoiseFloorPairsTheSameFrameAndKind) {
 // The error kind and message of parsing `rows` after the header.
 std::pair<ErrorKind, std::string> refusal(
     const std::string& rows,
-    const std::string& header = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling\n") {
+    const std::string& header = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined\n") {
   try {
     analysis::parse_calibration_csv(header + rows, "bad.csv");
   } catch (const Error& e) {
@@ -82,26 +84,29 @@ TEST(CalibrationFile, RefusesBadRowsNamingLineAndColumn) {
     std::string says;
   };
   const Case cases[] = {
-      {"pass,f,sides,1,2,nan,,,\n", ErrorKind::NonFinite, "line 2: ms 'nan' is not finite"},
-      {"pass,f,sides,1,2,1e999,,,\n", ErrorKind::NonFinite, "ms '1e999' is not finite"},
-      {"pass,f,sides,-1,2,3,,,\n", ErrorKind::Schema, "line 2: triangles -1 is negative"},
-      {"pass,f,sides,1,x,3,,,\n", ErrorKind::Parse, "fragments 'x' is not a number"},
-      {"pass,f,sides,1,,3,,,\n", ErrorKind::Parse, "fragments '' is not a number"},
-      {"pass,f,caps,1,2,3,,,\n", ErrorKind::Parse, "kind 'caps' is not a pass kind"},
-      {"cpu,f,sides,1,,3,,,\n", ErrorKind::Parse, "kind 'sides' is not a CPU task"},
-      {"cpu,f,silhouette,1,2,3,,,\n", ErrorKind::Parse, "a cpu record has no fragments"},
-      {"pass,f,sides,1,2,3,,\n", ErrorKind::Parse, "line 2: 8 fields, not 9"},
-      {"pass,f,sides,1,2,3\n", ErrorKind::Parse, "line 2: 6 fields, not 9"},
-      {"pass,f,sides,1,2,3,,,,\n", ErrorKind::Parse, "10 fields, not 9"},
-      {"timing,f,sides,1,2,3,,,\n", ErrorKind::Parse, "record 'timing' is not pass, again or cpu"},
-      {"pass,f,sides,1,2,3,,,\n\npass,,sides,1,2,3,,,\n", ErrorKind::Parse, "line 4: an empty frame"},
+      {"pass,f,sides,1,2,nan,,,,\n", ErrorKind::NonFinite, "line 2: ms 'nan' is not finite"},
+      {"pass,f,sides,1,2,1e999,,,,\n", ErrorKind::NonFinite, "ms '1e999' is not finite"},
+      {"pass,f,sides,-1,2,3,,,,\n", ErrorKind::Schema, "line 2: triangles -1 is negative"},
+      {"pass,f,sides,1,x,3,,,,\n", ErrorKind::Parse, "fragments 'x' is not a number"},
+      {"pass,f,sides,1,,3,,,,\n", ErrorKind::Parse, "fragments '' is not a number"},
+      {"pass,f,caps,1,2,3,,,,\n", ErrorKind::Parse, "kind 'caps' is not a pass kind"},
+      {"cpu,f,sides,1,,3,,,,\n", ErrorKind::Parse, "kind 'sides' is not a CPU task"},
+      {"cpu,f,silhouette,1,2,3,,,,\n", ErrorKind::Parse, "a cpu record has no fragments"},
+      {"pass,f,sides,1,2,3,,,\n", ErrorKind::Parse, "line 2: 9 fields, not 10"},
+      {"pass,f,sides,1,2,3\n", ErrorKind::Parse, "line 2: 6 fields, not 10"},
+      {"pass,f,sides,1,2,3,,,,,\n", ErrorKind::Parse, "11 fields, not 10"},
+      {"timing,f,sides,1,2,3,,,,\n", ErrorKind::Parse, "record 'timing' is not pass, again or cpu"},
+      {"pass,f,sides,1,2,3,,,,\n\npass,,sides,1,2,3,,,,\n", ErrorKind::Parse, "line 4: an empty frame"},
       // The CPU tasks' counts: numbers where the task has them, empty elsewhere.
-      {"cpu,f,clipped_cap,1,,3,4,x,6\n", ErrorKind::Parse, "line 2: tested 'x' is not a number"},
-      {"cpu,f,exact_test,1,,3,4,5,-6\n", ErrorKind::Schema, "line 2: straddling -6 is negative"},
-      {"cpu,f,exact_test,1,,3,inf,5,6\n", ErrorKind::NonFinite, "line 2: reaching 'inf' is not finite"},
-      {"cpu,f,clipped_cap,1,,3,,5,6\n", ErrorKind::Parse, "line 2: reaching '' is not a number"},
-      {"cpu,f,silhouette,1,,3,4,,\n", ErrorKind::Schema, "line 2: reaching '4': a silhouette record has no"},
-      {"pass,f,sides,1,2,3,,,7\n", ErrorKind::Schema, "line 2: straddling '7': a pass record has no CPU task"},
+      {"cpu,f,clipped_cap,1,,3,4,x,6,\n", ErrorKind::Parse, "line 2: tested 'x' is not a number"},
+      {"cpu,f,exact_test,1,,3,4,5,-6,\n", ErrorKind::Schema, "line 2: straddling -6 is negative"},
+      {"cpu,f,exact_test,1,,3,inf,5,6,\n", ErrorKind::NonFinite, "line 2: reaching 'inf' is not finite"},
+      {"cpu,f,clipped_cap,1,,3,,5,6,\n", ErrorKind::Parse, "line 2: reaching '' is not a number"},
+      {"cpu,f,clipped_cap,1,,3,4,5,6,\n", ErrorKind::Parse, "line 2: examined '' is not a number"},
+      {"cpu,f,clipped_cap,1,,3,4,5,6,-2\n", ErrorKind::Schema, "line 2: examined -2 is negative"},
+      {"pass,f,sides,1,2,3,,,,8\n", ErrorKind::Schema, "line 2: examined '8': a pass record has no CPU task"},
+      {"cpu,f,silhouette,1,,3,4,,,\n", ErrorKind::Schema, "line 2: reaching '4': a silhouette record has no"},
+      {"pass,f,sides,1,2,3,,,7,\n", ErrorKind::Schema, "line 2: straddling '7': a pass record has no CPU task"},
   };
   for (const Case& c : cases) {
     const auto [kind, message] = refusal(c.rows);
@@ -121,6 +126,18 @@ TEST(CalibrationFile, RefusesBadRowsNamingLineAndColumn) {
             std::string::npos)
       << old_message;
   EXPECT_EQ(old_message.find('\n'), std::string::npos) << old_message;
+  // A file whose cpu rows lack the clipped-sides cap's examined faces:
+  // refused, saying why.
+  const auto [nine_kind, nine_message] =
+      refusal("cpu,f,clipped_cap,96,,0.3,960,144,21\n",
+              "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling\n");
+  EXPECT_EQ(nine_kind, ErrorKind::Schema);
+  EXPECT_NE(nine_message.find("bad.csv line 1: the header is 'record,frame,kind,triangles,fragments,ms,reaching,"
+                              "tested,straddling': its cpu rows lack the count examined"),
+            std::string::npos)
+      << nine_message;
+  EXPECT_NE(nine_message.find("run nearcap calibrate again"), std::string::npos) << nine_message;
+  EXPECT_EQ(nine_message.find('\n'), std::string::npos) << nine_message;
   EXPECT_THROW(analysis::parse_calibration_csv("", "empty.csv"), Error);
 }
 

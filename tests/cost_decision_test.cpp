@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../src/analysis/affine_inverse.hpp"
 #include "../src/analysis/general4.hpp"
 #include "box_scene.hpp"
 #include "nearcap/analysis/camera_path.hpp"
@@ -22,6 +23,8 @@
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/exact/silhouette.hpp"
+#include "nearcap/gl/light_pyramid_cull.hpp"
+#include "nearcap/gl/near_plane_cap.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "support/sampled_scenes.hpp"
 
@@ -342,20 +345,6 @@ double reference_footprint(const std::vector<Homogeneous>& g, const Camera& came
   return centres(x0, x1, f.left, f.right, camera.width) * centres(y0, y1, f.bottom, f.top, camera.height);
 }
 
-Vec3d reference_inverse_apply(const Affine3d& a, const Vec3d& p) {
-  const auto& r = a.rows;
-  const double m00 = r[1][1] * r[2][2] - r[1][2] * r[2][1], m01 = r[0][2] * r[2][1] - r[0][1] * r[2][2],
-               m02 = r[0][1] * r[1][2] - r[0][2] * r[1][1];
-  const double m10 = r[1][2] * r[2][0] - r[1][0] * r[2][2], m11 = r[0][0] * r[2][2] - r[0][2] * r[2][0],
-               m12 = r[0][2] * r[1][0] - r[0][0] * r[1][2];
-  const double m20 = r[1][0] * r[2][1] - r[1][1] * r[2][0], m21 = r[0][1] * r[2][0] - r[0][0] * r[2][1],
-               m22 = r[0][0] * r[1][1] - r[0][1] * r[1][0];
-  const double det = r[0][0] * m00 + r[0][1] * m10 + r[0][2] * m20;
-  const Vec3d q{p.x - r[0][3], p.y - r[1][3], p.z - r[2][3]};
-  return {(m00 * q.x + m01 * q.y + m02 * q.z) / det, (m10 * q.x + m11 * q.y + m12 * q.z) / det,
-          (m20 * q.x + m21 * q.y + m22 * q.z) / det};
-}
-
 // Every input but the pyramid cull's flag, which the caller passes in.
 analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                               bool certainly_misses) {
@@ -366,7 +355,7 @@ analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t ob
   analysis::OccluderWorkInputs in;
   in.object = object;
   in.triangles = static_cast<double>(mesh.triangle_count());
-  const Vec3d l_object = reference_inverse_apply(obj.object_to_world, scene.lights[light].position);
+  const Vec3d l_object = analysis::inverse_apply(obj.object_to_world, scene.lights[light].position);
   std::vector<Facing> facing(mesh.triangle_count());
   for (std::size_t f = 0; f < facing.size(); ++f) {
     const auto& pl = mesh.face_planes.plane[f];
@@ -460,7 +449,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
   }
   const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
   test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
-  std::size_t compared = 0, cull_skipped = 0, counted = 0;
+  std::size_t compared = 0, cull_skipped = 0, counted = 0, examined_counted = 0;
   for (std::size_t k = 0; k < loaded.size(); ++k) {
     const Scene& s = loaded[k];
     for (std::size_t light = 0; light < s.lights.size(); ++light)
@@ -478,6 +467,17 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
           lazy.certainly_misses_light_pyramid = full.certainly_misses_light_pyramid;
         }
         expect_same_inputs(lazy, full, what + " (cull where needed)");
+        // The cull's examined faces reach the clipped-sides cap's work where
+        // its builder runs the cull (the volume reaches the near plane).
+        std::size_t examined = 0;
+        gl::certainly_misses_light_pyramid(s, o, s.lights[light].position, gl::near_plane_cap_margin(s.camera.width),
+                                           gl::near_plane_cap_margin(s.camera.height), &examined);
+        EXPECT_EQ(full.pyramid_cull_examined, static_cast<double>(examined)) << what;
+        EXPECT_EQ(lazy.pyramid_cull_examined, lazy.pyramid_cull_run ? static_cast<double>(examined) : 0.0) << what;
+        EXPECT_EQ(analysis::clipped_cap_work(lazy).examined,
+                  full.reaches_near_plane ? static_cast<double>(examined) : 0.0)
+            << what;
+        examined_counted += analysis::clipped_cap_work(full).examined > 0 ? 1 : 0;
         counted += full.near_plane_straddling > 0 ? 1 : 0;
         ++compared;
       }
@@ -486,6 +486,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
               cull_skipped, counted);
   EXPECT_GT(cull_skipped, 0u);
   EXPECT_GT(counted, 0u);
+  EXPECT_GT(examined_counted, 0u);
   EXPECT_LT(cull_skipped, compared);
 }
 

@@ -158,7 +158,7 @@ TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
   EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
   EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
   EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
-            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected\n");
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,\n");
 }
 
 // A (configuration, light) where the policy or a fixed rule did not draw is
@@ -211,6 +211,34 @@ TEST(PolicyEvaluation, NoiseFloorDecisionShareAndWindow) {
       << md;
 }
 
+// The decision's share both ways: the first call as timed (cold) and the
+// same decision repeated at once (warm), whose frame holds the warm call in
+// place of the first.
+TEST(PolicyEvaluation, DecisionShareColdAndWarm) {
+  std::vector<EvaluationRow> rows;
+  for (int k = 0; k < 2; ++k) {
+    const std::string c = "sample:7:" + std::to_string(k);
+    std::vector<EvaluationRow> g = group(c, 10);
+    find(g, c, "policy").decision_ms = 0.5;
+    rows = joined(rows, g);
+  }
+  analysis::EvaluationTable table = analysis::evaluate_rows(rows);
+  EXPECT_NEAR(table.sets.at(0).decision_share, 1.0 / 20, 1e-12);
+  EXPECT_FALSE(table.sets.at(0).decision_warm_share.has_value()) << "no warm call timed, no warm share";
+  EXPECT_EQ(analysis::evaluation_table_markdown(table).find("warm ("), std::string::npos);
+  find(rows, "sample:7:0", "policy").decision_warm_ms = 0.1;
+  find(rows, "sample:7:1", "policy").decision_warm_ms = 0.3;
+  table = analysis::evaluate_rows(rows);
+  EXPECT_NEAR(table.sets.at(0).decision_share, 1.0 / 20, 1e-12) << "the measured share is kept as it is";
+  ASSERT_TRUE(table.sets.at(0).decision_warm_share.has_value());
+  // (0.1 + 0.3) / ((10 - 0.5 + 0.1) + (10 - 0.5 + 0.3))
+  EXPECT_NEAR(*table.sets.at(0).decision_warm_share, 0.4 / 19.4, 1e-12);
+  const std::string md = analysis::evaluation_table_markdown(table);
+  EXPECT_NE(md.find("the policy's decision: 5.00% of its end-to-end time"), std::string::npos) << md;
+  EXPECT_NE(md.find("; 2.06% warm (the same decision repeated at once"), std::string::npos) << md;
+  EXPECT_NE(md.find("- noise floor: no pair timed"), std::string::npos) << md;
+}
+
 // The policy's predicted frame time is judged by its median relative error,
 // beside the noise floor's median deviation from 1.
 TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
@@ -238,7 +266,11 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
-  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,\n");
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,\n");
+  EvaluationRow p = row("sample:7:3", "policy", 1.5);
+  p.decision_ms = 0.25;
+  p.decision_warm_ms = 0.0625;
+  EXPECT_EQ(analysis::evaluation_csv_line(p), "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625\n");
   r.set = "a,b";
   r.frame = 4;
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
@@ -274,6 +306,7 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
   EXPECT_NE(md.find("### seed-4242"), std::string::npos) << md;
   EXPECT_NE(md.find("| oracle | "), std::string::npos) << md;
   EXPECT_NE(md.find("| doom3-bfg | "), std::string::npos) << md;
+  EXPECT_NE(md.find("% warm (the same decision repeated at once"), std::string::npos) << md;
   EXPECT_NE(r.out.find("| policy | "), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("evaluate: 2/2 configurations"), std::string::npos) << r.err;
   // Z-pass applies exactly where the exact test finds every near-cap empty:
@@ -287,6 +320,10 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
     std::istringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
     ASSERT_GE(fields.size(), 12u) << line;
+    if (fields[4] == "policy") {
+      ASSERT_EQ(fields.size(), 15u) << line;
+      EXPECT_FALSE(fields[14].empty()) << "the policy's warm decision time: " << line;
+    }
     if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
     if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;
   }

@@ -49,6 +49,44 @@ TEST(LightPyramidCull, SkipsOnlyWithTheMarginToSpare) {
   EXPECT_TRUE(misses(box_scene("[0,0,-3]", 0.5, 0.5)));
 }
 
+// The faces it tests one by one: none where the mesh's box decides, one
+// where the first face it tests may meet the pyramid (the box inside it),
+// and no more than the mesh's faces on the sampler's scenes.
+TEST(LightPyramidCull, CountsTheFacesItTestsOneByOne) {
+  auto examined = [](const Scene& s) {
+    std::size_t n = 12345;
+    gl::certainly_misses_light_pyramid(s, 0, s.lights[0].position, gl::near_plane_cap_margin(400),
+                                       gl::near_plane_cap_margin(400), &n);
+    return n;
+  };
+  EXPECT_EQ(examined(box_scene("[1.5,0,-0.9]", 0.02, 1)), 0u);  // the mesh's box outside a side plane
+  EXPECT_EQ(examined(box_scene("[0,0,-3]", 0.5, 1)), 0u);       // beyond the near plane
+  EXPECT_EQ(examined(box_scene("[0,0,-0.9]", 0.05, 1)), 1u);    // inside: its first face may meet it
+  EXPECT_EQ(examined(box_scene("[0,0,-30]", 0.5, 0.01)), 0u);   // not decided at all (tiny near)
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(7));
+  std::size_t counted = 0, several = 0;
+  test::for_each_sampled_scene(sampler, 80, [&](const Scene& s, const analysis::HardCase&) {
+    for (std::size_t light = 0; light < s.lights.size(); ++light)
+      for (std::size_t o = 0; o < s.objects.size(); ++o) {
+        std::size_t n = 0;
+        const bool misses = gl::certainly_misses_light_pyramid(s, o, s.lights[light].position,
+                                                               gl::near_plane_cap_margin(s.camera.width),
+                                                               gl::near_plane_cap_margin(s.camera.height), &n);
+        EXPECT_LE(n, s.objects[o].mesh->triangle_count());
+        // Deciding "misses" face by face tests every face of the chunks it
+        // could not decide whole; "may meet" stops at a face.
+        if (!misses && n > 0) ++counted;
+        if (misses && n > 1) ++several;
+        EXPECT_EQ(misses, gl::certainly_misses_light_pyramid(s, o, s.lights[light].position,
+                                                             gl::near_plane_cap_margin(s.camera.width),
+                                                             gl::near_plane_cap_margin(s.camera.height)))
+            << "the count changes no answer";
+      }
+  });
+  std::printf("%zu occluders stopped at a face, %zu decided outside face by face\n", counted, several);
+  EXPECT_GT(counted, 0u);
+}
+
 TEST(LightPyramidCull, ALightInTheNearPlaneIsNotDecided) {
   Scene s = box_scene("[0,0,-3]", 0.5, 1);
   s.lights[0].position = {0.3, 0.2, -1};

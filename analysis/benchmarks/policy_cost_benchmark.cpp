@@ -158,6 +158,32 @@ void BM_PolicyCost(benchmark::State& state) {
   state.counters["fragments_over_base"] = base_fragments > 0 ? policy_fragments / base_fragments : 0;
 }
 
+// The decision alone (analysis::decide with the shipped policy's device
+// profile), every (configuration, light) of the set in turn, each decided
+// range(1) times in a row: 1 is the order `nearcap evaluate` times its first
+// call in (a different frame before each), 2 also times the call repeated
+// at once (warm, as a renderer's frame loop pays it).  range(0): 0 the
+// hard-case sampler, 1 the bundled paths.  Counter: us_per_decision.
+void BM_PolicyDecision(benchmark::State& state) {
+  const bool paths = state.range(0) == 1;
+  const int repeat = static_cast<int>(state.range(1));
+  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") + (repeat > 1 ? ", each decided twice" : ""));
+  const Setup& s = paths ? paths_setup() : sampler_setup();
+  std::size_t decisions = 0;
+  double ms = 0;
+  for (auto _ : state)
+    for (const Pair& p : s.pairs)
+      for (int k = 0; k < repeat; ++k) {
+        const auto t0 = Clock::now();
+        const nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, *p.cs, p.light, {});
+        ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        benchmark::DoNotOptimize(d.object_methods.data());
+        ++decisions;
+      }
+  state.counters["us_per_decision"] = decisions > 0 ? 1e3 * ms / static_cast<double>(decisions) : 0;
+}
+
 }  // namespace
 
+BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 BENCHMARK(BM_PolicyCost)->ArgsProduct({{1, 0}, {1, 0}, {0, 1}})->Unit(benchmark::kMillisecond)->MinTime(3.0);

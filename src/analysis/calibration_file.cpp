@@ -11,11 +11,14 @@
 namespace nearcap::analysis {
 namespace {
 
-constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling";
-// The header of the files whose cpu rows carry the triangles alone.
+constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined";
+// The headers of older files: cpu rows with the triangles alone, and with
+// the counts but not the clipped-sides cap's examined faces.
 constexpr std::string_view kTrianglesOnlyHeader = "record,frame,kind,triangles,fragments,ms";
-constexpr std::array<std::string_view, 9> kColumns{"record", "frame",    "kind",   "triangles", "fragments",
-                                                   "ms",     "reaching", "tested", "straddling"};
+constexpr std::string_view kWithoutExaminedHeader =
+    "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling";
+constexpr std::array<std::string_view, 10> kColumns{"record", "frame",    "kind",   "triangles",  "fragments",
+                                                    "ms",     "reaching", "tested", "straddling", "examined"};
 
 // The shortest text that reads back to `v` exactly (std::to_chars).
 std::string number(double v, std::string_view what) {
@@ -34,7 +37,7 @@ std::string pass_line(std::string_view record, const PassObservation& o) {
   check_frame(o.frame);
   return std::string(record) + "," + o.frame + "," + std::string(to_string(o.kind)) + "," +
          number(o.triangles, "triangle count") + "," + number(o.fragments, "fragment count") + "," +
-         number(o.ms, "time") + ",,,\n";
+         number(o.ms, "time") + ",,,,\n";
 }
 
 }  // namespace
@@ -62,10 +65,10 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
     out += "cpu," + o.frame + "," + std::string(to_string(o.task)) + "," + number(o.triangles, "triangle count") +
            ",," + number(o.ms, "time");
     if (o.task == CpuTask::Silhouette)
-      out += ",,,\n";
+      out += ",,,,\n";
     else
       out += "," + number(o.reaching, "reaching count") + "," + number(o.tested, "tested count") + "," +
-             number(o.straddling, "straddling count") + "\n";
+             number(o.straddling, "straddling count") + "," + number(o.examined, "examined count") + "\n";
   }
   return out;
 }
@@ -89,6 +92,11 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
         throw fail(ErrorKind::Schema, "the header is '" + std::string(kTrianglesOnlyHeader) +
                                           "': its cpu rows lack the counts reaching, tested and straddling that the "
                                           "device profile's CPU tasks are priced by (run nearcap calibrate again)");
+      if (line == kWithoutExaminedHeader)
+        throw fail(ErrorKind::Schema, "the header is '" + std::string(kWithoutExaminedHeader) +
+                                          "': its cpu rows lack the count examined (the faces the light-pyramid cull "
+                                          "tested) that the clipped-sides cap is priced by (run nearcap calibrate "
+                                          "again)");
       if (line != kHeader)
         throw fail(ErrorKind::Parse, "the header is not '" + std::string(kHeader) +
                                          "' (a calibration CSV of "
@@ -150,6 +158,7 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
         o.reaching = value(6);
         o.tested = value(7);
         o.straddling = value(8);
+        o.examined = value(9);
       }
       set.cpu.push_back(std::move(o));
     } else {

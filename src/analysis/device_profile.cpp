@@ -2,8 +2,8 @@
 //
 // Each pass kind is one small problem: ms ~ intercept + a * Mtriangles +
 // b * Mfragments, three non-negative unknowns; the silhouette one unknown,
-// ms ~ c * ktriangles; the clipped-sides cap and the exact test five,
-// ms ~ intercept + the four counts' (CpuTaskWork) coefficients.  The arrangement, and why:
+// ms ~ c * ktriangles; the clipped-sides cap and the exact test six,
+// ms ~ intercept + the five counts' (CpuTaskWork) coefficients.  The arrangement, and why:
 // - The residual is log(predicted) - log(measured).  Timings scatter in
 //   proportion to their size (a frame of twice the work varies twice as
 //   much), so an absolute residual would let the largest frames decide and
@@ -125,6 +125,7 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
     check_measure(o.reaching, "the reaching count", o.frame, "CPU observation");
     check_measure(o.tested, "the tested count", o.frame, "CPU observation");
     check_measure(o.straddling, "the straddling count", o.frame, "CPU observation");
+    check_measure(o.examined, "the examined count", o.frame, "CPU observation");
     check_measure(o.ms, "the time", o.frame, "CPU observation");
   }
   DeviceProfile profile;
@@ -176,13 +177,14 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
   }
 
   // The silhouette: one unknown, ms per thousand occluder triangles.
-  // The clipped-sides cap and the exact test: CpuTaskCost's five, each
+  // The clipped-sides cap and the exact test: CpuTaskCost's six, each
   // count scaled by its training mean (a count that is 0 in every training
   // observation keeps its coefficient at 0).
   static constexpr std::array<const char*, 3> kTaskNames{"silhouette CPU cost", "clipped cap CPU cost",
                                                          "exact test CPU cost"};
-  auto counts = [](const CpuObservation& o) -> std::array<double, 5> {
-    return {1.0, o.triangles * 1e-3, o.reaching * 1e-3, o.tested * 1e-3, o.straddling * 1e-3};
+  constexpr std::size_t kCounts = 6;
+  auto counts = [](const CpuObservation& o) -> std::array<double, kCounts> {
+    return {1.0, o.triangles * 1e-3, o.reaching * 1e-3, o.tested * 1e-3, o.straddling * 1e-3, o.examined * 1e-3};
   };
   for (std::size_t task = 0; task < 3; ++task) {
     const bool silhouette = task == static_cast<std::size_t>(CpuTask::Silhouette);
@@ -191,11 +193,11 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
       if (static_cast<std::size_t>(o.task) == task && (!silhouette || o.triangles > 0))
         (held_out_configuration(o.frame) ? held : train).push_back(&o);
     std::vector<double> times;
-    std::array<double, 5> mean{};
+    std::array<double, kCounts> mean{};
     for (const CpuObservation* o : train) {
       times.push_back(o->ms);
-      const std::array<double, 5> c = counts(*o);
-      for (std::size_t j = 0; j < 5; ++j) mean[j] += c[j] / static_cast<double>(train.size());
+      const std::array<double, kCounts> c = counts(*o);
+      for (std::size_t j = 0; j < kCounts; ++j) mean[j] += c[j] / static_cast<double>(train.size());
     }
     const double m = median(times);
     CpuTaskCost cost;  // the silhouette's per-ktriangle cost in ms_per_ktriangle
@@ -209,17 +211,17 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
         solve_log_linear<1>(x, y, options.robust, kTaskNames[task], theta);
         cost.ms_per_ktriangle = m * theta[0] / mean[1];
       } else {
-        std::vector<std::array<double, 5>> x;
+        std::vector<std::array<double, kCounts>> x;
         for (const CpuObservation* o : train) {
-          const std::array<double, 5> c = counts(*o);
-          std::array<double, 5>& row = x.emplace_back();
-          for (std::size_t j = 0; j < 5; ++j) row[j] = mean[j] > 0 ? c[j] / mean[j] : 0.0;
+          const std::array<double, kCounts> c = counts(*o);
+          std::array<double, kCounts>& row = x.emplace_back();
+          for (std::size_t j = 0; j < kCounts; ++j) row[j] = mean[j] > 0 ? c[j] / mean[j] : 0.0;
         }
-        std::array<double, 5> theta{0.2, 0.2, 0.2, 0.2, 0.2};
-        solve_log_linear<5>(x, y, options.robust, kTaskNames[task], theta);
-        std::array<double, 5> coefficient{};
-        for (std::size_t j = 0; j < 5; ++j) coefficient[j] = mean[j] > 0 ? m * theta[j] / mean[j] : 0.0;
-        cost = {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4]};
+        std::array<double, kCounts> theta{0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
+        solve_log_linear<static_cast<int>(kCounts)>(x, y, options.robust, kTaskNames[task], theta);
+        std::array<double, kCounts> coefficient{};
+        for (std::size_t j = 0; j < kCounts; ++j) coefficient[j] = mean[j] > 0 ? m * theta[j] / mean[j] : 0.0;
+        cost = {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4], coefficient[5]};
       }
     }
     if (silhouette)

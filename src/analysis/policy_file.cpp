@@ -21,8 +21,10 @@ using io::JsonValue;
 gl::ShadowMethod method_field(const JsonValue& v) { return v.named<gl::ShadowMethod>(); }
 
 // A CPU task's cost (device_profile.hpp, CpuTaskCost), by its JSON keys.
-const std::vector<std::string_view> kCpuTaskCostKeys{"intercept_ms", "ms_per_ktriangle", "ms_per_kreaching",
-                                                     "ms_per_ktested", "ms_per_kstraddling"};
+// ms_per_kexamined may be absent (0): profiles fitted before the cull's
+// examined faces were counted price the same work as before.
+const std::vector<std::string_view> kCpuTaskCostKeys{"intercept_ms",   "ms_per_ktriangle",   "ms_per_kreaching",
+                                                     "ms_per_ktested", "ms_per_kstraddling", "ms_per_kexamined"};
 
 // A cost coefficient: a finite number, not negative.
 double cost_number(const JsonValue& object, std::string_view key) {
@@ -64,6 +66,7 @@ DeviceProfile device_profile_of(const JsonValue& j) {
     *cost = {cost_number(task, "intercept_ms"), cost_number(task, "ms_per_ktriangle"),
              cost_number(task, "ms_per_kreaching"), cost_number(task, "ms_per_ktested"),
              cost_number(task, "ms_per_kstraddling")};
+    cost->ms_per_kexamined = task.find("ms_per_kexamined") ? cost_number(task, "ms_per_kexamined") : 0.0;
   }
   return d;
 }
@@ -73,7 +76,8 @@ Json cpu_task_cost_json(const CpuTaskCost& c) {
           {"ms_per_ktriangle", c.ms_per_ktriangle},
           {"ms_per_kreaching", c.ms_per_kreaching},
           {"ms_per_ktested", c.ms_per_ktested},
-          {"ms_per_kstraddling", c.ms_per_kstraddling}};
+          {"ms_per_kstraddling", c.ms_per_kstraddling},
+          {"ms_per_kexamined", c.ms_per_kexamined}};
 }
 
 Json device_profile_json(const DeviceProfile& d) {

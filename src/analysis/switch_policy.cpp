@@ -91,6 +91,7 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     c->ms_per_kreaching /= cpu_factor;
     c->ms_per_ktested /= cpu_factor;
     c->ms_per_kstraddling /= cpu_factor;
+    c->ms_per_kexamined /= cpu_factor;
   }
   return s;
 }

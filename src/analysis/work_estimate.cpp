@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "affine_inverse.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/gl/light_pyramid_cull.hpp"
 #include "nearcap/gl/near_plane_cap.hpp"
@@ -85,21 +86,6 @@ std::array<Vec3d, 8> box_corners(const Vec3d& lo, const Vec3d& hi) {
   std::array<Vec3d, 8> c;
   for (int k = 0; k < 8; ++k) c[k] = {(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
   return c;
-}
-
-// x -> A^-1 (x - t) for the affine A x + t (the light in object space).
-Vec3d inverse_apply(const Affine3d& a, const Vec3d& p) {
-  const auto& r = a.rows;
-  const double m00 = r[1][1] * r[2][2] - r[1][2] * r[2][1], m01 = r[0][2] * r[2][1] - r[0][1] * r[2][2],
-               m02 = r[0][1] * r[1][2] - r[0][2] * r[1][1];
-  const double m10 = r[1][2] * r[2][0] - r[1][0] * r[2][2], m11 = r[0][0] * r[2][2] - r[0][2] * r[2][0],
-               m12 = r[0][2] * r[1][0] - r[0][0] * r[1][2];
-  const double m20 = r[1][0] * r[2][1] - r[1][1] * r[2][0], m21 = r[0][1] * r[2][0] - r[0][0] * r[2][1],
-               m22 = r[0][0] * r[1][1] - r[0][1] * r[1][0];
-  const double det = r[0][0] * m00 + r[0][1] * m10 + r[0][2] * m20;
-  const Vec3d q{p.x - r[0][3], p.y - r[1][3], p.z - r[2][3]};
-  return {(m00 * q.x + m01 * q.y + m02 * q.z) / det, (m10 * q.x + m11 * q.y + m12 * q.z) / det,
-          (m20 * q.x + m21 * q.y + m22 * q.z) / det};
 }
 
 // Which side of the near plane all of `d` (near-plane distances) lie on:
@@ -191,10 +177,13 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // The pyramid cull, the dearest input, runs where the cap's work depends
   // on it or the caller asks.
   in.pyramid_cull_run = pyramid_cull || sides_needed;
-  if (in.pyramid_cull_run)
-    in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(scene, object, scene.lights[light].position,
-                                                                           gl::near_plane_cap_margin(camera.width),
-                                                                           gl::near_plane_cap_margin(camera.height));
+  if (in.pyramid_cull_run) {
+    std::size_t examined = 0;
+    in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(
+        scene, object, scene.lights[light].position, gl::near_plane_cap_margin(camera.width),
+        gl::near_plane_cap_margin(camera.height), &examined);
+    in.pyramid_cull_examined = static_cast<double>(examined);
+  }
   in.reaches_near_plane = sides_needed;
   if (!sides_needed || in.certainly_misses_light_pyramid) return in;
   in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
@@ -240,6 +229,9 @@ CpuTaskWork clipped_cap_work(const OccluderWorkInputs& in) {
   w.reaching = in.reaches_near_plane ? in.triangles : 0;
   w.tested = in.clipped_cap_tested;
   w.straddling = in.near_plane_straddling;
+  // The builder runs the cull where the volume reaches the near plane, and
+  // there the estimate ran the same cull.
+  w.examined = in.reaches_near_plane ? in.pyramid_cull_examined : 0;
   return w;
 }
 

@@ -200,7 +200,7 @@ EmulatedConfiguration emulate(const Scene& scene, const std::string& id) {
       for (const gl::OccluderCpuTimes& t : clipped_zpplus.back().cpu.occluders) {
         const analysis::CpuTaskWork w = analysis::clipped_cap_work(inputs_of(t.object));
         out.cpu.push_back({light_id + ":object" + std::to_string(t.object), analysis::CpuTask::ClippedCap, w.triangles,
-                           t.cap_build_ms, w.reaching, w.tested, w.straddling});
+                           t.cap_build_ms, w.reaching, w.tested, w.straddling, w.examined});
       }
     // The exact empty-near-cap test of every occluder for this light.
     if (cs) {
@@ -283,15 +283,15 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                 c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
                 percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
   }
-  std::printf("  %-12s %11s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri", "per kreaching",
-              "per ktested", "per kstraddle", "train err", "held out");
+  std::printf("  %-12s %11s %13s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri",
+              "per kreaching", "per ktested", "per kstraddle", "per kexamined", "train err", "held out");
   const analysis::CpuTaskCost silhouette{0, p.cpu.ms_per_ktriangle_silhouette, 0, 0, 0};
   const analysis::CpuTaskCost* cost[3] = {&silhouette, &p.cpu.clipped_cap, &p.cpu.exact_test};
   for (std::size_t t = 0; t < 3; ++t)
-    std::printf("  %-12s %11.4g %13.4g %13.4g %13.4g %13.4g %10s %10s  (%zu / %zu tasks)\n",
+    std::printf("  %-12s %11.4g %13.4g %13.4g %13.4g %13.4g %13.4g %10s %10s  (%zu / %zu tasks)\n",
                 std::string(analysis::kCpuTaskNames[t]).c_str(), cost[t]->intercept_ms, cost[t]->ms_per_ktriangle,
                 cost[t]->ms_per_kreaching, cost[t]->ms_per_ktested, cost[t]->ms_per_kstraddling,
-                percent(r.cpu_train_median_relative_error[t]).c_str(),
+                cost[t]->ms_per_kexamined, percent(r.cpu_train_median_relative_error[t]).c_str(),
                 percent(r.cpu_held_out_median_relative_error[t]).c_str(), r.cpu_train_count[t],
                 r.cpu_held_out_count[t]);
   std::printf("  (error: median |predicted - measured| / measured)\n");

@@ -16,7 +16,10 @@ constexpr double kFloatAllowance = 0x1p-16;
 }  // namespace
 
 bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, const Vec3d& light, double margin_x,
-                                    double margin_y) {
+                                    double margin_y, std::size_t* faces_examined) {
+  std::size_t examined_here = 0;
+  std::size_t& examined = faces_examined ? *faces_examined : examined_here;
+  examined = 0;
   const SceneObject& obj = scene.objects.at(object);
   if (!obj.mesh) return false;
   const FacePlanes& fp = obj.mesh->face_planes;
@@ -116,6 +119,7 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
       const Vec3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
       const Vec3d lo{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
       const Vec3d hi{std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
+      ++examined;
       if (!outside(lo, hi)) return false;
     }
   }

@@ -3,11 +3,11 @@
 // CpuObservation) as a CSV file, and read back; docs/calibration.md
 // describes the format for readers in other languages.
 //
-//   record,frame,kind,triangles,fragments,ms,reaching,tested,straddling
-//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184,,,
-//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,
-//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,
-//   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21
+//   record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined
+//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184,,,,
+//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,,
+//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,,
+//   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21,512
 //
 // record   "pass": one pass kind of one frame, timed on its own;
 //          "again": the same pass of the same frame drawn a second time,
@@ -20,9 +20,11 @@
 //          (silhouette, clipped_cap, exact_test) for cpu.
 // triangles, fragments, ms: finite, non-negative numbers; fragments empty
 //          for cpu.
-// reaching, tested, straddling: the clipped_cap's and exact_test's counts
-//          (device_profile.hpp, CpuTaskWork; with `triangles`, one run's),
-//          finite and non-negative; empty in every other row.
+// reaching, tested, straddling, examined: the clipped_cap's and
+//          exact_test's counts (device_profile.hpp, CpuTaskWork; with
+//          `triangles`, one run's), finite and non-negative; empty in every
+//          other row.  A file of the older headers (without examined, or
+//          without any count) is refused (schema): calibrate again.
 // Numbers are written in the shortest form that reads back to the same
 // double, so a file round-trips exactly.
 #pragma once

@@ -12,7 +12,8 @@
 // and each of the two dear CPU tasks linear in counts of its work:
 //   ms = intercept_ms * runs + (ms_per_ktriangle * triangles
 //        + ms_per_kreaching * reaching + ms_per_ktested * tested
-//        + ms_per_kstraddling * straddling) / 1000.
+//        + ms_per_kstraddling * straddling + ms_per_kexamined * examined)
+//        / 1000.
 // A task's cost follows how much of the mesh the near plane and the light
 // pyramid involve, not the mesh's size: the clipped-sides cap is nearly free
 // where the occluder's volume does not reach the near plane, and the exact
@@ -58,7 +59,11 @@ struct PassCost {
 //     tested      the triangles the builder tests against the near plane
 //                 (OccluderWorkInputs::clipped_cap_tested);
 //     straddling  of those, the ones with vertices on both sides (the
-//                 extrusion program, the clipping and the fan run on them).
+//                 extrusion program, the clipping and the fan run on them);
+//     examined    the faces the float light-pyramid cull tested one by one
+//                 (gl/light_pyramid_cull.hpp, faces_examined): 0 where its
+//                 mesh and chunk boxes decide, up to every face where it
+//                 finds a face in the pyramid late or not at all.
 //   exact_test (the exact empty-near-cap test of every occluder under one
 //   light, one run per light; exact/light_pyramid.hpp,
 //   occluders_meeting_light_pyramid):
@@ -67,28 +72,35 @@ struct PassCost {
 //                 near plane;
 //     tested      the triangles of the occluders the float light-pyramid
 //                 cull leaves undecided (those the test scans face by face);
-//     straddling  the occluders' near-plane straddling triangles.
+//     straddling  the occluders' near-plane straddling triangles;
+//     examined    0 (its float cull runs in the decision's estimate, whose
+//                 cost the decision's time holds).
 struct CpuTaskWork {
-  double runs = 0, triangles = 0, reaching = 0, tested = 0, straddling = 0;
+  double runs = 0, triangles = 0, reaching = 0, tested = 0, straddling = 0, examined = 0;
   CpuTaskWork& operator+=(const CpuTaskWork& o) {
     runs += o.runs;
     triangles += o.triangles;
     reaching += o.reaching;
     tested += o.tested;
     straddling += o.straddling;
+    examined += o.examined;
     return *this;
   }
 };
 
 // A CPU task's cost, linear in its counts: ms per run, and ms per thousand
-// of each count.  All finite and not negative.
+// of each count.  All finite and not negative.  ms_per_kexamined is added
+// last: a profile without it (0) prices every work to the same bits as the
+// four-count sum.
 struct CpuTaskCost {
   double intercept_ms = 0;
   double ms_per_ktriangle = 0, ms_per_kreaching = 0, ms_per_ktested = 0, ms_per_kstraddling = 0;
+  double ms_per_kexamined = 0;
   double ms(const CpuTaskWork& w) const {
-    return intercept_ms * w.runs + (ms_per_ktriangle * w.triangles + ms_per_kreaching * w.reaching +
-                                    ms_per_ktested * w.tested + ms_per_kstraddling * w.straddling) *
-                                       1e-3;
+    return intercept_ms * w.runs +
+           (ms_per_ktriangle * w.triangles + ms_per_kreaching * w.reaching + ms_per_ktested * w.tested +
+            ms_per_kstraddling * w.straddling + ms_per_kexamined * w.examined) *
+               1e-3;
   }
 };
 
@@ -152,7 +164,8 @@ struct CpuObservation {
   CpuTask task = CpuTask::Silhouette;
   double triangles = 0, ms = 0;
   double reaching = 0, tested = 0, straddling = 0;  // 0 for the silhouette
-  CpuTaskWork work() const { return {1, triangles, reaching, tested, straddling}; }
+  double examined = 0;                              // the clipped-sides cap's; 0 for the others
+  CpuTaskWork work() const { return {1, triangles, reaching, tested, straddling, examined}; }
 };
 
 // How well a fitted profile predicts: median |predicted - measured| /

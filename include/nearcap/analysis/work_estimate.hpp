@@ -75,6 +75,9 @@ struct OccluderWorkInputs {
   // `pyramid_cull_run` (else false: not known).
   bool certainly_misses_light_pyramid = false;
   bool pyramid_cull_run = true;
+  // The faces that cull tested one by one (its faces_examined; 0 where it
+  // did not run).
+  double pyramid_cull_examined = 0;
 };
 
 // Occluder `object` under scene.lights[light].  The object must be an

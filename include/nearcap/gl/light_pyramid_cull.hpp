@@ -37,8 +37,14 @@ namespace nearcap::gl {
 // by margin_x, margin_y (NDC units on each side; the near-cap pass passes
 // near_plane_cap_margin), with the float allowances
 // above; false when it may (or the object has no face chunks, or the light
-// lies within rounding of the near plane).
+// lies within rounding of the near plane).  With `faces_examined`, stores
+// there the faces whose own bounds it tested (those of the chunks whose box
+// it could not decide whole, up to the first face that may meet the
+// pyramid): the part of its work that grows with the mesh, what the
+// clipped-sides cap's cost is priced by (analysis/device_profile.hpp,
+// CpuTaskWork::examined); 0 where the mesh's box or the chunks' boxes
+// decide.
 bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, const Vec3d& light, double margin_x,
-                                    double margin_y);
+                                    double margin_y, std::size_t* faces_examined = nullptr);
 
 }  // namespace nearcap::gl
