@@ -77,18 +77,23 @@ class SquareProof {
           return ExactForm{Rational(fr.far) * pl.n, Rational(-fr.near) * pl.d};
         });
   }
-  // sign((d1 n2 - d2 n1) . P): times sign(d1 d2), negative when e1 is hit first.
-  Sign order(const EyeTriangle& e1, const EyeTriangle& e2) const {
+  // sign((d_a n_b - d_b n_a) . P) over the square, for the planes of two
+  // triangles' faces (eye or light triangles): which plane a ray through P
+  // meets first, up to the signs of d_a and d_b.
+  template <class A, class B>
+  Sign plane_pair(Predicate predicate, const A& a, const B& b) const {
     return uniform_sign(
-        Predicate::RayHit, stats_, c_,
+        predicate, stats_, c_,
         [&] {
-          return BoundedForm{e1.plane.d * e2.plane.n - e2.plane.d * e1.plane.n, BoundedDouble(0.0)};
+          return BoundedForm{a.plane.d * b.plane.n - b.plane.d * a.plane.n, BoundedDouble(0.0)};
         },
         [&] {
-          const auto p1 = t_.exact_plane(e1.object, e1.face), p2 = t_.exact_plane(e2.object, e2.face);
-          return ExactForm{p1.d * p2.n - p2.d * p1.n, Rational(0)};
+          const auto pa = t_.exact_plane(a.object, a.face), pb = t_.exact_plane(b.object, b.face);
+          return ExactForm{pa.d * pb.n - pb.d * pa.n, Rational(0)};
         });
   }
+  // sign((d1 n2 - d2 n1) . P): times sign(d1 d2), negative when e1 is hit first.
+  Sign order(const EyeTriangle& e1, const EyeTriangle& e2) const { return plane_pair(Predicate::RayHit, e1, e2); }
 
   // 1. T is hit over the whole square.
   bool hit_everywhere(const EyeTriangle& e) const {
@@ -128,15 +133,7 @@ class SquareProof {
         if (s[k] != Sign::Zero && s[m] == -s[k]) return Crossing::Never;  // never all one sign
     }
     if (t_.coplanar(lt, q_index)) return Crossing::Never;  // q lies in L's plane
-    const Sign side = uniform_sign(
-        Predicate::ShadowCrossing, stats_, c_,
-        [&] {
-          return BoundedForm{q.plane.d * lt.plane.n - lt.plane.d * q.plane.n, BoundedDouble(0.0)};
-        },
-        [&] {
-          const auto pq = t_.exact_plane(q.object, q.face), pt = t_.exact_plane(lt.object, lt.face);
-          return ExactForm{pq.d * pt.n - pt.d * pq.n, Rational(0)};
-        });
+    const Sign side = plane_pair(Predicate::ShadowCrossing, q, lt);
     if (side != Sign::Zero && side * q.sigma != -lt.light_side) return Crossing::Never;
     if (side != Sign::Zero && s[0] != Sign::Zero && s[0] == s[1] && s[1] == s[2]) return Crossing::Always;
     return Crossing::Unknown;
