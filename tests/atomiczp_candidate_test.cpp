@@ -126,6 +126,49 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheNearPlaneCutsTheOccluder) {
   }
 }
 
+// A box wholly behind the eye, between it and a light behind the camera:
+// the eye is in its volume, which fills the middle of the view (Z-pass is
+// wrong there).  No point of the box is in front of the eye, so the near
+// plane does not cut it: AtomicZP is offered, chosen, and as right as
+// Z-fail.  A box reaching from behind the eye to beyond the near plane
+// (none of its vertices between them, its side faces across) is not.
+TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPlane) {
+  const TriangleMesh box = read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off");
+  auto scene = [&](const Affine3d& at) {
+    SceneBuilder b("box behind the eye");
+    b.camera(look_at_camera({0, 0, 0}, {0, -0.5, -4}, {0, 1, 0}, 60, 0.05, 100, 64, 48));
+    b.light({0, 0.5, 8});
+    b.object(box, at);
+    Affine3d ground = test::translate(0, -20.6, 0);
+    for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
+    b.receiver(box, ground);
+    return b.build();
+  };
+  const Scene behind = scene(test::translate(0, 0.25, 4));
+  const CameraSpaceScene cs(behind);
+  ASSERT_EQ(exact_eye_count(cs, 0).count, 1u);
+  const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  const PixelReference ref = compute_pixel_reference(cs, 0);
+  gl::ShadowFrameBatch batch(behind, 0, d.settings);
+  const CrackReport chosen = judge_frame(batch.render(d.object_methods), ref);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(behind, 0, ShadowMethod::ZFail, d.settings), ref);
+  const CrackReport zpass = judge_frame(gl::render_shadow_frame(behind, 0, ShadowMethod::ZPass, d.settings), ref);
+  std::printf("box behind the eye: the decision's frame wrong on %zu, zfail %zu, zpass %zu of %zu seen\n", chosen.wrong,
+              zfail.wrong, zpass.wrong, chosen.pixels_seen);
+  EXPECT_LE(chosen.wrong, zfail.wrong);
+  EXPECT_GT(zpass.wrong, 100u);
+
+  Affine3d across = test::translate(0.5, 0, 0);
+  for (int k = 0; k < 3; ++k) across.rows[k][k] = 0.6;  // x 0.2 .. 0.8, z -0.3 .. 0.3
+  const Scene beside = scene(across);
+  const CameraSpaceScene cs2(beside);
+  const analysis::PolicyDecision d2 = analysis::decide(cost_policy(atomiczp_favoured()), cs2, 0, {});
+  EXPECT_NE(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
+  EXPECT_NE(d2.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
+      << d2.reasons[0];
+}
+
 // The eye exactly on a side plane of the box's volume, the segment eye ->
 // light through the box's top edge: the exact count is decided by the
 // perturbation (on_boundary), no constant is right on the whole frame, and

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -302,19 +303,35 @@ bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
   return cheap_conditioning_features(cs, light).light_near_distance == 0;
 }
 
-// Whether every vertex of occluder o lies strictly beyond the near plane
-// (z < -near in camera space), decided exactly: no triangle of it is in
-// front of the plane or straddles it, so the depth pre-pass draws all of it.
-bool occluder_beyond_near_plane(const CameraSpaceScene& cs, std::size_t o) {
+// Whether no point of occluder o lies between the eye's plane and the near
+// plane (camera space: -near <= z < 0), decided exactly per vertex: each
+// triangle lies wholly beyond the near plane (every vertex z < -near) or
+// wholly on or behind the eye's plane (every vertex z >= 0).  A view ray
+// (z < 0 past the eye) then meets the occluder only beyond the near plane,
+// where the depth pre-pass draws it, so depth-clamped Z-pass misses none of
+// its light cap's crossings.  Conservative: a triangle from behind the eye
+// to beyond the near plane is refused, also where it crosses the slab
+// outside the view.
+bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o) {
   const double near = cs.frustum().near;
-  const BoundedDouble minus_near(-near);
-  const std::size_t n = cs.mesh(o).positions.size();
-  for (std::size_t v = 0; v < n; ++v) {
-    const auto vi = static_cast<VertexIndex>(v);
-    const Sign s = filtered_sign(
-        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, vi).z - minus_near; },
-        [&] { return Rational(cs.exact_vertex(o, vi).z + Rational(near)); });
-    if (s != Sign::Negative) return false;
+  const BoundedDouble minus_near(-near), zero(0.0);
+  const TriangleMesh& mesh = cs.mesh(o);
+  enum : std::uint8_t { kUnknown, kBeyond, kBehind };
+  std::vector<std::uint8_t> side(mesh.positions.size(), kUnknown);
+  auto side_of = [&](VertexIndex v) {
+    if (side[v] != kUnknown) return side[v];
+    const Sign beyond = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - minus_near; },
+        [&] { return Rational(cs.exact_vertex(o, v).z + Rational(near)); });
+    if (beyond == Sign::Negative) return side[v] = kBeyond;
+    const Sign behind = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - zero; },
+        [&] { return Rational(cs.exact_vertex(o, v).z); });
+    return side[v] = behind == Sign::Negative ? kUnknown : kBehind;
+  };
+  for (const auto& t : mesh.triangles) {
+    const std::uint8_t a = side_of(t[0]);
+    if (a == kUnknown || side_of(t[1]) != a || side_of(t[2]) != a) return false;
   }
   return true;
 }
@@ -329,7 +346,7 @@ bool occluder_beyond_near_plane(const CameraSpaceScene& cs, std::size_t o) {
 // says why not, or what was found.
 bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, gl::Arithmetic arithmetic,
                        std::string& why) {
-  if (!occluder_beyond_near_plane(cs, o)) {
+  if (!near_plane_clear_of_occluder(cs, o)) {
     why = "the near plane cuts the occluder";
     return false;
   }

@@ -273,7 +273,8 @@ void print_noise_floor(const analysis::CalibrationSet& set) {
                 quantile(all, 0.95), all.size());
 }
 
-void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r) {
+void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r,
+                      const analysis::EyeCountFitReport& eye) {
   std::printf("device profile for %s (held-out: frames with FNV-1a(frame) %% 5 == 0):\n", p.gl_renderer.c_str());
   std::printf("  %-12s %11s %13s %13s %10s %10s\n", "pass kind", "ms per pass", "ms per Mtri", "ms per Mfrag",
               "train err", "held out");
@@ -284,6 +285,12 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                 c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
                 percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
   }
+  if (const auto& c = p.eye_count)
+    std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n", "eye_count", c->intercept_ms,
+                c->ms_per_mtriangle, c->ms_per_mfragment, percent(eye.train_median_relative_error).c_str(),
+                percent(eye.held_out_median_relative_error).c_str(), eye.train_count, eye.held_out_count);
+  else
+    std::printf("  eye_count    no training observation (no AtomicZP frame drawn): no eye_count row\n");
   std::printf("  %-12s %11s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri", "per kreaching",
               "per ktested", "per kstraddle", "train err", "held out");
   const analysis::CpuTaskCost silhouette{0, p.cpu.ms_per_ktriangle_silhouette, 0, 0, 0};
@@ -420,16 +427,9 @@ void run(CalibrateOptions o) {
     analysis::ProfileFitReport report;
     policy->device_profile =
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
-    print_fit_report(*policy->device_profile, report);
     analysis::EyeCountFitReport eye_report;
     policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
-    if (const auto& c = policy->device_profile->eye_count)
-      std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n", "eye_count", c->intercept_ms,
-                  c->ms_per_mtriangle, c->ms_per_mfragment, percent(eye_report.train_median_relative_error).c_str(),
-                  percent(eye_report.held_out_median_relative_error).c_str(), eye_report.train_count,
-                  eye_report.held_out_count);
-    else
-      std::printf("  eye_count: no training observation (no AtomicZP frame drawn): the profile has no eye_count row\n");
+    print_fit_report(*policy->device_profile, report, eye_report);
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
     nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();

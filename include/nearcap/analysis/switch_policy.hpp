@@ -190,9 +190,11 @@ struct PolicyDecision {
 //                     cap's);
 //   Z-fail;
 //   AtomicZP          where the profile has its eye-count row (absent: not
-//                     offered) and it is right wherever Z-fail is: no vertex
-//                     of the occluder on or in front of the near plane
-//                     (exact), and the occluder's share of the eye count
+//                     offered) and it is right wherever Z-fail is: each
+//                     occluder triangle wholly beyond the near plane or
+//                     wholly on or behind the eye's plane (exact: no point
+//                     of it where a view ray meets it before the near
+//                     plane), and the occluder's share of the eye count
 //                     decided robustly: the exact count (exact/eye_count.hpp)
 //                     not on_boundary, and the float32 count as the GL's pass
 //                     computes it (gl/eye_count.hpp) equal to it; priced as
