@@ -311,9 +311,8 @@ bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
 // where the depth pre-pass draws it, so depth-clamped Z-pass misses none of
 // its light cap's crossings.  Conservative: a triangle from behind the eye
 // to beyond the near plane is refused, also where it crosses the slab
-// outside the view.
-bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o) {
-  const double near = cs.frustum().near;
+// outside the view.  `near`: the near plane the frame is drawn with.
+bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, double near) {
   const BoundedDouble minus_near(-near), zero(0.0);
   const TriangleMesh& mesh = cs.mesh(o);
   enum : std::uint8_t { kUnknown, kBeyond, kBehind };
@@ -343,10 +342,11 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o) {
 // the float32 count, computed as the GL's pass computes it (gl/eye_count.hpp,
 // in `arithmetic`), equals it.  Counts add over occluders, so a frame's
 // count over its AtomicZP occluders is right where each one's is.  `why`
-// says why not, or what was found.
-bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, gl::Arithmetic arithmetic,
-                       std::string& why) {
-  if (!near_plane_clear_of_occluder(cs, o)) {
+// says why not, or what was found.  `near`: the near plane the frame is
+// drawn with.
+bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, double near,
+                       gl::Arithmetic arithmetic, std::string& why) {
+  if (!near_plane_clear_of_occluder(cs, o, near)) {
     why = "the near plane cuts the occluder";
     return false;
   }
@@ -414,7 +414,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       else if (!(oc.atomiczp_ms < oc.zfail_ms))
         oc.atomiczp_why = "not cheaper than zfail";
       else
-        oc.atomiczp_ok = atomiczp_admitted(cs, o, light, d.settings.arithmetic, oc.atomiczp_why);
+        oc.atomiczp_ok =
+            atomiczp_admitted(cs, o, light, scene.camera.frustum.near, d.settings.arithmetic, oc.atomiczp_why);
     }
     occluders.push_back(std::move(oc));
   }
