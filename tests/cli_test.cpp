@@ -290,9 +290,10 @@ TEST(CracksCommand, OneRecordPerMethodWithTheDocumentedFields) {
   }
 }
 
-// Where a tiny near plane exhausts the depth buffer the policy's record
-// says so (depth_limited, with a note naming the fixes); elsewhere it says
-// it is not.
+// Where a tiny near plane exhausts the depth buffer, a policy held to the
+// scene's near plane says so (depth_limited, with a note naming the fixes);
+// the shipped policy draws that frame with the tight near plane and says
+// why; a policy with the tight plane of its own is not depth-limited.
 TEST(CracksCommand, ThePolicysRecordSaysWhereTheDepthBufferIsTheLimit) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_depth_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -306,8 +307,22 @@ TEST(CracksCommand, ThePolicysRecordSaysWhereTheDepthBufferIsTheLimit) {
   ASSERT_EQ(j.at("methods").size(), 2u);
   EXPECT_GT(j["methods"][0].at("cracks").get<int>(), 0) << "Z-fail itself cracks here";
   const nlohmann::json& policy = j["methods"][1];
-  EXPECT_TRUE(policy.at("depth_limited").get<bool>());
-  EXPECT_NE(policy.at("depth_note").get<std::string>().find("--near-plane tight"), std::string::npos);
+  EXPECT_FALSE(policy.at("depth_limited").get<bool>());
+  EXPECT_FALSE(policy.contains("depth_note"));
+  EXPECT_NE(policy.at("near_plane_note").get<std::string>().find("tight near plane"), std::string::npos);
+  EXPECT_EQ(policy.at("cracks").get<int>(), 0);
+  nlohmann::json pinned_policy =
+      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
+  pinned_policy["near_plane"] = "scene";
+  const std::string pinned_path = (dir / "pinned.json").string();
+  std::ofstream(pinned_path) << pinned_policy.dump();
+  const test::CliResult pinned =
+      test::run_cli("cracks '" + scene + "' --light 0 --method policy --policy '" + pinned_path + "'", "c");
+  ASSERT_EQ(pinned.exit_code, 0) << pinned.err;
+  const auto p = nlohmann::json::parse(pinned.out);
+  EXPECT_TRUE(p.at("depth_limited").get<bool>());
+  EXPECT_NE(p.at("depth_note").get<std::string>().find("--near-plane tight"), std::string::npos);
+  EXPECT_FALSE(p.contains("near_plane_note"));
   const test::CliResult fixed =
       test::run_cli("cracks '" + scene + "' --light 0 --method policy --policy data/policy-tight-near.json", "c");
   ASSERT_EQ(fixed.exit_code, 0) << fixed.err;

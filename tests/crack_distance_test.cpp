@@ -4,8 +4,12 @@
 // status; a square that holds a pixel of the other status is never proven.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <fstream>
 #include <optional>
+#include <string>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
@@ -167,6 +171,48 @@ TEST(CrackDistance, LevelsDoNotDependOnTheOrderOfMeasurement) {
         EXPECT_EQ(a1.distance, b2.distance) << sample.index;
         EXPECT_EQ(a2.distance, b1.distance) << sample.index;
       });
+}
+
+// The light-triangle hint of proven_status_over_square changes no answer:
+// on the bunny, whose shadow holds the eye (count 1 nearly everywhere, the
+// shadowing triangles small and many), every pixel's squares of every radius
+// are proven the same with no hint, with the hint carried from pixel to
+// pixel as the crack distance carries it, and with a hint that is a
+// different lit triangle at every call; the carried hint proves squares.
+TEST(CrackDistance, ShadowerHintChangesNoAnswer) {
+  const std::string base = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes";
+  std::ifstream in(base + "/bunny.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 48;
+  j["camera"]["height"] = 36;
+  MeshCache meshes;
+  const Scene scene = parse_scene(j.dump(), "bunny 48x36", base, &meshes);
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const std::uint32_t lit = static_cast<std::uint32_t>(tracer.front_facing_triangles());
+  ASSERT_GT(lit, 1000u);
+  std::uint32_t carried = PixelReferenceTracer::kNoShadower;
+  std::size_t shadowed = 0, by_hint = 0, compared = 0;
+  std::uint32_t k = 0;
+  for (int y = 0; y < scene.camera.height; ++y)
+    for (int x = 0; x < scene.camera.width; ++x)
+      for (const std::int64_t half_width : kCrackDistanceRadiiFixed) {
+        const WindowPoint c = crack_square_centre(x, y);
+        const std::optional<bool> plain = tracer.proven_status_over_square(c, half_width, nullptr);
+        const std::uint32_t before = carried;
+        const std::optional<bool> hinted = tracer.proven_status_over_square(c, half_width, nullptr, &carried);
+        std::uint32_t arbitrary = (k++ * 7919u) % lit;
+        const std::optional<bool> misled = tracer.proven_status_over_square(c, half_width, nullptr, &arbitrary);
+        EXPECT_EQ(hinted, plain) << "pixel " << x << ", " << y << ", half-width " << half_width;
+        EXPECT_EQ(misled, plain) << "pixel " << x << ", " << y << ", half-width " << half_width;
+        ++compared;
+        shadowed += plain == std::optional<bool>(true);
+        by_hint +=
+            hinted == std::optional<bool>(true) && before != PixelReferenceTracer::kNoShadower && carried == before;
+      }
+  EXPECT_EQ(compared, std::size_t{48 * 36 * 6});
+  EXPECT_GT(shadowed, 1000u);
+  EXPECT_GT(by_hint, 100u) << "the carried hint proved squares";
 }
 
 }  // namespace

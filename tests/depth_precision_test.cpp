@@ -282,13 +282,15 @@ TEST(DepthLimited, TheDepthStepFollowsTheMappingsFormula) {
 }
 
 // Where no method is right (tiny near planes exhaust the 24-bit depth
-// buffer), the policy's record says so: on the first 100 tiny-near
-// configurations of seed 5 every (configuration, light) where Z-fail cracks
-// is flagged depth-limited, with the fixes named; the alternative policies,
-// drawn with reversed-Z or the tight near plane, flag none of them, nor
-// does the shipped one on any bundled scene.
+// buffer), a policy held to the scene's near plane says so: on the first
+// 100 tiny-near configurations of seed 5 every (configuration, light) where
+// Z-fail cracks is flagged depth-limited, with the fixes named; the
+// alternative policies, drawn with reversed-Z or the tight near plane, flag
+// none of them, nor does the shipped one on any bundled scene.
 TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
   const std::string data = std::string(NEARCAP_SOURCE_DIR) + "/data/";
+  analysis::SwitchPolicy pinned = analysis::load_policy(data + "policy.json");
+  pinned.near_plane = gl::NearPlane::Scene;
   const analysis::SwitchPolicy shipped = analysis::load_policy(data + "policy.json");
   const analysis::SwitchPolicy reversed = analysis::load_policy(data + "policy-reversed-z.json");
   const analysis::SwitchPolicy tight = analysis::load_policy(data + "policy-tight-near.json");
@@ -296,7 +298,7 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
   test::for_each_sampled_scene(tiny_near_sampler(), 100, [&](const Scene& scene, const analysis::HardCase&) {
     const CameraSpaceScene cs(scene);
     for (std::size_t light = 0; light < scene.lights.size(); ++light) {
-      const analysis::PolicyDecision d = analysis::decide(shipped, cs, light, {});
+      const analysis::PolicyDecision d = analysis::decide(pinned, cs, light, {});
       const PixelReferenceTracer tracer(cs, light);
       const PixelReference ref = compute_pixel_reference(tracer);
       CrackReport r = judge_frame(gl::render_shadow_frame(scene, light, gl::ShadowMethod::ZFail), ref);
@@ -313,8 +315,10 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
       } else {
         EXPECT_TRUE(d.depth_note.empty());
       }
+      EXPECT_TRUE(d.near_plane_note.empty()) << "a policy with a near plane of its own keeps it";
       alternatives_flagged += analysis::decide(reversed, cs, light, {}).depth_limited;
       alternatives_flagged += analysis::decide(tight, cs, light, {}).depth_limited;
+      alternatives_flagged += analysis::decide(shipped, cs, light, {}).depth_limited;
     }
   });
   std::printf(
@@ -329,8 +333,53 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
                            "exact_camera.json", "light_on_near_plane.json"}) {
     const Scene scene = load_scene(kScenes + name);
     const CameraSpaceScene cs(scene);
-    EXPECT_FALSE(analysis::decide(shipped, cs, 0, {}).depth_limited) << name;
+    const analysis::PolicyDecision d = analysis::decide(shipped, cs, 0, {});
+    EXPECT_FALSE(d.depth_limited) << name;
+    EXPECT_EQ(d.settings.near_plane, gl::NearPlane::Scene) << name;
   }
+}
+
+// A policy without a near plane of its own and without the exact Z-pass
+// test (the shipped one) draws a depth-limited frame with the tight near
+// plane, and only such a frame: on the same 100 configurations it moves
+// exactly where a policy held to the scene's plane is depth-limited, says
+// why, and its frame there has no crack, where Z-fail's has some.
+TEST(DepthLimited, TheShippedPolicyMovesTheNearPlaneWhereTheDepthBufferIsTheLimit) {
+  const std::string data = std::string(NEARCAP_SOURCE_DIR) + "/data/";
+  const analysis::SwitchPolicy shipped = analysis::load_policy(data + "policy.json");
+  ASSERT_FALSE(shipped.near_plane);
+  ASSERT_FALSE(shipped.exact_zpass);
+  analysis::SwitchPolicy pinned = shipped;
+  pinned.near_plane = gl::NearPlane::Scene;
+  std::size_t moved = 0, zfail_cracks_there = 0, policy_cracks_there = 0;
+  test::for_each_sampled_scene(tiny_near_sampler(), 100, [&](const Scene& scene, const analysis::HardCase&) {
+    const CameraSpaceScene cs(scene);
+    for (std::size_t light = 0; light < scene.lights.size(); ++light) {
+      const analysis::PolicyDecision d = analysis::decide(shipped, cs, light, {});
+      const bool limited = analysis::decide(pinned, cs, light, {}).depth_limited;
+      EXPECT_EQ(d.settings.near_plane == gl::NearPlane::Tight, limited);
+      EXPECT_EQ(!d.near_plane_note.empty(), limited);
+      EXPECT_FALSE(d.depth_limited);
+      if (!limited) continue;
+      ++moved;
+      EXPECT_NE(d.near_plane_note.find("tight near plane"), std::string::npos) << d.near_plane_note;
+      const PixelReferenceTracer tracer(cs, light);
+      const PixelReference ref = compute_pixel_reference(tracer);
+      gl::ShadowFrameBatch batch(scene, light, d.settings);
+      CrackReport policy = judge_frame(batch.render(d.object_methods), ref);
+      CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, light, gl::ShadowMethod::ZFail), ref);
+      CrackDistances distances(tracer, ref);
+      distances.measure(policy);
+      distances.measure(zfail);
+      policy_cracks_there += *policy.cracks;
+      zfail_cracks_there += *zfail.cracks;
+    }
+  });
+  std::printf("[ depth    ] the shipped policy moved the near plane in %zu frames: %zu cracks there (Z-fail %zu)\n",
+              moved, policy_cracks_there, zfail_cracks_there);
+  EXPECT_GT(moved, 5u);
+  EXPECT_GT(zfail_cracks_there, 0u);
+  EXPECT_EQ(policy_cracks_there, 0u);
 }
 
 }  // namespace

@@ -3,12 +3,23 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "nearcap/analysis/engine_policies.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/gl/light_frustum.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
 
 namespace nearcap {
 namespace {
@@ -127,6 +138,246 @@ TEST_F(Report, BadInputIsOneLineAndWritesNothing) {
     EXPECT_NE(r.err.find(c.fragment), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_FALSE(fs::exists(out)) << c.args;
   }
+}
+
+// The fields of a line of a nearcap CSV (no field is quoted).
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    fields.push_back(line.substr(start, comma - start));
+  fields.push_back(line.substr(start));
+  return fields;
+}
+
+std::string joined(const std::vector<std::string>& fields) {
+  std::string line;
+  for (std::size_t k = 0; k < fields.size(); ++k) line += (k ? "," : "") + fields[k];
+  return line;
+}
+
+// The first column of a report table's CSV, header left out.
+std::vector<std::string> first_column(const fs::path& csv) {
+  std::istringstream in(test::slurp(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  while (std::getline(in, line)) names.push_back(fields_of(line)[0]);
+  return names;
+}
+
+nlohmann::json settings_table() {
+  const test::CliResult r = test::run_cli("settings", "settings");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+// Runs the report script itself on `rows` with the settings table `table`.
+test::CliResult run_report_script(const fs::path& rows, const fs::path& table, const fs::path& out) {
+  const std::string err = (out.string() + ".err");
+  const char* env = std::getenv("NEARCAP_PYTHON");
+  const std::string python = env && *env ? env : "/usr/bin/python3";
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + python +
+                              "' analysis/report/sweep_report.py '" + rows.string() + "' --out '" + out.string() +
+                              "' --settings '" + table.string() + "' > /dev/null 2> '" + err + "'";
+  const int status = std::system(command.c_str());
+  test::CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = test::slurp(err);
+  fs::remove(err);
+  return r;
+}
+
+TEST(SettingsTable, HoldsEveryMethodAndRuleOfTheSweepInTheReportsOrder) {
+  const nlohmann::json table = settings_table();
+  EXPECT_EQ(table["format"], "nearcap-settings");
+  EXPECT_EQ(table["version"], 1);
+  std::vector<std::string> expected;
+  std::vector<std::string> labels;
+  for (const auto& m : gl::kShadowMethodTable) {
+    expected.emplace_back(m.name);
+    labels.emplace_back(m.help);
+  }
+  expected.emplace_back("policy");
+  labels.emplace_back("");
+  for (const auto& p : analysis::kEnginePolicyTable) {
+    expected.emplace_back(p.name);
+    labels.emplace_back(p.help);
+  }
+  ASSERT_EQ(table["methods"].size(), expected.size()) << table["methods"].dump();
+  std::map<std::string, std::string> holder;
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    const nlohmann::json& m = table["methods"][k];
+    EXPECT_EQ(m["name"], expected[k]) << k;
+    if (!labels[k].empty()) {
+      EXPECT_EQ(m["label"], labels[k]) << expected[k];
+    }
+    EXPECT_FALSE(m["label"].get<std::string>().empty()) << expected[k];
+    for (const auto& role : m["roles"]) {
+      EXPECT_TRUE(holder.emplace(role.get<std::string>(), expected[k]).second) << "role " << role << " held twice";
+    }
+  }
+  EXPECT_EQ(table["methods"][0]["kind"], "shadow-method");
+  EXPECT_EQ(table["methods"][gl::kAllShadowMethods.size()]["kind"], "switch-policy");
+  EXPECT_EQ(table["methods"][expected.size() - 1]["kind"], "engine-rule");
+  // Each role of the report held by the method that plays it.
+  const std::map<std::string, std::string> roles{{"timing-baseline", "zpass"},
+                                                 {"zfail-baseline", "zfail"},
+                                                 {"published-zpplus", "zpplus"},
+                                                 {"corrected-zpplus", "zpplus-corrected"},
+                                                 {"switch-policy", "policy"}};
+  EXPECT_EQ(holder, roles);
+  // The emulation choices: each option with its table's values.
+  bool found = false;
+  for (const auto& c : table["choices"])
+    if (c["option"] == "light-projection") {
+      found = true;
+      ASSERT_EQ(c["values"].size(), std::size(gl::kLightProjectionTable));
+      for (std::size_t k = 0; k < c["values"].size(); ++k)
+        EXPECT_EQ(c["values"][k]["name"], gl::kLightProjectionTable[k].name);
+    }
+  EXPECT_TRUE(found) << table["choices"].dump();
+  EXPECT_EQ(table["kinds"].size(), static_cast<std::size_t>(analysis::kHardCaseKindCount));
+}
+
+// A method added to the settings table, one renamed and one moved: the
+// report lists them as the table says, with no Python edited; a role the
+// table takes away takes its section with it.
+TEST_F(Report, TheMethodsTheirOrderAndRolesComeFromTheSettingsTable) {
+  nlohmann::json table = settings_table();
+  nlohmann::json methods = nlohmann::json::array();
+  methods.push_back({{"name", "brand-new"},
+                     {"label", "a method only this test has"},
+                     {"kind", "shadow-method"},
+                     {"roles", nlohmann::json::array()}});
+  nlohmann::json zfail;
+  for (nlohmann::json m : table["methods"]) {
+    if (m["name"] == "atomiczp") m["name"] = "atomic-zp";
+    if (m["name"] == "zfail")
+      zfail = m;
+    else
+      methods.push_back(m);
+  }
+  methods.push_back(zfail);
+  table["methods"] = methods;
+  const fs::path fake = dir_ / "fake_settings.json";
+  std::ofstream(fake) << table.dump(1);
+  // The rows: atomiczp's renamed, and each Z-pass row again as brand-new's,
+  // and as brand-new's under a variant.
+  const fs::path rows = dir_ / "renamed_rows.csv";
+  {
+    std::istringstream in(test::slurp(dir_ / "rows.csv"));
+    std::ofstream out(rows);
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> header = fields_of(line);
+    const std::size_t method = std::find(header.begin(), header.end(), "method") - header.begin();
+    const std::size_t variant = std::find(header.begin(), header.end(), "variant") - header.begin();
+    ASSERT_LT(method, header.size());
+    ASSERT_LT(variant, header.size());
+    out << line << "\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> f = fields_of(line);
+      if (f[method] == "atomiczp") f[method] = "atomic-zp";
+      out << joined(f) << "\n";
+      if (f[method] == "zpass") {
+        f[method] = "brand-new";
+        out << joined(f) << "\n";
+        f[variant] = "light-projection=glfrustum";
+        out << joined(f) << "\n";
+      }
+    }
+  }
+  const fs::path out = dir_ / "renamed_report";
+  test::CliResult r = run_report_script(rows, fake, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> order{"brand-new",
+                                       "brand-new [light-projection=glfrustum]",
+                                       "zpass",
+                                       "zpplus",
+                                       "zpplus-corrected",
+                                       "preload",
+                                       "atomic-zp",
+                                       "policy",
+                                       "doom3",
+                                       "doom3-bfg",
+                                       "ogre",
+                                       "always-zfail",
+                                       "zfail"};
+  EXPECT_EQ(first_column(out / "summary.csv"), order);
+  EXPECT_EQ(first_column(out / "crack_distance.csv"), order);
+  const std::string key = test::slurp(out / "methods.csv");
+  EXPECT_NE(key.find("brand-new,shadow-method,a method only this test has\r\n"), std::string::npos) << key;
+  // A variant's choices in words, from the table's emulation choices.
+  EXPECT_NE(key.find("brand-new [light-projection=glfrustum],shadow-method,a method only this test has; under "
+                     "light-projection=glfrustum (P_l formulation)\r\n"),
+            std::string::npos)
+      << key;
+  EXPECT_NE(test::slurp(out / "index.html").find("Does case D flag"), std::string::npos);
+
+  // Without the corrected ZP+'s role the case-D section has no subject.
+  for (nlohmann::json& m : table["methods"])
+    if (m["name"] == "zpplus-corrected") m["roles"] = nlohmann::json::array();
+  std::ofstream(fake) << table.dump(1);
+  const fs::path no_role = dir_ / "no_role_report";
+  r = run_report_script(rows, fake, no_role);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::slurp(no_role / "index.html").find("Does case D flag"), std::string::npos);
+  EXPECT_EQ(first_column(no_role / "summary.csv"), order);
+
+  // A table that is not one: one line, nothing written.
+  std::ofstream(fake) << R"({"format": "nearcap-policy", "methods": []})";
+  const fs::path never = dir_ / "never_settings";
+  r = run_report_script(rows, fake, never);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err, "nearcap: error (parse): " + fake.string() +
+                       ": format: not a nearcap settings table (nearcap settings prints one)\n");
+  EXPECT_FALSE(fs::exists(never));
+}
+
+// render --bench's plot: its times are relative to the table's timing
+// baseline, whichever method holds that role.
+TEST(RenderBenchScript, TimesAreRelativeToTheTablesTimingBaseline) {
+  const fs::path dir = test::temp_path("nearcap_render_bench_script");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream csv(dir / "bench.csv");
+    csv << "frame,method,ms\n";
+    for (int f = 0; f < 4; ++f)
+      csv << f << ",zpass," << 1 + f << "\n"
+          << f << ",zpass#again," << 1.1 + f << "\n"
+          << f << ",zfail," << 2 + f << "\n";
+  }
+  nlohmann::json table = settings_table();
+  const auto run_script = [&](const std::string& name) {
+    std::ofstream(dir / (name + ".json")) << table.dump(1);
+    const char* env = std::getenv("NEARCAP_PYTHON");
+    const std::string python = env && *env ? env : "/usr/bin/python3";
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && '" + python +
+                                "' analysis/report/render_bench.py '" + (dir / "bench.csv").string() + "' '" +
+                                (dir / (name + ".png")).string() + "' --settings '" +
+                                (dir / (name + ".json")).string() + "' 2> '" + (dir / (name + ".err")).string() + "'";
+    const int status = std::system(command.c_str());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::slurp(dir / (name + ".err")));
+  };
+  auto [code, err] = run_script("real");
+  EXPECT_EQ(code, 0) << err;
+  EXPECT_GT(fs::file_size(dir / "real.png"), 1000u);
+  // The role given to a method the bench did not draw: the script says that it needs that method's rows.
+  for (nlohmann::json& m : table["methods"])
+    m["roles"] = m["name"] == "zpplus" ? nlohmann::json::array({"timing-baseline"}) : nlohmann::json::array();
+  std::tie(code, err) = run_script("moved");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(err.find("no zpplus rows (the times are relative to zpplus's"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir / "moved.png"));
+  // ... and to one it drew: a plot.
+  for (nlohmann::json& m : table["methods"])
+    m["roles"] = m["name"] == "zfail" ? nlohmann::json::array({"timing-baseline"}) : nlohmann::json::array();
+  std::tie(code, err) = run_script("zfail");
+  EXPECT_EQ(code, 0) << err;
+  EXPECT_TRUE(fs::exists(dir / "zfail.png"));
+  fs::remove_all(dir);
 }
 
 TEST(ReportCommand, UnknownSubcommandsAreNamed) {

@@ -16,6 +16,9 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/scene/scene.hpp"
 
+// The switch between kept and fresh storage, for the interleaved comparison.
+#include "../../src/exact/vector_pool.hpp"
+
 namespace {
 
 std::string bench_scene() {
@@ -59,6 +62,10 @@ BENCHMARK(BM_PixelReference)->Unit(benchmark::kMillisecond)->UseRealTime()->MinT
 //   light_moved_ms  the eye side from an EyeSetupCache (the light moved 1 cm,
 //             the camera still): the light side alone, what a frame whose
 //             light moves pays, and each light after the first of a frame.
+// Each iteration builds each case twice, interleaved: with the grids'
+// storage kept from the builds before (src/exact/vector_pool.hpp, what
+// nearcap does), and as *_fresh_ms with every vector freshly allocated, so
+// that the two compare in one run on a shared machine.
 // The serial fraction of each (Amdahl): f = 2 T2 / T1 - 1 from the runs with
 // threads 1 and 2, on an otherwise idle machine:
 //   ./analysis/benchmarks/nearcap_benchmarks --benchmark_filter=ReferenceSetup
@@ -70,39 +77,53 @@ void BM_ReferenceSetup(benchmark::State& state) {
   nearcap::LightSetupCache cache;
   nearcap::Scene lit = s;
   nearcap::EyeSetupCache eye_cache;
-  double cold = 0, warm = 0, light_moved = 0;
+  struct Times {
+    double cold = 0, warm = 0, light_moved = 0;
+  };
+  Times kept, fresh;
   bool step = false;
+  auto ms_since = [](std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
   for (auto _ : state) {
-    auto t0 = std::chrono::steady_clock::now();
-    {
-      const nearcap::CameraSpaceScene cs(s);
-      const nearcap::PixelReferenceTracer tracer(cs, 0);
-      benchmark::DoNotOptimize(&tracer);
+    for (const bool reuse : {true, false}) {
+      nearcap::vector_reuse_enabled() = reuse;
+      Times& t = reuse ? kept : fresh;
+      auto t0 = std::chrono::steady_clock::now();
+      {
+        const nearcap::CameraSpaceScene cs(s);
+        const nearcap::PixelReferenceTracer tracer(cs, 0);
+        benchmark::DoNotOptimize(&tracer);
+      }
+      t.cold += ms_since(t0);
+      moved.camera.view.rows[0][3] = s.camera.view.rows[0][3] + (step ? 0.01 : 0.0);
+      step = !step;
+      t0 = std::chrono::steady_clock::now();
+      {
+        const nearcap::CameraSpaceScene cs(moved);
+        const nearcap::PixelReferenceTracer tracer(cs, 0, &cache);
+        benchmark::DoNotOptimize(&tracer);
+      }
+      t.warm += ms_since(t0);
+      lit.lights[0].position.x = s.lights[0].position.x + (step ? 0.01 : 0.0);
+      t0 = std::chrono::steady_clock::now();
+      {
+        const nearcap::CameraSpaceScene cs(lit);
+        const nearcap::PixelReferenceTracer tracer(cs, 0, nullptr, &eye_cache);
+        benchmark::DoNotOptimize(&tracer);
+      }
+      t.light_moved += ms_since(t0);
     }
-    cold += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    moved.camera.view.rows[0][3] = s.camera.view.rows[0][3] + (step ? 0.01 : 0.0);
-    step = !step;
-    t0 = std::chrono::steady_clock::now();
-    {
-      const nearcap::CameraSpaceScene cs(moved);
-      const nearcap::PixelReferenceTracer tracer(cs, 0, &cache);
-      benchmark::DoNotOptimize(&tracer);
-    }
-    warm += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    lit.lights[0].position.x = s.lights[0].position.x + (step ? 0.01 : 0.0);
-    t0 = std::chrono::steady_clock::now();
-    {
-      const nearcap::CameraSpaceScene cs(lit);
-      const nearcap::PixelReferenceTracer tracer(cs, 0, nullptr, &eye_cache);
-      benchmark::DoNotOptimize(&tracer);
-    }
-    light_moved += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
+  nearcap::vector_reuse_enabled() = true;
   const double n = static_cast<double>(state.iterations());
   state.counters["threads"] = static_cast<double>(state.range(0));
-  state.counters["cold_ms"] = cold / n;
-  state.counters["warm_ms"] = warm / n;
-  state.counters["light_moved_ms"] = light_moved / n;
+  state.counters["cold_ms"] = kept.cold / n;
+  state.counters["warm_ms"] = kept.warm / n;
+  state.counters["light_moved_ms"] = kept.light_moved / n;
+  state.counters["cold_fresh_ms"] = fresh.cold / n;
+  state.counters["warm_fresh_ms"] = fresh.warm / n;
+  state.counters["light_moved_fresh_ms"] = fresh.light_moved / n;
 }
 BENCHMARK(BM_ReferenceSetup)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 

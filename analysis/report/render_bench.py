@@ -2,11 +2,14 @@
 """nearcap render --bench's plot: each frame's GL time relative to Z-pass's,
 one line per method, along a camera path (the ZP+ paper's Figures 9-11).
 
-Usage: render_bench.py BENCH.csv OUT.png [TITLE]
+Usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json
 BENCH.csv is what `nearcap render --path PATH --bench --out DIR` writes:
 frame,method,stencil,vertex_stage,layout,culling,ms,depth_ms,stencil_ms,lit_ms,
 gpu_depth_ms,gpu_stencil_ms,gpu_lit_ms,cpu_ms,end_to_end_ms (rows of method
-zpass#again: Z-pass drawn twice per frame, the noise floor, a line near 1).
+M#again: the first method drawn twice per frame, the noise floor, a line near
+1 when M is Z-pass).  TABLE.json is the settings table (`nearcap settings`;
+nearcap render passes it): the lines follow its order and colours, and the
+times are relative to the method whose role is the timing baseline (Z-pass).
 Errors are one line on stderr, exit code 2.
 """
 import csv
@@ -19,39 +22,62 @@ def fail(message):
 
 
 def main(argv):
-    if len(argv) < 3:
-        fail("usage: render_bench.py BENCH.csv OUT.png [TITLE]")
+    args, settings = [], None
+    k = 1
+    while k < len(argv):
+        if argv[k] == "--settings" and k + 1 < len(argv):
+            settings = argv[k + 1]
+            k += 2
+        else:
+            args.append(argv[k])
+            k += 1
+    if len(args) < 2 or settings is None:
+        fail("usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json")
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-    except ImportError:
-        fail("matplotlib is missing (scripts/install-deps.sh installs python3-matplotlib)")
+        import settings_table
+    except ImportError as e:
+        fail(f"{e.name} is missing (matplotlib: scripts/install-deps.sh installs python3-matplotlib; "
+             "settings_table.py lies beside this script)")
+    try:
+        table = settings_table.read(settings)
+    except settings_table.InputError as e:
+        fail(str(e))
+    baseline = table.role("timing-baseline")
     times = {}  # method -> {frame: ms}
     try:
-        with open(argv[1], newline="") as f:
+        with open(args[0], newline="") as f:
             for row in csv.DictReader(f):
                 times.setdefault(row["method"], {})[int(row["frame"])] = float(row["ms"])
     except (OSError, KeyError, ValueError) as e:
-        fail(f"{argv[1]}: not a bench CSV ({e})")
-    if "zpass" not in times:
-        fail(f"{argv[1]}: no zpass rows (the times are relative to Z-pass: render with --method including zpass)")
-    zpass = times["zpass"]
+        fail(f"{args[0]}: not a bench CSV ({e})")
+    if baseline not in times:
+        fail(f"{args[0]}: no {baseline} rows (the times are relative to {baseline}'s: render with --method "
+             f"including {baseline})")
+    reference = times[baseline]
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    for method, by_frame in sorted(times.items()):
-        frames = sorted(f for f in by_frame if f in zpass and zpass[f] > 0)
-        ax.plot(frames, [by_frame[f] / zpass[f] for f in frames], label=method, linewidth=1.2)
+    # A method's second drawing (M#again) right after it, dotted, in its colour.
+    for method in table.sorted({m.split("#")[0] for m in times}):
+        for name, style in ((method, "-"), (method + "#again", ":")):
+            if name not in times:
+                continue
+            by_frame = times[name]
+            frames = sorted(f for f in by_frame if f in reference and reference[f] > 0)
+            ax.plot(frames, [by_frame[f] / reference[f] for f in frames], label=name, linewidth=1.2,
+                    linestyle=style, color=table.colour(method))
     ax.axhline(1.0, color="grey", linewidth=0.8, linestyle=":")
     ax.set_xlabel("frame")
-    ax.set_ylabel("GL frame time / Z-pass's")
-    ax.set_title(argv[3] if len(argv) > 3 else "frame time relative to Z-pass")
+    ax.set_ylabel(f"GL frame time / {baseline}'s")
+    ax.set_title(args[2] if len(args) > 2 else f"frame time relative to {baseline}")
     ax.legend(fontsize=8)
     fig.tight_layout()
     try:
-        fig.savefig(argv[2], dpi=100)
+        fig.savefig(args[1], dpi=100)
     except OSError as e:
-        fail(f"{argv[2]}: {e}")
+        fail(f"{args[1]}: {e}")
 
 
 if __name__ == "__main__":

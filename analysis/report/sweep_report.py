@@ -3,7 +3,15 @@
 rows of `nearcap sweep` (one or more files).  Run through `nearcap report`,
 or directly:
 
-    sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR [--policy FILE]
+    sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR --settings TABLE.json [--policy FILE]
+
+TABLE.json is the settings table the nearcap program prints (`nearcap settings
+> TABLE.json`; `nearcap report` writes it and passes it): the methods of the
+rows, in the order the report lists them, with their descriptions, kinds and
+roles (docs/sweeps-and-report.md, "The settings table").  No method name is
+spelled here: a method the table adds appears in every section, and the
+sections about one method (the case-D claim about the corrected ZP+, times
+relative to Z-pass, the switch policy's cost) find it by its role.
 
 DIR/index.html is the page; beside it, the plots (PNG, matplotlib), the
 tables as CSV (summary.csv, by_kind.csv, case_d.csv, ...) and report.json
@@ -37,7 +45,8 @@ Sections:
   4. crack-distance histograms per method;
   5. the paper's case-D claim: frames where ZP+ (corrected) cracks without a
      case-D quad, and case-D switches that were not needed;
-  6. the hard-case sampler by kind.
+  6. the hard-case sampler by kind;
+  7. the methods: each one's kind and description from the settings table.
 """
 import array
 import bisect
@@ -68,8 +77,16 @@ except ImportError:
           "scripts/install-deps.sh installs; or set NEARCAP_PYTHON to a Python that has it)", file=sys.stderr)
     sys.exit(2)
 
-POLICY_ORDER = ["doom3", "doom3-bfg", "ogre", "always-zfail"]  # engine rules (sweep --policies)
-METHOD_ORDER = ["zpass", "zfail", "zpplus", "zpplus-corrected", "preload", "atomiczp", "policy"] + POLICY_ORDER
+try:
+    import settings_table  # noqa: E402  (beside this script)
+    from settings_table import base_method  # noqa: E402
+except ImportError:
+    print(f"nearcap: error (io): {__file__}: settings_table.py is not beside it (copy analysis/report/ whole)",
+          file=sys.stderr)
+    sys.exit(2)
+
+# The roles whose methods features.png draws, in this order (settings_table.ROLES says what each is).
+FEATURE_ROLES = ("published-zpplus", "corrected-zpplus", "zfail-baseline", "timing-baseline")
 # Per-occluder decision columns (nearcap sweep since the engine baselines); a
 # CSV without them gets no baseline section.
 DECISION_COLUMNS = ["occluders", "zpass_wrong_occluders", "false_negatives", "false_positives"]
@@ -94,7 +111,6 @@ FEATURES = [
     ("cap_window_error_px", "near-cap window error (px)"),
     ("cap_window_error_ulp", "near-cap window error (ulp)"),
 ]
-FEATURE_METHODS = ("zpplus", "zpplus-corrected", "zfail", "zpass")  # drawn in features.png, in this order
 INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_lit", "wrong_shadowed", "count_mismatch",
                    "zfail_objects", "case_disagreements"] + ["wrong_r_" + b for b in BUCKETS] + \
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
@@ -277,7 +293,11 @@ class Totals:
     (the case-D claim, the policy's cost, the exact reference's time) are folded when a configuration's rows
     end: a sweep writes them together."""
 
-    def __init__(self):
+    def __init__(self, table):
+        self.settings = table
+        self.timing = table.role("timing-baseline")
+        self.kept = {table.role(r) for r in settings_table.ROLES} - {None}  # the methods whose rows the comparisons read
+        self.feature_methods = [table.role(r) for r in FEATURE_ROLES if table.role(r) is not None]
         self.rows, self.rejected, self.configurations = 0, 0, 0
         self.refused = defaultdict(int)  # method -> refused frames
         self.methods = set()
@@ -288,7 +308,7 @@ class Totals:
         self.decisions = {}  # method -> [rows, occluders, truth, fn, fp, frames with cracks, cracks, wrong, ms, frags]
         self.paths = {}  # path name -> {"table": {(frame, light, method): (ms, cracks, cases)}, "totals": ...}
         self.feature_range = {f: [0, 0, math.inf, -math.inf] for f, _ in FEATURES}  # values, positive, min, max
-        keys = [(f, m, cracked) for f, _ in FEATURES for m in FEATURE_METHODS for cracked in (False, True)]
+        keys = [(f, m, cracked) for f, _ in FEATURES for m in self.feature_methods for cracked in (False, True)]
         self.feature_points = {key: Reservoir(FEATURE_POINTS, seed) for seed, key in enumerate(keys)}
         self.case_d = {"pairs": 0, "without_d": 0, "with_d": 0, "after_fallback": 0, "switches": 0, "unnecessary": 0}
         self.case_d_examples = []  # the first 8 in (configuration, light) order
@@ -314,7 +334,7 @@ class Totals:
         g["seen"][(light, m)] = f"{name} line {line}"
         lights = g["lights"].setdefault(light, {"ref": 0.0, "rows": {}})
         lights["ref"] = r["reference_ms"]
-        if m in ("zpass", "zfail", "zpplus", "zpplus-corrected", "policy"):
+        if m in self.kept:
             lights["rows"][m] = {k: r[k] for k in ("cracks", "float_D", "fallback", "zfail_objects", "frame_ms",
                                                    "zpass_wrong_occluders", "volume_fragments", "near_cap_fragments",
                                                    "near_cap_ms")}
@@ -332,7 +352,7 @@ class Totals:
         p["frag_pass"] += r["volume_depth_pass"]
         p["frag_fail"] += r["volume_depth_fail"]
         ratio = timing_ratio(r[AGAIN_COLUMN], r["frame_ms"])
-        if ratio is not None and m.split(" [")[0] == "zpass":
+        if ratio is not None and base_method(m) == self.timing:
             self.noise.add(seq, ratio, 0.0)
             self.noise_sums[0] += r["frame_ms"]
             self.noise_sums[1] += r[AGAIN_COLUMN]
@@ -361,7 +381,7 @@ class Totals:
             t[2] += r["frame_ms"]
         elif c.startswith("sample:"):
             self.kind_cracks[r["kind"]][m] += r["cracks"]
-        points = m in FEATURE_METHODS
+        points = m in self.feature_methods
         for f, _ in FEATURES:
             v = r[f]
             if not math.isfinite(v):
@@ -396,7 +416,9 @@ class Totals:
     def fold_case_d(self, c, light, rows):
         s = self.case_d
         s["pairs"] += 1
-        zc, zp, zf = rows.get("zpplus-corrected"), rows.get("zpplus"), rows.get("zfail")
+        role = self.settings.role
+        zc, zp = rows.get(role("corrected-zpplus")), rows.get(role("published-zpplus"))
+        zf = rows.get(role("zfail-baseline"))
         if zc is None:
             return
         if zc["fallback"] and not zc["zfail_objects"]:
@@ -419,7 +441,9 @@ class Totals:
     def fold_policy_cost(self, rows):
         """Issue 12's cost targets: where Z-pass is right (every occluder's exact near-cap empty), the policy's
         frame time and fragments against Z-pass's; elsewhere against ZP+ corrected's."""
-        z, p, zp = rows.get("zpass"), rows.get("policy"), rows.get("zpplus-corrected")
+        role = self.settings.role
+        z, p = rows.get(role("timing-baseline")), rows.get(role("switch-policy"))
+        zp = rows.get(role("corrected-zpplus"))
         if z is None or p is None or z["zpass_wrong_occluders"] is None:
             return
         where, base = ("Z-pass right", z) if z["zpass_wrong_occluders"] == 0 else ("elsewhere", zp)
@@ -434,8 +458,8 @@ class Totals:
         s_[5] += p["near_cap_ms"]
 
 
-def read_rows(files):
-    totals = Totals()
+def read_rows(files, table):
+    totals = Totals(table)
     for status, name, line, r in parsed_rows(files):
         if status == "rejected":
             totals.rejected += 1
@@ -478,27 +502,10 @@ def find_repeated_configuration(files, repeated):
         groups_started.setdefault(c, f"{name} line {line}")
 
 
-def methods_of(present):
-    order = {m: k for k, m in enumerate(METHOD_ORDER)}
-    return sorted(present, key=lambda m: (order.get(m.split(" [")[0], len(order)), m))
-
-
 def legend(ax, **options):
     """A legend when the axes have labelled series (matplotlib warns otherwise)."""
     if ax.get_legend_handles_labels()[0]:
         ax.legend(**options)
-
-
-def colour(method):
-    palette = {"zpass": "#d62728", "zfail": "#1f77b4", "zpplus": "#ff7f0e", "zpplus-corrected": "#2ca02c",
-               "preload": "#9467bd", "doom3": "#8c564b", "doom3-bfg": "#e377c2", "ogre": "#bcbd22",
-               "always-zfail": "#17becf", "atomiczp": "#aec7e8", "policy": "#000000"}
-    if method in palette:
-        return palette[method]
-    # A variant: its method's hue, darker.
-    base = palette.get(method.split(" [")[0], "#7f7f7f")
-    r, g, b = (int(base[k:k + 2], 16) for k in (1, 3, 5))
-    return f"#{r * 3 // 5:02x}{g * 3 // 5:02x}{b * 3 // 5:02x}"
 
 
 def csv_cell(value):
@@ -516,7 +523,8 @@ class Report:
     def __init__(self, totals, out):
         self.t, self.out = totals, out
         self.rows, self.rejected = totals.rows, totals.rejected
-        self.methods = methods_of(totals.methods)
+        self.settings = totals.settings
+        self.methods = self.settings.sorted(totals.methods)
         self.plots, self.sections = [], []
         self.policy, self.policy_source = None, None
         self.noise = noise_floor(totals.noise.x, totals.noise.seen)  # None: not measured
@@ -554,7 +562,8 @@ class Report:
             xs = {m: per[m]["ms"] / max(1, per[m]["rows"]) for m in self.methods}
             ys = {m: per[m][metric] for m in self.methods}
             for k, m in enumerate(self.methods):
-                ax.scatter([xs[m]], [ys[m]], s=60, color=colour(m), marker=MARKERS[k % len(MARKERS)],
+                ax.scatter([xs[m]], [ys[m]], s=60, color=self.settings.colour(m),
+                           marker=MARKERS[k % len(MARKERS)],
                            label=as_label(m), zorder=3, edgecolors="k", linewidths=0.4)
                 points += 1
             front = pareto_front([(xs[m], ys[m]) for m in self.methods])
@@ -595,6 +604,7 @@ class Report:
         if not by_path:
             return
         files = plot_names(sorted(by_path), "path_")
+        timing = self.settings.role("timing-baseline")
         parts = []
         for name in sorted(by_path):
             table = by_path[name]["table"]
@@ -614,13 +624,13 @@ class Report:
                 rel, cr = [], []
                 for f in frames:
                     ms = sum(table[(f, l, m)][0] for l in lights if (f, l, m) in table)
-                    base = sum(table[(f, l, "zpass")][0] for l in lights if (f, l, "zpass") in table)
+                    base = sum(table[(f, l, timing)][0] for l in lights if (f, l, timing) in table)
                     rel.append(ms / base if base > 0 else math.nan)
                     cr.append(sum(table[(f, l, m)][1] for l in lights if (f, l, m) in table))
-                timed.plot(frames, rel, color=colour(m), label=as_label(m))
+                timed.plot(frames, rel, color=self.settings.colour(m), label=as_label(m))
                 small = fig.add_subplot(grid[1 + k // columns, k % columns], sharex=timed)
-                small.plot(frames, cr, color=colour(m), lw=1.2)
-                small.set_title(as_label(shorten(m, 28)), fontsize=8, color=colour(m))
+                small.plot(frames, cr, color=self.settings.colour(m), lw=1.2)
+                small.set_title(as_label(shorten(m, 28)), fontsize=8, color=self.settings.colour(m))
                 small.tick_params(labelsize=7)
                 if max(cr, default=0) > 0:
                     small.set_yscale("symlog", linthresh=1)
@@ -637,7 +647,7 @@ class Report:
             timed.axhline(1.0, color="k", lw=0.5)
             ratios = []
             for f in frames:
-                pairs = [table[(f, l, "zpass")] for l in lights if (f, l, "zpass") in table]
+                pairs = [table[(f, l, timing)] for l in lights if (f, l, timing) in table]
                 ratio = timing_ratio(sum(p[3] for p in pairs) if pairs and all(p[3] is not None for p in pairs)
                                      else None, sum(p[0] for p in pairs))
                 if ratio is not None:
@@ -679,7 +689,7 @@ class Report:
 
     # ---- 3. features -----------------------------------------------------------
     def features(self):
-        shown = [m for m in FEATURE_METHODS if m in self.methods]
+        shown = [m for m in self.t.feature_methods if m in self.methods]
         fig, axes = plt.subplots(4, 3, figsize=(13, 13))
         points, seen = 0, 0
         for ax, (feature, label) in zip(axes.flat, FEATURES):
@@ -690,8 +700,9 @@ class Report:
                 xs = numpy.concatenate([numpy.frombuffer(p.x, dtype=numpy.float64) for p in parts])[order]
                 ys = numpy.concatenate([numpy.frombuffer(p.y, dtype=numpy.float64) for p in parts])[order]
                 # Z-pass cracks most: its points go under the others', lighter.
-                under = m == "zpass"
-                ax.scatter(xs, ys, s=8, alpha=0.45 if under else 0.7, color=colour(m), label=as_label(m),
+                under = m == self.settings.role("timing-baseline")
+                ax.scatter(xs, ys, s=8, alpha=0.45 if under else 0.7, color=self.settings.colour(m),
+                           label=as_label(m),
                            zorder=1 if under else 2, linewidths=0)
                 points += len(xs)
                 seen += sum(p.seen for p in parts)
@@ -744,7 +755,8 @@ class Report:
         body = []
         for k, m in enumerate(self.methods):
             totals = list(self.t.buckets[m])
-            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=colour(m), label=as_label(m))
+            ax.bar([i + k * width for i in range(len(BUCKETS))], totals, width=width, color=self.settings.colour(m),
+                   label=as_label(m))
             points += len(BUCKETS)
             body.append([m] + totals)
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(BUCKETS))])
@@ -762,7 +774,7 @@ class Report:
 
     # ---- 5. the case-D claim ---------------------------------------------------
     def case_d(self):
-        if "zpplus-corrected" not in self.methods:
+        if self.settings.role("corrected-zpplus") not in self.methods:
             return
         s = self.t.case_d
         examples = [list(e) for e in self.t.case_d_examples]
@@ -771,7 +783,8 @@ class Report:
                 ["ZP+ corrected cracks more than Z-fail despite case D", s["with_d"]],
                 ["ZP+ corrected has cracks after falling back to Z-fail (no light frustum)", s["after_fallback"]],
                 ["case-D switches to Z-fail", s["switches"]],
-                ["  of which ZP+ without the switch had no crack", s["unnecessary"] if "zpplus" in self.methods else "-"]]
+                ["  of which ZP+ without the switch had no crack",
+                 s["unnecessary"] if self.settings.role("published-zpplus") in self.methods else "-"]]
         text = ("<p>The paper switches an occluder to Z-fail when one of its silhouette quads is in case D, "
                 "assuming that case D flags the ill-conditioned configurations. Measured here, counting only "
                 "the cracks Z-fail does not have in the same frame (those come from depth precision, not the "
@@ -869,8 +882,9 @@ class Report:
         if not sums:
             return
         body = []
-        for where, against, target, allowed in (("Z-pass right", "zpass", "within 5 %", 0.05),
-                                                ("elsewhere", "zpplus-corrected", "no more", 0.0)):
+        role = self.settings.role
+        for where, against, target, allowed in (("Z-pass right", role("timing-baseline"), "within 5 %", 0.05),
+                                                ("elsewhere", role("corrected-zpplus"), "no more", 0.0)):
             if where not in sums:
                 continue
             n, ms, base_ms, frags, base_frags, cap_ms = sums[where]
@@ -899,6 +913,21 @@ class Report:
             body.append([k, self.t.kind_configurations[k]] + [self.t.kind_cracks[k].get(m, 0) for m in self.methods])
         self.sections.append(("Hard cases by kind", self.table(header, body, "by_kind.csv")))
 
+    # ---- 7. the methods ----------------------------------------------------------
+    def method_key(self):
+        """Each series' method as the settings table describes it, and a variant's choices."""
+        body = []
+        for m in self.methods:
+            base = base_method(m)
+            known = base in self.settings.label
+            what = self.settings.label[base] if known else "not in the settings table (a CSV from another nearcap?)"
+            if m != base:
+                what += "; under " + self.settings.variant_text(m[len(base) + 2:-1])
+            body.append([m, self.settings.kind[base] if known else "", what])
+        self.sections.append(("The methods", "<p>The series above, described by the settings table of the nearcap "
+                                             "program that ran the report (<code>nearcap settings</code>).</p>" +
+                              self.table(["method", "kind", "what it is"], body, "methods.csv")))
+
     def write(self):
         self.pareto()
         self.paths()
@@ -909,6 +938,7 @@ class Report:
         self.policy_models()
         self.policy_cost()
         self.kinds()
+        self.method_key()
         toc = "".join(f'<li><a href="#s{k}">{html.escape(t)}</a></li>' for k, (t, _) in enumerate(self.sections))
         body = "".join(f'<h2 id="s{k}">{html.escape(t)}</h2>{c}' for k, (t, c) in enumerate(self.sections))
         page = f"""<!doctype html><html><head><meta charset="utf-8"><title>nearcap sweep report</title>
@@ -1021,13 +1051,7 @@ def fmt(v):
 
 
 def read_policy(policy):
-    try:
-        with open(policy, encoding="utf-8") as handle:
-            policy_json = json.load(handle)
-    except OSError as e:
-        raise ReportError("io", f"{policy}: cannot read the policy: {e.strerror}")
-    except ValueError as e:  # UnicodeDecodeError included
-        raise ReportError("parse", f"{policy}: not JSON: {e}")
+    policy_json = settings_table.load_json(policy, "policy")
     if not isinstance(policy_json, dict) or policy_json.get("format") != "nearcap-policy":
         raise ReportError("parse", f"{policy}: format: not a nearcap policy")
     version = policy_json.get("version")
@@ -1046,26 +1070,26 @@ def same_file(a, b):
 
 
 def main(argv):
-    args, out, policy = [], None, None
+    args, valued = [], {"--out": None, "--policy": None, "--settings": None}
     k = 0
     while k < len(argv):
-        if argv[k] == "--out" and k + 1 < len(argv):
-            out = argv[k + 1]
-            k += 2
-        elif argv[k] == "--policy" and k + 1 < len(argv):
-            policy = argv[k + 1]
+        if argv[k] in valued and k + 1 < len(argv):
+            valued[argv[k]] = argv[k + 1]
             k += 2
         else:
             args.append(argv[k])
             k += 1
-    if not args or out is None:
-        raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR [--policy FILE]")
+    out, policy, settings = valued["--out"], valued["--policy"], valued["--settings"]
+    if not args or out is None or settings is None:
+        raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR --settings TABLE.json "
+                                   "[--policy FILE] (TABLE.json: what `nearcap settings` prints)")
     target = Path(out)
     if target.exists() and not target.is_dir():
         raise ReportError("io", f"{out}: exists and is not a directory")
     if target.is_dir() and not os.access(target, os.W_OK | os.X_OK):
         raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
     policy_json = read_policy(policy) if policy is not None else None
+    table = settings_table.read(settings)
     try:
         parent = target.resolve().parent
         parent.mkdir(parents=True, exist_ok=True)
@@ -1073,7 +1097,7 @@ def main(argv):
     except OSError as e:
         raise ReportError("io", f"{out}: cannot write the report there: {e.strerror}")
     try:
-        totals = read_rows(args)
+        totals = read_rows(args, table)
         report = Report(totals, staging)
         report.sources = args
         report.policy, report.policy_source = policy_json, policy
@@ -1082,7 +1106,7 @@ def main(argv):
         except OSError as e:
             raise ReportError("io", f"{out}: cannot write the report ({report.writing}): {e.strerror}; nothing "
                                     "was written there")
-        inputs = args + ([policy] if policy is not None else [])
+        inputs = args + ([policy] if policy is not None else []) + [settings]
         staged = sorted(staging.iterdir())
         for f in staged:
             for i in inputs:
@@ -1110,7 +1134,7 @@ def run(argv):
     try:
         main(argv)
         return 0
-    except ReportError as e:
+    except (ReportError, settings_table.InputError) as e:
         line = f"nearcap: error ({e.kind}): {one_line(e)}"
     except MemoryError:
         line = "nearcap: error (resource): out of memory while building the report"

@@ -105,8 +105,8 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 }
 
 namespace {
-PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                              const gl::EmulationSettings& base, PolicyDecision d);
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
+                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d);
 }  // namespace
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
@@ -129,10 +129,34 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   // right where the paper's frustum is undefined.
   const bool frustum_free =
       gl::uses_near_cap(policy.capped_method) && policy.light_projection == gl::LightProjection::ClippedSides;
-  const double near =
+  double near =
       d.settings.near_plane == gl::NearPlane::Tight ? gl::tight_frustum(scene).near : scene.camera.frustum.near;
   d.depth_step_over_size = depth_step_over_size(cs, near, d.settings.depth, d.settings.depth_mapping);
   d.depth_limited = d.depth_step_over_size >= kDepthLimitedStep;
+  // A depth-limited frame the policy may move its near plane for (no near
+  // plane of its own, no exact test tied to the scene's plane): drawn with
+  // the tight near plane where that frame is not depth-limited.
+  std::optional<Scene> tight_scene;  // the scene with the tight near plane, where the frame moves to it
+  if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && d.settings.near_plane == gl::NearPlane::Scene) {
+    tight_scene = scene;
+    tight_scene->camera.frustum = gl::tight_frustum(scene);
+    const double tight = tight_scene->camera.frustum.near;
+    const double step = depth_step_over_size(cs, tight, d.settings.depth, d.settings.depth_mapping);
+    if (step < kDepthLimitedStep) {
+      char note[512];
+      std::snprintf(note, sizeof note,
+                    "drawn with the tight near plane (%.3g): with the scene's (%.3g) one depth step would span %.3g "
+                    "of the scene's size, and no method is right there",
+                    tight, near, d.depth_step_over_size);
+      d.near_plane_note = note;
+      d.settings.near_plane = gl::NearPlane::Tight;
+      near = tight;
+      d.depth_step_over_size = step;
+      d.depth_limited = false;
+    } else {
+      tight_scene.reset();
+    }
+  }
   if (d.depth_limited) {
     char note[512];
     std::snprintf(note, sizeof note,
@@ -151,7 +175,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
                 "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
                 "one: a tight near plane needs a policy with exact_zpass false");
   if (policy.device_profile) {
-    d = decide_by_cost(policy, cs, light, base, std::move(d));
+    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d));
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return d;
   }
@@ -366,10 +390,12 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
   return true;
 }
 
-PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                              const gl::EmulationSettings& base, PolicyDecision d) {
+// `drawn`: the scene as the frame draws it (its near plane the tight one
+// where decide() moved it), for the work estimate.
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
+                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d) {
   const DeviceProfile& profile = *policy.device_profile;
-  const Scene& scene = cs.scene();
+  const Scene& scene = drawn;
   const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper};
   const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper};
   const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};

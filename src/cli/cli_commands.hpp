@@ -30,6 +30,7 @@ void register_frame(CLI::App& app);
 void register_sample(CLI::App& app);
 void register_sweep(CLI::App& app);
 void register_report(CLI::App& app);
+void register_settings(CLI::App& app);
 void register_tune(CLI::App& app);
 void register_fit_l_near(CLI::App& app);
 void register_render(CLI::App& app);     // builds with the real-GL library only (NEARCAP_WITH_RENDER)
@@ -128,6 +129,36 @@ std::string variant_label(const EmulationOptions& options);
 std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options);
 // Throws Error(Usage) for a value out of range.
 gl::EmulationSettings settings_from(const EmulationOptions& options);
+// The emulation options that are named choices, in that order, as JSON:
+// [{"option": NAME, "help": ..., "values": [{"name", "help"}, ...]}, ...].
+nlohmann::json emulation_choices_json();
+
+// The settings tables as one JSON document (`nearcap settings`; the report
+// script reads it): format "nearcap-settings", version
+// kSettingsTableVersion, "methods" (the values of a sweep row's method
+// column in the report's order, each with its label, kind and roles),
+// "kinds" (the sampler's) and "choices" (emulation_choices_json).
+inline constexpr int kSettingsTableVersion = 1;
+nlohmann::json settings_table_json();
+
+// A new empty file in the temporary directory, named PREFIX + 6 random
+// characters + SUFFIX; empty when none could be made (errno says why).
+std::string temporary_file(const std::string& prefix, const std::string& suffix);
+
+// The settings table (settings_table_json) in a temporary file, for a
+// script's --settings; removed with this object.  Throws Error(Io) when it
+// cannot be written.
+class SettingsFile {
+ public:
+  SettingsFile();
+  SettingsFile(const SettingsFile&) = delete;
+  SettingsFile& operator=(const SettingsFile&) = delete;
+  ~SettingsFile();
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 // --samples N, how many configurations the hard-case sampler draws: a whole
 // number in [lo, hi]; `help` says what they are for.

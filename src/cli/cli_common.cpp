@@ -251,6 +251,21 @@ std::vector<std::pair<std::string, std::string>> emulation_option_values(const E
   return values;
 }
 
+nlohmann::json emulation_choices_json() {
+  nlohmann::json choices = nlohmann::json::array();
+  EmulationOptions options;
+  visit_emulation_options(options, [&](const EmulationOption& e, const auto& field) {
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (kIsChoice<T>) {
+      nlohmann::json values = nlohmann::json::array();
+      for (const NamedValue<T>& v : table_of<T>())
+        values.push_back({{"name", std::string(v.name)}, {"help", std::string(v.help)}});
+      choices.push_back({{"option", e.name}, {"help", e.lead}, {"values", std::move(values)}});
+    }
+  });
+  return choices;
+}
+
 EmulationOptions with_variant(const EmulationOptions& base, const std::string& spec) {
   EmulationOptions o = base;
   std::stringstream parts(spec);

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   nearcap::cli::register_sample(app);
   nearcap::cli::register_sweep(app);
   nearcap::cli::register_report(app);
+  nearcap::cli::register_settings(app);
   nearcap::cli::register_tune(app);
   nearcap::cli::register_fit_l_near(app);
 #ifdef NEARCAP_WITH_RENDER

@@ -40,8 +40,9 @@ class MethodRecords {
 };
 
 // The policy's decision as a record holds it: its method per occluder and
-// why ("occluders": [{"object", "method", "why"}]), "depth_limited", and
-// "depth_note" when it is.
+// why ("occluders": [{"object", "method", "why"}]), "depth_limited",
+// "depth_note" when it is, and "near_plane_note" when the policy drew the
+// frame with the tight near plane to avoid it.
 nlohmann::json policy_decision_json(const Scene& scene, const analysis::PolicyDecision& d);
 
 // --table: a refused method's row, `indent` then "METHOD refused: WHY"

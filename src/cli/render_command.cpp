@@ -82,6 +82,7 @@ void print_compare_table(const nlohmann::json& root, const std::string& scene, s
       std::printf("%s:", r["method"].get<std::string>().c_str());
       print_occluder_lines(r["occluders"]);
       if (r.value("depth_limited", false)) std::printf("  %s\n", r["depth_note"].get<std::string>().c_str());
+      if (r.contains("near_plane_note")) std::printf("  %s\n", r["near_plane_note"].get<std::string>().c_str());
     }
   for (const nlohmann::json& r : root["methods"])
     if (r.contains("eye_count")) {

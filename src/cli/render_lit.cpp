@@ -463,10 +463,12 @@ void run_lit(const RenderOptions& o) {
       std::printf("bench: no bench.png (its times are relative to Z-pass's: add zpass to --method)\n");
     if (!o.path.empty() && has_zpass) {
       const std::string png = (dir / "bench.png").string();
+      const SettingsFile table;
       const int status = run_python_script(shipped_scripts_dir() + "/report/render_bench.py",
                                            {(dir / "bench.csv").string(), png,
                                             std::filesystem::path(o.path).stem().string() + " (" + context.renderer() +
-                                                ", " + stencil_sides + " stencil)"},
+                                                ", " + stencil_sides + " stencil)",
+                                            "--settings", table.path()},
                                            "the bench plot");
       if (status != 0) throw ExitCode{status};
       std::printf("bench: %s (frame time relative to Z-pass, per frame)\n", png.c_str());

@@ -15,6 +15,10 @@
 // it (UTF-8, columns, numbers) and refuses an --out whose files would
 // replace an input.
 //
+// The script takes the methods' names, order, descriptions and roles from
+// the settings table (`nearcap settings`), which this command writes to a
+// temporary file and passes as --settings.
+//
 // The script's stderr goes to a log file in the temporary directory; the
 // command prints one line whatever happens to the script: its own
 // "nearcap: error (KIND): ..." line (the log is kept and named only when the
@@ -101,17 +105,6 @@ void forward(const std::string& log) {
   std::cerr.flush();
 }
 
-std::string temporary_log() {
-  std::error_code ec;
-  std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-  if (ec) dir = "/tmp";
-  std::string name = (dir / "nearcap-report-XXXXXX.log").string();
-  const int fd = ::mkstemps(name.data(), 4);
-  if (fd < 0) return "";  // no log: the script's stderr stays on the terminal
-  ::close(fd);
-  return name;
-}
-
 struct ReportOptions {
   std::vector<std::string> results;
   std::string out;
@@ -134,7 +127,10 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
     args.push_back("--policy");
     args.push_back(policy);
   }
-  const std::string log = temporary_log();
+  const SettingsFile settings;
+  args.push_back("--settings");
+  args.push_back(settings.path());
+  const std::string log = temporary_file("nearcap-report-", ".log");  // none: the script's stderr stays on the terminal
   if (log.empty()) {
     const int code = run_python_script(script, args, "the report");
     if (code != 0) throw ExitCode{code};

@@ -14,6 +14,8 @@
 #include <limits>
 #include <memory>
 
+#include "vector_pool.hpp"
+
 namespace nearcap {
 namespace {
 
@@ -248,19 +250,23 @@ struct CentralGrid::Pending {
   double cells_per_triangle = 1;
   std::array<tbb::collaborative_once_flag, 6> built;
   std::atomic<int> faces_built{0};
+  void give_back();
 };
 
 CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, std::vector<Triangle> triangles,
                          double cells_per_triangle)
     : centre_(centre), centre_error_(centre_error), pending_(std::make_unique<Pending>()) {
-  all_.reserve(triangles.size());
+  all_ = VectorPool<Entry>::instance().take(triangles.size());
   for (const Triangle& t : triangles) all_.push_back({t.id, -std::numeric_limits<double>::infinity()});
 
   // Building is per triangle and per cell, on all cores; every list keeps
   // the order a sequential build gives (the grid is the same either way).
   Pending& p = *pending_;
   p.cells_per_triangle = cells_per_triangle;
+  p.relative = VectorPool<Relative>::instance().take(triangles.size());
   p.relative.resize(triangles.size());
+  for (auto& v : p.inside) v = VectorPool<std::uint32_t>::instance().take(0);
+  p.anywhere = VectorPool<std::uint32_t>::instance().take(0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i)
@@ -277,18 +283,29 @@ CentralGrid::CentralGrid(const Vec3d& centre, double centre_error, std::vector<T
   p.triangles = std::move(triangles);
 }
 
-CentralGrid::~CentralGrid() = default;
+// What a grid held goes back to the pools, for the next grid's build.
+void CentralGrid::Pending::give_back() {
+  VectorPool<Triangle>::instance().give(triangles);
+  VectorPool<Relative>::instance().give(relative);
+  for (auto& v : inside) VectorPool<std::uint32_t>::instance().give(v);
+  VectorPool<std::uint32_t>::instance().give(anywhere);
+}
+
+CentralGrid::~CentralGrid() {
+  if (pending_) pending_->give_back();
+  for (Face& face : faces_) {
+    VectorPool<std::uint32_t>::instance().give(face.offsets);
+    VectorPool<Entry>::instance().give(face.entries);
+    VectorPool<std::array<float, 4>>::instance().give(face.box_of);
+  }
+  VectorPool<Entry>::instance().give(all_);
+}
 
 const CentralGrid::Face& CentralGrid::face(int f) const {
   tbb::collaborative_call_once(pending_->built[static_cast<std::size_t>(f)], [&] {
     build_face(f);
     // The last face built: nothing reads the inputs any more.
-    if (pending_->faces_built.fetch_add(1) + 1 == 6) {
-      std::vector<Triangle>().swap(pending_->triangles);
-      std::vector<Relative>().swap(pending_->relative);
-      for (auto& v : pending_->inside) std::vector<std::uint32_t>().swap(v);
-      std::vector<std::uint32_t>().swap(pending_->anywhere);
-    }
+    if (pending_->faces_built.fetch_add(1) + 1 == 6) pending_->give_back();
   });
   return faces_[static_cast<std::size_t>(f)];
 }
@@ -319,17 +336,22 @@ void CentralGrid::build_face(int f) const {
     std::uint32_t index;
     FacePlacement placement;
   };
-  std::vector<Placed> placed;
-  std::vector<std::uint32_t> order;
-  std::vector<FacePlacement> placements;
+  // The temporaries come from the pools too (vector_pool.hpp): the next
+  // face's build, or the next frame's, finds their pages mapped.
+  const std::vector<std::uint32_t>& face_inside = inside[static_cast<std::size_t>(f)];
+  PooledVector<Placed> placed_storage(face_inside.size() + anywhere.size());
+  PooledVector<std::uint32_t> order_storage(face_inside.size() + anywhere.size());
+  PooledVector<FacePlacement> placements_storage(face_inside.size() + anywhere.size());
+  std::vector<Placed>& placed = *placed_storage;
+  std::vector<std::uint32_t>& order = *order_storage;
+  std::vector<FacePlacement>& placements = *placements_storage;
   tbb::enumerable_thread_specific<std::unique_ptr<std::array<SmallPolygon, 2>>> scratches(
       [] { return std::make_unique<std::array<SmallPolygon, 2>>(); });
   {
     Face& face = faces_[static_cast<std::size_t>(f)];
     Box extent{kFaceRange, -kFaceRange, kFaceRange, -kFaceRange};
     std::size_t boxed = 0;
-    placed.clear();
-    order = inside[static_cast<std::size_t>(f)];
+    order.assign(face_inside.begin(), face_inside.end());
     order.insert(order.end(), anywhere.begin(), anywhere.end());
     placements.resize(order.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 512),
@@ -365,8 +387,11 @@ void CentralGrid::build_face(int f) const {
     // triangle in order and touches only its own rows, so each cell lists its
     // triangles in the order a sequential pass gives.
     const std::size_t cell_count = static_cast<std::size_t>(face.nu) * static_cast<std::size_t>(face.nv);
-    std::vector<std::uint32_t> counts(cell_count + 1, 0);
-    std::vector<Entry> whole;
+    PooledVector<std::uint32_t> counts_storage(cell_count + 1);
+    PooledVector<Entry> whole_storage;
+    std::vector<std::uint32_t>& counts = *counts_storage;
+    std::vector<Entry>& whole = *whole_storage;
+    counts.assign(cell_count + 1, 0);
     struct CellSpan {
       int i0, i1, j0, j1;
     };
@@ -374,7 +399,9 @@ void CentralGrid::build_face(int f) const {
       return CellSpan{cell_index(b.u_lo, face.u0, face.du, face.nu), cell_index(b.u_hi, face.u0, face.du, face.nu),
                       cell_index(b.v_lo, face.v0, face.dv, face.nv), cell_index(b.v_hi, face.v0, face.dv, face.nv)};
     };
-    std::vector<CellSpan> spans(placed.size());
+    PooledVector<CellSpan> spans_storage(placed.size());
+    std::vector<CellSpan>& spans = *spans_storage;
+    spans.resize(placed.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, placed.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t k = r.begin(); k < r.end(); ++k)
@@ -403,6 +430,7 @@ void CentralGrid::build_face(int f) const {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     // Only ids listed in a cell are ever looked up: a face that lists none
     // needs no boxes.
+    face.box_of = VectorPool<std::array<float, 4>>::instance().take(placed.empty() ? 0 : std::size_t{max_id} + 1);
     face.box_of.assign(placed.empty() ? 0 : static_cast<std::size_t>(max_id) + 1,
                        std::array<float, 4>{kInf, -kInf, kInf, -kInf});
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, placed.size(), 1024),
@@ -418,11 +446,15 @@ void CentralGrid::build_face(int f) const {
                           }
                         }
                       });
+    face.offsets = VectorPool<std::uint32_t>::instance().take(cell_count + 2);  // + the whole-face list
     face.offsets.assign(cell_count + 1, 0);
     for (std::size_t c = 0; c < cell_count; ++c)
       face.offsets[c + 1] = face.offsets[c] + counts[c] + static_cast<std::uint32_t>(whole.size());
+    face.entries = VectorPool<Entry>::instance().take(std::size_t{face.offsets[cell_count]} + whole.size());
     face.entries.resize(face.offsets[cell_count]);
-    std::vector<std::uint32_t> fill(face.offsets.begin(), face.offsets.end() - 1);
+    PooledVector<std::uint32_t> fill_storage(cell_count);
+    std::vector<std::uint32_t>& fill = *fill_storage;
+    fill.assign(face.offsets.begin(), face.offsets.end() - 1);
     for_band_cells([&](std::size_t k, std::size_t c) {
       face.entries[fill[c]++] = {triangles[placed[k].index].id, placed[k].placement.axis_lower_bound};
     });

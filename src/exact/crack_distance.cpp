@@ -174,7 +174,8 @@ Region region_of(const std::array<BoundedVec3, 4>& points) {
 }  // namespace
 
 std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
-                                                                    FilterStats* stats) const {
+                                                                    FilterStats* stats,
+                                                                    std::uint32_t* last_shadower) const {
   const Impl& t = *impl_;
   const Scene& scene = t.cs.scene();
   const int width = scene.camera.width, height = scene.camera.height;
@@ -227,10 +228,29 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   // are tried as they are found, and the first crossed everywhere ends the
   // proof.  Lit: every triangle must be proven never crossed, and the first
   // that is not ends the proof.
+  // The centre's hit point, when certified, lets the shadow tests at the
+  // centre reject most candidates with one bounded dot product per edge
+  // instead of a form in P (the pixel trace's fast path; exact either way).
+  std::optional<BoundedVec3> q_centre_value;
+  if (std::isfinite(hit->t.e) && std::isfinite(hit->t.v)) q_centre_value = hit->t * centre.approx();
+  const BoundedVec3* q_centre = q_centre_value ? &*q_centre_value : nullptr;
+  // The hint first.  The loop below returns true exactly when some listed
+  // triangle crossed at the centre is crossed over the whole square; a listed
+  // hint that is both gives that answer without the search.
+  if (last_shadower && *last_shadower != kNoShadower &&
+      std::find(ids.begin(), ids.end(), *last_shadower) != ids.end()) {
+    const LightTriangle& lt = t.light_triangle(*last_shadower);
+    if (t.shadow_crosses(lt, *hit, centre, stats, q_centre) &&
+        proof.crossing(lt, seen, hit->eye_index) == SquareProof::Crossing::Always)
+      return true;
+  }
   bool shadowed_at_centre = false;
   for (std::uint32_t id : ids)
-    if (t.shadow_crosses(t.light_triangle(id), *hit, centre, stats)) {
-      if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) == SquareProof::Crossing::Always) return true;
+    if (t.shadow_crosses(t.light_triangle(id), *hit, centre, stats, q_centre)) {
+      if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) == SquareProof::Crossing::Always) {
+        if (last_shadower) *last_shadower = id;
+        return true;
+      }
       shadowed_at_centre = true;
     }
   if (shadowed_at_centre) return std::nullopt;

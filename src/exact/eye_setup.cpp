@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "pixel_tracer_impl.hpp"
+#include "vector_pool.hpp"
 
 namespace nearcap {
 namespace {
@@ -31,7 +32,9 @@ std::shared_ptr<const EyeSetup> build_eye_setup(const CameraSpaceScene& cs) {
   for (std::size_t o = 0; o < objects; ++o)
     setup->first_face[o + 1] = setup->first_face[o] + cs.mesh(o).triangles.size();
   const std::size_t total = setup->first_face.back();
-  std::vector<CentralGrid::Triangle> items(total);
+  // Storage an earlier grid gave back (vector_pool.hpp).
+  std::vector<CentralGrid::Triangle> items = VectorPool<CentralGrid::Triangle>::instance().take(total);
+  items.resize(total);
   for (std::size_t o = 0; o < objects; ++o) {
     const TriangleMesh& mesh = cs.mesh(o);
     const std::size_t first = setup->first_face[o];

@@ -9,6 +9,8 @@
 #include <limits>
 #include <utility>
 
+#include "vector_pool.hpp"
+
 namespace nearcap {
 namespace {
 
@@ -64,7 +66,8 @@ std::unique_ptr<CentralGrid> world_light_grid(const Scene& scene, std::size_t li
   std::vector<WorldVertices> world(scene.objects.size());
   for (std::size_t o = 0; o < scene.objects.size(); ++o)
     if (scene.objects[o].occluder) world[o] = world_vertices(scene.objects[o]);
-  std::vector<CentralGrid::Triangle> items(lit.size());
+  std::vector<CentralGrid::Triangle> items = VectorPool<CentralGrid::Triangle>::instance().take(lit.size());
+  items.resize(lit.size());
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, lit.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         std::size_t o = 0;

@@ -24,6 +24,7 @@
 #include "nearcap/exact/perturbation.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/exact/segment_crossing.hpp"
+#include "vector_pool.hpp"
 
 namespace nearcap {
 
@@ -450,7 +451,8 @@ struct PixelReferenceTracer::Impl {
   const CentralGrid& region_light_grid() const {
     tbb::collaborative_call_once(region_light_grid_once, [&] {
       const BoundedVec3& l = cs.light(light);
-      std::vector<CentralGrid::Triangle> items(lit.size());
+      std::vector<CentralGrid::Triangle> items = VectorPool<CentralGrid::Triangle>::instance().take(lit.size());
+      items.resize(lit.size());
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lit.size(), 1024),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t m = r.begin(); m < r.end(); ++m) {

@@ -56,6 +56,52 @@ void check_read_mesh(const TriangleMesh& mesh) {
   }
 }
 
+std::string printable(const std::string& word) {
+  std::string shown = word.substr(0, 32);
+  for (char& c : shown)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return shown;
+}
+
+std::vector<std::string> split_whitespace(const std::string& line) {
+  std::vector<std::string> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+bool TextTokens::next(std::string& token) {
+  for (;;) {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
+      if (text_[pos_] == '\n') ++line_;
+      ++pos_;
+    }
+    if (pos_ >= text_.size()) return false;
+    if (!is_comment(text_[pos_])) break;
+    skip_rest_of_line();
+  }
+  const std::size_t start = pos_;
+  while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && !is_comment(text_[pos_]))
+    ++pos_;
+  token = text_.substr(start, pos_ - start);
+  return true;
+}
+
+void TextTokens::skip_rest_of_line() {
+  while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+}
+
+std::string TextTokens::need(const std::string& what) {
+  std::string t;
+  if (!next(t)) error("unexpected end of file, expected " + what + " (truncated file?)");
+  return t;
+}
+
 }  // namespace mesh_reading
 
 namespace {

@@ -2,7 +2,9 @@
 // shares once vertices and faces are in memory.
 #pragma once
 
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "nearcap/error.hpp"
 #include "nearcap/scene/mesh.hpp"
@@ -20,5 +22,38 @@ void check_read_mesh(const TriangleMesh& mesh);
 [[noreturn]] inline void fail_at_line(ErrorKind kind, const std::string& source, int line, const std::string& what) {
   fail(kind, source, "line " + std::to_string(line) + ": " + what);
 }
+
+// A word of the file as an error message shows it: its first 32 bytes, each
+// byte that is not printable ASCII as '?'.
+std::string printable(const std::string& word);
+
+// The words of `line`: its runs of characters other than whitespace, in order.
+std::vector<std::string> split_whitespace(const std::string& line);
+
+// The words of a whole text mesh file, one at a time, with the line each is
+// on.  `comment`, unless '\0', starts a comment that runs to the end of its
+// line and ends a word (OFF's '#').
+class TextTokens {
+ public:
+  TextTokens(const std::string& text, const std::string& source, char comment = '\0')
+      : text_(text), source_(source), comment_(comment) {}
+  // The next word into `token`; false at the end of the text.
+  bool next(std::string& token);
+  // Skips to the end of the current line (values a reader ignores).
+  void skip_rest_of_line();
+  int line() const { return line_; }
+  // Throws Error(Parse, "<source>: line N: <what>").
+  [[noreturn]] void error(const std::string& what) const { fail_at_line(ErrorKind::Parse, source_, line_, what); }
+  // The next word; at the end of the text, an error saying `what` was expected.
+  std::string need(const std::string& what);
+
+ private:
+  bool is_comment(char c) const { return comment_ != '\0' && c == comment_; }
+  const std::string& text_;
+  const std::string& source_;
+  char comment_;
+  std::size_t pos_ = 0;
+  int line_ = 1;
+};
 
 }  // namespace nearcap::mesh_reading

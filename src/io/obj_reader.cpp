@@ -40,18 +40,6 @@ bool is_free_form_obj_keyword(const std::string& k) {
          std::end(kFreeForm);
 }
 
-std::vector<std::string> split_whitespace(const std::string& line) {
-  std::vector<std::string> tokens;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i > start) tokens.push_back(line.substr(start, i - start));
-  }
-  return tokens;
-}
-
 }  // namespace
 
 TriangleMesh parse_obj(const std::string& text, const std::string& source) {
@@ -85,7 +73,7 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
       line += part;
       break;
     }
-    const std::vector<std::string> tokens = split_whitespace(line);
+    const std::vector<std::string> tokens = mesh_reading::split_whitespace(line);
     if (tokens.empty()) continue;
     const std::string& keyword = tokens[0];
     if (keyword == "v") {

@@ -18,42 +18,10 @@ using mesh_reading::fail;
 
 namespace {
 
-// Tokenizer that skips '#' comments to end of line and tracks line numbers.
-class OffTokens {
+// OFF's words: '#' starts a comment.
+class OffTokens : public mesh_reading::TextTokens {
  public:
-  OffTokens(const std::string& text, const std::string& source) : text_(text), source_(source) {}
-
-  bool next(std::string& token) {
-    for (;;) {
-      while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
-        if (text_[pos_] == '\n') ++line_;
-        ++pos_;
-      }
-      if (pos_ >= text_.size()) return false;
-      if (text_[pos_] == '#') {
-        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-        continue;
-      }
-      break;
-    }
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && text_[pos_] != '#') ++pos_;
-    token = text_.substr(start, pos_ - start);
-    return true;
-  }
-  // Skips to the end of the current line (face colours and other trailing values).
-  void skip_rest_of_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
-  int line() const { return line_; }
-  [[noreturn]] void error(const std::string& what) const {
-    fail(ErrorKind::Parse, source_, "line " + std::to_string(line_) + ": " + what);
-  }
-  std::string need(const char* what) {
-    std::string t;
-    if (!next(t)) error(std::string("unexpected end of file, expected ") + what + " (truncated file?)");
-    return t;
-  }
+  OffTokens(const std::string& text, const std::string& source) : TextTokens(text, source, '#') {}
   long long need_integer(const char* what) {
     const std::string t = need(what);
     std::size_t used = 0;
@@ -74,12 +42,6 @@ class OffTokens {
     if (end != t.c_str() + t.size()) error(std::string("expected ") + what + ", found '" + t + "'");
     return v;
   }
-
- private:
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t pos_ = 0;
-  int line_ = 1;
 };
 
 }  // namespace

@@ -86,25 +86,6 @@ struct PlyHeader {
   int data_line = 1;           // line number of that byte (ascii messages)
 };
 
-std::vector<std::string> split_words(const std::string& line) {
-  std::vector<std::string> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
-
-std::string printable(const std::string& s) {
-  std::string shown = s.substr(0, 32);
-  for (char& c : shown)
-    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-  return shown;
-}
-
 PlyHeader parse_header(const std::string& bytes, const std::string& source) {
   PlyHeader header;
   std::size_t pos = 0;
@@ -123,7 +104,7 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       if (text != "ply") error("the file does not start with the line 'ply' (not a PLY file?)");
       continue;
     }
-    const std::vector<std::string> w = split_words(text);
+    const std::vector<std::string> w = mesh_reading::split_whitespace(text);
     if (w.empty()) continue;
     if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") {
@@ -141,8 +122,8 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       else if (w[1] == "binary_big_endian")
         header.format = PlyFormat::BinaryBigEndian;
       else
-        error("unknown PLY format '" + printable(w[1]) + "'");
-      if (w[2] != "1.0") error("unsupported PLY version '" + printable(w[2]) + "' (nearcap reads 1.0)");
+        error("unknown PLY format '" + mesh_reading::printable(w[1]) + "'");
+      if (w[2] != "1.0") error("unsupported PLY version '" + mesh_reading::printable(w[2]) + "' (nearcap reads 1.0)");
       have_format = true;
     } else if (w[0] == "element") {
       if (w.size() != 3) error("expected 'element <name> <count>'");
@@ -150,7 +131,8 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       errno = 0;
       const unsigned long long count = std::strtoull(w[2].c_str(), &endp, 10);
       if (endp != w[2].c_str() + w[2].size() || w[2][0] == '-' || errno == ERANGE)
-        error("element '" + printable(w[1]) + "' has count '" + printable(w[2]) + "', not a non-negative integer");
+        error("element '" + mesh_reading::printable(w[1]) + "' has count '" + mesh_reading::printable(w[2]) +
+              "', not a non-negative integer");
       header.elements.push_back({w[1], count, {}});
     } else if (w[0] == "property") {
       if (header.elements.empty()) error("a property declared before any element");
@@ -158,18 +140,18 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       if (w.size() == 5 && w[1] == "list") {
         p.is_list = true;
         if (!parse_ply_type(w[2], p.count_type) || !is_integer_type(p.count_type))
-          error("list count type '" + printable(w[2]) + "' is not an integer type");
-        if (!parse_ply_type(w[3], p.type)) error("unknown property type '" + printable(w[3]) + "'");
+          error("list count type '" + mesh_reading::printable(w[2]) + "' is not an integer type");
+        if (!parse_ply_type(w[3], p.type)) error("unknown property type '" + mesh_reading::printable(w[3]) + "'");
         p.name = w[4];
       } else if (w.size() == 3 && w[1] != "list") {
-        if (!parse_ply_type(w[1], p.type)) error("unknown property type '" + printable(w[1]) + "'");
+        if (!parse_ply_type(w[1], p.type)) error("unknown property type '" + mesh_reading::printable(w[1]) + "'");
         p.name = w[2];
       } else {
         error("expected 'property <type> <name>' or 'property list <count type> <item type> <name>'");
       }
       header.elements.back().properties.push_back(p);
     } else {
-      error("unknown PLY header line '" + printable(w[0]) + "'");
+      error("unknown PLY header line '" + mesh_reading::printable(w[0]) + "'");
     }
   }
 }
@@ -209,7 +191,7 @@ class PlyValues {
       errno = 0;
       const long long v = std::strtoll(token.c_str(), &endp, 10);
       if (endp != token.c_str() + token.size() || errno == ERANGE)
-        error(ErrorKind::Parse, "expected " + what + " (an integer), found '" + printable(token) + "'");
+        error(ErrorKind::Parse, "expected " + what + " (an integer), found '" + mesh_reading::printable(token) + "'");
       if (!fits(type, v)) error(ErrorKind::Parse, what + " " + token + " does not fit its declared type");
       value = static_cast<double>(v);
     } else if (type == PlyType::Float32) {
@@ -218,7 +200,7 @@ class PlyValues {
       value = std::strtod(token.c_str(), &endp);
     }
     if (endp != token.c_str() + token.size())
-      error(ErrorKind::Parse, "expected " + what + ", found '" + printable(token) + "'");
+      error(ErrorKind::Parse, "expected " + what + ", found '" + mesh_reading::printable(token) + "'");
     return value;
   }
 

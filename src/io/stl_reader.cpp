@@ -81,54 +81,20 @@ void parse_binary(const std::string& bytes, TriangleMesh& mesh) {
   }
 }
 
-class AsciiStlTokens {
+class AsciiStlTokens : public mesh_reading::TextTokens {
  public:
-  AsciiStlTokens(const std::string& text, const std::string& source) : text_(text), source_(source) {}
-  bool next(std::string& token) {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
-      if (text_[pos_] == '\n') ++line_;
-      ++pos_;
-    }
-    if (pos_ >= text_.size()) return false;
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-    token = text_.substr(start, pos_ - start);
-    return true;
-  }
-  void skip_rest_of_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
-  [[noreturn]] void error(const std::string& what) const {
-    mesh_reading::fail_at_line(ErrorKind::Parse, source_, line_, what);
-  }
-  std::string need(const std::string& what) {
-    std::string t;
-    if (!next(t)) error("unexpected end of file, expected " + what + " (truncated file?)");
-    return t;
-  }
+  using TextTokens::TextTokens;
   void expect(const char* keyword) {
     const std::string t = need(std::string("'") + keyword + "'");
-    if (t != keyword) error(std::string("expected '") + keyword + "', found '" + shown(t) + "'");
+    if (t != keyword) error(std::string("expected '") + keyword + "', found '" + mesh_reading::printable(t) + "'");
   }
   float need_float(const std::string& what) {
     const std::string t = need(what);
     char* end = nullptr;
     const float v = std::strtof(t.c_str(), &end);  // the float32 nearest the decimal
-    if (end != t.c_str() + t.size()) error("expected " + what + ", found '" + shown(t) + "'");
+    if (end != t.c_str() + t.size()) error("expected " + what + ", found '" + mesh_reading::printable(t) + "'");
     return v;
   }
-  static std::string shown(const std::string& t) {
-    std::string s = t.substr(0, 32);
-    for (char& c : s)
-      if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-    return s;
-  }
-
- private:
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t pos_ = 0;
-  int line_ = 1;
 };
 
 void parse_ascii(const std::string& text, TriangleMesh& mesh) {
@@ -139,7 +105,7 @@ void parse_ascii(const std::string& text, TriangleMesh& mesh) {
   for (std::size_t f = 0;; ++f) {
     const std::string t = tokens.need("'facet' or 'endsolid'");
     if (t == "endsolid") return;  // anything after it is ignored
-    if (t != "facet") tokens.error("expected 'facet' or 'endsolid', found '" + AsciiStlTokens::shown(t) + "'");
+    if (t != "facet") tokens.error("expected 'facet' or 'endsolid', found '" + mesh_reading::printable(t) + "'");
     tokens.expect("normal");
     for (int k = 0; k < 3; ++k) (void)tokens.need_float("a normal component");
     tokens.expect("outer");
@@ -150,7 +116,7 @@ void parse_ascii(const std::string& text, TriangleMesh& mesh) {
       if (v == "endloop")
         tokens.error("facet " + std::to_string(f) + " has " + std::to_string(k) +
                      " vertices; nearcap reads triangles only");
-      if (v != "vertex") tokens.error("expected 'vertex', found '" + AsciiStlTokens::shown(v) + "'");
+      if (v != "vertex") tokens.error("expected 'vertex', found '" + mesh_reading::printable(v) + "'");
       const float x = tokens.need_float("a vertex coordinate");
       const float y = tokens.need_float("a vertex coordinate");
       const float z = tokens.need_float("a vertex coordinate");
@@ -161,7 +127,7 @@ void parse_ascii(const std::string& text, TriangleMesh& mesh) {
     if (end == "vertex")
       fail(ErrorKind::Mesh, mesh.source,
            "facet " + std::to_string(f) + " has more than 3 vertices; nearcap reads triangles only");
-    if (end != "endloop") tokens.error("expected 'endloop', found '" + AsciiStlTokens::shown(end) + "'");
+    if (end != "endloop") tokens.error("expected 'endloop', found '" + mesh_reading::printable(end) + "'");
     tokens.expect("endfacet");
     mesh.triangles.push_back(tri);
   }

@@ -60,6 +60,9 @@ bool CrackDistances::tile_may_be_constant(int size, int a, int b) const {
 void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
   const auto t0 = std::chrono::steady_clock::now();
   tbb::enumerable_thread_specific<FilterStats> stats;
+  // Per thread, the light triangle that last proved a square in shadow: tried
+  // first on the next square (the levels do not depend on it).
+  tbb::enumerable_thread_specific<std::uint32_t> last_shadower(PixelReferenceTracer::kNoShadower);
   std::vector<std::size_t> pending;
   for (std::size_t p : pixels)
     if (level_[p] < 0) pending.push_back(p);
@@ -87,7 +90,7 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
       const std::int64_t half = std::int64_t{size} << (kCrackDistanceShift - 1);
       const WindowPoint centre{(2 * a + 1) * half, (2 * b + 1) * half, kCrackDistanceShift};
       proven[k] = tile_may_be_constant(size, static_cast<int>(a), static_cast<int>(b)) &&
-                  tracer_.proven_status_over_square(centre, half, &stats.local()).has_value();
+                  tracer_.proven_status_over_square(centre, half, &stats.local(), &last_shadower.local()).has_value();
     });
     proofs_ += todo.size();
     for (std::size_t k = 0; k < todo.size(); ++k) tiles_[todo[k]] = proven[k] != 0;
@@ -113,7 +116,8 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
     int level = 0;
     for (int r = kCrackLevel - 2; r >= 0; --r) {
       ++tried[k];
-      if (tracer_.proven_status_over_square(crack_square_centre(i, j), kCrackDistanceRadiiFixed[r], &stats.local())) {
+      if (tracer_.proven_status_over_square(crack_square_centre(i, j), kCrackDistanceRadiiFixed[r], &stats.local(),
+                                            &last_shadower.local())) {
         level = r + 1;
         break;
       }

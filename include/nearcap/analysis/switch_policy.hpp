@@ -17,6 +17,11 @@
 // With `exact_zpass` false there is no step 1 and no model: the capped
 // method for every occluder (docs/policy.md measures why the
 // shipped policy does so).
+// Before either decision: a frame that the scene's near plane leaves
+// depth-limited (below) is drawn with the tight near plane
+// (gl/tight_near_plane.hpp) where that frame is not, when the policy has no
+// near plane of its own and no exact Z-pass test (which decides for the
+// scene's plane); every method cracks on such a frame with the scene's plane.
 // The crack model is a logistic model on the conditioning features
 // (analysis/conditioning.hpp), fitted by `nearcap tune` (policy_fit.hpp):
 //   P(crack) = 1 / (1 + exp(-(bias + sum_k w_k (x_k - mean_k) / scale_k)))
@@ -162,6 +167,10 @@ struct PolicyDecision {
   double depth_step_over_size = 0;
   bool depth_limited = false;
   std::string depth_note;
+  // Where the scene's near plane would leave the frame depth-limited and the
+  // policy moved it (settings.near_plane Tight, depth_limited false): why,
+  // with both planes; empty elsewhere.
+  std::string near_plane_note;
   // The emulation settings the frame needs (the policy's switch clamp).
   gl::EmulationSettings settings;
   // With a device profile (the cost decision): the chosen frame's predicted

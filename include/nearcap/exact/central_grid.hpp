@@ -14,6 +14,12 @@
 // that face's cells) and a query whose own uncertainty exceeds kQueryMargin
 // gets every triangle.  The exact predicates then decide on the candidates.
 // Doubles are right here: they estimate, the predicates decide.
+//
+// Storage: a grid takes its lists and the temporaries of its build from
+// pools that keep the vectors earlier grids gave back, with their capacity
+// (src/exact/vector_pool.hpp), and gives them back when destroyed: a grid
+// rebuilt every frame (the camera or the light moved) writes into memory
+// already mapped.  The lists are the same either way.
 #pragma once
 
 #include <array>

@@ -153,8 +153,14 @@ class PixelReferenceTracer {
   // every point of the square of half-width (half_width / 2^centre.shift)
   // pixels centred on the window point `centre`, with a surface seen at every
   // point; nothing when it is not proven (crack_distance.hpp says how).
-  std::optional<bool> proven_status_over_square(const WindowPoint& centre, std::int64_t half_width,
-                                                FilterStats* stats) const;
+  // `last_shadower`, when given, holds a light triangle that proved an
+  // earlier square in shadow (kNoShadower: none yet; a caller keeps one per
+  // thread): it is tried first, and updated.  The answer is the same with or
+  // without it; the hint only spares the search (neighbouring squares are
+  // mostly shadowed by the same triangle).
+  static constexpr std::uint32_t kNoShadower = 0xffffffffu;
+  std::optional<bool> proven_status_over_square(const WindowPoint& centre, std::int64_t half_width, FilterStats* stats,
+                                                std::uint32_t* last_shadower = nullptr) const;
 
   // The same quantities without any acceleration: every triangle is tested.
   // The oracle the grids are tested against (slow).
