@@ -234,5 +234,61 @@ TEST(AtomicZP, BundledSidePlaneSceneInvertsTheWholeFrame) {
   EXPECT_EQ(p.atomiczp.wrong, p.atomiczp.pixels_seen);
 }
 
+// A frame that draws one occluder with a ZP+ method (or Z-pass) and the
+// other with AtomicZP: the eye count sums over the AtomicZP occluder only,
+// and the stencil is, pixel for pixel, the sum (mod 256) of the two frames
+// that each draw one of them alone, so it is right wherever each of those is.
+TEST(AtomicZP, MixedFrameIsTheSumOfItsSingleMethodFrames) {
+  const Scene mixed = test::two_boxes(true, true), only_a = test::two_boxes(true, false),
+              only_b = test::two_boxes(false, true);
+  const PixelReference ref = compute_pixel_reference(CameraSpaceScene(mixed), 0);
+  const ExactEyeCount eye_a = exact_eye_count(CameraSpaceScene(only_a), 0);
+  const ExactEyeCount eye_b = exact_eye_count(CameraSpaceScene(only_b), 0);
+  ASSERT_EQ(eye_a.count, 0u);
+  ASSERT_EQ(eye_b.count, 1u);
+  for (const auto& [a_method, projection] :
+       {std::pair{ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides},
+        std::pair{ShadowMethod::ZPPlusCorrected, gl::LightProjection::ClippedSides},
+        std::pair{ShadowMethod::ZPPlus, gl::LightProjection::Paper},
+        std::pair{ShadowMethod::ZPass, gl::LightProjection::Paper}}) {
+    gl::EmulationSettings settings;
+    settings.light_frustum.projection = projection;
+    const std::string what = std::string(gl::to_string(a_method)) +
+                             (projection == gl::LightProjection::ClippedSides ? " (clipped-sides)" : "") +
+                             " + atomiczp";
+    gl::ShadowFrameBatch batch(mixed, 0, settings);
+    const gl::ShadowFrame frame = batch.render({a_method, ShadowMethod::AtomicZP, ShadowMethod::ZPass});
+    const gl::ShadowFrame a = gl::render_shadow_frame(only_a, 0, a_method, settings);
+    const gl::ShadowFrame b = gl::render_shadow_frame(only_b, 0, ShadowMethod::AtomicZP, settings);
+    ASSERT_TRUE(frame.eye_count) << what;
+    EXPECT_EQ(*frame.eye_count, 1u) << what;
+    EXPECT_EQ(frame.eye_count_triangles, 12u) << what << ": the AtomicZP occluder's triangles only";
+    ASSERT_EQ(frame.stencil.size(), a.stencil.size());
+    std::size_t differ = 0, first = frame.stencil.size(), a_nonzero = 0;
+    for (std::size_t p = 0; p < frame.stencil.size(); ++p) {
+      a_nonzero += a.stencil[p] != 0;
+      if (frame.stencil[p] != static_cast<std::uint8_t>(a.stencil[p] + b.stencil[p])) {
+        if (differ++ == 0) first = p;
+      }
+    }
+    EXPECT_EQ(differ, 0u) << what << ": first at pixel " << first << ": mixed " << int(frame.stencil[first])
+                          << ", single-method frames " << int(a.stencil[first]) << " + " << int(b.stencil[first]);
+    std::size_t a_cap = 0;
+    if (gl::uses_near_cap(a_method)) {
+      ASSERT_EQ(frame.near_cap.size(), a.near_cap.size()) << what;
+      EXPECT_TRUE(frame.near_cap == a.near_cap) << what << ": the near-cap pass alone, the eye count's clear aside";
+      for (std::uint8_t v : a.near_cap) a_cap += v != 0;
+      EXPECT_GT(a_cap, 100u) << what << ": a's near-cap, counted on top of the eye count's clear";
+      EXPECT_LT(a_cap, a.near_cap.size()) << what;
+    }
+    const CrackReport judged = judge_frame(frame, ref);
+    std::printf(
+        "%s: eye count %zu, %zu pixels with a's volume counted, %zu in its near-cap; mixed frame wrong on %zu of %zu "
+        "seen\n",
+        what.c_str(), *frame.eye_count, a_nonzero, a_cap, judged.wrong, judged.pixels_seen);
+    EXPECT_GT(a_nonzero, 100u) << what;
+  }
+}
+
 }  // namespace
 }  // namespace nearcap

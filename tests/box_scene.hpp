@@ -53,4 +53,29 @@ inline Scene eye_near_side_plane(double x) {
   return box_scene({x, -0.1, 0}, {0, 5, 0}, o);
 }
 
+// Two boxes under a light at (0, 8, 0): `a` above and beside the eye, its
+// volume cut by the near plane (a near-cap), `b` straight above the eye (the
+// eye in its volume: an eye count of 1).  `a_occluder`, `b_occluder` say
+// which are occluders (the other is a receiver: drawn in the depth pre-pass
+// as before, casting no volume).
+inline Scene two_boxes(bool a_occluder, bool b_occluder) {
+  const TriangleMesh box = read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off");
+  SceneBuilder b("two boxes");
+  b.camera(look_at_camera({0, 0, 0}, {3, -0.5, 2}, {0, 1, 0}, 60, 0.05, 100, 96, 72));
+  b.light({0, 8, 0});
+  const Affine3d a_at = translate(0.52, 3.5, 0.2), b_at = translate(0, 2, 0);
+  if (a_occluder)
+    b.object(box, a_at);
+  else
+    b.receiver(box, a_at);
+  if (b_occluder)
+    b.object(box, b_at);
+  else
+    b.receiver(box, b_at);
+  Affine3d ground = translate(0, -20.6, 0);
+  for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
+  b.receiver(box, ground);
+  return b.build();
+}
+
 }  // namespace nearcap::test

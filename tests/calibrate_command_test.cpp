@@ -108,7 +108,22 @@ TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCo
       EXPECT_FALSE(kinds.count(PassKind::NearCap)) << frame;
     }
   }
-  EXPECT_EQ(depth_frames, 5u * 3u) << "five methods, three path frames";
+  EXPECT_EQ(depth_frames, 6u * 3u) << "six methods, three path frames";
+  EXPECT_TRUE(method_kinds["atomiczp"].count(PassKind::Sides));
+  EXPECT_FALSE(method_kinds["atomiczp"].count(PassKind::NearCap) || method_kinds["atomiczp"].count(PassKind::LightCap))
+      << "AtomicZP draws its sides only; its eye-count pass has rows of its own";
+  // AtomicZP's eye-count pass: one row per light frame it drew, fitted into
+  // the profile's optional row.
+  std::size_t eye_rows = 0;
+  for (const analysis::EyeCountObservation& o : set.eye_count) {
+    EXPECT_EQ(o.frame.substr(o.frame.rfind(':') + 1), "atomiczp") << o.frame;
+    EXPECT_TRUE(frames.count(o.frame)) << o.frame << ": the frame's other passes are observed too";
+    EXPECT_EQ(o.fragments, 32.0 * 24.0) << o.frame;
+    EXPECT_GT(o.triangles, 0.0) << o.frame;
+    eye_rows += o.frame.rfind("path:sweep3:", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(eye_rows, 3u) << "one light in each of the three path frames";
+  EXPECT_TRUE(written.device_profile->eye_count);
   EXPECT_TRUE(method_kinds["zpplus"].count(PassKind::NearCap));
   EXPECT_TRUE(method_kinds["zpplus-clipped-sides"].count(PassKind::NearCap));
   EXPECT_TRUE(method_kinds["zpplus-corrected"].count(PassKind::NearCap));

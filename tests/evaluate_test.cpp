@@ -293,16 +293,19 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
   std::istringstream lines(csv);
   std::string line;
   std::getline(lines, line);
-  std::size_t oracle = 0, policy = 0, again = 0;
+  std::size_t oracle = 0, policy = 0, again = 0, atomiczp = 0;
   while (std::getline(lines, line)) {
     EXPECT_EQ(line.rfind("seed-4242,sample:4242:", 0), 0u) << line;
     if (line.find(",oracle,") != std::string::npos) ++oracle;
     if (line.find(",policy,") != std::string::npos) ++policy;
     if (line.find(",zfail#again,") != std::string::npos) ++again;
+    if (line.find(",atomiczp,") != std::string::npos) ++atomiczp;
   }
   EXPECT_GE(policy, 2u) << csv;  // two configurations, a light each at least
   EXPECT_EQ(oracle, policy) << csv;
   EXPECT_EQ(again, policy) << csv;
+  EXPECT_EQ(atomiczp, policy) << csv << ": AtomicZP is among the oracle's candidates";
+  EXPECT_NE(md.find("| atomiczp | "), std::string::npos) << md;
   EXPECT_NE(md.find("### seed-4242"), std::string::npos) << md;
   EXPECT_NE(md.find("| oracle | "), std::string::npos) << md;
   EXPECT_NE(md.find("| doom3-bfg | "), std::string::npos) << md;

@@ -245,5 +245,75 @@ TEST_F(EyeCountPassTest, RenderCompareReportsTheGlCount) {
   EXPECT_EQ(m["gl_vs_exact"], 0);
 }
 
+std::size_t differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < a.size() && p < b.size(); ++p) n += a[p] != b[p];
+  return n + (a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+}
+
+// A frame that draws one occluder with AtomicZP and the other with a ZP+
+// (near_split: the slab and the torus; test::two_boxes: the eye in the
+// second box's volume, the first's cut by the near plane), on the GL: the lit frame's stencil
+// (the eye-count pass over the AtomicZP occluder, the near-cap and volumes
+// over it) equals the replay's (cleared to the emulation's count), the GL's
+// count is the emulation's, and the replay differs from the emulation on no
+// more pixels than the two single-method frames do together (the sides'
+// rasterization on llvmpipe), its near-cap pass no more than ZP+'s own.
+TEST_F(EyeCountPassTest, MixedFrameOnTheGlIsTheEmulations) {
+  for (const Scene& scene :
+       {load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_split.json"), test::two_boxes(true, true)}) {
+    const std::vector<std::size_t> occ = occluders(scene);
+    ASSERT_EQ(occ.size(), 2u);
+    for (const auto& [zpplus, projection] : {std::pair{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides},
+                                             std::pair{gl::ShadowMethod::ZPPlusCorrected, gl::LightProjection::Paper}})
+      for (std::size_t atomic = 0; atomic < 2; ++atomic) {
+        gl::EmulationSettings settings;
+        settings.record_draws = true;
+        settings.light_frustum.projection = projection;
+        std::vector<gl::ShadowMethod> methods(scene.objects.size(), gl::ShadowMethod::ZPass);
+        methods[occ[atomic]] = gl::ShadowMethod::AtomicZP;
+        methods[occ[1 - atomic]] = zpplus;
+        const std::string what = scene.source + ": " + std::string(gl::to_string(zpplus)) + " + atomiczp on object " +
+                                 std::to_string(occ[atomic]);
+        gl::ShadowFrameBatch batch(scene, 0, settings);
+        const gl::ShadowFrame frame = batch.render(methods);
+        const gl::ShadowFrame all_atomic = batch.render(gl::ShadowMethod::AtomicZP);
+        const gl::ShadowFrame all_zpplus = batch.render(zpplus);
+        ASSERT_TRUE(frame.eye_count) << what;
+        const std::size_t count_alone = gl::float_eye_count(scene, 0, {occ[atomic]}).count;
+        EXPECT_EQ(*frame.eye_count, count_alone) << what;
+
+        render::LitFrameOptions options;
+        options.read_stencils = true;
+        const render::LitFrame lit = render::render_lit_frame(scene, {frame}, settings.depth, options);
+        ASSERT_EQ(lit.eye_counts.size(), 1u);
+        ASSERT_TRUE(lit.eye_counts[0]) << what;
+        EXPECT_EQ(*lit.eye_counts[0], *frame.eye_count) << what;
+        render::GlFrameReplay replay(frame.width, frame.height, settings.depth);
+        const render::ReplayedFrame mixed = replay.replay(frame.draws, 0, render::VertexStage::Glsl);
+        const render::ReplayedFrame a = replay.replay(all_atomic.draws, 0, render::VertexStage::Glsl);
+        const render::ReplayedFrame z = replay.replay(all_zpplus.draws, 0, render::VertexStage::Glsl);
+        const std::size_t lit_vs_replay = differing(lit.stencils[0], mixed.stencil);
+        const std::size_t mixed_differ = differing(mixed.stencil, frame.stencil);
+        const std::size_t singles_differ =
+            differing(a.stencil, all_atomic.stencil) + differing(z.stencil, all_zpplus.stencil);
+        // A frame whose near-cap pass draws nothing (the cap empty, or the
+        // occluder switched to Z-fail) is replayed without one: all zero.
+        const std::size_t cap_differ =
+            differing(mixed.near_cap.empty() ? std::vector<std::uint8_t>(frame.near_cap.size(), 0) : mixed.near_cap,
+                      frame.near_cap);
+        const std::size_t zpplus_cap_differ = differing(z.near_cap, all_zpplus.near_cap);
+        std::printf(
+            "%s: eye count %zu; lit vs replay %zu; replay vs emulation %zu (single-method frames %zu); near-cap %zu "
+            "(ZP+ alone %zu)\n",
+            what.c_str(), *frame.eye_count, lit_vs_replay, mixed_differ, singles_differ, cap_differ, zpplus_cap_differ);
+        EXPECT_EQ(lit_vs_replay, 0u) << what;
+        EXPECT_LE(mixed_differ, singles_differ) << what;
+        EXPECT_FALSE(frame.near_cap.empty()) << what;
+        EXPECT_LE(cap_differ, zpplus_cap_differ) << what;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -160,6 +160,43 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   std::filesystem::remove_all(dir);
 }
 
+// --bench with zpass and atomiczp: Z-pass's frame drawn once more with
+// GL_DEPTH_CLAMP on its sides (the zpass#depth-clamp rows, render.json's
+// depth_clamp and a summary line), so that AtomicZP's cost over Z-pass
+// splits into the clamp's and the eye-count pass's; without atomiczp, no
+// such rows.
+TEST(RenderCommand, BenchTimesZPassSidesWithDepthClampBesideAtomicZP) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_clamp_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const test::CliResult r = test::run_cli(
+      "render data/scenes/eye_in_shadow.json --light 0 --method zpass,atomiczp "
+      "--bench --out '" +
+          (dir / "both").string() + "'",
+      "render_clamp");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = test::slurp(dir / "both" / "bench.csv");
+  EXPECT_NE(csv.find("\n0,zpass,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0,zpass#depth-clamp,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0,atomiczp,"), std::string::npos) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4) << csv;  // zpass, again, clamped, atomiczp
+  EXPECT_NE(r.out.find("bench: depth clamp:"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "both" / "render.json"));
+  ASSERT_TRUE(j.contains("depth_clamp")) << j.dump();
+  EXPECT_EQ(j["depth_clamp"]["frames"], 1);
+  EXPECT_GT(j["depth_clamp"]["mean_stencil_ms_clamped"].get<double>(), 0.0);
+  EXPECT_GT(j["depth_clamp"]["mean_stencil_ms"].get<double>(), 0.0);
+  const test::CliResult zpass_only =
+      test::run_cli("render data/scenes/eye_in_shadow.json --light 0 --method zpass,zfail --bench --out '" +
+                        (dir / "no").string() + "'",
+                    "render_clamp");
+  ASSERT_EQ(zpass_only.exit_code, 0) << zpass_only.err;
+  EXPECT_EQ(test::slurp(dir / "no" / "bench.csv").find("depth-clamp"), std::string::npos);
+  EXPECT_EQ(zpass_only.out.find("bench: depth clamp:"), std::string::npos) << zpass_only.out;
+  std::filesystem::remove_all(dir);
+}
+
 // --bench's CPU work: bench.csv's cpu_ms and end_to_end_ms on every row (the
 // noise floor's second Z-pass too), end to end at least the CPU work, and
 // render.json's breakdown per light and occluder within the frame's cpu_ms;

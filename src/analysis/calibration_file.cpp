@@ -59,6 +59,11 @@ std::string calibration_csv_header() { return std::string(kHeader) + "\n"; }
 std::string calibration_csv_rows(const CalibrationSet& set) {
   std::string out;
   for (const PassObservation& o : set.passes) out += pass_line("pass", o);
+  for (const EyeCountObservation& o : set.eye_count) {
+    check_frame(o.frame);
+    out += "pass," + o.frame + "," + std::string(kEyeCountPassName) + "," + number(o.triangles, "triangle count") +
+           "," + number(o.fragments, "fragment count") + "," + number(o.ms, "time") + ",,,\n";
+  }
   for (const PassObservation& o : set.again) out += pass_line("again", o);
   for (const CpuObservation& o : set.cpu) {
     check_frame(o.frame);
@@ -141,7 +146,10 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
           throw fail(ErrorKind::Schema,
                      std::string(kColumns[column]) + " '" + std::string(field[column]) + "': " + what + " (empty)");
     };
-    if (record == "pass" || record == "again") {
+    if (record == "pass" && field[2] == kEyeCountPassName) {
+      counts_empty("a pass record has no CPU task counts");
+      set.eye_count.push_back({frame, value(3), value(4), value(5)});
+    } else if (record == "pass" || record == "again") {
       const std::optional<PassKind> kind = pass_kind_from_string(field[2]);
       if (!kind) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a pass kind");
       counts_empty("a " + std::string(record) + " record has no CPU task counts");

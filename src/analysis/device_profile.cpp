@@ -29,6 +29,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -110,7 +111,73 @@ struct Side {
 // positive measured time; NaN without any.
 double median_error(const Side& s) { return median(s.errors); }
 
+// One pass row's (intercept, a, b) fitted on `train`, and its median
+// relative error on each side (see fit_device_profile).
+PassCost fit_pass_cost(const std::vector<const PassObservation*>& train,
+                       const std::vector<const PassObservation*>& held, const ProfileFitOptions& options,
+                       const std::string& what, double& train_error, std::size_t& train_count, double& held_error,
+                       std::size_t& held_count) {
+  PassCost cost;
+  std::vector<double> times;
+  double mean_t = 0, mean_f = 0;
+  for (const PassObservation* o : train) {
+    times.push_back(o->ms);
+    mean_t += o->triangles * 1e-6 / static_cast<double>(train.size());
+    mean_f += o->fragments * 1e-6 / static_cast<double>(train.size());
+  }
+  const double m = median(times);
+  if (m > 0) {
+    const double s_t = mean_t > 0 ? mean_t : 1.0, s_f = mean_f > 0 ? mean_f : 1.0;
+    std::vector<std::array<double, 3>> x;
+    std::vector<double> y;
+    for (const PassObservation* o : train) {
+      x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
+      y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
+    }
+    std::array<double, 3> theta{0.4, 0.3, 0.3};
+    solve_log_linear<3>(x, y, options.robust, what, theta);
+    // A count that is 0 in every training observation leaves its coefficient
+    // at its start, multiplying nothing: 0.
+    cost.intercept_ms = m * theta[0];
+    cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
+    cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
+  }
+  for (const auto& [side, error, count] :
+       {std::tuple{&train, &train_error, &train_count}, std::tuple{&held, &held_error, &held_count}}) {
+    Side s;
+    s.count = side->size();
+    for (const PassObservation* o : *side)
+      if (o->ms > 0) {
+        const double predicted = cost.intercept_ms + cost.ms_per_mtriangle * o->triangles * 1e-6 +
+                                 cost.ms_per_mfragment * o->fragments * 1e-6;
+        s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
+      }
+    *error = median_error(s);
+    *count = s.count;
+  }
+  return cost;
+}
+
 }  // namespace
+
+std::optional<PassCost> fit_eye_count_pass(const std::vector<EyeCountObservation>& observations,
+                                           EyeCountFitReport* report, const ProfileFitOptions& options) {
+  std::vector<PassObservation> as_passes;
+  for (const EyeCountObservation& o : observations) {
+    check_measure(o.triangles, "the triangle count", o.frame, "eye-count observation");
+    check_measure(o.fragments, "the fragment count", o.frame, "eye-count observation");
+    check_measure(o.ms, "the time", o.frame, "eye-count observation");
+    as_passes.push_back({o.frame, PassKind::Depth, o.triangles, o.fragments, o.ms});
+  }
+  std::vector<const PassObservation*> train, held;
+  for (const PassObservation& o : as_passes) (held_out_configuration(o.frame) ? held : train).push_back(&o);
+  EyeCountFitReport r;
+  const PassCost cost = fit_pass_cost(train, held, options, "eye-count pass cost", r.train_median_relative_error,
+                                      r.train_count, r.held_out_median_relative_error, r.held_out_count);
+  if (report) *report = r;
+  if (train.empty()) return std::nullopt;
+  return cost;
+}
 
 DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
                                  const std::string& gl_renderer, ProfileFitReport* report,
@@ -137,43 +204,9 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
     std::vector<const PassObservation*> train, held;
     for (const PassObservation& o : passes)
       if (static_cast<std::size_t>(o.kind) == k) (held_out_configuration(o.frame) ? held : train).push_back(&o);
-    PassCost& cost = profile.passes[k];
-    std::vector<double> times;
-    double mean_t = 0, mean_f = 0;
-    for (const PassObservation* o : train) {
-      times.push_back(o->ms);
-      mean_t += o->triangles * 1e-6 / static_cast<double>(train.size());
-      mean_f += o->fragments * 1e-6 / static_cast<double>(train.size());
-    }
-    const double m = median(times);
-    if (m > 0) {
-      const double s_t = mean_t > 0 ? mean_t : 1.0, s_f = mean_f > 0 ? mean_f : 1.0;
-      std::vector<std::array<double, 3>> x;
-      std::vector<double> y;
-      for (const PassObservation* o : train) {
-        x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
-        y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
-      }
-      std::array<double, 3> theta{0.4, 0.3, 0.3};
-      solve_log_linear<3>(x, y, options.robust, std::string(kPassKindNames[k]) + " pass cost", theta);
-      cost.intercept_ms = m * theta[0];
-      cost.ms_per_mtriangle = m * theta[1] / s_t;
-      cost.ms_per_mfragment = m * theta[2] / s_f;
-    }
-    for (const auto& [side, error, count] :
-         {std::tuple{&train, &r.train_median_relative_error[k], &r.train_count[k]},
-          std::tuple{&held, &r.held_out_median_relative_error[k], &r.held_out_count[k]}}) {
-      Side s;
-      s.count = side->size();
-      for (const PassObservation* o : *side)
-        if (o->ms > 0) {
-          const double predicted = cost.intercept_ms + cost.ms_per_mtriangle * o->triangles * 1e-6 +
-                                   cost.ms_per_mfragment * o->fragments * 1e-6;
-          s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
-        }
-      *error = median_error(s);
-      *count = s.count;
-    }
+    profile.passes[k] = fit_pass_cost(train, held, options, std::string(kPassKindNames[k]) + " pass cost",
+                                      r.train_median_relative_error[k], r.train_count[k],
+                                      r.held_out_median_relative_error[k], r.held_out_count[k]);
   }
 
   // The silhouette: one unknown, ms per thousand occluder triangles.

@@ -40,14 +40,16 @@ DeviceProfile device_profile_of(const JsonValue& j) {
   d.gl_renderer = j.required<std::string>("gl_renderer");
   d.origin = j.at("origin").choice<std::string>({{"calibrated", "calibrated"}, {"hand", "hand"}, {"scaled", "scaled"}});
   const JsonValue passes = j.at("passes");
-  passes.only_keys(std::vector<std::string_view>(kPassKindNames.begin(), kPassKindNames.end()));
-  for (std::size_t k = 0; k < kPassKindCount; ++k) {
-    const JsonValue pass = passes.at(kPassKindNames[k]);
+  std::vector<std::string_view> pass_keys(kPassKindNames.begin(), kPassKindNames.end());
+  pass_keys.push_back(kEyeCountPassName);  // optional
+  passes.only_keys(pass_keys);
+  auto pass_cost = [](const JsonValue& pass) {
     pass.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
-    d.passes[k].intercept_ms = cost_number(pass, "intercept_ms");
-    d.passes[k].ms_per_mtriangle = cost_number(pass, "ms_per_mtriangle");
-    d.passes[k].ms_per_mfragment = cost_number(pass, "ms_per_mfragment");
-  }
+    return PassCost{cost_number(pass, "intercept_ms"), cost_number(pass, "ms_per_mtriangle"),
+                    cost_number(pass, "ms_per_mfragment")};
+  };
+  for (std::size_t k = 0; k < kPassKindCount; ++k) d.passes[k] = pass_cost(passes.at(kPassKindNames[k]));
+  if (const auto eye = passes.find(kEyeCountPassName)) d.eye_count = pass_cost(*eye);
   const JsonValue cpu = j.at("cpu");
   d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette");
   if (cpu.find("ms_per_ktriangle_clipped_cap") || cpu.find("ms_per_ktriangle_exact_test")) {
@@ -86,6 +88,10 @@ Json device_profile_json(const DeviceProfile& d) {
     passes[std::string(kPassKindNames[k])] = {{"intercept_ms", d.passes[k].intercept_ms},
                                               {"ms_per_mtriangle", d.passes[k].ms_per_mtriangle},
                                               {"ms_per_mfragment", d.passes[k].ms_per_mfragment}};
+  if (d.eye_count)
+    passes[std::string(kEyeCountPassName)] = {{"intercept_ms", d.eye_count->intercept_ms},
+                                              {"ms_per_mtriangle", d.eye_count->ms_per_mtriangle},
+                                              {"ms_per_mfragment", d.eye_count->ms_per_mfragment}};
   return {{"gl_renderer", d.gl_renderer},
           {"origin", d.origin},
           {"passes", passes},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -13,7 +14,10 @@
 #include "general4.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/exact/eye_count.hpp"
+#include "nearcap/exact/light_facing.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
+#include "nearcap/gl/eye_count.hpp"
 #include "nearcap/gl/light_frustum.hpp"
 
 namespace nearcap::analysis {
@@ -83,6 +87,11 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     c.intercept_ms /= gl_factor;
     c.ms_per_mtriangle /= gl_factor;
     c.ms_per_mfragment /= gl_factor;
+  }
+  if (s.eye_count) {
+    s.eye_count->intercept_ms /= gl_factor;
+    s.eye_count->ms_per_mtriangle /= gl_factor;
+    s.eye_count->ms_per_mfragment /= gl_factor;
   }
   s.cpu.ms_per_ktriangle_silhouette /= cpu_factor;
   for (CpuTaskCost* c : {&s.cpu.clipped_cap, &s.cpu.exact_test}) {
@@ -319,6 +328,69 @@ bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
   return cheap_conditioning_features(cs, light).light_near_distance == 0;
 }
 
+// Whether no point of occluder o lies between the eye's plane and the near
+// plane (camera space: -near <= z < 0), decided exactly per vertex: each
+// triangle lies wholly beyond the near plane (every vertex z < -near) or
+// wholly on or behind the eye's plane (every vertex z >= 0).  A view ray
+// (z < 0 past the eye) then meets the occluder only beyond the near plane,
+// where the depth pre-pass draws it, so depth-clamped Z-pass misses none of
+// its light cap's crossings.  Conservative: a triangle from behind the eye
+// to beyond the near plane is refused, also where it crosses the slab
+// outside the view.  `near`: the near plane the frame is drawn with.
+bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, double near) {
+  const BoundedDouble minus_near(-near), zero(0.0);
+  const TriangleMesh& mesh = cs.mesh(o);
+  enum : std::uint8_t { kUnknown, kBeyond, kBehind };
+  std::vector<std::uint8_t> side(mesh.positions.size(), kUnknown);
+  auto side_of = [&](VertexIndex v) {
+    if (side[v] != kUnknown) return side[v];
+    const Sign beyond = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - minus_near; },
+        [&] { return Rational(cs.exact_vertex(o, v).z + Rational(near)); });
+    if (beyond == Sign::Negative) return side[v] = kBeyond;
+    const Sign behind = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - zero; },
+        [&] { return Rational(cs.exact_vertex(o, v).z); });
+    return side[v] = behind == Sign::Negative ? kUnknown : kBehind;
+  };
+  for (const auto& t : mesh.triangles) {
+    const std::uint8_t a = side_of(t[0]);
+    if (a == kUnknown || side_of(t[1]) != a || side_of(t[2]) != a) return false;
+  }
+  return true;
+}
+
+// Whether AtomicZP is right for occluder o under the light wherever Z-fail
+// is (docs/atomiczp.md, "Where it is right"): the near plane does not cut
+// the occluder, and its share of the eye count is decided robustly: the
+// exact count's perturbation decided no tie at the eye (`on_boundary`), and
+// the float32 count, computed as the GL's pass computes it (gl/eye_count.hpp,
+// in `arithmetic`), equals it.  Counts add over occluders, so a frame's
+// count over its AtomicZP occluders is right where each one's is.  `why`
+// says why not, or what was found.  `near`: the near plane the frame is
+// drawn with.
+bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, double near,
+                       gl::Arithmetic arithmetic, std::string& why) {
+  if (!near_plane_clear_of_occluder(cs, o, near)) {
+    why = "the near plane cuts the occluder";
+    return false;
+  }
+  std::vector<std::vector<Facing>> facing(cs.object_count());
+  facing[o] = light_facing(cs, o, light, nullptr);
+  const ExactEyeCount exact = exact_eye_count(cs, light, facing);
+  if (exact.on_boundary) {
+    why = "the eye is on a boundary of its volume (exact eye count on_boundary)";
+    return false;
+  }
+  const gl::FloatEyeCount fl = gl::float_eye_count(cs.scene(), light, {o}, arithmetic);
+  if (fl.count != exact.count) {
+    why = "float eye count " + std::to_string(fl.count) + ", exact " + std::to_string(exact.count);
+    return false;
+  }
+  why = "eye count " + std::to_string(exact.count) + ", exact and float agree";
+  return true;
+}
+
 // `drawn`: the scene as the frame draws it (its near plane the tight one
 // where decide() moved it), for the work estimate.
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
@@ -329,6 +401,9 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper};
   const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};
   const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper};
+  const CandidateMethod atomiczp{gl::ShadowMethod::AtomicZP, gl::LightProjection::Paper};
+  // AtomicZP is a candidate only where the profile prices its eye-count pass.
+  const bool atomiczp_priced = profile.eye_count.has_value();
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
   const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
@@ -340,9 +415,10 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   struct Occluder {
     std::size_t object = 0;
     OccluderWorkInputs in;
-    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0;
-    bool zpass_ok = false;  // the near-cap is empty (certainly, or by the exact test)
-    std::string zpass_why;
+    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0, atomiczp_ms = kNaN;
+    bool zpass_ok = false;     // the near-cap is empty (certainly, or by the exact test)
+    bool atomiczp_ok = false;  // atomiczp_admitted
+    std::string zpass_why, atomiczp_why;
   };
   std::vector<Occluder> occluders;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
@@ -355,8 +431,23 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
     oc.zpass_ms = marginal_ms(profile, occluder_work(oc.in, zpass));
+    if (atomiczp_priced) {
+      oc.atomiczp_ms = marginal_ms(profile, occluder_work(oc.in, atomiczp));
+      // Its conditions are tested only where it could be chosen: cheaper
+      // than Z-fail, the candidate every frame option has, and not where
+      // Z-pass is certainly right (Z-pass draws the same sides, no pass).
+      if (policy.exact_zpass && !light_on_near_plane && oc.in.certainly_misses_light_pyramid)
+        oc.atomiczp_why = "Z-pass is exact here and cheaper";
+      else if (!(oc.atomiczp_ms < oc.zfail_ms))
+        oc.atomiczp_why = "not cheaper than zfail";
+      else
+        oc.atomiczp_ok =
+            atomiczp_admitted(cs, o, light, scene.camera.frustum.near, d.settings.arithmetic, oc.atomiczp_why);
+    }
     occluders.push_back(std::move(oc));
   }
+  bool any_atomiczp = false;
+  for (const Occluder& oc : occluders) any_atomiczp = any_atomiczp || oc.atomiczp_ok;
   // Z-pass: free where the cull is certain; elsewhere only after the exact
   // test, whose cost the frame then pays for every occluder it tests.
   std::vector<bool> untested(occluders.size(), false);
@@ -378,14 +469,24 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   // The frame-level options, each with its cheapest candidate per occluder
   // (Z-pass where `zpass_allowed`), the best of them: its predicted ms, the
   // methods, the work, the light projection; `log` keeps each option's ms.
+  // Each with and without AtomicZP's eye-count pass (its intercept paid
+  // once per frame) where some occluder admits it.
   struct Option {
     std::string name;
     gl::LightProjection projection;
-    bool clipped = false, paper = false;
+    bool clipped = false, paper = false, eye_count = false;
   };
   std::vector<Option> options{{"no near-cap", policy.light_projection, false, false},
                               {"clipped-sides cap", gl::LightProjection::ClippedSides, true, false}};
   if (paper_ok) options.push_back({"paper cap", policy.light_projection, false, true});
+  if (any_atomiczp)
+    for (std::size_t k = 0, n = options.size(); k < n; ++k) {
+      Option o = options[k];
+      o.name += " + eye count";
+      o.eye_count = true;
+      options.push_back(std::move(o));
+    }
+  const double viewport_pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
   const FrameWork shared = shared_frame_work(scene);
   struct Frame {
     double ms = kNaN;
@@ -413,10 +514,15 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
           c = paper;
           ms = oc.paper_ms;
         }
+        if (option.eye_count && oc.atomiczp_ok && oc.atomiczp_ms < ms) {
+          c = atomiczp;
+          ms = oc.atomiczp_ms;
+        }
         if (zpass_allowed[i] && oc.zpass_ms <= ms) c = zpass;  // a tie: Z-pass, the simpler frame
         f.work += occluder_work(oc.in, c);
         f.choice.push_back(c);
       }
+      if (f.work.eye_count.drawn) f.work.eye_count.fragments = viewport_pixels;  // the count's stencil write
       f.ms = profile.predict_ms(f.work);
       if (log) log->push_back({option.name, f.ms});
       if (!(f.ms >= best.ms)) best = std::move(f);
@@ -490,6 +596,16 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     why += " (";
     why += oc.zpass_why;
     why += ")";
+    if (atomiczp_priced) {
+      why += ", atomiczp ";
+      if (oc.atomiczp_ok)
+        append_ms(why, oc.atomiczp_ms);
+      else
+        why += "not a candidate";
+      why += " (";
+      why += oc.atomiczp_why;
+      why += ")";
+    }
   }
   return d;
 }

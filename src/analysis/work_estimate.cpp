@@ -267,7 +267,8 @@ FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c) 
       break;
     case gl::ShadowMethod::AtomicZP:  // Z-pass's sides, depth-clamped, and the eye count over every triangle
       pass(PassKind::Sides, sides, 2 * in.volume_pixels);
-      pass(PassKind::NearCap, in.triangles, 0);
+      w.eye_count.drawn = true;
+      w.eye_count.triangles = in.triangles;  // the stencil write's fragments are the frame's (estimate_frame_work)
       break;
     case gl::ShadowMethod::Preload:  // the closed volume twice
       pass(PassKind::Sides, 2 * sides, 4 * in.volume_pixels);
@@ -329,6 +330,7 @@ FrameWork estimate_frame_work(const Scene& scene, std::size_t light,
       c.method = gl::ShadowMethod::ZFail;
     w += occluder_work(occluder_work_inputs(scene, o, light), c);
   }
+  if (w.eye_count.drawn) w.eye_count.fragments = static_cast<double>(scene.camera.width) * scene.camera.height;
   return w;
 }
 

@@ -70,6 +70,7 @@ constexpr CalibratedMethod kMethods[] = {
     {"zpplus", gl::ShadowMethod::ZPPlus, false},
     {"zpplus-clipped-sides", gl::ShadowMethod::ZPPlus, true},
     {"zpplus-corrected", gl::ShadowMethod::ZPPlusCorrected, false},
+    {"atomiczp", gl::ShadowMethod::AtomicZP, false},
 };
 constexpr std::size_t kMethodCount = sizeof kMethods / sizeof kMethods[0];
 
@@ -272,7 +273,8 @@ void print_noise_floor(const analysis::CalibrationSet& set) {
                 quantile(all, 0.95), all.size());
 }
 
-void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r) {
+void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r,
+                      const analysis::EyeCountFitReport& eye) {
   std::printf("device profile for %s (held-out: frames with FNV-1a(frame) %% 5 == 0):\n", p.gl_renderer.c_str());
   std::printf("  %-12s %11s %13s %13s %10s %10s\n", "pass kind", "ms per pass", "ms per Mtri", "ms per Mfrag",
               "train err", "held out");
@@ -283,6 +285,12 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                 c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
                 percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
   }
+  if (const auto& c = p.eye_count)
+    std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n", "eye_count", c->intercept_ms,
+                c->ms_per_mtriangle, c->ms_per_mfragment, percent(eye.train_median_relative_error).c_str(),
+                percent(eye.held_out_median_relative_error).c_str(), eye.train_count, eye.held_out_count);
+  else
+    std::printf("  eye_count    no training observation (no AtomicZP frame drawn): no eye_count row\n");
   std::printf("  %-12s %11s %13s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri",
               "per kreaching", "per ktested", "per kstraddle", "per kexamined", "train err", "held out");
   const analysis::CpuTaskCost silhouette{0, p.cpu.ms_per_ktriangle_silhouette, 0, 0, 0};
@@ -381,6 +389,15 @@ void run(CalibrateOptions o) {
       }
       if (!record) continue;
       add_observations(lit, *work[m], e.frames[m], c.id, kMethods[m].name, observations.passes);
+      // AtomicZP's eye-count pass, per light frame: its own row.
+      for (std::size_t k = 0; k < e.frames[m].size() && k < lit.eye_count_ms.size(); ++k) {
+        const gl::ShadowFrame& f = e.frames[m][k];
+        if (!f.eye_count) continue;
+        observations.eye_count.push_back({c.id + ":light" + std::to_string(f.light) + ":" + kMethods[m].name,
+                                          static_cast<double>(f.eye_count_triangles),
+                                          static_cast<double>(scene->camera.width) * scene->camera.height,
+                                          lit.eye_count_ms[k]});
+      }
       ++drawn;
     }
     if (record && work[0]) {
@@ -403,20 +420,24 @@ void run(CalibrateOptions o) {
   std::printf(
       "calibrated on %s: %zu configurations (%zu rejected), %zu method frames drawn (%zu refused), %zu pass "
       "and %zu cpu observations in %s\n",
-      context.renderer().c_str(), set.count(), rejected, drawn, refused, observations.passes.size(),
-      observations.cpu.size(), o.out.c_str());
+      context.renderer().c_str(), set.count(), rejected, drawn, refused,
+      observations.passes.size() + observations.eye_count.size(), observations.cpu.size(), o.out.c_str());
   print_noise_floor(observations);
   if (policy) {
     analysis::ProfileFitReport report;
     policy->device_profile =
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
-    print_fit_report(*policy->device_profile, report);
+    analysis::EyeCountFitReport eye_report;
+    policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
+    print_fit_report(*policy->device_profile, report, eye_report);
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
     nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();
     for (std::size_t k = 0; k < analysis::kPassKindCount; ++k)
       if (std::isfinite(report.held_out_median_relative_error[k]))
         held_out[std::string(analysis::kPassKindNames[k])] = report.held_out_median_relative_error[k];
+    if (std::isfinite(eye_report.held_out_median_relative_error))
+      held_out[std::string(analysis::kEyeCountPassName)] = eye_report.held_out_median_relative_error;
     const char* tasks[] = {"silhouette", "clipped_cap", "exact_test"};
     for (std::size_t k = 0; k < 3; ++k)
       if (std::isfinite(report.cpu_held_out_median_relative_error[k]))
@@ -428,7 +449,7 @@ void run(CalibrateOptions o) {
                                  {"width", o.width},
                                  {"height", o.height},
                                  {"configurations", set.count()},
-                                 {"pass_observations", observations.passes.size()},
+                                 {"pass_observations", observations.passes.size() + observations.eye_count.size()},
                                  {"cpu_observations", observations.cpu.size()},
                                  {"held_out_median_relative_error", {{"passes", held_out}, {"cpu", cpu_held_out}}}};
     policy->provenance_json = json_text(provenance);
@@ -445,8 +466,9 @@ void register_calibrate(CLI::App& app) {
       app, "calibrate",
       "measure what each pass kind (depth pre-pass, sides, light cap, dark cap, near-cap, lit pass) and each CPU task "
       "(silhouettes, the clipped-sides cap, the exact empty-near-cap test) costs on the current OpenGL (headless "
-      "EGL): a calibration set of hard-case samples and camera paths drawn with zpass, zfail, zpplus, "
-      "zpplus-clipped-sides and zpplus-corrected, interleaved per configuration after a warm-up, each pass timed on "
+      "EGL), and AtomicZP's eye-count pass: a calibration set of hard-case samples and camera paths drawn with zpass, "
+      "zfail, zpplus, zpplus-clipped-sides, zpplus-corrected and atomiczp, interleaved per configuration after a "
+      "warm-up, each pass timed on "
       "its own with the triangles and fragments it drew; writes the observations as CSV (docs/calibration.md) and "
       "prints the noise floor (zpass drawn twice); with --write-policy, fits a device profile and writes the policy "
       "with it",

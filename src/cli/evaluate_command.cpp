@@ -195,6 +195,7 @@ class Evaluation {
         rule_frame("zpplus-clipped", gl::ShadowMethod::ZPPlus, {}, with_projection(gl::LightProjection::ClippedSides)));
     out.push_back(rule_frame("zpplus-corrected", gl::ShadowMethod::ZPPlusCorrected, {},
                              with_projection(gl::LightProjection::Paper)));
+    out.push_back(rule_frame("atomiczp", gl::ShadowMethod::AtomicZP, {}, base_));
     out.push_back(exact_zfail);
     out.push_back(
         decided("exact-zpass+clipped", exact_zpass_rule(gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides)));

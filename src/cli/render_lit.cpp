@@ -65,22 +65,31 @@ struct MethodFrame {
 // --bench the first method is drawn a second time after the others, from
 // frame sources of its own (its silhouettes computed again): `again`, the
 // noise floor of the comparison.
+// With --bench and both zpass and atomiczp among the methods, Z-pass's
+// frame is drawn once more with GL_DEPTH_CLAMP on its sides (near and far,
+// as AtomicZP draws them): `clamped`, so that AtomicZP's cost over Z-pass
+// splits into the clamp's and the eye-count pass's.
 struct LitFrames {
   std::vector<MethodFrame> methods;
   std::vector<std::string> refused;      // per method, "" where drawn
   std::optional<MethodFrame> again;      // with --bench
+  std::optional<MethodFrame> clamped;    // with --bench, zpass and atomiczp
   std::vector<std::size_t> light_index;  // the scene lights drawn
   std::size_t lights = 0;
 };
 
-// Method m's lit frame from `sources` (one per light drawn).
+// Method m's lit frame from `sources` (one per light drawn); with
+// `clamp_volumes` its volume draws with GL_DEPTH_CLAMP, near and far.
 MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene, const RenderOptions& o,
                          const RenderMethods& methods, const std::vector<std::unique_ptr<FrameSource>>& sources,
-                         std::size_t m, bool keep_images) {
+                         std::size_t m, bool keep_images, bool clamp_volumes = false) {
   MethodFrame out;
   std::vector<gl::ShadowFrame> frames;
   for (const auto& source : sources) {
     frames.push_back(source->frame(m));
+    if (clamp_volumes)
+      for (gl::DrawCall& d : frames.back().draws)
+        if (d.pass == gl::DrawPass::Volume) d.state.depth_clamp_near = d.state.depth_clamp_far = true;
     const gl::ShadowFrame& f = frames.back();
     const bool policy = m >= methods.methods.size();
     out.cpu.push_back({f.light, policy ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
@@ -102,6 +111,16 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
       out.stencil_pgm.push_back(stencil_pgm(lit.width, lit.height, st));
   }
   return out;
+}
+
+// Z-pass's index among the methods where --bench times its sides with depth
+// clamp (zpass and atomiczp both drawn), else the methods' count.
+std::size_t depth_clamp_bench_method(const RenderOptions& o, const RenderMethods& methods) {
+  const auto& ms = methods.methods;
+  const auto zpass = std::find(ms.begin(), ms.end(), gl::ShadowMethod::ZPass);
+  if (!o.bench || zpass == ms.end() || std::find(ms.begin(), ms.end(), gl::ShadowMethod::AtomicZP) == ms.end())
+    return ms.size();
+  return static_cast<std::size_t>(zpass - ms.begin());
 }
 
 LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, const RenderOptions& o,
@@ -128,6 +147,9 @@ LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, con
   }
   if (o.bench && out.refused[0].empty())
     out.again = method_frame(renderer, scene, o, methods, make_sources(), 0, false);
+  const std::size_t zpass = depth_clamp_bench_method(o, methods);
+  if (zpass < methods.methods.size() && out.refused[zpass].empty())
+    out.clamped = method_frame(renderer, scene, o, methods, sources, zpass, false, true);
   return out;
 }
 
@@ -263,6 +285,13 @@ void run_lit(const RenderOptions& o) {
   // The noise floor: the first method's end-to-end time drawn twice per frame, again over first.
   std::vector<double> again_ratio;
   const std::string again_name = methods.name(0) + "#again";
+  // Z-pass's sides with depth clamp (LitFrames::clamped): their totals beside Z-pass's own.
+  const std::size_t clamp_method = depth_clamp_bench_method(o, methods);
+  const std::string clamped_name = "zpass#depth-clamp";
+  struct ClampTotals {
+    std::size_t frames = 0;
+    double stencil_ms = 0, end_to_end_ms = 0, zpass_stencil_ms = 0, zpass_end_to_end_ms = 0;
+  } clamp_totals;
   std::vector<render::LitFramePasses> pass_totals(methods.count());
   // --bench: the first frame once untimed, so that no method's first frame
   // pays for the driver's first use (shader compilation, allocations).
@@ -295,6 +324,14 @@ void run_lit(const RenderOptions& o) {
         if (m == 0 && frames.again) {
           bench_row(f, again_name, *frames.again);
           if (mf.end_to_end_ms() > 0) again_ratio.push_back(frames.again->end_to_end_ms() / mf.end_to_end_ms());
+        }
+        if (m == clamp_method && frames.clamped) {
+          bench_row(f, clamped_name, *frames.clamped);
+          ++clamp_totals.frames;
+          clamp_totals.stencil_ms += frames.clamped->passes.stencil_ms;
+          clamp_totals.end_to_end_ms += frames.clamped->end_to_end_ms();
+          clamp_totals.zpass_stencil_ms += p.stencil_ms;
+          clamp_totals.zpass_end_to_end_ms += mf.end_to_end_ms();
         }
         pass_totals[m].depth_ms += p.depth_ms;
         pass_totals[m].stencil_ms += p.stencil_ms;
@@ -357,6 +394,15 @@ void run_lit(const RenderOptions& o) {
                            {"frames", again_ratio.size()},
                            {"end_to_end_again_over_first_p05", quantile(again_ratio, 0.05)},
                            {"end_to_end_again_over_first_p95", quantile(again_ratio, 0.95)}};
+  if (clamp_totals.frames > 0) {
+    const double n = static_cast<double>(clamp_totals.frames);
+    root["depth_clamp"] = {{"method", "zpass"},
+                           {"frames", clamp_totals.frames},
+                           {"mean_stencil_ms", clamp_totals.zpass_stencil_ms / n},
+                           {"mean_stencil_ms_clamped", clamp_totals.stencil_ms / n},
+                           {"mean_end_to_end_ms", clamp_totals.zpass_end_to_end_ms / n},
+                           {"mean_end_to_end_ms_clamped", clamp_totals.end_to_end_ms / n}};
+  }
   files.add({(dir / "render.json").string(), json_file_text(root)});
   if (o.bench) files.add({(dir / "bench.csv").string(), bench_csv});
   files.commit();
@@ -402,6 +448,15 @@ void run_lit(const RenderOptions& o) {
           "(5th to 95th percentile, %zu frame%s)\n",
           methods.name(0).c_str(), again_name.c_str(), quantile(again_ratio, 0.05), quantile(again_ratio, 0.95),
           again_ratio.size(), again_ratio.size() == 1 ? "" : "s");
+    if (clamp_totals.frames > 0) {
+      const double n = static_cast<double>(clamp_totals.frames);
+      std::printf(
+          "bench: depth clamp: zpass's draws again with GL_DEPTH_CLAMP on its sides (%s rows): stencil %.3f ms per "
+          "frame against %.3f without, end to end %.3f against %.3f (%zu frame%s)\n",
+          clamped_name.c_str(), clamp_totals.stencil_ms / n, clamp_totals.zpass_stencil_ms / n,
+          clamp_totals.end_to_end_ms / n, clamp_totals.zpass_end_to_end_ms / n, clamp_totals.frames,
+          clamp_totals.frames == 1 ? "" : "s");
+    }
     const bool has_zpass =
         std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
     if (!o.path.empty() && !has_zpass)

@@ -152,13 +152,10 @@ class FrameRenderer {
     frame.times.depth_ms = depth->ms;
 
     auto t = Clock::now();
-    if (near_cap_pass_ && frame.fallback.empty()) {
-      near_cap_pass(frame);
-      frame.near_cap = fb_.stencil();
-    }
     // AtomicZP's per-frame pass: the eye count over its occluders, the
     // stencil cleared to it (timed as the frame's cap pass: it stands where
-    // ZP+'s near-cap pass stands).
+    // ZP+'s near-cap pass stands).  It comes first, as glClearStencil does,
+    // so that a frame mixing AtomicZP with ZP+ counts the near-cap on top.
     std::uint8_t eye_clear = 0;
     if (eye_count_pass_) {
       std::vector<std::size_t> counted;
@@ -169,6 +166,12 @@ class FrameRenderer {
       frame.eye_count_triangles = eye.triangles;
       eye_clear = static_cast<std::uint8_t>(eye.count & 0xffu);
       fb_.clear_stencil(eye_clear);
+    }
+    if (near_cap_pass_ && frame.fallback.empty()) {
+      near_cap_pass(frame);
+      // The near-cap pass alone (the judge compares it with the exact cap).
+      frame.near_cap = fb_.stencil();
+      for (std::uint8_t& v : frame.near_cap) v = static_cast<std::uint8_t>(v - eye_clear);
     }
     frame.times.cap_ms = ms_since(t);
 

@@ -16,11 +16,13 @@ namespace nearcap::render {
 
 // The depth a frame's depth buffer is cleared to: 0 when its depth pre-pass
 // draws with the reversed mapping (near at 1), else 1.
-// The value a frame's stencil buffer is cleared to: its volume draws'
-// stencil_clear (AtomicZP's eye count), else 0.
+// The value a frame's stencil buffer is cleared to: its AtomicZP volume
+// draws' stencil_clear (the eye count, the same on each), else 0.  In a
+// frame that mixes methods the other volume draws carry 0: the first
+// non-zero one is the frame's.
 inline GLint cleared_stencil(const std::vector<gl::DrawCall>& draws) {
   for (const gl::DrawCall& d : draws)
-    if (d.pass == gl::DrawPass::Volume) return d.state.stencil_clear;
+    if (d.pass == gl::DrawPass::Volume && d.state.stencil_clear != 0) return d.state.stencil_clear;
   return 0;
 }
 inline double cleared_depth(const std::vector<gl::DrawCall>& draws) {

@@ -52,7 +52,8 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
   glStencilMask(0xFF);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glClearDepth(cleared_depth(draws));
-  glClearStencil(cleared_stencil(draws));
+  const GLint stencil_clear = cleared_stencil(draws);
+  glClearStencil(stencil_clear);
   glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   const GLint no_object[4] = {-1, -1, -1, -1};
   glClearBufferiv(GL_COLOR, 0, no_object);
@@ -85,6 +86,9 @@ ReplayedFrame GlFrameReplay::replay(const std::vector<gl::DrawCall>& draws, floa
     if (cap_ends) {
       out.near_cap.resize(n);
       glReadPixels(0, 0, width_, height_, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, out.near_cap.data());
+      // The near-cap pass alone, as the emulation records it: a frame that
+      // mixes ZP+ and AtomicZP cleared the stencil to the eye count first.
+      for (std::uint8_t& v : out.near_cap) v = static_cast<std::uint8_t>(v - stencil_clear);
     }
   }
   disable_volume_culling(depth_bounds_test);

@@ -120,6 +120,7 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
   // query's time added to `into` and `gpu_into`.
   auto mark = std::chrono::steady_clock::now();
   const bool pass_times = options.pass_times || options.pass_kind_times;
+  if (pass_times) out.eye_count_ms.assign(light_frames.size(), 0.0);
   const GlQuery timer = pass_times ? new_query() : GlQuery();
   auto pass_begin = [&] {
     if (pass_times) glBeginQuery(GL_TIME_ELAPSED, timer.get());
@@ -216,8 +217,9 @@ LitFrame LitFrameRenderer::render(const Scene& scene, const std::vector<gl::Shad
       eye_pass_->write_stencil();
       if (pass_times) {
         glFinish();
-        out.passes.eye_count_ms +=
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+        out.passes.eye_count_ms += ms;
+        out.eye_count_ms[k] = ms;
       }
     } else {
       glClearStencil(cleared_stencil(light_frames[k].draws));

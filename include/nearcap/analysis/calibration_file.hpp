@@ -16,8 +16,9 @@
 //          test), timed on its own.
 // frame    what was drawn: configuration, light, method or object (no
 //          comma, quote or line break).
-// kind     a pass kind (kPassKindNames) for pass and again, a CPU task
-//          (silhouette, clipped_cap, exact_test) for cpu.
+// kind     a pass kind (kPassKindNames) for pass and again, or eye_count
+//          for pass (AtomicZP's eye-count pass, kEyeCountPassName), a CPU
+//          task (silhouette, clipped_cap, exact_test) for cpu.
 // triangles, fragments, ms: finite, non-negative numbers; fragments empty
 //          for cpu.
 // reaching, tested, straddling, examined: the clipped_cap's and
@@ -46,9 +47,10 @@ std::optional<PassKind> pass_kind_from_string(std::string_view name);
 std::optional<CpuTask> cpu_task_from_string(std::string_view name);
 
 struct CalibrationSet {
-  std::vector<PassObservation> passes;  // "pass" rows: what a profile is fitted on
-  std::vector<PassObservation> again;   // "again" rows: the noise floor
-  std::vector<CpuObservation> cpu;      // "cpu" rows
+  std::vector<PassObservation> passes;         // "pass" rows: what a profile is fitted on
+  std::vector<EyeCountObservation> eye_count;  // "pass" rows of kind eye_count (AtomicZP's eye-count pass)
+  std::vector<PassObservation> again;          // "again" rows: the noise floor
+  std::vector<CpuObservation> cpu;             // "cpu" rows
 };
 
 std::string calibration_csv_header();  // with the trailing newline

@@ -6,6 +6,11 @@
 // its CPU work:
 //   time = sum over pass kinds k of (intercept_k [if the pass is drawn]
 //            + a_k * triangles_k + b_k * fragments_k)
+//        + the same for AtomicZP's eye-count pass, where the profile has
+//          its row (`eye_count`, optional: without it the decision does
+//          not offer AtomicZP): a compute dispatch over the counted
+//          occluders' triangles, once per frame, and the count's write into
+//          the stencil, one fragment per pixel of the viewport
 //        + cpu.ms_per_ktriangle_silhouette * silhouette_triangles / 1000
 //        + cpu.clipped_cap.ms(clipped_cap) + cpu.exact_test.ms(exact_test)
 // with a_k in ms per million triangles and b_k in ms per million fragments,
@@ -27,6 +32,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +46,9 @@ namespace nearcap::analysis {
 using gl::kPassKindCount;
 using gl::kPassKindNames;
 using gl::PassKind;
+
+// The eye-count pass's row in a profile's `passes` (optional).
+inline constexpr std::string_view kEyeCountPassName = "eye_count";
 
 struct PassCost {
   double intercept_ms = 0;      // per pass drawn (state changes, the draw call)
@@ -110,10 +119,19 @@ struct CpuCost {
   CpuTaskCost exact_test;                  // the exact empty-near-cap test (CpuTaskWork)
 };
 
+// AtomicZP's eye-count pass in a frame's work: drawn once per frame,
+// its triangles the counted occluders' (one invocation each), its fragments
+// the stencil write's (the viewport's pixels, once per frame).
+struct EyeCountWork {
+  bool drawn = false;
+  double triangles = 0, fragments = 0;
+};
+
 // One frame's (or one occluder's) work, by pass kind and CPU task.
 struct FrameWork {
   std::array<bool, kPassKindCount> drawn{};
   std::array<double, kPassKindCount> triangles{}, fragments{};
+  EyeCountWork eye_count;
   double silhouette_triangles = 0;
   CpuTaskWork clipped_cap, exact_test;
   FrameWork& operator+=(const FrameWork& o) {
@@ -122,6 +140,9 @@ struct FrameWork {
       triangles[k] += o.triangles[k];
       fragments[k] += o.fragments[k];
     }
+    eye_count.drawn = eye_count.drawn || o.eye_count.drawn;
+    eye_count.triangles += o.eye_count.triangles;
+    eye_count.fragments += o.eye_count.fragments;
     silhouette_triangles += o.silhouette_triangles;
     clipped_cap += o.clipped_cap;
     exact_test += o.exact_test;
@@ -133,12 +154,19 @@ struct DeviceProfile {
   std::string gl_renderer;  // GL_RENDERER of the GL it was measured on ("" when written by hand)
   std::string origin;       // "calibrated", "hand" or "scaled"
   std::array<PassCost, kPassKindCount> passes{};
+  // AtomicZP's eye-count pass (EyeCountWork); absent: not measured, and
+  // the decision does not offer AtomicZP (a work's eye count then costs 0).
+  std::optional<PassCost> eye_count;
   CpuCost cpu;
   double gl_ms(const FrameWork& w) const {
     double t = 0;
     for (std::size_t k = 0; k < kPassKindCount; ++k)
       t += (w.drawn[k] ? passes[k].intercept_ms : 0.0) + passes[k].ms_per_mtriangle * w.triangles[k] * 1e-6 +
            passes[k].ms_per_mfragment * w.fragments[k] * 1e-6;
+    if (eye_count)
+      t += (w.eye_count.drawn ? eye_count->intercept_ms : 0.0) +
+           eye_count->ms_per_mtriangle * w.eye_count.triangles * 1e-6 +
+           eye_count->ms_per_mfragment * w.eye_count.fragments * 1e-6;
     return t;
   }
   double cpu_ms(const FrameWork& w) const {
@@ -153,6 +181,13 @@ struct DeviceProfile {
 struct PassObservation {
   std::string frame;  // configuration and light, e.g. "near_plane_sweep:42:light0:zfail"
   PassKind kind = PassKind::Depth;
+  double triangles = 0, fragments = 0, ms = 0;
+};
+// AtomicZP's eye-count pass of one light frame, timed on its own (the
+// compute dispatch and the count's write into the stencil, glFinish after):
+// its triangles (the counted occluders') and fragments (the viewport's).
+struct EyeCountObservation {
+  std::string frame;  // configuration and light, e.g. "sample:1:7:light0:atomiczp"
   double triangles = 0, fragments = 0, ms = 0;
 };
 // One CPU task, timed on its own, with its counts: for the silhouette the
@@ -199,6 +234,19 @@ struct ProfileFitOptions {
 DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, const std::vector<CpuObservation>& cpu,
                                  const std::string& gl_renderer, ProfileFitReport* report = nullptr,
                                  const ProfileFitOptions& options = {});
+
+// The eye-count pass's row (DeviceProfile::eye_count), fitted as a pass
+// kind's is, on the same held-out split; nothing when no observation is in
+// the training side.  Calibrated at one viewport size, its fragments are
+// the same in every observation: the split between the intercept and the
+// per-fragment term is then the fit's, and only their sum at that size is
+// measured.
+struct EyeCountFitReport {
+  double train_median_relative_error = 0, held_out_median_relative_error = 0;  // NaN on a side without observations
+  std::size_t train_count = 0, held_out_count = 0;
+};
+std::optional<PassCost> fit_eye_count_pass(const std::vector<EyeCountObservation>& observations,
+                                           EyeCountFitReport* report = nullptr, const ProfileFitOptions& options = {});
 
 // The same profile with its GL passes `gl_factor` times as fast and its CPU
 // work `cpu_factor` times as fast (origin "scaled"): what a GPU would

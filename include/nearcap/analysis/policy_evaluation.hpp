@@ -13,6 +13,8 @@
 //                 zpplus-paper      ZP+ with the paper's light-frustum cap
 //                 zpplus-clipped    ZP+ with the clipped-sides cap
 //                 zpplus-corrected  ZP+ corrected (section 5), paper cap
+//                 atomiczp          AtomicZP (depth-clamped Z-pass and the
+//                                   frame's eye count, docs/atomiczp.md)
 //   fixed rules always-zfail, always-clipped (the zfail and zpplus-clipped
 //               candidates' own frames and measurements), exact-zpass+zfail,
 //               exact-zpass+clipped (Z-pass where the exact test finds the
@@ -60,12 +62,13 @@ struct EvaluationRuleInfo {
   std::string_view description;
 };
 
-inline constexpr std::array<EvaluationRuleInfo, 12> kEvaluationRules{{
+inline constexpr std::array<EvaluationRuleInfo, 13> kEvaluationRules{{
     {"zpass", EvaluationRole::Candidate, true, "Z-pass, where the exact test finds every near-cap empty"},
     {"zfail", EvaluationRole::Candidate, true, "Z-fail, infinite far plane"},
     {"zpplus-paper", EvaluationRole::Candidate, true, "ZP+, the paper's light-frustum cap"},
     {"zpplus-clipped", EvaluationRole::Candidate, true, "ZP+, the clipped-sides cap"},
     {"zpplus-corrected", EvaluationRole::Candidate, true, "ZP+ corrected, the paper's cap"},
+    {"atomiczp", EvaluationRole::Candidate, true, "AtomicZP: depth-clamped Z-pass and the frame's eye count"},
     {"always-zfail", EvaluationRole::FixedRule, false, "Z-fail for every occluder"},
     {"always-clipped", EvaluationRole::FixedRule, false, "clipped-sides ZP+ for every occluder"},
     {"exact-zpass+zfail", EvaluationRole::FixedRule, true, "exact Z-pass test, Z-fail elsewhere"},

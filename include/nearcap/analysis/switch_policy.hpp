@@ -197,11 +197,25 @@ struct PolicyDecision {
 //                     exists and the crack model predicts no crack (a policy
 //                     whose light_projection is paper: its model is the paper
 //                     cap's);
-//   Z-fail.
+//   Z-fail;
+//   AtomicZP          where the profile has its eye-count row (absent: not
+//                     offered) and it is right wherever Z-fail is: each
+//                     occluder triangle wholly beyond the near plane or
+//                     wholly on or behind the eye's plane (exact: no point
+//                     of it where a view ray meets it before the near
+//                     plane), and the occluder's share of the eye count
+//                     decided robustly: the exact count (exact/eye_count.hpp)
+//                     not on_boundary, and the float32 count as the GL's pass
+//                     computes it (gl/eye_count.hpp) equal to it; priced as
+//                     Z-pass's sides plus its triangles in the frame's one
+//                     eye-count pass (whose intercept and stencil write the
+//                     frame pays once); tested only where cheaper than Z-fail
+//                     and Z-pass is not certainly exact.
 // A frame has one near-cap kind (its light projection; the paper's also
 // makes the frame's projection finite, so Z-fail beside it clamps as
 // switch_clamp says): the decision weighs three frame-level options (no
-// near-cap, the clipped-sides cap, the paper cap), in each the cheapest
+// near-cap, the clipped-sides cap, the paper cap; each also with the
+// eye-count pass where some occluder admits AtomicZP), in each the cheapest
 // candidate per occluder (pass intercepts left out of the per-occluder
 // comparison), and keeps the option with the least predicted frame time,
 // the shared passes (depth pre-pass, lit pass, silhouettes) and each drawn

@@ -38,7 +38,9 @@ struct ExactEyeCount {
 };
 
 // `facing[o]` must hold light_facing(scene, o, light) for every occluder o
-// (empty for receivers); the overload without it computes them.
+// counted; an empty entry counts nothing (receivers, or the occluders left
+// out of a count over some of them: the count adds over occluders).  The
+// overload without it computes them for every occluder.
 ExactEyeCount exact_eye_count(const CameraSpaceScene& scene, std::size_t light,
                               const std::vector<std::vector<Facing>>& facing, FilterStats* stats = nullptr);
 ExactEyeCount exact_eye_count(const CameraSpaceScene& scene, std::size_t light, FilterStats* stats = nullptr);

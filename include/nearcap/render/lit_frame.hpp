@@ -106,6 +106,10 @@ struct LitFrame {
   // With pass_kind_times: the depth pre-pass, then per light frame each kind
   // it draws (a kind with no draw has no entry), then its lit pass.
   std::vector<KindTime> kind_times;
+  // With pass_times (or pass_kind_times): per light frame its eye-count
+  // pass's wall time (LitFramePasses::eye_count_ms's share; 0 for a frame
+  // without AtomicZP occluders).
+  std::vector<double> eye_count_ms;
   // With read_stencils: each light's stencil as its volumes left it (row 0
   // at the bottom, like ShadowFrame::stencil), one per light frame.
   std::vector<std::vector<std::uint8_t>> stencils;
