@@ -324,7 +324,7 @@ TEST(AtomicZPCandidate, EyeCountObservationsRoundTripAndFit) {
   // An eye_count row is a pass row only (not a noise-floor "again" row).
   EXPECT_THROW(
       analysis::parse_calibration_csv(
-          analysis::calibration_csv_header() + "again,sample:1:1:light0:atomiczp,eye_count,12,19200,0.1,,,\n", "test"),
+          analysis::calibration_csv_header() + "again,sample:1:1:light0:atomiczp,eye_count,12,19200,0.1,,,,\n", "test"),
       Error);
 }
 

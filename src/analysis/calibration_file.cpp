@@ -62,7 +62,7 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
   for (const EyeCountObservation& o : set.eye_count) {
     check_frame(o.frame);
     out += "pass," + o.frame + "," + std::string(kEyeCountPassName) + "," + number(o.triangles, "triangle count") +
-           "," + number(o.fragments, "fragment count") + "," + number(o.ms, "time") + ",,,\n";
+           "," + number(o.fragments, "fragment count") + "," + number(o.ms, "time") + ",,,,\n";
   }
   for (const PassObservation& o : set.again) out += pass_line("again", o);
   for (const CpuObservation& o : set.cpu) {
