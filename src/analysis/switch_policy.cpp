@@ -588,24 +588,19 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       append_ms(why, oc.paper_ms);
     else
       why += paper_not;
-    why += ", zpass ";
-    if (oc.zpass_ok)
-      append_ms(why, oc.zpass_ms);
-    else
-      why += "not a candidate";
-    why += " (";
-    why += oc.zpass_why;
-    why += ")";
-    if (atomiczp_priced) {
-      why += ", atomiczp ";
-      if (oc.atomiczp_ok)
-        append_ms(why, oc.atomiczp_ms);
+    // A candidate that may not apply: its ms or "not a candidate", then why.
+    auto append_candidate = [&why](const char* name, bool ok, double ms, const std::string& reason) {
+      why += name;
+      if (ok)
+        append_ms(why, ms);
       else
         why += "not a candidate";
       why += " (";
-      why += oc.atomiczp_why;
+      why += reason;
       why += ")";
-    }
+    };
+    append_candidate(", zpass ", oc.zpass_ok, oc.zpass_ms, oc.zpass_why);
+    if (atomiczp_priced) append_candidate(", atomiczp ", oc.atomiczp_ok, oc.atomiczp_ms, oc.atomiczp_why);
   }
   return d;
 }
