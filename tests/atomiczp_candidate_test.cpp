@@ -65,6 +65,22 @@ SwitchPolicy cost_policy(const DeviceProfile& profile) {
 
 Scene bundled(const std::string& name) { return load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name); }
 
+// The decision's frame against Z-fail's and Z-pass's, judged by the exact
+// reference: never wronger than Z-fail, on a frame where Z-pass is wrong
+// (the case AtomicZP is for).  `what` names the frame in the printed line.
+void expect_right_where_zpass_is_wrong(const Scene& s, const CameraSpaceScene& cs, const analysis::PolicyDecision& d,
+                                       const char* what) {
+  const PixelReference ref = compute_pixel_reference(cs, 0);
+  gl::ShadowFrameBatch batch(s, 0, d.settings);
+  const CrackReport chosen = judge_frame(batch.render(d.object_methods), ref);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, d.settings), ref);
+  const CrackReport zpass = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZPass, d.settings), ref);
+  std::printf("%s: the decision's frame wrong on %zu, zfail %zu, zpass %zu of %zu seen\n", what, chosen.wrong,
+              zfail.wrong, zpass.wrong, chosen.pixels_seen);
+  EXPECT_LE(chosen.wrong, zfail.wrong) << what;
+  EXPECT_GT(zpass.wrong, 100u) << what << ": Z-pass is wrong here, the case AtomicZP is for";
+}
+
 // The box over the eye (the eye in its volume, the near plane clear of it):
 // AtomicZP is offered and, with the profile above, chosen; the frame it
 // gives is as right as Z-fail's.  Without the eye-count row it is neither
@@ -86,15 +102,7 @@ TEST(AtomicZPCandidate, ChosenWhereRightAndCheapest) {
     eye_option = eye_option || name.find("eye count") != std::string::npos;
   EXPECT_TRUE(eye_option);
 
-  const PixelReference ref = compute_pixel_reference(cs, 0);
-  gl::ShadowFrameBatch batch(s, 0, d.settings);
-  const CrackReport chosen = judge_frame(batch.render(d.object_methods), ref);
-  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, d.settings), ref);
-  const CrackReport zpass = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZPass, d.settings), ref);
-  std::printf("box over the eye: the decision's frame wrong on %zu, zfail %zu, zpass %zu of %zu seen\n", chosen.wrong,
-              zfail.wrong, zpass.wrong, chosen.pixels_seen);
-  EXPECT_LE(chosen.wrong, zfail.wrong);
-  EXPECT_GT(zpass.wrong, 100u) << "Z-pass is wrong here: the case AtomicZP is for";
+  expect_right_where_zpass_is_wrong(s, cs, d, "box over the eye");
 
   // No eye-count row: not a candidate, and the reasons do not name it.
   DeviceProfile without = atomiczp_favoured();
@@ -149,15 +157,7 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPl
   ASSERT_EQ(exact_eye_count(cs, 0).count, 1u);
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
   EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
-  const PixelReference ref = compute_pixel_reference(cs, 0);
-  gl::ShadowFrameBatch batch(behind, 0, d.settings);
-  const CrackReport chosen = judge_frame(batch.render(d.object_methods), ref);
-  const CrackReport zfail = judge_frame(gl::render_shadow_frame(behind, 0, ShadowMethod::ZFail, d.settings), ref);
-  const CrackReport zpass = judge_frame(gl::render_shadow_frame(behind, 0, ShadowMethod::ZPass, d.settings), ref);
-  std::printf("box behind the eye: the decision's frame wrong on %zu, zfail %zu, zpass %zu of %zu seen\n", chosen.wrong,
-              zfail.wrong, zpass.wrong, chosen.pixels_seen);
-  EXPECT_LE(chosen.wrong, zfail.wrong);
-  EXPECT_GT(zpass.wrong, 100u);
+  expect_right_where_zpass_is_wrong(behind, cs, d, "box behind the eye");
 
   Affine3d across = test::translate(0.5, 0, 0);
   for (int k = 0; k < 3; ++k) across.rows[k][k] = 0.6;  // x 0.2 .. 0.8, z -0.3 .. 0.3

@@ -130,18 +130,25 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   // right where the paper's frustum is undefined.
   const bool frustum_free =
       gl::uses_near_cap(policy.capped_method) && policy.light_projection == gl::LightProjection::ClippedSides;
-  double near =
-      d.settings.near_plane == gl::NearPlane::Tight ? gl::tight_frustum(scene).near : scene.camera.frustum.near;
+  // The scene as the frame draws it where that is with the tight near plane
+  // (the work estimate's camera): the settings' plane, or the one a
+  // depth-limited frame moves to below.
+  auto with_tight_plane = [&scene] {
+    Scene t = scene;
+    t.camera.frustum = gl::tight_frustum(scene);
+    return t;
+  };
+  std::optional<Scene> tight_scene;
+  if (d.settings.near_plane == gl::NearPlane::Tight) tight_scene = with_tight_plane();
+  double near = tight_scene ? tight_scene->camera.frustum.near : scene.camera.frustum.near;
   d.depth_step_over_size = depth_step_over_size(cs, near, d.settings.depth, d.settings.depth_mapping);
   d.depth_limited = d.depth_step_over_size >= kDepthLimitedStep;
   // A depth-limited frame the policy may move its near plane for (no near
   // plane of its own, no exact test tied to the scene's plane): drawn with
   // the tight near plane where that frame is not depth-limited.
-  std::optional<Scene> tight_scene;  // the scene with the tight near plane, where the frame moves to it
-  if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && d.settings.near_plane == gl::NearPlane::Scene) {
-    tight_scene = scene;
-    tight_scene->camera.frustum = gl::tight_frustum(scene);
-    const double tight = tight_scene->camera.frustum.near;
+  if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && !tight_scene) {
+    Scene moved = with_tight_plane();
+    const double tight = moved.camera.frustum.near;
     const double step = depth_step_over_size(cs, tight, d.settings.depth, d.settings.depth_mapping);
     if (step < kDepthLimitedStep) {
       char note[512];
@@ -151,11 +158,10 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
                     tight, near, d.depth_step_over_size);
       d.near_plane_note = note;
       d.settings.near_plane = gl::NearPlane::Tight;
+      tight_scene = std::move(moved);
       near = tight;
       d.depth_step_over_size = step;
       d.depth_limited = false;
-    } else {
-      tight_scene.reset();
     }
   }
   if (d.depth_limited) {
@@ -392,7 +398,7 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
 }
 
 // `drawn`: the scene as the frame draws it (its near plane the tight one
-// where decide() moved it), for the work estimate.
+// where the frame uses it), for the work estimate.
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d) {
   const DeviceProfile& profile = *policy.device_profile;

@@ -7,8 +7,8 @@
 // copies, as much of per-face placements, a few MB of cell entries).  Freshly
 // allocated, such a vector comes from mmap and costs the kernel a page fault
 // per 4 KB page as the build first writes it, and freeing it returns the pages:
-// on two threads that kernel work, serial, was most of an eye side's setup
-// (docs/findings/exact-speed.md).  A vector taken from a VectorPool instead
+// on two threads that kernel work, serial, is most of an eye side's setup in
+// fresh storage (docs/findings/exact-speed.md).  A vector taken from a VectorPool instead
 // has the capacity of one an earlier build gave back, its pages already
 // mapped.
 //
