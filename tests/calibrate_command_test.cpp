@@ -124,6 +124,17 @@ TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCo
   }
   EXPECT_EQ(eye_rows, 3u) << "one light in each of the three path frames";
   EXPECT_TRUE(written.device_profile->eye_count);
+  // Every method frame drawn whole once more: one frame row each, its passes
+  // observed, and the profile's frame row fitted from them.
+  std::set<std::string> whole_frames;
+  for (const analysis::FrameObservation& o : set.frames) {
+    EXPECT_TRUE(whole_frames.insert(o.frame).second) << o.frame << ": one row per method frame";
+    EXPECT_GT(o.ms, 0.0) << o.frame;
+  }
+  std::set<std::string> pass_frames;
+  for (const auto& [frame, kinds] : frames) pass_frames.insert(analysis::frame_of_pass(frame));
+  EXPECT_EQ(whole_frames, pass_frames) << "a frame row for every frame with pass rows, and only those";
+  EXPECT_TRUE(written.device_profile->frame);
   EXPECT_TRUE(method_kinds["zpplus"].count(PassKind::NearCap));
   EXPECT_TRUE(method_kinds["zpplus-clipped-sides"].count(PassKind::NearCap));
   EXPECT_TRUE(method_kinds["zpplus-corrected"].count(PassKind::NearCap));

@@ -25,6 +25,8 @@ CalibrationSet sample_set() {
   s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::Silhouette, 960, 0.052});
   s.cpu.push_back({"sample:1:7:light0:object1", CpuTask::ClippedCap, 96, 2.5e-5, 960, 0.1 + 1e-17, 0, 1.0 / 7.0});
   s.cpu.push_back({"sample:1:7:light0", CpuTask::ExactTest, 12000, 7.125, 12000, 6000, 31});
+  s.frames.push_back({"sample:1:7:zpass", 0.1 + 0.2});
+  s.frames.push_back({"path:near_plane_sweep:42:zfail", 1.93});
   return s;
 }
 
@@ -55,7 +57,24 @@ TEST(CalibrationFile, RoundTripsExactly) {
     EXPECT_EQ(r.cpu[k].straddling, s.cpu[k].straddling);
     EXPECT_EQ(r.cpu[k].examined, s.cpu[k].examined) << "bit for bit";
   }
+  ASSERT_EQ(r.frames.size(), s.frames.size());
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    EXPECT_EQ(r.frames[k].frame, s.frames[k].frame);
+    EXPECT_EQ(r.frames[k].ms, s.frames[k].ms) << "bit for bit";
+  }
+  EXPECT_NE(text.find("\nframe,sample:1:7:zpass,end_to_end,,,0.30000000000000004,,,,\n"), std::string::npos) << text;
   EXPECT_EQ(analysis::calibration_csv(r), text) << "written again, the same bytes";
+}
+
+TEST(CalibrationFile, APassBelongsToTheWholeFrameOfItsConfigurationAndMethod) {
+  EXPECT_EQ(analysis::frame_of_pass("sample:1:7:light0:zfail"), "sample:1:7:zfail");
+  EXPECT_EQ(analysis::frame_of_pass("path:near_plane_sweep:42:light12:zpplus-clipped-sides"),
+            "path:near_plane_sweep:42:zpplus-clipped-sides");
+  EXPECT_EQ(analysis::frame_of_pass("sample:1:7:zfail"), "sample:1:7:zfail") << "the depth and lit passes";
+  EXPECT_EQ(analysis::frame_of_pass("light3:zpass"), "zpass");
+  for (const char* own : {"sample:1:7:lightx:zfail", "sample:1:7:light:zfail", "sample:1:7:light0", "zfail",
+                          "sample:1:7:light0:", ":zfail"})
+    EXPECT_EQ(analysis::frame_of_pass(own), own) << "not a light frame's pass";
 }
 
 TEST(CalibrationFile, NoiseFloorPairsTheSameFrameAndKind) {
@@ -95,7 +114,7 @@ TEST(CalibrationFile, RefusesBadRowsNamingLineAndColumn) {
       {"pass,f,sides,1,2,3,,,\n", ErrorKind::Parse, "line 2: 9 fields, not 10"},
       {"pass,f,sides,1,2,3\n", ErrorKind::Parse, "line 2: 6 fields, not 10"},
       {"pass,f,sides,1,2,3,,,,,\n", ErrorKind::Parse, "11 fields, not 10"},
-      {"timing,f,sides,1,2,3,,,,\n", ErrorKind::Parse, "record 'timing' is not pass, again or cpu"},
+      {"timing,f,sides,1,2,3,,,,\n", ErrorKind::Parse, "record 'timing' is not pass, again, cpu or frame"},
       {"pass,f,sides,1,2,3,,,,\n\npass,,sides,1,2,3,,,,\n", ErrorKind::Parse, "line 4: an empty frame"},
       // The CPU tasks' counts: numbers where the task has them, empty elsewhere.
       {"cpu,f,clipped_cap,1,,3,4,x,6,\n", ErrorKind::Parse, "line 2: tested 'x' is not a number"},
@@ -107,6 +126,11 @@ TEST(CalibrationFile, RefusesBadRowsNamingLineAndColumn) {
       {"pass,f,sides,1,2,3,,,,8\n", ErrorKind::Schema, "line 2: examined '8': a pass record has no CPU task"},
       {"cpu,f,silhouette,1,,3,4,,,\n", ErrorKind::Schema, "line 2: reaching '4': a silhouette record has no"},
       {"pass,f,sides,1,2,3,,,7,\n", ErrorKind::Schema, "line 2: straddling '7': a pass record has no CPU task"},
+      // The whole frame: its time alone.
+      {"frame,f,sides,,,3,,,,\n", ErrorKind::Parse, "line 2: kind 'sides' of a frame record is not end_to_end"},
+      {"frame,f,end_to_end,1,,3,,,,\n", ErrorKind::Schema, "line 2: a frame record has no triangles or fragments"},
+      {"frame,f,end_to_end,,,-3,,,,\n", ErrorKind::Schema, "line 2: ms -3 is negative"},
+      {"frame,f,end_to_end,,,3,,,,1\n", ErrorKind::Schema, "line 2: examined '1': a frame record has no CPU task"},
   };
   for (const Case& c : cases) {
     const auto [kind, message] = refusal(c.rows);

@@ -175,6 +175,39 @@ TEST(CostDecision, ThePredictedFrameCountsSharedPassesOnce) {
   for (const auto& [name, ms] : d.predicted_options) EXPECT_GE(ms, d.predicted_ms) << name;
 }
 
+// The frame row's saving per pass drawn favours the frame of fewer passes:
+// with the clipped-sides cap 0.01 ms cheaper by the passes' sum, Z-fail
+// (one pass more: its light and dark caps against the near-cap) wins once a
+// whole frame saves 0.05 ms per pass.
+TEST(CostDecision, TheFrameRowsSavingPerPassFavoursFewerPasses) {
+  const Scene s = eye_in_shadow();
+  const CameraSpaceScene cs(s);
+  DeviceProfile p = flat_profile();
+  SwitchPolicy policy = cost_policy(p);
+  policy.light_projection = gl::LightProjection::ClippedSides;
+  auto option_ms = [](const analysis::PolicyDecision& d, const std::string& name) {
+    for (const auto& [option, ms] : d.predicted_options)
+      if (option == name) return ms;
+    ADD_FAILURE() << "no option " << name;
+    return std::nan("");
+  };
+  analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {});
+  const double gap = option_ms(d, "no near-cap") - option_ms(d, "clipped-sides cap");
+  p.passes[k(PassKind::NearCap)].intercept_ms += gap - 0.01;
+  ASSERT_GE(p.passes[k(PassKind::NearCap)].intercept_ms, 0.05) << "the saving must stay below every intercept";
+  policy.device_profile = p;
+  d = analysis::decide(policy, cs, 0, {});
+  ASSERT_TRUE(clipped_cap_chosen(d, 0)) << d.reasons[0];
+  EXPECT_NEAR(option_ms(d, "no near-cap") - option_ms(d, "clipped-sides cap"), 0.01, 1e-9);
+  const double passes_sum = d.predicted_ms;
+  p.frame = analysis::FrameCost{0.02, 0.05};
+  policy.device_profile = p;
+  d = analysis::decide(policy, cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reasons[0];
+  EXPECT_DOUBLE_EQ(d.predicted_ms, p.predict_ms(d.predicted_work));
+  EXPECT_NEAR(d.predicted_ms, passes_sum + 0.01 + 0.02 - 5 * 0.05, 1e-9) << "depth, sides, two caps, lit";
+}
+
 // On bundled scenes, under profiles that favour each candidate in turn:
 // Z-pass only where the exact near-cap is empty, the paper's cap never where
 // the crack model predicts a crack, and the frame's methods drawable.

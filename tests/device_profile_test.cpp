@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -342,6 +344,100 @@ TEST(DeviceProfile, ScaledLikeAGpu) {
   EXPECT_THROW(analysis::scaled_profile(p, 1.0, std::nan("")), Error);
 }
 
+// The frame row: a frame costs its passes' sum, less the saving per pass
+// drawn, plus the frame's intercept; nothing drawn, nothing added; scaled
+// with the GL.
+TEST(DeviceProfile, TheFrameRowPricesAWholeFrame) {
+  DeviceProfile p = true_profile();
+  analysis::FrameWork w;
+  w.drawn[0] = w.drawn[1] = w.drawn[5] = true;
+  w.triangles[1] = 1e5;
+  w.fragments[1] = 1e6;
+  const double passes = p.gl_ms(w);
+  p.frame = analysis::FrameCost{0.04, 0.015};
+  EXPECT_NEAR(p.gl_ms(w), passes + 0.04 - 3 * 0.015, 1e-15);
+  EXPECT_EQ(p.gl_ms(analysis::FrameWork{}), 0.0) << "no pass drawn: no frame";
+  // The eye-count pass is a pass drawn.
+  p.eye_count = analysis::PassCost{0.03, 0, 0};
+  w.eye_count.drawn = true;
+  EXPECT_NEAR(p.gl_ms(w), passes + 0.03 + 0.04 - 4 * 0.015, 1e-15);
+  const DeviceProfile gpu = analysis::scaled_profile(p, 100.0);
+  EXPECT_NEAR(gpu.gl_ms(w), p.gl_ms(w) / 100, 1e-15);
+}
+
+// Whole frames built from the true profile's passes, timed as a frame
+// drawn at once would be: the passes' sum less `saved` per pass plus
+// `intercept`, with 5 % log-normal scatter and 5 % gross outliers.  The fit
+// recovers both within 15 % of the frame's typical saving, and predicts the
+// held-out frames better than the passes' sum does.
+TEST(DeviceProfileFit, TheFrameRowRecoversAKnownSavingAndIntercept) {
+  const DeviceProfile truth = true_profile();
+  const double saved = 0.015, intercept = 0.04;  // the smallest true intercept is 0.02
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> triangles(1e3, 2e5), fragments(1e4, 2e6), unit(0.0, 1.0), slow(3.0, 10.0);
+  std::uniform_int_distribution<int> lights(1, 3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<PassObservation> passes;
+  std::vector<analysis::FrameObservation> frames;
+  for (int f = 0; f < 400; ++f) {
+    const std::string frame = "sample:" + std::to_string(f) + ":m";
+    double sum = 0, drawn = 0;
+    auto pass = [&](const std::string& name, PassKind kind) {
+      const analysis::PassCost& c = truth.passes[static_cast<std::size_t>(kind)];
+      const double t = triangles(rng) * 0.1, fr = fragments(rng) * 0.1;
+      const double ms = c.intercept_ms + c.ms_per_mtriangle * t * 1e-6 + c.ms_per_mfragment * fr * 1e-6;
+      passes.push_back({name, kind, t, fr, ms});
+      sum += ms;
+      drawn += 1;
+    };
+    pass(frame, PassKind::Depth);
+    const int n = lights(rng);
+    for (int l = 0; l < n; ++l) {
+      const std::string light = "sample:" + std::to_string(f) + ":light" + std::to_string(l) + ":m";
+      pass(light, PassKind::Sides);
+      if (unit(rng) < 0.5) {
+        pass(light, PassKind::LightCap);
+        pass(light, PassKind::DarkCap);
+      }
+      pass(frame, PassKind::Lit);
+    }
+    double ms = (sum - saved * drawn + intercept) * std::exp(0.05 * noise(rng));
+    if (unit(rng) < 0.05) ms *= slow(rng);
+    frames.push_back({frame, ms});
+  }
+  analysis::FrameFitReport report;
+  const std::optional<analysis::FrameCost> fitted =
+      analysis::fit_frame_cost(frames, passes, {}, truth, &report);
+  ASSERT_TRUE(fitted.has_value());
+  std::printf("frame row: saved %.5f ms per pass (true %.5f), intercept %.5f ms (true %.5f); held-out error %.3f, "
+              "the passes' sum alone %.3f (%zu / %zu frames)\n",
+              fitted->ms_saved_per_pass, saved, fitted->intercept_ms, intercept, report.held_out_median_relative_error,
+              report.held_out_without_row, report.train_count, report.held_out_count);
+  EXPECT_NEAR(fitted->ms_saved_per_pass, saved, 0.15 * saved);
+  EXPECT_NEAR(fitted->intercept_ms, intercept, 0.15 * 3 * saved);
+  EXPECT_GT(report.held_out_count, 40u);
+  EXPECT_LT(report.held_out_median_relative_error, 0.06);
+  EXPECT_LT(report.held_out_median_relative_error, report.held_out_without_row);
+  // Frames whose time is their passes' sum: no saving, no intercept.
+  for (analysis::FrameObservation& f : frames) f.ms = 0;
+  std::map<std::string, double> sums;
+  for (const PassObservation& o : passes) sums[analysis::frame_of_pass(o.frame)] += o.ms;
+  for (analysis::FrameObservation& f : frames) f.ms = sums.at(f.frame);
+  const std::optional<analysis::FrameCost> none = analysis::fit_frame_cost(frames, passes, {}, truth);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_NEAR(none->ms_saved_per_pass, 0, 1e-4);
+  EXPECT_NEAR(none->intercept_ms, 0, 1e-4);
+  // No frame: no row; a bad time: an error naming the frame.
+  EXPECT_FALSE(analysis::fit_frame_cost({}, passes, {}, truth).has_value());
+  try {
+    analysis::fit_frame_cost({{"sample:3:m", std::nan("")}}, passes, {}, truth);
+    ADD_FAILURE() << "a non-finite frame time accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::NonFinite);
+    EXPECT_NE(std::string(e.what()).find("frame observation of frame 'sample:3:m'"), std::string::npos) << e.what();
+  }
+}
+
 // ---- the profile in policy.json ----------------------------------------------
 
 DeviceProfile odd_profile() {
@@ -351,6 +447,7 @@ DeviceProfile odd_profile() {
   p.passes[3].ms_per_mfragment = 0.1 + 1e-17;  // a value that needs all 17 digits
   p.cpu.exact_test.ms_per_ktested = 1.0 / 3.0;
   p.cpu.clipped_cap.ms_per_kexamined = 0.1 + 2e-17;
+  p.frame = analysis::FrameCost{0.05 + 3e-17, 0.0125};
   return p;
 }
 
@@ -363,6 +460,11 @@ void expect_same(const DeviceProfile& a, const DeviceProfile& b) {
     EXPECT_EQ(a.passes[k].ms_per_mfragment, b.passes[k].ms_per_mfragment) << k;
   }
   EXPECT_EQ(a.cpu.ms_per_ktriangle_silhouette, b.cpu.ms_per_ktriangle_silhouette);
+  ASSERT_EQ(a.frame.has_value(), b.frame.has_value());
+  if (a.frame) {
+    EXPECT_EQ(a.frame->intercept_ms, b.frame->intercept_ms);
+    EXPECT_EQ(a.frame->ms_saved_per_pass, b.frame->ms_saved_per_pass);
+  }
   for (int task = 1; task < 3; ++task) {
     const analysis::CpuTaskCost &x = task_cost(a, task), &y = task_cost(b, task);
     EXPECT_EQ(x.intercept_ms, y.intercept_ms) << task;
@@ -562,6 +664,12 @@ TEST(DeviceProfileJson, EachSchemaErrorIsOneLineNamingTheField) {
       {replaced("\"ms_per_kstraddling\": 0.3", "\"ms_per_kstraddling\": 1e999"),
        "d.json: cpu.clipped_cap.ms_per_kstraddling: malformed JSON"},
       {"[]", "d.json: (top level): expected a JSON object, found array"},
+      {replaced("\"ms_saved_per_pass\"", "\"ms_per_pass\": 1, \"ms_saved_per_pass\""),
+       "d.json: frame.ms_per_pass: unknown key"},
+      {removed({"frame", "intercept_ms"}), "d.json: frame.intercept_ms: missing"},
+      {with({"frame", "ms_saved_per_pass"}, -0.01), "d.json: frame.ms_saved_per_pass: must not be negative"},
+      {with({"frame", "ms_saved_per_pass"}, 0.03),
+       "d.json: frame.ms_saved_per_pass: must not exceed the smallest pass intercept_ms"},
   };
   for (const auto& [text, fragment] : cases) {
     try {

@@ -20,6 +20,9 @@ constexpr std::string_view kWithoutExaminedHeader =
 constexpr std::array<std::string_view, 10> kColumns{"record", "frame",    "kind",   "triangles",  "fragments",
                                                     "ms",     "reaching", "tested", "straddling", "examined"};
 
+// A frame row's kind: the whole frame, timed end to end.
+constexpr std::string_view kEndToEnd = "end_to_end";
+
 // The shortest text that reads back to `v` exactly (std::to_chars).
 std::string number(double v, std::string_view what) {
   if (!std::isfinite(v)) throw Error(ErrorKind::NonFinite, "calibration CSV: a non-finite " + std::string(what));
@@ -74,6 +77,10 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
     else
       out += "," + number(o.reaching, "reaching count") + "," + number(o.tested, "tested count") + "," +
              number(o.straddling, "straddling count") + "," + number(o.examined, "examined count") + "\n";
+  }
+  for (const FrameObservation& o : set.frames) {
+    check_frame(o.frame);
+    out += "frame," + o.frame + "," + std::string(kEndToEnd) + ",,," + number(o.ms, "time") + ",,,,\n";
   }
   return out;
 }
@@ -169,8 +176,16 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
         o.examined = value(9);
       }
       set.cpu.push_back(std::move(o));
+    } else if (record == "frame") {
+      if (field[2] != kEndToEnd)
+        throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' of a frame record is not " +
+                                         std::string(kEndToEnd));
+      if (!field[3].empty() || !field[4].empty())
+        throw fail(ErrorKind::Schema, "a frame record has no triangles or fragments (the columns are empty)");
+      counts_empty("a frame record has no CPU task counts");
+      set.frames.push_back({frame, value(5)});
     } else {
-      throw fail(ErrorKind::Parse, "record '" + std::string(record) + "' is not pass, again or cpu");
+      throw fail(ErrorKind::Parse, "record '" + std::string(record) + "' is not pass, again, cpu or frame");
     }
   }
   if (!header) throw Error(ErrorKind::Parse, source + ": empty (no header line)");

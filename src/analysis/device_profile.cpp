@@ -29,6 +29,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -60,6 +61,22 @@ struct LogResidual {
   }
   std::array<double, N> x_;
   double y_;
+};
+
+// A whole frame's log residual (fit_frame_cost): log(passes - s n + f) -
+// y, the unknowns (s, f) and the passes' sum in units of the frames'
+// median time.
+struct FrameResidual {
+  FrameResidual(double passes, double drawn, double y) : passes_(passes), drawn_(drawn), y_(y) {}
+  template <class T>
+  bool operator()(const T* saved, const T* intercept, T* residual) const {
+    const T predicted = T(passes_) - saved[0] * T(drawn_) + intercept[0];
+    if (!(predicted > T(0))) return false;
+    using std::log;
+    residual[0] = log(predicted) - T(y_);
+    return true;
+  }
+  double passes_, drawn_, y_;
 };
 
 double median(std::vector<double> v) {
@@ -176,6 +193,114 @@ std::optional<PassCost> fit_eye_count_pass(const std::vector<EyeCountObservation
                                       r.train_count, r.held_out_median_relative_error, r.held_out_count);
   if (report) *report = r;
   if (train.empty()) return std::nullopt;
+  return cost;
+}
+
+std::string frame_of_pass(const std::string& pass_frame) {
+  const std::size_t last = pass_frame.rfind(':');
+  if (last == std::string::npos || last == 0 || last + 1 == pass_frame.size()) return pass_frame;
+  const std::size_t before = pass_frame.rfind(':', last - 1);
+  const std::size_t start = before == std::string::npos ? 0 : before + 1;
+  const std::string_view light = std::string_view(pass_frame).substr(start, last - start);
+  if (light.size() <= 5 || light.substr(0, 5) != "light") return pass_frame;
+  for (char c : light.substr(5))
+    if (c < '0' || c > '9') return pass_frame;
+  // "C:lightK:M" -> "C:M"; "lightK:M" -> "M".
+  return pass_frame.substr(0, start == 0 ? 0 : start - 1) + (start == 0 ? pass_frame.substr(last + 1)
+                                                                          : pass_frame.substr(last));
+}
+
+std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& frames,
+                                        const std::vector<PassObservation>& passes,
+                                        const std::vector<EyeCountObservation>& eye_count, const DeviceProfile& profile,
+                                        FrameFitReport* report, const ProfileFitOptions& options) {
+  // Each frame's passes: the sum of their predictions (each priced with its
+  // own counts, its intercept included) and how many were drawn.
+  struct Passes {
+    double ms = 0, drawn = 0;
+  };
+  std::map<std::string, Passes> by_frame;
+  for (const PassObservation& o : passes) {
+    const PassCost& c = profile.passes[static_cast<std::size_t>(o.kind)];
+    Passes& p = by_frame[frame_of_pass(o.frame)];
+    p.ms += c.intercept_ms + c.ms_per_mtriangle * o.triangles * 1e-6 + c.ms_per_mfragment * o.fragments * 1e-6;
+    p.drawn += 1;
+  }
+  if (profile.eye_count)
+    for (const EyeCountObservation& o : eye_count) {
+      const PassCost& c = *profile.eye_count;
+      Passes& p = by_frame[frame_of_pass(o.frame)];
+      p.ms += c.intercept_ms + c.ms_per_mtriangle * o.triangles * 1e-6 + c.ms_per_mfragment * o.fragments * 1e-6;
+      p.drawn += 1;
+    }
+  double smallest_intercept = INFINITY;
+  for (const PassCost& c : profile.passes) smallest_intercept = std::min(smallest_intercept, c.intercept_ms);
+  if (profile.eye_count) smallest_intercept = std::min(smallest_intercept, profile.eye_count->intercept_ms);
+  struct Frame {
+    Passes passes;
+    double ms = 0;
+  };
+  std::vector<Frame> train, held;
+  for (const FrameObservation& o : frames) {
+    check_measure(o.ms, "the time", o.frame, "frame observation");
+    const auto p = by_frame.find(o.frame);
+    if (p == by_frame.end() || !(o.ms > 0)) continue;
+    (held_out_configuration(o.frame) ? held : train).push_back({p->second, o.ms});
+  }
+  FrameCost cost;
+  std::vector<double> times;
+  for (const Frame& f : train) times.push_back(f.ms);
+  const double m = median(times);
+  if (!train.empty() && m > 0) {
+    // In units of m: s' = s / m in [0, smallest intercept / m], f' = f / m >= 0.
+    // The start is inside the bounds: half the largest saving, a tenth of
+    // the median frame; each pass's prediction is at least its intercept,
+    // so the start predicts every frame positive.
+    const bool can_save = smallest_intercept > 0;
+    std::array<double, 1> saved{can_save ? 0.5 * smallest_intercept / m : 0.0}, intercept{0.1};
+    auto solve = [&](double delta) {
+      ceres::Problem problem;
+      for (const Frame& f : train)
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FrameResidual, 1, 1, 1>(new FrameResidual(
+                                     f.passes.ms / m, f.passes.drawn, std::log(f.ms / m))),
+                                 options.robust ? new ceres::HuberLoss(delta) : nullptr, saved.data(),
+                                 intercept.data());
+      if (can_save) {
+        problem.SetParameterLowerBound(saved.data(), 0, 0.0);
+        problem.SetParameterUpperBound(saved.data(), 0, smallest_intercept / m);
+      } else {
+        problem.SetParameterBlockConstant(saved.data());
+      }
+      problem.SetParameterLowerBound(intercept.data(), 0, 0.0);
+      solve_or_throw(problem, deterministic_solver_options(200), "whole frame cost");
+    };
+    solve(0.1);
+    if (options.robust) {
+      std::vector<double> abs_residual;
+      for (const Frame& f : train)
+        abs_residual.push_back(
+            std::fabs(std::log(f.passes.ms / m - saved[0] * f.passes.drawn + intercept[0]) - std::log(f.ms / m)));
+      solve(1.345 * std::clamp(1.4826 * median(abs_residual), 1e-3, 1.0));
+    }
+    cost.ms_saved_per_pass = std::min(m * saved[0], smallest_intercept);
+    cost.intercept_ms = m * intercept[0];
+  }
+  FrameFitReport r;
+  for (const auto& [side, with, without, count] :
+       {std::tuple{&train, &r.train_median_relative_error, &r.train_without_row, &r.train_count},
+        std::tuple{&held, &r.held_out_median_relative_error, &r.held_out_without_row, &r.held_out_count}}) {
+    std::vector<double> e_with, e_without;
+    for (const Frame& f : *side) {
+      const double predicted = f.passes.ms - cost.ms_saved_per_pass * f.passes.drawn + cost.intercept_ms;
+      e_with.push_back(std::fabs(predicted - f.ms) / f.ms);
+      e_without.push_back(std::fabs(f.passes.ms - f.ms) / f.ms);
+    }
+    *with = median(e_with);
+    *without = median(e_without);
+    *count = side->size();
+  }
+  if (report) *report = r;
+  if (train.empty() || !(m > 0)) return std::nullopt;
   return cost;
 }
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,7 +36,7 @@ double cost_number(const JsonValue& object, std::string_view key) {
 }
 
 DeviceProfile device_profile_of(const JsonValue& j) {
-  j.only_keys({"gl_renderer", "origin", "passes", "cpu"});
+  j.only_keys({"gl_renderer", "origin", "passes", "frame", "cpu"});
   DeviceProfile d;
   d.gl_renderer = j.required<std::string>("gl_renderer");
   d.origin = j.at("origin").choice<std::string>({{"calibrated", "calibrated"}, {"hand", "hand"}, {"scaled", "scaled"}});
@@ -50,6 +51,17 @@ DeviceProfile device_profile_of(const JsonValue& j) {
   };
   for (std::size_t k = 0; k < kPassKindCount; ++k) d.passes[k] = pass_cost(passes.at(kPassKindNames[k]));
   if (const auto eye = passes.find(kEyeCountPassName)) d.eye_count = pass_cost(*eye);
+  if (const auto frame = j.find("frame")) {
+    frame->only_keys({"intercept_ms", "ms_saved_per_pass"});
+    d.frame = FrameCost{cost_number(*frame, "intercept_ms"), cost_number(*frame, "ms_saved_per_pass")};
+    double smallest = INFINITY;
+    for (const PassCost& c : d.passes) smallest = std::min(smallest, c.intercept_ms);
+    if (d.eye_count) smallest = std::min(smallest, d.eye_count->intercept_ms);
+    if (d.frame->ms_saved_per_pass > smallest)
+      frame->at("ms_saved_per_pass")
+          .fail("must not exceed the smallest pass intercept_ms (" + std::to_string(smallest) +
+                "): a pass drawn in a frame would cost less than nothing");
+  }
   const JsonValue cpu = j.at("cpu");
   d.cpu.ms_per_ktriangle_silhouette = cost_number(cpu, "ms_per_ktriangle_silhouette");
   if (cpu.find("ms_per_ktriangle_clipped_cap") || cpu.find("ms_per_ktriangle_exact_test")) {
@@ -92,13 +104,15 @@ Json device_profile_json(const DeviceProfile& d) {
     passes[std::string(kEyeCountPassName)] = {{"intercept_ms", d.eye_count->intercept_ms},
                                               {"ms_per_mtriangle", d.eye_count->ms_per_mtriangle},
                                               {"ms_per_mfragment", d.eye_count->ms_per_mfragment}};
-  return {{"gl_renderer", d.gl_renderer},
-          {"origin", d.origin},
-          {"passes", passes},
-          {"cpu",
+  Json j{{"gl_renderer", d.gl_renderer},
+         {"origin", d.origin},
+         {"passes", passes},
+         {"cpu",
            {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
             {"clipped_cap", cpu_task_cost_json(d.cpu.clipped_cap)},
             {"exact_test", cpu_task_cost_json(d.cpu.exact_test)}}}};
+  if (d.frame) j["frame"] = {{"intercept_ms", d.frame->intercept_ms}, {"ms_saved_per_pass", d.frame->ms_saved_per_pass}};
+  return j;
 }
 
 }  // namespace

@@ -93,6 +93,10 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     s.eye_count->ms_per_mtriangle /= gl_factor;
     s.eye_count->ms_per_mfragment /= gl_factor;
   }
+  if (s.frame) {
+    s.frame->intercept_ms /= gl_factor;
+    s.frame->ms_saved_per_pass /= gl_factor;
+  }
   s.cpu.ms_per_ktriangle_silhouette /= cpu_factor;
   for (CpuTaskCost* c : {&s.cpu.clipped_cap, &s.cpu.exact_test}) {
     c->intercept_ms /= cpu_factor;

@@ -8,19 +8,25 @@
 //   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,,
 //   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,,
 //   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21,512
+//   frame,path:near_plane_sweep:42:zfail,end_to_end,,,1.93,,,,
 //
 // record   "pass": one pass kind of one frame, timed on its own;
 //          "again": the same pass of the same frame drawn a second time,
 //          later in the same process (the noise floor: again / pass);
 //          "cpu": one CPU task (per occluder, or per light for the exact
-//          test), timed on its own.
+//          test), timed on its own;
+//          "frame": one method's whole lit frame (every light) drawn again
+//          without the per-pass timing, timed end to end (FrameObservation;
+//          its passes are the pass rows of the same frame, with or without
+//          ":lightK" before the method).
 // frame    what was drawn: configuration, light, method or object (no
 //          comma, quote or line break).
 // kind     a pass kind (kPassKindNames) for pass and again, or eye_count
 //          for pass (AtomicZP's eye-count pass, kEyeCountPassName), a CPU
-//          task (silhouette, clipped_cap, exact_test) for cpu.
+//          task (silhouette, clipped_cap, exact_test) for cpu, end_to_end
+//          for frame.
 // triangles, fragments, ms: finite, non-negative numbers; fragments empty
-//          for cpu.
+//          for cpu, triangles and fragments empty for frame.
 // reaching, tested, straddling, examined: the clipped_cap's and
 //          exact_test's counts (device_profile.hpp, CpuTaskWork; with
 //          `triangles`, one run's), finite and non-negative; empty in every
@@ -51,6 +57,7 @@ struct CalibrationSet {
   std::vector<EyeCountObservation> eye_count;  // "pass" rows of kind eye_count (AtomicZP's eye-count pass)
   std::vector<PassObservation> again;          // "again" rows: the noise floor
   std::vector<CpuObservation> cpu;             // "cpu" rows
+  std::vector<FrameObservation> frames;        // "frame" rows
 };
 
 std::string calibration_csv_header();  // with the trailing newline

@@ -11,6 +11,9 @@
 //          not offer AtomicZP): a compute dispatch over the counted
 //          occluders' triangles, once per frame, and the count's write into
 //          the stencil, one fragment per pixel of the viewport
+//        + with the profile's optional `frame` row: frame.intercept_ms once
+//          per frame, less frame.ms_saved_per_pass for every pass drawn
+//          (the eye-count pass among them)
 //        + cpu.ms_per_ktriangle_silhouette * silhouette_triangles / 1000
 //        + cpu.clipped_cap.ms(clipped_cap) + cpu.exact_test.ms(exact_test)
 // with a_k in ms per million triangles and b_k in ms per million fragments,
@@ -54,6 +57,19 @@ struct PassCost {
   double intercept_ms = 0;      // per pass drawn (state changes, the draw call)
   double ms_per_mtriangle = 0;  // per million triangles submitted
   double ms_per_mfragment = 0;  // per million fragments rasterized
+};
+
+// What a frame drawn whole costs beside its passes timed each on its own.
+// Calibration times every pass between two glFinish calls, so each pass
+// kind's intercept holds one synchronisation with the GL; a frame drawn
+// without those waits pays one at its end, and its passes overlap the
+// driver's work.  Fitted on whole frames timed end to end (`nearcap
+// calibrate`'s frame rows): a frame's GL time is its passes' predictions,
+// less ms_saved_per_pass per pass drawn, plus intercept_ms.
+// ms_saved_per_pass is at most the smallest pass intercept of the profile.
+struct FrameCost {
+  double intercept_ms = 0;        // once per frame (its one glFinish, what no pass holds)
+  double ms_saved_per_pass = 0;   // per pass drawn: its share of a pass intercept a whole frame does not pay
 };
 
 // The counts one of the two dear CPU tasks is priced by, summed over its
@@ -157,16 +173,25 @@ struct DeviceProfile {
   // AtomicZP's eye-count pass (EyeCountWork); absent: not measured, and
   // the decision does not offer AtomicZP (a work's eye count then costs 0).
   std::optional<PassCost> eye_count;
+  // The whole frame's row (FrameCost); absent: a frame costs its passes'
+  // sum, as each pass was timed.
+  std::optional<FrameCost> frame;
   CpuCost cpu;
   double gl_ms(const FrameWork& w) const {
     double t = 0;
-    for (std::size_t k = 0; k < kPassKindCount; ++k)
+    std::size_t drawn = 0;
+    for (std::size_t k = 0; k < kPassKindCount; ++k) {
       t += (w.drawn[k] ? passes[k].intercept_ms : 0.0) + passes[k].ms_per_mtriangle * w.triangles[k] * 1e-6 +
            passes[k].ms_per_mfragment * w.fragments[k] * 1e-6;
-    if (eye_count)
+      drawn += w.drawn[k] ? 1 : 0;
+    }
+    if (eye_count) {
       t += (w.eye_count.drawn ? eye_count->intercept_ms : 0.0) +
            eye_count->ms_per_mtriangle * w.eye_count.triangles * 1e-6 +
            eye_count->ms_per_mfragment * w.eye_count.fragments * 1e-6;
+      drawn += w.eye_count.drawn ? 1 : 0;
+    }
+    if (frame && drawn > 0) t += frame->intercept_ms - frame->ms_saved_per_pass * static_cast<double>(drawn);
     return t;
   }
   double cpu_ms(const FrameWork& w) const {
@@ -190,6 +215,18 @@ struct EyeCountObservation {
   std::string frame;  // configuration and light, e.g. "sample:1:7:light0:atomiczp"
   double triangles = 0, fragments = 0, ms = 0;
 };
+// One method's whole lit frame of one configuration (every light), drawn
+// again at once without the per-pass timing, timed end to end (up to
+// glFinish, uploads included).  Its passes are the pass and eye-count
+// observations whose frame is `frame`, or `frame` with ":lightK" inserted
+// before its last component (frame_of_pass).
+struct FrameObservation {
+  std::string frame;  // configuration and method, e.g. "sample:1:7:zfail"
+  double ms = 0;
+};
+// The whole frame a pass observation's frame belongs to: "C:lightK:M" (K
+// digits) is "C:M"; any other name is its own.
+std::string frame_of_pass(const std::string& pass_frame);
 // One CPU task, timed on its own, with its counts: for the silhouette the
 // occluder's triangles; for the clipped-sides cap and the exact test one
 // run's CpuTaskWork (runs = 1).
@@ -247,6 +284,27 @@ struct EyeCountFitReport {
 };
 std::optional<PassCost> fit_eye_count_pass(const std::vector<EyeCountObservation>& observations,
                                            EyeCountFitReport* report = nullptr, const ProfileFitOptions& options = {});
+
+// The whole frame's row (DeviceProfile::frame), fitted on the frames
+// whose frame hashes into the training side (FNV-1a(frame) % 5 != 0) with
+// `profile`'s pass rows (and eye-count row) held fixed: a frame's predicted
+// GL time is the sum of its passes' predictions (each observed pass priced
+// with its observed counts) plus intercept_ms, less ms_saved_per_pass per
+// pass, with 0 <= ms_saved_per_pass <= the smallest intercept among the
+// profile's pass rows, intercept_ms >= 0, on the log residual with Huber's
+// loss as the pass rows are.  A frame without a pass observation is
+// skipped.  Nothing when no frame is on the training side.  The report
+// gives the median relative error of the frame prediction, with the row and
+// without it (the passes' sum alone), on each side.
+struct FrameFitReport {
+  double train_median_relative_error = 0, held_out_median_relative_error = 0;  // NaN on a side without frames
+  double train_without_row = 0, held_out_without_row = 0;                      // the passes' sum alone
+  std::size_t train_count = 0, held_out_count = 0;
+};
+std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& frames,
+                                        const std::vector<PassObservation>& passes,
+                                        const std::vector<EyeCountObservation>& eye_count, const DeviceProfile& profile,
+                                        FrameFitReport* report = nullptr, const ProfileFitOptions& options = {});
 
 // The same profile with its GL passes `gl_factor` times as fast and its CPU
 // work `cpu_factor` times as fast (origin "scaled"): what a GPU would
