@@ -406,13 +406,13 @@ TEST(DeviceProfileFit, TheFrameRowRecoversAKnownSavingAndIntercept) {
     frames.push_back({frame, ms});
   }
   analysis::FrameFitReport report;
-  const std::optional<analysis::FrameCost> fitted =
-      analysis::fit_frame_cost(frames, passes, {}, truth, &report);
+  const std::optional<analysis::FrameCost> fitted = analysis::fit_frame_cost(frames, passes, {}, truth, &report);
   ASSERT_TRUE(fitted.has_value());
-  std::printf("frame row: saved %.5f ms per pass (true %.5f), intercept %.5f ms (true %.5f); held-out error %.3f, "
-              "the passes' sum alone %.3f (%zu / %zu frames)\n",
-              fitted->ms_saved_per_pass, saved, fitted->intercept_ms, intercept, report.held_out_median_relative_error,
-              report.held_out_without_row, report.train_count, report.held_out_count);
+  std::printf(
+      "frame row: saved %.5f ms per pass (true %.5f), intercept %.5f ms (true %.5f); held-out error %.3f, "
+      "the passes' sum alone %.3f (%zu / %zu frames)\n",
+      fitted->ms_saved_per_pass, saved, fitted->intercept_ms, intercept, report.held_out_median_relative_error,
+      report.held_out_without_row, report.train_count, report.held_out_count);
   EXPECT_NEAR(fitted->ms_saved_per_pass, saved, 0.15 * saved);
   EXPECT_NEAR(fitted->intercept_ms, intercept, 0.15 * 3 * saved);
   EXPECT_GT(report.held_out_count, 40u);

@@ -178,8 +178,8 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
       set.cpu.push_back(std::move(o));
     } else if (record == "frame") {
       if (field[2] != kEndToEnd)
-        throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' of a frame record is not " +
-                                         std::string(kEndToEnd));
+        throw fail(ErrorKind::Parse,
+                   "kind '" + std::string(field[2]) + "' of a frame record is not " + std::string(kEndToEnd));
       if (!field[3].empty() || !field[4].empty())
         throw fail(ErrorKind::Schema, "a frame record has no triangles or fragments (the columns are empty)");
       counts_empty("a frame record has no CPU task counts");

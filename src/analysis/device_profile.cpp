@@ -206,8 +206,8 @@ std::string frame_of_pass(const std::string& pass_frame) {
   for (char c : light.substr(5))
     if (c < '0' || c > '9') return pass_frame;
   // "C:lightK:M" -> "C:M"; "lightK:M" -> "M".
-  return pass_frame.substr(0, start == 0 ? 0 : start - 1) + (start == 0 ? pass_frame.substr(last + 1)
-                                                                          : pass_frame.substr(last));
+  return pass_frame.substr(0, start == 0 ? 0 : start - 1) +
+         (start == 0 ? pass_frame.substr(last + 1) : pass_frame.substr(last));
 }
 
 std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& frames,
@@ -261,8 +261,8 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
     auto solve = [&](double delta) {
       ceres::Problem problem;
       for (const Frame& f : train)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FrameResidual, 1, 1, 1>(new FrameResidual(
-                                     f.passes.ms / m, f.passes.drawn, std::log(f.ms / m))),
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FrameResidual, 1, 1, 1>(
+                                     new FrameResidual(f.passes.ms / m, f.passes.drawn, std::log(f.ms / m))),
                                  options.robust ? new ceres::HuberLoss(delta) : nullptr, saved.data(),
                                  intercept.data());
       if (can_save) {

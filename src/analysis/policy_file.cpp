@@ -108,10 +108,11 @@ Json device_profile_json(const DeviceProfile& d) {
          {"origin", d.origin},
          {"passes", passes},
          {"cpu",
-           {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
-            {"clipped_cap", cpu_task_cost_json(d.cpu.clipped_cap)},
-            {"exact_test", cpu_task_cost_json(d.cpu.exact_test)}}}};
-  if (d.frame) j["frame"] = {{"intercept_ms", d.frame->intercept_ms}, {"ms_saved_per_pass", d.frame->ms_saved_per_pass}};
+          {{"ms_per_ktriangle_silhouette", d.cpu.ms_per_ktriangle_silhouette},
+           {"clipped_cap", cpu_task_cost_json(d.cpu.clipped_cap)},
+           {"exact_test", cpu_task_cost_json(d.cpu.exact_test)}}}};
+  if (d.frame)
+    j["frame"] = {{"intercept_ms", d.frame->intercept_ms}, {"ms_saved_per_pass", d.frame->ms_saved_per_pass}};
   return j;
 }
 

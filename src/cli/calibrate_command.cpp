@@ -355,7 +355,7 @@ void run(CalibrateOptions o) {
   render::LitFrameRenderer renderer;
   render::LitFrameOptions options;
   options.pass_kind_times = true;
-  const render::LitFrameOptions whole;  // the same frame drawn as a renderer draws it, timed end to end
+  const render::LitFrameOptions whole;   // the same frame drawn as a renderer draws it, timed end to end
   const gl::EmulationSettings settings;  // the default raster and depth format of every frame
 
   analysis::CalibrationSet observations;
@@ -444,9 +444,8 @@ void run(CalibrateOptions o) {
     analysis::EyeCountFitReport eye_report;
     policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
     analysis::FrameFitReport frame_report;
-    policy->device_profile->frame = analysis::fit_frame_cost(observations.frames, observations.passes,
-                                                             observations.eye_count, *policy->device_profile,
-                                                             &frame_report);
+    policy->device_profile->frame = analysis::fit_frame_cost(
+        observations.frames, observations.passes, observations.eye_count, *policy->device_profile, &frame_report);
     print_fit_report(*policy->device_profile, report, eye_report, frame_report);
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
@@ -464,18 +463,18 @@ void run(CalibrateOptions o) {
     for (std::size_t k = 0; k < 3; ++k)
       if (std::isfinite(report.cpu_held_out_median_relative_error[k]))
         cpu_held_out[tasks[k]] = report.cpu_held_out_median_relative_error[k];
-    provenance["calibration"] = {{"gl_renderer", context.renderer()},
-                                 {"samples", o.samples},
-                                 {"seed", o.sampler.seed},
-                                 {"paths", o.paths},
-                                 {"width", o.width},
-                                 {"height", o.height},
-                                 {"configurations", set.count()},
-                                 {"pass_observations", observations.passes.size() + observations.eye_count.size()},
-                                 {"cpu_observations", observations.cpu.size()},
-                                 {"frame_observations", observations.frames.size()},
-                                 {"held_out_median_relative_error",
-                                  {{"passes", held_out}, {"frame", frame_held_out}, {"cpu", cpu_held_out}}}};
+    provenance["calibration"] = {
+        {"gl_renderer", context.renderer()},
+        {"samples", o.samples},
+        {"seed", o.sampler.seed},
+        {"paths", o.paths},
+        {"width", o.width},
+        {"height", o.height},
+        {"configurations", set.count()},
+        {"pass_observations", observations.passes.size() + observations.eye_count.size()},
+        {"cpu_observations", observations.cpu.size()},
+        {"frame_observations", observations.frames.size()},
+        {"held_out_median_relative_error", {{"passes", held_out}, {"frame", frame_held_out}, {"cpu", cpu_held_out}}}};
     policy->provenance_json = json_text(provenance);
     files.push_back({o.write_policy, analysis::policy_to_json(*policy)});
   }

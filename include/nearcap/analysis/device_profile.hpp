@@ -68,8 +68,8 @@ struct PassCost {
 // less ms_saved_per_pass per pass drawn, plus intercept_ms.
 // ms_saved_per_pass is at most the smallest pass intercept of the profile.
 struct FrameCost {
-  double intercept_ms = 0;        // once per frame (its one glFinish, what no pass holds)
-  double ms_saved_per_pass = 0;   // per pass drawn: its share of a pass intercept a whole frame does not pay
+  double intercept_ms = 0;       // once per frame (its one glFinish, what no pass holds)
+  double ms_saved_per_pass = 0;  // per pass drawn: its share of a pass intercept a whole frame does not pay
 };
 
 // The counts one of the two dear CPU tasks is priced by, summed over its
