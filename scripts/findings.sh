@@ -157,6 +157,21 @@ step_policy_oracle() {  # the shipped policy against the oracle and the fixed ru
   $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
     --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/policy-oracle"
 }
+step_whole_frame() {  # a whole frame against its passes timed each on its own; the frame row's effect end to end
+  local calibration=() p
+  for p in data/paths/*.json; do
+    case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
+  done
+  $n calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
+    --out "$dir/whole-frame.csv" --policy data/policy.json --write-policy "$dir/policy-frame-row.json"
+  python3 analysis/benchmarks/frame_against_passes.py "$dir/whole-frame.csv"
+  python3 -c 'import json,sys; p=json.load(open(sys.argv[1])); del p["device_profile"]["frame"]; json.dump(p,open(sys.argv[2],"w"),indent=1)' \
+    "$dir/policy-frame-row.json" "$dir/policy-no-frame-row.json"
+  for p in policy-frame-row policy-no-frame-row; do
+    $n evaluate --policy "$dir/$p.json" --samples 500 --seed 4242 --width 160 --height 120 \
+      --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$p"
+  done
+}
 step_cpu_task_models() {  # a profile fitted by counts against the shipped one, in one window, end to end
   local calibration=()
   for p in data/paths/*.json; do
@@ -255,7 +270,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle cpu-task-models sweep-rates shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models sweep-rates shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
