@@ -217,5 +217,50 @@ TEST(AtomicZPSidePlane, ExactDecisionAgreesWithTheEstimateAwayFromTheBound) {
   EXPECT_GT(checked, 60u);
 }
 
+// Filtered against exact, at the bound: with the bound set to the estimated
+// nearest distance times 1 +- 2^-40, 2^-20 or 2^-4 (the first too close for
+// the double filter to tell), the clearance says "within" exactly where the
+// rationals say some edge has b^2 |n|^2 - det(a, d, l)^2 > 0; and the exact
+// fallback runs.  On the 40 configurations with the eye moved 16 units off
+// its nearest side plane.
+TEST(AtomicZPSidePlane, FilteredDecisionIsTheExactOneAtTheBound) {
+  const analysis::HardCaseSampler sampler = eye_near_volume_sampler();
+  std::size_t checked = 0, fallbacks = 0, within = 0;
+  test::for_each_sampled_scene(sampler, 40, [&](const Scene& s, const analysis::HardCase& sample) {
+    const CameraSpaceScene cs0(s);
+    const NearestSidePlane plane = nearest_side_plane(s, cs0);
+    if (!plane.found) return;
+    const Scene moved = eye_moved(s, (16 * plane.unit - plane.signed_distance) * plane.normal);
+    const CameraSpaceScene cs(moved);
+    for (std::size_t o = 0; o < moved.objects.size(); ++o) {
+      if (!moved.objects[o].occluder) continue;
+      const double x = analysis::side_plane_clearance(cs, o, 0).nearest_ulps;
+      if (!std::isfinite(x) || x == 0) continue;
+      for (double delta : {-0x1p-4, -0x1p-20, -0x1p-40, 0x1p-40, 0x1p-20, 0x1p-4}) {
+        const double bound = x * (1 + delta);
+        const analysis::SidePlaneClearance c = analysis::side_plane_clearance(cs, o, 0, bound);
+        bool expected = false;
+        for (const SilhouetteEdge& e : engine_silhouette(moved, o, 0).edges) {
+          const double unit = analysis::side_plane_unit(cs, o, e.a, e.d, 0);
+          if (!std::isfinite(unit)) continue;
+          const RationalVec3 a = cs.exact_vertex(o, e.a), d = cs.exact_vertex(o, e.d);
+          const RationalVec3& l = cs.exact_light(0);
+          const Rational t = dot(a, cross(d, l));
+          const RationalVec3 n = cross(a - l, d - l);
+          const Rational b(bound * unit);
+          expected = expected || sign_of(Rational(b * b * dot(n, n) - t * t)) == Sign::Positive;
+        }
+        EXPECT_EQ(c.within_bound, expected) << "configuration " << sample.index << ", bound " << bound;
+        fallbacks += c.exact_fallbacks;
+        within += c.within_bound ? 1 : 0;
+        ++checked;
+      }
+    }
+  });
+  std::printf("%zu decisions at the bound, %zu within, %zu edges decided in rationals\n", checked, within, fallbacks);
+  EXPECT_GT(checked, 100u);
+  EXPECT_GT(fallbacks, 0u);
+}
+
 }  // namespace
 }  // namespace nearcap
