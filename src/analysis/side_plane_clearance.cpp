@@ -121,6 +121,7 @@ SidePlaneClearance side_plane_clearance(const CameraSpaceScene& cs, std::size_t 
     if (n_est > 0) out.nearest_ulps = std::min(out.nearest_ulps, std::fabs(t_est) / n_est / unit);
     if (out.within_bound) continue;  // decided; the estimate above still reports the nearest
     bool fell_back = false;
+    // Not counted in FilterStats (no caller passes one); exact_fallbacks counts.
     const Sign within = filtered_sign(
         Predicate::ShadowCrossing, nullptr,
         [&] {

@@ -19,13 +19,15 @@
 // silhouette's edges (engine_classification.hpp, as the emulation and the
 // real GL's renderer extract them).
 //
-// The bound, per edge: kSidePlaneBoundUlps * 2^-24 * M, M the edge's
-// coordinate magnitude (side_plane_magnitude below): the largest
-// |coordinate| any float32 operation of the quad's vertex transforms sees.
-// A float32 clip coordinate is a sum of products of such terms, so its
-// rounding error is a few units of 2^-24 M; the bound is that error with a
-// margin the measurement in tests/atomiczp_side_plane_test.cpp justifies
-// (docs/atomiczp.md, "The side-plane condition").
+// The bound, per edge: kSidePlaneBoundUlps * 2^-24 * M * lever, M the
+// edge's coordinate magnitude (side_plane_magnitude below): the largest
+// |coordinate| any float32 operation of the quad's vertex transforms sees,
+// and the lever (side_plane_lever) how far a vertex's movement moves the
+// plane at the eye.  A float32 clip coordinate is a sum of products of such
+// terms, so its rounding error is a few units of 2^-24 M; the bound is that
+// error at the eye with a margin the measurement in
+// tests/atomiczp_side_plane_test.cpp justifies (docs/atomiczp.md, "The
+// side-plane condition").
 #pragma once
 
 #include <cstddef>
@@ -35,20 +37,24 @@
 
 namespace nearcap::analysis {
 
-// The bound in units of 2^-24 (float32's unit roundoff) times the edge's
-// coordinate magnitude.  Measured: frames wrong up to about 12 such units
-// from the plane on the sampled configurations, none beyond (docs/atomiczp.md).
+// The bound in units of side_plane_unit (2^-24, float32's unit roundoff,
+// times the edge's coordinate magnitude and lever).  Measured on the 40
+// eye-near-volume configurations of seed 28, the eye moved off a side plane
+// by 1/16 to 8,192 units: frames wrong where Z-fail is right up to 32.6
+// units from their nearest side plane, none from 45 on (docs/atomiczp.md,
+// "The side-plane condition"); 64 is twice the farthest.
 inline constexpr double kSidePlaneBoundUlps = 64;
 
 struct SidePlaneClearance {
   std::size_t edges = 0;  // side quads examined: the float silhouette's edges
   // Exact: some side plane passes the eye closer than its bound
-  // (distance < bound_ulps * 2^-24 * M, decided by a filter with an exact
-  // fallback).
+  // (distance < bound_ulps * side_plane_unit, decided by a filter with an
+  // exact fallback).
   bool within_bound = false;
-  // Estimate (double): the smallest distance from the eye to a side plane
-  // in units of 2^-24 M, over the edges; +inf without edges.  For reports
-  // and measurements, not for decisions.
+  // Estimate (double; rationals where the double triple product cannot
+  // tell the eye from the plane): the smallest distance from the eye to a
+  // side plane over the edges, in units of side_plane_unit; +inf without
+  // edges.  For reports and measurements, not for decisions.
   double nearest_ulps = std::numeric_limits<double>::infinity();
   std::size_t exact_fallbacks = 0;  // edges the filter could not decide
 };
