@@ -375,8 +375,9 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, dou
 // in `arithmetic`), equals it; and no side plane of its volume passes the
 // eye closer than the float32 clip coordinates of its quad can place it
 // (side_plane_clearance.hpp: the almost edge-on quad of a plane that nearly
-// holds the eye covers pixels the exact one does not).  Counts add over occluders, so a frame's
-// count over its AtomicZP occluders is right where each one's is.  `why`
+// holds the eye covers pixels the exact one does not).  Counts add over
+// occluders, so a frame's count over its AtomicZP occluders is right where
+// each one's is.  `why`
 // says why not, or what was found.  `near`: the near plane the frame is
 // drawn with.
 bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, double near,
