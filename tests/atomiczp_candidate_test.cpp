@@ -15,6 +15,8 @@
 
 #include "box_scene.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/side_plane_clearance.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
@@ -26,6 +28,7 @@
 #include "nearcap/io/scene_builder.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_map.hpp"
+#include "support/sampled_scenes.hpp"
 
 namespace nearcap {
 namespace {
@@ -51,6 +54,16 @@ DeviceProfile atomiczp_favoured() {
   p.eye_count = analysis::PassCost{0.1, 10.0, 0.01};
   p.cpu.ms_per_ktriangle_silhouette = 0.01;
   p.cpu.clipped_cap.intercept_ms = 5;
+  return p;
+}
+
+// atomiczp_favoured() with the eye-count pass nearly free and the caps'
+// triangles dear: AtomicZP cheaper than Z-fail on every occluder, so the
+// candidate's conditions alone decide whether it is drawn.
+DeviceProfile atomiczp_cheapest() {
+  DeviceProfile p = atomiczp_favoured();
+  p.eye_count = analysis::PassCost{0.001, 1.0, 0.001};
+  for (PassKind dear : {PassKind::LightCap, PassKind::DarkCap}) p.passes[k(dear)].ms_per_mtriangle = 1e5;
   return p;
 }
 
@@ -223,6 +236,95 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheFloatEyeCountIsWrong) {
   std::printf("eyes with a wrong float count: %d found, AtomicZP offered at %d\n", found, offered);
   ASSERT_GT(found, 0);
   EXPECT_EQ(offered, 0);
+}
+
+analysis::HardCaseSampler eye_near_volume_sampler() {
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(28);
+  spec.kinds = {analysis::HardCaseKind::EyeNearVolume};
+  return analysis::HardCaseSampler(spec);
+}
+
+bool is_wrong(PixelVerdict v) { return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed; }
+
+// Pixels of `frame` wrong where Z-fail's frame (same settings) is right.
+std::size_t wrong_where_zfail_right(const Scene& s, const PixelReference& ref, const gl::ShadowFrame& frame,
+                                    const gl::EmulationSettings& settings) {
+  const CrackReport judged = judge_frame(frame, ref);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, settings), ref);
+  std::size_t worse = 0;
+  for (std::size_t p = 0; p < judged.verdict.size(); ++p)
+    worse += is_wrong(judged.verdict[p]) && !is_wrong(zfail.verdict[p]) ? 1 : 0;
+  return worse;
+}
+
+// Configuration 11 of `nearcap sweep --samples 40 --seed 28 --kinds
+// eye-near-volume`: the eye a few nanometres from a side plane of the box's
+// volume, both eye counts right, no tie at the eye, the near plane clear of
+// the box, and still AtomicZP's frame wrong where Z-fail is right (the side
+// quad seen almost edge-on).  Only the side-plane condition refuses it.
+TEST(AtomicZPCandidate, NotOfferedWhereASidePlanePassesTheEyeWithinTheFloatBound) {
+  const analysis::HardCaseSampler sampler = eye_near_volume_sampler();
+  const analysis::HardCase sample = sampler.sample(11);
+  const std::optional<Scene> s = test::sampled_scene(sample);
+  ASSERT_TRUE(s) << sample.detail;
+  const CameraSpaceScene cs(*s);
+  const ExactEyeCount exact = exact_eye_count(cs, 0);
+  ASSERT_FALSE(exact.on_boundary) << sample.detail;
+  ASSERT_EQ(gl::float_eye_count(*s, 0).count, exact.count) << sample.detail;
+  const analysis::SidePlaneClearance clearance = analysis::side_plane_clearance(cs, 0, 0);
+  std::printf("configuration 11 (%s): eye count %zu, nearest side plane %.4g units of 2^-24 M (bound %g), %zu edges\n",
+              sample.detail.c_str(), exact.count, clearance.nearest_ulps, analysis::kSidePlaneBoundUlps,
+              clearance.edges);
+  // AtomicZP's frame is wrong here where Z-fail is right: the refusal is needed.
+  const PixelReference ref = compute_pixel_reference(cs, 0);
+  const std::size_t worse =
+      wrong_where_zfail_right(*s, ref, gl::render_shadow_frame(*s, 0, ShadowMethod::AtomicZP), {});
+  std::printf("configuration 11: atomiczp wrong on %zu pixels where zfail is right\n", worse);
+  EXPECT_GT(worse, 0u);
+  const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_cheapest()), cs, 0, {});
+  EXPECT_NE(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  EXPECT_NE(d.reasons[0].find("atomiczp not a candidate (a side plane of its volume passes the eye within the float32 "
+                              "bound"),
+            std::string::npos)
+      << d.reasons[0];
+}
+
+// Over the 40 eye-near-volume configurations of seed 28: wherever the
+// candidate admits AtomicZP for every occluder (and, with the profile that
+// favours it, the decision draws it), the decision's frame is wrong on no
+// pixel where Z-fail is right.  Prints how many were admitted and why the
+// others were not.
+TEST(AtomicZPCandidate, AsRightAsZFailWhereverAdmittedOnTheEyeNearVolumeConfigurations) {
+  const analysis::HardCaseSampler sampler = eye_near_volume_sampler();
+  std::size_t admitted = 0, refused = 0, side_plane = 0;
+  test::for_each_sampled_scene(sampler, 40, [&](const Scene& s, const analysis::HardCase& sample) {
+    const CameraSpaceScene cs(s);
+    const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_cheapest()), cs, 0, {});
+    bool all = true;
+    for (std::size_t o = 0; o < s.objects.size(); ++o) {
+      if (!s.objects[o].occluder) continue;
+      const bool chosen = d.object_methods[o] == ShadowMethod::AtomicZP;
+      all = all && chosen;
+      if (!chosen && d.reasons[o].find("side plane") != std::string::npos) ++side_plane;
+      if (!chosen)
+        std::printf("configuration %llu: %s\n", static_cast<unsigned long long>(sample.index), d.reasons[o].c_str());
+    }
+    if (!all) {
+      ++refused;
+      return;
+    }
+    ++admitted;
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    gl::ShadowFrameBatch batch(s, 0, d.settings);
+    const std::size_t worse = wrong_where_zfail_right(s, ref, batch.render(d.object_methods), d.settings);
+    EXPECT_EQ(worse, 0u) << "configuration " << sample.index << " (" << sample.detail << "): " << d.reasons[0];
+  });
+  std::printf(
+      "eye-near-volume, seed 28: AtomicZP admitted for every occluder on %zu, not on %zu (%zu refused by "
+      "the side-plane condition)\n",
+      admitted, refused, side_plane);
+  EXPECT_GT(admitted, 10u);
+  EXPECT_GT(side_plane, 0u);
 }
 
 // On bundled scenes, with the profile that favours AtomicZP: wherever it is

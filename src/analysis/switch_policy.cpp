@@ -12,6 +12,7 @@
 #include <set>
 
 #include "general4.hpp"
+#include "nearcap/analysis/side_plane_clearance.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/eye_count.hpp"
@@ -375,8 +376,12 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, dou
 // the occluder, and its share of the eye count is decided robustly: the
 // exact count's perturbation decided no tie at the eye (`on_boundary`), and
 // the float32 count, computed as the GL's pass computes it (gl/eye_count.hpp,
-// in `arithmetic`), equals it.  Counts add over occluders, so a frame's
-// count over its AtomicZP occluders is right where each one's is.  `why`
+// in `arithmetic`), equals it; and no side plane of its volume passes the
+// eye closer than the float32 clip coordinates of its quad can place it
+// (side_plane_clearance.hpp: the almost edge-on quad of a plane that nearly
+// holds the eye covers pixels the exact one does not).  Counts add over
+// occluders, so a frame's count over its AtomicZP occluders is right where
+// each one's is.  `why`
 // says why not, or what was found.  `near`: the near plane the frame is
 // drawn with.
 bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, double near,
@@ -395,6 +400,12 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
   const gl::FloatEyeCount fl = gl::float_eye_count(cs.scene(), light, {o}, arithmetic);
   if (fl.count != exact.count) {
     why = "float eye count " + std::to_string(fl.count) + ", exact " + std::to_string(exact.count);
+    return false;
+  }
+  const SidePlaneClearance clearance = side_plane_clearance(cs, o, light);
+  if (clearance.within_bound) {
+    why = "a side plane of its volume passes the eye within the float32 bound (" + ms_text(clearance.nearest_ulps) +
+          " of " + ms_text(kSidePlaneBoundUlps) + " float32 units)";
     return false;
   }
   why = "eye count " + std::to_string(exact.count) + ", exact and float agree";
