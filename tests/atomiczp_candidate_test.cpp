@@ -273,7 +273,7 @@ TEST(AtomicZPCandidate, NotOfferedWhereASidePlanePassesTheEyeWithinTheFloatBound
   ASSERT_EQ(gl::float_eye_count(*s, 0).count, exact.count) << sample.detail;
   const analysis::SidePlaneClearance clearance = analysis::side_plane_clearance(cs, 0, 0);
   std::printf("configuration 11 (%s): eye count %zu, nearest side plane %.4g units of 2^-24 M (bound %g), %zu edges\n",
-              sample.detail.c_str(), exact.count, clearance.nearest_ulps, analysis::kSidePlaneBoundUlps,
+              sample.detail.c_str(), exact.count, clearance.nearest_units, analysis::kSidePlaneBoundUnits,
               clearance.edges);
   // AtomicZP's frame is wrong here where Z-fail is right: the refusal is needed.
   const PixelReference ref = compute_pixel_reference(cs, 0);

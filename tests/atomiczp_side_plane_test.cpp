@@ -1,7 +1,7 @@
 // AtomicZP near a side plane of its volume (analysis/side_plane_clearance.hpp):
 // how close to the eye a side plane may pass before the emulated AtomicZP
 // frame goes wrong where Z-fail is right, with the eye count right and no
-// tie at the eye.  The measurement that justifies kSidePlaneBoundUlps, and
+// tie at the eye.  The measurement that justifies kSidePlaneBoundUnits, and
 // the clearance's exact decision against its estimate.
 #include <gtest/gtest.h>
 
@@ -101,7 +101,7 @@ bool near_plane_clear(const Scene& s, const CameraSpaceScene& cs) {
 
 struct MovedEyeFrame {
   bool counted = false;  // the eye count right, no tie at the eye, the near plane clear
-  double nearest_ulps = 0;
+  double nearest_units = 0;
   bool within_bound = false;
   std::size_t worse = 0;  // atomiczp wrong where zfail is right
 };
@@ -112,11 +112,11 @@ MovedEyeFrame judge_moved_eye(const Scene& s) {
   const ExactEyeCount exact = exact_eye_count(cs, 0);
   if (exact.on_boundary || gl::float_eye_count(s, 0).count != exact.count || !near_plane_clear(s, cs)) return out;
   out.counted = true;
-  out.nearest_ulps = std::numeric_limits<double>::infinity();
+  out.nearest_units = std::numeric_limits<double>::infinity();
   for (std::size_t o = 0; o < s.objects.size(); ++o) {
     if (!s.objects[o].occluder) continue;
     const analysis::SidePlaneClearance c = analysis::side_plane_clearance(cs, o, 0);
-    out.nearest_ulps = std::min(out.nearest_ulps, c.nearest_ulps);
+    out.nearest_units = std::min(out.nearest_units, c.nearest_units);
     out.within_bound = out.within_bound || c.within_bound;
   }
   const PixelReference ref = compute_pixel_reference(cs, 0);
@@ -154,21 +154,21 @@ TEST(AtomicZPSidePlane, FramesWrongOnlyWithinTheBoundOfASidePlane) {
         ++counted;
         ++at_counted[k + 8];
         if (f.worse > 0) {
-          if (f.nearest_ulps > 0.5)
+          if (f.nearest_units > 0.5)
             std::printf(
                 "configuration %llu (%s): %zu pixels wrong where zfail is right, %.4g units from a side plane\n",
-                static_cast<unsigned long long>(sample.index), sample.detail.c_str(), f.worse, f.nearest_ulps);
+                static_cast<unsigned long long>(sample.index), sample.detail.c_str(), f.worse, f.nearest_units);
           ++wrong;
           ++at_wrong[k + 8];
-          farthest_wrong = std::max(farthest_wrong, f.nearest_ulps);
+          farthest_wrong = std::max(farthest_wrong, f.nearest_units);
           if (!f.within_bound) {
             ++wrong_outside;
             ADD_FAILURE() << "configuration " << sample.index << ": " << f.worse
-                          << " pixels wrong where zfail is right, the nearest side plane " << f.nearest_ulps
+                          << " pixels wrong where zfail is right, the nearest side plane " << f.nearest_units
                           << " units from the eye, outside the bound";
           }
         } else {
-          nearest_right = std::min(nearest_right, f.nearest_ulps);
+          nearest_right = std::min(nearest_right, f.nearest_units);
           refused_right += f.within_bound ? 1 : 0;
         }
       }
@@ -182,7 +182,7 @@ TEST(AtomicZPSidePlane, FramesWrongOnlyWithinTheBoundOfASidePlane) {
   std::printf(
       "wrong: %zu frames, the farthest %.4g units from its nearest side plane; outside the bound (%g units): %zu; "
       "right frames refused by the bound: %zu\n",
-      wrong, farthest_wrong, analysis::kSidePlaneBoundUlps, wrong_outside, refused_right);
+      wrong, farthest_wrong, analysis::kSidePlaneBoundUnits, wrong_outside, refused_right);
   EXPECT_GT(wrong, 0u) << "the measurement sees frames go wrong near a side plane";
   EXPECT_EQ(wrong_outside, 0u);
 }
@@ -200,7 +200,7 @@ TEST(AtomicZPSidePlane, ExactDecisionAgreesWithTheEstimateAwayFromTheBound) {
     const NearestSidePlane plane = nearest_side_plane(s, cs);
     if (!plane.found) return;
     for (double factor : {0.25, 4.0}) {
-      const double target = factor * analysis::kSidePlaneBoundUlps * plane.unit;
+      const double target = factor * analysis::kSidePlaneBoundUnits * plane.unit;
       const Scene moved = eye_moved(s, (target - plane.signed_distance) * plane.normal);
       const CameraSpaceScene mcs(moved);
       bool within = false;
@@ -209,9 +209,9 @@ TEST(AtomicZPSidePlane, ExactDecisionAgreesWithTheEstimateAwayFromTheBound) {
         if (!moved.objects[o].occluder) continue;
         const analysis::SidePlaneClearance c = analysis::side_plane_clearance(mcs, o, 0);
         within = within || c.within_bound;
-        nearest = std::min(nearest, c.nearest_ulps);
+        nearest = std::min(nearest, c.nearest_units);
       }
-      EXPECT_EQ(within, nearest < analysis::kSidePlaneBoundUlps) << "configuration " << sample.index;
+      EXPECT_EQ(within, nearest < analysis::kSidePlaneBoundUnits) << "configuration " << sample.index;
       if (factor < 1) {
         EXPECT_TRUE(within) << "configuration " << sample.index;
       }
@@ -238,7 +238,7 @@ TEST(AtomicZPSidePlane, FilteredDecisionIsTheExactOneAtTheBound) {
     const CameraSpaceScene cs(moved);
     for (std::size_t o = 0; o < moved.objects.size(); ++o) {
       if (!moved.objects[o].occluder) continue;
-      const double x = analysis::side_plane_clearance(cs, o, 0).nearest_ulps;
+      const double x = analysis::side_plane_clearance(cs, o, 0).nearest_units;
       if (!std::isfinite(x) || x == 0) continue;
       for (double delta : {-0x1p-4, -0x1p-20, -0x1p-40, 0x1p-40, 0x1p-20, 0x1p-4}) {
         const double bound = x * (1 + delta);

@@ -16,7 +16,7 @@
 // relative to |a - l|.  The float quad's plane then passes the eye on
 // either side of the exact one where the eye is within a few such units of
 // it, and the quad's image, bounded by that plane's image, moves over
-// pixels.  The bound takes kSidePlaneBoundUlps units of 2^-24 M; the
+// pixels.  The bound takes kSidePlaneBoundUnits units of 2^-24 M; the
 // measurement (tests/atomiczp_side_plane_test.cpp) places the wrong frames
 // of the sampled configurations within it.
 //
@@ -24,7 +24,7 @@
 // the eye's distance to the plane is |n . l| / |n| = |T| / |n| (n . l =
 // det(a - l, d - l, l) = T), so "distance < b" is b^2 |n|^2 - T^2 > 0,
 // evaluated on the certified estimates and, where the filter cannot tell,
-// in rationals.  b = bound_ulps * 2^-24 * M is a double, exact as it is.
+// in rationals.  b = bound_units * 2^-24 * M is a double, exact as it is.
 #include "nearcap/analysis/side_plane_clearance.hpp"
 
 #include <algorithm>
@@ -91,7 +91,7 @@ double side_plane_unit(const CameraSpaceScene& cs, std::size_t o, VertexIndex a,
 }
 
 SidePlaneClearance side_plane_clearance(const CameraSpaceScene& cs, std::size_t o, std::size_t light,
-                                        double bound_ulps) {
+                                        double bound_units) {
   const Scene& scene = cs.scene();
   const TriangleMesh& mesh = cs.mesh(o);
   const EngineSilhouette silhouette = engine_silhouette(scene, o, light);
@@ -105,7 +105,7 @@ SidePlaneClearance side_plane_clearance(const CameraSpaceScene& cs, std::size_t 
         std::max({largest_row_sum(abs_mv, mesh.positions[e.a]), largest_row_sum(abs_mv, mesh.positions[e.d]), light_m});
     const double unit = std::ldexp(m, -24) * side_plane_lever(cs, o, e.a, e.d, light);
     if (!std::isfinite(unit)) continue;  // a degenerate quad: no area
-    const double b = bound_ulps * unit;
+    const double b = bound_units * unit;
     // The estimate, for the report: in double, or in rationals where the
     // double triple product cannot tell the eye from the plane.
     const BoundedVec3 ab = cs.vertex(o, e.a), db = cs.vertex(o, e.d);
@@ -118,7 +118,7 @@ SidePlaneClearance side_plane_clearance(const CameraSpaceScene& cs, std::size_t 
     }
     const double n_est = std::sqrt(
         dot(Vec3d{n_bounded.x.v, n_bounded.y.v, n_bounded.z.v}, Vec3d{n_bounded.x.v, n_bounded.y.v, n_bounded.z.v}));
-    if (n_est > 0) out.nearest_ulps = std::min(out.nearest_ulps, std::fabs(t_est) / n_est / unit);
+    if (n_est > 0) out.nearest_units = std::min(out.nearest_units, std::fabs(t_est) / n_est / unit);
     if (out.within_bound) continue;  // decided; the estimate above still reports the nearest
     bool fell_back = false;
     // Not counted in FilterStats (no caller passes one); exact_fallbacks counts.

@@ -404,8 +404,8 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
   }
   const SidePlaneClearance clearance = side_plane_clearance(cs, o, light);
   if (clearance.within_bound) {
-    why = "a side plane of its volume passes the eye within the float32 bound (" + ms_text(clearance.nearest_ulps) +
-          " of " + ms_text(kSidePlaneBoundUlps) + " float32 units)";
+    why = "a side plane of its volume passes the eye within the float32 bound (" + ms_text(clearance.nearest_units) +
+          " of " + ms_text(kSidePlaneBoundUnits) + " float32 units)";
     return false;
   }
   why = "eye count " + std::to_string(exact.count) + ", exact and float agree";

@@ -19,7 +19,7 @@
 // silhouette's edges (engine_classification.hpp, as the emulation and the
 // real GL's renderer extract them).
 //
-// The bound, per edge: kSidePlaneBoundUlps * 2^-24 * M * lever, M the
+// The bound, per edge: kSidePlaneBoundUnits * 2^-24 * M * lever, M the
 // edge's coordinate magnitude (side_plane_magnitude below): the largest
 // |coordinate| any float32 operation of the quad's vertex transforms sees,
 // and the lever (side_plane_lever) how far a vertex's movement moves the
@@ -43,19 +43,19 @@ namespace nearcap::analysis {
 // by 1/16 to 8,192 units: frames wrong where Z-fail is right up to 32.6
 // units from their nearest side plane, none from 45 on (docs/atomiczp.md,
 // "The side-plane condition"); 64 is twice the farthest.
-inline constexpr double kSidePlaneBoundUlps = 64;
+inline constexpr double kSidePlaneBoundUnits = 64;
 
 struct SidePlaneClearance {
   std::size_t edges = 0;  // side quads examined: the float silhouette's edges
   // Exact: some side plane passes the eye closer than its bound
-  // (distance < bound_ulps * side_plane_unit, decided by a filter with an
+  // (distance < bound_units * side_plane_unit, decided by a filter with an
   // exact fallback).
   bool within_bound = false;
   // Estimate (double; rationals where the double triple product cannot
   // tell the eye from the plane): the smallest distance from the eye to a
   // side plane over the edges, in units of side_plane_unit; +inf without
   // edges.  For reports and measurements, not for decisions.
-  double nearest_ulps = std::numeric_limits<double>::infinity();
+  double nearest_units = std::numeric_limits<double>::infinity();
   std::size_t exact_fallbacks = 0;  // edges the filter could not decide
 };
 
@@ -63,7 +63,7 @@ struct SidePlaneClearance {
 // A degenerate side plane (a, d and l collinear: its quad has no area) is
 // never within the bound.
 SidePlaneClearance side_plane_clearance(const CameraSpaceScene& cs, std::size_t o, std::size_t light,
-                                        double bound_ulps = kSidePlaneBoundUlps);
+                                        double bound_units = kSidePlaneBoundUnits);
 
 // M for the edge [a, d] of object o (object-space vertices): the largest
 // row sum of |view| |object_to_world| (|v|, 1) over v = a, d and of
