@@ -10,6 +10,8 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
@@ -213,6 +215,49 @@ TEST(CrackDistance, ShadowerHintChangesNoAnswer) {
   EXPECT_EQ(compared, std::size_t{48 * 36 * 6});
   EXPECT_GT(shadowed, 1000u);
   EXPECT_GT(by_hint, 100u) << "the carried hint proved squares";
+}
+
+// A proof's candidate lists live in a buffer each thread keeps from proof to
+// proof (crack_distance.cpp): what a proof answers must not depend on the
+// proofs that ran before it on the thread.  Two frames of the bunny (the
+// camera moved), each proven alone, pixel by pixel, and then the two
+// interleaved, every proof of one frame right after one of the other, on this
+// thread: the same answers.
+TEST(CrackDistance, ProofsOfInterleavedFramesAnswerAsAlone) {
+  const std::string base = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes";
+  std::ifstream in(base + "/bunny.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 32;
+  j["camera"]["height"] = 24;
+  MeshCache meshes;
+  const Scene first = parse_scene(j.dump(), "bunny 32x24", base, &meshes);
+  j["camera"]["eye"] = {0.6, -0.35, -0.4};
+  const Scene second = parse_scene(j.dump(), "bunny 32x24, moved", base, &meshes);
+  const CameraSpaceScene cs1(first), cs2(second);
+  const PixelReferenceTracer t1(cs1, 0), t2(cs2, 0);
+  using Answers = std::vector<std::optional<bool>>;
+  auto prove = [&](const PixelReferenceTracer& t, int x, int y, std::int64_t half_width) {
+    return t.proven_status_over_square(crack_square_centre(x, y), half_width, nullptr);
+  };
+  Answers alone1, alone2, mixed1, mixed2;
+  for (const auto& [t, out] : {std::pair{&t1, &alone1}, std::pair{&t2, &alone2}})
+    for (int y = 0; y < first.camera.height; ++y)
+      for (int x = 0; x < first.camera.width; ++x)
+        for (const std::int64_t half_width : kCrackDistanceRadiiFixed) out->push_back(prove(*t, x, y, half_width));
+  for (int y = 0; y < first.camera.height; ++y)
+    for (int x = 0; x < first.camera.width; ++x)
+      for (const std::int64_t half_width : kCrackDistanceRadiiFixed) {
+        mixed1.push_back(prove(t1, x, y, half_width));
+        mixed2.push_back(prove(t2, x, y, half_width));
+      }
+  EXPECT_EQ(mixed1, alone1);
+  EXPECT_EQ(mixed2, alone2);
+  // The frames differ, and both prove squares of both statuses.
+  EXPECT_NE(alone1, alone2);
+  for (const Answers* a : {&alone1, &alone2}) {
+    EXPECT_GT(std::count(a->begin(), a->end(), std::optional<bool>(true)), 100);
+    EXPECT_GT(std::count(a->begin(), a->end(), std::optional<bool>(false)), 100);
+  }
 }
 
 }  // namespace

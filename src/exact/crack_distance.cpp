@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "pixel_tracer_impl.hpp"
 
@@ -168,6 +170,31 @@ Region region_of(const std::array<BoundedVec3, 4>& points) {
   return r;
 }
 
+// The candidate lists of a proof: a buffer per thread, kept with its capacity
+// from one proof to the next (the squares of a frame and of later frames), so
+// that a proof allocates nothing.  A proof takes the buffer out while it runs
+// and puts it back when done: a proof that starts on the same thread meanwhile
+// (a task run while this one waits) finds none and uses a buffer of its own.
+// Every list is cleared before it is filled, so what a buffer held before
+// never reaches a proof.
+class CandidateBuffer {
+ public:
+  CandidateBuffer() : ids_(std::move(kept())) { ids_.clear(); }
+  ~CandidateBuffer() {
+    if (ids_.capacity() > kept().capacity()) kept() = std::move(ids_);
+  }
+  CandidateBuffer(const CandidateBuffer&) = delete;
+  CandidateBuffer& operator=(const CandidateBuffer&) = delete;
+  std::vector<std::uint32_t>& ids() { return ids_; }
+
+ private:
+  static std::vector<std::uint32_t>& kept() {
+    thread_local std::vector<std::uint32_t> buffer;
+    return buffer;
+  }
+  std::vector<std::uint32_t> ids_;
+};
+
 }  // namespace
 
 std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
@@ -190,7 +217,8 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   if (!hit) return std::nullopt;
   const EyeTriangle& seen = t.eye(hit->eye_index);
   if (!proof.hit_everywhere(seen)) return std::nullopt;
-  std::vector<std::uint32_t> ids;
+  CandidateBuffer buffer;
+  std::vector<std::uint32_t>& ids = buffer.ids();
   const Region directions =
       region_of({corners[0].approx(), corners[1].approx(), corners[2].approx(), corners[3].approx()});
   if (!t.eye_grid->candidates_in(directions.centre, directions.half_extent, ids)) {
