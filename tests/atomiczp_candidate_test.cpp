@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -16,6 +17,7 @@
 #include "box_scene.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/near_rectangle_pyramid.hpp"
 #include "nearcap/analysis/side_plane_clearance.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
@@ -94,6 +96,19 @@ void expect_right_where_zpass_is_wrong(const Scene& s, const CameraSpaceScene& c
   EXPECT_GT(zpass.wrong, 100u) << what << ": Z-pass is wrong here, the case AtomicZP is for";
 }
 
+bool is_wrong(PixelVerdict v) { return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed; }
+
+// Pixels of `frame` wrong where Z-fail's frame (same settings) is right.
+std::size_t wrong_where_zfail_right(const Scene& s, const PixelReference& ref, const gl::ShadowFrame& frame,
+                                    const gl::EmulationSettings& settings) {
+  const CrackReport judged = judge_frame(frame, ref);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, settings), ref);
+  std::size_t worse = 0;
+  for (std::size_t p = 0; p < judged.verdict.size(); ++p)
+    worse += is_wrong(judged.verdict[p]) && !is_wrong(zfail.verdict[p]) ? 1 : 0;
+  return worse;
+}
+
 // The box over the eye (the eye in its volume, the near plane clear of it):
 // AtomicZP is offered and, with the profile above, chosen; the frame it
 // gives is as right as Z-fail's.  Without the eye-count row it is neither
@@ -151,9 +166,13 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheNearPlaneCutsTheOccluder) {
 // the eye is in its volume, which fills the middle of the view (Z-pass is
 // wrong there).  No point of the box is in front of the eye, so the near
 // plane does not cut it: AtomicZP is offered, chosen, and as right as
-// Z-fail.  A box reaching from behind the eye to beyond the near plane
-// (none of its vertices between them, its side faces across) is not.
-TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPlane) {
+// Z-fail.  A box beside the eye reaching from behind its plane to beyond
+// the near plane (none of its vertices between them, its side faces across
+// them outside the view) meets no view ray in front of the near plane: it
+// is offered too, and the decision's frame is wrong on no pixel where
+// Z-fail is right.  A thin plank just under the eye, from behind its plane
+// to beyond the near plane across the view, is not.
+TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOutsideTheViewNotInside) {
   const TriangleMesh box = read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off");
   auto scene = [&](const Affine3d& at) {
     SceneBuilder b("box behind the eye");
@@ -177,9 +196,23 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPl
   const Scene beside = scene(across);
   const CameraSpaceScene cs2(beside);
   const analysis::PolicyDecision d2 = analysis::decide(cost_policy(atomiczp_favoured()), cs2, 0, {});
-  EXPECT_NE(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
-  EXPECT_NE(d2.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
-      << d2.reasons[0];
+  EXPECT_EQ(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
+  const PixelReference ref2 = compute_pixel_reference(cs2, 0);
+  gl::ShadowFrameBatch batch2(beside, 0, d2.settings);
+  const std::size_t worse = wrong_where_zfail_right(beside, ref2, batch2.render(d2.object_methods), d2.settings);
+  std::printf("box beside the eye, across its plane: the decision's frame wrong on %zu pixels where zfail is right\n",
+              worse);
+  EXPECT_EQ(worse, 0u);
+
+  Affine3d plank = test::translate(0, -0.012, 0);  // y -0.014 .. -0.010, x and z -0.5 .. 0.5
+  plank.rows[0][0] = plank.rows[2][2] = 1;
+  plank.rows[1][1] = 0.004;
+  const Scene under = scene(plank);
+  const CameraSpaceScene cs3(under);
+  const analysis::PolicyDecision d3 = analysis::decide(cost_policy(atomiczp_favoured()), cs3, 0, {});
+  EXPECT_NE(d3.object_methods[0], ShadowMethod::AtomicZP) << d3.reasons[0];
+  EXPECT_NE(d3.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
+      << d3.reasons[0];
 }
 
 // The eye exactly on a side plane of the box's volume, the segment eye ->
@@ -242,19 +275,6 @@ analysis::HardCaseSampler eye_near_volume_sampler() {
   analysis::SamplerSpec spec = test::bundled_sampler_spec(28);
   spec.kinds = {analysis::HardCaseKind::EyeNearVolume};
   return analysis::HardCaseSampler(spec);
-}
-
-bool is_wrong(PixelVerdict v) { return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed; }
-
-// Pixels of `frame` wrong where Z-fail's frame (same settings) is right.
-std::size_t wrong_where_zfail_right(const Scene& s, const PixelReference& ref, const gl::ShadowFrame& frame,
-                                    const gl::EmulationSettings& settings) {
-  const CrackReport judged = judge_frame(frame, ref);
-  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, settings), ref);
-  std::size_t worse = 0;
-  for (std::size_t p = 0; p < judged.verdict.size(); ++p)
-    worse += is_wrong(judged.verdict[p]) && !is_wrong(zfail.verdict[p]) ? 1 : 0;
-  return worse;
 }
 
 // Configuration 11 of `nearcap sweep --samples 40 --seed 28 --kinds
