@@ -215,6 +215,75 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOuts
       << d3.reasons[0];
 }
 
+// One triangle (camera space: the view is the identity, the frustum the
+// default one, x and y in [-1, 1] at near 1) against the near-rectangle
+// pyramid, by both entry points: the filtered one (vertex signs first) and
+// the exact clipping alone.  They must agree.
+bool meets_default_pyramid(const std::array<Vec3d, 3>& t) {
+  Scene s;
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {t[0], t[1], t[2]};
+  mesh->triangles = {{0, 1, 2}};
+  s.objects.push_back({"triangle", mesh, Affine3d::identity(), true});
+  const CameraSpaceScene cs(s);
+  const bool filtered = analysis::triangle_meets_near_rectangle_pyramid(cs, 0, {0, 1, 2}, s.camera.frustum);
+  const bool clipped = analysis::triangle_meets_near_rectangle_pyramid(
+      {cs.exact_vertex(0, 0), cs.exact_vertex(0, 1), cs.exact_vertex(0, 2)}, s.camera.frustum);
+  EXPECT_EQ(filtered, clipped);
+  return filtered;
+}
+
+// Triangles from behind the eye's plane to beyond the near plane, no vertex
+// between them (the per-vertex test leaves each to the pyramid): one across
+// the view meets the pyramid, one beside it does not; one lying in the right
+// side plane x = -z (touching the pyramid along a segment of that plane), one
+// through the eye alone, and one with an edge through a corner of the near
+// rectangle alone meet it (touching counts); the same three moved out by
+// 2^-40 are clear.
+TEST(AtomicZPCandidate, NearRectanglePyramidTouchingCountsAsMeeting) {
+  const double out = std::ldexp(1.0, -40);
+  // Across the view: through the view axis at y = 0.01.
+  EXPECT_TRUE(meets_default_pyramid({{{-1, 0.01, 1}, {1, 0.01, 1}, {0, 0.01, -2}}}));
+  // Beside the view, across the slab: clear.
+  EXPECT_FALSE(meets_default_pyramid({{{3, 0, 1}, {3, 1, 1}, {3, 0, -2}}}));
+  // In the side plane x = -z (through (0.5, 0, -0.5), inside |y| <= 0.5).
+  EXPECT_TRUE(meets_default_pyramid({{{-1, 0, 1}, {2, 0, -2}, {2, 5, -2}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{-1 + out, 0, 1}, {2 + out, 0, -2}, {2 + out, 5, -2}}}));
+  // Through the eye, otherwise outside (x / -z = 2.5 > 1 beyond it).
+  EXPECT_TRUE(meets_default_pyramid({{{0, 0, 0}, {5, 0, -2}, {5, 1, -2}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{out, 0, 0}, {5 + out, 0, -2}, {5 + out, 1, -2}}}));
+  // An edge through the near rectangle's corner (1, 1, -1) from outside it,
+  // the triangle otherwise beyond x = -z and y = -z.
+  EXPECT_TRUE(meets_default_pyramid({{{3, 3, 1}, {-1, -1, -3}, {5, 5, -3}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{3 + out, 3, 1}, {-1 + out, -1, -3}, {5 + out, 5, -3}}}));
+}
+
+// eye_in_shadow.json: the camera under the lit slab, Z-pass wrong on the
+// whole frame.  The slab's faces reach from behind the eye's plane to beyond
+// the near plane, across the slab between them outside the view: no view
+// ray meets the slab in front of the near plane, AtomicZP is offered, chosen
+// with the profile that favours it, and as right as Z-fail.
+TEST(AtomicZPCandidate, OfferedOnEyeInShadowsSlabWhichCrossesTheEyesPlaneOutsideTheView) {
+  const Scene s = bundled("eye_in_shadow.json");
+  const CameraSpaceScene cs(s);
+  // Some triangle of the slab lies across the eye's plane (the per-vertex
+  // test alone would refuse it).
+  std::size_t across = 0;
+  for (const auto& t : s.objects[0].mesh->triangles) {
+    int behind = 0, beyond = 0;
+    for (VertexIndex v : t) {
+      behind += sgn(cs.exact_vertex(0, v).z) >= 0 ? 1 : 0;
+      beyond += cs.exact_vertex(0, v).z < Rational(-s.camera.frustum.near) ? 1 : 0;
+    }
+    across += behind != 3 && beyond != 3 ? 1 : 0;
+  }
+  std::printf("eye_in_shadow: %zu of the slab's triangles across the eye's plane\n", across);
+  ASSERT_GT(across, 0u);
+  const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  expect_right_where_zpass_is_wrong(s, cs, d, "eye_in_shadow");
+}
+
 // The eye exactly on a side plane of the box's volume, the segment eye ->
 // light through the box's top edge: the exact count is decided by the
 // perturbation (on_boundary), no constant is right on the whole frame, and
