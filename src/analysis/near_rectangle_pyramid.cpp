@@ -21,7 +21,7 @@ std::array<HalfSpace, kHalfSpaces> half_spaces(const Frustum& f) {
       {0, f.near, f.bottom, 0},   // y >= bottom (-z) / near
       {0, -f.near, -f.top, 0},    // y <= top (-z) / near
       {0, 0, 1, f.near},          // on or behind the near plane (towards the eye): z >= -near
-      {0, 0, -1, 0},              // on or in front of the eye's plane: z <= 0
+      {0, 0, -1, 0},              // on or in front of the eye's plane: z <= 0 (implied by the four sides)
   }};
 }
 

@@ -466,8 +466,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       else if (!(oc.atomiczp_ms < oc.zfail_ms))
         oc.atomiczp_why = "not cheaper than zfail";
       else
-        oc.atomiczp_ok =
-            atomiczp_admitted(cs, o, light, scene.camera.frustum, d.settings.arithmetic, oc.atomiczp_why);
+        oc.atomiczp_ok = atomiczp_admitted(cs, o, light, scene.camera.frustum, d.settings.arithmetic, oc.atomiczp_why);
     }
     occluders.push_back(std::move(oc));
   }

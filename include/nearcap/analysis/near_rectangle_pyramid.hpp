@@ -8,7 +8,8 @@
 // polyhedron of six half-spaces:
 //     near x + left z >= 0,   -near x - right z >= 0,
 //     near y + bottom z >= 0, -near y - top z >= 0,
-//     z + near >= 0,          -z >= 0.
+//     z + near >= 0,          -z >= 0
+// (the last implied by the four sides, left < right and bottom < top).
 // A view ray (inside the view pyramid, past the eye) meets an occluder in
 // front of the near plane exactly where the occluder meets this pyramid;
 // AtomicZP's candidate condition (docs/atomiczp.md, "Where it is right")
