@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -16,6 +17,7 @@
 #include "box_scene.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
+#include "nearcap/analysis/near_rectangle_pyramid.hpp"
 #include "nearcap/analysis/side_plane_clearance.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
@@ -94,6 +96,19 @@ void expect_right_where_zpass_is_wrong(const Scene& s, const CameraSpaceScene& c
   EXPECT_GT(zpass.wrong, 100u) << what << ": Z-pass is wrong here, the case AtomicZP is for";
 }
 
+bool is_wrong(PixelVerdict v) { return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed; }
+
+// Pixels of `frame` wrong where Z-fail's frame (same settings) is right.
+std::size_t wrong_where_zfail_right(const Scene& s, const PixelReference& ref, const gl::ShadowFrame& frame,
+                                    const gl::EmulationSettings& settings) {
+  const CrackReport judged = judge_frame(frame, ref);
+  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, settings), ref);
+  std::size_t worse = 0;
+  for (std::size_t p = 0; p < judged.verdict.size(); ++p)
+    worse += is_wrong(judged.verdict[p]) && !is_wrong(zfail.verdict[p]) ? 1 : 0;
+  return worse;
+}
+
 // The box over the eye (the eye in its volume, the near plane clear of it):
 // AtomicZP is offered and, with the profile above, chosen; the frame it
 // gives is as right as Z-fail's.  Without the eye-count row it is neither
@@ -151,9 +166,13 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheNearPlaneCutsTheOccluder) {
 // the eye is in its volume, which fills the middle of the view (Z-pass is
 // wrong there).  No point of the box is in front of the eye, so the near
 // plane does not cut it: AtomicZP is offered, chosen, and as right as
-// Z-fail.  A box reaching from behind the eye to beyond the near plane
-// (none of its vertices between them, its side faces across) is not.
-TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPlane) {
+// Z-fail.  A box beside the eye reaching from behind its plane to beyond
+// the near plane (none of its vertices between them, its side faces across
+// them outside the view) meets no view ray in front of the near plane: it
+// is offered too, and the decision's frame is wrong on no pixel where
+// Z-fail is right.  A thin plank just under the eye, from behind its plane
+// to beyond the near plane across the view, is not.
+TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOutsideTheViewNotInside) {
   const TriangleMesh box = read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/box.off");
   auto scene = [&](const Affine3d& at) {
     SceneBuilder b("box behind the eye");
@@ -177,9 +196,92 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeNotForOneAcrossTheEyesPl
   const Scene beside = scene(across);
   const CameraSpaceScene cs2(beside);
   const analysis::PolicyDecision d2 = analysis::decide(cost_policy(atomiczp_favoured()), cs2, 0, {});
-  EXPECT_NE(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
-  EXPECT_NE(d2.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
-      << d2.reasons[0];
+  EXPECT_EQ(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
+  const PixelReference ref2 = compute_pixel_reference(cs2, 0);
+  gl::ShadowFrameBatch batch2(beside, 0, d2.settings);
+  const std::size_t worse = wrong_where_zfail_right(beside, ref2, batch2.render(d2.object_methods), d2.settings);
+  std::printf("box beside the eye, across its plane: the decision's frame wrong on %zu pixels where zfail is right\n",
+              worse);
+  EXPECT_EQ(worse, 0u);
+
+  Affine3d plank = test::translate(0, -0.012, 0);  // y -0.014 .. -0.010, x and z -0.5 .. 0.5
+  plank.rows[0][0] = plank.rows[2][2] = 1;
+  plank.rows[1][1] = 0.004;
+  const Scene under = scene(plank);
+  const CameraSpaceScene cs3(under);
+  const analysis::PolicyDecision d3 = analysis::decide(cost_policy(atomiczp_favoured()), cs3, 0, {});
+  EXPECT_NE(d3.object_methods[0], ShadowMethod::AtomicZP) << d3.reasons[0];
+  EXPECT_NE(d3.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
+      << d3.reasons[0];
+}
+
+// One triangle (camera space: the view is the identity, the frustum the
+// default one, x and y in [-1, 1] at near 1) against the near-rectangle
+// pyramid, by both entry points: the filtered one (vertex signs first) and
+// the exact clipping alone.  They must agree.
+bool meets_default_pyramid(const std::array<Vec3d, 3>& t) {
+  Scene s;
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {t[0], t[1], t[2]};
+  mesh->triangles = {{0, 1, 2}};
+  s.objects.push_back({"triangle", mesh, Affine3d::identity(), true});
+  const CameraSpaceScene cs(s);
+  const bool filtered = analysis::triangle_meets_near_rectangle_pyramid(cs, 0, {0, 1, 2}, s.camera.frustum);
+  const bool clipped = analysis::triangle_meets_near_rectangle_pyramid(
+      {cs.exact_vertex(0, 0), cs.exact_vertex(0, 1), cs.exact_vertex(0, 2)}, s.camera.frustum);
+  EXPECT_EQ(filtered, clipped);
+  return filtered;
+}
+
+// Triangles from behind the eye's plane to beyond the near plane, no vertex
+// between them (the per-vertex test leaves each to the pyramid): one across
+// the view meets the pyramid, one beside it does not; one lying in the right
+// side plane x = -z (touching the pyramid along a segment of that plane), one
+// through the eye alone, and one with an edge through a corner of the near
+// rectangle alone meet it (touching counts); the same three moved out by
+// 2^-40 are clear.
+TEST(AtomicZPCandidate, NearRectanglePyramidTouchingCountsAsMeeting) {
+  const double out = std::ldexp(1.0, -40);
+  // Across the view: through the view axis at y = 0.01.
+  EXPECT_TRUE(meets_default_pyramid({{{-1, 0.01, 1}, {1, 0.01, 1}, {0, 0.01, -2}}}));
+  // Beside the view, across the slab: clear.
+  EXPECT_FALSE(meets_default_pyramid({{{3, 0, 1}, {3, 1, 1}, {3, 0, -2}}}));
+  // In the side plane x = -z (through (0.5, 0, -0.5), inside |y| <= 0.5).
+  EXPECT_TRUE(meets_default_pyramid({{{-1, 0, 1}, {2, 0, -2}, {2, 5, -2}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{-1 + out, 0, 1}, {2 + out, 0, -2}, {2 + out, 5, -2}}}));
+  // Through the eye, otherwise outside (x / -z = 2.5 > 1 beyond it).
+  EXPECT_TRUE(meets_default_pyramid({{{0, 0, 0}, {5, 0, -2}, {5, 1, -2}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{out, 0, 0}, {5 + out, 0, -2}, {5 + out, 1, -2}}}));
+  // An edge through the near rectangle's corner (1, 1, -1) from outside it,
+  // the triangle otherwise beyond x = -z and y = -z.
+  EXPECT_TRUE(meets_default_pyramid({{{3, 3, 1}, {-1, -1, -3}, {5, 5, -3}}}));
+  EXPECT_FALSE(meets_default_pyramid({{{3 + out, 3, 1}, {-1 + out, -1, -3}, {5 + out, 5, -3}}}));
+}
+
+// eye_in_shadow.json: the camera under the lit slab, Z-pass wrong on the
+// whole frame.  The slab's faces reach from behind the eye's plane to beyond
+// the near plane, across the slab between them outside the view: no view
+// ray meets the slab in front of the near plane, AtomicZP is offered, chosen
+// with the profile that favours it, and as right as Z-fail.
+TEST(AtomicZPCandidate, OfferedOnEyeInShadowsSlabWhichCrossesTheEyesPlaneOutsideTheView) {
+  const Scene s = bundled("eye_in_shadow.json");
+  const CameraSpaceScene cs(s);
+  // Some triangle of the slab lies across the eye's plane (the per-vertex
+  // test alone would refuse it).
+  std::size_t across = 0;
+  for (const auto& t : s.objects[0].mesh->triangles) {
+    int behind = 0, beyond = 0;
+    for (VertexIndex v : t) {
+      behind += sgn(cs.exact_vertex(0, v).z) >= 0 ? 1 : 0;
+      beyond += cs.exact_vertex(0, v).z < Rational(-s.camera.frustum.near) ? 1 : 0;
+    }
+    across += behind != 3 && beyond != 3 ? 1 : 0;
+  }
+  std::printf("eye_in_shadow: %zu of the slab's triangles across the eye's plane\n", across);
+  ASSERT_GT(across, 0u);
+  const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  expect_right_where_zpass_is_wrong(s, cs, d, "eye_in_shadow");
 }
 
 // The eye exactly on a side plane of the box's volume, the segment eye ->
@@ -242,19 +344,6 @@ analysis::HardCaseSampler eye_near_volume_sampler() {
   analysis::SamplerSpec spec = test::bundled_sampler_spec(28);
   spec.kinds = {analysis::HardCaseKind::EyeNearVolume};
   return analysis::HardCaseSampler(spec);
-}
-
-bool is_wrong(PixelVerdict v) { return v == PixelVerdict::WrongLit || v == PixelVerdict::WrongShadowed; }
-
-// Pixels of `frame` wrong where Z-fail's frame (same settings) is right.
-std::size_t wrong_where_zfail_right(const Scene& s, const PixelReference& ref, const gl::ShadowFrame& frame,
-                                    const gl::EmulationSettings& settings) {
-  const CrackReport judged = judge_frame(frame, ref);
-  const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, ShadowMethod::ZFail, settings), ref);
-  std::size_t worse = 0;
-  for (std::size_t p = 0; p < judged.verdict.size(); ++p)
-    worse += is_wrong(judged.verdict[p]) && !is_wrong(zfail.verdict[p]) ? 1 : 0;
-  return worse;
 }
 
 // Configuration 11 of `nearcap sweep --samples 40 --seed 28 --kinds

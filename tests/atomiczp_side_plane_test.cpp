@@ -82,7 +82,9 @@ Scene eye_moved(Scene s, const Vec3d& c) {
 
 // Every occluder triangle wholly beyond the near plane or wholly on or
 // behind the eye's plane (estimates: the measurement keeps to frames where
-// the candidate's near-plane condition holds).
+// the per-vertex part of the candidate's near-plane condition holds, a
+// subset of those where the whole condition, near_rectangle_pyramid.hpp,
+// holds).
 bool near_plane_clear(const Scene& s, const CameraSpaceScene& cs) {
   for (std::size_t o = 0; o < s.objects.size(); ++o) {
     if (!s.objects[o].occluder) continue;

@@ -12,6 +12,7 @@
 #include <set>
 
 #include "general4.hpp"
+#include "nearcap/analysis/near_rectangle_pyramid.hpp"
 #include "nearcap/analysis/side_plane_clearance.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/error.hpp"
@@ -339,16 +340,18 @@ bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
   return cheap_conditioning_features(cs, light).light_near_distance == 0;
 }
 
-// Whether no point of occluder o lies between the eye's plane and the near
-// plane (camera space: -near <= z < 0), decided exactly per vertex: each
-// triangle lies wholly beyond the near plane (every vertex z < -near) or
-// wholly on or behind the eye's plane (every vertex z >= 0).  A view ray
-// (z < 0 past the eye) then meets the occluder only beyond the near plane,
-// where the depth pre-pass draws it, so depth-clamped Z-pass misses none of
-// its light cap's crossings.  Conservative: a triangle from behind the eye
-// to beyond the near plane is refused, also where it crosses the slab
-// outside the view.  `near`: the near plane the frame is drawn with.
-bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, double near) {
+// Whether no view ray meets occluder o in front of the near plane: no
+// triangle meets the near-rectangle pyramid of `drawn` (the frustum the
+// frame is drawn with; near_rectangle_pyramid.hpp), decided exactly.  A
+// view ray (inside the view pyramid, past the eye) then meets the occluder
+// only beyond the near plane, where the depth pre-pass draws it, so
+// depth-clamped Z-pass misses none of its light cap's crossings.  First, per
+// vertex: a triangle wholly beyond the near plane (every vertex z < -near)
+// or wholly on or behind the eye's plane (every vertex z >= 0) is clear;
+// the others (across the slab -near <= z < 0) are tested against the
+// pyramid, touching its boundary counting as meeting.
+bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, const Frustum& drawn) {
+  const double near = drawn.near;
   const BoundedDouble minus_near(-near), zero(0.0);
   const TriangleMesh& mesh = cs.mesh(o);
   enum : std::uint8_t { kUnknown, kBeyond, kBehind };
@@ -366,7 +369,8 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, dou
   };
   for (const auto& t : mesh.triangles) {
     const std::uint8_t a = side_of(t[0]);
-    if (a == kUnknown || side_of(t[1]) != a || side_of(t[2]) != a) return false;
+    if (a != kUnknown && side_of(t[1]) == a && side_of(t[2]) == a) continue;
+    if (triangle_meets_near_rectangle_pyramid(cs, o, t, drawn)) return false;
   }
   return true;
 }
@@ -382,11 +386,11 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, dou
 // holds the eye covers pixels the exact one does not).  Counts add over
 // occluders, so a frame's count over its AtomicZP occluders is right where
 // each one's is.  `why`
-// says why not, or what was found.  `near`: the near plane the frame is
+// says why not, or what was found.  `drawn`: the frustum the frame is
 // drawn with.
-bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, double near,
+bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, const Frustum& drawn,
                        gl::Arithmetic arithmetic, std::string& why) {
-  if (!near_plane_clear_of_occluder(cs, o, near)) {
+  if (!near_plane_clear_of_occluder(cs, o, drawn)) {
     why = "the near plane cuts the occluder";
     return false;
   }
@@ -462,8 +466,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       else if (!(oc.atomiczp_ms < oc.zfail_ms))
         oc.atomiczp_why = "not cheaper than zfail";
       else
-        oc.atomiczp_ok =
-            atomiczp_admitted(cs, o, light, scene.camera.frustum.near, d.settings.arithmetic, oc.atomiczp_why);
+        oc.atomiczp_ok = atomiczp_admitted(cs, o, light, scene.camera.frustum, d.settings.arithmetic, oc.atomiczp_why);
     }
     occluders.push_back(std::move(oc));
   }

@@ -1,0 +1,92 @@
+// An occluder triangle against the near-rectangle pyramid, exactly (see
+// near_rectangle_pyramid.hpp).
+#include "nearcap/analysis/near_rectangle_pyramid.hpp"
+
+#include <vector>
+
+namespace nearcap::analysis {
+namespace {
+
+// The half-space a . p + d >= 0 (a and d exact doubles).
+struct HalfSpace {
+  double ax = 0, ay = 0, az = 0, d = 0;
+};
+
+constexpr int kHalfSpaces = 6;
+
+std::array<HalfSpace, kHalfSpaces> half_spaces(const Frustum& f) {
+  return {{
+      {f.near, 0, f.left, 0},     // x >= left (-z) / near
+      {-f.near, 0, -f.right, 0},  // x <= right (-z) / near
+      {0, f.near, f.bottom, 0},   // y >= bottom (-z) / near
+      {0, -f.near, -f.top, 0},    // y <= top (-z) / near
+      {0, 0, 1, f.near},          // on or behind the near plane (towards the eye): z >= -near
+      {0, 0, -1, 0},              // on or in front of the eye's plane: z <= 0 (implied by the four sides)
+  }};
+}
+
+Rational value(const HalfSpace& h, const RationalVec3& p) {
+  return Rational(Rational(h.ax) * p.x + Rational(h.ay) * p.y + Rational(h.az) * p.z + Rational(h.d));
+}
+
+// Sutherland-Hodgman against one closed half-space, exactly.
+std::vector<RationalVec3> clip(const std::vector<RationalVec3>& poly, const HalfSpace& h) {
+  std::vector<RationalVec3> out;
+  const std::size_t m = poly.size();
+  for (std::size_t k = 0; k < m; ++k) {
+    const RationalVec3& a = poly[k];
+    const RationalVec3& b = poly[(k + 1) % m];
+    const Rational va = value(h, a), vb = value(h, b);
+    if (sgn(va) >= 0) out.push_back(a);
+    if ((sgn(va) >= 0) != (sgn(vb) >= 0)) {
+      const Rational t = va / (va - vb);
+      out.push_back(a + t * (b - a));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+bool triangle_meets_near_rectangle_pyramid(const std::array<RationalVec3, 3>& triangle, const Frustum& frustum) {
+  std::vector<RationalVec3> poly(triangle.begin(), triangle.end());
+  for (const HalfSpace& h : half_spaces(frustum)) {
+    poly = clip(poly, h);
+    if (poly.empty()) return false;
+  }
+  return true;
+}
+
+bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o,
+                                           const std::array<VertexIndex, 3>& triangle, const Frustum& frustum) {
+  // Each vertex's side of each half-space, filtered: a triangle with every
+  // vertex strictly outside one half-space is clear, one with a vertex
+  // inside all six meets; the rest are clipped exactly.
+  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
+  std::array<std::array<Sign, 3>, kHalfSpaces> side{};
+  for (int k = 0; k < 3; ++k) {
+    const VertexIndex v = triangle[k];
+    const BoundedVec3& p = cs.vertex(o, v);
+    for (int h = 0; h < kHalfSpaces; ++h) {
+      const HalfSpace& s = hs[h];
+      side[h][k] = filtered_sign(
+          Predicate::NearPlaneSide, nullptr,
+          [&] {
+            return BoundedDouble(s.ax) * p.x + BoundedDouble(s.ay) * p.y + BoundedDouble(s.az) * p.z +
+                   BoundedDouble(s.d);
+          },
+          [&] { return value(s, cs.exact_vertex(o, v)); });
+    }
+  }
+  for (int h = 0; h < kHalfSpaces; ++h)
+    if (side[h][0] == Sign::Negative && side[h][1] == Sign::Negative && side[h][2] == Sign::Negative) return false;
+  for (int k = 0; k < 3; ++k) {
+    bool inside = true;
+    for (int h = 0; h < kHalfSpaces; ++h) inside = inside && side[h][k] != Sign::Negative;
+    if (inside) return true;
+  }
+  return triangle_meets_near_rectangle_pyramid(
+      {cs.exact_vertex(o, triangle[0]), cs.exact_vertex(o, triangle[1]), cs.exact_vertex(o, triangle[2])}, frustum);
+}
+
+}  // namespace nearcap::analysis
