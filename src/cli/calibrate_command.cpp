@@ -492,7 +492,8 @@ void register_calibrate(CLI::App& app) {
       "EGL), and AtomicZP's eye-count pass: a calibration set of hard-case samples and camera paths drawn with zpass, "
       "zfail, zpplus, zpplus-clipped-sides, zpplus-corrected and atomiczp, interleaved per configuration after a "
       "warm-up, each pass timed on "
-      "its own with the triangles and fragments it drew; writes the observations as CSV (docs/calibration.md) and "
+      "its own with the triangles and fragments it drew, then the whole frame again at once, timed end to end; writes "
+      "the observations as CSV (docs/calibration.md) and "
       "prints the noise floor (zpass drawn twice); with --write-policy, fits a device profile and writes the policy "
       "with it",
       run);
