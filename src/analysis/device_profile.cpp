@@ -220,19 +220,15 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
     double ms = 0, drawn = 0;
   };
   std::map<std::string, Passes> by_frame;
-  for (const PassObservation& o : passes) {
-    const PassCost& c = profile.passes[static_cast<std::size_t>(o.kind)];
-    Passes& p = by_frame[frame_of_pass(o.frame)];
-    p.ms += c.intercept_ms + c.ms_per_mtriangle * o.triangles * 1e-6 + c.ms_per_mfragment * o.fragments * 1e-6;
+  auto add = [&by_frame](const std::string& frame, const PassCost& c, double triangles, double fragments) {
+    Passes& p = by_frame[frame_of_pass(frame)];
+    p.ms += c.intercept_ms + c.ms_per_mtriangle * triangles * 1e-6 + c.ms_per_mfragment * fragments * 1e-6;
     p.drawn += 1;
-  }
+  };
+  for (const PassObservation& o : passes)
+    add(o.frame, profile.passes[static_cast<std::size_t>(o.kind)], o.triangles, o.fragments);
   if (profile.eye_count)
-    for (const EyeCountObservation& o : eye_count) {
-      const PassCost& c = *profile.eye_count;
-      Passes& p = by_frame[frame_of_pass(o.frame)];
-      p.ms += c.intercept_ms + c.ms_per_mtriangle * o.triangles * 1e-6 + c.ms_per_mfragment * o.fragments * 1e-6;
-      p.drawn += 1;
-    }
+    for (const EyeCountObservation& o : eye_count) add(o.frame, *profile.eye_count, o.triangles, o.fragments);
   double smallest_intercept = INFINITY;
   for (const PassCost& c : profile.passes) smallest_intercept = std::min(smallest_intercept, c.intercept_ms);
   if (profile.eye_count) smallest_intercept = std::min(smallest_intercept, profile.eye_count->intercept_ms);

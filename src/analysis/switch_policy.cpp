@@ -385,9 +385,8 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, con
 // (side_plane_clearance.hpp: the almost edge-on quad of a plane that nearly
 // holds the eye covers pixels the exact one does not).  Counts add over
 // occluders, so a frame's count over its AtomicZP occluders is right where
-// each one's is.  `why`
-// says why not, or what was found.  `drawn`: the frustum the frame is
-// drawn with.
+// each one's is.  `why` says why not, or what was found.  `drawn`: the
+// frustum the frame is drawn with.
 bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, const Frustum& drawn,
                        gl::Arithmetic arithmetic, std::string& why) {
   if (!near_plane_clear_of_occluder(cs, o, drawn)) {
