@@ -16,7 +16,9 @@ runs=${NEARCAP_FUZZ_RUNS:-0}
 targets=${NEARCAP_FUZZ_TARGETS:-"scene pipeline off obj ply stl pgm csv policy"}
 bin=${NEARCAP_FUZZ_BIN:-build-fuzz/fuzz}
 if [ -z "${NEARCAP_FUZZ_BIN:-}" ]; then
+  # -O1 -g1 (line tables only) as the sanitizer build of scripts/test.sh: crash stacks keep their lines.
   cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DNEARCAP_FUZZ=ON -DNEARCAP_BUILD_TESTS=OFF -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
   cmake --build build-fuzz --target $(for t in $targets; do printf 'fuzz_%s ' "$t"; done)
 fi
