@@ -2,6 +2,7 @@
 // near_rectangle_pyramid.hpp).
 #include "nearcap/analysis/near_rectangle_pyramid.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace nearcap::analysis {
@@ -57,12 +58,15 @@ bool triangle_meets_near_rectangle_pyramid(const std::array<RationalVec3, 3>& tr
   return true;
 }
 
-bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o,
-                                           const std::array<VertexIndex, 3>& triangle, const Frustum& frustum) {
+namespace {
+
+// Triangle (a, b, c) of occluder o against the pyramid of the half-spaces
+// `hs`; `clipped` counts a triangle left to the rational clip.
+bool meets(const CameraSpaceScene& cs, std::size_t o, const std::array<VertexIndex, 3>& triangle,
+           const Frustum& frustum, const std::array<HalfSpace, kHalfSpaces>& hs, std::size_t& clipped) {
   // Each vertex's side of each half-space, filtered: a triangle with every
   // vertex strictly outside one half-space is clear, one with a vertex
   // inside all six meets; the rest are clipped exactly.
-  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
   std::array<std::array<Sign, 3>, kHalfSpaces> side{};
   for (int k = 0; k < 3; ++k) {
     const VertexIndex v = triangle[k];
@@ -85,8 +89,48 @@ bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size
     for (int h = 0; h < kHalfSpaces; ++h) inside = inside && side[h][k] != Sign::Negative;
     if (inside) return true;
   }
+  ++clipped;
   return triangle_meets_near_rectangle_pyramid(
       {cs.exact_vertex(o, triangle[0]), cs.exact_vertex(o, triangle[1]), cs.exact_vertex(o, triangle[2])}, frustum);
+}
+
+}  // namespace
+
+bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o,
+                                           const std::array<VertexIndex, 3>& triangle, const Frustum& frustum) {
+  std::size_t clipped = 0;
+  return meets(cs, o, triangle, frustum, half_spaces(frustum), clipped);
+}
+
+bool occluder_clear_of_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o, const Frustum& frustum,
+                                              NearRectanglePyramidWork* work) {
+  const double near = frustum.near;
+  const BoundedDouble minus_near(-near), zero(0.0);
+  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
+  const TriangleMesh& mesh = cs.mesh(o);
+  enum : std::uint8_t { kUnknown, kBeyond, kBehind };
+  std::vector<std::uint8_t> side(mesh.positions.size(), kUnknown);
+  auto side_of = [&](VertexIndex v) {
+    if (side[v] != kUnknown) return side[v];
+    const Sign beyond = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - minus_near; },
+        [&] { return Rational(cs.exact_vertex(o, v).z + Rational(near)); });
+    if (beyond == Sign::Negative) return side[v] = kBeyond;
+    const Sign behind = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - zero; },
+        [&] { return Rational(cs.exact_vertex(o, v).z); });
+    return side[v] = behind == Sign::Negative ? kUnknown : kBehind;
+  };
+  NearRectanglePyramidWork local;
+  NearRectanglePyramidWork& w = work ? *work : local;
+  for (const auto& t : mesh.triangles) {
+    ++w.triangles;
+    const std::uint8_t a = side_of(t[0]);
+    if (a != kUnknown && side_of(t[1]) == a && side_of(t[2]) == a) continue;
+    ++w.tested;
+    if (meets(cs, o, t, frustum, hs, w.clipped)) return false;
+  }
+  return true;
 }
 
 }  // namespace nearcap::analysis
