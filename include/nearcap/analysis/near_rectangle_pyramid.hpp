@@ -53,8 +53,9 @@ struct NearRectanglePyramidWork {
 // of `frustum`, decided exactly.  First, per vertex: a triangle wholly
 // beyond the near plane (every vertex z < -near) or wholly on or behind the
 // eye's plane (every vertex z >= 0) is clear; the others are tested as
-// triangle_meets_near_rectangle_pyramid tests them.  `work`, where given,
-// receives what it looked at (added to).
+// triangle_meets_near_rectangle_pyramid tests them, each vertex's place and
+// sides decided once for all its triangles.  `work`, where given, receives
+// what it looked at (added to).
 bool occluder_clear_of_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o, const Frustum& frustum,
                                               NearRectanglePyramidWork* work = nullptr);
 
