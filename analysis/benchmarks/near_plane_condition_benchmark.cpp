@@ -49,7 +49,8 @@ namespace {
 // 0.05 to 0.2; looking along a tangent tilted 0 to 45 degrees off the
 // surface, or down or up the normal) as those with the most triangles
 // across the slab and none meeting the pyramid (along: tilt 0; away: up the
-// normal), and one where a triangle meets it (facing: down the normal).
+// normal at near 0.05); facing looks down the normal from 0.02 above the
+// along frame's vertex.
 struct FrameSpec {
   const char* name;
   const char* scene_file;
