@@ -2,6 +2,7 @@
 // near_rectangle_pyramid.hpp).
 #include "nearcap/analysis/near_rectangle_pyramid.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace nearcap::analysis {
@@ -57,36 +58,89 @@ bool triangle_meets_near_rectangle_pyramid(const std::array<RationalVec3, 3>& tr
   return true;
 }
 
-bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o,
-                                           const std::array<VertexIndex, 3>& triangle, const Frustum& frustum) {
-  // Each vertex's side of each half-space, filtered: a triangle with every
-  // vertex strictly outside one half-space is clear, one with a vertex
-  // inside all six meets; the rest are clipped exactly.
-  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
-  std::array<std::array<Sign, 3>, kHalfSpaces> side{};
-  for (int k = 0; k < 3; ++k) {
-    const VertexIndex v = triangle[k];
-    const BoundedVec3& p = cs.vertex(o, v);
-    for (int h = 0; h < kHalfSpaces; ++h) {
-      const HalfSpace& s = hs[h];
-      side[h][k] = filtered_sign(
-          Predicate::NearPlaneSide, nullptr,
-          [&] {
-            return BoundedDouble(s.ax) * p.x + BoundedDouble(s.ay) * p.y + BoundedDouble(s.az) * p.z +
-                   BoundedDouble(s.d);
-          },
-          [&] { return value(s, cs.exact_vertex(o, v)); });
-    }
+namespace {
+
+// The half-spaces of `hs` that vertex v of occluder o lies strictly outside
+// of, bit h for hs[h], each side filtered (BoundedDouble, then rationals).
+std::uint8_t outside_mask(const CameraSpaceScene& cs, std::size_t o, VertexIndex v,
+                          const std::array<HalfSpace, kHalfSpaces>& hs) {
+  const BoundedVec3& p = cs.vertex(o, v);
+  std::uint8_t mask = 0;
+  for (int h = 0; h < kHalfSpaces; ++h) {
+    const HalfSpace& s = hs[h];
+    const Sign side = filtered_sign(
+        Predicate::NearPlaneSide, nullptr,
+        [&] {
+          return BoundedDouble(s.ax) * p.x + BoundedDouble(s.ay) * p.y + BoundedDouble(s.az) * p.z + BoundedDouble(s.d);
+        },
+        [&] { return value(s, cs.exact_vertex(o, v)); });
+    if (side == Sign::Negative) mask = static_cast<std::uint8_t>(mask | 1u << h);
   }
-  for (int h = 0; h < kHalfSpaces; ++h)
-    if (side[h][0] == Sign::Negative && side[h][1] == Sign::Negative && side[h][2] == Sign::Negative) return false;
-  for (int k = 0; k < 3; ++k) {
-    bool inside = true;
-    for (int h = 0; h < kHalfSpaces; ++h) inside = inside && side[h][k] != Sign::Negative;
-    if (inside) return true;
-  }
+  return mask;
+}
+
+// Triangle (a, b, c) of occluder o against the pyramid, from its vertices'
+// outside masks: a triangle with every vertex strictly outside one
+// half-space is clear, one with a vertex inside all six meets; the rest are
+// clipped exactly (counted in `clipped`).
+bool meets(const CameraSpaceScene& cs, std::size_t o, const std::array<VertexIndex, 3>& triangle,
+           const std::array<std::uint8_t, 3>& outside, const Frustum& frustum, std::size_t& clipped) {
+  if ((outside[0] & outside[1] & outside[2]) != 0) return false;
+  if (outside[0] == 0 || outside[1] == 0 || outside[2] == 0) return true;
+  ++clipped;
   return triangle_meets_near_rectangle_pyramid(
       {cs.exact_vertex(o, triangle[0]), cs.exact_vertex(o, triangle[1]), cs.exact_vertex(o, triangle[2])}, frustum);
+}
+
+}  // namespace
+
+bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o,
+                                           const std::array<VertexIndex, 3>& triangle, const Frustum& frustum) {
+  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
+  std::size_t clipped = 0;
+  return meets(cs, o, triangle,
+               {outside_mask(cs, o, triangle[0], hs), outside_mask(cs, o, triangle[1], hs),
+                outside_mask(cs, o, triangle[2], hs)},
+               frustum, clipped);
+}
+
+bool occluder_clear_of_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o, const Frustum& frustum,
+                                              NearRectanglePyramidWork* work) {
+  const double near = frustum.near;
+  const BoundedDouble minus_near(-near), zero(0.0);
+  const std::array<HalfSpace, kHalfSpaces> hs = half_spaces(frustum);
+  const TriangleMesh& mesh = cs.mesh(o);
+  // Each vertex's place against the slab, and its outside mask (kNoMask until
+  // a triangle across the slab needs it), decided once.
+  enum : std::uint8_t { kUnknown, kBeyond, kBehind, kAcross };
+  constexpr std::uint8_t kNoMask = 0xff;
+  std::vector<std::uint8_t> place(mesh.positions.size(), kUnknown);
+  std::vector<std::uint8_t> outside(mesh.positions.size(), kNoMask);
+  auto place_of = [&](VertexIndex v) {
+    if (place[v] != kUnknown) return place[v];
+    const Sign beyond = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - minus_near; },
+        [&] { return Rational(cs.exact_vertex(o, v).z + Rational(near)); });
+    if (beyond == Sign::Negative) return place[v] = kBeyond;
+    const Sign behind = filtered_sign(
+        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - zero; },
+        [&] { return Rational(cs.exact_vertex(o, v).z); });
+    return place[v] = behind == Sign::Negative ? kAcross : kBehind;
+  };
+  auto outside_of = [&](VertexIndex v) {
+    if (outside[v] == kNoMask) outside[v] = outside_mask(cs, o, v, hs);
+    return outside[v];
+  };
+  NearRectanglePyramidWork local;
+  NearRectanglePyramidWork& w = work ? *work : local;
+  for (const auto& t : mesh.triangles) {
+    ++w.triangles;
+    const std::uint8_t a = place_of(t[0]);
+    if (a != kAcross && place_of(t[1]) == a && place_of(t[2]) == a) continue;
+    ++w.tested;
+    if (meets(cs, o, t, {outside_of(t[0]), outside_of(t[1]), outside_of(t[2])}, frustum, w.clipped)) return false;
+  }
+  return true;
 }
 
 }  // namespace nearcap::analysis

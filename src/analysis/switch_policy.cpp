@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -340,41 +339,6 @@ bool light_lies_on_near_plane(const CameraSpaceScene& cs, std::size_t light) {
   return cheap_conditioning_features(cs, light).light_near_distance == 0;
 }
 
-// Whether no view ray meets occluder o in front of the near plane: no
-// triangle meets the near-rectangle pyramid of `drawn` (the frustum the
-// frame is drawn with; near_rectangle_pyramid.hpp), decided exactly.  A
-// view ray (inside the view pyramid, past the eye) then meets the occluder
-// only beyond the near plane, where the depth pre-pass draws it, so
-// depth-clamped Z-pass misses none of its light cap's crossings.  First, per
-// vertex: a triangle wholly beyond the near plane (every vertex z < -near)
-// or wholly on or behind the eye's plane (every vertex z >= 0) is clear;
-// the others (across the slab -near <= z < 0) are tested against the
-// pyramid, touching its boundary counting as meeting.
-bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, const Frustum& drawn) {
-  const double near = drawn.near;
-  const BoundedDouble minus_near(-near), zero(0.0);
-  const TriangleMesh& mesh = cs.mesh(o);
-  enum : std::uint8_t { kUnknown, kBeyond, kBehind };
-  std::vector<std::uint8_t> side(mesh.positions.size(), kUnknown);
-  auto side_of = [&](VertexIndex v) {
-    if (side[v] != kUnknown) return side[v];
-    const Sign beyond = filtered_sign(
-        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - minus_near; },
-        [&] { return Rational(cs.exact_vertex(o, v).z + Rational(near)); });
-    if (beyond == Sign::Negative) return side[v] = kBeyond;
-    const Sign behind = filtered_sign(
-        Predicate::NearPlaneSide, nullptr, [&] { return cs.vertex(o, v).z - zero; },
-        [&] { return Rational(cs.exact_vertex(o, v).z); });
-    return side[v] = behind == Sign::Negative ? kUnknown : kBehind;
-  };
-  for (const auto& t : mesh.triangles) {
-    const std::uint8_t a = side_of(t[0]);
-    if (a != kUnknown && side_of(t[1]) == a && side_of(t[2]) == a) continue;
-    if (triangle_meets_near_rectangle_pyramid(cs, o, t, drawn)) return false;
-  }
-  return true;
-}
-
 // Whether AtomicZP is right for occluder o under the light wherever Z-fail
 // is (docs/atomiczp.md, "Where it is right"): the near plane does not cut
 // the occluder, and its share of the eye count is decided robustly: the
@@ -389,7 +353,13 @@ bool near_plane_clear_of_occluder(const CameraSpaceScene& cs, std::size_t o, con
 // frustum the frame is drawn with.
 bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t light, const Frustum& drawn,
                        gl::Arithmetic arithmetic, std::string& why) {
-  if (!near_plane_clear_of_occluder(cs, o, drawn)) {
+  // No view ray meets the occluder in front of the near plane: none of its
+  // triangles meets the near-rectangle pyramid of the frustum the frame is
+  // drawn with (near_rectangle_pyramid.hpp).  A view ray (inside the view
+  // pyramid, past the eye) then meets it only beyond the near plane, where
+  // the depth pre-pass draws it, so depth-clamped Z-pass misses none of its
+  // light cap's crossings.
+  if (!occluder_clear_of_near_rectangle_pyramid(cs, o, drawn)) {
     why = "the near plane cuts the occluder";
     return false;
   }

@@ -38,4 +38,25 @@ bool triangle_meets_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size
 // The same for a triangle given by its exact camera-space vertices.
 bool triangle_meets_near_rectangle_pyramid(const std::array<RationalVec3, 3>& triangle, const Frustum& frustum);
 
+// What occluder_clear_of_near_rectangle_pyramid looked at before it decided:
+// the triangles it reached (it stops at the first that meets the pyramid),
+// those of them across the slab -near <= z < 0 (tested against the pyramid),
+// and those of the tested ones that the vertices' filtered sides left to the
+// rational clip.
+struct NearRectanglePyramidWork {
+  std::size_t triangles = 0;
+  std::size_t tested = 0;
+  std::size_t clipped = 0;
+};
+
+// Whether no triangle of occluder o of `cs` meets the near-rectangle pyramid
+// of `frustum`, decided exactly.  First, per vertex: a triangle wholly
+// beyond the near plane (every vertex z < -near) or wholly on or behind the
+// eye's plane (every vertex z >= 0) is clear; the others are tested as
+// triangle_meets_near_rectangle_pyramid tests them, each vertex's place and
+// sides decided once for all its triangles.  `work`, where given, receives
+// what it looked at (added to).
+bool occluder_clear_of_near_rectangle_pyramid(const CameraSpaceScene& cs, std::size_t o, const Frustum& frustum,
+                                              NearRectanglePyramidWork* work = nullptr);
+
 }  // namespace nearcap::analysis
