@@ -9,7 +9,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <utility>
 
 #include "box_scene.hpp"
 #include "nearcap/analysis/conditioning.hpp"
@@ -279,6 +281,54 @@ TEST(DepthLimited, TheDepthStepFollowsTheMappingsFormula) {
   EXPECT_EQ(reversed, analysis::depth_step_over_size(cs, n / 1024, gl::DepthFormat::Float32, DepthMapping::Reversed));
   EXPECT_LT(reversed, standard);
   EXPECT_LT(standard, analysis::kDepthLimitedStep);
+}
+
+// The decision's step (depth_step_against_limit) against the step itself,
+// on every bundled scene and the first 100 tiny-near configurations of seed
+// 5 (of every kind on seed 7 too), each with its near plane and 2^-10 and
+// 2^-20 of it, in both mappings: where the step reaches kDepthLimitedStep it
+// is the step; below, it is no smaller and still below; and the bound alone
+// answers most frames (else the pass it skips is not skipped).
+TEST(DepthLimited, TheDecisionsBoundAgreesWithTheStepAboutTheLimit) {
+  std::size_t frames = 0, limited = 0, below = 0, bounded = 0;
+  auto check = [&](const Scene& scene, const std::string& what) {
+    const CameraSpaceScene cs(scene);
+    for (const double scale : {1.0, 0x1p-10, 0x1p-20})
+      for (const auto& [format, mapping] : {std::pair{gl::DepthFormat::Fixed24, DepthMapping::Standard},
+                                            std::pair{gl::DepthFormat::Float32, DepthMapping::Reversed}}) {
+        const double near = scene.camera.frustum.near * scale;
+        const double step = analysis::depth_step_over_size(cs, near, format, mapping);
+        const analysis::DepthStepAgainstLimit against = analysis::depth_step_against_limit(cs, near, format, mapping);
+        const std::string where = what + " near x " + std::to_string(scale);
+        ++frames;
+        if (step >= analysis::kDepthLimitedStep) {
+          ++limited;
+          EXPECT_FALSE(against.bounded) << where;
+          EXPECT_EQ(against.over_size, step) << where;
+        } else if (std::isnan(step)) {
+          EXPECT_FALSE(against.bounded) << where;
+          EXPECT_TRUE(std::isnan(against.over_size)) << where;
+        } else {
+          ++below;
+          bounded += against.bounded ? 1 : 0;
+          EXPECT_GE(against.over_size, step) << where;
+          EXPECT_LT(against.over_size, analysis::kDepthLimitedStep) << where;
+          if (!against.bounded) {
+            EXPECT_EQ(against.over_size, step) << where;
+          }
+        }
+      }
+  };
+  for (const auto& entry : std::filesystem::directory_iterator(kScenes))
+    if (entry.path().extension() == ".json") check(load_scene(entry.path().string()), entry.path().filename());
+  test::for_each_sampled_scene(tiny_near_sampler(), 100,
+                               [&](const Scene& scene, const analysis::HardCase&) { check(scene, "tiny-near"); });
+  test::for_each_sampled_scene(analysis::HardCaseSampler(test::bundled_sampler_spec(7)), 100,
+                               [&](const Scene& scene, const analysis::HardCase&) { check(scene, "seed 7"); });
+  std::printf("[ depth    ] %zu frames: %zu at or above the limit, %zu below, %zu of them answered by the bound\n",
+              frames, limited, below, bounded);
+  EXPECT_GT(limited, 0u);
+  EXPECT_GT(2 * bounded, below);
 }
 
 // Where no method is right (tiny near planes exhaust the 24-bit depth

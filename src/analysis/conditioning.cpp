@@ -34,20 +34,70 @@ double float_ulp(double x) {
   return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
 }
 
-double scene_diagonal(const Scene& scene) {
+// The diagonal of the bounding box of the points each object vertex and each
+// light `add`s.
+template <class AddPoints>
+double diagonal_of(AddPoints&& add_points) {
   Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
            std::numeric_limits<double>::infinity()};
   Vec3d hi = -1.0 * lo;
-  auto add = [&](const Vec3d& p) {
+  add_points([&](const Vec3d& p) {
     for (int a = 0; a < 3; ++a) {
       lo[a] = std::min(lo[a], p[a]);
       hi[a] = std::max(hi[a], p[a]);
     }
-  };
-  for (const SceneObject& o : scene.objects)
-    for (const Vec3d& v : o.mesh->positions) add(o.object_to_world.apply(v));
-  for (const Light& l : scene.lights) add(l.position);
+  });
   return std::sqrt(dot(hi - lo, hi - lo));
+}
+
+// The diagonal of the scene's bounding box (vertices in world space, lights).
+double scene_diagonal(const Scene& scene) {
+  return diagonal_of([&scene](auto&& add) {
+    for (const SceneObject& o : scene.objects)
+      for (const Vec3d& v : o.mesh->positions) add(o.object_to_world.apply(v));
+    for (const Light& l : scene.lights) add(l.position);
+  });
+}
+
+// No larger than scene_diagonal, without a pass over every vertex: the box
+// of the lights and the first, middle and last vertex of each object, each
+// computed as scene_diagonal computes it.  Its points are some of that box's,
+// so each extent, each rounded operation after it and the diagonal are no
+// larger.
+double scene_diagonal_lower_bound(const Scene& scene) {
+  return diagonal_of([&scene](auto&& add) {
+    for (const SceneObject& o : scene.objects) {
+      const std::vector<Vec3d>& positions = o.mesh->positions;
+      if (positions.empty()) continue;
+      for (const std::size_t v : {std::size_t{0}, positions.size() / 2, positions.size() - 1})
+        add(o.object_to_world.apply(positions[v]));
+    }
+    for (const Light& l : scene.lights) add(l.position);
+  });
+}
+
+// The largest eye distance -z of a vertex estimate, 0 where none is in
+// front of the eye.  Four running maxima (a max is exact and ignores a NaN
+// either way): the loop is not one chain of dependent comparisons.
+double farthest_in_front(const CameraSpaceScene& cs) {
+  std::array<double, 4> far{};
+  for (std::size_t o = 0; o < cs.object_count(); ++o) {
+    const std::size_t n = cs.mesh(o).positions.size();
+    VertexIndex v = 0;
+    for (; v + 4 <= n; v += 4)
+      for (int k = 0; k < 4; ++k) far[k] = std::max(far[k], -cs.vertex_estimate(o, v + k).z);
+    for (; v < n; ++v) far[0] = std::max(far[0], -cs.vertex_estimate(o, v).z);
+  }
+  return std::max({far[0], far[1], far[2], far[3]});
+}
+
+// depth_step_over_size's formula; rounded division by a smaller diagonal
+// gives no smaller step.
+double depth_step(double farthest, double near, gl::DepthFormat format, gl::DepthMapping mapping, double diagonal) {
+  if (!(farthest > near) || !(diagonal > 0)) return kNaN;
+  if (mapping == gl::DepthMapping::Reversed && format == gl::DepthFormat::Float32)
+    return std::ldexp(farthest, -23) / diagonal;
+  return std::ldexp(farthest * farthest / near, -24) / diagonal;
 }
 
 double coordinate_over_size(const Scene& scene) {
@@ -76,22 +126,15 @@ double depth_step_over_size(const CameraSpaceScene& cs) {
 }
 
 double depth_step_over_size(const CameraSpaceScene& cs, double near, gl::DepthFormat format, gl::DepthMapping mapping) {
-  // Four running maxima (a max is exact and ignores a NaN either way): the
-  // loop is not one chain of dependent comparisons.
-  std::array<double, 4> far{};
-  for (std::size_t o = 0; o < cs.object_count(); ++o) {
-    const std::size_t n = cs.mesh(o).positions.size();
-    VertexIndex v = 0;
-    for (; v + 4 <= n; v += 4)
-      for (int k = 0; k < 4; ++k) far[k] = std::max(far[k], -cs.vertex_estimate(o, v + k).z);
-    for (; v < n; ++v) far[0] = std::max(far[0], -cs.vertex_estimate(o, v).z);
-  }
-  const double farthest = std::max({far[0], far[1], far[2], far[3]});
-  const double diagonal = scene_diagonal(cs.scene());
-  if (!(farthest > near) || !(diagonal > 0)) return kNaN;
-  if (mapping == gl::DepthMapping::Reversed && format == gl::DepthFormat::Float32)
-    return std::ldexp(farthest, -23) / diagonal;
-  return std::ldexp(farthest * farthest / near, -24) / diagonal;
+  return depth_step(farthest_in_front(cs), near, format, mapping, scene_diagonal(cs.scene()));
+}
+
+DepthStepAgainstLimit depth_step_against_limit(const CameraSpaceScene& cs, double near, gl::DepthFormat format,
+                                               gl::DepthMapping mapping) {
+  const double farthest = farthest_in_front(cs);
+  const double bound = depth_step(farthest, near, format, mapping, scene_diagonal_lower_bound(cs.scene()));
+  if (bound < kDepthLimitedStep) return {bound, true};
+  return {depth_step(farthest, near, format, mapping, scene_diagonal(cs.scene())), false};
 }
 
 ConditioningFeatures conditioning_features(const CameraSpaceScene& cs, std::size_t light,

@@ -146,7 +146,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   std::optional<Scene> tight_scene;
   if (d.settings.near_plane == gl::NearPlane::Tight) tight_scene = with_tight_plane();
   double near = tight_scene ? tight_scene->camera.frustum.near : scene.camera.frustum.near;
-  d.depth_step_over_size = depth_step_over_size(cs, near, d.settings.depth, d.settings.depth_mapping);
+  d.depth_step_over_size = depth_step_against_limit(cs, near, d.settings.depth, d.settings.depth_mapping).over_size;
   d.depth_limited = d.depth_step_over_size >= kDepthLimitedStep;
   // A depth-limited frame the policy may move its near plane for (no near
   // plane of its own, no exact test tied to the scene's plane): drawn with
@@ -154,7 +154,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && !tight_scene) {
     Scene moved = with_tight_plane();
     const double tight = moved.camera.frustum.near;
-    const double step = depth_step_over_size(cs, tight, d.settings.depth, d.settings.depth_mapping);
+    const double step = depth_step_against_limit(cs, tight, d.settings.depth, d.settings.depth_mapping).over_size;
     if (step < kDepthLimitedStep) {
       char note[512];
       std::snprintf(note, sizeof note,

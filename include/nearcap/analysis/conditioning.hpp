@@ -101,4 +101,17 @@ double depth_step_over_size(const CameraSpaceScene& scene, double near, gl::Dept
 // prediction: most flagged frames do not crack.
 inline constexpr double kDepthLimitedStep = 1e-3;
 
+// depth_step_over_size where only its comparison with kDepthLimitedStep is
+// needed (the policy's decision, every frame): first the same step over a
+// diagonal no larger than the scene's, measured on the lights and three
+// vertices of each object without a pass over every vertex; where that
+// bound is below kDepthLimitedStep, the bound (the step is below it too);
+// else the step itself.
+struct DepthStepAgainstLimit {
+  double over_size = 0;  // the step, or its bound where `bounded`
+  bool bounded = false;  // the bound answered: below kDepthLimitedStep
+};
+DepthStepAgainstLimit depth_step_against_limit(const CameraSpaceScene& scene, double near, gl::DepthFormat format,
+                                               gl::DepthMapping mapping);
+
 }  // namespace nearcap::analysis

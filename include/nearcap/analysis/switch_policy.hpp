@@ -161,9 +161,10 @@ struct PolicyDecision {
   double crack_probability = 0;                  // the model's, NaN when not asked
   double decide_ms = 0;                          // the decision's own time
   // The frame's depth step at its farthest point over the scene's size, for
-  // the settings below (conditioning.hpp), and whether it reaches
-  // kDepthLimitedStep: then no method is guaranteed right, and `depth_note`
-  // says so and what fixes it.
+  // the settings below, or a bound of it where the bound is below
+  // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
+  // whether it reaches kDepthLimitedStep: then no method is guaranteed
+  // right, and `depth_note` says so and what fixes it.
   double depth_step_over_size = 0;
   bool depth_limited = false;
   std::string depth_note;
