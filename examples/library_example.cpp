@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     for (std::size_t o = 0; o < scene.objects.size(); ++o)
       if (scene.objects[o].occluder)
         std::printf("object %zu: %s (%s)\n", o, std::string(to_string(decision.object_methods[o])).c_str(),
-                    decision.reasons[o].c_str());
+                    decision.reason(o).c_str());
     const JudgedFrame p = judged_policy_frame(policy, scene, settings);
     std::printf("policy: %zu wrong pixels of %zu seen, %zu cracks\n", p.report.wrong, p.report.pixels_seen,
                 *p.report.cracks);

@@ -118,9 +118,9 @@ TEST(AtomicZPCandidate, ChosenWhereRightAndCheapest) {
   const CameraSpaceScene cs(s);
   ASSERT_EQ(exact_eye_count(cs, 0).count, 1u);
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("cost: atomiczp"), std::string::npos) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("eye count 1, exact and float agree"), std::string::npos) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("cost: atomiczp"), std::string::npos) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("eye count 1, exact and float agree"), std::string::npos) << d.reason(0);
   EXPECT_TRUE(d.predicted_work.eye_count.drawn);
   EXPECT_DOUBLE_EQ(d.predicted_work.eye_count.triangles, 12.0);
   EXPECT_DOUBLE_EQ(d.predicted_work.eye_count.fragments, static_cast<double>(s.camera.width) * s.camera.height);
@@ -136,8 +136,8 @@ TEST(AtomicZPCandidate, ChosenWhereRightAndCheapest) {
   DeviceProfile without = atomiczp_favoured();
   without.eye_count.reset();
   const analysis::PolicyDecision w = analysis::decide(cost_policy(without), cs, 0, {});
-  EXPECT_NE(w.object_methods[0], ShadowMethod::AtomicZP) << w.reasons[0];
-  EXPECT_EQ(w.reasons[0].find("atomiczp"), std::string::npos) << w.reasons[0];
+  EXPECT_NE(w.object_methods[0], ShadowMethod::AtomicZP) << w.reason(0);
+  EXPECT_EQ(w.reason(0).find("atomiczp"), std::string::npos) << w.reason(0);
   EXPECT_FALSE(w.predicted_work.eye_count.drawn);
   // A dear eye-count pass: priced out.
   DeviceProfile dear = atomiczp_favoured();
@@ -155,9 +155,9 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheNearPlaneCutsTheOccluder) {
     const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
     for (std::size_t o = 0; o < s.objects.size(); ++o) {
       if (!s.objects[o].occluder) continue;
-      EXPECT_NE(d.object_methods[o], ShadowMethod::AtomicZP) << name << ": " << d.reasons[o];
-      EXPECT_NE(d.reasons[o].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
-          << name << ": " << d.reasons[o];
+      EXPECT_NE(d.object_methods[o], ShadowMethod::AtomicZP) << name << ": " << d.reason(o);
+      EXPECT_NE(d.reason(o).find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
+          << name << ": " << d.reason(o);
     }
   }
 }
@@ -188,7 +188,7 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOuts
   const CameraSpaceScene cs(behind);
   ASSERT_EQ(exact_eye_count(cs, 0).count, 1u);
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reason(0);
   expect_right_where_zpass_is_wrong(behind, cs, d, "box behind the eye");
 
   Affine3d across = test::translate(0.5, 0, 0);
@@ -196,7 +196,7 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOuts
   const Scene beside = scene(across);
   const CameraSpaceScene cs2(beside);
   const analysis::PolicyDecision d2 = analysis::decide(cost_policy(atomiczp_favoured()), cs2, 0, {});
-  EXPECT_EQ(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reasons[0];
+  EXPECT_EQ(d2.object_methods[0], ShadowMethod::AtomicZP) << d2.reason(0);
   const PixelReference ref2 = compute_pixel_reference(cs2, 0);
   gl::ShadowFrameBatch batch2(beside, 0, d2.settings);
   const std::size_t worse = wrong_where_zfail_right(beside, ref2, batch2.render(d2.object_methods), d2.settings);
@@ -210,9 +210,9 @@ TEST(AtomicZPCandidate, OfferedForAnOccluderBehindTheEyeOrAcrossTheEyesPlaneOuts
   const Scene under = scene(plank);
   const CameraSpaceScene cs3(under);
   const analysis::PolicyDecision d3 = analysis::decide(cost_policy(atomiczp_favoured()), cs3, 0, {});
-  EXPECT_NE(d3.object_methods[0], ShadowMethod::AtomicZP) << d3.reasons[0];
-  EXPECT_NE(d3.reasons[0].find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
-      << d3.reasons[0];
+  EXPECT_NE(d3.object_methods[0], ShadowMethod::AtomicZP) << d3.reason(0);
+  EXPECT_NE(d3.reason(0).find("atomiczp not a candidate (the near plane cuts the occluder)"), std::string::npos)
+      << d3.reason(0);
 }
 
 // One triangle (camera space: the view is the identity, the frustum the
@@ -280,7 +280,7 @@ TEST(AtomicZPCandidate, OfferedOnEyeInShadowsSlabWhichCrossesTheEyesPlaneOutside
   std::printf("eye_in_shadow: %zu of the slab's triangles across the eye's plane\n", across);
   ASSERT_GT(across, 0u);
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::AtomicZP) << d.reason(0);
   expect_right_where_zpass_is_wrong(s, cs, d, "eye_in_shadow");
 }
 
@@ -310,8 +310,8 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheEyeIsOnAVolumesBoundary) {
   ASSERT_TRUE(exact.on_boundary);
   ASSERT_EQ(fl.count, exact.count) << "the test is of on_boundary alone";
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
-  EXPECT_NE(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("on_boundary"), std::string::npos) << d.reasons[0];
+  EXPECT_NE(d.object_methods[0], ShadowMethod::AtomicZP) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("on_boundary"), std::string::npos) << d.reason(0);
 }
 
 // The eye within a fraction of a float32 ulp of a side plane (the unit box
@@ -333,7 +333,7 @@ TEST(AtomicZPCandidate, NotOfferedWhereTheFloatEyeCountIsWrong) {
     ++found;
     const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_favoured()), cs, 0, {});
     offered += d.object_methods[0] == ShadowMethod::AtomicZP ? 1 : 0;
-    EXPECT_NE(d.reasons[0].find("float eye count"), std::string::npos) << "k " << k << ": " << d.reasons[0];
+    EXPECT_NE(d.reason(0).find("float eye count"), std::string::npos) << "k " << k << ": " << d.reason(0);
   }
   std::printf("eyes with a wrong float count: %d found, AtomicZP offered at %d\n", found, offered);
   ASSERT_GT(found, 0);
@@ -371,11 +371,11 @@ TEST(AtomicZPCandidate, NotOfferedWhereASidePlanePassesTheEyeWithinTheFloatBound
   std::printf("configuration 11: atomiczp wrong on %zu pixels where zfail is right\n", worse);
   EXPECT_GT(worse, 0u);
   const analysis::PolicyDecision d = analysis::decide(cost_policy(atomiczp_cheapest()), cs, 0, {});
-  EXPECT_NE(d.object_methods[0], ShadowMethod::AtomicZP) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("atomiczp not a candidate (a side plane of its volume passes the eye within the float32 "
-                              "bound"),
+  EXPECT_NE(d.object_methods[0], ShadowMethod::AtomicZP) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("atomiczp not a candidate (a side plane of its volume passes the eye within the float32 "
+                             "bound"),
             std::string::npos)
-      << d.reasons[0];
+      << d.reason(0);
 }
 
 // Over the 40 eye-near-volume configurations of seed 28: wherever the
@@ -394,9 +394,9 @@ TEST(AtomicZPCandidate, AsRightAsZFailWhereverAdmittedOnTheEyeNearVolumeConfigur
       if (!s.objects[o].occluder) continue;
       const bool chosen = d.object_methods[o] == ShadowMethod::AtomicZP;
       all = all && chosen;
-      if (!chosen && d.reasons[o].find("side plane") != std::string::npos) ++side_plane;
+      if (!chosen && d.reason(o).find("side plane") != std::string::npos) ++side_plane;
       if (!chosen)
-        std::printf("configuration %llu: %s\n", static_cast<unsigned long long>(sample.index), d.reasons[o].c_str());
+        std::printf("configuration %llu: %s\n", static_cast<unsigned long long>(sample.index), d.reason(o).c_str());
     }
     if (!all) {
       ++refused;
@@ -406,7 +406,7 @@ TEST(AtomicZPCandidate, AsRightAsZFailWhereverAdmittedOnTheEyeNearVolumeConfigur
     const PixelReference ref = compute_pixel_reference(cs, 0);
     gl::ShadowFrameBatch batch(s, 0, d.settings);
     const std::size_t worse = wrong_where_zfail_right(s, ref, batch.render(d.object_methods), d.settings);
-    EXPECT_EQ(worse, 0u) << "configuration " << sample.index << " (" << sample.detail << "): " << d.reasons[0];
+    EXPECT_EQ(worse, 0u) << "configuration " << sample.index << " (" << sample.detail << "): " << d.reason(0);
   });
   std::printf(
       "eye-near-volume, seed 28: AtomicZP admitted for every occluder on %zu, not on %zu (%zu refused by "

@@ -85,8 +85,8 @@ TEST(CostDecision, ExpensiveNearCapPassGivesZFailExpensiveCapsGiveZPPlus) {
   p.passes[k(PassKind::NearCap)].ms_per_mfragment = 1e4;
   p.passes[k(PassKind::NearCap)].intercept_ms = 5;
   analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("cost: zfail"), std::string::npos) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("cost: zfail"), std::string::npos) << d.reason(0);
   EXPECT_TRUE(std::isfinite(d.predicted_ms));
 
   // Z-fail's caps expensive, the near-cap cheap: a ZP+.
@@ -94,17 +94,17 @@ TEST(CostDecision, ExpensiveNearCapPassGivesZFailExpensiveCapsGiveZPPlus) {
   p.passes[k(PassKind::LightCap)].ms_per_mfragment = 1e4;
   p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 1e4;
   d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_TRUE(gl::uses_near_cap(d.object_methods[0])) << d.reasons[0];
+  EXPECT_TRUE(gl::uses_near_cap(d.object_methods[0])) << d.reason(0);
   // ... the paper's when building the clipped-sides cap costs the CPU much,
   p.cpu.clipped_cap.ms_per_ktested = 1e3;
   d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_TRUE(paper_cap_chosen(d, 0)) << d.reasons[0];
+  EXPECT_TRUE(paper_cap_chosen(d, 0)) << d.reason(0);
   // ... the clipped-sides cap when the paper's pass (every occluder
   // triangle through the light frustum) costs more.
   p.cpu.clipped_cap.ms_per_ktested = 0;
   p.passes[k(PassKind::NearCap)].ms_per_mtriangle = 1e6;
   d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_TRUE(clipped_cap_chosen(d, 0)) << d.reasons[0];
+  EXPECT_TRUE(clipped_cap_chosen(d, 0)) << d.reason(0);
   EXPECT_EQ(d.predicted_options.size(), 3u);
 }
 
@@ -116,14 +116,14 @@ TEST(CostDecision, APredictedCrackRemovesThePaperCap) {
   p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 1e4;
   p.cpu.clipped_cap.ms_per_ktested = 1e3;  // the paper's cap would win
   analysis::PolicyDecision d = analysis::decide(cost_policy(p, true), cs, 0, {});
-  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("crack predicted"), std::string::npos) << d.reason(0);
   EXPECT_EQ(d.predicted_options.size(), 2u);  // no paper-cap option
   // A clipped-sides policy's model is not the paper cap's: no paper cap either.
   SwitchPolicy clipped = cost_policy(p);
   clipped.light_projection = gl::LightProjection::ClippedSides;
   d = analysis::decide(clipped, cs, 0, {});
-  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reasons[0];
+  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reason(0);
 }
 
 // Far from the shadow the near-cap is empty: Z-pass, which draws only the
@@ -144,13 +144,13 @@ TEST(CostDecision, ExactTestTooCostlyMeansNoZPass) {
   p.passes[k(PassKind::NearCap)].intercept_ms = 5;  // no cap is worth it
   p.cpu.clipped_cap.ms_per_ktested = 10;
   analysis::PolicyDecision d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPass) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("exact: meets no point"), std::string::npos) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPass) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("exact: meets no point"), std::string::npos) << d.reason(0);
   EXPECT_GT(d.predicted_work.exact_test.runs, 0);
   p.cpu.exact_test.ms_per_ktested = 1e4;
   d = analysis::decide(cost_policy(p), cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("exact test not run"), std::string::npos) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("exact test not run"), std::string::npos) << d.reason(0);
   EXPECT_EQ(d.predicted_work.exact_test.runs, 0);
   // The policy's switch holds: without exact_zpass there is no Z-pass.
   SwitchPolicy no_test = cost_policy(flat_profile());
@@ -197,13 +197,13 @@ TEST(CostDecision, TheFrameRowsSavingPerPassFavoursFewerPasses) {
   ASSERT_GE(p.passes[k(PassKind::NearCap)].intercept_ms, 0.05) << "the saving must stay below every intercept";
   policy.device_profile = p;
   d = analysis::decide(policy, cs, 0, {});
-  ASSERT_TRUE(clipped_cap_chosen(d, 0)) << d.reasons[0];
+  ASSERT_TRUE(clipped_cap_chosen(d, 0)) << d.reason(0);
   EXPECT_NEAR(option_ms(d, "no near-cap") - option_ms(d, "clipped-sides cap"), 0.01, 1e-9);
   const double passes_sum = d.predicted_ms;
   p.frame = analysis::FrameCost{0.02, 0.05};
   policy.device_profile = p;
   d = analysis::decide(policy, cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
   EXPECT_DOUBLE_EQ(d.predicted_ms, p.predict_ms(d.predicted_work));
   EXPECT_NEAR(d.predicted_ms, passes_sum + 0.01 + 0.02 - 5 * 0.05, 1e-9) << "depth, sides, two caps, lit";
 }
@@ -235,10 +235,10 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
           if (!s.objects[o].occluder) continue;
           if (d.object_methods[o] == ShadowMethod::ZPass) {
             ++zpass;
-            EXPECT_EQ(ref.cap_pixels_by_object[o], 0u) << name << " object " << o << ": " << d.reasons[o];
+            EXPECT_EQ(ref.cap_pixels_by_object[o], 0u) << name << " object " << o << ": " << d.reason(o);
           }
           if (crack) {
-            EXPECT_FALSE(paper_cap_chosen(d, o)) << name << " object " << o << ": " << d.reasons[o];
+            EXPECT_FALSE(paper_cap_chosen(d, o)) << name << " object " << o << ": " << d.reason(o);
           }
           paper += paper_cap_chosen(d, o) ? 1 : 0;
           clipped += clipped_cap_chosen(d, o) ? 1 : 0;
@@ -298,7 +298,7 @@ TEST(CostDecision, BundledPathFramesDecideRightly) {
         empty += meets[o] ? 0 : 1;
         if (d.object_methods[o] == ShadowMethod::ZPass) {
           ++zpass;
-          EXPECT_FALSE(meets[o]) << r.path << " frame " << f << " object " << o << ": " << d.reasons[o];
+          EXPECT_FALSE(meets[o]) << r.path << " frame " << f << " object " << o << ": " << d.reason(o);
         }
       }
       ++n;

@@ -270,7 +270,7 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
     const CameraSpaceScene cs(s);
     const analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
     EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZPass);
-    EXPECT_NE(d.reasons[0].find("exact"), std::string::npos) << d.reasons[0];
+    EXPECT_NE(d.reason(0).find("exact"), std::string::npos) << d.reason(0);
     EXPECT_TRUE(std::isnan(d.crack_probability));
     EXPECT_EQ(d.settings.switch_clamp, gl::SwitchClamp::DepthClampFar);
   }
@@ -278,12 +278,12 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
   const CameraSpaceScene cs(s);
   p.crack_model.threshold = 1.0;  // never predicts a crack
   analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZPPlusCorrected) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZPPlusCorrected) << d.reason(0);
   EXPECT_GT(d.crack_probability, 0);
   p.crack_model.threshold = 1e-300;  // always predicts one
   d = analysis::decide(p, cs, 0, {});
-  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reasons[0];
-  EXPECT_NE(d.reasons[0].find("crack predicted"), std::string::npos) << d.reasons[0];
+  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("crack predicted"), std::string::npos) << d.reason(0);
 }
 
 // Whether decide() reads a policy's models, asked of decide() itself: the
@@ -431,7 +431,7 @@ TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   for (std::size_t o = 0; o < s.objects.size(); ++o)
     if (s.objects[o].occluder) {
       ++occluders;
-      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZFail) << d.reasons[o];
+      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZFail) << d.reason(o);
     }
   EXPECT_GT(occluders, 0u);
   p.light_projection = gl::LightProjection::ClippedSides;
@@ -442,7 +442,7 @@ TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   EXPECT_EQ(d.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
   for (std::size_t o = 0; o < s.objects.size(); ++o)
     if (s.objects[o].occluder) {
-      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZPPlusCorrected) << d.reasons[o];
+      EXPECT_EQ(d.object_methods[o], gl::ShadowMethod::ZPPlusCorrected) << d.reason(o);
     }
   const PixelReference ref = compute_pixel_reference(cs, 0);
   const CrackReport zfail = judge_frame(gl::render_shadow_frame(s, 0, gl::ShadowMethod::ZFail), ref);

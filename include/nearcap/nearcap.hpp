@@ -125,7 +125,7 @@ std::vector<JudgedFrame> judged_frames(const Scene& scene, const std::vector<Sha
 using analysis::load_policy;
 
 // The policy's decision for settings.light (settings.method is not used):
-// a method per occluder and why (PolicyDecision::object_methods, reasons),
+// a method per occluder and why (PolicyDecision::object_methods, reason),
 // and the emulation settings its frame is drawn with, built from `settings`
 // with the changes the policy makes (its switch clamp, Z-pass far plane,
 // depth format, ...).  analysis::decide on the scene made exact.  Throws

@@ -1,9 +1,10 @@
 // printf's "%.4g" of a double, appended to a string: the number format of the
-// switch policy's reasons, which are written on every decision.
+// switch policy's reasons (PolicyDecision::reason), which a renderer formats
+// for every frame it records.
 //
 // snprintf and std::to_chars(general, 4) both reach tables and code that a
-// renderer's frame has evicted by its next decision (measured on llvmpipe:
-// about half of the reasons' time, cold).  The common case (a positive
+// renderer's frame has evicted by the next (measured on llvmpipe: about half
+// of the reasons' time, cold).  The common case (a positive
 // number between 1e-20 and 1e20, not within rounding of a decimal tie or a
 // power of ten) is formatted here from the four-digit integer nearest to
 // v * 10^(3 - X), X its decimal exponent; every other value, and any whose

@@ -180,7 +180,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     d.depth_note = note;
   }
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
-  d.reasons.assign(scene.objects.size(), "");
+  d.step_reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;
   if (policy.exact_zpass && d.settings.near_plane == gl::NearPlane::Tight)
     throw Error(ErrorKind::Usage,
@@ -198,7 +198,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     for (std::size_t o = 0; o < scene.objects.size(); ++o)
       if (scene.objects[o].occluder) {
         d.object_methods[o] = policy.capped_method;
-        d.reasons[o] = "every occluder (no exact Z-pass test)";
+        d.step_reasons[o] = "every occluder (no exact Z-pass test)";
       }
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return d;
@@ -216,12 +216,12 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     if (!scene.objects[o].occluder) continue;
     if (degenerate && frustum_free) {
       d.object_methods[o] = policy.capped_method;
-      d.reasons[o] = "the light lies in the near plane: the clipped-sides near-cap needs no light frustum";
+      d.step_reasons[o] = "the light lies in the near plane: the clipped-sides near-cap needs no light frustum";
     } else if (degenerate) {
       d.object_methods[o] = policy.fallback_method;
-      d.reasons[o] = "the light lies in the near plane: no light frustum";
+      d.step_reasons[o] = "the light lies in the near plane: no light frustum";
     } else if (!meets[o]) {
-      d.reasons[o] = "exact: meets no point of the light pyramid (empty near-cap)";
+      d.step_reasons[o] = "exact: meets no point of the light pyramid (empty near-cap)";
     } else {
       any_capped = true;
     }
@@ -262,7 +262,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     for (std::size_t o = 0; o < scene.objects.size(); ++o)
       if (scene.objects[o].occluder && !degenerate && meets[o]) {
         d.object_methods[o] = chosen;
-        d.reasons[o] = why;
+        d.step_reasons[o] = why;
       }
   }
   d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -406,19 +406,17 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability, paper_why);
   if (light_on_near_plane) paper_why = "the light lies in the near plane: no light frustum";
 
-  struct Occluder {
-    std::size_t object = 0;
+  // zpass_ok: the near-cap is empty (certainly, or by the exact test);
+  // atomiczp_ok: atomiczp_admitted.
+  struct Occluder : OccluderPrices {
     OccluderWorkInputs in;
-    double zfail_ms = 0, clipped_ms = 0, paper_ms = kNaN, zpass_ms = 0, atomiczp_ms = kNaN;
-    bool zpass_ok = false;     // the near-cap is empty (certainly, or by the exact test)
-    bool atomiczp_ok = false;  // atomiczp_admitted
-    std::string zpass_why, atomiczp_why;
   };
   std::vector<Occluder> occluders;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     if (!scene.objects[o].occluder) continue;
     Occluder oc;
     oc.object = o;
+    oc.paper_ms = oc.atomiczp_ms = kNaN;
     // The cull decides Z-pass only where the policy may pick it.
     oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
@@ -448,12 +446,12 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   for (std::size_t i = 0; i < occluders.size(); ++i) {
     Occluder& oc = occluders[i];
     if (!policy.exact_zpass) {
-      oc.zpass_why = "the policy has no exact Z-pass test";
+      oc.zpass_verdict = ZPassVerdict::NoExactTest;
     } else if (light_on_near_plane) {
-      oc.zpass_why = "the light lies in the near plane";
+      oc.zpass_verdict = ZPassVerdict::LightOnNearPlane;
     } else if (oc.in.certainly_misses_light_pyramid) {
       oc.zpass_ok = true;
-      oc.zpass_why = "certainly misses the light pyramid (empty near-cap)";
+      oc.zpass_verdict = ZPassVerdict::CertainlyMisses;
     } else {
       untested[i] = any_untested = true;
     }
@@ -465,20 +463,23 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   // Each with and without AtomicZP's eye-count pass (its intercept paid
   // once per frame) where some occluder admits it.
   struct Option {
-    std::string name;
+    std::string_view name;
     gl::LightProjection projection;
     bool clipped = false, paper = false, eye_count = false;
   };
   std::vector<Option> options{{"no near-cap", policy.light_projection, false, false},
                               {"clipped-sides cap", gl::LightProjection::ClippedSides, true, false}};
   if (paper_ok) options.push_back({"paper cap", policy.light_projection, false, true});
-  if (any_atomiczp)
+  if (any_atomiczp) {
+    static constexpr std::array<std::string_view, 3> with_eye_count{
+        "no near-cap + eye count", "clipped-sides cap + eye count", "paper cap + eye count"};
     for (std::size_t k = 0, n = options.size(); k < n; ++k) {
       Option o = options[k];
-      o.name += " + eye count";
+      o.name = with_eye_count[k];
       o.eye_count = true;
-      options.push_back(std::move(o));
+      options.push_back(o);
     }
+  }
   const double viewport_pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
   const FrameWork shared = shared_frame_work(scene);
   struct Frame {
@@ -488,7 +489,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     gl::LightProjection projection = gl::LightProjection::Paper;
   };
   auto best_frame = [&](const std::vector<bool>& zpass_allowed, const FrameWork& extra,
-                        std::vector<std::pair<std::string, double>>* log) {
+                        std::vector<std::pair<std::string_view, double>>* log) {
     Frame best;
     for (const Option& option : options) {
       Frame f;
@@ -543,17 +544,17 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         if (!untested[i]) continue;
         Occluder& oc = occluders[i];
         oc.zpass_ok = allowed[i] = !meets[oc.object];
-        oc.zpass_why = (oc.zpass_ok ? "exact: meets no point of the light pyramid (empty near-cap)"
-                                    : "meets the light pyramid (exact test)") +
-                       std::string("; the frame's test ") + ms_text(test_ms) + " ms";
+        oc.zpass_verdict = oc.zpass_ok ? ZPassVerdict::ExactEmpty : ZPassVerdict::ExactMeets;
+        oc.exact_test_ms = test_ms;
       }
       d.predicted_options.clear();
       chosen = best_frame(allowed, test_work, &d.predicted_options);
     } else {
       for (std::size_t i = 0; i < occluders.size(); ++i)
-        if (untested[i])
-          occluders[i].zpass_why =
-              "exact test not run (its predicted cost, " + ms_text(test_ms) + " ms for the frame, above the saving)";
+        if (untested[i]) {
+          occluders[i].zpass_verdict = ZPassVerdict::TestNotRun;
+          occluders[i].exact_test_ms = test_ms;
+        }
     }
   }
   const double best_total = chosen.ms;
@@ -561,43 +562,87 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   d.predicted_work = chosen.work;
   d.settings.light_frustum.projection = chosen.projection;
   d.predicted_ms = best_total;
-  const std::string clipped_name = clipped.name() + " ", paper_name = ", " + paper.name() + " ";
-  const std::string paper_not = "not a candidate (" + paper_why + ")";
+  FramePrices prices;
+  prices.paper = paper;
+  prices.paper_ok = paper_ok;
+  if (!paper_ok) prices.paper_why = std::move(paper_why);
+  prices.atomiczp_priced = atomiczp_priced;
+  prices.occluders.reserve(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) {
-    const Occluder& oc = occluders[k];
-    const CandidateMethod& c = best_choice[k];
-    d.object_methods[oc.object] = c.method;
-    std::string& why = d.reasons[oc.object];
-    why.reserve(160 + paper_not.size() + oc.zpass_why.size());
-    why = "cost: ";
-    why += c.name();
-    why += "; predicted ms: zfail ";
-    append_ms(why, oc.zfail_ms);
-    why += ", ";
-    why += clipped_name;
-    append_ms(why, oc.clipped_ms);
-    why += paper_name;
-    if (paper_ok)
-      append_ms(why, oc.paper_ms);
-    else
-      why += paper_not;
-    // A candidate that may not apply: its ms or "not a candidate", then why.
-    auto append_candidate = [&why](const char* name, bool ok, double ms, const std::string& reason) {
-      why += name;
-      if (ok)
-        append_ms(why, ms);
-      else
-        why += "not a candidate";
-      why += " (";
-      why += reason;
-      why += ")";
-    };
-    append_candidate(", zpass ", oc.zpass_ok, oc.zpass_ms, oc.zpass_why);
-    if (atomiczp_priced) append_candidate(", atomiczp ", oc.atomiczp_ok, oc.atomiczp_ms, oc.atomiczp_why);
+    Occluder& oc = occluders[k];
+    d.object_methods[oc.object] = best_choice[k].method;
+    oc.chosen = best_choice[k];
+    prices.occluders.push_back(std::move(static_cast<OccluderPrices&>(oc)));
   }
+  d.prices = std::move(prices);
   return d;
 }
 
+std::string zpass_reason(const OccluderPrices& p) {
+  switch (p.zpass_verdict) {
+    case ZPassVerdict::NoExactTest:
+      return "the policy has no exact Z-pass test";
+    case ZPassVerdict::LightOnNearPlane:
+      return "the light lies in the near plane";
+    case ZPassVerdict::CertainlyMisses:
+      return "certainly misses the light pyramid (empty near-cap)";
+    case ZPassVerdict::ExactEmpty:
+      return "exact: meets no point of the light pyramid (empty near-cap); the frame's test " +
+             ms_text(p.exact_test_ms) + " ms";
+    case ZPassVerdict::ExactMeets:
+      return "meets the light pyramid (exact test); the frame's test " + ms_text(p.exact_test_ms) + " ms";
+    case ZPassVerdict::TestNotRun:
+      return "exact test not run (its predicted cost, " + ms_text(p.exact_test_ms) +
+             " ms for the frame, above the saving)";
+  }
+  return "";
+}
+
+// The cost decision's reason for one occluder: the chosen candidate, then
+// every candidate's predicted ms or why it is not one.
+std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
+  const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};
+  std::string why = "cost: ";
+  why += p.chosen.name();
+  why += "; predicted ms: zfail ";
+  append_ms(why, p.zfail_ms);
+  why += ", ";
+  why += clipped.name();
+  why += " ";
+  append_ms(why, p.clipped_ms);
+  why += ", ";
+  why += f.paper.name();
+  why += " ";
+  if (f.paper_ok) {
+    append_ms(why, p.paper_ms);
+  } else {
+    why += "not a candidate (";
+    why += f.paper_why;
+    why += ")";
+  }
+  // A candidate that may not apply: its ms or "not a candidate", then why.
+  auto append_candidate = [&why](const char* name, bool ok, double ms, const std::string& reason) {
+    why += name;
+    if (ok)
+      append_ms(why, ms);
+    else
+      why += "not a candidate";
+    why += " (";
+    why += reason;
+    why += ")";
+  };
+  append_candidate(", zpass ", p.zpass_ok, p.zpass_ms, zpass_reason(p));
+  if (f.atomiczp_priced) append_candidate(", atomiczp ", p.atomiczp_ok, p.atomiczp_ms, p.atomiczp_why);
+  return why;
+}
+
 }  // namespace
+
+std::string PolicyDecision::reason(std::size_t object) const {
+  if (prices)
+    for (const OccluderPrices& p : prices->occluders)
+      if (p.object == object) return cost_reason(*prices, p);
+  return object < step_reasons.size() ? step_reasons[object] : std::string();
+}
 
 }  // namespace nearcap::analysis

@@ -428,7 +428,7 @@ nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyD
   for (std::size_t o = 0; o < scene.objects.size(); ++o)
     if (scene.objects[o].occluder)
       occluders.push_back(
-          {{"object", o}, {"method", std::string(to_string(d.object_methods[o]))}, {"why", d.reasons[o]}});
+          {{"object", o}, {"method", std::string(to_string(d.object_methods[o]))}, {"why", d.reason(o)}});
   return occluders;
 }
 

@@ -60,6 +60,7 @@
 
 #include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/scene/scene.hpp"
@@ -154,12 +155,51 @@ std::string policy_to_json(const SwitchPolicy& policy);
 DeviceProfile parse_device_profile(const std::string& text, const std::string& source);
 std::string device_profile_to_json(const DeviceProfile& profile);
 
+// Why the cost decision may or may not draw an occluder with Z-pass.
+enum class ZPassVerdict {
+  NoExactTest,       // the policy has no exact Z-pass test
+  LightOnNearPlane,  // the light lies in the near plane
+  CertainlyMisses,   // the float light-pyramid cull: certainly an empty near-cap
+  ExactEmpty,        // the exact test ran: an empty near-cap
+  ExactMeets,        // the exact test ran: it meets the light pyramid
+  TestNotRun,        // the exact test's predicted cost is above its saving
+};
+
+// The cost decision's prices of one occluder's candidates (ms, the device
+// profile's, before drawing; NaN where a candidate is not priced), which
+// PolicyDecision::reason formats.
+struct OccluderPrices {
+  std::size_t object = 0;
+  CandidateMethod chosen;
+  double zfail_ms = 0, clipped_ms = 0, paper_ms = 0, zpass_ms = 0, atomiczp_ms = 0;
+  bool zpass_ok = false, atomiczp_ok = false;
+  ZPassVerdict zpass_verdict = ZPassVerdict::NoExactTest;
+  double exact_test_ms = 0;  // the frame's exact test (ExactEmpty, ExactMeets, TestNotRun)
+  std::string atomiczp_why;  // where the profile prices AtomicZP: why it is or is not a candidate
+};
+
+// The cost decision's prices of a frame: every occluder's, and the paper
+// cap's admission, shared by its occluders.
+struct FramePrices {
+  std::vector<OccluderPrices> occluders;
+  CandidateMethod paper;  // the policy's capped method with the paper's cap
+  bool paper_ok = false;
+  std::string paper_why;  // why not, where !paper_ok
+  bool atomiczp_priced = false;
+};
+
 // The policy's choice for one (scene, light).
 struct PolicyDecision {
   std::vector<gl::ShadowMethod> object_methods;  // one per scene object (receivers: Z-pass, unused)
-  std::vector<std::string> reasons;              // per object, why ("" for receivers)
-  double crack_probability = 0;                  // the model's, NaN when not asked
-  double decide_ms = 0;                          // the decision's own time
+  // Per object, why ("" for receivers). Formatted when asked: a frame loop
+  // that decides every frame reads only the methods.
+  std::string reason(std::size_t object) const;
+  // What reason() formats: without a device profile, the steps' text per
+  // object; with one, the prices.
+  std::vector<std::string> step_reasons;
+  std::optional<FramePrices> prices;
+  double crack_probability = 0;  // the model's, NaN when not asked
+  double decide_ms = 0;          // the decision's own time
   // The frame's depth step at its farthest point over the scene's size, for
   // the settings below, or a bound of it where the bound is below
   // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
@@ -180,7 +220,7 @@ struct PolicyDecision {
   // its predicted ms; NaN, zero and empty without a profile.
   double predicted_ms = std::numeric_limits<double>::quiet_NaN();
   FrameWork predicted_work;
-  std::vector<std::pair<std::string, double>> predicted_options;
+  std::vector<std::pair<std::string_view, double>> predicted_options;  // names: static text
 };
 // Without a device profile, the steps in this header's opening comment.
 // With one (the cost decision), every candidate right wherever Z-fail is
