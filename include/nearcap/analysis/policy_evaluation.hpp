@@ -110,7 +110,11 @@ struct EvaluationRow {
   // of three such calls, against a preemption).  decision_ms is the
   // first call, made after the exact reference and the other rules'
   // decisions of the (configuration, light) evicted them: cold.  Neither
-  // counts the other; cpu_ms and end_to_end_ms hold decision_ms.
+  // counts the other; cpu_ms and end_to_end_ms hold decision_ms.  Both
+  // include building the exact camera-space scene the decision reads
+  // (CameraSpaceScene), timed once per configuration, as `nearcap render`
+  // counts it in its decision_ms: a frame loop whose camera moves builds it
+  // every frame.
   std::optional<double> decision_warm_ms;
   std::string chosen;  // oracle rows: the candidate it is; the policy's: its occluders' methods, "+"-joined
 };
