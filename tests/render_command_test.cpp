@@ -277,6 +277,14 @@ TEST(RenderCommand, BenchTimesTheCpuWorkAndTheFrameEndToEnd) {
       }
     }
     EXPECT_LE(sum, cpu_ms * (1 + 1e-12)) << name << ": " << work;
+    // The policy's mean decision: its one frame's.
+    if (name == "policy") {
+      const double decision = work["lights"][0]["decision_ms"].get<double>();
+      ASSERT_GT(decision, 0.0);
+      EXPECT_DOUBLE_EQ(m.at("mean_decision_ms").get<double>(), decision);
+    } else {
+      EXPECT_FALSE(m.contains("mean_decision_ms")) << name;
+    }
   }
   std::filesystem::remove_all(dir);
 }

@@ -263,6 +263,7 @@ void run_lit(const RenderOptions& o) {
   std::vector<std::vector<LitFrameRecord>> per_method(methods.count());
   std::vector<double> total_ms(methods.count(), 0);
   std::vector<double> cpu_total_ms(methods.count(), 0), end_to_end_total_ms(methods.count(), 0);  // with --bench
+  std::vector<double> decision_total_ms(methods.count(), 0);  // the policy's decisions, with --bench
   std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
   std::vector<std::size_t> light_index;  // the scene lights drawn (the same in every frame)
@@ -345,6 +346,7 @@ void run_lit(const RenderOptions& o) {
       total_ms[m] += mf.ms;
       cpu_total_ms[m] += mf.cpu_ms();
       end_to_end_total_ms[m] += mf.end_to_end_ms();
+      for (const LightCpu& l : mf.cpu) decision_total_ms[m] += l.decision_ms;
     }
     if (scenes.count() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.count());
     progress.open = scenes.count() > 1;
@@ -378,6 +380,8 @@ void run_lit(const RenderOptions& o) {
       r["mean_ms"] = total_ms[m] / static_cast<double>(per_method[m].size());
       if (o.bench) {
         r["mean_cpu_ms"] = cpu_total_ms[m] / static_cast<double>(per_method[m].size());
+        if (decision_total_ms[m] > 0)
+          r["mean_decision_ms"] = decision_total_ms[m] / static_cast<double>(per_method[m].size());
         r["mean_end_to_end_ms"] = end_to_end_total_ms[m] / static_cast<double>(per_method[m].size());
       }
       if (o.path.empty()) {
@@ -431,6 +435,9 @@ void run_lit(const RenderOptions& o) {
         if (pass_totals[m].eye_count_ms > 0)
           std::printf("  eye count %.2f ms (of the stencil)", pass_totals[m].eye_count_ms / n);
         std::printf("  cpu %.2f ms, end to end %.2f ms", cpu_total_ms[m] / n, end_to_end_total_ms[m] / n);
+        if (decision_total_ms[m] > 0)
+          std::printf("  (the decision %.3f ms, %.2f%% of end to end)", decision_total_ms[m] / n,
+                      100 * decision_total_ms[m] / end_to_end_total_ms[m]);
       }
       std::printf("\n");
     }
