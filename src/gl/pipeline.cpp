@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -30,6 +31,27 @@ std::uint8_t apply(StencilOp op, std::uint8_t s) {
 
 bool culled(CullFace cull, bool front) {
   return (cull == CullFace::Back && !front) || (cull == CullFace::Front && front);
+}
+
+// A draw's working buffers: the set-up triangles, their bins, one clipped
+// polygon and its window vertices.  Each thread keeps the last draw's for its
+// next one, so that a frame's draws of a large mesh reuse memory instead of
+// allocating (and faulting in) buffers of its size every time.  A draw takes
+// the thread's buffers out and puts them back when done: a draw nested in it
+// (TBB running another task on this thread while the bands are drawn) finds
+// none and makes its own.
+struct DrawBuffers {
+  std::vector<std::array<WindowVertex, 3>> triangles;
+  std::vector<std::vector<std::uint32_t>> binned;
+  std::vector<Vec4f> polygon;
+  std::vector<WindowVertex> window;
+};
+thread_local std::unique_ptr<DrawBuffers> spare_draw_buffers;
+
+std::unique_ptr<DrawBuffers> take_draw_buffers() {
+  std::unique_ptr<DrawBuffers> b = std::move(spare_draw_buffers);
+  if (!b) b = std::make_unique<DrawBuffers>();
+  return b;
 }
 
 }  // namespace
@@ -117,17 +139,20 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).
   const float max_window = static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits));
+  std::unique_ptr<DrawBuffers> buffers = take_draw_buffers();
   // Vertex post-processing and setup, in submission order.
-  std::vector<std::array<WindowVertex, 3>> triangles;
+  std::vector<std::array<WindowVertex, 3>>& triangles = buffers->triangles;
+  std::vector<Vec4f>& polygon = buffers->polygon;
+  std::vector<WindowVertex>& window = buffers->window;
+  triangles.clear();
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
     ++counters.triangles;
-    const std::vector<Vec4f> polygon =
-        clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip);
+    clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip, polygon);
     if (polygon.empty()) {
       ++counters.clipped;
       continue;
     }
-    std::vector<WindowVertex> window(polygon.size());
+    window.resize(polygon.size());
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       // A vertex of the input triangle comes back from the clipper unchanged
       // (bit for bit); any other is one it made.
@@ -178,7 +203,9 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
   // from the float y extent, widened by a pixel), keeping submission order.
-  std::vector<std::vector<std::uint32_t>> binned(static_cast<std::size_t>(bands));
+  std::vector<std::vector<std::uint32_t>>& binned = buffers->binned;
+  binned.resize(static_cast<std::size_t>(bands));
+  for (std::vector<std::uint32_t>& bin : binned) bin.clear();
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
     const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
@@ -245,6 +272,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   counters.fragments = counts[0];
   counters.depth_passed = counts[1];
   counters.bounds_culled = counts[2];
+  spare_draw_buffers = std::move(buffers);
   return counters;
 }
 
