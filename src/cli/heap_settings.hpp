@@ -3,7 +3,8 @@
 
 namespace nearcap::cli {
 
-// Keep freed memory in the process for the next allocation of its size.
+// Keep freed memory in the process for the next allocation of its size;
+// `nearcap sweep` calls it before its first configuration.
 //
 // A sweep allocates and frees buffers of megabytes for every draw and frame
 // (a mesh's clip-space vertices and set-up triangles, the exact reference's

@@ -12,7 +12,6 @@
 #include <string>
 
 #include "cli_commands.hpp"
-#include "heap_settings.hpp"
 #include "mpi_world.hpp"
 #include "nearcap/error.hpp"
 
@@ -32,7 +31,6 @@ int usage_error(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  nearcap::cli::keep_freed_memory();
   nearcap::cli::MpiWorld world(&argc, &argv);
   // Under MPI: a failure once the ranks work apart ends them all; before,
   // every rank meets the same error and rank 0 alone reports it.

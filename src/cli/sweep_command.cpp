@@ -47,6 +47,7 @@
 #include <sstream>
 
 #include "cli_commands.hpp"
+#include "heap_settings.hpp"
 #include "mpi_world.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
@@ -456,6 +457,7 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
 }
 
 void run_sweep(const SweepCommandOptions& o) {
+  keep_freed_memory();  // a sweep's frames allocate and free the same large buffers over and over
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   if (o.repair && !o.resume) throw Error(ErrorKind::Usage, "--repair mends a sweep being resumed: give --resume too");
