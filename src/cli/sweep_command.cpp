@@ -117,9 +117,10 @@ struct SweepCommandOptions {
 // The configurations in their fixed order, made on demand.
 class Configurations {
  public:
-  explicit Configurations(const SweepCommandOptions& o) : options_(o) {
+  // `meshes`: the sweep's, so that reading a path's base scene reads its meshes for the frames.
+  Configurations(const SweepCommandOptions& o, MeshCache* meshes) : options_(o) {
     for (const std::string& file : o.paths) {
-      analysis::CameraPath path = analysis::load_camera_path(file);
+      analysis::CameraPath path = analysis::load_camera_path(file, meshes);
       if (o.width > 0) path.width = o.width;
       if (o.height > 0) path.height = o.height;
       paths_.push_back(std::move(path));
@@ -496,7 +497,7 @@ void run_sweep(const SweepCommandOptions& o) {
   options.meshes = &meshes;
   LightSetupCache light_setups;
   options.light_setups = &light_setups;
-  const Configurations configurations(o);
+  const Configurations configurations(o, &meshes);
   const std::uint64_t total = configurations.count();
   MpiWorld* const world_ptr = mpi_world();  // made by main
   NEARCAP_CHECK(world_ptr != nullptr);
