@@ -27,7 +27,7 @@ Vec3d lerp(const Vec3d& a, const Vec3d& b, double t) {
 
 }  // namespace
 
-CameraPath load_camera_path(const std::string& file) {
+CameraPath load_camera_path(const std::string& file, MeshCache* meshes) {
   CameraPath p;
   p.source = file;
   const io::JsonDocument doc = io::JsonDocument::parse(io::read_input_file(file, "camera path file"), file);
@@ -45,7 +45,7 @@ CameraPath load_camera_path(const std::string& file) {
   // The base scene: it must load; its camera gives the defaults.
   Json base;
   try {
-    (void)load_scene(p.scene_file);
+    (void)load_scene(p.scene_file, meshes);
     base = Json::parse(io::read_input_file(p.scene_file, "scene file"));
   } catch (const Error& e) {
     throw Error(e.kind(), file + ": scene: " + e.what());

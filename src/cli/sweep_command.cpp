@@ -47,6 +47,7 @@
 #include <sstream>
 
 #include "cli_commands.hpp"
+#include "heap_settings.hpp"
 #include "mpi_world.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
@@ -116,9 +117,10 @@ struct SweepCommandOptions {
 // The configurations in their fixed order, made on demand.
 class Configurations {
  public:
-  explicit Configurations(const SweepCommandOptions& o) : options_(o) {
+  // `meshes`: the sweep's, so that reading a path's base scene reads its meshes for the frames.
+  Configurations(const SweepCommandOptions& o, MeshCache* meshes) : options_(o) {
     for (const std::string& file : o.paths) {
-      analysis::CameraPath path = analysis::load_camera_path(file);
+      analysis::CameraPath path = analysis::load_camera_path(file, meshes);
       if (o.width > 0) path.width = o.width;
       if (o.height > 0) path.height = o.height;
       paths_.push_back(std::move(path));
@@ -456,6 +458,7 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
 }
 
 void run_sweep(const SweepCommandOptions& o) {
+  keep_freed_memory();  // a sweep's frames allocate and free the same large buffers over and over
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   if (o.repair && !o.resume) throw Error(ErrorKind::Usage, "--repair mends a sweep being resumed: give --resume too");
@@ -494,7 +497,7 @@ void run_sweep(const SweepCommandOptions& o) {
   options.meshes = &meshes;
   LightSetupCache light_setups;
   options.light_setups = &light_setups;
-  const Configurations configurations(o);
+  const Configurations configurations(o, &meshes);
   const std::uint64_t total = configurations.count();
   MpiWorld* const world_ptr = mpi_world();  // made by main
   NEARCAP_CHECK(world_ptr != nullptr);

@@ -92,6 +92,14 @@ std::vector<ClipVertex> clip_against(const std::vector<ClipVertex>& poly, Plane 
 }  // namespace
 
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings) {
+  std::vector<Vec4f> polygon;
+  clip_triangle(a, b, c, settings, polygon);
+  return polygon;
+}
+
+void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings,
+                   std::vector<Vec4f>& polygon) {
+  polygon.clear();
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
   // Mesa with one depth side clamped through GL_DEPTH_CLAMP and a
@@ -124,10 +132,13 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
     const float da = distance(a, planes[k], settings.guard_band, settings.w_min, m),
                 db = distance(b, planes[k], settings.guard_band, settings.w_min, m),
                 dc = distance(c, planes[k], settings.guard_band, settings.w_min, m);
-    if (da < 0 && db < 0 && dc < 0) return {};
+    if (da < 0 && db < 0 && dc < 0) return;
     all_inside = all_inside && da >= 0 && db >= 0 && dc >= 0;
   }
-  if (all_inside) return {a, b, c};
+  if (all_inside) {
+    polygon.insert(polygon.end(), {a, b, c});
+    return;
+  }
   std::vector<ClipVertex> poly{{a}, {b}, {c}};
   if (carried) {
     const Plane p = planes[count - 1];
@@ -144,11 +155,9 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
     }
     poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping, nullptr,
                         settings.mesa, carried && k + 1 == count);
-    if (poly.size() < 3) return {};
+    if (poly.size() < 3) return;
   }
-  std::vector<Vec4f> out(poly.size());
-  for (std::size_t k = 0; k < poly.size(); ++k) out[k] = poly[k].p;
-  return out;
+  for (const ClipVertex& v : poly) polygon.push_back(v.p);
 }
 
 namespace {

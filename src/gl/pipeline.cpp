@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -31,6 +32,30 @@ std::uint8_t apply(StencilOp op, std::uint8_t s) {
 bool culled(CullFace cull, bool front) {
   return (cull == CullFace::Back && !front) || (cull == CullFace::Front && front);
 }
+
+// A draw's large working buffers (its set-up triangles, their bins by
+// band): each thread keeps the last draw's for its next one, so that a
+// frame's draws of a large mesh reuse memory instead of allocating (and
+// faulting in) buffers of its size every time.  A draw takes the thread's
+// buffer out and gives it back when done: a draw nested in it (TBB running
+// another task on this thread while the bands are drawn) finds none and
+// makes its own.
+template <class Buffer>
+std::unique_ptr<Buffer>& spare_buffer() {
+  thread_local std::unique_ptr<Buffer> spare;
+  return spare;
+}
+template <class Buffer>
+std::unique_ptr<Buffer> take_buffer() {
+  std::unique_ptr<Buffer> b = std::move(spare_buffer<Buffer>());
+  if (!b) b = std::make_unique<Buffer>();
+  return b;
+}
+template <class Buffer>
+void give_back(std::unique_ptr<Buffer> b) {
+  spare_buffer<Buffer>() = std::move(b);
+}
+using Bins = std::vector<std::vector<std::uint32_t>>;
 
 }  // namespace
 
@@ -100,9 +125,30 @@ WindowVertex to_window(const Vec4f& c, int width, int height, ViewportArithmetic
   return {std::fma(x, half_w, half_w), std::fma(y, half_h, half_h), standard ? std::fma(z, 0.5f, 0.5f) : z};
 }
 
+bool same_setup(const DrawState& a, const DrawState& b) {
+  return a.cull == b.cull && a.depth_mapping == b.depth_mapping && a.depth_clamp_near == b.depth_clamp_near &&
+         a.depth_clamp_far == b.depth_clamp_far && a.clip_far == b.clip_far &&
+         a.vertices_on_near_plane == b.vertices_on_near_plane && a.far_first == b.far_first &&
+         a.vertices_on_far_plane == b.vertices_on_far_plane;
+}
+
 DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state,
                                const RasterSettings& raster) {
-  DrawCounters counters;
+  std::unique_ptr<SetUpTriangles> triangles = take_buffer<SetUpTriangles>();
+  set_up(clip_vertices, state, raster, *triangles);
+  DrawCounters counters = triangles->counters;
+  const DrawCounters fragments = rasterize(*triangles, state, raster);
+  counters.fragments = fragments.fragments;
+  counters.depth_passed = fragments.depth_passed;
+  counters.bounds_culled = fragments.bounds_culled;
+  give_back(std::move(triangles));
+  return counters;
+}
+
+void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
+                         SetUpTriangles& out) const {
+  DrawCounters& counters = out.counters;
+  counters = {};
   ClipSettings clip;
   clip.clip_near = !state.depth_clamp_near;
   clip.clip_far = state.clip_far && !state.depth_clamp_far && !state.vertices_on_far_plane;
@@ -118,16 +164,18 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   // snapping holds up to 2^(30 - bits).
   const float max_window = static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits));
   // Vertex post-processing and setup, in submission order.
-  std::vector<std::array<WindowVertex, 3>> triangles;
+  std::vector<std::array<WindowVertex, 3>>& triangles = out.triangles;
+  std::vector<Vec4f> polygon;
+  std::vector<WindowVertex> window;
+  triangles.clear();
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
     ++counters.triangles;
-    const std::vector<Vec4f> polygon =
-        clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip);
+    clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip, polygon);
     if (polygon.empty()) {
       ++counters.clipped;
       continue;
     }
-    std::vector<WindowVertex> window(polygon.size());
+    window.resize(polygon.size());
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       // A vertex of the input triangle comes back from the clipper unchanged
       // (bit for bit); any other is one it made.
@@ -167,6 +215,12 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
     }
   }
   counters.rasterized = triangles.size();
+}
+
+DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawState& state,
+                                    const RasterSettings& raster) {
+  const std::vector<std::array<WindowVertex, 3>>& triangles = prepared.triangles;
+  DrawCounters counters;
   // Fragments: horizontal bands in parallel, each band seeing every triangle
   // in submission order, so every pixel gets its fragments in GL's order and
   // the result does not depend on the number of threads.
@@ -178,7 +232,10 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
   // from the float y extent, widened by a pixel), keeping submission order.
-  std::vector<std::vector<std::uint32_t>> binned(static_cast<std::size_t>(bands));
+  std::unique_ptr<Bins> bins = take_buffer<Bins>();
+  Bins& binned = *bins;
+  binned.resize(static_cast<std::size_t>(bands));
+  for (std::vector<std::uint32_t>& bin : binned) bin.clear();
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
     const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
@@ -245,6 +302,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   counters.fragments = counts[0];
   counters.depth_passed = counts[1];
   counters.bounds_culled = counts[2];
+  give_back(std::move(bins));
   return counters;
 }
 

@@ -20,6 +20,7 @@
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/gl/volume_bounds.hpp"
 #include "shadow_draw_setup.hpp"
+#include "shared_draws.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -51,6 +52,7 @@ struct ShadowFrameBatch::SharedWork {
   double light_frustum_ms = 0;
   double silhouette_ms = 0;                  // computing silhouettes and geometry, once
   std::vector<double> object_silhouette_ms;  // the same, per scene object
+  SharedDraws draws;                         // the near-cap and volume draws' vertices and setups
 };
 
 namespace {
@@ -152,6 +154,7 @@ class FrameRenderer {
     frame.times.depth_ms = depth->ms;
 
     auto t = Clock::now();
+    reused_ms_ = 0;
     // AtomicZP's per-frame pass: the eye count over its occluders, the
     // stencil cleared to it (timed as the frame's cap pass: it stands where
     // ZP+'s near-cap pass stands).  It comes first, as glClearStencil does,
@@ -173,9 +176,10 @@ class FrameRenderer {
       frame.near_cap = fb_.stencil();
       for (std::uint8_t& v : frame.near_cap) v = static_cast<std::uint8_t>(v - eye_clear);
     }
-    frame.times.cap_ms = ms_since(t);
+    frame.times.cap_ms = ms_since(t) + reused_ms_;
 
     t = Clock::now();
+    reused_ms_ = 0;
     const ShadowPlan& zfail = shadow_plan(ShadowMethod::ZFail, settings_.light_frustum.projection);
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
@@ -204,7 +208,7 @@ class FrameRenderer {
              keep ? &boundary : nullptr);
       }
     }
-    frame.times.volume_ms = ms_since(t);
+    frame.times.volume_ms = ms_since(t) + reused_ms_;
     frame.stencil = fb_.stencil();
     frame.object = fb_.objects();
     return frame;
@@ -299,12 +303,12 @@ class FrameRenderer {
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
-      std::vector<Vec4f> clip = run_program(shared_.vertices[o], obj.uniforms, VertexProgram::NearCap);
-      frame.cap_pass += fb_.draw(clip, bounded(oriented(s, obj.mirrored), obj), settings_.raster);
+      const DrawState state = bounded(oriented(s, obj.mirrored), obj);
+      frame.cap_pass += shared_draw(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms, state);
       if (settings_.record_draws)
-        frame.draws.push_back(program_draw(DrawPass::NearCap, std::move(clip), bounded(oriented(s, obj.mirrored), obj),
-                                           VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o],
-                                           obj.uniforms));
+        frame.draws.push_back(program_draw(
+            DrawPass::NearCap, shared_.draws.run(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms).clip, state,
+            VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o], obj.uniforms));
     }
   }
 
@@ -421,13 +425,27 @@ class FrameRenderer {
                                                 : part == GeometryPart::Corrective ? g.corrective
                                                 : part == GeometryPart::LightCap   ? g.light_cap
                                                                                    : g.dark_cap;
-    std::vector<Vec4f> clip = run_program(vertices, obj.uniforms, program);
     const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
-    frame.volume_pass += fb_.draw(clip, state, settings_.raster);
+    frame.volume_pass += shared_draw(vertices, program, obj.uniforms, state);
+    if (!keep && !settings_.record_draws) return;
+    const std::vector<Vec4f>& clip = shared_.draws.run(vertices, program, obj.uniforms).clip;
     if (keep) keep->insert(keep->end(), clip.begin(), clip.end());
     if (settings_.record_draws)
-      frame.draws.push_back(
-          program_draw(DrawPass::Volume, std::move(clip), state, program, part, vertices, obj.uniforms));
+      frame.draws.push_back(program_draw(DrawPass::Volume, clip, state, program, part, vertices, obj.uniforms));
+  }
+
+  // A draw of `program` on `inputs` through the batch's shared work: the
+  // first method that draws them computes the clip-space vertices and their
+  // setup, a later one with the same uniforms and same_setup state only
+  // rasterizes them, and is charged the time they took (reused_ms_), so that
+  // each method's times stay what drawing its frame alone takes.
+  DrawCounters shared_draw(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& u,
+                           const DrawState& state) {
+    const SharedDraws::SetUp set_up = shared_.draws.set_up(inputs, program, u, fb_, state, settings_.raster);
+    reused_ms_ += set_up.reused_ms;
+    DrawCounters counters = set_up.triangles.counters;
+    counters += fb_.rasterize(set_up.triangles, state, settings_.raster);
+    return counters;
   }
 
   // Volume culling: the occluder's scissor and depth bounds on a state of
@@ -463,6 +481,7 @@ class FrameRenderer {
   EmulationSettings settings_;
   SharedWork& shared_;
   double computed_here_ms_ = 0;  // of shared_.silhouette_ms
+  double reused_ms_ = 0;         // of shared_.draws, found computed by this frame's draws
   Framebuffer fb_;
   NearCapKind cap_kind_;
   std::vector<const ShadowPlan*> plans_;  // each occluder's method's row; null for the other objects
@@ -510,6 +529,7 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
   shared_->object_silhouette_ms.resize(scene.objects.size());
+  shared_->vertices.reserve(scene.objects.size());  // each array stays put: SharedDraws knows it by address
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 

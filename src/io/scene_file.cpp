@@ -285,8 +285,10 @@ std::shared_ptr<const TriangleMesh> MeshCache::get(const std::string& path, bool
   const bool stated = ::stat(path.c_str(), &st) == 0;
   const long long size = stated ? static_cast<long long>(st.st_size) : -1;
   const long long mtime = stated ? static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec : -1;
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
   const std::lock_guard<std::mutex> lock(mutex_);
-  Entry& e = entries_[path];
+  Entry& e = entries_[ec ? path : absolute.lexically_normal().string()];
   if (!e.mesh || e.size != size || e.mtime_ns != mtime || !stated) {
     e = Entry{};
     auto mesh = std::make_shared<TriangleMesh>(read_mesh(path));
@@ -334,10 +336,10 @@ std::string with_absolute_mesh_paths(const std::string& json_text, const std::st
   }
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, MeshCache* cache) {
   const std::string text = io::read_input_file(path, "scene file");
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_scene(text, path, base.empty() ? "." : base);
+  return parse_scene(text, path, base.empty() ? "." : base, cache);
 }
 
 }  // namespace nearcap

@@ -23,6 +23,10 @@
 
 #include "nearcap/numeric/vec3.hpp"
 
+namespace nearcap {
+class MeshCache;  // io/scene_file.hpp
+}  // namespace nearcap
+
 namespace nearcap::analysis {
 
 struct CameraKeyframe {
@@ -43,8 +47,9 @@ struct CameraPath {
 };
 
 // Reads and checks a path file (Error naming the file and the field); reads
-// the base scene too, and checks that it loads.
-CameraPath load_camera_path(const std::string& path);
+// the base scene too, and checks that it loads (its meshes from `meshes` when
+// given: a sweep's cache, so that the frames find them read).
+CameraPath load_camera_path(const std::string& path, MeshCache* meshes = nullptr);
 
 // The keyframe values at frame `frame` (0 <= frame < frames).
 CameraKeyframe path_camera(const CameraPath& path, int frame);

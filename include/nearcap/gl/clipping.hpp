@@ -72,6 +72,10 @@ struct ClipSettings {
 
 // The clipped polygon (0 or 3+ vertices) of triangle (a, b, c), in order.
 std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings);
+// The same into `polygon` (replacing its contents; its capacity is kept, so a
+// caller clipping many triangles allocates nothing for the unclipped ones).
+void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings,
+                   std::vector<Vec4f>& polygon);
 
 // The first stage of clip_triangle with near clipping: triangle (a, b, c)
 // clipped against the near plane alone, with the same arithmetic (so its

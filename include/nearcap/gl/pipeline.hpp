@@ -149,6 +149,21 @@ struct DrawCounters {
   DrawCounters& operator+=(const DrawCounters& o);
 };
 
+// A draw call's triangles after vertex post-processing and setup: clipped,
+// divided, in window coordinates, the clipped polygons' fans, without the
+// pieces of zero snapped area or culled by facing; in submission order.
+// What the fragment stage reads, with that stage's counters (triangles,
+// clipped, culled, rasterized; no fragments).
+struct SetUpTriangles {
+  std::vector<std::array<WindowVertex, 3>> triangles;
+  DrawCounters counters;
+};
+// Do two states set up the same clip-space vertices alike (same clipping,
+// depth mapping and face culling) on one framebuffer size and RasterSettings?
+// The rest of a state (depth test and writes, stencil operations, scissor,
+// depth bounds, object id) acts on fragments only.
+bool same_setup(const DrawState& a, const DrawState& b);
+
 class Framebuffer {
  public:
   Framebuffer(int width, int height, DepthFormat format);
@@ -180,6 +195,14 @@ class Framebuffer {
   // Fragments are processed in horizontal bands on all cores (TBB); each
   // pixel sees its fragments in submission order, as in GL.
   DrawCounters draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster);
+  // Its two stages: the setup into `out` (replacing its contents), which
+  // depends on the framebuffer's size only, and the fragments of set-up
+  // triangles (the counters of fragments, depth_passed, bounds_culled).  A
+  // draw is the setup, then its fragments with the same state; a setup can be
+  // rasterized again with any state that has the same_setup.
+  void set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
+              SetUpTriangles& out) const;
+  DrawCounters rasterize(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster);
 
  private:
   int width_, height_;

@@ -17,13 +17,17 @@ namespace nearcap {
 // position of lights relative to occluders needs exact geometry and is checked
 // by validate_scene_geometry() (light_validation.hpp), which load_scene() calls
 // last, with the float32 range check.
-// Throws nearcap::Error naming the file and the element.
-Scene load_scene(const std::string& path);
+// Throws nearcap::Error naming the file and the element.  Meshes come from
+// `cache` when one is given (MeshCache, below).
+class MeshCache;
+Scene load_scene(const std::string& path, MeshCache* cache = nullptr);
 
 // Meshes read once for many scene files: a sweep's frames of one camera path
 // name the same 75k-triangle mesh hundreds of times.  Keyed by the resolved
-// path; a file whose size or modification time changed is read again; an
-// occluder's validation is done once too.  Thread-safe.
+// path made absolute (a scene read by a relative path and the same scene's
+// text with absolute mesh paths share one entry); a file whose size or
+// modification time changed is read again; an occluder's validation is done
+// once too.  Thread-safe.
 class MeshCache {
  public:
   // The mesh, read, with adjacency and face planes, validated when `occluder`.

@@ -1,0 +1,70 @@
+// A frame batch's shared vertex program runs and setups (see shared_draws.hpp).
+#include "shared_draws.hpp"
+
+#include <chrono>
+#include <cstring>
+
+#include "shadow_draw_setup.hpp"
+
+namespace nearcap::gl {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+template <class T>
+bool same_bits(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+}  // namespace
+
+bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b) {
+  // Field by field: the struct's padding is not compared.
+  return same_bits(a.modelview_projection, b.modelview_projection) && same_bits(a.light_modelview, b.light_modelview) &&
+         same_bits(a.light_projection, b.light_projection) && same_bits(a.light_position, b.light_position) &&
+         a.arithmetic == b.arithmetic && a.depth_mapping == b.depth_mapping;
+}
+
+SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                                                  const ShadowUniforms& uniforms, bool& found) {
+  found = true;
+  for (ProgramRun& r : runs_)
+    if (r.inputs == &inputs && r.program == program && same_uniforms(r.uniforms, uniforms)) return r;
+  found = false;
+  const auto t = Clock::now();
+  ProgramRun& r = runs_.emplace_back();
+  r.inputs = &inputs;
+  r.program = program;
+  r.uniforms = uniforms;
+  r.clip = draw_setup::run_program(inputs, uniforms, program);
+  r.ms = ms_since(t);
+  return r;
+}
+
+SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                                      const ShadowUniforms& uniforms) {
+  bool found = false;
+  const ProgramRun& r = find_or_run(inputs, program, uniforms, found);
+  return {r.clip, found ? r.ms : 0.0};
+}
+
+SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
+                                       const RasterSettings& raster) {
+  bool found = false;
+  ProgramRun& r = find_or_run(inputs, program, uniforms, found);
+  const double program_ms = found ? r.ms : 0.0;
+  for (const StateSetUp& s : r.set_ups)
+    if (same_setup(s.state, state)) return {s.triangles, program_ms + s.ms};
+  const auto t = Clock::now();
+  SetUpTriangles triangles;
+  fb.set_up(r.clip, state, raster, triangles);  // may throw (a degenerate vertex): nothing is kept then
+  StateSetUp& s = r.set_ups.emplace_back();
+  s.state = state;
+  s.triangles = std::move(triangles);
+  s.ms = ms_since(t);
+  return {s.triangles, program_ms};
+}
+
+}  // namespace nearcap::gl

@@ -1,0 +1,68 @@
+// gl/shared_draws.hpp — the vertex programs' outputs and triangle setups that
+// the methods of one frame batch (shadow_methods.hpp: ShadowFrameBatch)
+// share, so that each is computed once per batch (private to gl/; not
+// installed).
+//
+// Several methods draw the same geometry with the same program and
+// uniforms: Z-fail's and preload's light and dark caps (preload twice),
+// ZP+'s and ZP+ corrected's near-cap pass, the Z-pass sides of Z-pass, ZP+
+// and AtomicZP.  The clip-space vertices of such a draw are the same bits
+// whichever method asks, and so is its setup (clipping, viewport, culling)
+// under states with the same_setup (pipeline.hpp).  A cached draw therefore
+// rasterizes exactly the triangles a fresh one would.
+#pragma once
+
+#include <deque>
+#include <vector>
+
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/gl/shadow_vertex_programs.hpp"
+
+namespace nearcap::gl {
+
+class SharedDraws {
+ public:
+  // The clip-space vertices of `program` run on each of `inputs` with
+  // `uniforms`.  `inputs` is known by its address: an array that outlives
+  // this object, neither moves nor changes (a batch's mesh vertices or
+  // volume geometry).  `reused_ms`: what computing them took, when
+  // this call found them computed before; 0 when it computed them.
+  struct Program {
+    const std::vector<Vec4f>& clip;
+    double reused_ms;
+  };
+  Program run(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms);
+  // Those vertices set up on `fb` with `state` (Framebuffer::set_up);
+  // `reused_ms`: the time of what of that (program, setup) this call found
+  // done before.  The same framebuffer size and raster settings on every call.
+  struct SetUp {
+    const SetUpTriangles& triangles;
+    double reused_ms;
+  };
+  SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
+               const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
+
+ private:
+  struct StateSetUp {
+    DrawState state;
+    SetUpTriangles triangles;
+    double ms = 0;
+  };
+  struct ProgramRun {
+    const std::vector<ShadowVertex>* inputs = nullptr;
+    VertexProgram program = VertexProgram::Extrusion;
+    ShadowUniforms uniforms;
+    std::vector<Vec4f> clip;
+    double ms = 0;
+    std::deque<StateSetUp> set_ups;  // a deque: references to earlier ones stay valid
+  };
+  // `found`: whether it was run before this call.
+  ProgramRun& find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                          const ShadowUniforms& uniforms, bool& found);
+  std::deque<ProgramRun> runs_;
+};
+
+// The same uniforms, bit for bit (so that a program computes the same bits from them).
+bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b);
+
+}  // namespace nearcap::gl

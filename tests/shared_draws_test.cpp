@@ -1,0 +1,141 @@
+// A frame batch's shared draws (src/gl/shared_draws.hpp): the methods of a
+// batch draw each (geometry, program, uniforms) once and set it up once per
+// clipping and culling state; every frame must still be, bit for bit and
+// counter for counter, the frame rendered alone.  And the two stages of a
+// draw (Framebuffer::set_up, rasterize) are the draw.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "nearcap/gl/pipeline.hpp"
+#include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/io/scene_file.hpp"
+#include "nearcap/scene/scene.hpp"
+
+namespace nearcap {
+namespace {
+
+using gl::ShadowMethod;
+
+void expect_same_counters(const gl::DrawCounters& a, const gl::DrawCounters& b, const std::string& what) {
+  EXPECT_EQ(a.triangles, b.triangles) << what;
+  EXPECT_EQ(a.clipped, b.clipped) << what;
+  EXPECT_EQ(a.culled, b.culled) << what;
+  EXPECT_EQ(a.rasterized, b.rasterized) << what;
+  EXPECT_EQ(a.fragments, b.fragments) << what;
+  EXPECT_EQ(a.bounds_culled, b.bounds_culled) << what;
+  EXPECT_EQ(a.depth_passed, b.depth_passed) << what;
+}
+
+bool same_bits(const std::vector<gl::Vec4f>& a, const std::vector<gl::Vec4f>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(gl::Vec4f)) == 0);
+}
+
+// Settings under which methods share different draws: Z-fail's and
+// preload's caps (infinite far plane), the near-cap pass of both ZP+
+// methods, the Z-pass sides with and without AtomicZP's depth clamp; ZF+'s
+// far cap (it reads the shared vertices back), the clipped-sides cap, the
+// reversed depth mapping, volume culling (a state the setup does not read).
+std::vector<std::pair<std::string, gl::EmulationSettings>> settings_cases() {
+  std::vector<std::pair<std::string, gl::EmulationSettings>> out;
+  gl::EmulationSettings s;
+  s.record_draws = true;
+  out.emplace_back("default", s);
+  gl::EmulationSettings far_cap = s;
+  far_cap.zfail_far = gl::ZFailFar::FarCap;
+  out.emplace_back("zfail far cap", far_cap);
+  gl::EmulationSettings infinite = s;
+  infinite.zpass_far = gl::ZPassFar::Infinite;
+  out.emplace_back("zpass infinite", infinite);
+  gl::EmulationSettings clipped = s;
+  clipped.light_frustum.projection = gl::LightProjection::ClippedSides;
+  out.emplace_back("clipped-sides cap", clipped);
+  gl::EmulationSettings reversed = s;
+  reversed.depth_mapping = gl::DepthMapping::Reversed;
+  reversed.depth = gl::DepthFormat::Float32;
+  out.emplace_back("reversed", reversed);
+  gl::EmulationSettings culled = s;
+  culled.volume_culling = gl::VolumeCulling::Both;
+  out.emplace_back("volume culling", culled);
+  gl::EmulationSettings mesa = s;
+  mesa.raster.mesa_clipper = true;
+  mesa.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
+  mesa.zfail_far = gl::ZFailFar::DepthClampFar;
+  out.emplace_back("mesa clipper, one-sided clamp", mesa);
+  return out;
+}
+
+TEST(SharedDraws, EveryFrameOfABatchIsTheFrameRenderedAlone) {
+  // Z-fail and preload first, so that later methods find their caps and
+  // sides; AtomicZP last (its clamped sides share the vertices, not the setup).
+  const std::vector<ShadowMethod> order{ShadowMethod::ZFail,  ShadowMethod::Preload,         ShadowMethod::ZPass,
+                                        ShadowMethod::ZPPlus, ShadowMethod::ZPPlusCorrected, ShadowMethod::AtomicZP};
+  std::size_t reused_triangles = 0;  // volume and cap triangles a later method found set up (counted as drawn)
+  for (const char* name : {"eye_in_shadow.json", "near_cap_bunny_wall.json", "case_d.json"}) {
+    const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
+    for (const auto& [label, settings] : settings_cases()) {
+      gl::ShadowFrameBatch batch(scene, 0, settings);
+      for (ShadowMethod m : order) {
+        const std::string what = std::string(name) + ", " + label + ", " + std::string(to_string(m));
+        const gl::ShadowFrame shared = batch.render(m), alone = gl::render_shadow_frame(scene, 0, m, settings);
+        EXPECT_EQ(shared.stencil, alone.stencil) << what;
+        EXPECT_EQ(shared.object, alone.object) << what;
+        EXPECT_EQ(shared.near_cap, alone.near_cap) << what;
+        EXPECT_EQ(shared.fallback, alone.fallback) << what;
+        expect_same_counters(shared.depth_pass, alone.depth_pass, what + " depth");
+        expect_same_counters(shared.cap_pass, alone.cap_pass, what + " cap");
+        expect_same_counters(shared.volume_pass, alone.volume_pass, what + " volume");
+        ASSERT_EQ(shared.draws.size(), alone.draws.size()) << what;
+        for (std::size_t d = 0; d < shared.draws.size(); ++d)
+          EXPECT_TRUE(same_bits(shared.draws[d].clip_vertices, alone.draws[d].clip_vertices)) << what << " draw " << d;
+        if (m != order.front()) reused_triangles += shared.volume_pass.triangles + shared.cap_pass.triangles;
+      }
+    }
+  }
+  std::printf("volume and cap triangles drawn by later methods of a batch: %zu\n", reused_triangles);
+}
+
+// A full-viewport quad at clip depth z (w = 1), counter-clockwise, with a
+// triangle across the near plane (clipped) and one behind the eye.
+std::vector<gl::Vec4f> quads_and_clipped() {
+  return {{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {1, 1, 0.5f, 1}, {-1, -1, 0.5f, 1}, {1, 1, 0.5f, 1}, {-1, 1, 0.5f, 1},
+          {-1, -1, -2, 1},   {1, -1, 0.2f, 1}, {0, 1, 0.2f, 1}, {0, 0, 2, -1},     {1, 0, 2, -1},   {0, 1, 2, -1}};
+}
+
+TEST(SharedDraws, ASetUpRasterizedWithAnotherStateIsThatStatesDraw) {
+  gl::DrawState count;  // depth test, +1 on pass front, -1 back
+  count.front.depth_pass = gl::StencilOp::IncrementWrap;
+  count.back.depth_pass = gl::StencilOp::DecrementWrap;
+  gl::DrawState other = count;  // the same setup, other fragment operations
+  other.depth_func = gl::DepthFunc::Always;
+  other.front.depth_pass = gl::StencilOp::DecrementWrap;
+  other.scissor = gl::PixelRect{1, 1, 6, 5};
+  ASSERT_TRUE(gl::same_setup(count, other));
+  gl::DrawState clamped = count;
+  clamped.depth_clamp_near = true;
+  EXPECT_FALSE(gl::same_setup(count, clamped));
+  gl::DrawState culling = count;
+  culling.cull = gl::CullFace::Back;
+  EXPECT_FALSE(gl::same_setup(count, culling));
+
+  const std::vector<gl::Vec4f> clip = quads_and_clipped();
+  gl::Framebuffer drawn(8, 6, gl::DepthFormat::Fixed24), staged(8, 6, gl::DepthFormat::Fixed24);
+  gl::SetUpTriangles set_up;
+  staged.set_up(clip, count, {}, set_up);
+  EXPECT_EQ(set_up.counters.triangles, 4u);
+  EXPECT_EQ(set_up.counters.clipped, 1u);  // behind the eye
+  for (const gl::DrawState& s : {count, other, count}) {
+    const gl::DrawCounters a = drawn.draw(clip, s, {});
+    gl::DrawCounters b = set_up.counters;
+    b += staged.rasterize(set_up, s, {});
+    expect_same_counters(a, b, "");
+    EXPECT_EQ(drawn.stencil(), staged.stencil());
+    EXPECT_EQ(drawn.depth(), staged.depth());
+  }
+}
+
+}  // namespace
+}  // namespace nearcap
