@@ -183,7 +183,36 @@ void BM_PolicyDecision(benchmark::State& state) {
   state.counters["us_per_decision"] = decisions > 0 ? 1e3 * ms / static_cast<double>(decisions) : 0;
 }
 
+// What a renderer builds before each decision: the exact camera-space scene
+// (CameraSpaceScene) of every (configuration, light) in turn, as `nearcap
+// evaluate` and `nearcap render` build it per frame; range(1) 1 also decides
+// on it (the decision's whole per-frame cost, as those commands count it).
+// range(0): 0 the hard-case sampler, 1 the bundled paths.  Counter:
+// us_per_scene.
+void BM_CameraSpaceScene(benchmark::State& state) {
+  const bool paths = state.range(0) == 1;
+  const bool decide = state.range(1) == 1;
+  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") + (decide ? ", and the decision" : ""));
+  const Setup& s = paths ? paths_setup() : sampler_setup();
+  std::size_t scenes = 0;
+  double ms = 0;
+  for (auto _ : state)
+    for (const Pair& p : s.pairs) {
+      const auto t0 = Clock::now();
+      const nearcap::CameraSpaceScene cs(*p.scene);
+      if (decide) {
+        const nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, cs, p.light, {});
+        benchmark::DoNotOptimize(d.object_methods.data());
+      }
+      ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      benchmark::DoNotOptimize(cs.max_abs(0));
+      ++scenes;
+    }
+  state.counters["us_per_scene"] = scenes > 0 ? 1e3 * ms / static_cast<double>(scenes) : 0;
+}
+
 }  // namespace
 
+BENCHMARK(BM_CameraSpaceScene)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 BENCHMARK(BM_PolicyCost)->ArgsProduct({{1, 0}, {1, 0}, {0, 1}})->Unit(benchmark::kMillisecond)->MinTime(3.0);

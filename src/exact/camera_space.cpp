@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <optional>
 #include <string_view>
 
 namespace nearcap {
@@ -74,6 +76,12 @@ struct BoundedAffine {
       r[i] = m[i][0] * BoundedDouble(p.x) + m[i][1] * BoundedDouble(p.y) + m[i][2] * BoundedDouble(p.z) + m[i][3];
     return r;
   }
+  // The determinant of the linear part, as RationalAffine::linear_determinant_sign
+  // computes it, with a certified bound (the exact map's determinant lies within it).
+  BoundedDouble linear_determinant() const {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
 };
 
 BoundedAffine compose_bounded(const Affine3d& outer, const Affine3d& inner) {
@@ -90,14 +98,13 @@ BoundedAffine compose_bounded(const Affine3d& outer, const Affine3d& inner) {
 }  // namespace
 
 CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
-  const RationalAffine view = RationalAffine::from(scene.camera.view);
   objects_.resize(scene.objects.size());
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const SceneObject& obj = scene.objects[o];
     ObjectData& d = objects_[o];
-    d.to_camera = RationalAffine::from(obj.object_to_world).then(view);
-    d.handedness = d.to_camera.linear_determinant_sign();
     const BoundedAffine approx = compose_bounded(scene.camera.view, obj.object_to_world);
+    const std::optional<Sign> handedness = approx.linear_determinant().sign();
+    d.handedness = handedness ? *handedness : exact().to_camera[o].linear_determinant_sign();
     // Plain-double transform with one certified bound for all vertices:
     // coordinate i is sum_j C_ij v_j + C_i3 with each C_ij known to within
     // e_C and four roundings (three products, three sums: gamma_4 covers them),
@@ -129,12 +136,21 @@ CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
   }
   const Affine3d identity = Affine3d::identity();
   const BoundedAffine view_approx = compose_bounded(scene.camera.view, identity);
-  for (const Light& l : scene.lights)
-    lights_.push_back({view_approx.apply(l.position), view.apply(to_rational(l.position))});
+  for (const Light& l : scene.lights) lights_.push_back(view_approx.apply(l.position));
+}
+
+const CameraSpaceScene::ExactData& CameraSpaceScene::exact() const {
+  std::call_once(exact_once_, [this] {
+    const RationalAffine view = RationalAffine::from(scene_->camera.view);
+    for (const SceneObject& obj : scene_->objects)
+      exact_.to_camera.push_back(RationalAffine::from(obj.object_to_world).then(view));
+    for (const Light& l : scene_->lights) exact_.lights.push_back(view.apply(to_rational(l.position)));
+  });
+  return exact_;
 }
 
 RationalVec3 CameraSpaceScene::exact_vertex(std::size_t o, VertexIndex v) const {
-  return objects_[o].to_camera.apply(to_rational(scene_->objects[o].mesh->positions[v]));
+  return exact().to_camera[o].apply(to_rational(scene_->objects[o].mesh->positions[v]));
 }
 
 }  // namespace nearcap

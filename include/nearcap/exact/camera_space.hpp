@@ -6,11 +6,14 @@
 // the exact rational view * object_to_world * v.  CameraSpaceScene stores, for
 // every vertex of every object and for every light, a BoundedDouble estimate of
 // that rational (the filter's input) and recomputes the rational itself on
-// demand (the exact path, rare).  Nothing here rounds the scene: the estimates
-// carry certified error bounds, and exact_*() are exact.
+// demand (the exact path, rare).  The rational maps and lights are composed
+// the first time an exact_*() asks (once, thread-safe), so a frame whose
+// filters all decide builds none of them.  Nothing here rounds the scene: the
+// estimates carry certified error bounds, and exact_*() are exact.
 #pragma once
 
 #include <cstddef>
+#include <mutex>
 #include <vector>
 
 #include "nearcap/numeric/bounded_double.hpp"
@@ -37,6 +40,8 @@ class CameraSpaceScene {
  public:
   // Keeps a pointer to `scene`, which must outlive it and stay in place.
   explicit CameraSpaceScene(const Scene& scene);
+  CameraSpaceScene(const CameraSpaceScene&) = delete;
+  CameraSpaceScene& operator=(const CameraSpaceScene&) = delete;
 
   const Scene& scene() const { return *scene_; }
   std::size_t object_count() const { return objects_.size(); }
@@ -63,27 +68,30 @@ class CameraSpaceScene {
   // triangles stay counter-clockwise seen from outside), -1 when it mirrors.
   Sign handedness(std::size_t o) const { return objects_[o].handedness; }
 
-  const BoundedVec3& light(std::size_t k) const { return lights_[k].approx; }
-  const RationalVec3& exact_light(std::size_t k) const { return lights_[k].exact; }
+  const BoundedVec3& light(std::size_t k) const { return lights_[k]; }
+  const RationalVec3& exact_light(std::size_t k) const { return exact().lights[k]; }
 
   // The near plane is z = -near; near and the frustum bounds are exact doubles.
   const Frustum& frustum() const { return scene_->camera.frustum; }
 
  private:
   struct ObjectData {
-    RationalAffine to_camera;
     std::vector<Vec3d> estimates;
     Sign handedness = Sign::Positive;
     double max_abs = 0;
     double max_error = 0;
   };
-  struct LightData {
-    BoundedVec3 approx;
-    RationalVec3 exact;
+  // The exact side: each object's view * object_to_world, each light in camera space.
+  struct ExactData {
+    std::vector<RationalAffine> to_camera;
+    std::vector<RationalVec3> lights;
   };
+  const ExactData& exact() const;
   const Scene* scene_;
   std::vector<ObjectData> objects_;
-  std::vector<LightData> lights_;
+  std::vector<BoundedVec3> lights_;
+  mutable std::once_flag exact_once_;
+  mutable ExactData exact_;
 };
 
 // Filtered evaluation: `approx()` returns a BoundedDouble; when its sign is
