@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "nearcap/exact/central_grid.hpp"
@@ -103,10 +104,12 @@ TEST(CentralGrid, RegionQueriesListEveryTriangleTheRegionMeets) {
   EXPECT_GT(hits, std::size_t{1000});
 }
 
+// ... and keeps it past the per-triangle box filter (EntryRange::may_contain),
+// which drops listed triangles the direction certainly misses.
 TEST(CentralGrid, PointQueriesListEveryTriangleTheDirectionMeets) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::size_t hits = 0;
+  std::size_t hits = 0, listed = 0, dropped = 0;
   for (int scene = 0; scene < 10; ++scene) {
     const Fixture f = make_fixture(rng, 300);
     const CentralGrid grid(f.centre, 1e-15, f.triangles);
@@ -114,15 +117,24 @@ TEST(CentralGrid, PointQueriesListEveryTriangleTheDirectionMeets) {
       Vec3d w{unit(rng), unit(rng), unit(rng)};
       if (q % 2 == 0) w.x = std::copysign(std::fabs(w.z), w.x);
       const CentralGrid::EntryRange range = grid.candidates(w, 1e-14);
+      for (const CentralGrid::Entry& e : range) {
+        ++listed;
+        dropped += !range.may_contain(e.id);
+      }
       for (const auto& t : f.triangles) {
         const std::array<Vec3d, 3> rel{t.vertex[0] - f.centre, t.vertex[1] - f.centre, t.vertex[2] - f.centre};
         if (!ray_meets_clearly(w, rel)) continue;
         ++hits;
         EXPECT_TRUE(std::any_of(range.begin(), range.end(), [&](const CentralGrid::Entry& e) { return e.id == t.id; }));
+        EXPECT_TRUE(range.may_contain(t.id))
+            << "triangle " << t.id << " dropped for direction " << w.x << "," << w.y << "," << w.z;
       }
     }
   }
   EXPECT_GT(hits, std::size_t{1000});
+  // The filter means something: it drops a part of the listed triangles.
+  EXPECT_GT(dropped, listed / 10) << "of " << listed << " listed";
+  std::printf("point queries: %zu listed, %zu dropped by the boxes, %zu hits kept\n", listed, dropped, hits);
 }
 
 // A region around the centre itself meets every direction, on all six faces.

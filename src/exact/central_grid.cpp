@@ -495,7 +495,10 @@ CentralGrid::EntryRange CentralGrid::candidates(const Vec3d& w, double w_error) 
     cell = static_cast<std::size_t>(face.nu) * static_cast<std::size_t>(face.nv);  // the whole-face list
   else
     cell = static_cast<std::size_t>(fj) * face.nu + static_cast<std::size_t>(fi);
-  return {face.entries.data() + face.offsets[cell], face.entries.data() + face.offsets[cell + 1]};
+  // Every id a cell lists has its box on this face (whole-face ones an
+  // infinite one).
+  return {face.entries.data() + face.offsets[cell], face.entries.data() + face.offsets[cell + 1], face.box_of.data(), u,
+          v};
 }
 
 bool CentralGrid::candidates_in(const Vec3d& w, double w_error, std::vector<std::uint32_t>& ids) const {

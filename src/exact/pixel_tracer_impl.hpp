@@ -31,6 +31,30 @@ namespace nearcap {
 using BoundedForm = AffineForm<BoundedDouble>;
 using ExactForm = AffineForm<Rational>;
 
+// dot(a, b) and AffineForm::at in BoundedDouble (the same operations, so
+// the same value and bound), written out inline for the per-candidate loops:
+// the compiler keeps the template dot out of line, and a call per form (and
+// a copy of the form) costs more than its arithmetic.
+inline BoundedDouble bounded_dot(const BoundedVec3& a, const BoundedVec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline BoundedDouble form_value_at(const BoundedVec3& h, const BoundedDouble& h0, const BoundedVec3& p) {
+  return bounded_dot(h, p) + h0;
+}
+
+// perturbed_sign (perturbation.hpp) of the form (h, h0) at p, the filter
+// evaluated by form_value_at; `exact_form()` and `exact_point()` as there.
+template <class ExactForm, class ExactPoint>
+Sign perturbed_form_sign(Predicate pred, FilterStats* stats, const BoundedVec3& p, const BoundedVec3& h,
+                         const BoundedDouble& h0, ExactForm&& exact_form, ExactPoint&& exact_point) {
+  if (const auto s = form_value_at(h, h0, p).sign(); s && *s != Sign::Zero) {
+    if (stats) stats->record(pred, false);
+    return *s;
+  }
+  if (stats) stats->record(pred, true);
+  return perturbed_sign(exact_form(), exact_point());
+}
+
 // A sample point of the window (a pixel centre, or a sub-pixel point of the
 // crack distance): certified estimate now, exact rational on first demand.
 class PixelPoint {
@@ -224,11 +248,8 @@ struct PixelReferenceTracer::Impl {
     if (sigma == Sign::Zero) return Sign::Zero;
     auto exact_point = [&]() -> const RationalVec3& { return p.exact(); };
     for (int e = 0; e < 3; ++e) {
-      const Sign s = perturbed_sign(
-          Predicate::RayHit, stats, p.approx(),
-          [&] {
-            return BoundedForm{t.edge[e], BoundedDouble(0.0)};
-          },
+      const Sign s = perturbed_form_sign(
+          Predicate::RayHit, stats, p.approx(), t.edge[e], BoundedDouble(0.0),
           [&] {
             const auto v = exact_triangle(t.object, t.face);
             return ExactForm{cross(v[e], v[(e + 1) % 3]), Rational(0)};
@@ -294,6 +315,7 @@ struct PixelReferenceTracer::Impl {
     const double m = std::max({std::fabs(pe.x), std::fabs(pe.y), std::fabs(pe.z)}) * (1.0 + 0x1p-40);
     for (const auto& entry : candidates) {
       if (early_exit && entry.axis_lower_bound > axis_upper) break;
+      if (!candidates.may_contain(entry.id)) continue;  // the view ray certainly misses it
       const EyeTriangle& t = eye(entry.id);
       const Sign s = ray_hits(t, p, stats);
       if (s == Sign::Zero) continue;

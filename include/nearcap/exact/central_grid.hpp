@@ -48,13 +48,26 @@ class CentralGrid {
     double axis_lower_bound;
   };
 
-  // A contiguous run of entries (C++17 has no std::span).
+  // A contiguous run of entries (C++17 has no std::span).  A cell's run,
+  // from candidates(), also carries the query's point (u, v) on its face and
+  // the face's box of every triangle it lists: may_contain(id) is false when
+  // the query point lies outside triangle id's box, and then the triangle
+  // certainly does not contain the query's exact direction (the grid lists a
+  // triangle in the cell of that point only because its box may hold it, see
+  // candidates()).  A run without boxes (all()) may contain every triangle.
   struct EntryRange {
     const Entry* first = nullptr;
     const Entry* last = nullptr;
+    const std::array<float, 4>* box_of = nullptr;  // the face's boxes by id (u_lo, u_hi, v_lo, v_hi), or none
+    double u = 0, v = 0;                           // the query point on the face, when box_of is set
     const Entry* begin() const { return first; }
     const Entry* end() const { return last; }
     std::size_t size() const { return static_cast<std::size_t>(last - first); }
+    bool may_contain(std::uint32_t id) const {
+      if (!box_of) return true;
+      const std::array<float, 4>& b = box_of[id];
+      return b[0] <= u && u <= b[1] && b[2] <= v && v <= b[3];
+    }
   };
 
   static constexpr double kQueryMargin = 0x1p-20;  // in face coordinates (tan of angle)
@@ -73,6 +86,10 @@ class CentralGrid {
   // The candidates for direction w (estimate of the exact direction, each
   // coordinate within w_error): every triangle whose projection may contain
   // the direction.  When the query is too uncertain it returns all() instead.
+  // Why the boxes filter: the query point (u, v) lies within kQueryMargin of
+  // the exact direction's projection, and each triangle's box is its
+  // projection's certified box widened by kQueryMargin; so a triangle that
+  // contains the exact direction has (u, v) in its box.
   EntryRange candidates(const Vec3d& w, double w_error) const;
   // The candidates for every direction within w_error (per coordinate, any
   // size) of w: the ids of the triangles listed in the cells the region's
