@@ -416,7 +416,6 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     if (!scene.objects[o].occluder) continue;
     Occluder oc;
     oc.object = o;
-    oc.paper_ms = oc.atomiczp_ms = kNaN;
     // The cull decides Z-pass only where the policy may pick it.
     oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));

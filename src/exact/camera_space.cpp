@@ -58,14 +58,15 @@ RationalVec3 RationalAffine::apply(const RationalVec3& p) const {
   return r;
 }
 
-Sign RationalAffine::linear_determinant_sign() const {
-  const Rational det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-  return sign_of(det);
-}
-
 namespace {
+
+// The determinant of an affine map's linear part (rows of [3][4]), in T's
+// arithmetic: exact for Rational, with a certified bound for BoundedDouble.
+template <class T>
+T linear_determinant(const T (&m)[3][4]) {
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
 
 // Estimate of outer * inner entries from the exact doubles of both maps.
 struct BoundedAffine {
@@ -75,12 +76,6 @@ struct BoundedAffine {
     for (int i = 0; i < 3; ++i)
       r[i] = m[i][0] * BoundedDouble(p.x) + m[i][1] * BoundedDouble(p.y) + m[i][2] * BoundedDouble(p.z) + m[i][3];
     return r;
-  }
-  // The determinant of the linear part, as RationalAffine::linear_determinant_sign
-  // computes it, with a certified bound (the exact map's determinant lies within it).
-  BoundedDouble linear_determinant() const {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   }
 };
 
@@ -97,13 +92,16 @@ BoundedAffine compose_bounded(const Affine3d& outer, const Affine3d& inner) {
 
 }  // namespace
 
+Sign RationalAffine::linear_determinant_sign() const { return sign_of(linear_determinant(m)); }
+
 CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
   objects_.resize(scene.objects.size());
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const SceneObject& obj = scene.objects[o];
     ObjectData& d = objects_[o];
     const BoundedAffine approx = compose_bounded(scene.camera.view, obj.object_to_world);
-    const std::optional<Sign> handedness = approx.linear_determinant().sign();
+    // The bounded determinant holds the exact map's within its bound.
+    const std::optional<Sign> handedness = linear_determinant(approx.m).sign();
     d.handedness = handedness ? *handedness : exact().to_camera[o].linear_determinant_sign();
     // Plain-double transform with one certified bound for all vertices:
     // coordinate i is sum_j C_ij v_j + C_i3 with each C_ij known to within

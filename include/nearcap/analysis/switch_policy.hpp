@@ -171,7 +171,8 @@ enum class ZPassVerdict {
 struct OccluderPrices {
   std::size_t object = 0;
   CandidateMethod chosen;
-  double zfail_ms = 0, clipped_ms = 0, paper_ms = 0, zpass_ms = 0, atomiczp_ms = 0;
+  double zfail_ms = 0, clipped_ms = 0, zpass_ms = 0;
+  double paper_ms = std::numeric_limits<double>::quiet_NaN(), atomiczp_ms = std::numeric_limits<double>::quiet_NaN();
   bool zpass_ok = false, atomiczp_ok = false;
   ZPassVerdict zpass_verdict = ZPassVerdict::NoExactTest;
   double exact_test_ms = 0;  // the frame's exact test (ExactEmpty, ExactMeets, TestNotRun)
