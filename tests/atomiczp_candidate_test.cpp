@@ -42,9 +42,9 @@ using gl::ShadowMethod;
 
 std::size_t k(PassKind p) { return static_cast<std::size_t>(p); }
 
-// Every pass at one price, the caps and the near-cap dear, and the
-// eye-count pass cheap: AtomicZP is the cheapest candidate wherever it is
-// offered and Z-pass is not right.
+// Every pass at one price, the caps (their triangles and fragments) and the
+// near-cap dear, and the eye-count pass cheap: AtomicZP is the cheapest
+// candidate wherever it is offered and Z-pass is not right.
 DeviceProfile atomiczp_favoured() {
   DeviceProfile p;
   p.origin = "hand";
@@ -53,6 +53,7 @@ DeviceProfile atomiczp_favoured() {
     p.passes[k(dear)].intercept_ms = 5;
     p.passes[k(dear)].ms_per_mfragment = 1e3;
   }
+  for (PassKind dear : {PassKind::LightCap, PassKind::DarkCap}) p.passes[k(dear)].ms_per_mtriangle = 1e4;
   p.eye_count = analysis::PassCost{0.1, 10.0, 0.01};
   p.cpu.ms_per_ktriangle_silhouette = 0.01;
   p.cpu.clipped_cap.intercept_ms = 5;

@@ -17,20 +17,24 @@
 //                      the near plane, or certainly outside the light pyramid)
 //                      and, of those, the ones that straddle the near plane
 //                      (the cap's fan has about one triangle per such one);
-//   footprints         pixel centres of the viewport in the projected convex
-//                      hull's bounding box of: the occluder's box, clipped to
-//                      the near plane; its shadow volume (the box's corners and
-//                      their directions from the light), clipped likewise; and
-//                      that volume's section by the near plane (the near-cap
-//                      can cover no more), each grown by a pixel for the
-//                      rasterizer's snapping.
-// The fragment estimates are footprints times layers: 2 for a closed surface
-// (front and back), 1 for the paper's near-cap pass (one facing culled).
-// For a convex occluder (a line meets its surface, and its convex shadow
-// volume's, at most twice) each is an upper bound on the fragments the pass
-// rasterizes; for others an estimate whose scale the fitted profile absorbs
-// (tests/cost_decision_test.cpp checks the bounds and the counts against the
-// emulation's draw counters).
+//   coverage           the pixels each pass covers (screen_coverage.hpp):
+//                      the projected areas, clipped to the view volume, of
+//                      the light-facing triangles (the light cap), of the
+//                      others as directions from the light (the dark cap)
+//                      and of the silhouette's quads (the sides; depth-
+//                      clamped, AtomicZP's, not clipped by the near plane),
+//                      and the near plane's section of the volume, each
+//                      pixel times the layers that hold it (the near-cap;
+//                      0 where the clipped-sides cap is not built).
+// A mesh of more than kCoverageSamples faces is sampled: every k-th face,
+// k = faces / kCoverageSamples, from the k/2-th, its area times k; so are
+// the sides wholly beyond the near plane (k = silhouette edges /
+// kSideSamples), the others read whole.
+// Each pass draws its triangles with both facings and no culling, so its
+// fragments are its triangles' coverage, up to the rasterizer's sampling of
+// pixel centres; the near-cap's fan can draw more where it cannot avoid
+// overdraw (gl/near_plane_cap.hpp), the paper's cap a little more or less
+// (tests/cost_decision_test.cpp compares each with the emulation's counters).
 //
 // Triangle counts equal the emulation's submitted triangles (DrawCounters::
 // triangles) where the method's draws are known before drawing: the depth
@@ -48,6 +52,13 @@
 #include "nearcap/scene/scene.hpp"
 
 namespace nearcap::analysis {
+
+// The faces, and silhouette edges, a coverage sum reads at most per mesh (a
+// side's quad, clipped twice, costs about four faces).
+inline constexpr std::size_t kCoverageSamples = 256, kSideSamples = 128;
+// A sampled near-cap with fewer covering faces than this (a narrow view
+// from the light, few faces covering much each) is summed over every face.
+inline constexpr std::size_t kCoverageMinHits = 16;
 
 // One candidate of the cost decision: a method and, for a ZP+ method, its
 // near-cap (LightProjection::ClippedSides, or the paper's light frustum;
@@ -69,7 +80,8 @@ struct OccluderWorkInputs {
   bool reaches_near_plane = false;
   double clipped_cap_tested = 0;     // triangles the clipped-sides cap builder visits
   double near_plane_straddling = 0;  // of those, the ones with vertices on both sides of the near plane
-  double occluder_pixels = 0, volume_pixels = 0, near_cap_pixels = 0;
+  double light_cap_pixels = 0, dark_cap_pixels = 0, sides_pixels = 0, sides_clamped_pixels = 0;
+  double near_cap_pixels = 0;
   // gl::certainly_misses_light_pyramid: the near-cap is certainly empty, so
   // Z-pass is exact without the exact test.  Run only where
   // `pyramid_cull_run` (else false: not known).
@@ -85,8 +97,8 @@ struct OccluderWorkInputs {
 // The light-pyramid cull (the dearest input on a mesh near the pyramid) runs
 // where the clipped-sides cap's work depends on it (the volume reaches the
 // near plane), and everywhere with `pyramid_cull`; every other field is the
-// same either way (tests/cost_decision_test.cpp).  Allocates only the
-// per-face facing and, where the cap's work is counted, per-vertex distances.
+// same either way (tests/cost_decision_test.cpp).  Allocates the per-face
+// facing and each vertex in camera space, as a point and as a direction.
 OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                         bool pyramid_cull = true);
 

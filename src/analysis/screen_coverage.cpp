@@ -1,0 +1,138 @@
+// Screen coverage estimates (see screen_coverage.hpp).
+#include "nearcap/analysis/screen_coverage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <utility>
+
+namespace nearcap::analysis {
+namespace {
+
+CameraPoint lerp(const CameraPoint& a, const CameraPoint& b, double t) {
+  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z), a.w + t * (b.w - a.w)};
+}
+
+constexpr int kPlanes = 5;
+constexpr std::uint8_t kNearBit = 1, kAllPlanes = 0x1F;
+
+}  // namespace
+
+ScreenCoverage::ScreenCoverage(const Camera& camera, Depth depth)
+    : f_(camera.frustum),
+      near_sign_(depth == Depth::BeyondNear ? 1.0 : -1.0),
+      width_(static_cast<double>(camera.width)),
+      height_(static_cast<double>(camera.height)),
+      x_scale_(width_ / (f_.right - f_.left)),
+      y_scale_(height_ / (f_.top - f_.bottom)) {}
+
+// Each plane's inside is >= 0 (x n / -z >= left, and so on; near: -z >= near w).
+double ScreenCoverage::plane(const CameraPoint& p, int k) const {
+  switch (k) {
+    case 0:
+      return near_sign_ * (-p.z - f_.near * p.w);
+    case 1:
+      return p.x * f_.near + f_.left * p.z;
+    case 2:
+      return -f_.right * p.z - p.x * f_.near;
+    case 3:
+      return p.y * f_.near + f_.bottom * p.z;
+    default:
+      return -f_.top * p.z - p.y * f_.near;
+  }
+}
+
+ScreenVertex ScreenCoverage::vertex(const CameraPoint& p) const {
+  ScreenVertex v;
+  v.p = p;
+  const double xn = p.x * f_.near, yn = p.y * f_.near;
+  v.outside = static_cast<std::uint8_t>((near_sign_ * (-p.z - f_.near * p.w) >= 0 ? 0u : 1u) |
+                                        (xn + f_.left * p.z >= 0 ? 0u : 2u) | (-f_.right * p.z - xn >= 0 ? 0u : 4u) |
+                                        (yn + f_.bottom * p.z >= 0 ? 0u : 8u) | (-f_.top * p.z - yn >= 0 ? 0u : 16u));
+  return v;
+}
+
+double ScreenCoverage::pixels(const ScreenVertex* polygon, int n, bool near_clipped) const {
+  const std::uint8_t mask = near_clipped ? kAllPlanes : static_cast<std::uint8_t>(kAllPlanes & ~kNearBit);
+  std::uint8_t any = 0, all = mask;
+  for (int i = 0; i < n; ++i) {
+    any |= polygon[i].outside & mask;
+    all &= polygon[i].outside;
+  }
+  if (all & mask) return 0;  // wholly outside one plane
+  double twice = 0;
+  if (!any) {
+    // Inside the side planes (so -z >= 0) and, where clipped, the near
+    // plane: the image's area as it is.
+    std::array<double, 4> x, y;
+    bool finite = true;
+    for (int i = 0; i < n; ++i) {
+      const CameraPoint& p = polygon[i].p;
+      x[i] = (p.x * f_.near / -p.z - f_.left) * x_scale_;
+      y[i] = (p.y * f_.near / -p.z - f_.bottom) * y_scale_;
+      finite = finite && -p.z > 0;
+    }
+    if (finite) {
+      for (int i = 2; i < n; ++i) twice += (x[i - 1] - x[0]) * (y[i] - y[0]) - (x[i] - x[0]) * (y[i - 1] - y[0]);
+      return 0.5 * std::fabs(twice);
+    }
+  }
+  // Sutherland-Hodgman in homogeneous coordinates, on the planes it
+  // crosses: each adds at most one vertex (4 + 5 at most).
+  std::array<CameraPoint, 16> buffer_a, buffer_b;
+  CameraPoint *a = buffer_a.data(), *b = buffer_b.data();
+  int m = n;
+  for (int i = 0; i < n; ++i) a[i] = polygon[i].p;
+  for (int k = 0; k < kPlanes; ++k) {
+    if (!(any & (1u << k))) continue;
+    int q = 0;
+    double dp = plane(a[0], k);
+    for (int i = 0; i < m; ++i) {
+      const CameraPoint &p = a[i], &s = a[i + 1 < m ? i + 1 : 0];
+      const double ds = plane(s, k);
+      if (dp >= 0) b[q++] = p;
+      if ((dp >= 0) != (ds >= 0)) b[q++] = lerp(p, s, dp / (dp - ds));
+      dp = ds;
+    }
+    m = q;
+    std::swap(a, b);
+    if (m < 3) return 0;
+  }
+  double x0 = 0, y0 = 0, xp = 0, yp = 0;
+  for (int i = 0; i < m; ++i) {
+    if (!(-a[i].z > 0)) return 0;  // the eye itself: a degenerate image
+    const double x = (a[i].x * f_.near / -a[i].z - f_.left) * x_scale_;
+    const double y = (a[i].y * f_.near / -a[i].z - f_.bottom) * y_scale_;
+    if (i == 0) {
+      x0 = x;
+      y0 = y;
+    } else if (i >= 2) {
+      twice += (xp - x0) * (y - y0) - (x - x0) * (yp - y0);
+    }
+    xp = x;
+    yp = y;
+  }
+  const double area = 0.5 * std::fabs(twice);
+  return std::isfinite(area) ? std::min(area, width_ * height_) : 0.0;
+}
+
+Camera LightView::camera_of(const Camera& camera, const Vec3d& light) {
+  // The near rectangle spans the frustum's left..right, bottom..top on the
+  // near plane, at |light.z + near| from the light.
+  Camera c = camera;
+  const Frustum& f = camera.frustum;
+  c.frustum = {f.left - light.x, f.right - light.x,           f.bottom - light.y,
+               f.top - light.y,  std::fabs(light.z + f.near), f.far};
+  return c;
+}
+
+LightView::LightView(const Camera& camera, const Vec3d& light)
+    : light_(light),
+      beyond_(light.z + camera.frustum.near < 0),
+      coverage_(camera_of(camera, light), ScreenCoverage::Depth::BeforeNear) {}
+
+ScreenVertex LightView::vertex(const Vec3d& p) const {
+  return coverage_.vertex({p.x - light_.x, p.y - light_.y, beyond_ ? light_.z - p.z : p.z - light_.z, 1});
+}
+
+}  // namespace nearcap::analysis
