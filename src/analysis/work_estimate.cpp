@@ -67,6 +67,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // The silhouette's edges (A, D) = (t[k], t[k + 1]) of front faces t,
   // kept for the sides' coverage below.
   std::vector<std::array<VertexIndex, 2>> edges;
+  edges.reserve(4 * static_cast<std::size_t>(std::sqrt(static_cast<double>(faces))) + 16);
   for (std::size_t f = 0; f < faces; ++f) {
     if (!front[f]) continue;
     for (int k = 0; k < 3; ++k) {
@@ -129,11 +130,10 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     in.clipped_cap_tested = 2 * in.silhouette_edges + (points == 0 ? in.light_facing : 0) +
                             (directions == 0 ? in.triangles - in.light_facing : 0);
 
-  // Each pass's coverage, from every face (silhouette edge) of a mesh of up
-  // to kCoverageSamples faces (kSideSamples edges), else from every k-th
-  // (scaled by k): its cost bounded whatever the mesh.
+  // Each cap's coverage, from every face of a mesh of up to
+  // kCoverageSamples faces, else from every k-th (scaled by k): its cost
+  // bounded whatever the mesh.
   const std::size_t face_stride = std::max<std::size_t>(1, faces / kCoverageSamples);
-  const std::size_t edge_stride = std::max<std::size_t>(1, silhouette / kSideSamples);
   // The near-cap (where the cap is built): the light-facing triangles
   // between the light and the near plane, seen from the light on the near
   // rectangle (screen_coverage.hpp).  A light in the near plane has no such
@@ -202,36 +202,32 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
       }
     }
   }
-  // Each side: the quad (D,1) (A,1) (A,0) (D,0) of a silhouette edge.
-  // Those wholly beyond the near plane are sampled; the others, which reach
-  // towards the eye and may cover much of the view each (the depth-clamped
-  // ones all of it), are all read.
-  const auto& z_row = modelview.rows[2];
-  auto camera_z = [&z_row](const Vec3d& p) { return z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3]; };
-  std::size_t beyond_edges = 0;
-  for (const auto& [ea, ed] : edges) {
-    const double za = camera_z(mesh.positions[ea]), zd = camera_z(mesh.positions[ed]);
-    const bool beyond = -za - near > 0 && -zd - near > 0 && -(za - l.z) > 0 && -(zd - l.z) > 0;
-    double weight = 1;
-    if (beyond) {
-      if (beyond_edges++ % edge_stride != edge_stride / 2) continue;
-      weight = static_cast<double>(edge_stride);
-    }
+  // Each side: the quad (D,1) (A,1) (A,0) (D,0) of a silhouette edge,
+  // every k-th of them (k = edges / kSideSamples, from the k/2-th) times k.
+  // Their areas are uneven (a few near the eye, or nearly edge-on to the
+  // light, can cover more than all the others), so the sum is rough; it is
+  // the same for every candidate but AtomicZP's depth-clamped sides.
+  const std::size_t edge_stride = std::max<std::size_t>(1, edges.size() / kSideSamples);
+  for (std::size_t e = edge_stride / 2; e < edges.size(); e += edge_stride) {
+    const VertexIndex ea = edges[e][0], ed = edges[e][1];
     const std::array<ScreenVertex, 4> quad{coverage.vertex(as_point(ed)), coverage.vertex(as_point(ea)),
                                            coverage.vertex(as_direction(ea)), coverage.vertex(as_direction(ed))};
     const double near_clipped = coverage.pixels(quad.data(), 4);
-    in.sides_pixels += weight * near_clipped;
+    in.sides_pixels += static_cast<double>(edge_stride) * near_clipped;
     // The same quad depth-clamped: the same pixels unless the near plane cuts it.
     const bool cut = (quad[0].outside | quad[1].outside | quad[2].outside | quad[3].outside) & 1u;
-    in.sides_clamped_pixels += weight * (cut ? coverage.pixels(quad.data(), 4, false) : near_clipped);
+    in.sides_clamped_pixels +=
+        static_cast<double>(edge_stride) * (cut ? coverage.pixels(quad.data(), 4, false) : near_clipped);
   }
   if (!cap_built) return in;
 
   // The triangles that straddle the near plane.  Only the camera-space z
   // of a vertex decides: modelview.apply's third row, in its order.
   std::vector<double> point_near(mesh.positions.size()), direction_near(mesh.positions.size());
+  const auto& z_row = modelview.rows[2];
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const double z = camera_z(mesh.positions[v]);
+    const Vec3d& p = mesh.positions[v];
+    const double z = z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3];
     point_near[v] = -z - near;
     direction_near[v] = -(z - l.z);
   }

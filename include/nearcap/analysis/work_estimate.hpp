@@ -27,9 +27,9 @@
 //                      pixel times the layers that hold it (the near-cap;
 //                      0 where the clipped-sides cap is not built).
 // A mesh of more than kCoverageSamples faces is sampled: every k-th face,
-// k = faces / kCoverageSamples, from the k/2-th, its area times k; so are
-// the sides wholly beyond the near plane (k = silhouette edges /
-// kSideSamples), the others read whole.
+// k = faces / kCoverageSamples, from the k/2-th, its area times k; the
+// sides likewise, k = silhouette edges / kSideSamples (a rough sum: their
+// areas are uneven).
 // Each pass draws its triangles with both facings and no culling, so its
 // fragments are its triangles' coverage, up to the rasterizer's sampling of
 // pixel centres; the near-cap's fan can draw more where it cannot avoid
@@ -53,8 +53,8 @@
 
 namespace nearcap::analysis {
 
-// The faces, and silhouette edges, a coverage sum reads at most per mesh (a
-// side's quad, clipped twice, costs about four faces).
+// The faces (silhouette edges) a cap's (the sides') coverage sum reads at
+// most per mesh.
 inline constexpr std::size_t kCoverageSamples = 256, kSideSamples = 128;
 // A sampled near-cap with fewer covering faces than this (a narrow view
 // from the light, few faces covering much each) is summed over every face.
