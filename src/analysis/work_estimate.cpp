@@ -80,8 +80,8 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   in.light_facing = static_cast<double>(light_facing);
   in.silhouette_edges = static_cast<double>(silhouette);
 
-  // Camera space: the box's corners (the near-plane tests), and every
-  // vertex as a point and as a direction from the light (the coverage).
+  // Camera space: the box's corners (the near-plane tests), and a vertex as
+  // a point or as a direction from the light where a coverage sum reads it.
   const Affine3d modelview = compose_rounded(camera.view, obj.object_to_world);
   const Vec3d l = camera.view.apply(scene.lights[light].position);
   std::array<double, 8> point_distance{}, direction_distance{};

@@ -98,7 +98,9 @@ struct OccluderWorkInputs {
 // where the clipped-sides cap's work depends on it (the volume reaches the
 // near plane), and everywhere with `pyramid_cull`; every other field is the
 // same either way (tests/cost_decision_test.cpp).  Allocates the per-face
-// facing and each vertex in camera space, as a point and as a direction.
+// facing, the silhouette's edges, the faces the light's view of the near
+// rectangle may hold and, where the cap is built, per-vertex near-plane
+// distances.
 OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                         bool pyramid_cull = true);
 
