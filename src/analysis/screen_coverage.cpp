@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <utility>
 
 namespace nearcap::analysis {
@@ -42,13 +41,17 @@ double ScreenCoverage::plane(const CameraPoint& p, int k) const {
   }
 }
 
+// The viewport position, in pixels, of a point in front of the eye.
+void ScreenCoverage::project(const CameraPoint& p, double& x, double& y) const {
+  x = (p.x * f_.near / -p.z - f_.left) * x_scale_;
+  y = (p.y * f_.near / -p.z - f_.bottom) * y_scale_;
+}
+
 ScreenVertex ScreenCoverage::vertex(const CameraPoint& p) const {
   ScreenVertex v;
   v.p = p;
-  const double xn = p.x * f_.near, yn = p.y * f_.near;
-  v.outside = static_cast<std::uint8_t>((near_sign_ * (-p.z - f_.near * p.w) >= 0 ? 0u : 1u) |
-                                        (xn + f_.left * p.z >= 0 ? 0u : 2u) | (-f_.right * p.z - xn >= 0 ? 0u : 4u) |
-                                        (yn + f_.bottom * p.z >= 0 ? 0u : 8u) | (-f_.top * p.z - yn >= 0 ? 0u : 16u));
+  for (int k = 0; k < kPlanes; ++k)
+    if (!(plane(p, k) >= 0)) v.outside |= static_cast<std::uint8_t>(1u << k);
   return v;
 }
 
@@ -67,10 +70,8 @@ double ScreenCoverage::pixels(const ScreenVertex* polygon, int n, bool near_clip
     std::array<double, 4> x, y;
     bool finite = true;
     for (int i = 0; i < n; ++i) {
-      const CameraPoint& p = polygon[i].p;
-      x[i] = (p.x * f_.near / -p.z - f_.left) * x_scale_;
-      y[i] = (p.y * f_.near / -p.z - f_.bottom) * y_scale_;
-      finite = finite && -p.z > 0;
+      project(polygon[i].p, x[i], y[i]);
+      finite = finite && -polygon[i].p.z > 0;
     }
     if (finite) {
       for (int i = 2; i < n; ++i) twice += (x[i - 1] - x[0]) * (y[i] - y[0]) - (x[i] - x[0]) * (y[i - 1] - y[0]);
@@ -101,8 +102,8 @@ double ScreenCoverage::pixels(const ScreenVertex* polygon, int n, bool near_clip
   double x0 = 0, y0 = 0, xp = 0, yp = 0;
   for (int i = 0; i < m; ++i) {
     if (!(-a[i].z > 0)) return 0;  // the eye itself: a degenerate image
-    const double x = (a[i].x * f_.near / -a[i].z - f_.left) * x_scale_;
-    const double y = (a[i].y * f_.near / -a[i].z - f_.bottom) * y_scale_;
+    double x, y;
+    project(a[i], x, y);
     if (i == 0) {
       x0 = x;
       y0 = y;
@@ -116,9 +117,11 @@ double ScreenCoverage::pixels(const ScreenVertex* polygon, int n, bool near_clip
   return std::isfinite(area) ? std::min(area, width_ * height_) : 0.0;
 }
 
-Camera LightView::camera_of(const Camera& camera, const Vec3d& light) {
-  // The near rectangle spans the frustum's left..right, bottom..top on the
-  // near plane, at |light.z + near| from the light.
+namespace {
+
+// The camera of a light's view: the near rectangle spans the frustum's left..right, bottom..top on the
+// near plane, at |light.z + near| from the light.
+Camera light_camera(const Camera& camera, const Vec3d& light) {
   Camera c = camera;
   const Frustum& f = camera.frustum;
   c.frustum = {f.left - light.x, f.right - light.x,           f.bottom - light.y,
@@ -126,10 +129,12 @@ Camera LightView::camera_of(const Camera& camera, const Vec3d& light) {
   return c;
 }
 
+}  // namespace
+
 LightView::LightView(const Camera& camera, const Vec3d& light)
     : light_(light),
       beyond_(light.z + camera.frustum.near < 0),
-      coverage_(camera_of(camera, light), ScreenCoverage::Depth::BeforeNear) {}
+      coverage_(light_camera(camera, light), ScreenCoverage::Depth::BeforeNear) {}
 
 ScreenVertex LightView::vertex(const Vec3d& p) const {
   return coverage_.vertex({p.x - light_.x, p.y - light_.y, beyond_ ? light_.z - p.z : p.z - light_.z, 1});

@@ -67,7 +67,6 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // The silhouette's edges (A, D) = (t[k], t[k + 1]) of front faces t,
   // kept for the sides' coverage below.
   std::vector<std::array<VertexIndex, 2>> edges;
-  edges.reserve(4 * static_cast<std::size_t>(std::sqrt(static_cast<double>(faces))) + 16);
   for (std::size_t f = 0; f < faces; ++f) {
     if (!front[f]) continue;
     for (int k = 0; k < 3; ++k) {

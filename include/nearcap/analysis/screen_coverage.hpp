@@ -63,6 +63,7 @@ class ScreenCoverage {
 
  private:
   double plane(const CameraPoint& p, int k) const;
+  void project(const CameraPoint& p, double& x, double& y) const;
   Frustum f_;
   double near_sign_;                           // +1 beyond the near plane, -1 before it
   double width_, height_, x_scale_, y_scale_;  // pixels per unit of the near rectangle
@@ -79,7 +80,6 @@ class LightView {
   double triangle_pixels(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) const {
     return coverage_.triangle_pixels(a, b, c);
   }
-  static Camera camera_of(const Camera& camera, const Vec3d& light);
 
  private:
   Vec3d light_;
