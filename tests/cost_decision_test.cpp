@@ -353,8 +353,10 @@ TEST(CostDecision, ReasonNumbersArePrintfs4g) {
 // silhouette's edges built by silhouette_edges() (exact/silhouette.hpp) and
 // walked for the straddle counts, each pass's coverage summed in its own
 // walk (the same primitives, screen_coverage.hpp, tested on their own in
-// screen_coverage_test.cpp).  occluder_work_inputs counts the same in one
-// walk without building them.
+// screen_coverage_test.cpp), every vertex's near-plane distance stored.
+// occluder_work_inputs counts the same from its own facing
+// (occluder_facing.hpp), the straddling faces only in the chunks whose
+// bounds straddle the plane.
 // Every input but the pyramid cull's flag, which the caller passes in.
 analysis::OccluderWorkInputs reference_inputs(const Scene& scene, std::size_t object, std::size_t light,
                                               bool certainly_misses) {
@@ -495,6 +497,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
   const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
   test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
   std::size_t compared = 0, cull_skipped = 0, counted = 0, examined_counted = 0;
+  analysis::FacingCache facings;  // across the scenes, as a renderer's frame loop keeps it
   for (std::size_t k = 0; k < loaded.size(); ++k) {
     const Scene& s = loaded[k];
     for (std::size_t light = 0; light < s.lights.size(); ++light)
@@ -512,6 +515,7 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
           lazy.certainly_misses_light_pyramid = full.certainly_misses_light_pyramid;
         }
         expect_same_inputs(lazy, full, what + " (cull where needed)");
+        expect_same_inputs(analysis::occluder_work_inputs(s, o, light, true, &facings), full, what + " (facing kept)");
         // The cull's examined faces reach the clipped-sides cap's work where
         // its builder runs the cull (the volume reaches the near plane).
         std::size_t examined = 0;

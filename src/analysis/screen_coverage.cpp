@@ -2,6 +2,7 @@
 #include "nearcap/analysis/screen_coverage.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -48,10 +49,14 @@ void ScreenCoverage::project(const CameraPoint& p, double& x, double& y) const {
 }
 
 ScreenVertex ScreenCoverage::vertex(const CameraPoint& p) const {
+  // plane(p, k) for each k, as plane() evaluates it.
+  const double xn = p.x * f_.near, yn = p.y * f_.near;
+  const std::array<double, kPlanes> d{near_sign_ * (-p.z - f_.near * p.w), xn + f_.left * p.z, -f_.right * p.z - xn,
+                                      yn + f_.bottom * p.z, -f_.top * p.z - yn};
   ScreenVertex v;
   v.p = p;
   for (int k = 0; k < kPlanes; ++k)
-    if (!(plane(p, k) >= 0)) v.outside |= static_cast<std::uint8_t>(1u << k);
+    if (!(d[k] >= 0)) v.outside |= static_cast<std::uint8_t>(1u << k);
   return v;
 }
 

@@ -112,11 +112,12 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 
 namespace {
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
-                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d);
+                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
+                              FacingCache* facings);
 }  // namespace
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                      const gl::EmulationSettings& base) {
+                      const gl::EmulationSettings& base, FacingCache* facings) {
   const auto t0 = std::chrono::steady_clock::now();
   const Scene& scene = cs.scene();
   PolicyDecision d;
@@ -187,7 +188,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
                 "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
                 "one: a tight near plane needs a policy with exact_zpass false");
   if (policy.device_profile) {
-    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d));
+    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings);
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return d;
   }
@@ -388,7 +389,8 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
 // `drawn`: the scene as the frame draws it (its near plane the tight one
 // where the frame uses it), for the work estimate.
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
-                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d) {
+                              std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
+                              FacingCache* facings) {
   const DeviceProfile& profile = *policy.device_profile;
   const Scene& scene = drawn;
   const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper};
@@ -417,7 +419,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     Occluder oc;
     oc.object = o;
     // The cull decides Z-pass only where the policy may pick it.
-    oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane);
+    oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane, facings);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));

@@ -41,7 +41,8 @@ std::string CandidateMethod::name() const {
   return n;
 }
 
-OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light, bool pyramid_cull) {
+OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light, bool pyramid_cull,
+                                        FacingCache* cache) {
   const SceneObject& obj = scene.objects[object];
   const TriangleMesh& mesh = *obj.mesh;
   const Camera& camera = scene.camera;
@@ -50,32 +51,15 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   in.object = object;
   in.triangles = static_cast<double>(mesh.triangle_count());
 
-  // Facing, in object space, and the silhouette edges counted as
-  // silhouette_edges() (exact/silhouette.hpp) finds them: a front face's
-  // edges whose neighbour is not front.  The edges themselves are walked
-  // again below only where the near-plane counts need them.
+  // Facing, in object space, and the silhouette's edges, kept for the
+  // sides' coverage below.
   const Vec3d l_object = inverse_apply(obj.object_to_world, scene.lights[light].position);
-  const std::size_t faces = mesh.triangle_count();
-  std::vector<std::uint8_t> front(faces);
-  std::size_t light_facing = 0;
-  for (std::size_t f = 0; f < faces; ++f) {
-    const auto& pl = mesh.face_planes.plane[f];
-    front[f] = pl[0] * l_object.x + pl[1] * l_object.y + pl[2] * l_object.z - pl[3] > 0;
-    light_facing += front[f];
-  }
-  NEARCAP_CHECK(mesh.has_adjacency());
-  // The silhouette's edges (A, D) = (t[k], t[k + 1]) of front faces t,
-  // kept for the sides' coverage below.
-  std::vector<std::array<VertexIndex, 2>> edges;
-  for (std::size_t f = 0; f < faces; ++f) {
-    if (!front[f]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const FaceIndex g = mesh.neighbours[f][k];
-      NEARCAP_CHECK(g != kNoFace);
-      if (!front[g]) edges.push_back({mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3]});
-    }
-  }
-  const std::size_t silhouette = edges.size();
+  std::optional<OccluderFacing> computed;
+  if (!cache) computed = occluder_facing(mesh, l_object);
+  const OccluderFacing& facing = cache ? cache->facing(obj.mesh, l_object) : *computed;
+  const std::vector<std::uint8_t>& front = facing.front;
+  const std::vector<std::array<VertexIndex, 2>>& edges = facing.edges;
+  const std::size_t faces = mesh.triangle_count(), light_facing = facing.light_facing, silhouette = edges.size();
   in.light_facing = static_cast<double>(light_facing);
   in.silhouette_edges = static_cast<double>(silhouette);
 
@@ -220,31 +204,51 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   }
   if (!cap_built) return in;
 
-  // The triangles that straddle the near plane.  Only the camera-space z
-  // of a vertex decides: modelview.apply's third row, in its order.
-  std::vector<double> point_near(mesh.positions.size()), direction_near(mesh.positions.size());
+  // The triangles that straddle the near plane: each side's quad as two
+  // triangles, and where a cap's bounds straddle it, the cap's faces (the
+  // light cap's as points, the dark cap's as directions from the light).
+  // Only the camera-space z of a vertex decides: modelview.apply's third
+  // row, in its order.  A chunk of faces (mesh.hpp, FacePlanes) whose box's
+  // corners lie on one side of the plane by more than `margin`, as points or
+  // as directions, holds no straddling face of that kind.
   const auto& z_row = modelview.rows[2];
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Vec3d& p = mesh.positions[v];
-    const double z = z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3];
-    point_near[v] = -z - near;
-    direction_near[v] = -(z - l.z);
-  }
+  auto z_of = [&z_row](const Vec3d& p) { return z_row[0] * p.x + z_row[1] * p.y + z_row[2] * p.z + z_row[3]; };
+  auto point_near = [&](VertexIndex v) { return -z_of(mesh.positions[v]) - near; };
+  auto direction_near = [&](VertexIndex v) { return -(z_of(mesh.positions[v]) - l.z); };
   auto straddles = [](double a, double b, double c) {
     const bool any_beyond = a > 0 || b > 0 || c > 0, all_beyond = a > 0 && b > 0 && c > 0;
     return any_beyond && !all_beyond;
   };
   double straddling = 0;
   for (const auto& [ea, ed] : edges) {
-    // The side's quad as two triangles.
-    straddling += straddles(point_near[ed], point_near[ea], direction_near[ea]) ? 1 : 0;
-    straddling += straddles(point_near[ed], direction_near[ea], direction_near[ed]) ? 1 : 0;
+    const double pd = point_near(ed), pa = point_near(ea), da = direction_near(ea), dd = direction_near(ed);
+    straddling += straddles(pd, pa, da) ? 1 : 0;
+    straddling += straddles(pd, da, dd) ? 1 : 0;
   }
-  for (std::size_t f = 0; f < faces; ++f) {
+  auto count_face = [&](FaceIndex f, bool as_points, bool as_directions) {
+    if (!(front[f] ? as_points : as_directions)) return;
     const auto& t = mesh.triangles[f];
-    if (front[f] ? points == 0 : directions == 0) {
-      const std::vector<double>& near_distance = front[f] ? point_near : direction_near;
-      straddling += straddles(near_distance[t[0]], near_distance[t[1]], near_distance[t[2]]) ? 1 : 0;
+    straddling += front[f] ? (straddles(point_near(t[0]), point_near(t[1]), point_near(t[2])) ? 1 : 0)
+                           : (straddles(direction_near(t[0]), direction_near(t[1]), direction_near(t[2])) ? 1 : 0);
+  };
+  const FacePlanes& planes = mesh.face_planes;
+  if (planes.chunk_box.empty() || planes.chunk_faces.size() != faces) {
+    for (std::size_t f = 0; f < faces; ++f) count_face(static_cast<FaceIndex>(f), points == 0, directions == 0);
+  } else {
+    for (std::size_t k = 0; k < planes.chunk_box.size(); ++k) {
+      std::array<double, 8> chunk_points{}, chunk_directions{};
+      const auto chunk_corners = box_corners(planes.chunk_box[k][0], planes.chunk_box[k][1]);
+      for (int c = 0; c < 8; ++c) {
+        const double z = z_of(chunk_corners[c]);
+        chunk_points[c] = -z - near;
+        chunk_directions[c] = -(z - l.z);
+      }
+      const bool as_points = points == 0 && side_of(chunk_points, margin) == 0;
+      const bool as_directions = directions == 0 && side_of(chunk_directions, margin) == 0;
+      if (!as_points && !as_directions) continue;
+      const std::size_t end = std::min(faces, (k + 1) * FacePlanes::kFacesPerChunk);
+      for (std::size_t i = k * FacePlanes::kFacesPerChunk; i < end; ++i)
+        count_face(planes.chunk_faces[i], as_points, as_directions);
     }
   }
   in.near_plane_straddling = straddling;

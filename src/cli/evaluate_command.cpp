@@ -168,7 +168,7 @@ class Evaluation {
   }
 
  private:
-  std::vector<RuleFrame> rule_frames(const Scene& scene, const CameraSpaceScene& cs, std::size_t light) const {
+  std::vector<RuleFrame> rule_frames(const Scene& scene, const CameraSpaceScene& cs, std::size_t light) {
     std::vector<RuleFrame> out;
     auto with_projection = [&](gl::LightProjection p) {
       gl::EmulationSettings s = base_;
@@ -176,7 +176,7 @@ class Evaluation {
       return s;
     };
     auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p) {
-      analysis::PolicyDecision d = analysis::decide(p, cs, light, base_);
+      analysis::PolicyDecision d = analysis::decide(p, cs, light, base_, &facings_);
       d.settings.record_draws = true;
       RuleFrame r = rule_frame(name, std::nullopt, d.object_methods, d.settings, camera_space_ms_ + d.decide_ms);
       if (!std::isnan(d.predicted_ms)) r.predicted_ms = d.predicted_ms;
@@ -214,7 +214,7 @@ class Evaluation {
     // at the mercy of a preemption.  Each must decide the same.
     std::array<double, 3> warm{};
     for (double& ms : warm) {
-      const analysis::PolicyDecision again = analysis::decide(policy_, cs, light, base_);
+      const analysis::PolicyDecision again = analysis::decide(policy_, cs, light, base_, &facings_);
       NEARCAP_CHECK(again.object_methods == policy.object_methods);
       ms = camera_space_ms_ + again.decide_ms;
     }
@@ -319,6 +319,10 @@ class Evaluation {
   // reads: its construction is counted in each decision, as a renderer
   // builds it for each frame and light (`nearcap render`'s decision_ms).
   double camera_space_ms_ = 0;
+  // The occluders' facings the decisions keep from one configuration to the
+  // next, as `nearcap render` keeps them along a path (the decisions are the
+  // same without).
+  analysis::FacingCache facings_;
 };
 
 void run(const EvaluateOptions& o) {

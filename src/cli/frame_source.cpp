@@ -16,7 +16,10 @@ RenderMethods render_methods(const std::string& method, const std::string& polic
                                       "nearcap cracks runs it)");
   RenderMethods r;
   r.methods = choice.methods;
-  if (choice.policy) r.policy = analysis::load_policy(policy_file);
+  if (choice.policy) {
+    r.policy = analysis::load_policy(policy_file);
+    r.facings = std::make_shared<analysis::FacingCache>();
+  }
   return r;
 }
 
@@ -44,7 +47,7 @@ gl::ShadowFrame FrameSource::frame(std::size_t k) {
   if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
   const auto t0 = std::chrono::steady_clock::now();
   if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
-  decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_);
+  decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_, methods_.facings.get());
   decision_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   decision_.settings.record_draws = settings_.record_draws;
   gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);

@@ -22,6 +22,9 @@ namespace nearcap::cli {
 struct RenderMethods {
   std::vector<gl::ShadowMethod> methods;
   std::optional<analysis::SwitchPolicy> policy;
+  // The occluders' facings the policy's decisions keep across frames (the
+  // lights and occluders of a path stay put while its camera moves).
+  std::shared_ptr<analysis::FacingCache> facings;
   std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
   std::string name(std::size_t k) const { return k < methods.size() ? std::string(to_string(methods[k])) : "policy"; }
 };

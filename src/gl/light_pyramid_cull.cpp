@@ -71,8 +71,9 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
 
   // Certainly outside one plane: every corner of the box's camera-space
   // image (which holds the image of the box) beyond it by more than the
-  // allowance, measured in the plane's own units.
-  auto outside = [&](const Vec3d& lo, const Vec3d& hi) {
+  // allowance, measured in the plane's own units.  `box_slack`: where given,
+  // the allowance (which holds for every point of the box).
+  auto outside = [&](const Vec3d& lo, const Vec3d& hi, double* box_slack = nullptr) {
     std::array<Vec3d, 8> p;
     double mag = light_mag + n;
     for (int c = 0; c < 8; ++c) {
@@ -85,6 +86,7 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
     // Any point of the box, as the float pipeline sees it, within `slack` of
     // its exact camera-space position.
     const double slack = kFloatAllowance * mag;
+    if (box_slack) *box_slack = slack;
     for (int k = 0; k < 6; ++k) {
       if (!plane_usable[k]) return false;
       bool all_beyond = true;
@@ -107,20 +109,43 @@ bool certainly_misses_light_pyramid(const Scene& scene, std::size_t object, cons
     if (!(n >= 0x1p-10 * depth)) return false;
   }
 
+  // A face of a chunk by its three vertices: the float pipeline draws the
+  // triangle their images span, so with each image beyond one plane by more
+  // than the chunk's allowance (its vertices lie in the chunk's box), the
+  // whole triangle is.  The planes before the first unusable one, as the
+  // boxes test them, starting from the one that decided the last face (a
+  // chunk's faces lie near each other); rounding in double is far below the
+  // allowance.
+  const Affine3d modelview = compose_rounded(view, model);
+  int usable = 0;
+  while (usable < 6 && plane_usable[usable]) ++usable;
+  std::array<double, 6> offset{};
+  for (int k = 0; k < usable; ++k) offset[k] = dot(normal[k], through[k]);
+  int last = 0;
+  auto face_outside = [&](const std::array<VertexIndex, 3>& t, double slack) {
+    const Vec3d a = modelview.apply(obj.mesh->positions[t[0]]), b = modelview.apply(obj.mesh->positions[t[1]]),
+                c = modelview.apply(obj.mesh->positions[t[2]]);
+    for (int i = 0; i < usable; ++i) {
+      const int k = (last + i) % usable;
+      const double limit = offset[k] - slack * length[k];
+      if (dot(normal[k], a) < limit && dot(normal[k], b) < limit && dot(normal[k], c) < limit) {
+        last = k;
+        return true;
+      }
+    }
+    return false;
+  };
+
   if (outside(fp.box_lo, fp.box_hi)) return true;
-  // Then chunk by chunk, and face by face in a chunk not decided whole: a
-  // face's points lie in its vertices' box.
+  // Then chunk by chunk, and face by face in a chunk not decided whole.
   const TriangleMesh& mesh = *obj.mesh;
   for (std::size_t chunk = 0; chunk < fp.chunk_box.size(); ++chunk) {
-    if (outside(fp.chunk_box[chunk][0], fp.chunk_box[chunk][1])) continue;
+    double slack = 0;
+    if (outside(fp.chunk_box[chunk][0], fp.chunk_box[chunk][1], &slack)) continue;
     const std::size_t end = std::min(fp.chunk_faces.size(), (chunk + 1) * FacePlanes::kFacesPerChunk);
     for (std::size_t slot = chunk * FacePlanes::kFacesPerChunk; slot < end; ++slot) {
-      const auto& t = mesh.triangles[fp.chunk_faces[slot]];
-      const Vec3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-      const Vec3d lo{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
-      const Vec3d hi{std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
       ++examined;
-      if (!outside(lo, hi)) return false;
+      if (!face_outside(mesh.triangles[fp.chunk_faces[slot]], slack)) return false;
     }
   }
   return true;

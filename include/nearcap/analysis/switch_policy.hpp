@@ -262,8 +262,10 @@ struct PolicyDecision {
 // comparison), and keeps the option with the least predicted frame time,
 // the shared passes (depth pre-pass, lit pass, silhouettes) and each drawn
 // pass's intercept counted once.  Reasons name the chosen method and every
-// candidate's predicted ms.
+// candidate's predicted ms.  With `facings`, each occluder's facing under
+// the light is taken from it where kept (a renderer's frame loop keeps one
+// across frames: occluder_facing.hpp); the decision is the same either way.
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
-                      const gl::EmulationSettings& base);
+                      const gl::EmulationSettings& base, FacingCache* facings = nullptr);
 
 }  // namespace nearcap::analysis

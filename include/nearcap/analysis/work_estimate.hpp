@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/occluder_facing.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/scene/scene.hpp"
 
@@ -97,12 +98,13 @@ struct OccluderWorkInputs {
 // The light-pyramid cull (the dearest input on a mesh near the pyramid) runs
 // where the clipped-sides cap's work depends on it (the volume reaches the
 // near plane), and everywhere with `pyramid_cull`; every other field is the
-// same either way (tests/cost_decision_test.cpp).  Allocates the per-face
-// facing, the silhouette's edges, the faces the light's view of the near
+// same either way (tests/cost_decision_test.cpp).  The facing and the
+// silhouette's edges come from `cache` where given (occluder_facing.hpp),
+// else are computed; allocates the faces the light's view of the near
 // rectangle may hold and, where the cap is built, per-vertex near-plane
 // distances.
 OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
-                                        bool pyramid_cull = true);
+                                        bool pyramid_cull = true, FacingCache* cache = nullptr);
 
 // The work of one occluder drawn with `c`, CPU included (its clipped-sides
 // cap's construction, one run of CpuTaskWork), shared passes and

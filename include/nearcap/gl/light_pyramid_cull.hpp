@@ -16,14 +16,17 @@
 // float pipeline's own error, since skipping must not change the float
 // frame: the near rectangle is grown by the cap's shortcut margin (a
 // twentieth of the viewport and 8 pixels on each side, near_plane_cap.hpp),
-// each box is grown by a float32 rounding bound of the coordinates that reach
-// the vertex program (object space, world and camera space, the light), and
-// nothing is skipped where the near plane is closer to the eye than 2^-10 of
-// the occluder's depth (the float32 z + w there is known to fewer bits than
-// the cut needs; the tiny-near kind of the sampler).  Boxes first (the
-// mesh's, then its chunks of FacePlanes::kFacesPerChunk faces): each
-// certainly outside one of the pyramid's six planes (four sides through the
-// light, the near plane, and its parallel through the light).
+// each box is grown by a float32 rounding bound of the coordinates that
+// reach the vertex program (object space, world and camera space, the
+// light), and nothing is skipped where the near plane is closer to the eye
+// than 2^-10 of the occluder's depth (the float32 z + w there is known to
+// fewer bits than the cut needs; the tiny-near kind of the sampler).  Boxes
+// first (the mesh's, then its chunks of FacePlanes::kFacesPerChunk faces),
+// then each face of a chunk not decided whole, by its three vertices with
+// its chunk's bound (the triangle the pipeline draws is the one their
+// images span): each certainly outside one of the pyramid's six planes
+// (four sides through the light, the near plane, and its parallel through
+// the light).
 #pragma once
 
 #include <cstddef>
