@@ -7,6 +7,7 @@
 #include "nearcap/exact/camera_space.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -114,23 +115,27 @@ CameraSpaceScene::CameraSpaceScene(const Scene& scene) : scene_(&scene) {
         e_c = std::fmax(e_c, approx.m[i][j].e);
         c_max = std::fmax(c_max, std::fabs(c[i][j]));
       }
+    // One pass over the vertices: |v|_1 + 1 and each coordinate's largest
+    // |estimate|, each a running maximum of its own (a max is exact, so
+    // the order does not change it).
     const auto& positions = obj.mesh->positions;
-    double v1 = 1.0;
-    for (const Vec3d& p : positions) v1 = std::max(v1, std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z) + 1.0);
-    constexpr double kGamma4 = 4 * 0x1p-53 / (1 - 4 * 0x1p-53);
-    d.max_error = (e_c + kGamma4 * c_max) * v1 * (1 + 0x1p-50);
     d.estimates.resize(positions.size());
-    double max_abs = 0;
+    double v1 = 1.0;
+    std::array<double, 3> max_abs{};
     for (std::size_t v = 0; v < positions.size(); ++v) {
       const Vec3d& p = positions[v];
-      Vec3d& out = d.estimates[v];
-      for (int i = 0; i < 3; ++i) {
-        const double x = c[i][0] * p.x + c[i][1] * p.y + c[i][2] * p.z + c[i][3];
-        out[i] = x;
-        max_abs = std::max(max_abs, std::fabs(x));
-      }
+      v1 = std::max(v1, std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z) + 1.0);
+      const double x = c[0][0] * p.x + c[0][1] * p.y + c[0][2] * p.z + c[0][3];
+      const double y = c[1][0] * p.x + c[1][1] * p.y + c[1][2] * p.z + c[1][3];
+      const double z = c[2][0] * p.x + c[2][1] * p.y + c[2][2] * p.z + c[2][3];
+      d.estimates[v] = {x, y, z};
+      max_abs[0] = std::max(max_abs[0], std::fabs(x));
+      max_abs[1] = std::max(max_abs[1], std::fabs(y));
+      max_abs[2] = std::max(max_abs[2], std::fabs(z));
     }
-    d.max_abs = max_abs + d.max_error;
+    constexpr double kGamma4 = 4 * 0x1p-53 / (1 - 4 * 0x1p-53);
+    d.max_error = (e_c + kGamma4 * c_max) * v1 * (1 + 0x1p-50);
+    d.max_abs = std::max({max_abs[0], max_abs[1], max_abs[2]}) + d.max_error;
   }
   const Affine3d identity = Affine3d::identity();
   const BoundedAffine view_approx = compose_bounded(scene.camera.view, identity);
