@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "nearcap/analysis/screen_coverage.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
+#include "nearcap/error.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/exact/light_pyramid.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
@@ -265,6 +267,84 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
   EXPECT_GT(zfail, 0u);
 }
 
+// The choice alone (DecisionPricing::ChoiceOnly: without the sides' and
+// the shared passes' coverage, which add the same to every candidate but
+// AtomicZP) picks the full decision's methods and projection, and
+// price_decision then gives the full decision's predicted time, options and
+// reasons: bundled scenes, every sixth frame of two paths and sampled
+// configurations, under the shipped policy and hand profiles that make each
+// candidate cheapest (AtomicZP's eye count priced in one, the exact test in
+// another).
+TEST(CostDecision, TheChoiceAloneIsTheFullDecisionsChoice) {
+  std::vector<SwitchPolicy> policies{analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json")};
+  for (PassKind cheap : {PassKind::Sides, PassKind::NearCap, PassKind::LightCap}) {
+    DeviceProfile p = flat_profile();
+    for (std::size_t q = 0; q < analysis::kPassKindCount; ++q)
+      if (q != k(cheap) && q != k(PassKind::Depth) && q != k(PassKind::Lit)) p.passes[q].ms_per_mfragment = 100;
+    policies.push_back(cost_policy(p));
+  }
+  DeviceProfile atomic = flat_profile();
+  atomic.eye_count = analysis::PassCost{0.01, 1.0, 0.1};
+  atomic.passes[k(PassKind::LightCap)].ms_per_mfragment = 100;
+  atomic.passes[k(PassKind::DarkCap)].ms_per_mfragment = 100;
+  policies.push_back(cost_policy(atomic));
+  SwitchPolicy exact = cost_policy(flat_profile());
+  exact.exact_zpass = true;
+  policies.push_back(exact);
+
+  std::vector<Scene> scenes;
+  for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
+                           "room_side_light", "no_near_clip", "twisted"})
+    scenes.push_back(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
+  for (const char* name : {"near_plane_sweep", "fly_around"}) {
+    const analysis::CameraPath path =
+        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
+    for (int f = 0; f < path.frames; f += 6)
+      scenes.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
+  }
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(31));
+  test::for_each_sampled_scene(sampler, 40, [&](const Scene& s, const analysis::HardCase&) { scenes.push_back(s); });
+
+  std::size_t compared = 0;
+  std::map<ShadowMethod, std::size_t> chosen;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& s = scenes[i];
+    const CameraSpaceScene cs(s);
+    for (std::size_t light = 0; light < s.lights.size(); ++light)
+      for (std::size_t pi = 0; pi < policies.size(); ++pi) {
+        const std::string what =
+            "scene " + std::to_string(i) + " light " + std::to_string(light) + " policy " + std::to_string(pi);
+        analysis::PolicyDecision full, choice;
+        try {
+          full = analysis::decide(policies[pi], cs, light, {});
+        } catch (const Error& e) {
+          EXPECT_THROW(analysis::decide(policies[pi], cs, light, {}, nullptr, analysis::DecisionPricing::ChoiceOnly),
+                       Error)
+              << what;
+          continue;
+        }
+        choice = analysis::decide(policies[pi], cs, light, {}, nullptr, analysis::DecisionPricing::ChoiceOnly);
+        EXPECT_EQ(choice.object_methods, full.object_methods) << what;
+        EXPECT_EQ(choice.settings.light_frustum.projection, full.settings.light_frustum.projection) << what;
+        EXPECT_TRUE(std::isnan(choice.predicted_ms)) << what;
+        EXPECT_FALSE(choice.prices.has_value()) << what;
+        analysis::price_decision(choice, policies[pi], cs, light, {});
+        EXPECT_EQ(choice.predicted_ms, full.predicted_ms) << what;
+        EXPECT_EQ(choice.predicted_options, full.predicted_options) << what;
+        for (std::size_t o = 0; o < s.objects.size(); ++o) {
+          EXPECT_EQ(choice.reason(o), full.reason(o)) << what << " object " << o;
+          if (s.objects[o].occluder) ++chosen[full.object_methods[o]];
+        }
+        ++compared;
+      }
+  }
+  std::printf("%zu decisions compared:", compared);
+  for (const auto& [m, n] : chosen) std::printf(" %s %zu", std::string(gl::to_string(m)).c_str(), n);
+  std::printf("\n");
+  for (ShadowMethod m : {ShadowMethod::ZPass, ShadowMethod::ZFail, ShadowMethod::ZPPlus, ShadowMethod::AtomicZP})
+    EXPECT_GT(chosen[m], 0u) << gl::to_string(m);
+}
+
 // Bundled paths (near_plane_sweep frames 40-59, the issue's; every fifth
 // frame of fly_around): Z-pass exactly where the exact test finds the
 // near-cap empty under a profile that makes Z-pass the cheapest right
@@ -498,6 +578,9 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
   test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
   std::size_t compared = 0, cull_skipped = 0, counted = 0, examined_counted = 0;
   analysis::FacingCache facings;  // across the scenes, as a renderer's frame loop keeps it
+  analysis::WorkInputsOptions lazy_cull, kept;
+  lazy_cull.pyramid_cull = false;
+  kept.facings = &facings;
   for (std::size_t k = 0; k < loaded.size(); ++k) {
     const Scene& s = loaded[k];
     for (std::size_t light = 0; light < s.lights.size(); ++light)
@@ -505,17 +588,17 @@ TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
         if (!s.objects[o].occluder) continue;
         const std::string what =
             "scene " + std::to_string(k) + " light " + std::to_string(light) + " object " + std::to_string(o);
-        const analysis::OccluderWorkInputs full = analysis::occluder_work_inputs(s, o, light, true);
+        const analysis::OccluderWorkInputs full = analysis::occluder_work_inputs(s, o, light);
         ASSERT_TRUE(full.pyramid_cull_run) << what;
         expect_same_inputs(full, reference_inputs(s, o, light, full.certainly_misses_light_pyramid), what);
-        analysis::OccluderWorkInputs lazy = analysis::occluder_work_inputs(s, o, light, false);
+        analysis::OccluderWorkInputs lazy = analysis::occluder_work_inputs(s, o, light, lazy_cull);
         if (!lazy.pyramid_cull_run) {
           ++cull_skipped;
           EXPECT_FALSE(lazy.certainly_misses_light_pyramid) << what;
           lazy.certainly_misses_light_pyramid = full.certainly_misses_light_pyramid;
         }
         expect_same_inputs(lazy, full, what + " (cull where needed)");
-        expect_same_inputs(analysis::occluder_work_inputs(s, o, light, true, &facings), full, what + " (facing kept)");
+        expect_same_inputs(analysis::occluder_work_inputs(s, o, light, kept), full, what + " (facing kept)");
         // The cull's examined faces reach the clipped-sides cap's work where
         // its builder runs the cull (the volume reaches the near plane).
         std::size_t examined = 0;

@@ -113,11 +113,11 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 namespace {
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
-                              FacingCache* facings);
+                              FacingCache* facings, DecisionPricing pricing);
 }  // namespace
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                      const gl::EmulationSettings& base, FacingCache* facings) {
+                      const gl::EmulationSettings& base, FacingCache* facings, DecisionPricing pricing) {
   const auto t0 = std::chrono::steady_clock::now();
   const Scene& scene = cs.scene();
   PolicyDecision d;
@@ -188,7 +188,7 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
                 "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
                 "one: a tight near plane needs a policy with exact_zpass false");
   if (policy.device_profile) {
-    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings);
+    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing);
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return d;
   }
@@ -390,7 +390,7 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
 // where the frame uses it), for the work estimate.
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
-                              FacingCache* facings) {
+                              FacingCache* facings, DecisionPricing pricing) {
   const DeviceProfile& profile = *policy.device_profile;
   const Scene& scene = drawn;
   const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper};
@@ -400,6 +400,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const CandidateMethod atomiczp{gl::ShadowMethod::AtomicZP, gl::LightProjection::Paper};
   // AtomicZP is a candidate only where the profile prices its eye-count pass.
   const bool atomiczp_priced = profile.eye_count.has_value();
+  // A choice without the coverage every candidate shares (decide's header).
+  const bool choice_only = pricing == DecisionPricing::ChoiceOnly;
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
   const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
@@ -414,12 +416,16 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     OccluderWorkInputs in;
   };
   std::vector<Occluder> occluders;
+  WorkInputsOptions inputs_options;
+  inputs_options.pyramid_cull = policy.exact_zpass && !light_on_near_plane;
+  inputs_options.sides_coverage = !choice_only || atomiczp_priced;
+  inputs_options.facings = facings;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     if (!scene.objects[o].occluder) continue;
     Occluder oc;
     oc.object = o;
     // The cull decides Z-pass only where the policy may pick it.
-    oc.in = occluder_work_inputs(scene, o, light, policy.exact_zpass && !light_on_near_plane, facings);
+    oc.in = occluder_work_inputs(scene, o, light, inputs_options);
     oc.zfail_ms = marginal_ms(profile, occluder_work(oc.in, zfail));
     oc.clipped_ms = marginal_ms(profile, occluder_work(oc.in, clipped));
     if (paper_ok) oc.paper_ms = marginal_ms(profile, occluder_work(oc.in, paper));
@@ -482,7 +488,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     }
   }
   const double viewport_pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
-  const FrameWork shared = shared_frame_work(scene);
+  const FrameWork shared = shared_frame_work(scene, !choice_only);
   struct Frame {
     double ms = kNaN;
     std::vector<CandidateMethod> choice;
@@ -576,6 +582,12 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     prices.occluders.push_back(std::move(static_cast<OccluderPrices&>(oc)));
   }
   d.prices = std::move(prices);
+  if (choice_only) {
+    d.predicted_ms = kNaN;
+    d.predicted_work = {};
+    d.predicted_options.clear();
+    d.prices.reset();
+  }
   return d;
 }
 
@@ -638,6 +650,24 @@ std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
 }
 
 }  // namespace
+
+void price_decision(PolicyDecision& d, const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                    const gl::EmulationSettings& base, FacingCache* facings) {
+  if (!policy.device_profile) return;
+  PolicyDecision full = decide(policy, cs, light, base, facings, DecisionPricing::Full);
+  d.predicted_ms = full.predicted_ms;
+  d.predicted_work = full.predicted_work;
+  d.predicted_options = std::move(full.predicted_options);
+  d.prices = std::move(full.prices);
+  // Where the choice's methods differ (a tie within rounding), the prices
+  // name the methods drawn.
+  if (d.prices)
+    for (OccluderPrices& p : d.prices->occluders)
+      if (p.object < d.object_methods.size() && p.chosen.method != d.object_methods[p.object]) {
+        p.chosen.method = d.object_methods[p.object];
+        p.chosen.cap = d.settings.light_frustum.projection;
+      }
+}
 
 std::string PolicyDecision::reason(std::size_t object) const {
   if (prices)

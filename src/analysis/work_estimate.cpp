@@ -41,8 +41,8 @@ std::string CandidateMethod::name() const {
   return n;
 }
 
-OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light, bool pyramid_cull,
-                                        FacingCache* cache) {
+OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
+                                        const WorkInputsOptions& options) {
   const SceneObject& obj = scene.objects[object];
   const TriangleMesh& mesh = *obj.mesh;
   const Camera& camera = scene.camera;
@@ -55,8 +55,8 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // sides' coverage below.
   const Vec3d l_object = inverse_apply(obj.object_to_world, scene.lights[light].position);
   std::optional<OccluderFacing> computed;
-  if (!cache) computed = occluder_facing(mesh, l_object);
-  const OccluderFacing& facing = cache ? cache->facing(obj.mesh, l_object) : *computed;
+  if (!options.facings) computed = occluder_facing(mesh, l_object);
+  const OccluderFacing& facing = options.facings ? options.facings->facing(obj.mesh, l_object) : *computed;
   const std::vector<std::uint8_t>& front = facing.front;
   const std::vector<std::array<VertexIndex, 2>>& edges = facing.edges;
   const std::size_t faces = mesh.triangle_count(), light_facing = facing.light_facing, silhouette = edges.size();
@@ -99,7 +99,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   const bool sides_needed = points == 0 || directions == 0 || points != directions;
   // The pyramid cull, the dearest input, runs where the cap's work depends
   // on it or the caller asks.
-  in.pyramid_cull_run = pyramid_cull || sides_needed;
+  in.pyramid_cull_run = options.pyramid_cull || sides_needed;
   if (in.pyramid_cull_run) {
     std::size_t examined = 0;
     in.certainly_misses_light_pyramid = gl::certainly_misses_light_pyramid(
@@ -191,7 +191,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // light, can cover more than all the others), so the sum is rough; it is
   // the same for every candidate but AtomicZP's depth-clamped sides.
   const std::size_t edge_stride = std::max<std::size_t>(1, edges.size() / kSideSamples);
-  for (std::size_t e = edge_stride / 2; e < edges.size(); e += edge_stride) {
+  for (std::size_t e = edge_stride / 2; options.sides_coverage && e < edges.size(); e += edge_stride) {
     const VertexIndex ea = edges[e][0], ed = edges[e][1];
     const std::array<ScreenVertex, 4> quad{coverage.vertex(as_point(ed)), coverage.vertex(as_point(ea)),
                                            coverage.vertex(as_direction(ea)), coverage.vertex(as_direction(ed))};
@@ -322,7 +322,7 @@ FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c) 
   return w;
 }
 
-FrameWork shared_frame_work(const Scene& scene) {
+FrameWork shared_frame_work(const Scene& scene, bool with_coverage) {
   FrameWork w;
   const auto depth = static_cast<std::size_t>(PassKind::Depth), lit = static_cast<std::size_t>(PassKind::Lit);
   w.drawn[depth] = w.drawn[lit] = true;
@@ -337,7 +337,7 @@ FrameWork shared_frame_work(const Scene& scene) {
       return coverage.vertex({c.x, c.y, c.z, 1});
     };
     double pixels = 0;
-    for (std::size_t f = stride / 2; f < mesh.triangles.size(); f += stride) {
+    for (std::size_t f = stride / 2; with_coverage && f < mesh.triangles.size(); f += stride) {
       const auto& tri = mesh.triangles[f];
       pixels += static_cast<double>(stride) * coverage.triangle_pixels(vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
     }

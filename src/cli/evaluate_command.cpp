@@ -176,7 +176,11 @@ class Evaluation {
       return s;
     };
     auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p) {
-      analysis::PolicyDecision d = analysis::decide(p, cs, light, base_, &facings_);
+      // The choice timed (decide_ms); its prices, the predicted frame time
+      // among them, computed after.
+      analysis::PolicyDecision d =
+          analysis::decide(p, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly);
+      analysis::price_decision(d, p, cs, light, base_, &facings_);
       d.settings.record_draws = true;
       RuleFrame r = rule_frame(name, std::nullopt, d.object_methods, d.settings, camera_space_ms_ + d.decide_ms);
       if (!std::isnan(d.predicted_ms)) r.predicted_ms = d.predicted_ms;
@@ -214,7 +218,8 @@ class Evaluation {
     // at the mercy of a preemption.  Each must decide the same.
     std::array<double, 3> warm{};
     for (double& ms : warm) {
-      const analysis::PolicyDecision again = analysis::decide(policy_, cs, light, base_, &facings_);
+      const analysis::PolicyDecision again =
+          analysis::decide(policy_, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly);
       NEARCAP_CHECK(again.object_methods == policy.object_methods);
       ms = camera_space_ms_ + again.decide_ms;
     }

@@ -47,8 +47,12 @@ gl::ShadowFrame FrameSource::frame(std::size_t k) {
   if (k < methods_.methods.size()) return batch_.render(methods_.methods[k]);
   const auto t0 = std::chrono::steady_clock::now();
   if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
-  decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_, methods_.facings.get());
+  decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_, methods_.facings.get(),
+                               analysis::DecisionPricing::ChoiceOnly);
   decision_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // The predicted frame time and the reasons' prices: what the records
+  // report, not part of the frame's work.
+  analysis::price_decision(decision_, *methods_.policy, *cs_, light_, settings_, methods_.facings.get());
   decision_.settings.record_draws = settings_.record_draws;
   gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
   return batch.render(decision_.object_methods);

@@ -52,7 +52,9 @@ class FrameSource {
   // The policy's last decision (after frame(k) of the policy).
   const analysis::PolicyDecision& decision() const { return decision_; }
   // Its CPU time (steady_clock, ms): the camera-space scene the policy reads
-  // (the first time), and the decision, its exact Z-pass test included.
+  // (the first time), and the decision's choice, its exact Z-pass test
+  // included (analysis::DecisionPricing::ChoiceOnly; the prices the records
+  // read are computed after).
   double decision_ms() const { return decision_ms_; }
 
  private:

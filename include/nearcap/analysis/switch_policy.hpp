@@ -200,7 +200,7 @@ struct PolicyDecision {
   std::vector<std::string> step_reasons;
   std::optional<FramePrices> prices;
   double crack_probability = 0;  // the model's, NaN when not asked
-  double decide_ms = 0;          // the decision's own time
+  double decide_ms = 0;          // the decision's own time (with DecisionPricing::ChoiceOnly, the choice's)
   // The frame's depth step at its farthest point over the scene's size, for
   // the settings below, or a bound of it where the bound is below
   // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
@@ -265,7 +265,26 @@ struct PolicyDecision {
 // candidate's predicted ms.  With `facings`, each occluder's facing under
 // the light is taken from it where kept (a renderer's frame loop keeps one
 // across frames: occluder_facing.hpp); the decision is the same either way.
+//
+// With DecisionPricing::ChoiceOnly the cost decision makes the same choice
+// without what adds the same to every candidate's price: the sides'
+// coverage (every candidate but AtomicZP draws the same sides; computed
+// where the profile prices AtomicZP) and the depth and lit passes' (every
+// frame option draws them).  Its predicted_ms is then NaN, its
+// predicted_work and predicted_options empty and its prices absent:
+// price_decision completes them.  A frame loop times the choice; the prices
+// are what a report reads, as the reasons' text is.
+enum class DecisionPricing { Full, ChoiceOnly };
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
-                      const gl::EmulationSettings& base, FacingCache* facings = nullptr);
+                      const gl::EmulationSettings& base, FacingCache* facings = nullptr,
+                      DecisionPricing pricing = DecisionPricing::Full);
+
+// The prices of a ChoiceOnly decision `d` made with the same arguments: its
+// predicted frame time, work, options and every candidate's prices, as the
+// full decision computes them; d's methods and decide_ms are kept (a choice
+// and the full decision differ only where two options' prices tie within
+// rounding).  Nothing to do for a decision without a device profile.
+void price_decision(PolicyDecision& d, const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
+                    const gl::EmulationSettings& base, FacingCache* facings = nullptr);
 
 }  // namespace nearcap::analysis

@@ -93,18 +93,29 @@ struct OccluderWorkInputs {
   double pyramid_cull_examined = 0;
 };
 
+// What occluder_work_inputs computes beyond the counts.
+struct WorkInputsOptions {
+  // The light-pyramid cull everywhere (else only where the clipped-sides
+  // cap's work depends on it).
+  bool pyramid_cull = true;
+  // The sides' coverage (sides_pixels, sides_clamped_pixels; else 0): every
+  // candidate but AtomicZP draws the same sides, so a choice among the
+  // others does not need it.
+  bool sides_coverage = true;
+  // Where given, the facing and the silhouette's edges come from it
+  // (occluder_facing.hpp), else they are computed.
+  FacingCache* facings = nullptr;
+};
+
 // Occluder `object` under scene.lights[light].  The object must be an
 // occluder with adjacency (validate_occluder) and face planes.
 // The light-pyramid cull (the dearest input on a mesh near the pyramid) runs
 // where the clipped-sides cap's work depends on it (the volume reaches the
-// near plane), and everywhere with `pyramid_cull`; every other field is the
-// same either way (tests/cost_decision_test.cpp).  The facing and the
-// silhouette's edges come from `cache` where given (occluder_facing.hpp),
-// else are computed; allocates the faces the light's view of the near
-// rectangle may hold and, where the cap is built, per-vertex near-plane
-// distances.
+// near plane), and everywhere with options.pyramid_cull; every other field
+// is the same either way (tests/cost_decision_test.cpp).  Allocates the
+// faces the light's view of the near rectangle may hold.
 OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, std::size_t light,
-                                        bool pyramid_cull = true, FacingCache* cache = nullptr);
+                                        const WorkInputsOptions& options = {});
 
 // The work of one occluder drawn with `c`, CPU included (its clipped-sides
 // cap's construction, one run of CpuTaskWork), shared passes and
@@ -121,8 +132,10 @@ CpuTaskWork clipped_cap_work(const OccluderWorkInputs& in);
 CpuTaskWork exact_test_work(const std::vector<OccluderWorkInputs>& occluders);
 
 // What every method of the frame pays once: the depth pre-pass and the lit
-// pass over every object, and every occluder's silhouette.
-FrameWork shared_frame_work(const Scene& scene);
+// pass over every object, and every occluder's silhouette; without
+// `with_coverage`, their fragments 0 (the same for every candidate: a
+// choice does not need them).
+FrameWork shared_frame_work(const Scene& scene, bool with_coverage = true);
 
 // The estimate of a whole frame drawn as ShadowFrameBatch(scene, light,
 // settings).render(object_methods) draws it (the cap kind from
