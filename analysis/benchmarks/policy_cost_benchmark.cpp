@@ -33,6 +33,9 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+// What a frame loop times: the choice, its prices left out
+// (switch_policy.hpp, DecisionPricing).
+constexpr auto kChoice = nearcap::analysis::DecisionPricing::ChoiceOnly;
 
 struct Pair {
   std::shared_ptr<const nearcap::Scene> scene;
@@ -135,7 +138,7 @@ void BM_PolicyCost(benchmark::State& state) {
       };
       auto draw_policy = [&] {
         const auto t0 = Clock::now();
-        nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, *p.cs, p.light, {});
+        nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, *p.cs, p.light, {}, nullptr, kChoice);
         d.settings.cull_light_pyramid = cull;
         nearcap::gl::ShadowFrameBatch batch(*p.scene, p.light, d.settings);
         const nearcap::gl::ShadowFrame f = batch.render(d.object_methods);
@@ -159,7 +162,7 @@ void BM_PolicyCost(benchmark::State& state) {
 }
 
 // The decision alone (analysis::decide with the shipped policy's device
-// profile), every (configuration, light) of the set in turn, each decided
+// profile, its choice: DecisionPricing::ChoiceOnly), every (configuration, light) of the set in turn, each decided
 // range(1) times in a row: 1 is the order `nearcap evaluate` times its first
 // call in (a different frame before each), 2 also times the call repeated
 // at once (warm, as a renderer's frame loop pays it).  range(0): 0 the
@@ -175,7 +178,8 @@ void BM_PolicyDecision(benchmark::State& state) {
     for (const Pair& p : s.pairs)
       for (int k = 0; k < repeat; ++k) {
         const auto t0 = Clock::now();
-        const nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, *p.cs, p.light, {});
+        const nearcap::analysis::PolicyDecision d =
+            nearcap::analysis::decide(s.policy, *p.cs, p.light, {}, nullptr, kChoice);
         ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         benchmark::DoNotOptimize(d.object_methods.data());
         ++decisions;
@@ -201,7 +205,8 @@ void BM_CameraSpaceScene(benchmark::State& state) {
       const auto t0 = Clock::now();
       const nearcap::CameraSpaceScene cs(*p.scene);
       if (decide) {
-        const nearcap::analysis::PolicyDecision d = nearcap::analysis::decide(s.policy, cs, p.light, {});
+        const nearcap::analysis::PolicyDecision d =
+            nearcap::analysis::decide(s.policy, cs, p.light, {}, nullptr, kChoice);
         benchmark::DoNotOptimize(d.object_methods.data());
       }
       ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
