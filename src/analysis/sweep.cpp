@@ -97,7 +97,9 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
       std::unique_ptr<gl::ShadowFrameBatch> policy_batch;
       gl::EmulationSettings policy_settings;
       if (options.switch_policy) {
-        const PolicyDecision d = decide(*options.switch_policy, cs, light, variant.settings);
+        // Its choice (decide_ms): a row reads no price.
+        const PolicyDecision d =
+            decide(*options.switch_policy, cs, light, variant.settings, nullptr, DecisionPricing::ChoiceOnly);
         policy_settings = d.settings;
         policy_batch = std::make_unique<gl::ShadowFrameBatch>(scene, light, d.settings);
         entries.push_back({"policy", std::nullopt, d.object_methods, d.decide_ms, policy_batch.get()});
