@@ -114,7 +114,9 @@ struct EvaluationRow {
   // include building the exact camera-space scene the decision reads
   // (CameraSpaceScene), timed once per configuration, as `nearcap render`
   // counts it in its decision_ms: a frame loop whose camera moves builds it
-  // every frame.
+  // every frame.  The decision timed is its choice (switch_policy.hpp,
+  // DecisionPricing::ChoiceOnly), with the occluders' facings kept from one
+  // configuration to the next; predicted_ms is priced after it.
   std::optional<double> decision_warm_ms;
   std::string chosen;  // oracle rows: the candidate it is; the policy's: its occluders' methods, "+"-joined
 };
