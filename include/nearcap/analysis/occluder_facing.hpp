@@ -38,6 +38,7 @@ OccluderFacing occluder_facing(const TriangleMesh& mesh, const Vec3d& light);
 // one occluder_facing would compute.  Not thread-safe: one per renderer loop.
 class FacingCache {
  public:
+  // The reference stays valid until the next call.
   const OccluderFacing& facing(const std::shared_ptr<const TriangleMesh>& mesh, const Vec3d& light);
   std::size_t computed() const { return computed_; }  // facings computed (not found kept)
 
