@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <random>
 #include <string>
@@ -54,6 +55,33 @@ DeviceProfile flat_profile() {
   p.cpu.clipped_cap.ms_per_ktested = 0.01;
   p.cpu.exact_test.ms_per_ktested = 0.01;
   return p;
+}
+
+// The flat profile with every stencil pass's fragments dear but `cheap`'s:
+// a profile under which the candidates drawing `cheap` win.
+DeviceProfile one_pass_cheap(PassKind cheap) {
+  DeviceProfile p = flat_profile();
+  for (std::size_t q = 0; q < analysis::kPassKindCount; ++q)
+    if (q != k(cheap) && q != k(PassKind::Depth) && q != k(PassKind::Lit)) p.passes[q].ms_per_mfragment = 100;
+  return p;
+}
+
+// Bundled scenes by name, every `path_step`-th frame of near_plane_sweep and
+// fly_around, and `samples` configurations of the sampler's `seed`.
+std::vector<Scene> scenes_of_every_kind(std::initializer_list<const char*> names, int path_step, std::uint64_t seed,
+                                        std::uint64_t samples) {
+  std::vector<Scene> out;
+  for (const char* name : names)
+    out.push_back(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
+  for (const char* name : {"near_plane_sweep", "fly_around"}) {
+    const analysis::CameraPath path =
+        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
+    for (int f = 0; f < path.frames; f += path_step)
+      out.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
+  }
+  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(seed));
+  test::for_each_sampled_scene(sampler, samples, [&](const Scene& s, const analysis::HardCase&) { out.push_back(s); });
+  return out;
 }
 
 // The paper's cap as the policy's capped method, with a crack model that
@@ -222,9 +250,7 @@ TEST(CostDecision, TheFrameRowsSavingPerPassFavoursFewerPasses) {
 TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
   std::vector<DeviceProfile> profiles;
   for (PassKind cheap : {PassKind::Sides, PassKind::NearCap, PassKind::LightCap}) {
-    DeviceProfile p = flat_profile();
-    for (std::size_t q = 0; q < analysis::kPassKindCount; ++q)
-      if (q != k(cheap) && q != k(PassKind::Depth) && q != k(PassKind::Lit)) p.passes[q].ms_per_mfragment = 100;
+    DeviceProfile p = one_pass_cheap(cheap);
     p.cpu = {};
     profiles.push_back(p);
     // The near-cap pass cheap but the clipped-sides cap's construction
@@ -277,12 +303,8 @@ TEST(CostDecision, NeverAWrongCandidateOnBundledScenes) {
 // another).
 TEST(CostDecision, TheChoiceAloneIsTheFullDecisionsChoice) {
   std::vector<SwitchPolicy> policies{analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json")};
-  for (PassKind cheap : {PassKind::Sides, PassKind::NearCap, PassKind::LightCap}) {
-    DeviceProfile p = flat_profile();
-    for (std::size_t q = 0; q < analysis::kPassKindCount; ++q)
-      if (q != k(cheap) && q != k(PassKind::Depth) && q != k(PassKind::Lit)) p.passes[q].ms_per_mfragment = 100;
-    policies.push_back(cost_policy(p));
-  }
+  for (PassKind cheap : {PassKind::Sides, PassKind::NearCap, PassKind::LightCap})
+    policies.push_back(cost_policy(one_pass_cheap(cheap)));
   DeviceProfile atomic = flat_profile();
   atomic.eye_count = analysis::PassCost{0.01, 1.0, 0.1};
   atomic.passes[k(PassKind::LightCap)].ms_per_mfragment = 100;
@@ -292,19 +314,10 @@ TEST(CostDecision, TheChoiceAloneIsTheFullDecisionsChoice) {
   exact.exact_zpass = true;
   policies.push_back(exact);
 
-  std::vector<Scene> scenes;
-  for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
-                           "room_side_light", "no_near_clip", "twisted"})
-    scenes.push_back(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
-  for (const char* name : {"near_plane_sweep", "fly_around"}) {
-    const analysis::CameraPath path =
-        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
-    for (int f = 0; f < path.frames; f += 6)
-      scenes.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
-  }
-  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(31));
-  test::for_each_sampled_scene(sampler, 40, [&](const Scene& s, const analysis::HardCase&) { scenes.push_back(s); });
-
+  const std::vector<Scene> scenes =
+      scenes_of_every_kind({"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
+                            "room_side_light", "no_near_clip", "twisted"},
+                           6, 31, 40);
   std::size_t compared = 0;
   std::map<ShadowMethod, std::size_t> chosen;
   for (std::size_t i = 0; i < scenes.size(); ++i) {
@@ -564,18 +577,10 @@ void expect_same_inputs(const analysis::OccluderWorkInputs& a, const analysis::O
 // equal the first formulation's, field by field, on bundled scenes, every
 // tenth frame of the bundled paths and sampled configurations (every kind).
 TEST(WorkEstimate, CountedInputsEqualTheReferenceFormulation) {
-  std::vector<Scene> loaded;
-  for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
-                           "room_side_light", "no_near_clip", "twisted", "near_cap_bunny_wall"})
-    loaded.push_back(load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
-  for (const char* name : {"near_plane_sweep", "fly_around"}) {
-    const analysis::CameraPath path =
-        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
-    for (int f = 0; f < path.frames; f += 10)
-      loaded.push_back(parse_scene(analysis::path_frame_json(path, f), name, "."));
-  }
-  const analysis::HardCaseSampler sampler(test::bundled_sampler_spec(27));
-  test::for_each_sampled_scene(sampler, 60, [&](const Scene& s, const analysis::HardCase&) { loaded.push_back(s); });
+  const std::vector<Scene> loaded =
+      scenes_of_every_kind({"default", "eye_in_shadow", "near_split", "case_d", "light_on_near_plane", "room",
+                            "room_side_light", "no_near_clip", "twisted", "near_cap_bunny_wall"},
+                           10, 27, 60);
   std::size_t compared = 0, cull_skipped = 0, counted = 0, examined_counted = 0;
   analysis::FacingCache facings;  // across the scenes, as a renderer's frame loop keeps it
   analysis::WorkInputsOptions lazy_cull, kept;

@@ -49,7 +49,8 @@ void ScreenCoverage::project(const CameraPoint& p, double& x, double& y) const {
 }
 
 ScreenVertex ScreenCoverage::vertex(const CameraPoint& p) const {
-  // plane(p, k) for each k, as plane() evaluates it.
+  // plane(p, k) for each k, as plane() evaluates it, written out: the
+  // outcode is on the decision's hot path, and plane()'s switch on k is not.
   const double xn = p.x * f_.near, yn = p.y * f_.near;
   const std::array<double, kPlanes> d{near_sign_ * (-p.z - f_.near * p.w), xn + f_.left * p.z, -f_.right * p.z - xn,
                                       yn + f_.bottom * p.z, -f_.top * p.z - yn};

@@ -52,7 +52,8 @@ gl::ShadowFrame FrameSource::frame(std::size_t k) {
   decision_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // The predicted frame time and the reasons' prices: what the records
   // report, not part of the frame's work.
-  analysis::price_decision(decision_, *methods_.policy, *cs_, light_, settings_, methods_.facings.get());
+  if (methods_.priced)
+    analysis::price_decision(decision_, *methods_.policy, *cs_, light_, settings_, methods_.facings.get());
   decision_.settings.record_draws = settings_.record_draws;
   gl::ShadowFrameBatch batch(scene_, light_, decision_.settings);
   return batch.render(decision_.object_methods);

@@ -25,6 +25,9 @@ struct RenderMethods {
   // The occluders' facings the policy's decisions keep across frames (the
   // lights and occluders of a path stay put while its camera moves).
   std::shared_ptr<analysis::FacingCache> facings;
+  // Whether each decision is priced after its choice (the predicted frame
+  // time and the reasons the records report): not where nothing reads them.
+  bool priced = true;
   std::size_t count() const { return methods.size() + (policy ? 1 : 0); }
   std::string name(std::size_t k) const { return k < methods.size() ? std::string(to_string(methods[k])) : "policy"; }
 };

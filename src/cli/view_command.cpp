@@ -99,6 +99,12 @@ std::string fixed(double v, int digits) {
   return b;
 }
 
+// The viewer draws the policy's methods and reads none of its prices.
+RenderMethods unpriced(RenderMethods m) {
+  m.priced = false;
+  return m;
+}
+
 std::deque<view::ViewerInput> keys_of(const std::string& script) {
   const std::vector<view::ViewerInput> keys = view::parse_key_script(script);
   return {keys.begin(), keys.end()};
@@ -110,7 +116,7 @@ class Viewer {
       : options_(o),
         scene_json_(scene_json_with_absolute_meshes(o.scene)),
         scene_(parse_scene(scene_json_.dump(), o.scene, ".", &meshes_)),
-        methods_(render_methods(o.method, o.policy, "view")),
+        methods_(unpriced(render_methods(o.method, o.policy, "view"))),
         settings_(settings_from(o.emulation)),
         camera_(scene_.camera.view, o.step > 0 ? o.step : default_step(scene_)),
         script_(keys_of(o.keys)) {
