@@ -17,16 +17,27 @@ check_dev_null() {
 }
 check_dev_null
 trap check_dev_null EXIT
+# Each stage's wall time, printed as it ends (docs/development.md has a run's).
+stage_start=$(date +%s)
+stage_done() {
+  echo "test.sh: $1 done in $(( $(date +%s) - stage_start )) s"
+  stage_start=$(date +%s)
+}
 ./scripts/install-deps.sh
 ./scripts/check-format.sh
+stage_done "packages and format check"
 ./scripts/build.sh -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_TESTS=ON
+stage_done "Release build"
 ctest --test-dir build --output-on-failure --no-tests=error -j2
+stage_done "Release suite"
 if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi
 # -O1 -g1: line tables for the reports' stacks; it compiles in about a third
-# of -O2 -g's time (docs/development.md).
+# of -O2 -g's time, and the tests' and the program's own units at -O0 in
+# about half of that (docs/development.md).
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-  -DNEARCAP_SANITIZE=ON -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
+  -DNEARCAP_DRIVER_CXX_FLAGS=-O0 -DNEARCAP_SANITIZE=ON -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-asan
+stage_done "sanitizer build"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # The tests that drive Mesa through EGL or GLX (the rasterizer probe, the
 # frame replay and lit frame, the pass-kind timing, `nearcap render`, `calibrate`,
@@ -39,4 +50,6 @@ NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E "$egl_tests"
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -R "$egl_tests"
+stage_done "sanitizer suite"
 ./scripts/fuzz.sh "${NEARCAP_FUZZ_SECONDS:-12}"
+stage_done "fuzzers' build and runs"
