@@ -158,7 +158,7 @@ TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
   EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
   EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
   EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
-            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,\n");
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,\n");
 }
 
 // A (configuration, light) where the policy or a fixed rule did not draw is
@@ -255,10 +255,17 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
   const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
   ASSERT_EQ(table.sets.size(), 1u);
   EXPECT_NEAR(table.sets[0].predicted_median_error, 0.10, 1e-12);
+  EXPECT_NEAR(table.sets[0].predicted_median_ratio, 1.0, 1e-12);  // ratios .9 1 1.2 1.5 1
   EXPECT_NEAR(table.sets[0].noise_median_deviation, 0.10, 1e-12);
   const std::string md = analysis::evaluation_table_markdown(table);
-  EXPECT_NE(md.find("predicted frame time (device profile, before drawing): median error 10.0%"), std::string::npos)
+  EXPECT_NE(md.find("predicted frame time (device profile, before drawing): median error 10.0% of the measured "
+                    "end-to-end time; predicted/measured median 1.000"),
+            std::string::npos)
       << md;
+  // A profile twice too dear: the ratio says so (1.8 2 2.4 3 2).
+  for (EvaluationRow& r : rows)
+    if (r.predicted_ms) *r.predicted_ms *= 2;
+  EXPECT_NEAR(analysis::evaluate_rows(rows).sets[0].predicted_median_ratio, 2.0, 1e-12);
   // Without a profile there is no prediction to judge.
   for (EvaluationRow& r : rows) r.predicted_ms.reset();
   EXPECT_TRUE(std::isnan(analysis::evaluate_rows(rows).sets[0].predicted_median_error));
@@ -266,11 +273,13 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
-  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,\n");
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,\n");
   EvaluationRow p = row("sample:7:3", "policy", 1.5);
   p.decision_ms = 0.25;
   p.decision_warm_ms = 0.0625;
-  EXPECT_EQ(analysis::evaluation_csv_line(p), "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625\n");
+  p.predicted_ms = 1.25;
+  EXPECT_EQ(analysis::evaluation_csv_line(p),
+            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500\n");
   r.set = "a,b";
   r.frame = 4;
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
@@ -328,8 +337,9 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
     ASSERT_GE(fields.size(), 12u) << line;
     if (fields[4] == "policy") {
-      ASSERT_EQ(fields.size(), 15u) << line;
+      ASSERT_EQ(fields.size(), 16u) << line;
       EXPECT_FALSE(fields[14].empty()) << "the policy's warm decision time: " << line;
+      EXPECT_GT(std::stod(fields[15]), 0) << "the shipped profile's predicted frame time: " << line;
     }
     if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
     if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;

@@ -80,7 +80,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
     t.set = name;
     std::map<std::string, RuleTotals> totals;
     for (const std::string& rule : listed) totals[rule].rule = rule;
-    std::vector<double> noise, predicted_error;
+    std::vector<double> noise, predicted_error, predicted_ratio;
     double warm_decision_ms = 0, warm_frame_ms = 0;
     bool any_warm = false;
     WindowComparison window;
@@ -137,8 +137,10 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
         warm_decision_ms += *policy->decision_warm_ms;
         warm_frame_ms += policy->end_to_end_ms - policy->decision_ms + *policy->decision_warm_ms;
       }
-      if (const EvaluationRow* policy = g.row("policy"); policy->predicted_ms && policy->end_to_end_ms > 0)
+      if (const EvaluationRow* policy = g.row("policy"); policy->predicted_ms && policy->end_to_end_ms > 0) {
         predicted_error.push_back(std::abs(*policy->predicted_ms - policy->end_to_end_ms) / policy->end_to_end_ms);
+        predicted_ratio.push_back(*policy->predicted_ms / policy->end_to_end_ms);
+      }
       if (name == kWindowSet && g.frame >= kWindowFirstFrame && g.frame <= kWindowLastFrame) {
         double best_ms = zfail.end_to_end_ms;
         if (const EvaluationRow* zpass = g.row("zpass");
@@ -159,7 +161,10 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
     t.decision_share = policy.end_to_end_ms > 0 ? policy.decision_ms / policy.end_to_end_ms : 0;
     if (any_warm) t.decision_warm_share = warm_frame_ms > 0 ? warm_decision_ms / warm_frame_ms : 0;
     t.noise_pairs = noise.size();
-    if (!predicted_error.empty()) t.predicted_median_error = quantile(predicted_error, 0.5);
+    if (!predicted_error.empty()) {
+      t.predicted_median_error = quantile(predicted_error, 0.5);
+      t.predicted_median_ratio = quantile(predicted_ratio, 0.5);
+    }
     if (!noise.empty()) {
       t.noise_p05 = quantile(noise, 0.05);
       t.noise_p95 = quantile(noise, 0.95);
@@ -175,7 +180,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
 
 std::string evaluation_csv_header() {
   return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,choice_ms,"
-         "chosen,decision_warm_ms\n";
+         "chosen,decision_warm_ms,predicted_ms\n";
 }
 
 std::string evaluation_csv_line(const EvaluationRow& r) {
@@ -188,6 +193,8 @@ std::string evaluation_csv_line(const EvaluationRow& r) {
   if (r.choice_ms) s << fixed(*r.choice_ms, 4);
   s << ',' << csv_field(r.chosen) << ',';
   if (r.decision_warm_ms) s << fixed(*r.decision_warm_ms, 4);
+  s << ',';
+  if (r.predicted_ms) s << fixed(*r.predicted_ms, 4);
   s << '\n';
   return s.str();
 }
@@ -235,7 +242,8 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
         << fixed(100 * t.noise_median_deviation, 1) << "%)\n";
     if (!std::isnan(t.predicted_median_error))
       s << "- the policy's predicted frame time (device profile, before drawing): median error "
-        << fixed(100 * t.predicted_median_error, 1) << "% of the measured end-to-end time\n";
+        << fixed(100 * t.predicted_median_error, 1) << "% of the measured end-to-end time; predicted/measured median "
+        << fixed(t.predicted_median_ratio, 3) << "\n";
     if (t.noise_pairs == 0) s << "- noise floor: no pair timed\n";
     if (t.window) {
       const WindowComparison& w = *t.window;

@@ -157,9 +157,13 @@ struct SetTable {
   std::size_t noise_pairs = 0;          // Z-fail timed twice in a compared group
   double noise_p05 = 0, noise_p95 = 0;  // again / first, 5th and 95th percentiles
   // Median |x - 1| of those ratios, and the median |predicted - measured| /
-  // measured of the policy's frame time (NaN without a profile).
+  // measured of the policy's frame time (NaN without a profile), and the
+  // median predicted / measured: near 1 where the error is scatter, away
+  // from it where the profile's scale is off (a machine faster or slower
+  // than when it was calibrated).
   double noise_median_deviation = 0;
   double predicted_median_error = std::numeric_limits<double>::quiet_NaN();
+  double predicted_median_ratio = std::numeric_limits<double>::quiet_NaN();
   std::optional<WindowComparison> window;  // kWindowSet only
   const RuleTotals* find(std::string_view rule) const;
 };
@@ -176,8 +180,9 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows);
 
 // evaluation.csv: a header and one line per row (set, configuration, frame,
 // light, rule, refused, applies, wrong, cracks, decision_ms, cpu_ms,
-// end_to_end_ms, choice_ms (empty when absent), chosen, decision_warm_ms
-// (empty when absent: every row but the policy's)).
+// end_to_end_ms, choice_ms (empty when absent), chosen, decision_warm_ms and
+// predicted_ms (empty when absent: every row but the policy's, and its
+// predicted_ms without a device profile)).
 std::string evaluation_csv_header();
 std::string evaluation_csv_line(const EvaluationRow& row);
 
