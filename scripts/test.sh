@@ -47,7 +47,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # and unloaded at eglTerminate, leaves 9 small allocations (720 bytes) whose
 # stacks end inside it.
 egl_tests='^(LlvmpipeRasterizer|GlFrameReplayTest|EyeCountPassTest|GlHandleTest|LitFrameTest|LitShadingTest|GlslShadowProgramsTest|SideStripsTest|VolumeCullingGlTest|FarPlaneCapGlTest|RenderCommand|ViewCommand|ViewCommandErrors|PassKinds|CalibrateCommand|EvaluateCommand)\.'
-NEARCAP_STRESS_COUNT=150 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+NEARCAP_STRESS_COUNT=300 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E "$egl_tests"
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -R "$egl_tests"

@@ -159,8 +159,7 @@ struct SetTable {
   // Median |x - 1| of those ratios, and the median |predicted - measured| /
   // measured of the policy's frame time (NaN without a profile), and the
   // median predicted / measured: near 1 where the error is scatter, away
-  // from it where the profile's scale is off (a machine faster or slower
-  // than when it was calibrated).
+  // from it where the profile's scale is off.
   double noise_median_deviation = 0;
   double predicted_median_error = std::numeric_limits<double>::quiet_NaN();
   double predicted_median_ratio = std::numeric_limits<double>::quiet_NaN();
