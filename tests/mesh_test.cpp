@@ -8,7 +8,12 @@
 #include <cstdio>
 #include <functional>
 #include <iomanip>
+#include <map>
+#include <optional>
+#include <random>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "nearcap/error.hpp"
 #include "nearcap/io/mesh_file.hpp"
@@ -168,6 +173,112 @@ TEST(MeshValidate, AllFacesFlippedIsInward) {
 TEST(MeshValidate, TwoSidedFlatMeshHasZeroVolume) {
   // One triangle glued to its reverse: closed, consistent, manifold, volume 0.
   expect_invalid_occluder("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n", "signed volume is zero");
+}
+
+// The edge checks and the adjacency as a hash map of directed half-edges
+// states them, face by face: the reference the sorted half-edges
+// (mesh_validation.cpp, EdgeRuns) must agree with, message for message.
+std::uint64_t directed_key(VertexIndex a, VertexIndex b) { return (std::uint64_t(a) << 32) | b; }
+
+std::vector<std::array<FaceIndex, 3>> reference_neighbours(const TriangleMesh& mesh) {
+  std::unordered_map<std::uint64_t, FaceIndex> face_of;
+  for (FaceIndex f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) face_of.emplace(directed_key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3]), f);
+  std::vector<std::array<FaceIndex, 3>> out(mesh.triangles.size(), {kNoFace, kNoFace, kNoFace});
+  for (FaceIndex f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (const auto it = face_of.find(directed_key(mesh.triangles[f][(k + 1) % 3], mesh.triangles[f][k]));
+          it != face_of.end())
+        out[f][k] = it->second;
+  return out;
+}
+
+std::optional<std::string> reference_edge_fault(const TriangleMesh& mesh) {
+  auto name = [](VertexIndex a, VertexIndex b) {
+    return "edge (" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
+  };
+  std::unordered_map<std::uint64_t, std::uint32_t> undirected, directed;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k)
+      ++undirected[directed_key(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]))];
+  for (FaceIndex f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const VertexIndex a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
+      const std::uint32_t n = undirected[directed_key(std::min(a, b), std::max(a, b))];
+      if (n > 2)
+        return name(a, b) + " is shared by " + std::to_string(n) + " faces (non-manifold edge; first at face " +
+               std::to_string(f) + ")";
+    }
+  for (FaceIndex f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const VertexIndex a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
+      const auto [it, inserted] = directed.emplace(directed_key(a, b), f);
+      if (!inserted)
+        return name(a, b) + " is traversed in the same direction by faces " + std::to_string(it->second) + " and " +
+               std::to_string(f) + " (inconsistent orientation)";
+    }
+  for (FaceIndex f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const VertexIndex a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
+      if (directed.find(directed_key(b, a)) == directed.end())
+        return name(a, b) + " of face " + std::to_string(f) + " has no neighbouring face (open mesh: boundary edge)";
+    }
+  return std::nullopt;
+}
+
+TEST(MeshValidate, SortedHalfEdgesAgreeWithTheHashMapFormulation) {
+  // The box and an octahedron, each mutated at random: faces dropped,
+  // repeated, reversed, moved, or a corner moved to another vertex (a loop
+  // a -> a among them, which parse_off refuses but a built mesh may hold).
+  TriangleMesh box = parse_off(box_off(), "t.off");
+  TriangleMesh octahedron = parse_off(
+      "OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+      "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n",
+      "t.off");
+  ASSERT_NO_THROW(validate_occluder(octahedron));
+  std::mt19937 random(20261203);
+  std::map<std::string, int> outcomes;
+  for (int trial = 0; trial < 4000; ++trial) {
+    TriangleMesh mesh = trial % 2 ? box : octahedron;
+    mesh.neighbours.clear();
+    const int mutations = static_cast<int>(random() % 3);
+    for (int m = 0; m < mutations && !mesh.triangles.empty(); ++m) {
+      auto& faces = mesh.triangles;
+      const std::size_t f = random() % faces.size();
+      switch (random() % 5) {
+        case 0: faces.erase(faces.begin() + static_cast<std::ptrdiff_t>(f)); break;
+        case 1: faces.push_back(faces[f]); break;
+        case 2: std::swap(faces[f][1], faces[f][2]); break;
+        case 3: std::swap(faces[f], faces[random() % faces.size()]); break;
+        default: faces[f][random() % 3] = static_cast<VertexIndex>(random() % mesh.positions.size()); break;
+      }
+    }
+    TriangleMesh adjacency = mesh;
+    build_adjacency(adjacency);
+    ASSERT_EQ(adjacency.neighbours, reference_neighbours(mesh)) << "trial " << trial;
+    if (mesh.triangles.empty()) continue;
+    const std::optional<std::string> expected = reference_edge_fault(mesh);
+    std::string got;
+    try {
+      validate_occluder(mesh);
+      EXPECT_EQ(mesh.neighbours, reference_neighbours(mesh)) << "trial " << trial;
+    } catch (const Error& e) {
+      got = e.what();
+    }
+    if (expected) {
+      EXPECT_EQ(got, "t.off: " + *expected) << "trial " << trial;
+      for (const char* kind : {"non-manifold edge", "inconsistent orientation", "boundary edge"})
+        if (expected->find(kind) != std::string::npos) ++outcomes[kind];
+    } else {
+      EXPECT_TRUE(got.empty() || got.find("non-manifold vertex") != std::string::npos ||
+                  got.find("signed volume") != std::string::npos)
+          << "trial " << trial << ": " << got;
+      ++outcomes[got.empty() ? "valid" : "a later check"];
+    }
+  }
+  // Each edge fault and valid meshes are exercised (about 500 to 1,700 of each).
+  for (const char* outcome : {"non-manifold edge", "inconsistent orientation", "boundary edge", "valid"})
+    EXPECT_GT(outcomes[outcome], 100) << outcome;
 }
 
 TEST(MeshValidate, ValidatingAnEmptyMeshIsAnError) {

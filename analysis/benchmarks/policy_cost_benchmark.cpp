@@ -8,14 +8,18 @@
 // policy's decision included, and summed over the pairs.
 //
 // Configurations: the first 600 of the hard-case sampler, seed 7 (the
-// sweep's held-out set; NEARCAP_BENCH_POLICY_SAMPLES for another count),
-// 48x36, and every frame of the seven bundled paths at their own size; the
+// sweep's held-out set; NEARCAP_BENCH_POLICY_SAMPLES for another count,
+// NEARCAP_BENCH_POLICY_SEED for another seed), 48x36
+// (NEARCAP_BENCH_POLICY_SIZE=WxH for another size), and every frame of the seven bundled paths at their own size; the
 // shipped policy (data/policy.json; NEARCAP_BENCH_POLICY for
 // another).  Counters: policy_over_base (the ratio), pairs, and the
 // fragments' ratio.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -83,7 +87,10 @@ const Setup& sampler_setup() {
     const char* count = std::getenv("NEARCAP_BENCH_POLICY_SAMPLES");
     const std::uint64_t samples = count ? std::strtoull(count, nullptr, 10) : 600;
     nearcap::analysis::SamplerSpec spec;
-    spec.seed = 7;
+    const char* seed = std::getenv("NEARCAP_BENCH_POLICY_SEED");
+    spec.seed = seed ? std::strtoull(seed, nullptr, 10) : 7;
+    if (const char* size = std::getenv("NEARCAP_BENCH_POLICY_SIZE"))
+      if (std::sscanf(size, "%dx%d", &spec.width, &spec.height) != 2) spec.width = 48, spec.height = 36;
     spec.mesh_directory = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes";
     const nearcap::analysis::HardCaseSampler sampler(spec);
     for (std::uint64_t k = 0; k < samples; ++k)
@@ -161,22 +168,36 @@ void BM_PolicyCost(benchmark::State& state) {
   state.counters["fragments_over_base"] = base_fragments > 0 ? policy_fragments / base_fragments : 0;
 }
 
+// What `nearcap evaluate` draws between two decisions (the exact reference
+// and a dozen rules' frames) leaves little of a decision's code and data in
+// the caches; writing this much other memory does the same.
+constexpr std::size_t kEvictionBytes = std::size_t{64} << 20;
+
+void evict_caches(std::vector<std::uint64_t>& other) {
+  for (std::size_t i = 0; i < other.size(); i += 8) other[i] += i;
+  benchmark::ClobberMemory();
+}
+
 // The decision alone (analysis::decide with the shipped policy's device
 // profile, its choice: DecisionPricing::ChoiceOnly), every (configuration, light) of the set in turn, each decided
 // range(1) times in a row: 1 is the order `nearcap evaluate` times its first
 // call in (a different frame before each), 2 also times the call repeated
-// at once (warm, as a renderer's frame loop pays it).  range(0): 0 the
+// at once (warm, as a renderer's frame loop pays it), 0 decides once after
+// writing 64 MB of other memory (cold, as `nearcap evaluate`'s first call).  range(0): 0 the
 // hard-case sampler, 1 the bundled paths.  Counter: us_per_decision.
 void BM_PolicyDecision(benchmark::State& state) {
   const bool paths = state.range(0) == 1;
   const int repeat = static_cast<int>(state.range(1));
-  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") + (repeat > 1 ? ", each decided twice" : ""));
+  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") +
+                 (repeat > 1 ? ", each decided twice" : repeat == 0 ? ", caches evicted before each" : ""));
   const Setup& s = paths ? paths_setup() : sampler_setup();
+  std::vector<std::uint64_t> other(kEvictionBytes / sizeof(std::uint64_t), 1);
   std::size_t decisions = 0;
   double ms = 0;
   for (auto _ : state)
     for (const Pair& p : s.pairs)
-      for (int k = 0; k < repeat; ++k) {
+      for (int k = 0; k < std::max(repeat, 1); ++k) {
+        if (repeat == 0) evict_caches(other);
         const auto t0 = Clock::now();
         const nearcap::analysis::PolicyDecision d =
             nearcap::analysis::decide(s.policy, *p.cs, p.light, {}, nullptr, kChoice);
@@ -219,5 +240,5 @@ void BM_CameraSpaceScene(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_CameraSpaceScene)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
-BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
+BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 BENCHMARK(BM_PolicyCost)->ArgsProduct({{1, 0}, {1, 0}, {0, 1}})->Unit(benchmark::kMillisecond)->MinTime(3.0);
