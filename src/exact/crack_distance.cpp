@@ -199,7 +199,8 @@ class CandidateBuffer {
 
 std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
                                                                     FilterStats* stats,
-                                                                    std::uint32_t* last_shadower) const {
+                                                                    std::uint32_t* last_shadower,
+                                                                    CentreHit* centre_hit) const {
   const Impl& t = *impl_;
   const Scene& scene = t.cs.scene();
   const int width = scene.camera.width, height = scene.camera.height;
@@ -212,8 +213,24 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   const SquareProof proof(t, corners, stats);
 
   // The triangle seen at the centre, seen over the whole square.
-  const std::optional<Hit> hit =
-      t.first_hit(t.eye_grid->candidates(centre.estimate(), centre.error()), centre, true, stats);
+  std::optional<Hit> hit;
+  if (centre_hit && centre_hit->known) {
+    if (centre_hit->found) {
+      hit = Hit{centre_hit->eye_index, centre_hit->sigma, BoundedDouble(centre_hit->t_value, centre_hit->t_error)};
+    }
+  } else {
+    hit = t.first_hit(t.eye_grid->candidates(centre.estimate(), centre.error()), centre, true, stats);
+    if (centre_hit) {
+      centre_hit->known = true;
+      centre_hit->found = hit.has_value();
+      if (hit) {
+        centre_hit->eye_index = hit->eye_index;
+        centre_hit->sigma = hit->sigma;
+        centre_hit->t_value = hit->t.v;
+        centre_hit->t_error = hit->t.e;
+      }
+    }
+  }
   if (!hit) return std::nullopt;
   const EyeTriangle& seen = t.eye(hit->eye_index);
   if (!proof.hit_everywhere(seen)) return std::nullopt;

@@ -70,6 +70,8 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
   pending.erase(std::unique(pending.begin(), pending.end()), pending.end());
 
   // 1. Tiles, largest first: each needed tile proven once, in parallel.
+  std::vector<std::uint64_t> one_pixel_tiles;
+  std::vector<PixelReferenceTracer::CentreHit> one_pixel_hits;
   for (int size : kTileSizes) {
     std::vector<std::uint64_t> todo;
     std::vector<std::size_t> still;
@@ -83,6 +85,10 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
     std::sort(todo.begin(), todo.end());
     todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
     std::vector<char> proven(todo.size(), 0);
+    // The one-pixel tiles' centres are their pixels' centres: what their
+    // proofs trace there serves the pixels' own squares below.
+    if (size == 1) one_pixel_tiles.assign(todo.begin(), todo.end());
+    if (size == 1) one_pixel_hits.assign(todo.size(), {});
     tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t k) {
       const auto a = static_cast<std::int64_t>((todo[k] >> 24) & 0xffffffu),
                  b = static_cast<std::int64_t>(todo[k] & 0xffffffu);
@@ -90,7 +96,10 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
       const std::int64_t half = std::int64_t{size} << (kCrackDistanceShift - 1);
       const WindowPoint centre{(2 * a + 1) * half, (2 * b + 1) * half, kCrackDistanceShift};
       proven[k] = tile_may_be_constant(size, static_cast<int>(a), static_cast<int>(b)) &&
-                  tracer_.proven_status_over_square(centre, half, &stats.local(), &last_shadower.local()).has_value();
+                  tracer_
+                      .proven_status_over_square(centre, half, &stats.local(), &last_shadower.local(),
+                                                 size == 1 ? &one_pixel_hits[k] : nullptr)
+                      .has_value();
     });
     proofs_ += todo.size();
     for (std::size_t k = 0; k < todo.size(); ++k) tiles_[todo[k]] = proven[k] != 0;
@@ -114,10 +123,14 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
     const std::size_t p = pending[k];
     const int i = static_cast<int>(p % width_), j = static_cast<int>(p / width_);
     int level = 0;
+    PixelReferenceTracer::CentreHit centre_hit;
+    const auto tile = std::lower_bound(one_pixel_tiles.begin(), one_pixel_tiles.end(), tile_key(1, i, j));
+    if (tile != one_pixel_tiles.end() && *tile == tile_key(1, i, j))
+      centre_hit = one_pixel_hits[static_cast<std::size_t>(tile - one_pixel_tiles.begin())];
     for (int r = kCrackLevel - 2; r >= 0; --r) {
       ++tried[k];
       if (tracer_.proven_status_over_square(crack_square_centre(i, j), kCrackDistanceRadiiFixed[r], &stats.local(),
-                                            &last_shadower.local())) {
+                                            &last_shadower.local(), &centre_hit)) {
         level = r + 1;
         break;
       }

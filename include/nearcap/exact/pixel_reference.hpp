@@ -52,6 +52,7 @@
 #include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/segment_crossing.hpp"
 #include "nearcap/numeric/filter_stats.hpp"
+#include "nearcap/numeric/sign.hpp"
 
 namespace nearcap {
 
@@ -158,9 +159,21 @@ class PixelReferenceTracer {
   // thread): it is tried first, and updated.  The answer is the same with or
   // without it; the hint only spares the search (neighbouring squares are
   // mostly shadowed by the same triangle).
+  // `centre_hit`, when given, keeps the triangle seen at `centre` (found by
+  // the first proof around that centre) for the next proof around the same
+  // centre: a pixel's squares share its centre.  A fresh CentreHit knows
+  // nothing; the answer is the same with or without it.
   static constexpr std::uint32_t kNoShadower = 0xffffffffu;
+  struct CentreHit {
+    bool known = false;  // the primary ray through the centre traced
+    bool found = false;  // and a triangle seen there
+    std::uint32_t eye_index = 0;
+    Sign sigma = Sign::Zero;
+    double t_value = 0, t_error = 0;  // the hit parameter's estimate and bound
+  };
   std::optional<bool> proven_status_over_square(const WindowPoint& centre, std::int64_t half_width, FilterStats* stats,
-                                                std::uint32_t* last_shadower = nullptr) const;
+                                                std::uint32_t* last_shadower = nullptr,
+                                                CentreHit* centre_hit = nullptr) const;
 
   // The same quantities without any acceleration: every triangle is tested.
   // The oracle the grids are tested against (slow).
