@@ -246,11 +246,21 @@ TEST(MeshValidate, SortedHalfEdgesAgreeWithTheHashMapFormulation) {
       auto& faces = mesh.triangles;
       const std::size_t f = random() % faces.size();
       switch (random() % 5) {
-        case 0: faces.erase(faces.begin() + static_cast<std::ptrdiff_t>(f)); break;
-        case 1: faces.push_back(faces[f]); break;
-        case 2: std::swap(faces[f][1], faces[f][2]); break;
-        case 3: std::swap(faces[f], faces[random() % faces.size()]); break;
-        default: faces[f][random() % 3] = static_cast<VertexIndex>(random() % mesh.positions.size()); break;
+        case 0:
+          faces.erase(faces.begin() + static_cast<std::ptrdiff_t>(f));
+          break;
+        case 1:
+          faces.push_back(faces[f]);
+          break;
+        case 2:
+          std::swap(faces[f][1], faces[f][2]);
+          break;
+        case 3:
+          std::swap(faces[f], faces[random() % faces.size()]);
+          break;
+        default:
+          faces[f][random() % 3] = static_cast<VertexIndex>(random() % mesh.positions.size());
+          break;
       }
     }
     TriangleMesh adjacency = mesh;

@@ -188,8 +188,9 @@ void evict_caches(std::vector<std::uint64_t>& other) {
 void BM_PolicyDecision(benchmark::State& state) {
   const bool paths = state.range(0) == 1;
   const int repeat = static_cast<int>(state.range(1));
-  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") +
-                 (repeat > 1 ? ", each decided twice" : repeat == 0 ? ", caches evicted before each" : ""));
+  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") + (repeat > 1    ? ", each decided twice"
+                                                                        : repeat == 0 ? ", caches evicted before each"
+                                                                                      : ""));
   const Setup& s = paths ? paths_setup() : sampler_setup();
   std::vector<std::uint64_t> other(kEvictionBytes / sizeof(std::uint64_t), 1);
   std::size_t decisions = 0;

@@ -9,18 +9,33 @@
 #include <vector>
 
 #include "pixel_tracer_impl.hpp"
+#include "square_sign_filter.hpp"
 
 namespace nearcap {
 namespace {
 
-using Corners = std::array<PixelPoint, 4>;
+// A square on the near plane: its four corners, and its centre and
+// half-sides (square_sign_filter.hpp).
+struct Corners {
+  std::array<PixelPoint, 4> at;
+  BoundedVec3 centre;            // encloses the exact centre
+  BoundedDouble half_x, half_y;  // enclose the exact half-sides (camera x and y)
+  std::size_t size() const { return at.size(); }
+  const PixelPoint& operator[](std::size_t k) const { return at[k]; }
+};
 
 // The strict sign an affine form has at all four corners (then over the whole
-// square), or Zero when the corners disagree or one of them is zero.
+// square), or Zero when the corners disagree or one of them is zero: from
+// the centre where square_sign_filter decides it, else corner by corner,
+// filtered, then exact.
 template <class ApproxForm, class ExactForm>
 Sign uniform_sign(Predicate pred, FilterStats* stats, const Corners& corners, ApproxForm&& approx_form,
                   ExactForm&& exact_form) {
   const BoundedForm fa = approx_form();
+  if (const std::optional<Sign> s = square_sign_filter(fa, corners.centre, corners.half_x, corners.half_y)) {
+    if (stats) stats->record(pred, false);
+    return *s;
+  }
   std::optional<AffineForm<Rational>> fe;
   Sign common = Sign::Zero;
   for (std::size_t k = 0; k < corners.size(); ++k) {
@@ -198,18 +213,24 @@ class CandidateBuffer {
 }  // namespace
 
 std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
-                                                                    FilterStats* stats,
-                                                                    std::uint32_t* last_shadower,
+                                                                    FilterStats* stats, std::uint32_t* last_shadower,
                                                                     CentreHit* centre_hit) const {
   const Impl& t = *impl_;
   const Scene& scene = t.cs.scene();
   const int width = scene.camera.width, height = scene.camera.height;
   const Frustum& fr = t.cs.frustum();
   const PixelPoint centre(fr, width, height, c);
-  const Corners corners{PixelPoint(fr, width, height, {c.x - half_width, c.y - half_width, c.shift}),
-                        PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
-                        PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
-                        PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})};
+  // The half-sides in camera units, as window_point_estimate maps x and y:
+  // half_width (right - left) / (width 2^shift), and the same in y.
+  const double scale = std::ldexp(1.0, c.shift);
+  const BoundedDouble half(static_cast<double>(half_width));
+  const Corners corners{{PixelPoint(fr, width, height, {c.x - half_width, c.y - half_width, c.shift}),
+                         PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
+                         PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
+                         PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})},
+                        centre.approx(),
+                        half * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / BoundedDouble(width * scale),
+                        half * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / BoundedDouble(height * scale)};
   const SquareProof proof(t, corners, stats);
 
   // The triangle seen at the centre, seen over the whole square.

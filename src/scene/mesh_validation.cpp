@@ -19,7 +19,6 @@
 namespace nearcap {
 namespace {
 
-
 std::string edge_name(VertexIndex a, VertexIndex b) {
   std::ostringstream s;
   s << "edge (" << std::min(a, b) << ", " << std::max(a, b) << ")";
