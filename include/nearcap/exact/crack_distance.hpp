@@ -37,8 +37,12 @@
 //      for S's points q(P) is proven never crossed
 //      (its side form on the other side at all four corners, or two of its
 //      edge forms of strictly opposite signs at all four corners): lit.
-// Each corner sign is filtered (BoundedDouble) and recomputed over rationals
-// when the filter cannot decide; a zero at a corner is "not proven".  Nothing
+// Each form is first bounded over the whole square from its value at the
+// centre and the square's half-sides (src/exact/square_sign_filter.hpp: one
+// sign at every corner, or two corners certainly of opposite signs); where
+// that is not certain, each corner sign is filtered (BoundedDouble) and
+// recomputed over rationals when the filter cannot decide; a zero at a
+// corner is "not proven".  Nothing
 // is ever claimed that is not proven, so a level can only be an underestimate:
 // a few cracks may be counted as noise, never the reverse.
 #pragma once
