@@ -10,9 +10,9 @@
 // Configurations: the first 600 of the hard-case sampler, seed 7 (the
 // sweep's held-out set; NEARCAP_BENCH_POLICY_SAMPLES for another count,
 // NEARCAP_BENCH_POLICY_SEED for another seed), 48x36
-// (NEARCAP_BENCH_POLICY_SIZE=WxH for another size), and every frame of the seven bundled paths at their own size; the
-// shipped policy (data/policy.json; NEARCAP_BENCH_POLICY for
-// another).  Counters: policy_over_base (the ratio), pairs, and the
+// (NEARCAP_BENCH_POLICY_SIZE=WxH for another size), and every frame of the
+// seven bundled paths at their own size; the shipped policy
+// (data/policy.json; NEARCAP_BENCH_POLICY for another).  Counters: policy_over_base (the ratio), pairs, and the
 // fragments' ratio.
 #include <benchmark/benchmark.h>
 
@@ -183,8 +183,9 @@ void evict_caches(std::vector<std::uint64_t>& other) {
 // range(1) times in a row: 1 is the order `nearcap evaluate` times its first
 // call in (a different frame before each), 2 also times the call repeated
 // at once (warm, as a renderer's frame loop pays it), 0 decides once after
-// writing 64 MB of other memory (cold, as `nearcap evaluate`'s first call).  range(0): 0 the
-// hard-case sampler, 1 the bundled paths.  Counter: us_per_decision.
+// writing 64 MB of other memory (cold, as `nearcap evaluate`'s first call).
+// range(0): 0 the hard-case sampler, 1 the bundled paths.  Counter:
+// us_per_decision.
 void BM_PolicyDecision(benchmark::State& state) {
   const bool paths = state.range(0) == 1;
   const int repeat = static_cast<int>(state.range(1));

@@ -220,17 +220,14 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
   const int width = scene.camera.width, height = scene.camera.height;
   const Frustum& fr = t.cs.frustum();
   const PixelPoint centre(fr, width, height, c);
-  // The half-sides in camera units, as window_point_estimate maps x and y:
-  // half_width (right - left) / (width 2^shift), and the same in y.
-  const double scale = std::ldexp(1.0, c.shift);
-  const BoundedDouble half(static_cast<double>(half_width));
+  const BoundedVec3 half = window_offset_estimate(fr, width, height, {half_width, half_width, c.shift});
   const Corners corners{{PixelPoint(fr, width, height, {c.x - half_width, c.y - half_width, c.shift}),
                          PixelPoint(fr, width, height, {c.x + half_width, c.y - half_width, c.shift}),
                          PixelPoint(fr, width, height, {c.x + half_width, c.y + half_width, c.shift}),
                          PixelPoint(fr, width, height, {c.x - half_width, c.y + half_width, c.shift})},
                         centre.approx(),
-                        half * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / BoundedDouble(width * scale),
-                        half * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / BoundedDouble(height * scale)};
+                        half.x,
+                        half.y};
   const SquareProof proof(t, corners, stats);
 
   // The triangle seen at the centre, seen over the whole square.

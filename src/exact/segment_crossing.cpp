@@ -58,15 +58,18 @@ std::size_t near_cap_count_brute_force(const CameraSpaceScene& scene, std::size_
   return count;
 }
 
-BoundedVec3 window_point_estimate(const Frustum& fr, int width, int height, const WindowPoint& p) {
+BoundedVec3 window_offset_estimate(const Frustum& fr, int width, int height, const WindowPoint& d) {
   // The integers and the powers of two are exact doubles.
-  const double scale = std::ldexp(1.0, p.shift);
+  const double scale = std::ldexp(1.0, d.shift);
   const BoundedDouble w(width * scale), h(height * scale);
-  return {BoundedDouble(fr.left) +
-              BoundedDouble(static_cast<double>(p.x)) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / w,
-          BoundedDouble(fr.bottom) +
-              BoundedDouble(static_cast<double>(p.y)) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / h,
-          BoundedDouble(-fr.near)};
+  return {BoundedDouble(static_cast<double>(d.x)) * (BoundedDouble(fr.right) - BoundedDouble(fr.left)) / w,
+          BoundedDouble(static_cast<double>(d.y)) * (BoundedDouble(fr.top) - BoundedDouble(fr.bottom)) / h,
+          BoundedDouble(0.0)};
+}
+
+BoundedVec3 window_point_estimate(const Frustum& fr, int width, int height, const WindowPoint& p) {
+  const BoundedVec3 d = window_offset_estimate(fr, width, height, p);
+  return {BoundedDouble(fr.left) + d.x, BoundedDouble(fr.bottom) + d.y, BoundedDouble(-fr.near)};
 }
 
 RationalVec3 window_point_exact(const Frustum& fr, int width, int height, const WindowPoint& p) {

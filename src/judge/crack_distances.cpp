@@ -87,8 +87,10 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
     std::vector<char> proven(todo.size(), 0);
     // The one-pixel tiles' centres are their pixels' centres: what their
     // proofs trace there serves the pixels' own squares below.
-    if (size == 1) one_pixel_tiles.assign(todo.begin(), todo.end());
-    if (size == 1) one_pixel_hits.assign(todo.size(), {});
+    if (size == 1) {
+      one_pixel_tiles = todo;
+      one_pixel_hits.assign(todo.size(), {});
+    }
     tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t k) {
       const auto a = static_cast<std::int64_t>((todo[k] >> 24) & 0xffffffu),
                  b = static_cast<std::int64_t>(todo[k] & 0xffffffu);

@@ -56,6 +56,10 @@ struct WindowPoint {
 inline WindowPoint window_pixel_centre(int i, int j) { return {2 * std::int64_t{i} + 1, 2 * std::int64_t{j} + 1, 1}; }
 // Its camera-space near-plane point: x = left + X (right - left) / (W 2^shift).
 BoundedVec3 window_point_estimate(const Frustum& frustum, int width, int height, const WindowPoint& p);
+// The camera-space step of a window offset (X, Y) at that shift:
+// (X (right - left) / (W 2^shift), Y (top - bottom) / (H 2^shift), 0), the
+// estimate's own terms (a point is (left, bottom, -near) plus its offset).
+BoundedVec3 window_offset_estimate(const Frustum& frustum, int width, int height, const WindowPoint& offset);
 RationalVec3 window_point_exact(const Frustum& frustum, int width, int height, const WindowPoint& p);
 // Its two halves, for callers that want the rational only on demand.
 BoundedVec3 pixel_centre_estimate(const Frustum& frustum, int width, int height, int i, int j);
