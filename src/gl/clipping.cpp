@@ -30,6 +30,28 @@ float distance(const Vec4f& v, Plane p, float g, float w_min, DepthMapping m) {
   return 0;
 }
 
+// distance() of three vertices to one plane, the plane's case chosen once.
+std::array<float, 3> distances(const Vec4f& a, const Vec4f& b, const Vec4f& c, Plane p, float g, float w_min,
+                               DepthMapping m) {
+  switch (p) {
+    case Plane::Near:
+      return {near_plane_distance(a, m), near_plane_distance(b, m), near_plane_distance(c, m)};
+    case Plane::WMin:
+      return {a.w - w_min, b.w - w_min, c.w - w_min};
+    case Plane::Far:
+      return {far_plane_distance(a, m), far_plane_distance(b, m), far_plane_distance(c, m)};
+    case Plane::Left:
+      return {a.x + g * a.w, b.x + g * b.w, c.x + g * c.w};
+    case Plane::Right:
+      return {g * a.w - a.x, g * b.w - b.x, g * c.w - c.x};
+    case Plane::Bottom:
+      return {a.y + g * a.w, b.y + g * b.w, c.y + g * c.w};
+    case Plane::Top:
+      return {g * a.w - a.y, g * b.w - b.y, g * c.w - c.y};
+  }
+  return {0, 0, 0};
+}
+
 Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {
   return {in.x + t * (out.x - in.x), in.y + t * (out.y - in.y), in.z + t * (out.z - in.z), in.w + t * (out.w - in.w)};
 }
@@ -99,13 +121,16 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
 
 void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings,
                    std::vector<Vec4f>& polygon) {
-  polygon.clear();
+  TriangleClipper(settings).clip(a, b, c, polygon);
+}
+
+TriangleClipper::TriangleClipper(const ClipSettings& settings) : settings_(settings) {
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
   // Mesa with one depth side clamped through GL_DEPTH_CLAMP and a
   // gl_ClipDistance plane: the x and y planes, then that plane (`carried`).
-  const bool carried = settings.mesa && settings.depth_plane_as_clip_distance;
-  if (carried) {
+  carried_ = settings.mesa && settings.depth_plane_as_clip_distance;
+  if (carried_) {
     for (Plane p : {Plane::Right, Plane::Left, Plane::Top, Plane::Bottom}) planes[count++] = p;
     planes[count++] = settings.clip_near ? Plane::Near : Plane::Far;
   } else {
@@ -114,7 +139,7 @@ void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSet
     if (settings.clip_far && !settings.far_first) planes[count++] = Plane::Far;
     for (Plane p : {Plane::Left, Plane::Right, Plane::Bottom, Plane::Top}) planes[count++] = p;
   }
-  if (settings.mesa && !carried) {
+  if (settings.mesa && !carried_) {
     // Mesa's plane order (draw_context.c): right, left, top, bottom, near, far.
     std::array<Plane, 6> ordered{};
     std::size_t n = 0;
@@ -123,38 +148,41 @@ void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSet
         if (planes[k] == p) ordered[n++] = p;
     planes = ordered;
   }
+  for (std::size_t k = 0; k < count; ++k) planes_[k] = static_cast<std::uint8_t>(planes[k]);
+  count_ = count;
+}
+
+void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const {
+  polygon.clear();
+  const ClipSettings& settings = settings_;
+  const float g = settings.guard_band, w_min = settings.w_min;
+  const DepthMapping m = settings.depth_mapping;
   // Trivial accept: no plane separates any vertex (the common case); trivial
   // reject: one plane has all three outside (clipping would leave nothing).
   // At the input vertices a carried distance is the plane's own.
   bool all_inside = true;
-  for (std::size_t k = 0; k < count; ++k) {
-    const DepthMapping m = settings.depth_mapping;
-    const float da = distance(a, planes[k], settings.guard_band, settings.w_min, m),
-                db = distance(b, planes[k], settings.guard_band, settings.w_min, m),
-                dc = distance(c, planes[k], settings.guard_band, settings.w_min, m);
-    if (da < 0 && db < 0 && dc < 0) return;
-    all_inside = all_inside && da >= 0 && db >= 0 && dc >= 0;
+  for (std::size_t k = 0; k < count_; ++k) {
+    const std::array<float, 3> d = distances(a, b, c, static_cast<Plane>(planes_[k]), g, w_min, m);
+    if (d[0] < 0 && d[1] < 0 && d[2] < 0) return;
+    all_inside = all_inside && d[0] >= 0 && d[1] >= 0 && d[2] >= 0;
   }
   if (all_inside) {
     polygon.insert(polygon.end(), {a, b, c});
     return;
   }
   std::vector<ClipVertex> poly{{a}, {b}, {c}};
-  if (carried) {
-    const Plane p = planes[count - 1];
-    for (ClipVertex& v : poly) v.clip_distance = distance(v.p, p, 0.0f, 0.0f, settings.depth_mapping);
+  if (carried_) {
+    const Plane p = static_cast<Plane>(planes_[count_ - 1]);
+    for (ClipVertex& v : poly) v.clip_distance = distance(v.p, p, 0.0f, 0.0f, m);
   }
-  for (std::size_t k = 0; k < count; ++k) {
+  for (std::size_t k = 0; k < count_; ++k) {
+    const Plane p = static_cast<Plane>(planes_[k]);
     if (settings.mesa) {
       // Mesa clips only at the planes some input vertex is outside (its clipmask).
-      const DepthMapping m = settings.depth_mapping;
-      const float g = settings.guard_band, w = settings.w_min;
-      if (!(distance(a, planes[k], g, w, m) < 0 || distance(b, planes[k], g, w, m) < 0 ||
-            distance(c, planes[k], g, w, m) < 0))
-        continue;
+      const std::array<float, 3> d = distances(a, b, c, p, g, w_min, m);
+      if (!(d[0] < 0 || d[1] < 0 || d[2] < 0)) continue;
     }
-    poly = clip_against(poly, planes[k], settings.guard_band, settings.w_min, settings.depth_mapping, nullptr,
-                        settings.mesa, carried && k + 1 == count);
+    poly = clip_against(poly, p, g, w_min, m, nullptr, settings.mesa, carried_ && k + 1 == count_);
     if (poly.size() < 3) return;
   }
   for (const ClipVertex& v : poly) polygon.push_back(v.p);

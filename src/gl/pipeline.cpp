@@ -163,6 +163,7 @@ void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawStat
   // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
   // snapping holds up to 2^(30 - bits).
   const float max_window = static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits));
+  const TriangleClipper clipper(clip);
   // Vertex post-processing and setup, in submission order.
   std::vector<std::array<WindowVertex, 3>>& triangles = out.triangles;
   std::vector<Vec4f> polygon;
@@ -170,7 +171,7 @@ void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawStat
   triangles.clear();
   for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
     ++counters.triangles;
-    clip_triangle(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], clip, polygon);
+    clipper.clip(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], polygon);
     if (polygon.empty()) {
       ++counters.clipped;
       continue;

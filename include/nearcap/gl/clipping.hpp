@@ -13,6 +13,9 @@
 // endpoint nearer the plane, in its own plane order: ClipSettings::mesa.
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "nearcap/gl/float_transforms.hpp"
@@ -76,6 +79,21 @@ std::vector<Vec4f> clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c,
 // caller clipping many triangles allocates nothing for the unclipped ones).
 void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSettings& settings,
                    std::vector<Vec4f>& polygon);
+
+// clip_triangle for the triangles of one draw: the planes and their order
+// worked out once from the settings.  clip(a, b, c, polygon) is
+// clip_triangle(a, b, c, settings, polygon), bit for bit.
+class TriangleClipper {
+ public:
+  explicit TriangleClipper(const ClipSettings& settings);
+  void clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const;
+
+ private:
+  ClipSettings settings_;
+  std::array<std::uint8_t, 6> planes_{};  // clipping.cpp's planes, in clipping order
+  std::size_t count_ = 0;
+  bool carried_ = false;  // the last plane's distance is a gl_ClipDistance (depth_plane_as_clip_distance)
+};
 
 // The first stage of clip_triangle with near clipping: triangle (a, b, c)
 // clipped against the near plane alone, with the same arithmetic (so its

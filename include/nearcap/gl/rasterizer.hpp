@@ -167,6 +167,10 @@ inline std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
   return (n % d != 0 && n < 0) ? q - 1 : q;
 }
 inline std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }  // d > 0
+// floor(n / 2^bits) and ceil(n / 2^bits): an arithmetic shift rounds down.
+static_assert((std::int64_t{-3} >> 1) == -2, "signed right shift must be arithmetic");
+inline std::int64_t floor_shift(std::int64_t n, int bits) { return n >> bits; }
+inline std::int64_t ceil_shift(std::int64_t n, int bits) { return -((-n) >> bits); }
 
 inline FixedPoint snap(const WindowVertex& v, int bits) {
   const float scale = static_cast<float>(1 << bits);
@@ -222,10 +226,16 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
   }
   const std::int64_t one = std::int64_t{1} << bits, half = one >> 1;
   const std::int64_t min_y = std::min({p[0].y, p[1].y, p[2].y}), max_y = std::max({p[0].y, p[1].y, p[2].y});
-  // Pixel j's centre is j * one + half: the candidate rows.
+  // Pixel j's centre is j * one + half: the candidate rows, and the columns
+  // of the bounding box (a covered centre lies in the snapped triangle).
   const std::int64_t last_row = (row_end < 0 ? height : std::min(row_end, height)) - 1;
-  const std::int64_t j0 = std::max<std::int64_t>(row_begin, detail::ceil_div(min_y - half, one));
-  const std::int64_t j1 = std::min<std::int64_t>(last_row, detail::floor_div(max_y - half, one));
+  const std::int64_t j0 = std::max<std::int64_t>(row_begin, detail::ceil_shift(min_y - half, bits));
+  const std::int64_t j1 = std::min<std::int64_t>(last_row, detail::floor_shift(max_y - half, bits));
+  if (j0 > j1) return true;
+  const std::int64_t min_x = std::min({p[0].x, p[1].x, p[2].x}), max_x = std::max({p[0].x, p[1].x, p[2].x});
+  const std::int64_t i0 = std::max<std::int64_t>(0, detail::ceil_shift(min_x - half, bits));
+  const std::int64_t i1 = std::min<std::int64_t>(width - 1, detail::floor_shift(max_x - half, bits));
+  if (i0 > i1) return true;
   // Edge k from p[k] to p[k+1]: e_k(i, j) = C_k(j) + B_k i with
   // B_k = -(b.y - a.y) one and C_k(j) = (b.x - a.x)(py - a.y) - (b.y - a.y)(half - a.x).
   // A pixel is covered when e_k >= threshold_k for all k (0 if the edge is
@@ -238,14 +248,17 @@ bool rasterize_triangle_with(const std::array<WindowVertex, 3>& v, int width, in
     threshold[k] = detail::edge_included(a, b, settings.fill_rule) ? 0 : 1;
   }
   const double inverse_area = 1.0 / static_cast<double>(area);
-  for (std::int64_t j = j0; j <= j1; ++j) {
-    const std::int64_t py = j * one + half;
-    std::int64_t lo = 0, hi = width - 1;
-    std::array<std::int64_t, 3> C{};
+  // C_k at row j0, then one row up at a time: C_k(j + 1) = C_k(j) + (b.x - a.x) one.
+  std::array<std::int64_t, 3> C, C_step;
+  for (int k = 0; k < 3; ++k) {
+    const FixedPoint& a = p[k];
+    const FixedPoint& b = p[(k + 1) % 3];
+    C[k] = (b.x - a.x) * (j0 * one + half - a.y) - (b.y - a.y) * (half - a.x);
+    C_step[k] = (b.x - a.x) * one;
+  }
+  for (std::int64_t j = j0; j <= j1; ++j, C[0] += C_step[0], C[1] += C_step[1], C[2] += C_step[2]) {
+    std::int64_t lo = i0, hi = i1;
     for (int k = 0; k < 3 && lo <= hi; ++k) {
-      const FixedPoint& a = p[k];
-      const FixedPoint& b = p[(k + 1) % 3];
-      C[k] = (b.x - a.x) * (py - a.y) - (b.y - a.y) * (half - a.x);
       const std::int64_t need = threshold[k] - C[k];  // B i >= need
       if (B[k] > 0)
         lo = std::max(lo, detail::ceil_div(need, B[k]));
