@@ -2,21 +2,16 @@
 // batch draw each (geometry, program, uniforms) once and set it up once per
 // clipping and culling state; every frame must still be, bit for bit and
 // counter for counter, the frame rendered alone.  And the two stages of a
-// draw (Framebuffer::set_up, rasterize) are the draw; a vertex program run
-// once per mesh vertex is the program run on every input.
+// draw (Framebuffer::set_up, rasterize) are the draw.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
-#include "../src/gl/shadow_draw_setup.hpp"
-#include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/scene/scene.hpp"
 
@@ -140,53 +135,6 @@ TEST(SharedDraws, ASetUpRasterizedWithAnotherStateIsThatStatesDraw) {
     EXPECT_EQ(drawn.stencil(), staged.stencil());
     EXPECT_EQ(drawn.depth(), staged.depth());
   }
-}
-
-// Each program on the mesh's vertices and on each part of its volume, run
-// once per mesh vertex (with sources) and on every input: the same bits.  An
-// input whose bits differ from the others of its mesh vertex (one coordinate
-// a float step away, or another w) is run on its own.
-TEST(SharedDraws, AProgramRunOncePerMeshVertexIsTheProgramRunOnEveryInput) {
-  const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/near_cap_bunny_wall.json");
-  std::size_t runs = 0, altered = 0;
-  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    if (!scene.objects[o].occluder) continue;
-    const TriangleMesh& mesh = *scene.objects[o].mesh;
-    const EngineSilhouette silhouette = engine_silhouette(scene, o, 0);
-    const gl::ShadowVolumeGeometry g = gl::shadow_volume_geometry(mesh, silhouette);
-    gl::ShadowUniforms u;
-    const gl::Mat4f view = gl::to_mat4f(scene.camera.view);
-    u.modelview_projection = gl::multiply(gl::frustum_matrix(scene.camera.frustum),
-                                          gl::multiply(view, gl::to_mat4f(scene.objects[o].object_to_world)));
-    u.light_position = gl::draw_setup::light_in_object_space(scene.objects[o], scene.lights[0].position);
-    u.light_modelview = u.modelview_projection;
-    u.light_projection = gl::frustum_matrix(scene.camera.frustum);
-    std::vector<gl::ShadowVertex> mesh_inputs = gl::draw_setup::mesh_vertices(mesh);
-    std::vector<VertexIndex> mesh_sources = gl::draw_setup::mesh_vertex_sources(mesh);
-    // The same mesh with every 97th input moved a float step, and every 89th
-    // given w = 0 (a direction): the altered inputs keep their sources.
-    std::vector<gl::ShadowVertex> altered_inputs = mesh_inputs;
-    for (std::size_t k = 0; k < altered_inputs.size(); k += 97, ++altered)
-      altered_inputs[k].x = std::nextafter(altered_inputs[k].x, 1e9f);
-    for (std::size_t k = 5; k < altered_inputs.size(); k += 89, ++altered) altered_inputs[k].w = 0.0f;
-    const std::pair<const std::vector<gl::ShadowVertex>*, const std::vector<VertexIndex>*> arrays[] = {
-        {&mesh_inputs, &mesh_sources},
-        {&altered_inputs, &mesh_sources},
-        {&g.sides, &g.sides_vertex},
-        {&g.light_cap, &g.light_cap_vertex},
-        {&g.dark_cap, &g.dark_cap_vertex}};
-    for (const auto& [inputs, sources] : arrays)
-      for (gl::VertexProgram program :
-           {gl::VertexProgram::Extrusion, gl::VertexProgram::Figure7, gl::VertexProgram::NearCap}) {
-        const std::vector<gl::Vec4f> each = gl::draw_setup::run_program(*inputs, u, program);
-        const std::vector<gl::Vec4f> once =
-            gl::draw_setup::run_program(*inputs, u, program, {sources, mesh.positions.size()});
-        EXPECT_TRUE(same_bits(each, once)) << "object " << o << ", " << to_string(program);
-        ++runs;
-      }
-  }
-  EXPECT_EQ(runs, 15u);
-  EXPECT_GT(altered, 100u);
 }
 
 }  // namespace

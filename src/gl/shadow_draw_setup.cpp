@@ -4,10 +4,7 @@
 
 #include <glm/glm.hpp>
 
-#include <algorithm>
 #include <array>
-#include <cstdint>
-#include <cstring>
 #include <utility>
 
 #include "glm_affine.hpp"
@@ -63,72 +60,23 @@ DrawState oriented(DrawState s, bool mirrored) {
 
 namespace {
 
-// The clip-space vertex computed for each (mesh vertex, w = 0 or not) slot
-// of the run under way, with the input it came from; a slot is filled when
-// its stamp is the run's (per thread: a run never waits for another).
-struct ProgramMemo {
-  std::vector<ShadowVertex> inputs;
-  std::vector<Vec4f> outputs;
-  std::vector<std::uint32_t> stamps;
-  std::uint32_t run = 0;
-
-  void begin(std::size_t slots) {
-    if (stamps.size() < slots) {
-      inputs.resize(slots);
-      outputs.resize(slots);
-      stamps.resize(slots, 0);
-    }
-    if (++run == 0) {  // the stamps wrapped around: none of them is this run's
-      std::fill(stamps.begin(), stamps.end(), 0);
-      run = 1;
-    }
-  }
-};
-
-bool same_bits(const ShadowVertex& a, const ShadowVertex& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
 template <class Program>
-std::vector<Vec4f> run_each(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program,
-                            const InputSources& sources) {
+std::vector<Vec4f> run_each(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
   std::vector<Vec4f> out(in.size());
-  if (!sources.vertex) {
-    for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
-    return out;
-  }
-  const std::vector<VertexIndex>& vertex = *sources.vertex;
-  NEARCAP_CHECK(vertex.size() == in.size());
-  NEARCAP_CHECK(std::all_of(vertex.begin(), vertex.end(), [&](VertexIndex v) { return v < sources.vertex_count; }));
-  thread_local ProgramMemo memo;
-  memo.begin(2 * sources.vertex_count);
-  ShadowVertex* inputs = memo.inputs.data();
-  Vec4f* outputs = memo.outputs.data();
-  std::uint32_t* stamps = memo.stamps.data();
-  const std::uint32_t run = memo.run;
-  for (std::size_t k = 0; k < in.size(); ++k) {
-    const std::size_t slot = 2 * std::size_t{vertex[k]} + (in[k].w != 0.0f);
-    if (stamps[slot] == run && same_bits(inputs[slot], in[k])) {
-      out[k] = outputs[slot];
-      continue;
-    }
-    out[k] = program(u, in[k]);
-    inputs[slot] = in[k];
-    outputs[slot] = out[k];
-    stamps[slot] = run;
-  }
+  for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
   return out;
 }
 
 }  // namespace
 
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program,
-                               const InputSources& sources) {
+std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program) {
   switch (program) {
     case VertexProgram::Extrusion:
-      return run_each(in, u, extrusion_program, sources);
+      return run_each(in, u, extrusion_program);
     case VertexProgram::Figure7:
-      return run_each(in, u, figure7_program, sources);
+      return run_each(in, u, figure7_program);
     case VertexProgram::NearCap:
-      return run_each(in, u, near_cap_program, sources);
+      return run_each(in, u, near_cap_program);
   }
   return {};
 }
@@ -146,13 +94,6 @@ std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
       const Vec3d& p = mesh.positions[v];
       out.push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f});
     }
-  return out;
-}
-
-std::vector<VertexIndex> mesh_vertex_sources(const TriangleMesh& mesh) {
-  std::vector<VertexIndex> out;
-  out.reserve(3 * mesh.triangle_count());
-  for (const auto& t : mesh.triangles) out.insert(out.end(), t.begin(), t.end());
   return out;
 }
 

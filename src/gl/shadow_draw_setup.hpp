@@ -42,27 +42,11 @@ Mat4f composed_light_matrix(const LightFrustum& lf, const Affine3d& view, const 
 // `s` with its faces swapped where the modelview reverses orientation.
 DrawState oriented(DrawState s, bool mirrored);
 
-// Which mesh vertex each input of a program run was made from: `vertex`
-// holds one index below `vertex_count` per input (mesh_vertex_sources, or a
-// volume part's ShadowVolumeGeometry::*_vertex), or is null when unknown.
-struct InputSources {
-  const std::vector<VertexIndex>* vertex = nullptr;
-  std::size_t vertex_count = 0;
-};
-// `program` on every input.  With sources, it runs once per mesh vertex and
-// w = 0 or not: a later input of the same vertex with the same bits (a mesh
-// vertex in each of its triangles, a silhouette vertex in each of its side
-// quads) takes the clip-space vertex computed for the first, which is the
-// same bits (a program's output is a function of its input's bits and the
-// uniforms); an input whose bits differ runs on its own.
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program,
-                               const InputSources& sources = {});
+std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program);
 // A recorded draw call whose vertices `program` made from `in`.
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
                       GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u);
 std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh);
-// The mesh vertex of each of mesh_vertices(mesh), in the same order.
-std::vector<VertexIndex> mesh_vertex_sources(const TriangleMesh& mesh);
 
 inline constexpr StencilOps kCountOnPass{StencilOp::Keep, StencilOp::IncrementWrap};
 inline constexpr StencilOps kUncountOnPass{StencilOp::Keep, StencilOp::DecrementWrap};

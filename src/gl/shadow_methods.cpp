@@ -45,7 +45,6 @@ struct ShadowFrameBatch::SharedWork {
     std::vector<DrawCall> draws;  // with record_draws
   };
   std::vector<std::vector<ShadowVertex>> vertices;
-  std::vector<std::vector<VertexIndex>> vertex_sources;  // the mesh vertex of each of `vertices`
   std::vector<std::optional<EngineSilhouette>> silhouettes;
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
@@ -141,7 +140,7 @@ class FrameRenderer {
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
         const ShadowUniforms& u = objects_[o].uniforms;
-        std::vector<Vec4f> clip = run_program(shared_.vertices[o], u, VertexProgram::Extrusion, mesh_sources(o));
+        std::vector<Vec4f> clip = run_program(shared_.vertices[o], u, VertexProgram::Extrusion);
         counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
           draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),
@@ -271,21 +270,13 @@ class FrameRenderer {
         if (plans_[o]->zfail_switch == ZFailSwitch::NoLightFrustumOrCaseD && obj.case_d && frame.fallback.empty())
           frame.zfail_objects.push_back(o);
       }
-      if (shared_.vertices.size() <= o) {
-        shared_.vertices.push_back(mesh_vertices(*so.mesh));
-        shared_.vertex_sources.push_back(mesh_vertex_sources(*so.mesh));
-      }
+      if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
       objects_.push_back(std::move(obj));
     }
   }
 
   // Whether the occluder draws the zfail row's volume instead of its
   // method's, and stays out of the near-cap pass.
-  // Object o's mesh vertices' sources (run_program).
-  InputSources mesh_sources(std::size_t o) const {
-    return {&shared_.vertex_sources[o], scene_.objects[o].mesh->positions.size()};
-  }
-
   bool switches_to_zfail(const ObjectSetup& obj, const ShadowFrame& frame) const {
     switch (plans_[obj.index]->zfail_switch) {
       case ZFailSwitch::Never:
@@ -313,11 +304,10 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
       const DrawState state = bounded(oriented(s, obj.mirrored), obj);
-      frame.cap_pass += shared_draw(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms, mesh_sources(o), state);
+      frame.cap_pass += shared_draw(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms, state);
       if (settings_.record_draws)
         frame.draws.push_back(program_draw(
-            DrawPass::NearCap,
-            shared_.draws.run(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms, mesh_sources(o)).clip, state,
+            DrawPass::NearCap, shared_.draws.run(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms).clip, state,
             VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o], obj.uniforms));
     }
   }
@@ -435,15 +425,10 @@ class FrameRenderer {
                                                 : part == GeometryPart::Corrective ? g.corrective
                                                 : part == GeometryPart::LightCap   ? g.light_cap
                                                                                    : g.dark_cap;
-    const std::vector<VertexIndex>* vertex = part == GeometryPart::Sides      ? &g.sides_vertex
-                                             : part == GeometryPart::LightCap ? &g.light_cap_vertex
-                                             : part == GeometryPart::DarkCap  ? &g.dark_cap_vertex
-                                                                              : nullptr;
-    const InputSources sources{vertex, vertex ? scene_.objects[obj.index].mesh->positions.size() : 0};
     const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
-    frame.volume_pass += shared_draw(vertices, program, obj.uniforms, sources, state);
+    frame.volume_pass += shared_draw(vertices, program, obj.uniforms, state);
     if (!keep && !settings_.record_draws) return;
-    const std::vector<Vec4f>& clip = shared_.draws.run(vertices, program, obj.uniforms, sources).clip;
+    const std::vector<Vec4f>& clip = shared_.draws.run(vertices, program, obj.uniforms).clip;
     if (keep) keep->insert(keep->end(), clip.begin(), clip.end());
     if (settings_.record_draws)
       frame.draws.push_back(program_draw(DrawPass::Volume, clip, state, program, part, vertices, obj.uniforms));
@@ -455,8 +440,8 @@ class FrameRenderer {
   // rasterizes them, and is charged the time they took (reused_ms_), so that
   // each method's times stay what drawing its frame alone takes.
   DrawCounters shared_draw(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& u,
-                           const InputSources& sources, const DrawState& state) {
-    const SharedDraws::SetUp set_up = shared_.draws.set_up(inputs, program, u, sources, fb_, state, settings_.raster);
+                           const DrawState& state) {
+    const SharedDraws::SetUp set_up = shared_.draws.set_up(inputs, program, u, fb_, state, settings_.raster);
     reused_ms_ += set_up.reused_ms;
     DrawCounters counters = set_up.triangles.counters;
     counters += fb_.rasterize(set_up.triangles, state, settings_.raster);
@@ -545,7 +530,6 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
   shared_->geometry.resize(scene.objects.size());
   shared_->object_silhouette_ms.resize(scene.objects.size());
   shared_->vertices.reserve(scene.objects.size());  // each array stays put: SharedDraws knows it by address
-  shared_->vertex_sources.reserve(scene.objects.size());
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 

@@ -27,8 +27,7 @@ bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b) {
 }
 
 SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                                                  const ShadowUniforms& uniforms,
-                                                  const draw_setup::InputSources& sources, bool& found) {
+                                                  const ShadowUniforms& uniforms, bool& found) {
   found = true;
   for (ProgramRun& r : runs_)
     if (r.inputs == &inputs && r.program == program && same_uniforms(r.uniforms, uniforms)) return r;
@@ -38,23 +37,23 @@ SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex
   r.inputs = &inputs;
   r.program = program;
   r.uniforms = uniforms;
-  r.clip = draw_setup::run_program(inputs, uniforms, program, sources);
+  r.clip = draw_setup::run_program(inputs, uniforms, program);
   r.ms = ms_since(t);
   return r;
 }
 
 SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                                      const ShadowUniforms& uniforms, const draw_setup::InputSources& sources) {
+                                      const ShadowUniforms& uniforms) {
   bool found = false;
-  const ProgramRun& r = find_or_run(inputs, program, uniforms, sources, found);
+  const ProgramRun& r = find_or_run(inputs, program, uniforms, found);
   return {r.clip, found ? r.ms : 0.0};
 }
 
 SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                                       const ShadowUniforms& uniforms, const draw_setup::InputSources& sources,
-                                       const Framebuffer& fb, const DrawState& state, const RasterSettings& raster) {
+                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
+                                       const RasterSettings& raster) {
   bool found = false;
-  ProgramRun& r = find_or_run(inputs, program, uniforms, sources, found);
+  ProgramRun& r = find_or_run(inputs, program, uniforms, found);
   const double program_ms = found ? r.ms : 0.0;
   for (const StateSetUp& s : r.set_ups)
     if (same_setup(s.state, state)) return {s.triangles, program_ms + s.ms};

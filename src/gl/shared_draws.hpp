@@ -17,7 +17,6 @@
 
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
-#include "shadow_draw_setup.hpp"
 
 namespace nearcap::gl {
 
@@ -26,15 +25,13 @@ class SharedDraws {
   // The clip-space vertices of `program` run on each of `inputs` with
   // `uniforms`.  `inputs` is known by its address: an array that outlives
   // this object, neither moves nor changes (a batch's mesh vertices or
-  // volume geometry), `sources` the mesh vertex of each (draw_setup::run_program).
-  // `reused_ms`: what computing them took, when this call found them
-  // computed before; 0 when it computed them.
+  // volume geometry).  `reused_ms`: what computing them took, when
+  // this call found them computed before; 0 when it computed them.
   struct Program {
     const std::vector<Vec4f>& clip;
     double reused_ms;
   };
-  Program run(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
-              const draw_setup::InputSources& sources);
+  Program run(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms);
   // Those vertices set up on `fb` with `state` (Framebuffer::set_up);
   // `reused_ms`: the time of what of that (program, setup) this call found
   // done before.  The same framebuffer size and raster settings on every call.
@@ -43,8 +40,7 @@ class SharedDraws {
     double reused_ms;
   };
   SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
-               const draw_setup::InputSources& sources, const Framebuffer& fb, const DrawState& state,
-               const RasterSettings& raster);
+               const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
 
  private:
   struct StateSetUp {
@@ -62,7 +58,7 @@ class SharedDraws {
   };
   // `found`: whether it was run before this call.
   ProgramRun& find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                          const ShadowUniforms& uniforms, const draw_setup::InputSources& sources, bool& found);
+                          const ShadowUniforms& uniforms, bool& found);
   std::deque<ProgramRun> runs_;
 };
 
