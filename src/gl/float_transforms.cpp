@@ -4,23 +4,13 @@
 #include <cmath>
 #include <string>
 
+#include "float_transform_inline.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap::gl {
 namespace {
 
-float dot4(const float a[4], const float b[4], Arithmetic arithmetic) {
-  if (arithmetic == Arithmetic::Fused) {
-    float r = a[0] * b[0];
-    r = std::fmaf(a[1], b[1], r);
-    r = std::fmaf(a[2], b[2], r);
-    return std::fmaf(a[3], b[3], r);
-  }
-  float r = a[0] * b[0];
-  r = r + a[1] * b[1];
-  r = r + a[2] * b[2];
-  return r + a[3] * b[3];
-}
+using inline_transform::dot4;
 
 }  // namespace
 
@@ -93,14 +83,11 @@ Mat4f multiply(const Mat4f& a, const Mat4f& b, Arithmetic arithmetic) {
 }
 
 float transform_row(const Mat4f& m, int r, const Vec4f& v, Arithmetic arithmetic) {
-  const float in[4] = {v.x, v.y, v.z, v.w};
-  const float row[4] = {m.at(r, 0), m.at(r, 1), m.at(r, 2), m.at(r, 3)};
-  return dot4(row, in, arithmetic);
+  return inline_transform::transform_row(m, r, v, arithmetic);
 }
 
 Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic) {
-  return {transform_row(m, 0, v, arithmetic), transform_row(m, 1, v, arithmetic), transform_row(m, 2, v, arithmetic),
-          transform_row(m, 3, v, arithmetic)};
+  return inline_transform::transform(m, v, arithmetic);
 }
 
 }  // namespace nearcap::gl

@@ -58,27 +58,8 @@ DrawState oriented(DrawState s, bool mirrored) {
   return s;
 }
 
-namespace {
-
-template <class Program>
-std::vector<Vec4f> run_each(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, Program program) {
-  std::vector<Vec4f> out(in.size());
-  for (std::size_t k = 0; k < in.size(); ++k) out[k] = program(u, in[k]);
-  return out;
-}
-
-}  // namespace
-
 std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program) {
-  switch (program) {
-    case VertexProgram::Extrusion:
-      return run_each(in, u, extrusion_program);
-    case VertexProgram::Figure7:
-      return run_each(in, u, figure7_program);
-    case VertexProgram::NearCap:
-      return run_each(in, u, near_cap_program);
-  }
-  return {};
+  return run_vertex_program(program, u, in);
 }
 
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include "nearcap/gl/float_transforms.hpp"
 
@@ -62,5 +63,8 @@ Vec4f near_cap_program(const ShadowUniforms& u, const ShadowVertex& v);
 enum class VertexProgram { Extrusion, Figure7, NearCap };
 std::string_view to_string(VertexProgram p);
 Vec4f run_vertex_program(VertexProgram p, const ShadowUniforms& u, const ShadowVertex& v);
+// The same on each of `inputs`, in order (the programs inlined into one loop).
+std::vector<Vec4f> run_vertex_program(VertexProgram p, const ShadowUniforms& u,
+                                      const std::vector<ShadowVertex>& inputs);
 
 }  // namespace nearcap::gl
