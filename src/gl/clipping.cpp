@@ -30,26 +30,10 @@ float distance(const Vec4f& v, Plane p, float g, float w_min, DepthMapping m) {
   return 0;
 }
 
-// distance() of three vertices to one plane, the plane's case chosen once.
+// distance() of a triangle's three vertices to one plane.
 std::array<float, 3> distances(const Vec4f& a, const Vec4f& b, const Vec4f& c, Plane p, float g, float w_min,
                                DepthMapping m) {
-  switch (p) {
-    case Plane::Near:
-      return {near_plane_distance(a, m), near_plane_distance(b, m), near_plane_distance(c, m)};
-    case Plane::WMin:
-      return {a.w - w_min, b.w - w_min, c.w - w_min};
-    case Plane::Far:
-      return {far_plane_distance(a, m), far_plane_distance(b, m), far_plane_distance(c, m)};
-    case Plane::Left:
-      return {a.x + g * a.w, b.x + g * b.w, c.x + g * c.w};
-    case Plane::Right:
-      return {g * a.w - a.x, g * b.w - b.x, g * c.w - c.x};
-    case Plane::Bottom:
-      return {a.y + g * a.w, b.y + g * b.w, c.y + g * c.w};
-    case Plane::Top:
-      return {g * a.w - a.y, g * b.w - b.y, g * c.w - c.y};
-  }
-  return {0, 0, 0};
+  return {distance(a, p, g, w_min, m), distance(b, p, g, w_min, m), distance(c, p, g, w_min, m)};
 }
 
 Vec4f interpolate(const Vec4f& in, const Vec4f& out, float t) {

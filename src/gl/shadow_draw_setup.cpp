@@ -58,10 +58,6 @@ DrawState oriented(DrawState s, bool mirrored) {
   return s;
 }
 
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program) {
-  return run_vertex_program(program, u, in);
-}
-
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
                       GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u) {
   return {pass, std::move(clip), s, VertexProgramRun{program, part, in, u}};

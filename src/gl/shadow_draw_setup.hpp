@@ -1,7 +1,7 @@
 // gl/shadow_draw_setup.hpp — what the frame renderer (shadow_methods.cpp)
 // draws with, per object and per method: the object's uniforms and
-// orientation, the vertex programs run on the CPU, and each volume count's
-// stencil state (private to gl/; not installed).
+// orientation, the draw calls that record a vertex program run, and each
+// volume count's stencil state (private to gl/; not installed).
 #pragma once
 
 #include <cstddef>
@@ -42,7 +42,6 @@ Mat4f composed_light_matrix(const LightFrustum& lf, const Affine3d& view, const 
 // `s` with its faces swapped where the modelview reverses orientation.
 DrawState oriented(DrawState s, bool mirrored);
 
-std::vector<Vec4f> run_program(const std::vector<ShadowVertex>& in, const ShadowUniforms& u, VertexProgram program);
 // A recorded draw call whose vertices `program` made from `in`.
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
                       GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u);

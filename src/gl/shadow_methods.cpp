@@ -140,7 +140,7 @@ class FrameRenderer {
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
         const ShadowUniforms& u = objects_[o].uniforms;
-        std::vector<Vec4f> clip = run_program(shared_.vertices[o], u, VertexProgram::Extrusion);
+        std::vector<Vec4f> clip = run_vertex_program(VertexProgram::Extrusion, u, shared_.vertices[o]);
         counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
           draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),

@@ -37,7 +37,7 @@ SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex
   r.inputs = &inputs;
   r.program = program;
   r.uniforms = uniforms;
-  r.clip = draw_setup::run_program(inputs, uniforms, program);
+  r.clip = run_vertex_program(program, uniforms, inputs);
   r.ms = ms_since(t);
   return r;
 }
