@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -220,6 +221,44 @@ RC_GTEST_PROP(BoundedDoubleRange, DeterminantSignIsNeverWrong, ()) {
   RC_ASSERT(encloses(det, exact));
   RC_ASSERT(sign_is_sound(det, exact));
   RC_CLASSIFY(!det.sign().has_value(), "undecided (would go exact)");
+}
+
+// dot() of bounded vectors is one expression (bounded_double.hpp): the same
+// estimate as the operators' ((x + y) + z), a bound that encloses the exact
+// dot product of the exact inputs, and, where bounds are normal numbers,
+// within the bound's own rounding of the operators' bound.
+RC_GTEST_PROP(BoundedDoubleRange, DotProductEnclosesTheExactDot, ()) {
+  const bool wide = *rc::gen::arbitrary<bool>();  // any magnitude, or moderate with cancellation
+  auto coordinate = [wide] {
+    const double x = wide ? *any_finite_double() : *moderate_double();
+    const double e = *rc::gen::element(0.0, 0x1p-52, 0x1p-30, 1.0) * std::fabs(x);
+    const double v = *rc::gen::arbitrary<bool>() ? x : std::nextafter(x, 0.0);
+    return Tracked{BoundedDouble(v, e + std::fabs(v - x)), Rational(x)};
+  };
+  std::array<Tracked, 6> c{coordinate(), coordinate(), coordinate(), coordinate(), coordinate(), coordinate()};
+  if (*rc::gen::arbitrary<bool>()) {  // x and y terms that cancel: a.y = a.x, b.y = -b.x
+    c[1] = c[0];
+    c[4] = {-c[3].approx, -c[3].exact};
+  }
+  const Vec3<BoundedDouble> a{c[0].approx, c[1].approx, c[2].approx}, b{c[3].approx, c[4].approx, c[5].approx};
+  const BoundedDouble fused = dot(a, b);
+  const BoundedDouble composed = a.x * b.x + a.y * b.y + a.z * b.z;
+  if (!composed.is_finite()) return;  // an overflow claims nothing
+  // Summed at once, the rounded results' magnitudes overflow a little sooner
+  // (an infinite bound: sound, and the exact predicate decides).
+  if (!fused.is_finite()) {
+    RC_ASSERT(composed.e > 0x1p960);
+    return;
+  }
+  const Rational exact = c[0].exact * c[3].exact + c[1].exact * c[4].exact + c[2].exact * c[5].exact;
+  RC_ASSERT(fused.v == composed.v);
+  RC_ASSERT(encloses(fused, exact));
+  RC_ASSERT(sign_is_sound(fused, exact));
+  // (Subnormal bounds round by absolute steps: compared where they are normal.)
+  if (composed.e > 0x1p-1000) {
+    RC_ASSERT(fused.e <= composed.e * BoundedDouble::kBoundSlack);
+    RC_ASSERT(composed.e <= fused.e * BoundedDouble::kBoundSlack);
+  }
 }
 
 TEST(BoundedDoubleSign, UncertainValuesCarryTheirErrorThroughProducts) {
