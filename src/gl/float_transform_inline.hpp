@@ -35,8 +35,18 @@ inline float transform_row(const Mat4f& m, int r, const Vec4f& v, Arithmetic ari
 }
 
 inline Vec4f transform(const Mat4f& m, const Vec4f& v, Arithmetic arithmetic) {
-  return {inline_transform::transform_row(m, 0, v, arithmetic), inline_transform::transform_row(m, 1, v, arithmetic),
-          inline_transform::transform_row(m, 2, v, arithmetic), inline_transform::transform_row(m, 3, v, arithmetic)};
+  if (arithmetic == Arithmetic::Fused)
+    return {inline_transform::transform_row(m, 0, v, arithmetic), inline_transform::transform_row(m, 1, v, arithmetic),
+            inline_transform::transform_row(m, 2, v, arithmetic), inline_transform::transform_row(m, 3, v, arithmetic)};
+  // Separately rounded, column by column (Mat4f stores columns): row r's
+  // lane sees dot4's operations in dot4's order, and the four rows can run
+  // as one vector operation per column.
+  const float in[4] = {v.x, v.y, v.z, v.w};
+  float r[4];
+  for (int row = 0; row < 4; ++row) r[row] = m.m[row] * in[0];
+  for (int column = 1; column < 4; ++column)
+    for (int row = 0; row < 4; ++row) r[row] = r[row] + m.m[4 * column + row] * in[column];
+  return {r[0], r[1], r[2], r[3]};
 }
 
 }  // namespace nearcap::gl::inline_transform
