@@ -204,6 +204,8 @@ step_policy_evaluation() {  # the policies and the engines' rules on configurati
 # ---- sweep-speed.md, exact-speed.md --------------------------------------------
 step_sweep_rates() {  # configurations per second
   ./analysis/benchmarks/sweep_rates.sh; }
+step_orbit_instructions() {  # the bunny orbit's instructions per frame (callgrind, one core)
+  ./analysis/benchmarks/orbit_instructions.sh; }
 step_shadow_method_speed() {  # the five methods' emulated frame on the armadillo
   $bench/nearcap_benchmarks --benchmark_filter='ShadowMethod|AllShadow'; }
 step_classification_speed() {  # exact against float classification on the bunny
@@ -270,7 +272,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models sweep-rates shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models sweep-rates orbit-instructions shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

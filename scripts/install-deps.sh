@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian package nearcap needs to build, test, fuzz and plot.
+# Installs every Debian package nearcap needs to build, test, fuzz, plot and
+# measure (valgrind: the findings' instruction counts).
 # Idempotent; run as root (or with sudo available). Debian 12 (bookworm).
 set -euo pipefail
 
@@ -15,7 +16,7 @@ packages=(
   libembree-dev
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib
-  chromium time
+  chromium time valgrind
 )
 
 missing=()

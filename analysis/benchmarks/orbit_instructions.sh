@@ -30,4 +30,5 @@ total=$(sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$work/valgrind.log")
 printf 'bunny orbit, %s frames: %s instructions (%.3f G per frame)\n' "$frames" "$total" \
   "$(python3 -c "print($total / $frames / 1e9)")"
 callgrind_annotate "$work/callgrind.out" 2> /dev/null | grep -E '^ *[0-9,]+ \(' | sed -n '2,13p' |
-  sed -E 's/\[[^]]*\]$//; s/\?\?\?://; s/\(([^()]|\([^()]*\))*\)//g' | cut -c1-110
+  sed -E 's/ \[[^]]*\]$//; s/\?\?\?://; s/\(anonymous namespace\):://g; s/nearcap:://g' |
+  sed -E ':a; s/\(([^()]|\(\))*\)//g; ta' | cut -c1-110
