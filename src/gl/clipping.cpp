@@ -4,6 +4,8 @@
 #include <array>
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace nearcap::gl {
 namespace {
@@ -54,11 +56,12 @@ ClipVertex interpolate(const ClipVertex& in, const ClipVertex& out, float t) {
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
 // `carried`: plane p's distance is the vertex's clip_distance.
-std::vector<ClipVertex> clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w_min, DepthMapping m,
-                                     std::vector<bool>* on_plane = nullptr, bool mesa = false, bool carried = false) {
-  std::vector<ClipVertex> out;
+// The stage's polygon goes to `out` (cleared first; not `poly`).
+void clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w_min, DepthMapping m,
+                  std::vector<ClipVertex>& out, std::vector<bool>* on_plane = nullptr, bool mesa = false,
+                  bool carried = false) {
+  out.clear();
   const std::size_t n = poly.size();
-  out.reserve(n + 1);
   for (std::size_t k = 0; k < n; ++k) {
     const ClipVertex& a = poly[k];
     const ClipVertex& b = poly[(k + 1) % n];
@@ -92,7 +95,6 @@ std::vector<ClipVertex> clip_against(const std::vector<ClipVertex>& poly, Plane 
       if (on_plane) on_plane->push_back(true);
     }
   }
-  return out;
 }
 
 }  // namespace
@@ -154,7 +156,18 @@ void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::
     polygon.insert(polygon.end(), {a, b, c});
     return;
   }
-  std::vector<ClipVertex> poly{{a}, {b}, {c}};
+  clip_at_planes(a, b, c, polygon);
+}
+
+void TriangleClipper::clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
+                                     std::vector<Vec4f>& polygon) const {
+  const ClipSettings& settings = settings_;
+  const float g = settings.guard_band, w_min = settings.w_min;
+  const DepthMapping m = settings.depth_mapping;
+  // The stages' polygons, kept per thread with their capacity: a draw clips
+  // many triangles, and none allocates.
+  thread_local std::vector<ClipVertex> poly, next;
+  poly.assign({{a}, {b}, {c}});
   if (carried_) {
     const Plane p = static_cast<Plane>(planes_[count_ - 1]);
     for (ClipVertex& v : poly) v.clip_distance = distance(v.p, p, 0.0f, 0.0f, m);
@@ -166,7 +179,8 @@ void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::
       const std::array<float, 3> d = distances(a, b, c, p, g, w_min, m);
       if (!(d[0] < 0 || d[1] < 0 || d[2] < 0)) continue;
     }
-    poly = clip_against(poly, p, g, w_min, m, nullptr, settings.mesa, carried_ && k + 1 == count_);
+    clip_against(poly, p, g, w_min, m, next, nullptr, settings.mesa, carried_ && k + 1 == count_);
+    std::swap(poly, next);
     if (poly.size() < 3) return;
   }
   for (const ClipVertex& v : poly) polygon.push_back(v.p);
@@ -178,7 +192,8 @@ namespace {
 // vertices that lie in it.
 NearClippedPolygon clip_first_stage(const Vec4f& a, const Vec4f& b, const Vec4f& c, Plane p, DepthMapping mapping) {
   NearClippedPolygon out;
-  const std::vector<ClipVertex> poly = clip_against({{a}, {b}, {c}}, p, 0.0f, 0.0f, mapping, &out.on_near_plane);
+  std::vector<ClipVertex> poly;
+  clip_against({{a}, {b}, {c}}, p, 0.0f, 0.0f, mapping, poly, &out.on_near_plane);
   if (poly.size() < 3) {
     out.on_near_plane.clear();
     return out;

@@ -89,6 +89,10 @@ class TriangleClipper {
   void clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const;
 
  private:
+  // clip() past the trivial accept and reject: the triangle through every
+  // plane.  Kept out of clip(), whose trivial tests run for every triangle.
+  [[gnu::noinline]] void clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
+                                        std::vector<Vec4f>& polygon) const;
   ClipSettings settings_;
   std::array<std::uint8_t, 6> planes_{};  // clipping.cpp's planes, in clipping order
   std::size_t count_ = 0;
