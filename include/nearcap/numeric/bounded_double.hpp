@@ -83,8 +83,8 @@ inline BoundedDouble& operator*=(BoundedDouble& a, const BoundedDouble& b) { ret
 // ((a.x b.x + a.y b.y) + a.z b.z) and the same error terms as the three
 // products and two sums above (propagated errors, 2^-52 of each rounded
 // result's magnitude, 2^-1074 per product), summed without the intermediate
-// BoundedDoubles.  The shadow-crossing filters of the exact reference spend
-// most of their time here.
+// BoundedDoubles.  The exact reference's shadow-crossing filter runs three
+// for every candidate light triangle.
 template <>
 inline BoundedDouble dot(const Vec3<BoundedDouble>& a, const Vec3<BoundedDouble>& b) {
   const double px = a.x.v * b.x.v, py = a.y.v * b.y.v, pz = a.z.v * b.z.v;
