@@ -89,7 +89,7 @@ for p in data/paths/*.json; do
   case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
 done
 if ./build/nearcap calibrate --samples 40 --seed 1 "${calibration[@]}" --out out/sweep/calibration.csv \
-  --policy out/sweep/tuned.json --write-policy out/sweep/policy.json; then
+  --policy out/sweep/tuned.json --write-policy out/sweep/policy.json --no-atomiczp; then
   echo "== nearcap evaluate: that policy against the oracle on data it was not tuned on (out/sweep/oracle/table.md)"
   ./build/nearcap evaluate --policy out/sweep/policy.json --samples 40 --seed 4242 \
     --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 59 --repeats 2 --out out/sweep/oracle

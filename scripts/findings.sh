@@ -172,6 +172,21 @@ step_whole_frame() {  # a whole frame against its passes timed each on its own; 
       --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$p"
   done
 }
+step_in_view_triangles() {  # what a pass's triangles in view add to its cost model (docs/findings/in-view-triangles.md)
+  $n calibrate --samples 0 --path near_plane_sweep --width 160 --height 120 --out "$dir/in-view-sweep.csv"
+  python3 -c 'import csv,sys
+  print("frame  triangles  in view  fragments  ms")
+  for r in csv.DictReader(open(sys.argv[1])):
+      if r["record"] == "pass" and r["kind"] == "depth" and r["frame"].endswith(":zfail") and int(r["frame"].split(":")[2]) % 8 == 0:
+          print(r["frame"].split(":")[2], r["triangles"], r["in_view"], r["fragments"], r["ms"])' "$dir/in-view-sweep.csv"
+  local calibration=() p
+  for p in data/paths/*.json; do
+    case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
+  done
+  $n calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
+    --out "$dir/in-view.csv" --policy data/policy.json --write-policy "$dir/policy-in-view.json" --no-atomiczp
+  python3 analysis/benchmarks/in_view_fit.py "$dir/in-view.csv"
+}
 step_cpu_task_models() {  # a profile fitted by counts against the shipped one, in one window, end to end
   local calibration=()
   for p in data/paths/*.json; do
@@ -272,7 +287,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models sweep-rates orbit-instructions shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

@@ -70,6 +70,42 @@ TEST(Framebuffer, CullingByFacing) {
   for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 1);
 }
 
+// With a guard band (RasterSettings::guard_band > 1, llvmpipe's way), a
+// triangle wholly beside the viewport but inside the band is set up
+// (rasterized) and covers nothing: it is not in view.  One whose bounds
+// reach into the viewport by a sliver is, and so is one that covers it.
+// Clipped at the view volume (the default band, 1), the one beside is
+// clipped away.
+TEST(Framebuffer, TrianglesInViewAreThoseWhoseBoundsMeetTheViewport) {
+  Framebuffer fb(8, 8, DepthFormat::Fixed24);
+  DrawState s;
+  s.depth_func = DepthFunc::Always;
+  s.front.depth_pass = s.back.depth_pass = StencilOp::IncrementWrap;
+  RasterSettings band;
+  band.guard_band = 64;
+  auto triangle = [](float x0, float y0, float x1, float y1, float x2, float y2) {
+    return std::vector<Vec4f>{{x0, y0, 0, 1}, {x1, y1, 0, 1}, {x2, y2, 0, 1}};
+  };
+  // NDC x in [1.5, 3]: window x from 10 to 16, right of the 8 pixels.
+  const DrawCounters beside = fb.draw(triangle(1.5f, -0.5f, 3, -0.5f, 2, 0.5f), s, band);
+  EXPECT_EQ(beside.rasterized, 1u);
+  EXPECT_EQ(beside.in_view, 0u);
+  EXPECT_EQ(beside.fragments, 0u);
+  const DrawCounters clipped = fb.draw(triangle(1.5f, -0.5f, 3, -0.5f, 2, 0.5f), s, {});
+  EXPECT_EQ(clipped.clipped, 1u);
+  EXPECT_EQ(clipped.in_view, 0u);
+  // Below the viewport, and above it.
+  EXPECT_EQ(fb.draw(triangle(-0.5f, -3, 0.5f, -3, 0, -1.2f), s, band).in_view, 0u);
+  EXPECT_EQ(fb.draw(triangle(-0.5f, 3, 0.5f, 3, 0, 1.2f), s, band).in_view, 0u);
+  // Its left corner a quarter pixel inside the right edge (window x 7.75).
+  const DrawCounters sliver = fb.draw(triangle(0.9375f, -0.5f, 3, -0.5f, 2, 0.5f), s, band);
+  EXPECT_EQ(sliver.rasterized, 1u);
+  EXPECT_EQ(sliver.in_view, 1u);
+  const DrawCounters covering = fb.draw(full_quad(0), s, band);
+  EXPECT_EQ(covering.in_view, 2u);
+  EXPECT_EQ(covering.fragments, 64u);
+}
+
 TEST(Framebuffer, DepthClampKeepsWhatTheFarPlaneWouldClip) {
   DrawState s;
   s.depth_func = DepthFunc::Always;

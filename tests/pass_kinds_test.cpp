@@ -43,6 +43,7 @@ void expect_equal(const gl::DrawCounters& a, const gl::DrawCounters& b, const st
   EXPECT_EQ(a.fragments, b.fragments) << what;
   EXPECT_EQ(a.depth_passed, b.depth_passed) << what;
   EXPECT_EQ(a.rasterized, b.rasterized) << what;
+  EXPECT_EQ(a.in_view, b.in_view) << what;
 }
 
 TEST(PassKinds, EachMethodDrawsItsKinds) {

@@ -25,6 +25,7 @@ void expect_same_counters(const gl::DrawCounters& a, const gl::DrawCounters& b, 
   EXPECT_EQ(a.clipped, b.clipped) << what;
   EXPECT_EQ(a.culled, b.culled) << what;
   EXPECT_EQ(a.rasterized, b.rasterized) << what;
+  EXPECT_EQ(a.in_view, b.in_view) << what;
   EXPECT_EQ(a.fragments, b.fragments) << what;
   EXPECT_EQ(a.bounds_culled, b.bounds_culled) << what;
   EXPECT_EQ(a.depth_passed, b.depth_passed) << what;

@@ -17,9 +17,11 @@
 #      kind and CPU task timed on its own, fitted with Ceres), on 100 of the
 #      sampler's configurations (seed 100) and the bundled paths except
 #      near_plane_sweep and fly_around, which `nearcap evaluate` holds out
-#      (docs/findings/policy-oracle.md).  With it the policy decides per
-#      occluder by predicted cost between ZP+ with the clipped-sides cap and
-#      Z-fail (docs/policy.md).
+#      (docs/findings/policy-oracle.md), without AtomicZP's eye-count row
+#      (--no-atomiczp: testing AtomicZP's conditions would cost the decision
+#      more than the candidate saves, docs/policy.md).  With it the policy
+#      decides per occluder by predicted cost between ZP+ with the
+#      clipped-sides cap and Z-fail (docs/policy.md).
 #      Without headless OpenGL the policy is written without a profile (the
 #      clipped-sides ZP+ for every occluder);
 #   4. with --reversed-z: the same with reversed-Z (a float depth buffer and
@@ -76,7 +78,7 @@ if [ "$cure" = none ]; then
     case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
   done
   if ! "$n" calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
-    --out "$work/calibration.csv" --policy "$tuned" --write-policy "$policy"; then
+    --out "$work/calibration.csv" --policy "$tuned" --write-policy "$policy" --no-atomiczp; then
     echo "tune_policy.sh: no device profile (nearcap calibrate failed: no headless OpenGL?); $policy without one"
     cp "$tuned" "$policy"
   fi

@@ -11,14 +11,20 @@
 namespace nearcap::analysis {
 namespace {
 
-constexpr std::string_view kHeader = "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined";
-// The headers of older files: cpu rows with the triangles alone, and with
-// the counts but not the clipped-sides cap's examined faces.
+constexpr std::string_view kHeader =
+    "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined,in_view";
+// The headers of older files: cpu rows with the triangles alone, with the
+// counts but not the clipped-sides cap's examined faces, and pass rows
+// without their triangles in view.
 constexpr std::string_view kTrianglesOnlyHeader = "record,frame,kind,triangles,fragments,ms";
 constexpr std::string_view kWithoutExaminedHeader =
     "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling";
-constexpr std::array<std::string_view, 10> kColumns{"record", "frame",    "kind",   "triangles",  "fragments",
-                                                    "ms",     "reaching", "tested", "straddling", "examined"};
+constexpr std::string_view kWithoutInViewHeader =
+    "record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined";
+constexpr std::array<std::string_view, 11> kColumns{"record",   "frame",  "kind",       "triangles", "fragments", "ms",
+                                                    "reaching", "tested", "straddling", "examined",  "in_view"};
+// The CPU tasks' counts: reaching..examined.
+constexpr std::size_t kFirstCountColumn = 6, kInViewColumn = 10;
 
 // A frame row's kind: the whole frame, timed end to end.
 constexpr std::string_view kEndToEnd = "end_to_end";
@@ -40,7 +46,7 @@ std::string pass_line(std::string_view record, const PassObservation& o) {
   check_frame(o.frame);
   return std::string(record) + "," + o.frame + "," + std::string(to_string(o.kind)) + "," +
          number(o.triangles, "triangle count") + "," + number(o.fragments, "fragment count") + "," +
-         number(o.ms, "time") + ",,,,\n";
+         number(o.ms, "time") + ",,,,," + number(o.in_view, "in-view count") + "\n";
 }
 
 }  // namespace
@@ -65,7 +71,7 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
   for (const EyeCountObservation& o : set.eye_count) {
     check_frame(o.frame);
     out += "pass," + o.frame + "," + std::string(kEyeCountPassName) + "," + number(o.triangles, "triangle count") +
-           "," + number(o.fragments, "fragment count") + "," + number(o.ms, "time") + ",,,,\n";
+           "," + number(o.fragments, "fragment count") + "," + number(o.ms, "time") + ",,,,,\n";
   }
   for (const PassObservation& o : set.again) out += pass_line("again", o);
   for (const CpuObservation& o : set.cpu) {
@@ -73,14 +79,14 @@ std::string calibration_csv_rows(const CalibrationSet& set) {
     out += "cpu," + o.frame + "," + std::string(to_string(o.task)) + "," + number(o.triangles, "triangle count") +
            ",," + number(o.ms, "time");
     if (o.task == CpuTask::Silhouette)
-      out += ",,,,\n";
+      out += ",,,,,\n";
     else
       out += "," + number(o.reaching, "reaching count") + "," + number(o.tested, "tested count") + "," +
-             number(o.straddling, "straddling count") + "," + number(o.examined, "examined count") + "\n";
+             number(o.straddling, "straddling count") + "," + number(o.examined, "examined count") + ",\n";
   }
   for (const FrameObservation& o : set.frames) {
     check_frame(o.frame);
-    out += "frame," + o.frame + "," + std::string(kEndToEnd) + ",,," + number(o.ms, "time") + ",,,,\n";
+    out += "frame," + o.frame + "," + std::string(kEndToEnd) + ",,," + number(o.ms, "time") + ",,,,,\n";
   }
   return out;
 }
@@ -109,6 +115,11 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
                                           "': its cpu rows lack the count examined (the faces the light-pyramid cull "
                                           "tested) that the clipped-sides cap is priced by (run nearcap calibrate "
                                           "again)");
+      if (line == kWithoutInViewHeader)
+        throw fail(ErrorKind::Schema, "the header is '" + std::string(kWithoutInViewHeader) +
+                                          "': its pass rows lack the count in_view (the set-up triangles meeting "
+                                          "the viewport) that the device profile prices each pass by (run nearcap "
+                                          "calibrate again)");
       if (line != kHeader)
         throw fail(ErrorKind::Parse, "the header is not '" + std::string(kHeader) +
                                          "' (a calibration CSV of "
@@ -146,27 +157,38 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
     const std::string frame(field[1]);
     if (frame.empty()) throw fail(ErrorKind::Parse, "an empty frame");
     // The counts columns: numbers for the clipped-sides cap's and the exact
-    // test's cpu rows, empty for the others.
+    // test's cpu rows, empty for the others; in_view: a number for the
+    // pass and again rows of the pass kinds, empty for the others.
     auto counts_empty = [&](const std::string& what) {
-      for (std::size_t column = 6; column < kColumns.size(); ++column)
+      for (std::size_t column = kFirstCountColumn; column < kInViewColumn; ++column)
         if (!field[column].empty())
           throw fail(ErrorKind::Schema,
                      std::string(kColumns[column]) + " '" + std::string(field[column]) + "': " + what + " (empty)");
     };
+    auto in_view_empty = [&](const std::string& what) {
+      if (!field[kInViewColumn].empty())
+        throw fail(ErrorKind::Schema, "in_view '" + std::string(field[kInViewColumn]) + "': " + what +
+                                          " has no triangles in view (empty)");
+    };
     if (record == "pass" && field[2] == kEyeCountPassName) {
       counts_empty("a pass record has no CPU task counts");
+      in_view_empty("the eye-count pass");
       set.eye_count.push_back({frame, value(3), value(4), value(5)});
     } else if (record == "pass" || record == "again") {
       const std::optional<PassKind> kind = pass_kind_from_string(field[2]);
       if (!kind) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a pass kind");
       counts_empty("a " + std::string(record) + " record has no CPU task counts");
-      PassObservation o{frame, *kind, value(3), value(4), value(5)};
+      PassObservation o{frame, *kind, value(3), value(4), value(5), value(kInViewColumn)};
+      if (o.in_view > 0 && o.triangles == 0)
+        throw fail(ErrorKind::Schema,
+                   "in_view " + std::string(field[kInViewColumn]) + " triangles of a pass that submitted none");
       (record == "pass" ? set.passes : set.again).push_back(std::move(o));
     } else if (record == "cpu") {
       const std::optional<CpuTask> task = cpu_task_from_string(field[2]);
       if (!task) throw fail(ErrorKind::Parse, "kind '" + std::string(field[2]) + "' is not a CPU task");
       if (!field[4].empty()) throw fail(ErrorKind::Parse, "a cpu record has no fragments (the column is empty)");
       CpuObservation o{frame, *task, value(3), value(5)};
+      in_view_empty("a cpu record");
       if (*task == CpuTask::Silhouette) {
         counts_empty("a silhouette record has no near-plane counts");
       } else {
@@ -183,6 +205,7 @@ CalibrationSet parse_calibration_csv(std::string_view text, const std::string& s
       if (!field[3].empty() || !field[4].empty())
         throw fail(ErrorKind::Schema, "a frame record has no triangles or fragments (the columns are empty)");
       counts_empty("a frame record has no CPU task counts");
+      in_view_empty("a frame record");
       set.frames.push_back({frame, value(5)});
     } else {
       throw fail(ErrorKind::Parse, "record '" + std::string(record) + "' is not pass, again, cpu or frame");

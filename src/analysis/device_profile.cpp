@@ -1,7 +1,8 @@
 // Fitting a device cost profile with Ceres (see device_profile.hpp).
 //
 // Each pass kind is one small problem: ms ~ intercept + a * Mtriangles +
-// b * Mfragments, three non-negative unknowns; the silhouette one unknown,
+// v * Min_view + b * Mfragments, four non-negative unknowns (three where
+// no training observation has a triangle in view: the eye-count pass); the silhouette one unknown,
 // ms ~ c * ktriangles; the clipped-sides cap and the exact test six,
 // ms ~ intercept + the five counts' (CpuTaskWork) coefficients.  The arrangement, and why:
 // - The residual is log(predicted) - log(measured).  Timings scatter in
@@ -136,28 +137,39 @@ PassCost fit_pass_cost(const std::vector<const PassObservation*>& train,
                        std::size_t& held_count) {
   PassCost cost;
   std::vector<double> times;
-  double mean_t = 0, mean_f = 0;
+  double mean_t = 0, mean_f = 0, mean_v = 0;
   for (const PassObservation* o : train) {
     times.push_back(o->ms);
     mean_t += o->triangles * 1e-6 / static_cast<double>(train.size());
     mean_f += o->fragments * 1e-6 / static_cast<double>(train.size());
+    mean_v += o->in_view * 1e-6 / static_cast<double>(train.size());
   }
   const double m = median(times);
   if (m > 0) {
     const double s_t = mean_t > 0 ? mean_t : 1.0, s_f = mean_f > 0 ? mean_f : 1.0;
-    std::vector<std::array<double, 3>> x;
     std::vector<double> y;
-    for (const PassObservation* o : train) {
-      x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
-      y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
-    }
-    std::array<double, 3> theta{0.4, 0.3, 0.3};
-    solve_log_linear<3>(x, y, options.robust, what, theta);
+    for (const PassObservation* o : train) y.push_back(std::log(std::max(o->ms, 1e-3 * m) / m));
     // A count that is 0 in every training observation leaves its coefficient
     // at its start, multiplying nothing: 0.
-    cost.intercept_ms = m * theta[0];
-    cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
-    cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
+    if (mean_v > 0) {
+      std::vector<std::array<double, 4>> x;
+      for (const PassObservation* o : train)
+        x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f, o->in_view * 1e-6 / mean_v});
+      std::array<double, 4> theta{0.4, 0.2, 0.2, 0.2};
+      solve_log_linear<4>(x, y, options.robust, what, theta);
+      cost.intercept_ms = m * theta[0];
+      cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
+      cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
+      cost.ms_per_mtriangle_in_view = m * theta[3] / mean_v;
+    } else {
+      std::vector<std::array<double, 3>> x;
+      for (const PassObservation* o : train) x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
+      std::array<double, 3> theta{0.4, 0.3, 0.3};
+      solve_log_linear<3>(x, y, options.robust, what, theta);
+      cost.intercept_ms = m * theta[0];
+      cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
+      cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
+    }
   }
   for (const auto& [side, error, count] :
        {std::tuple{&train, &train_error, &train_count}, std::tuple{&held, &held_error, &held_count}}) {
@@ -166,7 +178,8 @@ PassCost fit_pass_cost(const std::vector<const PassObservation*>& train,
     for (const PassObservation* o : *side)
       if (o->ms > 0) {
         const double predicted = cost.intercept_ms + cost.ms_per_mtriangle * o->triangles * 1e-6 +
-                                 cost.ms_per_mfragment * o->fragments * 1e-6;
+                                 cost.ms_per_mfragment * o->fragments * 1e-6 +
+                                 cost.ms_per_mtriangle_in_view * o->in_view * 1e-6;
         s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
       }
     *error = median_error(s);
@@ -220,15 +233,17 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
     double ms = 0, drawn = 0;
   };
   std::map<std::string, Passes> by_frame;
-  auto add = [&by_frame](const std::string& frame, const PassCost& c, double triangles, double fragments) {
+  auto add = [&by_frame](const std::string& frame, const PassCost& c, double triangles, double fragments,
+                         double in_view) {
     Passes& p = by_frame[frame_of_pass(frame)];
-    p.ms += c.intercept_ms + c.ms_per_mtriangle * triangles * 1e-6 + c.ms_per_mfragment * fragments * 1e-6;
+    p.ms += c.intercept_ms + c.ms_per_mtriangle * triangles * 1e-6 + c.ms_per_mfragment * fragments * 1e-6 +
+            c.ms_per_mtriangle_in_view * in_view * 1e-6;
     p.drawn += 1;
   };
   for (const PassObservation& o : passes)
-    add(o.frame, profile.passes[static_cast<std::size_t>(o.kind)], o.triangles, o.fragments);
+    add(o.frame, profile.passes[static_cast<std::size_t>(o.kind)], o.triangles, o.fragments, o.in_view);
   if (profile.eye_count)
-    for (const EyeCountObservation& o : eye_count) add(o.frame, *profile.eye_count, o.triangles, o.fragments);
+    for (const EyeCountObservation& o : eye_count) add(o.frame, *profile.eye_count, o.triangles, o.fragments, 0);
   double smallest_intercept = INFINITY;
   for (const PassCost& c : profile.passes) smallest_intercept = std::min(smallest_intercept, c.intercept_ms);
   if (profile.eye_count) smallest_intercept = std::min(smallest_intercept, profile.eye_count->intercept_ms);
@@ -306,6 +321,7 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
   for (const PassObservation& o : passes) {
     check_measure(o.triangles, "the triangle count", o.frame, "pass observation");
     check_measure(o.fragments, "the fragment count", o.frame, "pass observation");
+    check_measure(o.in_view, "the in-view triangle count", o.frame, "pass observation");
     check_measure(o.ms, "the time", o.frame, "pass observation");
   }
   for (const CpuObservation& o : cpu) {

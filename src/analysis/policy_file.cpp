@@ -44,10 +44,15 @@ DeviceProfile device_profile_of(const JsonValue& j) {
   std::vector<std::string_view> pass_keys(kPassKindNames.begin(), kPassKindNames.end());
   pass_keys.push_back(kEyeCountPassName);  // optional
   passes.only_keys(pass_keys);
+  // ms_per_mtriangle_in_view is optional: a profile without it prices
+  // each pass by its submitted triangles and fragments alone.
   auto pass_cost = [](const JsonValue& pass) {
-    pass.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment"});
-    return PassCost{cost_number(pass, "intercept_ms"), cost_number(pass, "ms_per_mtriangle"),
-                    cost_number(pass, "ms_per_mfragment")};
+    pass.only_keys({"intercept_ms", "ms_per_mtriangle", "ms_per_mfragment", "ms_per_mtriangle_in_view"});
+    PassCost c{cost_number(pass, "intercept_ms"), cost_number(pass, "ms_per_mtriangle"),
+               cost_number(pass, "ms_per_mfragment")};
+    if (pass.find("ms_per_mtriangle_in_view"))
+      c.ms_per_mtriangle_in_view = cost_number(pass, "ms_per_mtriangle_in_view");
+    return c;
   };
   for (std::size_t k = 0; k < kPassKindCount; ++k) d.passes[k] = pass_cost(passes.at(kPassKindNames[k]));
   if (const auto eye = passes.find(kEyeCountPassName)) d.eye_count = pass_cost(*eye);
@@ -95,15 +100,16 @@ Json cpu_task_cost_json(const CpuTaskCost& c) {
 }
 
 Json device_profile_json(const DeviceProfile& d) {
+  auto pass_json = [](const PassCost& c) {
+    Json j{{"intercept_ms", c.intercept_ms},
+           {"ms_per_mtriangle", c.ms_per_mtriangle},
+           {"ms_per_mfragment", c.ms_per_mfragment}};
+    if (c.ms_per_mtriangle_in_view != 0) j["ms_per_mtriangle_in_view"] = c.ms_per_mtriangle_in_view;
+    return j;
+  };
   Json passes = Json::object();
-  for (std::size_t k = 0; k < kPassKindCount; ++k)
-    passes[std::string(kPassKindNames[k])] = {{"intercept_ms", d.passes[k].intercept_ms},
-                                              {"ms_per_mtriangle", d.passes[k].ms_per_mtriangle},
-                                              {"ms_per_mfragment", d.passes[k].ms_per_mfragment}};
-  if (d.eye_count)
-    passes[std::string(kEyeCountPassName)] = {{"intercept_ms", d.eye_count->intercept_ms},
-                                              {"ms_per_mtriangle", d.eye_count->ms_per_mtriangle},
-                                              {"ms_per_mfragment", d.eye_count->ms_per_mfragment}};
+  for (std::size_t k = 0; k < kPassKindCount; ++k) passes[std::string(kPassKindNames[k])] = pass_json(d.passes[k]);
+  if (d.eye_count) passes[std::string(kEyeCountPassName)] = pass_json(*d.eye_count);
   Json j{{"gl_renderer", d.gl_renderer},
          {"origin", d.origin},
          {"passes", passes},

@@ -123,6 +123,55 @@ double ScreenCoverage::pixels(const ScreenVertex* polygon, int n, bool near_clip
   return std::isfinite(area) ? std::min(area, width_ * height_) : 0.0;
 }
 
+double ScreenCoverage::in_view_pieces(const ScreenVertex* polygon, int n, bool finite_far) const {
+  constexpr std::uint8_t kSides = kAllPlanes & ~kNearBit;
+  double pieces = 0;
+  for (int i = 1; i + 1 < n; ++i) {
+    const std::array<const ScreenVertex*, 3> t{&polygon[0], &polygon[i], &polygon[i + 1]};
+    const std::uint8_t all = t[0]->outside & t[1]->outside & t[2]->outside;
+    const std::uint8_t any = t[0]->outside | t[1]->outside | t[2]->outside;
+    if (all) continue;  // beyond one plane: clipped away, or its image beside the viewport
+    // Clipped at the near plane: a triangle, or a quad.
+    std::array<CameraPoint, 4> clipped;
+    int m = 0;
+    for (int k = 0; k < 3; ++k) {
+      const ScreenVertex &p = *t[k], &s = *t[(k + 1) % 3];
+      const bool p_in = !(p.outside & kNearBit), s_in = !(s.outside & kNearBit);
+      if (p_in) clipped[m++] = p.p;
+      if (p_in != s_in) {
+        const double dp = plane(p.p, 0), ds = plane(s.p, 0);
+        clipped[m++] = lerp(p.p, s.p, dp / (dp - ds));
+      }
+    }
+    // Then at a finite far plane, which every vertex at infinity (w = 0)
+    // lies beyond: a polygon of m vertices, k of them at infinity, becomes
+    // one of m - k + 2 (none where all are).
+    int at_infinity = 0;
+    for (int k = 0; finite_far && k < m; ++k) at_infinity += clipped[k].w == 0 ? 1 : 0;
+    if (at_infinity == m) continue;
+    const int here = at_infinity == 0 ? m - 2 : m - at_infinity;
+    if (!(any & kSides)) {
+      pieces += here;  // within the side planes: its image inside the viewport
+      continue;
+    }
+    // Its image's bounds, the vertices at infinity at their vanishing points.
+    double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
+    bool through_the_eye = false;  // a vertex in the eye's plane: no bounded image
+    for (int k = 0; k < m && !through_the_eye; ++k) {
+      through_the_eye = !(-clipped[k].z > 0);
+      if (through_the_eye) break;
+      double x, y;
+      project(clipped[k], x, y);
+      x_lo = std::min(x_lo, x);
+      x_hi = std::max(x_hi, x);
+      y_lo = std::min(y_lo, y);
+      y_hi = std::max(y_hi, y);
+    }
+    if (!through_the_eye && x_hi >= 0 && x_lo <= width_ && y_hi >= 0 && y_lo <= height_) pieces += here;
+  }
+  return pieces;
+}
+
 namespace {
 
 // The camera of a light's view: the near rectangle spans the frustum's left..right, bottom..top on the

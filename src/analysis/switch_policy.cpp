@@ -88,6 +88,7 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     c.intercept_ms /= gl_factor;
     c.ms_per_mtriangle /= gl_factor;
     c.ms_per_mfragment /= gl_factor;
+    c.ms_per_mtriangle_in_view /= gl_factor;
   }
   if (s.eye_count) {
     s.eye_count->intercept_ms /= gl_factor;
@@ -393,11 +394,12 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
                               FacingCache* facings, DecisionPricing pricing) {
   const DeviceProfile& profile = *policy.device_profile;
   const Scene& scene = drawn;
-  const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper};
-  const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper};
-  const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};
-  const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper};
-  const CandidateMethod atomiczp{gl::ShadowMethod::AtomicZP, gl::LightProjection::Paper};
+  const gl::ZPassFar far = policy.zpass_far;
+  const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper, far};
+  const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper, far};
+  const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, far};
+  const CandidateMethod paper{policy.capped_method, gl::LightProjection::Paper, far};
+  const CandidateMethod atomiczp{gl::ShadowMethod::AtomicZP, gl::LightProjection::Paper, far};
   // AtomicZP is a candidate only where the profile prices its eye-count pass.
   const bool atomiczp_priced = profile.eye_count.has_value();
   // A choice without the coverage every candidate shares (decide's header).
@@ -418,7 +420,10 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   std::vector<Occluder> occluders;
   WorkInputsOptions inputs_options;
   inputs_options.pyramid_cull = policy.exact_zpass && !light_on_near_plane;
-  inputs_options.sides_coverage = !choice_only || atomiczp_priced;
+  // The sides' coverage is the same for every candidate but AtomicZP, and
+  // their triangles in view too unless a finite far plane clips Z-pass's
+  // and ZP+'s (and not Z-fail's).
+  inputs_options.sides_coverage = !choice_only || atomiczp_priced || far == gl::ZPassFar::Finite;
   inputs_options.facings = facings;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     if (!scene.objects[o].occluder) continue;

@@ -130,8 +130,11 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     const auto& t = mesh.triangles[f];
     const bool is_front = front[f];
     auto vertex = [&](VertexIndex v) { return coverage.vertex(is_front ? as_point(v) : as_direction(v)); };
-    const double pixels = coverage.triangle_pixels(vertex(t[0]), vertex(t[1]), vertex(t[2]));
+    const std::array<ScreenVertex, 3> image{vertex(t[0]), vertex(t[1]), vertex(t[2])};
+    const double pixels = coverage.pixels(image.data(), 3);
     (is_front ? in.light_cap_pixels : in.dark_cap_pixels) += static_cast<double>(face_stride) * pixels;
+    (is_front ? in.light_cap_in_view : in.dark_cap_in_view) +=
+        static_cast<double>(face_stride) * coverage.in_view_pieces(image.data(), 3, false);
   }
   if (near_cap_seen) {
     // The light-facing faces of the chunks whose box the light's view of
@@ -161,13 +164,14 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     std::size_t hits = 0;
     for (std::size_t i = stride / 2; i < seen.size(); i += stride) {
       const auto& t = mesh.triangles[seen[i]];
-      const double pixels =
-          light_view->triangle_pixels(seen_from_light(t[0]), seen_from_light(t[1]), seen_from_light(t[2]));
+      const std::array<ScreenVertex, 3> image{seen_from_light(t[0]), seen_from_light(t[1]), seen_from_light(t[2])};
+      const double pixels = light_view->triangle_pixels(image[0], image[1], image[2]);
       in.near_cap_pixels += static_cast<double>(stride) * pixels;
+      in.near_cap_in_view += static_cast<double>(stride) * light_view->in_view_pieces(image.data(), 3);
       hits += pixels > 0 ? 1 : 0;
     }
     if (stride > 1 && hits < kCoverageMinHits) {
-      in.near_cap_pixels = 0;
+      in.near_cap_pixels = in.near_cap_in_view = 0;
       std::vector<ScreenVertex> from_light_vertex(mesh.positions.size());
       std::vector<std::uint8_t> known(mesh.positions.size(), 0);
       auto light_vertex = [&](VertexIndex v) -> const ScreenVertex& {
@@ -182,6 +186,8 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
         const ScreenVertex &a = light_vertex(t[0]), &b = light_vertex(t[1]), &c = light_vertex(t[2]);
         if (a.outside & b.outside & c.outside) continue;
         in.near_cap_pixels += light_view->triangle_pixels(a, b, c);
+        const std::array<ScreenVertex, 3> image{a, b, c};
+        in.near_cap_in_view += light_view->in_view_pieces(image.data(), 3);
       }
     }
   }
@@ -197,10 +203,16 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
                                            coverage.vertex(as_direction(ea)), coverage.vertex(as_direction(ed))};
     const double near_clipped = coverage.pixels(quad.data(), 4);
     in.sides_pixels += static_cast<double>(edge_stride) * near_clipped;
-    // The same quad depth-clamped: the same pixels unless the near plane cuts it.
+    const double pieces = coverage.in_view_pieces(quad.data(), 4, false);
+    in.sides_in_view += static_cast<double>(edge_stride) * pieces;
+    in.sides_finite_far_in_view += static_cast<double>(edge_stride) * coverage.in_view_pieces(quad.data(), 4, true);
+    // The same quad depth-clamped: the same pixels and pieces unless the
+    // near plane cuts it; then its two triangles, unclipped, where they
+    // cover pixels.
     const bool cut = (quad[0].outside | quad[1].outside | quad[2].outside | quad[3].outside) & 1u;
-    in.sides_clamped_pixels +=
-        static_cast<double>(edge_stride) * (cut ? coverage.pixels(quad.data(), 4, false) : near_clipped);
+    const double clamped = cut ? coverage.pixels(quad.data(), 4, false) : near_clipped;
+    in.sides_clamped_pixels += static_cast<double>(edge_stride) * clamped;
+    in.sides_clamped_in_view += static_cast<double>(edge_stride) * (cut ? (clamped > 0 ? 2 : 0) : pieces);
   }
   if (!cap_built) return in;
 
@@ -219,17 +231,56 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     const bool any_beyond = a > 0 || b > 0 || c > 0, all_beyond = a > 0 && b > 0 && c > 0;
     return any_beyond && !all_beyond;
   };
-  double straddling = 0;
+  // A straddling triangle's section of the near plane (where its edges
+  // cross it) meeting the near rectangle: the cap's fan piece for it is in
+  // view.  Tested for the first kSectionsTested straddling triangles, then
+  // for every kSectionStride-th, weighted by the stride.
+  constexpr double kSectionsTested = 64, kSectionStride = 8;
+  const Frustum& frustum = camera.frustum;
+  double straddling = 0, fan_in_view = 0;
+  auto tested = [&straddling] { return straddling <= kSectionsTested || std::fmod(straddling, kSectionStride) == 0; };
+  auto count_section = [&](const CameraPoint& a, const CameraPoint& b, const CameraPoint& c) {
+    const double weight = straddling <= kSectionsTested ? 1 : kSectionStride;
+    const std::array<CameraPoint, 3> v{a, b, c};
+    double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      const CameraPoint &p = v[k], &q = v[(k + 1) % 3];
+      const double dp = -p.z - near * p.w, dq = -q.z - near * q.w;
+      if ((dp > 0) == (dq > 0)) continue;
+      const double t = dp / (dp - dq), w = p.w + t * (q.w - p.w);
+      if (!(w > 0)) continue;
+      const double x = (p.x + t * (q.x - p.x)) / w, y = (p.y + t * (q.y - p.y)) / w;
+      x_lo = std::min(x_lo, x);
+      x_hi = std::max(x_hi, x);
+      y_lo = std::min(y_lo, y);
+      y_hi = std::max(y_hi, y);
+    }
+    if (x_hi >= frustum.left && x_lo <= frustum.right && y_hi >= frustum.bottom && y_lo <= frustum.top)
+      fan_in_view += weight;
+  };
   for (const auto& [ea, ed] : edges) {
     const double pd = point_near(ed), pa = point_near(ea), da = direction_near(ea), dd = direction_near(ed);
-    straddling += straddles(pd, pa, da) ? 1 : 0;
-    straddling += straddles(pd, da, dd) ? 1 : 0;
+    if (straddles(pd, pa, da)) {
+      straddling += 1;
+      if (tested()) count_section(as_point(ed), as_point(ea), as_direction(ea));
+    }
+    if (straddles(pd, da, dd)) {
+      straddling += 1;
+      if (tested()) count_section(as_point(ed), as_direction(ea), as_direction(ed));
+    }
   }
   auto count_face = [&](FaceIndex f, bool as_points, bool as_directions) {
     if (!(front[f] ? as_points : as_directions)) return;
     const auto& t = mesh.triangles[f];
-    straddling += front[f] ? (straddles(point_near(t[0]), point_near(t[1]), point_near(t[2])) ? 1 : 0)
-                           : (straddles(direction_near(t[0]), direction_near(t[1]), direction_near(t[2])) ? 1 : 0);
+    const bool crosses = front[f] ? straddles(point_near(t[0]), point_near(t[1]), point_near(t[2]))
+                                  : straddles(direction_near(t[0]), direction_near(t[1]), direction_near(t[2]));
+    if (!crosses) return;
+    straddling += 1;
+    if (!tested()) return;
+    if (front[f])
+      count_section(as_point(t[0]), as_point(t[1]), as_point(t[2]));
+    else
+      count_section(as_direction(t[0]), as_direction(t[1]), as_direction(t[2]));
   };
   const FacePlanes& planes = mesh.face_planes;
   if (planes.chunk_box.empty() || planes.chunk_faces.size() != faces) {
@@ -252,6 +303,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
     }
   }
   in.near_plane_straddling = straddling;
+  in.near_cap_fan_in_view = fan_in_view;
   return in;
 }
 
@@ -282,40 +334,46 @@ CpuTaskWork exact_test_work(const std::vector<OccluderWorkInputs>& occluders) {
 
 FrameWork occluder_work(const OccluderWorkInputs& in, const CandidateMethod& c) {
   FrameWork w;
-  auto pass = [&w](PassKind k, double triangles, double fragments) {
+  auto pass = [&w](PassKind k, double triangles, double fragments, double in_view) {
     const auto i = static_cast<std::size_t>(k);
     w.drawn[i] = true;
     w.triangles[i] += triangles;
     w.fragments[i] += fragments;
+    w.in_view[i] += in_view;
   };
   const double sides = 2 * in.silhouette_edges;
+  // Z-pass's and ZP+'s sides at their far plane; Z-fail's at an infinite one.
+  const double zpass_sides_in_view =
+      c.zpass_far == gl::ZPassFar::Finite ? in.sides_finite_far_in_view : in.sides_in_view;
   switch (c.method) {
     case gl::ShadowMethod::ZPass:
-      pass(PassKind::Sides, sides, in.sides_pixels);
+      pass(PassKind::Sides, sides, in.sides_pixels, zpass_sides_in_view);
       break;
     case gl::ShadowMethod::ZFail:
-      pass(PassKind::Sides, sides, in.sides_pixels);
-      pass(PassKind::LightCap, in.light_facing, in.light_cap_pixels);
-      pass(PassKind::DarkCap, in.triangles - in.light_facing, in.dark_cap_pixels);
+      pass(PassKind::Sides, sides, in.sides_pixels, in.sides_in_view);
+      pass(PassKind::LightCap, in.light_facing, in.light_cap_pixels, in.light_cap_in_view);
+      pass(PassKind::DarkCap, in.triangles - in.light_facing, in.dark_cap_pixels, in.dark_cap_in_view);
       break;
     case gl::ShadowMethod::AtomicZP:  // Z-pass's sides, depth-clamped, and the eye count over every triangle
-      pass(PassKind::Sides, sides, in.sides_clamped_pixels);
+      pass(PassKind::Sides, sides, in.sides_clamped_pixels, in.sides_clamped_in_view);
       w.eye_count.drawn = true;
       w.eye_count.triangles = in.triangles;  // the stencil write's fragments are the frame's (estimate_frame_work)
       break;
     case gl::ShadowMethod::Preload:  // the closed volume twice
-      pass(PassKind::Sides, 2 * sides, 2 * in.sides_pixels);
-      pass(PassKind::LightCap, 2 * in.light_facing, 2 * in.light_cap_pixels);
-      pass(PassKind::DarkCap, 2 * (in.triangles - in.light_facing), 2 * in.dark_cap_pixels);
+      pass(PassKind::Sides, 2 * sides, 2 * in.sides_pixels, 2 * in.sides_in_view);
+      pass(PassKind::LightCap, 2 * in.light_facing, 2 * in.light_cap_pixels, 2 * in.light_cap_in_view);
+      pass(PassKind::DarkCap, 2 * (in.triangles - in.light_facing), 2 * in.dark_cap_pixels, 2 * in.dark_cap_in_view);
       break;
     case gl::ShadowMethod::ZPPlus:
     case gl::ShadowMethod::ZPPlusCorrected:
-      pass(PassKind::Sides, sides, in.sides_pixels);
+      pass(PassKind::Sides, sides, in.sides_pixels, zpass_sides_in_view);
       if (c.cap == gl::LightProjection::ClippedSides) {
         w.clipped_cap = clipped_cap_work(in);
-        if (in.near_plane_straddling > 0) pass(PassKind::NearCap, in.near_plane_straddling, in.near_cap_pixels);
+        // The fan: about one triangle per straddling one.
+        if (in.near_plane_straddling > 0)
+          pass(PassKind::NearCap, in.near_plane_straddling, in.near_cap_pixels, in.near_cap_fan_in_view);
       } else {
-        pass(PassKind::NearCap, in.triangles, in.near_cap_pixels);
+        pass(PassKind::NearCap, in.triangles, in.near_cap_pixels, in.near_cap_in_view);
       }
       break;
   }
@@ -336,15 +394,19 @@ FrameWork shared_frame_work(const Scene& scene, bool with_coverage) {
       const Vec3d c = modelview.apply(mesh.positions[v]);
       return coverage.vertex({c.x, c.y, c.z, 1});
     };
-    double pixels = 0;
+    double pixels = 0, in_view = 0;
     for (std::size_t f = stride / 2; with_coverage && f < mesh.triangles.size(); f += stride) {
       const auto& tri = mesh.triangles[f];
-      pixels += static_cast<double>(stride) * coverage.triangle_pixels(vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
+      const std::array<ScreenVertex, 3> image{vertex(tri[0]), vertex(tri[1]), vertex(tri[2])};
+      pixels += static_cast<double>(stride) * coverage.pixels(image.data(), 3);
+      in_view += static_cast<double>(stride) * coverage.in_view_pieces(image.data(), 3, false);
     }
     w.triangles[depth] += t;
     w.fragments[depth] += pixels;
+    w.in_view[depth] += in_view;
     w.triangles[lit] += t;
     w.fragments[lit] += pixels;
+    w.in_view[lit] += in_view;
     if (obj.occluder) w.silhouette_triangles += t;
   }
   return w;
@@ -362,7 +424,7 @@ FrameWork estimate_frame_work(const Scene& scene, std::size_t light,
   const double l_far = scene.camera.view.apply(scene.lights[light].position).z + scene.camera.frustum.near;
   for (std::size_t o = 0; o < scene.objects.size() && o < object_methods.size(); ++o) {
     if (!scene.objects[o].occluder) continue;
-    CandidateMethod c{object_methods[o], cap};
+    CandidateMethod c{object_methods[o], cap, settings.zpass_far};
     if (gl::uses_near_cap(c.method) && cap == gl::LightProjection::Paper && l_far == 0)
       c.method = gl::ShadowMethod::ZFail;
     w += occluder_work(occluder_work_inputs(scene, o, light), c);

@@ -54,6 +54,7 @@ struct CalibrateOptions {
   std::string policy = shipped_data_dir() + "/policy.json";
   bool policy_given = false;  // --policy on the command line
   std::string write_policy;
+  bool no_atomiczp = false;  // the profile without its eye-count row (--no-atomiczp)
 };
 
 // The methods calibrated: every candidate of the switch policy's decision.
@@ -231,7 +232,8 @@ void add_observations(const render::LitFrame& lit, const MethodWork& work, const
         whole_frame || t.kind == gl::PassKind::Lit ? work.depth : work.per_light[t.light_frame][kind];
     const std::string frame =
         whole_frame ? id + ":" + method : id + ":light" + std::to_string(frames[t.light_frame].light) + ":" + method;
-    to.push_back({frame, t.kind, static_cast<double>(c.triangles), static_cast<double>(c.fragments), t.ms});
+    to.push_back({frame, t.kind, static_cast<double>(c.triangles), static_cast<double>(c.fragments), t.ms,
+                  static_cast<double>(c.in_view)});
   }
 }
 
@@ -274,21 +276,24 @@ void print_noise_floor(const analysis::CalibrationSet& set) {
 }
 
 void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileFitReport& r,
-                      const analysis::EyeCountFitReport& eye, const analysis::FrameFitReport& frame) {
+                      const analysis::EyeCountFitReport& eye, const analysis::FrameFitReport& frame,
+                      bool eye_left_out) {
   std::printf("device profile for %s (held-out: frames with FNV-1a(frame) %% 5 == 0):\n", p.gl_renderer.c_str());
-  std::printf("  %-12s %11s %13s %13s %10s %10s\n", "pass kind", "ms per pass", "ms per Mtri", "ms per Mfrag",
-              "train err", "held out");
+  std::printf("  %-12s %11s %13s %13s %13s %10s %10s\n", "pass kind", "ms per pass", "ms per Mtri", "per Mtri view",
+              "ms per Mfrag", "train err", "held out");
   for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) {
     const analysis::PassCost& c = p.passes[k];
-    std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n",
+    std::printf("  %-12s %11.4g %13.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n",
                 std::string(analysis::kPassKindNames[k]).c_str(), c.intercept_ms, c.ms_per_mtriangle,
-                c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
+                c.ms_per_mtriangle_in_view, c.ms_per_mfragment, percent(r.train_median_relative_error[k]).c_str(),
                 percent(r.held_out_median_relative_error[k]).c_str(), r.train_count[k], r.held_out_count[k]);
   }
   if (const auto& c = p.eye_count)
-    std::printf("  %-12s %11.4g %13.4g %13.4g %10s %10s  (%zu / %zu passes)\n", "eye_count", c->intercept_ms,
-                c->ms_per_mtriangle, c->ms_per_mfragment, percent(eye.train_median_relative_error).c_str(),
+    std::printf("  %-12s %11.4g %13.4g %13s %13.4g %10s %10s  (%zu / %zu passes)\n", "eye_count", c->intercept_ms,
+                c->ms_per_mtriangle, "-", c->ms_per_mfragment, percent(eye.train_median_relative_error).c_str(),
                 percent(eye.held_out_median_relative_error).c_str(), eye.train_count, eye.held_out_count);
+  else if (eye_left_out)
+    std::printf("  eye_count    left out (--no-atomiczp): the policy does not offer AtomicZP\n");
   else
     std::printf("  eye_count    no training observation (no AtomicZP frame drawn): no eye_count row\n");
   std::printf("  %-12s %11s %13s %13s %13s %13s %13s %10s %10s\n", "cpu task", "ms per run", "ms per ktri",
@@ -443,17 +448,33 @@ void run(CalibrateOptions o) {
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
     analysis::EyeCountFitReport eye_report;
     policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
+    // Without the eye-count row, AtomicZP's whole frames (whose eye-count
+    // pass the profile then does not price) are left out of the frame row.
+    std::vector<analysis::FrameObservation> frames = observations.frames;
+    if (o.no_atomiczp) {
+      policy->device_profile->eye_count.reset();
+      const auto atomiczp = std::find_if(std::begin(kMethods), std::end(kMethods), [](const CalibratedMethod& m) {
+        return m.method == gl::ShadowMethod::AtomicZP;
+      });
+      const std::string suffix = std::string(":") + atomiczp->name;
+      frames.erase(std::remove_if(frames.begin(), frames.end(),
+                                  [&suffix](const analysis::FrameObservation& f) {
+                                    return f.frame.size() >= suffix.size() &&
+                                           f.frame.compare(f.frame.size() - suffix.size(), suffix.size(), suffix) == 0;
+                                  }),
+                   frames.end());
+    }
     analysis::FrameFitReport frame_report;
-    policy->device_profile->frame = analysis::fit_frame_cost(
-        observations.frames, observations.passes, observations.eye_count, *policy->device_profile, &frame_report);
-    print_fit_report(*policy->device_profile, report, eye_report, frame_report);
+    policy->device_profile->frame = analysis::fit_frame_cost(frames, observations.passes, observations.eye_count,
+                                                             *policy->device_profile, &frame_report);
+    print_fit_report(*policy->device_profile, report, eye_report, frame_report, o.no_atomiczp);
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
     nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();
     for (std::size_t k = 0; k < analysis::kPassKindCount; ++k)
       if (std::isfinite(report.held_out_median_relative_error[k]))
         held_out[std::string(analysis::kPassKindNames[k])] = report.held_out_median_relative_error[k];
-    if (std::isfinite(eye_report.held_out_median_relative_error))
+    if (policy->device_profile->eye_count && std::isfinite(eye_report.held_out_median_relative_error))
       held_out[std::string(analysis::kEyeCountPassName)] = eye_report.held_out_median_relative_error;
     nlohmann::json frame_held_out = nlohmann::json::object();
     if (std::isfinite(frame_report.held_out_median_relative_error))
@@ -473,7 +494,10 @@ void run(CalibrateOptions o) {
         {"configurations", set.count()},
         {"pass_observations", observations.passes.size() + observations.eye_count.size()},
         {"cpu_observations", observations.cpu.size()},
-        {"frame_observations", observations.frames.size()},
+        {"frame_observations", frames.size()},
+        {"eye_count_row", policy->device_profile->eye_count ? "fitted"
+                          : o.no_atomiczp                   ? "left out"
+                                                            : "none"},
         {"held_out_median_relative_error", {{"passes", held_out}, {"frame", frame_held_out}, {"cpu", cpu_held_out}}}};
     policy->provenance_json = json_text(provenance);
     files.push_back({o.write_policy, analysis::policy_to_json(*policy)});
@@ -508,9 +532,13 @@ void register_calibrate(CLI::App& app) {
   note_given(cmd.add_option("--policy", o.policy, "the policy the device profile is added to (with --write-policy)")
                  ->capture_default_str(),
              o.policy_given);
-  cmd.add_option("--write-policy", o.write_policy,
-                 "fit a device profile on the observations (Ceres), print its fit report, and write --policy with "
-                 "it here (never over --policy)");
+  auto* write = cmd.add_option("--write-policy", o.write_policy,
+                               "fit a device profile on the observations (Ceres), print its fit report, and write "
+                               "--policy with it here (never over --policy)");
+  cmd.add_flag("--no-atomiczp", o.no_atomiczp,
+               "a profile without AtomicZP's eye-count row: the policy then does not offer AtomicZP, nor pay for "
+               "testing its conditions (docs/policy.md)")
+      ->needs(write);
 }
 
 }  // namespace nearcap::cli

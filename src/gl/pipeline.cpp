@@ -64,6 +64,7 @@ DrawCounters& DrawCounters::operator+=(const DrawCounters& o) {
   clipped += o.clipped;
   culled += o.culled;
   rasterized += o.rasterized;
+  in_view += o.in_view;
   fragments += o.fragments;
   bounds_culled += o.bounds_culled;
   depth_passed += o.depth_passed;
@@ -141,6 +142,7 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
   counters.fragments = fragments.fragments;
   counters.depth_passed = fragments.depth_passed;
   counters.bounds_culled = fragments.bounds_culled;
+  counters.in_view = fragments.in_view;
   give_back(std::move(triangles));
   return counters;
 }
@@ -233,13 +235,20 @@ DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawSt
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
   // from the float y extent, widened by a pixel), keeping submission order.
+  // A triangle whose bounds miss the viewport covers no pixel centre: it is
+  // not binned, and not counted in view.
   std::unique_ptr<Bins> bins = take_buffer<Bins>();
   Bins& binned = *bins;
   binned.resize(static_cast<std::size_t>(bands));
   for (std::vector<std::uint32_t>& bin : binned) bin.clear();
+  const float width = static_cast<float>(width_), height = static_cast<float>(height_);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
     const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
+    if (hi < 0 || lo > height || std::max({tri[0].x, tri[1].x, tri[2].x}) < 0 ||
+        std::min({tri[0].x, tri[1].x, tri[2].x}) > width)
+      continue;
+    ++counters.in_view;
     const int b0 = std::clamp(static_cast<int>(std::floor(lo)) - 1, 0, height_ - 1) / kBandRows;
     const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
     for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));

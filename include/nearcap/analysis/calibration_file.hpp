@@ -3,12 +3,12 @@
 // CpuObservation) as a CSV file, and read back; docs/calibration.md
 // describes the format for readers in other languages.
 //
-//   record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined
-//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184,,,,
-//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,,
-//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,,
-//   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21,512
-//   frame,path:near_plane_sweep:42:zfail,end_to_end,,,1.93,,,,
+//   record,frame,kind,triangles,fragments,ms,reaching,tested,straddling,examined,in_view
+//   pass,path:near_plane_sweep:42:light0:zfail,sides,1200,5320,0.184,,,,,1315
+//   again,path:near_plane_sweep:42:light0:zpass,sides,1200,5102,0.171,,,,,1290
+//   cpu,path:near_plane_sweep:42:light0:object1,silhouette,960,,0.052,,,,,
+//   cpu,path:near_plane_sweep:42:light0:object1,clipped_cap,96,,0.31,960,144,21,512,
+//   frame,path:near_plane_sweep:42:zfail,end_to_end,,,1.93,,,,,
 //
 // record   "pass": one pass kind of one frame, timed on its own;
 //          "again": the same pass of the same frame drawn a second time,
@@ -30,8 +30,15 @@
 // reaching, tested, straddling, examined: the clipped_cap's and
 //          exact_test's counts (device_profile.hpp, CpuTaskWork; with
 //          `triangles`, one run's), finite and non-negative; empty in every
-//          other row.  A file of the older headers (without examined, or
-//          without any count) is refused (schema): calibrate again.
+//          other row.
+// in_view: a pass or again row's triangles in view (gl::DrawCounters::
+//          in_view: the set-up triangles, the clipped polygons' fan pieces
+//          among them, whose bounds meet the viewport; more than
+//          `triangles` where clipping splits many), finite and
+//          non-negative; empty in the eye-count pass's row and every other
+//          row.
+// A file of an older header (without in_view, without examined, or
+// without any count) is refused (schema): calibrate again.
 // Numbers are written in the shortest form that reads back to the same
 // double, so a file round-trips exactly.
 #pragma once

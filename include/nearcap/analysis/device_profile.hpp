@@ -5,7 +5,7 @@
 // A frame's predicted end-to-end time is the sum of its passes' GL times and
 // its CPU work:
 //   time = sum over pass kinds k of (intercept_k [if the pass is drawn]
-//            + a_k * triangles_k + b_k * fragments_k)
+//            + a_k * triangles_k + v_k * in_view_k + b_k * fragments_k)
 //        + the same for AtomicZP's eye-count pass, where the profile has
 //          its row (`eye_count`, optional: without it the decision does
 //          not offer AtomicZP): a compute dispatch over the counted
@@ -16,7 +16,15 @@
 //          (the eye-count pass among them)
 //        + cpu.ms_per_ktriangle_silhouette * silhouette_triangles / 1000
 //        + cpu.clipped_cap.ms(clipped_cap) + cpu.exact_test.ms(exact_test)
-// with a_k in ms per million triangles and b_k in ms per million fragments,
+// with a_k in ms per million triangles submitted, v_k per million of them
+// in view (set up and not culled, bounds meeting the viewport: the
+// clipped polygons' fan pieces counted each) and b_k in ms per million
+// fragments.  A GL pays for every triangle it is given (the vertex stage,
+// the clip test) and much more for each one it sets up and bins: on
+// llvmpipe the depth pass of a room whose 12,000-triangle torus is in view
+// takes several times what it takes with the torus behind the eye
+// (docs/findings/in-view-triangles.md).  So the triangles in view are a
+// term of their own;
 // and each of the two dear CPU tasks linear in counts of its work:
 //   ms = intercept_ms * runs + (ms_per_ktriangle * triangles
 //        + ms_per_kreaching * reaching + ms_per_ktested * tested
@@ -57,6 +65,9 @@ struct PassCost {
   double intercept_ms = 0;      // per pass drawn (state changes, the draw call)
   double ms_per_mtriangle = 0;  // per million triangles submitted
   double ms_per_mfragment = 0;  // per million fragments rasterized
+  // Per million triangles in view (gl::DrawCounters::in_view); a profile
+  // without it (0) prices every work as the two-count sum.
+  double ms_per_mtriangle_in_view = 0;
 };
 
 // What a frame drawn whole costs beside its passes timed each on its own.
@@ -147,6 +158,7 @@ struct EyeCountWork {
 struct FrameWork {
   std::array<bool, kPassKindCount> drawn{};
   std::array<double, kPassKindCount> triangles{}, fragments{};
+  std::array<double, kPassKindCount> in_view{};  // set-up triangles meeting the viewport (PassCost)
   EyeCountWork eye_count;
   double silhouette_triangles = 0;
   CpuTaskWork clipped_cap, exact_test;
@@ -155,6 +167,7 @@ struct FrameWork {
       drawn[k] = drawn[k] || o.drawn[k];
       triangles[k] += o.triangles[k];
       fragments[k] += o.fragments[k];
+      in_view[k] += o.in_view[k];
     }
     eye_count.drawn = eye_count.drawn || o.eye_count.drawn;
     eye_count.triangles += o.eye_count.triangles;
@@ -182,7 +195,8 @@ struct DeviceProfile {
     std::size_t drawn = 0;
     for (std::size_t k = 0; k < kPassKindCount; ++k) {
       t += (w.drawn[k] ? passes[k].intercept_ms : 0.0) + passes[k].ms_per_mtriangle * w.triangles[k] * 1e-6 +
-           passes[k].ms_per_mfragment * w.fragments[k] * 1e-6;
+           passes[k].ms_per_mfragment * w.fragments[k] * 1e-6 +
+           passes[k].ms_per_mtriangle_in_view * w.in_view[k] * 1e-6;
       drawn += w.drawn[k] ? 1 : 0;
     }
     if (eye_count) {
@@ -207,6 +221,7 @@ struct PassObservation {
   std::string frame;  // configuration and light, e.g. "near_plane_sweep:42:light0:zfail"
   PassKind kind = PassKind::Depth;
   double triangles = 0, fragments = 0, ms = 0;
+  double in_view = 0;  // set-up triangles meeting the viewport (gl::DrawCounters::in_view)
 };
 // AtomicZP's eye-count pass of one light frame, timed on its own (the
 // compute dispatch and the count's write into the stencil, glFinish after):

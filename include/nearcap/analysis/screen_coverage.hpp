@@ -60,6 +60,17 @@ class ScreenCoverage {
     const std::array<ScreenVertex, 3> t{a, b, c};
     return pixels(t.data(), 3);
   }
+  // The triangles a GL sets up for the convex polygon (3 or 4 vertices, in
+  // order, drawn as the fan v0 v_i v_i+1) whose bounds meet the viewport
+  // (gl::DrawCounters::in_view): each fan triangle clipped at the near
+  // plane and, with `finite_far`, at a finite far plane, beyond which
+  // every vertex at infinity (w = 0) lies (at an infinite far plane those
+  // vertices lie on it and stay); the side planes are the rasterizer's
+  // guard band, not a clip.  Its pieces count where the bounding box of
+  // their image, in pixels (a vertex at infinity at its vanishing point),
+  // meets the viewport's.  A triangle that covers no pixel centre can
+  // count: a sliver across a corner, beside an edge within a pixel.
+  double in_view_pieces(const ScreenVertex* polygon, int n, bool finite_far) const;
 
  private:
   double plane(const CameraPoint& p, int k) const;
@@ -79,6 +90,9 @@ class LightView {
   ScreenVertex vertex(const Vec3d& camera_point) const;
   double triangle_pixels(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) const {
     return coverage_.triangle_pixels(a, b, c);
+  }
+  double in_view_pieces(const ScreenVertex* polygon, int n) const {
+    return coverage_.in_view_pieces(polygon, n, false);
   }
 
  private:

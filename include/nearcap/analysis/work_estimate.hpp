@@ -25,7 +25,14 @@
 //                      clamped, AtomicZP's, not clipped by the near plane),
 //                      and the near plane's section of the volume, each
 //                      pixel times the layers that hold it (the near-cap;
-//                      0 where the clipped-sides cap is not built).
+//                      0 where the clipped-sides cap is not built);
+//   triangles in view  per pass, of the sampled triangles (quads), the
+//                      pieces a near-plane clipper makes of them whose
+//                      bounds meet the viewport: what a GL sets up and bins
+//                      (gl::DrawCounters::in_view), against the triangles
+//                      it is given and rejects at the clip test; for the
+//                      clipped-sides cap's fan, the straddling triangles
+//                      whose section of the near plane meets its rectangle.
 // A mesh of more than kCoverageSamples faces is sampled: every k-th face,
 // k = faces / kCoverageSamples, from the k/2-th, its area times k; the
 // sides likewise, k = silhouette edges / kSideSamples (a rough sum: their
@@ -67,6 +74,10 @@ inline constexpr std::size_t kCoverageMinHits = 16;
 struct CandidateMethod {
   gl::ShadowMethod method = gl::ShadowMethod::ZFail;
   gl::LightProjection cap = gl::LightProjection::Paper;
+  // Z-pass's and ZP+'s far plane (EmulationSettings::zpass_far): a finite
+  // one clips their sides' vertices at infinity, and so adds pieces in
+  // view; Z-fail's is always infinite.
+  gl::ZPassFar zpass_far = gl::ZPassFar::Finite;
   std::string name() const;  // "zpass", "zfail", "zpplus-paper", "zpplus-clipped-sides", "zpplus-corrected-paper"
 };
 
@@ -83,6 +94,17 @@ struct OccluderWorkInputs {
   double near_plane_straddling = 0;  // of those, the ones with vertices on both sides of the near plane
   double light_cap_pixels = 0, dark_cap_pixels = 0, sides_pixels = 0, sides_clamped_pixels = 0;
   double near_cap_pixels = 0;
+  // The same passes' triangles in view (gl::DrawCounters::in_view): of the
+  // sampled faces (quads), the pieces a near-plane clipper makes whose
+  // bounds meet the viewport (ScreenCoverage::in_view_pieces), times the
+  // sampling stride; the paper near-cap's as the light sees them.  0 where
+  // the coverage is not computed.
+  double light_cap_in_view = 0, dark_cap_in_view = 0, sides_in_view = 0, sides_clamped_in_view = 0;
+  double near_cap_in_view = 0;
+  double sides_finite_far_in_view = 0;  // the sides clipped at a finite far plane (ZPassFar::Finite)
+  // Of the straddling triangles, those whose section of the near plane
+  // meets the near rectangle: the clipped-sides cap's fan pieces in view.
+  double near_cap_fan_in_view = 0;
   // gl::certainly_misses_light_pyramid: the near-cap is certainly empty, so
   // Z-pass is exact without the exact test.  Run only where
   // `pyramid_cull_run` (else false: not known).
@@ -98,9 +120,10 @@ struct WorkInputsOptions {
   // The light-pyramid cull everywhere (else only where the clipped-sides
   // cap's work depends on it).
   bool pyramid_cull = true;
-  // The sides' coverage (sides_pixels, sides_clamped_pixels; else 0): every
-  // candidate but AtomicZP draws the same sides, so a choice among the
-  // others does not need it.
+  // The sides' coverage and triangles in view (sides_pixels,
+  // sides_clamped_pixels and their _in_view counts; else 0): every
+  // candidate but AtomicZP draws the same sides (at an infinite far plane),
+  // so a choice among the others does not need it.
   bool sides_coverage = true;
   // Where given, the facing and the silhouette's edges come from it
   // (occluder_facing.hpp), else they are computed.

@@ -142,6 +142,7 @@ struct DrawCounters {
   std::uint64_t clipped = 0;        // entirely clipped away
   std::uint64_t culled = 0;         // culled by facing, or dropped for zero snapped area
   std::uint64_t rasterized = 0;     // triangles (after clipping's fan) that reached coverage
+  std::uint64_t in_view = 0;        // of those, the ones whose bounds meet the viewport (the rest cover no pixel)
   std::uint64_t fragments = 0;      // that reached the stencil test
   std::uint64_t bounds_culled = 0;  // dropped by the scissor or depth bounds test
   std::uint64_t depth_passed = 0;   // fragments that passed the depth test (all of them when it is off)
