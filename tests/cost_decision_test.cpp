@@ -755,7 +755,9 @@ TEST(WorkEstimate, FragmentEstimatesFollowTheEmulation) {
 // infinity there, where the emulation's clipper sometimes leaves the
 // polygon whole: fly_around's frame 35) and the clipped-sides cap's fan
 // within a factor of 2.5 (it adds pieces where it cannot avoid overdraw,
-// gl/near_plane_cap.hpp); the median within 15 %.
+// gl/near_plane_cap.hpp); the median within 10 % (7.4 % measured; 12 %
+// with the sides' vertices at infinity never clipped at the finite far
+// plane).
 TEST(WorkEstimate, InViewEstimatesFollowTheEmulation) {
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "room", "room_side_light", "twisted",
@@ -808,7 +810,7 @@ TEST(WorkEstimate, InViewEstimatesFollowTheEmulation) {
   const double median = relative[relative.size() / 2], p90 = relative[relative.size() * 9 / 10];
   std::printf("%zu in-view estimates compared: relative error median %.4f, 90th percentile %.4f, largest %.4f\n",
               relative.size(), median, p90, relative.back());
-  EXPECT_LT(median, 0.15);
+  EXPECT_LT(median, 0.10);
 }
 
 }  // namespace
