@@ -235,12 +235,13 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
   // cross it) meeting the near rectangle: the cap's fan piece for it is in
   // view.  Tested for the first kSectionsTested straddling triangles, then
   // for every kSectionStride-th, weighted by the stride.
-  constexpr double kSectionsTested = 64, kSectionStride = 8;
+  constexpr std::size_t kSectionsTested = 64, kSectionStride = 8;
   const Frustum& frustum = camera.frustum;
-  double straddling = 0, fan_in_view = 0;
-  auto tested = [&straddling] { return straddling <= kSectionsTested || std::fmod(straddling, kSectionStride) == 0; };
+  std::size_t straddling = 0;
+  double fan_in_view = 0;
+  auto tested = [&straddling] { return straddling <= kSectionsTested || straddling % kSectionStride == 0; };
   auto count_section = [&](const CameraPoint& a, const CameraPoint& b, const CameraPoint& c) {
-    const double weight = straddling <= kSectionsTested ? 1 : kSectionStride;
+    const double weight = straddling <= kSectionsTested ? 1.0 : static_cast<double>(kSectionStride);
     const std::array<CameraPoint, 3> v{a, b, c};
     double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
     for (int k = 0; k < 3; ++k) {
@@ -302,7 +303,7 @@ OccluderWorkInputs occluder_work_inputs(const Scene& scene, std::size_t object, 
         count_face(planes.chunk_faces[i], as_points, as_directions);
     }
   }
-  in.near_plane_straddling = straddling;
+  in.near_plane_straddling = static_cast<double>(straddling);
   in.near_cap_fan_in_view = fan_in_view;
   return in;
 }
