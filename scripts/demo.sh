@@ -76,7 +76,25 @@ if [ -e out/sweep/rows.csv ]; then
   fi
   rm -rf "$probe"
 fi
-"${sweep[@]}" "${resume[@]}"
+if [ ${#resume[@]} -eq 0 ]; then
+  "${sweep[@]}"
+else
+  # A sweep of other option values (another policy file, say) is not
+  # resumed: nearcap refuses it, naming the option; it is set aside and the
+  # sweep runs again from the start.
+  refusal=$(mktemp)
+  if ! "${sweep[@]}" "${resume[@]}" 2>&1 | tee "$refusal"; then
+    if ! grep -q "cannot resume it with these options" "$refusal"; then
+      rm -f "$refusal"
+      exit 1
+    fi
+    echo "   (out/sweep/rows.csv was swept with other options: set aside as rows.csv.old, sweeping again)"
+    mv out/sweep/rows.csv out/sweep/rows.csv.old
+    mv out/sweep/rows.csv.meta.json out/sweep/rows.csv.old.meta.json
+    "${sweep[@]}"
+  fi
+  rm -f "$refusal"
+fi
 echo "== nearcap tune: a switch policy fitted on these configurations (out/sweep/tuned.json)"
 rm -f out/sweep/tuning.csv
 ./build/nearcap sweep "${paths[@]}" --samples 200 --seed 1 --methods zpplus,zfail \
