@@ -648,17 +648,9 @@ TEST(WorkEstimate, TriangleCountsMatchTheEmulation) {
   }
 }
 
-// Each pass's fragment estimate (its triangles' coverage, sampled on large
-// meshes: work_estimate.hpp) against the fragments the emulation
-// rasterizes: the depth pre-pass, the volume's passes and the paper's
-// near-cap pass each within sampling (the sides' a rough sum) and the float
-// silhouette's slivers (a few edges within rounding of edge-on to the
-// light), and close in the median; the clipped-sides cap's fan about the section, more where its
-// overdraw limit lets it add (gl/near_plane_cap.hpp).  On bundled scenes,
-// every seventh frame of three paths, and a box seen from inside and
-// outside its volume, the near plane cutting it or not, and with the light
-// in the near plane.
-TEST(WorkEstimate, FragmentEstimatesFollowTheEmulation) {
+// The scenes the estimates are compared on: ten bundled scenes and every
+// seventh frame of near_plane_sweep, fly_around and eye_in_shadow.
+std::vector<std::pair<std::string, Scene>> estimate_scenes() {
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "room", "room_side_light", "twisted",
                            "near_cap_bunny_wall", "light_on_near_plane", "no_near_clip"})
@@ -670,6 +662,21 @@ TEST(WorkEstimate, FragmentEstimatesFollowTheEmulation) {
       scenes.emplace_back(std::string(name) + ":" + std::to_string(f),
                           parse_scene(analysis::path_frame_json(path, f), name, "."));
   }
+  return scenes;
+}
+
+// Each pass's fragment estimate (its triangles' coverage, sampled on large
+// meshes: work_estimate.hpp) against the fragments the emulation
+// rasterizes: the depth pre-pass, the volume's passes and the paper's
+// near-cap pass each within sampling (the sides' a rough sum) and the float
+// silhouette's slivers (a few edges within rounding of edge-on to the
+// light), and close in the median; the clipped-sides cap's fan about the section, more where its
+// overdraw limit lets it add (gl/near_plane_cap.hpp).  On bundled scenes,
+// every seventh frame of three paths, and a box seen from inside and
+// outside its volume, the near plane cutting it or not, and with the light
+// in the near plane.
+TEST(WorkEstimate, FragmentEstimatesFollowTheEmulation) {
+  std::vector<std::pair<std::string, Scene>> scenes = estimate_scenes();
   struct BoxCase {
     Vec3d eye, light;
     double near;
@@ -759,17 +766,7 @@ TEST(WorkEstimate, FragmentEstimatesFollowTheEmulation) {
 // with the sides' vertices at infinity never clipped at the finite far
 // plane).
 TEST(WorkEstimate, InViewEstimatesFollowTheEmulation) {
-  std::vector<std::pair<std::string, Scene>> scenes;
-  for (const char* name : {"default", "eye_in_shadow", "near_split", "case_d", "room", "room_side_light", "twisted",
-                           "near_cap_bunny_wall", "light_on_near_plane", "no_near_clip"})
-    scenes.emplace_back(name, load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name + ".json"));
-  for (const char* name : {"near_plane_sweep", "fly_around", "eye_in_shadow"}) {
-    const analysis::CameraPath path =
-        analysis::load_camera_path(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json");
-    for (int f = 0; f < path.frames; f += 7)
-      scenes.emplace_back(std::string(name) + ":" + std::to_string(f),
-                          parse_scene(analysis::path_frame_json(path, f), name, "."));
-  }
+  std::vector<std::pair<std::string, Scene>> scenes = estimate_scenes();
   std::vector<double> relative;
   auto within = [&](double measured, double estimate, double factor) {
     relative.push_back(std::fabs(estimate - measured) / std::max(measured, 1.0));

@@ -177,9 +177,7 @@ PassCost fit_pass_cost(const std::vector<const PassObservation*>& train,
     s.count = side->size();
     for (const PassObservation* o : *side)
       if (o->ms > 0) {
-        const double predicted = cost.intercept_ms + cost.ms_per_mtriangle * o->triangles * 1e-6 +
-                                 cost.ms_per_mfragment * o->fragments * 1e-6 +
-                                 cost.ms_per_mtriangle_in_view * o->in_view * 1e-6;
+        const double predicted = cost.ms(o->triangles, o->fragments, o->in_view);
         s.errors.push_back(std::fabs(predicted - o->ms) / o->ms);
       }
     *error = median_error(s);
@@ -236,8 +234,7 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
   auto add = [&by_frame](const std::string& frame, const PassCost& c, double triangles, double fragments,
                          double in_view) {
     Passes& p = by_frame[frame_of_pass(frame)];
-    p.ms += c.intercept_ms + c.ms_per_mtriangle * triangles * 1e-6 + c.ms_per_mfragment * fragments * 1e-6 +
-            c.ms_per_mtriangle_in_view * in_view * 1e-6;
+    p.ms += c.ms(triangles, fragments, in_view);
     p.drawn += 1;
   };
   for (const PassObservation& o : passes)

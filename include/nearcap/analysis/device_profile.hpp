@@ -68,6 +68,11 @@ struct PassCost {
   // Per million triangles in view (gl::DrawCounters::in_view); a profile
   // without it (0) prices every work as the two-count sum.
   double ms_per_mtriangle_in_view = 0;
+  // A drawn pass's time: its intercept and its counts' terms.
+  double ms(double triangles, double fragments, double in_view) const {
+    return intercept_ms + ms_per_mtriangle * triangles * 1e-6 + ms_per_mfragment * fragments * 1e-6 +
+           ms_per_mtriangle_in_view * in_view * 1e-6;
+  }
 };
 
 // What a frame drawn whole costs beside its passes timed each on its own.
@@ -273,7 +278,7 @@ struct ProfileFitOptions {
   bool robust = true;
 };
 
-// Fits each pass kind's (intercept, a, b), the silhouette's cost per
+// Fits each pass kind's (intercept, a, v, b), the silhouette's cost per
 // thousand triangles and the clipped-sides cap's and the exact test's
 // CpuTaskCost with Ceres, a robust loss and non-negative coefficients (a
 // coefficient whose count is 0 in every training observation stays 0); observations whose frame hashes into the
