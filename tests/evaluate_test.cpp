@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/analysis/policy_evaluation.hpp"
 
 namespace nearcap {
@@ -158,7 +159,7 @@ TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
   EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
   EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
   EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
-            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,\n");
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,,\n");
 }
 
 // A (configuration, light) where the policy or a fixed rule did not draw is
@@ -248,6 +249,7 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
     const std::string c = "sample:7:" + std::to_string(k);
     std::vector<EvaluationRow> g = group(c, 10);
     find(g, c, "policy").predicted_ms = predicted[k];
+    find(g, c, "policy").profile_ms = 2 * predicted[k];
     find(g, c, "zfail").end_to_end_ms = 10;
     g.push_back(row(c, std::string(analysis::kNoiseRule), k < 3 ? 11 : 9.5));  // |x - 1|: .1 .1 .1 .05 .05
     rows = joined(rows, g);
@@ -258,8 +260,11 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
   EXPECT_NEAR(table.sets[0].predicted_median_ratio, 1.0, 1e-12);  // ratios .9 1 1.2 1.5 1
   EXPECT_NEAR(table.sets[0].noise_median_deviation, 0.10, 1e-12);
   const std::string md = analysis::evaluation_table_markdown(table);
-  EXPECT_NE(md.find("predicted frame time (device profile, before drawing): median error 10.0% of the measured "
-                    "end-to-end time; predicted/measured median 1.000"),
+  EXPECT_NEAR(table.sets[0].profile_median_error, 1.0, 1e-12);  // 2 x predicted: errors .8 1 1.4 2 1
+  EXPECT_NEAR(table.sets[0].profile_median_ratio, 2.0, 1e-12);
+  EXPECT_NE(md.find("plus the decision's own time): median error 10.0% of the measured end-to-end time; "
+                    "predicted/measured median 1.000; the profile's price alone: median error 100.0%, "
+                    "priced/measured median 2.000"),
             std::string::npos)
       << md;
   // A profile twice too dear: the ratio says so (1.8 2 2.4 3 2).
@@ -267,19 +272,21 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
     if (r.predicted_ms) *r.predicted_ms *= 2;
   EXPECT_NEAR(analysis::evaluate_rows(rows).sets[0].predicted_median_ratio, 2.0, 1e-12);
   // Without a profile there is no prediction to judge.
-  for (EvaluationRow& r : rows) r.predicted_ms.reset();
+  for (EvaluationRow& r : rows) r.predicted_ms.reset(), r.profile_ms.reset();
   EXPECT_TRUE(std::isnan(analysis::evaluate_rows(rows).sets[0].predicted_median_error));
+  EXPECT_TRUE(std::isnan(analysis::evaluate_rows(rows).sets[0].profile_median_error));
 }
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
-  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,\n");
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,,\n");
   EvaluationRow p = row("sample:7:3", "policy", 1.5);
   p.decision_ms = 0.25;
   p.decision_warm_ms = 0.0625;
   p.predicted_ms = 1.25;
+  p.profile_ms = 1.125;
   EXPECT_EQ(analysis::evaluation_csv_line(p),
-            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500\n");
+            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500,1.1250\n");
   r.set = "a,b";
   r.frame = 4;
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
@@ -329,6 +336,7 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
   // there it is as right as Z-fail.  Configuration 0 of seed 4242 has a
   // near-cap (Z-pass is wrong there).
   std::map<std::string, std::vector<std::string>> zpass, zfail;  // configuration and light -> fields
+  analysis::FrameTimeDrift drift;                                // the policy's frames so far, in the rows' order
   std::istringstream rows_of(csv);
   std::getline(rows_of, line);
   while (std::getline(rows_of, line)) {
@@ -337,9 +345,16 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
     ASSERT_GE(fields.size(), 12u) << line;
     if (fields[4] == "policy") {
-      ASSERT_EQ(fields.size(), 16u) << line;
+      ASSERT_EQ(fields.size(), 17u) << line;
       EXPECT_FALSE(fields[14].empty()) << "the policy's warm decision time: " << line;
-      EXPECT_GT(std::stod(fields[15]), 0) << "the shipped profile's predicted frame time: " << line;
+      const double decision = std::stod(fields[9]), measured = std::stod(fields[11]);
+      const double predicted = std::stod(fields[15]), priced = std::stod(fields[16]);
+      EXPECT_GT(priced, 0) << "the shipped profile's price: " << line;
+      // The prediction: the price times the last frames' measured / priced
+      // (1 before any), plus the decision's own time.
+      const double expected = priced * drift.scale() + decision;
+      EXPECT_NEAR(predicted, expected, 1e-3 * expected + 2e-4) << line;
+      drift.observe(priced, measured - decision);
     }
     if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
     if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;

@@ -1,5 +1,6 @@
 // A switch policy judged against an oracle (see policy_evaluation.hpp).
 #include "nearcap/analysis/policy_evaluation.hpp"
+
 #include "csv_field.hpp"
 
 #include <algorithm>
@@ -8,6 +9,8 @@
 #include <map>
 #include <sstream>
 #include <utility>
+
+#include "nearcap/analysis/frame_time_drift.hpp"
 
 namespace nearcap::analysis {
 namespace {
@@ -80,7 +83,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
     t.set = name;
     std::map<std::string, RuleTotals> totals;
     for (const std::string& rule : listed) totals[rule].rule = rule;
-    std::vector<double> noise, predicted_error, predicted_ratio;
+    std::vector<double> noise, predicted_error, predicted_ratio, profile_error, profile_ratio;
     double warm_decision_ms = 0, warm_frame_ms = 0;
     bool any_warm = false;
     WindowComparison window;
@@ -141,6 +144,10 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
         predicted_error.push_back(std::abs(*policy->predicted_ms - policy->end_to_end_ms) / policy->end_to_end_ms);
         predicted_ratio.push_back(*policy->predicted_ms / policy->end_to_end_ms);
       }
+      if (const EvaluationRow* policy = g.row("policy"); policy->profile_ms && policy->end_to_end_ms > 0) {
+        profile_error.push_back(std::abs(*policy->profile_ms - policy->end_to_end_ms) / policy->end_to_end_ms);
+        profile_ratio.push_back(*policy->profile_ms / policy->end_to_end_ms);
+      }
       if (name == kWindowSet && g.frame >= kWindowFirstFrame && g.frame <= kWindowLastFrame) {
         double best_ms = zfail.end_to_end_ms;
         if (const EvaluationRow* zpass = g.row("zpass");
@@ -165,6 +172,10 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
       t.predicted_median_error = quantile(predicted_error, 0.5);
       t.predicted_median_ratio = quantile(predicted_ratio, 0.5);
     }
+    if (!profile_error.empty()) {
+      t.profile_median_error = quantile(profile_error, 0.5);
+      t.profile_median_ratio = quantile(profile_ratio, 0.5);
+    }
     if (!noise.empty()) {
       t.noise_p05 = quantile(noise, 0.05);
       t.noise_p95 = quantile(noise, 0.95);
@@ -180,7 +191,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
 
 std::string evaluation_csv_header() {
   return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,choice_ms,"
-         "chosen,decision_warm_ms,predicted_ms\n";
+         "chosen,decision_warm_ms,predicted_ms,profile_ms\n";
 }
 
 std::string evaluation_csv_line(const EvaluationRow& r) {
@@ -195,6 +206,8 @@ std::string evaluation_csv_line(const EvaluationRow& r) {
   if (r.decision_warm_ms) s << fixed(*r.decision_warm_ms, 4);
   s << ',';
   if (r.predicted_ms) s << fixed(*r.predicted_ms, 4);
+  s << ',';
+  if (r.profile_ms) s << fixed(*r.profile_ms, 4);
   s << '\n';
   return s.str();
 }
@@ -240,10 +253,17 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
       s << "- noise floor: Z-fail's frame timed twice, end-to-end again/first " << fixed(t.noise_p05, 3) << " to "
         << fixed(t.noise_p95, 3) << " (5th to 95th percentile, " << t.noise_pairs << " pairs; median |again/first - 1| "
         << fixed(100 * t.noise_median_deviation, 1) << "%)\n";
-    if (!std::isnan(t.predicted_median_error))
-      s << "- the policy's predicted frame time (device profile, before drawing): median error "
+    if (!std::isnan(t.predicted_median_error)) {
+      s << "- the policy's predicted frame time (before drawing: the device profile's price times the median "
+           "measured/priced of the set's last "
+        << FrameTimeDrift::kWindow << " policy frames, plus the decision's own time): median error "
         << fixed(100 * t.predicted_median_error, 1) << "% of the measured end-to-end time; predicted/measured median "
-        << fixed(t.predicted_median_ratio, 3) << "\n";
+        << fixed(t.predicted_median_ratio, 3);
+      if (!std::isnan(t.profile_median_error))
+        s << "; the profile's price alone: median error " << fixed(100 * t.profile_median_error, 1)
+          << "%, priced/measured median " << fixed(t.profile_median_ratio, 3);
+      s << "\n";
+    }
     if (t.noise_pairs == 0) s << "- noise floor: no pair timed\n";
     if (t.window) {
       const WindowComparison& w = *t.window;

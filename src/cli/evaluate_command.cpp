@@ -24,6 +24,7 @@
 #include "cli_commands.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
+#include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/analysis/policy_evaluation.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/check.hpp"
@@ -72,8 +73,8 @@ struct RuleFrame {
   std::vector<gl::ShadowMethod> object_methods;
   gl::EmulationSettings settings;
   double decision_ms = 0;
-  std::optional<double> predicted_ms;      // the policy's, with a device profile
-  std::optional<double> decision_warm_ms;  // the policy's: the same decision again at once (EvaluationRow)
+  std::optional<double> profile_ms, predicted_ms;  // the policy's, with a device profile (EvaluationRow)
+  std::optional<double> decision_warm_ms;          // the policy's: the same decision again at once (EvaluationRow)
   bool applies = true;
   gl::ShadowFrame frame;
   std::string refused;
@@ -161,6 +162,10 @@ class Evaluation {
 
   // Every rule of every light of `c`, appended to `rows`.
   void run(const Configuration& c, const Scene& scene, std::vector<analysis::EvaluationRow>& rows) {
+    if (c.set != drift_set_) {  // each set's predictions from its own frames alone
+      drift_ = {};
+      drift_set_ = c.set;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const CameraSpaceScene cs(scene);
     camera_space_ms_ = ms_since(t0);
@@ -183,7 +188,10 @@ class Evaluation {
       analysis::price_decision(d, p, cs, light, base_, &facings_);
       d.settings.record_draws = true;
       RuleFrame r = rule_frame(name, std::nullopt, d.object_methods, d.settings, camera_space_ms_ + d.decide_ms);
-      if (!std::isnan(d.predicted_ms)) r.predicted_ms = d.predicted_ms;
+      if (!std::isnan(d.predicted_ms)) {
+        r.profile_ms = d.predicted_ms;
+        r.predicted_ms = d.predicted_ms * drift_.scale() + r.decision_ms;
+      }
       return r;
     };
     const RuleFrame exact_zfail =
@@ -254,6 +262,7 @@ class Evaluation {
       row.applies = r.applies;
       row.decision_ms = r.decision_ms;
       if (r.rule == "policy") row.chosen = methods_chosen(scene, r);
+      row.profile_ms = r.profile_ms;
       row.predicted_ms = r.predicted_ms;
       row.decision_warm_ms = r.decision_warm_ms;
       try {
@@ -292,8 +301,12 @@ class Evaluation {
           out[k].refused = true;
         }
       }
-    for (std::size_t k = 0; k < frames.size(); ++k)
-      if (frames[k].refused.empty()) set_times(out[k], times[k]);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      if (!frames[k].refused.empty()) continue;
+      set_times(out[k], times[k]);
+      // The policy's frame as measured, for the next frames' predictions.
+      if (out[k].profile_ms) drift_.observe(*out[k].profile_ms, out[k].end_to_end_ms - out[k].decision_ms);
+    }
     if (frames[zfail].refused.empty()) {
       RuleFrame again = frames[zfail];
       again.frame = draw(scene, light, again);
@@ -328,6 +341,9 @@ class Evaluation {
   // next, as `nearcap render` keeps them along a path (the decisions are the
   // same without).
   analysis::FacingCache facings_;
+  // The policy's measured over priced frame time, per set (predicted_ms).
+  analysis::FrameTimeDrift drift_;
+  std::string drift_set_;
 };
 
 void run(const EvaluateOptions& o) {

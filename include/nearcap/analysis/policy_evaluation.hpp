@@ -101,8 +101,13 @@ struct EvaluationRow {
   // biased low (the winner's curse): choosing on some rounds and counting
   // the chosen frame's time of the others is not.
   std::optional<double> choice_ms;
-  // The policy's rows: the frame time its device profile predicted before
-  // drawing (absent without a profile).
+  // The policy's rows (absent without a device profile): the profile's
+  // price of the frame it chose (price_decision's predicted_ms), and the
+  // end-to-end time predicted before drawing: that price times the
+  // FrameTimeDrift scale of the set's earlier policy frames
+  // (frame_time_drift.hpp: measured over priced, the decision's own time
+  // left out), plus decision_ms, spent by then.
+  std::optional<double> profile_ms;
   std::optional<double> predicted_ms;
   // The policy's rows: the same decision made again right after the first
   // (decision_ms), its code and data still in the caches: what a renderer's
@@ -159,10 +164,13 @@ struct SetTable {
   // Median |x - 1| of those ratios, and the median |predicted - measured| /
   // measured of the policy's frame time (NaN without a profile), and the
   // median predicted / measured: near 1 where the error is scatter, away
-  // from it where the profile's scale is off.
+  // from it where the profile's scale is off.  The same two of the
+  // profile's price alone (profile_ms against end_to_end_ms).
   double noise_median_deviation = 0;
   double predicted_median_error = std::numeric_limits<double>::quiet_NaN();
   double predicted_median_ratio = std::numeric_limits<double>::quiet_NaN();
+  double profile_median_error = std::numeric_limits<double>::quiet_NaN();
+  double profile_median_ratio = std::numeric_limits<double>::quiet_NaN();
   std::optional<WindowComparison> window;  // kWindowSet only
   const RuleTotals* find(std::string_view rule) const;
 };
@@ -179,9 +187,9 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows);
 
 // evaluation.csv: a header and one line per row (set, configuration, frame,
 // light, rule, refused, applies, wrong, cracks, decision_ms, cpu_ms,
-// end_to_end_ms, choice_ms (empty when absent), chosen, decision_warm_ms and
-// predicted_ms (empty when absent: every row but the policy's, and its
-// predicted_ms without a device profile)).
+// end_to_end_ms, choice_ms (empty when absent), chosen, decision_warm_ms,
+// predicted_ms and profile_ms (these two empty when absent: every row but
+// the policy's, and its own without a device profile)).
 std::string evaluation_csv_header();
 std::string evaluation_csv_line(const EvaluationRow& row);
 

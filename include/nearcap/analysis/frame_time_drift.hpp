@@ -1,0 +1,41 @@
+// nearcap/analysis/frame_time_drift.hpp — a device profile's price of a
+// frame set against what the device takes for it now.
+//
+// A device profile (device_profile.hpp) is calibrated once; the device's
+// speed is not fixed: a shared or power-managed machine runs the same frames
+// 15-30% faster or slower from one hour to the next, and the profile's
+// prices are then off by that factor for every frame
+// (docs/findings/policy-oracle.md, "The predicted frame time").  A renderer
+// measures each frame it draws, so it can keep the ratio of measured to
+// priced over its last frames and scale the next frame's price by it.  The
+// ratio scales every candidate's price alike, so it changes no decision:
+// it corrects the predicted frame time.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+namespace nearcap::analysis {
+
+class FrameTimeDrift {
+ public:
+  // The frames whose ratio the scale is the median of: few, so that it
+  // follows the device's speed now and the scene the frames show.
+  static constexpr std::size_t kWindow = 8;
+
+  // One drawn frame: the profile's price of the work it drew (`priced_ms`,
+  // price_decision's predicted_ms before any scaling) and its measured time
+  // for the same part (the decision's own time left out).  A pair that is
+  // not two positive finite numbers is ignored.
+  void observe(double priced_ms, double measured_ms);
+  // The median of measured / priced over the last kWindow frames observed
+  // (the geometric mean of the middle two of an even count); 1 before any.
+  double scale() const;
+  std::size_t observed() const { return observed_; }
+
+ private:
+  std::array<double, kWindow> log_ratio_{};
+  std::size_t observed_ = 0;
+};
+
+}  // namespace nearcap::analysis
