@@ -182,7 +182,8 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
     d.depth_note = note;
   }
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
-  d.step_reasons.assign(scene.objects.size(), "");
+  // The cost decision's reasons are its prices (PolicyDecision::reason).
+  if (!policy.device_profile) d.step_reasons.assign(scene.objects.size(), "");
   d.crack_probability = kNaN;
   if (policy.exact_zpass && d.settings.near_plane == gl::NearPlane::Tight)
     throw Error(ErrorKind::Usage,
@@ -294,12 +295,12 @@ std::string ms_text(double ms) {
 
 // Whether the policy's capped method with the paper's cap is a candidate in
 // this (frame, light): the light frustum exists and the crack model predicts
-// no crack; `why` says why not, `probability` is the model's.
+// no crack; `why` (where given) says why not, `probability` is the model's.
 bool paper_cap_admitted(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                        const gl::EmulationSettings& base, double& probability, std::string& why) {
+                        const gl::EmulationSettings& base, double& probability, std::string* why) {
   probability = kNaN;
   if (!gl::uses_near_cap(policy.capped_method) || policy.light_projection == gl::LightProjection::ClippedSides) {
-    why = "the policy's crack model is not the paper cap's";
+    if (why) *why = "the policy's crack model is not the paper cap's";
     return false;
   }
   bool cheap = true;
@@ -315,12 +316,12 @@ bool paper_cap_admitted(const SwitchPolicy& policy, const CameraSpaceScene& cs, 
     if (defined) f = conditioning_features(cs, light, lf, base.arithmetic);
   }
   if (!defined) {
-    why = "no light frustum";
+    if (why) *why = "no light frustum";
     return false;
   }
   probability = policy.crack_model.probability(f);
   if (!(probability < policy.crack_model.threshold)) {
-    why = "crack predicted (P = " + ms_text(probability) + ")";
+    if (why) *why = "crack predicted (P = " + ms_text(probability) + ")";
     return false;
   }
   return true;
@@ -408,9 +409,9 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   // The light in the near plane (exactly): no pyramid test, no light frustum.
   const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
   std::string paper_why;
-  const bool paper_ok =
-      !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability, paper_why);
-  if (light_on_near_plane) paper_why = "the light lies in the near plane: no light frustum";
+  const bool paper_ok = !light_on_near_plane && paper_cap_admitted(policy, cs, light, base, d.crack_probability,
+                                                                   choice_only ? nullptr : &paper_why);
+  if (light_on_near_plane && !choice_only) paper_why = "the light lies in the near plane: no light frustum";
 
   // zpass_ok: the near-cap is empty (certainly, or by the exact test);
   // atomiczp_ok: atomiczp_admitted.
@@ -537,7 +538,9 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   };
   std::vector<bool> allowed(occluders.size(), false);
   for (std::size_t i = 0; i < occluders.size(); ++i) allowed[i] = occluders[i].zpass_ok;
-  Frame chosen = best_frame(allowed, {}, &d.predicted_options);
+  // The options' prices are kept where the decision is priced.
+  std::vector<std::pair<std::string_view, double>>* const log = choice_only ? nullptr : &d.predicted_options;
+  Frame chosen = best_frame(allowed, {}, log);
   if (any_untested) {
     // The test runs when the frame it could give at best, Z-pass for every
     // occluder it tests and the test paid, beats the frame without it.
@@ -560,7 +563,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         oc.exact_test_ms = test_ms;
       }
       d.predicted_options.clear();
-      chosen = best_frame(allowed, test_work, &d.predicted_options);
+      chosen = best_frame(allowed, test_work, log);
     } else {
       for (std::size_t i = 0; i < occluders.size(); ++i)
         if (untested[i]) {
@@ -569,10 +572,14 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         }
     }
   }
+  d.settings.light_frustum.projection = chosen.projection;
+  if (choice_only) {
+    for (std::size_t k = 0; k < occluders.size(); ++k) d.object_methods[occluders[k].object] = chosen.choice[k].method;
+    return d;
+  }
   const double best_total = chosen.ms;
   const std::vector<CandidateMethod>& best_choice = chosen.choice;
   d.predicted_work = chosen.work;
-  d.settings.light_frustum.projection = chosen.projection;
   d.predicted_ms = best_total;
   FramePrices prices;
   prices.paper = paper;
@@ -587,12 +594,6 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     prices.occluders.push_back(std::move(static_cast<OccluderPrices&>(oc)));
   }
   d.prices = std::move(prices);
-  if (choice_only) {
-    d.predicted_ms = kNaN;
-    d.predicted_work = {};
-    d.predicted_options.clear();
-    d.prices.reset();
-  }
   return d;
 }
 

@@ -389,7 +389,7 @@ FrameWork shared_frame_work(const Scene& scene, bool with_coverage) {
   for (const SceneObject& obj : scene.objects) {
     const TriangleMesh& mesh = *obj.mesh;
     const double t = static_cast<double>(mesh.triangle_count());
-    const Affine3d modelview = compose_rounded(scene.camera.view, obj.object_to_world);
+    const Affine3d modelview = with_coverage ? compose_rounded(scene.camera.view, obj.object_to_world) : Affine3d{};
     const std::size_t stride = std::max<std::size_t>(1, mesh.triangles.size() / kCoverageSamples);
     auto vertex = [&](VertexIndex v) {
       const Vec3d c = modelview.apply(mesh.positions[v]);
