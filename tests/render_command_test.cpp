@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -15,6 +17,7 @@
 
 #include "cli_support.hpp"
 #include "llvmpipe_fixture.hpp"
+#include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -157,6 +160,54 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
       test::run_cli("render data/scenes/default.json --light 0 --compare --bench", "render_bench");
   EXPECT_EQ(compare.exit_code, 2);
   EXPECT_NE(compare.err.find("--bench"), std::string::npos) << compare.err;
+  std::filesystem::remove_all(dir);
+}
+
+// --bench along a path with the policy: each of its frames' price (the
+// device profile's, its lights summed) and the end-to-end time predicted
+// before drawing it: that price times the measured/priced median of the
+// frames before it (1 for the first), plus the frame's decision; the
+// medians of both errors.
+TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_predict_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  nlohmann::json path =
+      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/eye_in_shadow.json"));
+  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room.json";
+  path["frames"] = 6;
+  {
+    std::ofstream out(dir / "path.json");
+    out << path.dump();
+  }
+  const test::CliResult r = test::run_cli("render --path '" + (dir / "path.json").string() +
+                                              "' --method zfail,policy --bench --out '" + (dir / "out").string() + "'",
+                                          "render_predict");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("predicted within "), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "out" / "render.json"));
+  std::size_t checked = 0;
+  for (const nlohmann::json& m : j["methods"]) {
+    if (m["method"] != "policy") {
+      EXPECT_FALSE(m["frames"][0].contains("predicted_ms")) << m["method"];
+      continue;
+    }
+    analysis::FrameTimeDrift drift;
+    for (const nlohmann::json& f : m["frames"]) {
+      double decision = 0;
+      for (const nlohmann::json& light : f["cpu"]["lights"]) decision += light["decision_ms"].get<double>();
+      const double priced = f.at("profile_ms").get<double>(), measured = f["end_to_end_ms"].get<double>();
+      EXPECT_GT(priced, 0);
+      EXPECT_NEAR(f.at("predicted_ms").get<double>(), priced * drift.scale() + decision, 1e-9 * measured);
+      drift.observe(priced, measured - decision);
+      ++checked;
+    }
+    EXPECT_GE(m.at("predicted_median_error").get<double>(), 0);
+    EXPECT_GE(m.at("profile_median_error").get<double>(), 0);
+  }
+  EXPECT_EQ(checked, 6u);
   std::filesystem::remove_all(dir);
 }
 

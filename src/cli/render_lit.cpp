@@ -16,6 +16,7 @@
 #include "frame_source.hpp"
 #include "method_records.hpp"
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/output_files.hpp"
@@ -187,6 +188,42 @@ struct LitFrameRecord {
   render::LitFramePasses passes;  // with --bench
   double cpu_ms = 0, end_to_end_ms = 0, upload_ms = 0;
   std::vector<LightCpu> cpu;  // with --bench
+  // The policy's, with --bench and a device profile: its lights' prices
+  // summed, and the end-to-end time predicted from them before drawing
+  // (FramePrediction).
+  double profile_ms = std::numeric_limits<double>::quiet_NaN();
+  double predicted_ms = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The policy's predicted end-to-end time of each frame of a path, as a
+// renderer predicts it: its lights' prices (the device profile's) times the
+// measured/priced median of the frames drawn before it
+// (analysis::FrameTimeDrift), plus its decisions' time, spent by then.
+class FramePrediction {
+ public:
+  void predict(LitFrameRecord& fr) {
+    double priced = 0, decision = 0;
+    bool any = false;
+    for (const LightCpu& l : fr.cpu) {
+      decision += l.decision_ms;
+      if (std::isfinite(l.predicted_ms)) {
+        priced += l.predicted_ms;
+        any = true;
+      }
+    }
+    if (!any) return;
+    fr.profile_ms = priced;
+    fr.predicted_ms = priced * drift_.scale() + decision;
+    drift_.observe(priced, fr.end_to_end_ms - decision);
+    profile_error_.push_back(std::fabs(fr.profile_ms - fr.end_to_end_ms) / fr.end_to_end_ms);
+    predicted_error_.push_back(std::fabs(fr.predicted_ms - fr.end_to_end_ms) / fr.end_to_end_ms);
+  }
+  const std::vector<double>& predicted_error() const { return predicted_error_; }
+  const std::vector<double>& profile_error() const { return profile_error_; }
+
+ private:
+  analysis::FrameTimeDrift drift_;
+  std::vector<double> predicted_error_, profile_error_;
 };
 
 // --bench: render.json's breakdown of a frame's CPU work, per light and occluder.
@@ -264,6 +301,7 @@ void run_lit(const RenderOptions& o) {
   std::vector<double> total_ms(methods.count(), 0);
   std::vector<double> cpu_total_ms(methods.count(), 0), end_to_end_total_ms(methods.count(), 0);  // with --bench
   std::vector<double> decision_total_ms(methods.count(), 0);  // the policy's decisions, with --bench
+  std::vector<FramePrediction> prediction(methods.count());   // the policy's, with --bench
   std::vector<std::string> refused(methods.count());
   std::size_t lights = 0;
   std::vector<std::size_t> light_index;  // the scene lights drawn (the same in every frame)
@@ -342,7 +380,10 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].gpu_lit_ms += p.gpu_lit_ms;
         pass_totals[m].eye_count_ms += p.eye_count_ms;
       }
-      per_method[m].push_back({f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu});
+      constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+      per_method[m].push_back(
+          {f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu, kNone, kNone});
+      if (o.bench && mf.end_to_end_ms() > 0) prediction[m].predict(per_method[m].back());
       total_ms[m] += mf.ms;
       cpu_total_ms[m] += mf.cpu_ms();
       end_to_end_total_ms[m] += mf.end_to_end_ms();
@@ -373,6 +414,10 @@ void run_lit(const RenderOptions& o) {
           entry["cpu_ms"] = fr.cpu_ms;
           entry["end_to_end_ms"] = fr.end_to_end_ms;
           entry["cpu"] = cpu_json(fr);
+          if (std::isfinite(fr.predicted_ms)) {
+            entry["profile_ms"] = fr.profile_ms;
+            entry["predicted_ms"] = fr.predicted_ms;
+          }
         }
         entries.push_back(std::move(entry));
       }
@@ -383,6 +428,10 @@ void run_lit(const RenderOptions& o) {
         if (decision_total_ms[m] > 0)
           r["mean_decision_ms"] = decision_total_ms[m] / static_cast<double>(per_method[m].size());
         r["mean_end_to_end_ms"] = end_to_end_total_ms[m] / static_cast<double>(per_method[m].size());
+        if (!prediction[m].predicted_error().empty()) {
+          r["predicted_median_error"] = quantile(prediction[m].predicted_error(), 0.5);
+          r["profile_median_error"] = quantile(prediction[m].profile_error(), 0.5);
+        }
       }
       if (o.path.empty()) {
         r["file"] = r["frames"][0]["file"];
@@ -438,6 +487,10 @@ void run_lit(const RenderOptions& o) {
         if (decision_total_ms[m] > 0)
           std::printf("  (the decision %.3f ms, %.2f%% of end to end)", decision_total_ms[m] / n,
                       100 * decision_total_ms[m] / end_to_end_total_ms[m]);
+        if (!prediction[m].predicted_error().empty())
+          std::printf("  predicted within %.1f%% (median; the profile's price alone %.1f%%)",
+                      100 * quantile(prediction[m].predicted_error(), 0.5),
+                      100 * quantile(prediction[m].profile_error(), 0.5));
       }
       std::printf("\n");
     }
