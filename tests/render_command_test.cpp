@@ -196,10 +196,14 @@ TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
     }
     analysis::FrameTimeDrift drift;
     for (const nlohmann::json& f : m["frames"]) {
-      double decision = 0;
-      for (const nlohmann::json& light : f["cpu"]["lights"]) decision += light["decision_ms"].get<double>();
+      double decision = 0, lights_priced = 0;
+      for (const nlohmann::json& light : f["cpu"]["lights"]) {
+        decision += light["decision_ms"].get<double>();
+        lights_priced += light.at("profile_ms").get<double>();
+      }
       const double priced = f.at("profile_ms").get<double>(), measured = f["end_to_end_ms"].get<double>();
       EXPECT_GT(priced, 0);
+      EXPECT_DOUBLE_EQ(priced, lights_priced);
       EXPECT_NEAR(f.at("predicted_ms").get<double>(), priced * drift.scale() + decision, 1e-9 * measured);
       drift.observe(priced, measured - decision);
       ++checked;

@@ -1,6 +1,5 @@
 // A switch policy judged against an oracle (see policy_evaluation.hpp).
 #include "nearcap/analysis/policy_evaluation.hpp"
-
 #include "csv_field.hpp"
 
 #include <algorithm>

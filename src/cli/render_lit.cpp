@@ -36,9 +36,10 @@ struct LightCpu {
   gl::FrameCpuTimes work;  // silhouettes, the clipped-sides caps, the light frustum
   // Each occluder's method (ShadowFrame::object_methods).
   std::vector<std::pair<std::size_t, gl::ShadowMethod>> methods;
-  // The policy's predicted end-to-end time for this light (a policy with a
-  // device profile; NaN otherwise).
-  double predicted_ms = std::numeric_limits<double>::quiet_NaN();
+  // The device profile's price of the policy's frame for this light
+  // (price_decision's predicted_ms; NaN for a fixed method or a policy
+  // without a profile).
+  double profile_ms = std::numeric_limits<double>::quiet_NaN();
   double total() const { return decision_ms + work.total(); }
 };
 
@@ -94,7 +95,7 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
     const gl::ShadowFrame& f = frames.back();
     const bool policy = m >= methods.methods.size();
     out.cpu.push_back({f.light, policy ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
-    if (policy) out.cpu.back().predicted_ms = source->decision().predicted_ms;
+    if (policy) out.cpu.back().profile_ms = source->decision().predicted_ms;
   }
   render::LitFrameOptions options;
   options.read_stencils = o.stencil && keep_images;
@@ -206,8 +207,8 @@ class FramePrediction {
     bool any = false;
     for (const LightCpu& l : fr.cpu) {
       decision += l.decision_ms;
-      if (std::isfinite(l.predicted_ms)) {
-        priced += l.predicted_ms;
+      if (std::isfinite(l.profile_ms)) {
+        priced += l.profile_ms;
         any = true;
       }
     }
@@ -245,7 +246,7 @@ nlohmann::json cpu_json(const LitFrameRecord& fr) {
                       {"near_plane_ms", l.work.near_plane_ms},
                       {"light_frustum_ms", l.work.light_frustum_ms},
                       {"occluders", std::move(occluders)}});
-    if (std::isfinite(l.predicted_ms)) lights.back()["predicted_ms"] = l.predicted_ms;
+    if (std::isfinite(l.profile_ms)) lights.back()["profile_ms"] = l.profile_ms;
   }
   return {{"upload_ms", fr.upload_ms}, {"lights", std::move(lights)}};
 }

@@ -3,9 +3,9 @@
 //
 // A device profile (device_profile.hpp) is calibrated once; the device's
 // speed is not fixed: a shared or power-managed machine runs the same frames
-// 15-30% faster or slower from one hour to the next, and the profile's
-// prices are then off by that factor for every frame
-// (docs/findings/policy-oracle.md, "The predicted frame time").  A renderer
+// tens of percent faster or slower from one hour to the next, and the
+// profile's prices are then off by that factor for every frame
+// (docs/findings/policy-oracle.md, "What it says").  A renderer
 // measures each frame it draws, so it can keep the ratio of measured to
 // priced over its last frames and scale the next frame's price by it.  The
 // ratio scales every candidate's price alike, so it changes no decision:
