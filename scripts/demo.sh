@@ -16,7 +16,8 @@
 #      out/sweep/tuning.csv), as analysis/tuning/tune_policy.sh tunes the
 #      shipped one, prints how it classifies them, calibrates its device
 #      profile on the real GL (40 configurations of seed 1 and the bundled
-#      paths but near_plane_sweep and fly_around): out/sweep/policy.json; then
+#      paths but near_plane_sweep and fly_around) and fits the frames its
+#      decision should not price (the same 40): out/sweep/policy.json; then
 #      judges it against the oracle and the fixed rules end to end on data
 #      its profile was not fitted on (40 configurations of seed 4242 and
 #      near_plane_sweep's frames 40-59) and prints the table:
@@ -107,7 +108,10 @@ for p in data/paths/*.json; do
   case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
 done
 if ./build/nearcap calibrate --samples 40 --seed 1 "${calibration[@]}" --out out/sweep/calibration.csv \
-  --policy out/sweep/tuned.json --write-policy out/sweep/policy.json --no-atomiczp; then
+  --policy out/sweep/tuned.json --write-policy out/sweep/calibrated.json --no-atomiczp; then
+  echo "== nearcap evaluate --fit-unpriced: the frames its decision should not price, fitted on the same 40 (out/sweep/policy.json)"
+  ./build/nearcap evaluate --policy out/sweep/calibrated.json --samples 40 --seed 1 --repeats 2 \
+    --out out/sweep/unpriced --fit-unpriced out/sweep/policy.json | tail -2
   echo "== nearcap evaluate: that policy against the oracle on data it was not tuned on (out/sweep/oracle/table.md)"
   ./build/nearcap evaluate --policy out/sweep/policy.json --samples 40 --seed 4242 \
     --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 59 --repeats 2 --out out/sweep/oracle

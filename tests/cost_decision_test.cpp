@@ -139,6 +139,63 @@ TEST(CostDecision, ExpensiveNearCapPassGivesZFailExpensiveCapsGiveZPPlus) {
   EXPECT_EQ(d.predicted_options.size(), 3u);
 }
 
+// UnpricedFrames: a frame whose occluders are all at or below the
+// threshold gets the policy's unpriced method, whatever the prices, in the
+// choice and in the full decision (whose reason says so and still lists the
+// prices); a frame with a larger occluder is priced as without it.
+TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
+  const Scene box = eye_in_shadow();
+  const CameraSpaceScene cs(box);
+  ASSERT_EQ(box.objects[0].mesh->triangles.size(), 12u);
+  // Z-fail's caps dear: the priced decision draws a ZP+.
+  DeviceProfile p = flat_profile();
+  p.passes[k(PassKind::LightCap)].ms_per_mfragment = 1e5;
+  p.passes[k(PassKind::DarkCap)].ms_per_mfragment = 1e5;
+  SwitchPolicy policy = cost_policy(p);
+  const analysis::PolicyDecision priced = analysis::decide(policy, cs, 0, {});
+  ASSERT_TRUE(gl::uses_near_cap(priced.object_methods[0])) << priced.reason(0);
+
+  const analysis::CandidateMethod zfail{ShadowMethod::ZFail, gl::LightProjection::Paper, policy.zpass_far};
+  const analysis::CandidateMethod clipped{ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, policy.zpass_far};
+  policy.unpriced_frames = analysis::UnpricedFrames{12, zfail};
+  for (analysis::DecisionPricing pricing : {analysis::DecisionPricing::Full, analysis::DecisionPricing::ChoiceOnly}) {
+    const analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {}, nullptr, pricing);
+    EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
+    EXPECT_EQ(d.object_methods[1], priced.object_methods[1]);  // the receiver
+  }
+  analysis::PolicyDecision full = analysis::decide(policy, cs, 0, {});
+  EXPECT_NE(full.reason(0).find("cost: zfail (unpriced: every occluder at most 12 triangles); predicted ms: "),
+            std::string::npos)
+      << full.reason(0);
+  EXPECT_NE(full.reason(0).find("zpplus-clipped-sides "), std::string::npos) << full.reason(0);
+  // Its predicted time is the price of what it draws: above the priced choice's.
+  EXPECT_GT(full.predicted_ms, priced.predicted_ms);
+  const analysis::PolicyDecision clipped_choice = [&] {
+    SwitchPolicy c = policy;
+    c.unpriced_frames = analysis::UnpricedFrames{12, clipped};
+    return analysis::decide(c, cs, 0, {}, nullptr, analysis::DecisionPricing::ChoiceOnly);
+  }();
+  // The choice estimates no work: no occluder's facing is computed.
+  analysis::FacingCache facings;
+  (void)analysis::decide(policy, cs, 0, {}, &facings, analysis::DecisionPricing::ChoiceOnly);
+  EXPECT_EQ(facings.computed(), 0u);
+  (void)analysis::decide(policy, cs, 0, {}, &facings, analysis::DecisionPricing::Full);
+  EXPECT_EQ(facings.computed(), 1u);
+  EXPECT_EQ(clipped_choice.object_methods[0], ShadowMethod::ZPPlus);
+  EXPECT_EQ(clipped_choice.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
+
+  // Below the box's 12 triangles: priced.
+  policy.unpriced_frames = analysis::UnpricedFrames{11, zfail};
+  for (analysis::DecisionPricing pricing : {analysis::DecisionPricing::Full, analysis::DecisionPricing::ChoiceOnly}) {
+    const analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {}, nullptr, pricing);
+    EXPECT_EQ(d.object_methods, priced.object_methods) << d.reason(0);
+    EXPECT_EQ(d.settings.light_frustum.projection, priced.settings.light_frustum.projection);
+  }
+  EXPECT_EQ(analysis::decide(policy, cs, 0, {}).reason(0).find("unpriced"), std::string::npos);
+  EXPECT_TRUE(analysis::occluders_at_most(box, 12));
+  EXPECT_FALSE(analysis::occluders_at_most(box, 11));
+}
+
 TEST(CostDecision, APredictedCrackRemovesThePaperCap) {
   const Scene s = eye_in_shadow();
   const CameraSpaceScene cs(s);

@@ -16,6 +16,7 @@
 #include "cli_support.hpp"
 #include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/analysis/policy_evaluation.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
 
 namespace nearcap {
 namespace {
@@ -159,7 +160,7 @@ TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
   EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
   EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
   EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
-            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,,\n");
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,,,0\n");
 }
 
 // A (configuration, light) where the policy or a fixed rule did not draw is
@@ -279,14 +280,14 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
-  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,,\n");
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,,,0\n");
   EvaluationRow p = row("sample:7:3", "policy", 1.5);
   p.decision_ms = 0.25;
   p.decision_warm_ms = 0.0625;
   p.predicted_ms = 1.25;
   p.profile_ms = 1.125;
   EXPECT_EQ(analysis::evaluation_csv_line(p),
-            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500,1.1250\n");
+            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500,1.1250,0\n");
   r.set = "a,b";
   r.frame = 4;
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
@@ -344,8 +345,10 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
     std::istringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
     ASSERT_GE(fields.size(), 12u) << line;
+    // The configuration's largest occluder: a box (12) or a sampled mesh.
+    EXPECT_GE(std::stoul(fields.back()), 12u) << line;
     if (fields[4] == "policy") {
-      ASSERT_EQ(fields.size(), 17u) << line;
+      ASSERT_EQ(fields.size(), 18u) << line;
       EXPECT_FALSE(fields[14].empty()) << "the policy's warm decision time: " << line;
       const double decision = std::stod(fields[9]), measured = std::stod(fields[11]);
       const double predicted = std::stod(fields[15]), priced = std::stod(fields[16]);
@@ -399,6 +402,50 @@ TEST(EvaluateCommand, PathFramesMakeTheWindowLineAndThePlot) {
   std::filesystem::remove_all(dir);
 }
 
+// --fit-unpriced: the policy evaluated with every frame priced (its own
+// unpriced frames dropped), the fit's line, and the policy written with the
+// fitted frames and their provenance.
+TEST(EvaluateCommand, FitUnpricedWritesThePolicyWithTheFittedFrames) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_fit_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::filesystem::path fitted = dir / "fitted.json";
+  const test::CliResult r = test::run_cli("evaluate --samples 3 --seed 100 --width 32 --height 24 --repeats 2 --out '" +
+                                              dir.string() + "' --fit-unpriced '" + fitted.string() + "'",
+                                          "evaluate_fit");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("evaluate: unpriced frames: "), std::string::npos) << r.out;
+  const nlohmann::json p = nlohmann::json::parse(test::slurp(fitted));
+  const nlohmann::json& fit = p.at("provenance").at("unpriced_frames");
+  EXPECT_EQ(fit.at("seed"), 100);
+  EXPECT_EQ(fit.at("samples"), 3);
+  const std::size_t frames = fit.at("frames");
+  EXPECT_GE(frames, 3u);
+  // The priced total is the policy's rows' end-to-end times: every frame
+  // priced, the shipped policy's unpriced frames dropped.
+  double policy_total = 0;
+  std::size_t policy_rows = 0;
+  std::istringstream lines(test::slurp(dir / "evaluation.csv"));
+  std::string line;
+  std::getline(lines, line);
+  while (std::getline(lines, line)) {
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    if (f.size() < 12 || f[4] != "policy") continue;
+    policy_total += std::stod(f[11]);
+    ++policy_rows;
+  }
+  EXPECT_EQ(policy_rows, frames);
+  EXPECT_NEAR(fit.at("priced_total_ms").get<double>(), policy_total, 1e-3 * policy_total);
+  EXPECT_LE(fit.at("fitted_total_ms").get<double>(), fit.at("priced_total_ms").get<double>());
+  const analysis::SwitchPolicy written = analysis::load_policy(fitted.string());
+  EXPECT_EQ(written.unpriced_frames.has_value(), fit.at("unpriced_frames").get<std::size_t>() > 0);
+  std::filesystem::remove_all(dir);
+}
+
 // Bad input: one line, the kind, exit 2, no output directory made.
 TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
   const std::filesystem::path dir =
@@ -419,6 +466,10 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
       {"evaluate --samples 2 --policy data/missing-policy.json" + out, "io", "missing-policy.json"},
       {"evaluate --samples 2 --policy data/scenes/case_d.json" + out, "schema", "case_d.json"},
       {"evaluate --samples 2 --kinds nope" + out, "usage", "nope"},
+      {"evaluate --samples 2 --fit-unpriced data/policy.json" + out, "usage",
+       "--fit-unpriced would replace the policy it evaluates"},
+      {"evaluate --samples 2 --policy data/policy-tight-near.json --fit-unpriced p.json" + out, "usage",
+       "has no device profile"},
   };
   for (const auto& c : cases) {
     const test::CliResult r = test::run_cli(c.args, "evaluate_bad");

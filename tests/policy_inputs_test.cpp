@@ -311,6 +311,40 @@ TEST(PolicyReader, IsStrict) {
                       "ill-formed UTF-8");
 }
 
+// unpriced_frames: read and written back; only with a device profile, a
+// known method and a count.
+TEST(PolicyReader, UnpricedFramesNeedAProfileAndAKnownMethod) {
+  const std::string shipped = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
+  const analysis::SwitchPolicy p = analysis::parse_policy(shipped, "p.json");
+  ASSERT_TRUE(p.unpriced_frames);
+  const analysis::SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
+  ASSERT_TRUE(q.unpriced_frames);
+  EXPECT_EQ(q.unpriced_frames->max_occluder_triangles, p.unpriced_frames->max_occluder_triangles);
+  EXPECT_EQ(q.unpriced_frames->method.name(), p.unpriced_frames->method.name());
+  const std::string field = "\"unpriced_frames\": {\n  \"max_occluder_triangles\": " +
+                            std::to_string(p.unpriced_frames->max_occluder_triangles) + ",\n  \"method\": \"" +
+                            p.unpriced_frames->method.name() + "\"\n },";
+  const std::size_t at = shipped.find(field);
+  ASSERT_NE(at, std::string::npos) << field;
+  auto with = [&](const std::string& replacement) {
+    return std::string(shipped).replace(at, field.size(), replacement);
+  };
+  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 12, \"method\": \"zpass\"},"),
+                      ErrorKind::Schema, "unpriced_frames.method: 'zpass' is not zfail or zpplus-clipped-sides");
+  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": -1, \"method\": \"zfail\"},"),
+                      ErrorKind::Schema, "unpriced_frames.max_occluder_triangles: must not be negative");
+  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 1.5, \"method\": \"zfail\"},"),
+                      ErrorKind::Schema, "unpriced_frames.max_occluder_triangles");
+  expect_policy_error(with("\"unpriced_frames\": {\"method\": \"zfail\"},"), ErrorKind::Schema,
+                      "unpriced_frames.max_occluder_triangles: missing");
+  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 12, \"method\": \"zfail\", \"x\": 1},"),
+                      ErrorKind::Schema, "unpriced_frames.x");
+  // Without the profile it would name frames that nothing prices.
+  nlohmann::json j = nlohmann::json::parse(shipped);
+  j.erase("device_profile");
+  expect_policy_error(j.dump(), ErrorKind::Schema, "unpriced_frames: needs a device_profile");
+}
+
 // What tune writes it reads back, also without cost models.
 TEST(PolicyReader, ReadsWhatItWritesWithoutCostModels) {
   analysis::SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");

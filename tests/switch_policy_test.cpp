@@ -291,9 +291,12 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
 // differs somewhere means it is read.  The frames: the box seen from far
 // away (nothing meets the light pyramid) and from inside its shadow (it
 // does), and the bundled scene with the light in the near plane.
+// Boxes (12 triangles, which a policy's unpriced frames may hold) and a
+// torus (2,304).
 std::vector<Scene> probe_scenes() {
   return {box_scene({6, 1, 6}, {0, 8, 0}), box_scene({0.1, -1.5, 0.2}, {0, 8, 0}),
-          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json")};
+          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json"),
+          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/default.json")};
 }
 
 bool decisions_differ(const std::vector<SwitchPolicy>& variants) {
@@ -408,6 +411,14 @@ TEST(SwitchPolicy, TheShippedPolicyLoads) {
     }
     if (p.device_profile) {
       EXPECT_TRUE(decide_reads_device_profile(p));
+    }
+    if (p.unpriced_frames) {  // its frames drawn with its method: the other one draws other frames
+      SwitchPolicy other = p;
+      other.unpriced_frames->method =
+          p.unpriced_frames->method.method == gl::ShadowMethod::ZFail
+              ? analysis::CandidateMethod{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, p.zpass_far}
+              : analysis::CandidateMethod{gl::ShadowMethod::ZFail, gl::LightProjection::Paper, p.zpass_far};
+      EXPECT_TRUE(decisions_differ({p, other}));
     }
     for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
       EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;

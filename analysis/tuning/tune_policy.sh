@@ -24,7 +24,12 @@
 #      clipped-sides cap and Z-fail (docs/policy.md).
 #      Without headless OpenGL the policy is written without a profile (the
 #      clipped-sides ZP+ for every occluder);
-#   4. with --reversed-z: the same with reversed-Z (a float depth buffer and
+#   4. nearcap evaluate --fit-unpriced on 500 configurations of seed 100 at
+#      160 x 120: the calibrated policy drawn and timed end to end beside the
+#      fixed rules, and the frames its decision should not price fitted
+#      (every occluder at most N triangles, one method: where choosing gained
+#      less than the pricing's own time; docs/policy.md);
+#   5. with --reversed-z: the same with reversed-Z (a float depth buffer and
 #      the reversed depth mapping) in the sweeps and the policy:
 #      data/policy-reversed-z.json; with --tight-near: the same with the
 #      tight near plane, data/policy-tight-near.json (docs/methods.md "Depth
@@ -81,5 +86,9 @@ if [ "$cure" = none ]; then
     --out "$work/calibration.csv" --policy "$tuned" --write-policy "$policy" --no-atomiczp; then
     echo "tune_policy.sh: no device profile (nearcap calibrate failed: no headless OpenGL?); $policy without one"
     cp "$tuned" "$policy"
+  else
+    cp "$policy" "$work/calibrated.json"
+    "$n" evaluate --policy "$work/calibrated.json" --samples 500 --seed 100 --width 160 --height 120 --repeats 8 \
+      --out "$work/unpriced" --fit-unpriced "$policy"
   fi
 fi

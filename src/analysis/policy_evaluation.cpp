@@ -190,7 +190,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
 
 std::string evaluation_csv_header() {
   return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,choice_ms,"
-         "chosen,decision_warm_ms,predicted_ms,profile_ms\n";
+         "chosen,decision_warm_ms,predicted_ms,profile_ms,occluder_triangles\n";
 }
 
 std::string evaluation_csv_line(const EvaluationRow& r) {
@@ -207,7 +207,7 @@ std::string evaluation_csv_line(const EvaluationRow& r) {
   if (r.predicted_ms) s << fixed(*r.predicted_ms, 4);
   s << ',';
   if (r.profile_ms) s << fixed(*r.profile_ms, 4);
-  s << '\n';
+  s << ',' << r.occluder_triangles << '\n';
   return s.str();
 }
 

@@ -138,7 +138,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   const JsonValue j = doc.root();
   j.only_keys({"format", "version", "capped_method", "fallback_method", "switch_clamp", "zpass_far", "light_projection",
                "exact_zpass", "depth", "depth_mapping", "near_plane", "crack_model", "cost_models", "device_profile",
-               "provenance"});
+               "unpriced_frames", "provenance"});
   j.at("format").choice<bool>({{"nearcap-policy", true}});
   const JsonValue version = j.at("version");
   const long long file_version = version.integer();
@@ -230,6 +230,25 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     since(*v, 4);
     p.device_profile = device_profile_of(*v);
   }
+  if (const auto v = j.find("unpriced_frames")) {
+    since(*v, 4);
+    if (!p.device_profile) v->fail("needs a device_profile (it names the frames the cost decision does not price)");
+    v->only_keys({"max_occluder_triangles", "method"});
+    UnpricedFrames u;
+    const JsonValue max = v->at("max_occluder_triangles");
+    const long long count = max.integer();
+    if (count < 0) max.fail("must not be negative");
+    u.max_occluder_triangles = static_cast<std::size_t>(count);
+    const JsonValue method = v->at("method");
+    const std::string name = method.string();
+    if (name == "zfail")
+      u.method = {gl::ShadowMethod::ZFail, gl::LightProjection::Paper, p.zpass_far};
+    else if (name == "zpplus-clipped-sides")
+      u.method = {gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, p.zpass_far};
+    else
+      method.fail("'" + name + "' is not zfail or zpplus-clipped-sides");
+    p.unpriced_frames = u;
+  }
   const JsonValue provenance = j.at("provenance");
   if (!provenance.is_object()) provenance.fail("expected a JSON object, found " + std::string(provenance.type_name()));
   p.provenance_json = provenance.dump();
@@ -268,6 +287,9 @@ std::string policy_to_json(const SwitchPolicy& p) {
                                                  {"ms_per_mfragment", cm.ms_per_mfragment}};
   j["cost_models"] = costs;
   if (p.device_profile) j["device_profile"] = device_profile_json(*p.device_profile);
+  if (p.unpriced_frames)
+    j["unpriced_frames"] = {{"max_occluder_triangles", p.unpriced_frames->max_occluder_triangles},
+                            {"method", p.unpriced_frames->method.name()}};
   j["provenance"] = Json::parse(p.provenance_json);
   // The provenance names files: a name that is not UTF-8 gets U+FFFD.
   return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";

@@ -117,6 +117,12 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
                               FacingCache* facings, DecisionPricing pricing);
 }  // namespace
 
+bool occluders_at_most(const Scene& scene, std::size_t max_triangles) {
+  for (const SceneObject& o : scene.objects)
+    if (o.occluder && o.mesh->triangles.size() > max_triangles) return false;
+  return true;
+}
+
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
                       const gl::EmulationSettings& base, FacingCache* facings, DecisionPricing pricing) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -405,6 +411,17 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const bool atomiczp_priced = profile.eye_count.has_value();
   // A choice without the coverage every candidate shares (decide's header).
   const bool choice_only = pricing == DecisionPricing::ChoiceOnly;
+  // A frame the policy draws without pricing: the choice is made here; the
+  // full decision prices its candidates for the reasons, then draws it.
+  const bool unpriced =
+      policy.unpriced_frames && occluders_at_most(scene, policy.unpriced_frames->max_occluder_triangles);
+  if (unpriced && choice_only) {
+    const CandidateMethod& m = policy.unpriced_frames->method;
+    if (m.method != gl::ShadowMethod::ZFail) d.settings.light_frustum.projection = m.cap;
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+      if (scene.objects[o].occluder) d.object_methods[o] = m.method;
+    return d;
+  }
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
   const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
@@ -572,6 +589,18 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         }
     }
   }
+  if (unpriced) {
+    const CandidateMethod& m = policy.unpriced_frames->method;
+    Frame f;
+    f.work = shared;
+    f.projection = m.method == gl::ShadowMethod::ZFail ? policy.light_projection : m.cap;
+    for (const Occluder& oc : occluders) {
+      f.work += occluder_work(oc.in, m);
+      f.choice.push_back(m);
+    }
+    f.ms = profile.predict_ms(f.work);
+    chosen = std::move(f);
+  }
   d.settings.light_frustum.projection = chosen.projection;
   if (choice_only) {
     for (std::size_t k = 0; k < occluders.size(); ++k) d.object_methods[occluders[k].object] = chosen.choice[k].method;
@@ -586,6 +615,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   prices.paper_ok = paper_ok;
   if (!paper_ok) prices.paper_why = std::move(paper_why);
   prices.atomiczp_priced = atomiczp_priced;
+  if (unpriced) prices.unpriced = policy.unpriced_frames;
   prices.occluders.reserve(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) {
     Occluder& oc = occluders[k];
@@ -623,6 +653,11 @@ std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
   const CandidateMethod clipped{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides};
   std::string why = "cost: ";
   why += p.chosen.name();
+  if (f.unpriced) {
+    why += " (unpriced: every occluder at most ";
+    why += std::to_string(f.unpriced->max_occluder_triangles);
+    why += " triangles)";
+  }
   why += "; predicted ms: zfail ";
   append_ms(why, p.zfail_ms);
   why += ", ";

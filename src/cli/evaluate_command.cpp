@@ -27,6 +27,7 @@
 #include "nearcap/analysis/frame_time_drift.hpp"
 #include "nearcap/analysis/policy_evaluation.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/analysis/unpriced_frames_fit.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/camera_space.hpp"
@@ -51,6 +52,9 @@ struct EvaluateOptions {
   int first_frame = 0, last_frame = -1;
   int repeats = 4;  // timing rounds per (configuration, light)
   std::string out;
+  // Training data instead: the policy evaluated without its unpriced frames,
+  // then written here with the ones fitted on these rows.
+  std::string fit_unpriced;
 };
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -251,6 +255,9 @@ class Evaluation {
     const PixelReference ref = compute_pixel_reference(tracer);
     CrackDistances distances(tracer, ref);
     std::vector<RuleFrame> frames = rule_frames(scene, cs, light);
+    std::size_t occluder_triangles = 0;
+    for (const SceneObject& o : scene.objects)
+      if (o.occluder) occluder_triangles = std::max(occluder_triangles, o.mesh->triangles.size());
     std::vector<analysis::EvaluationRow> out;
     for (RuleFrame& r : frames) {
       analysis::EvaluationRow row;
@@ -265,6 +272,7 @@ class Evaluation {
       row.profile_ms = r.profile_ms;
       row.predicted_ms = r.predicted_ms;
       row.decision_warm_ms = r.decision_warm_ms;
+      row.occluder_triangles = occluder_triangles;
       try {
         r.frame = draw(scene, light, r);
         CrackReport report = judge_frame(r.frame, ref);
@@ -354,7 +362,15 @@ void run(const EvaluateOptions& o) {
   if (o.last_frame >= 0 && o.last_frame < o.first_frame)
     throw Error(ErrorKind::Usage, "--last-frame " + std::to_string(o.last_frame) + " is before --first-frame " +
                                       std::to_string(o.first_frame));
-  const analysis::SwitchPolicy policy = analysis::load_policy(o.policy);
+  analysis::SwitchPolicy policy = analysis::load_policy(o.policy);
+  if (!o.fit_unpriced.empty()) {
+    if (!policy.device_profile)
+      throw Error(ErrorKind::Usage, "--fit-unpriced: " + o.policy + " has no device profile (nothing is priced)");
+    std::error_code ec;
+    if (std::filesystem::weakly_canonical(o.fit_unpriced, ec) == std::filesystem::weakly_canonical(o.policy, ec))
+      throw Error(ErrorKind::Usage, "--fit-unpriced would replace the policy it evaluates (" + o.policy + ")");
+    policy.unpriced_frames.reset();  // every frame priced: the fit compares against that
+  }
   // Everything read and checked before the GL starts.
   std::vector<analysis::CameraPath> paths;
   for (const std::string& file : o.paths) {
@@ -417,8 +433,40 @@ void run(const EvaluateOptions& o) {
   io::StagedOutputFiles files;
   files.add({(dir / "evaluation.csv").string(), csv});
   files.add({(dir / "table.md").string(), markdown});
+  std::string fit_line;
+  if (!o.fit_unpriced.empty()) {
+    const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, policy.zpass_far);
+    analysis::SwitchPolicy fitted = policy;
+    fitted.unpriced_frames = fit.unpriced;
+    char line[512];
+    if (fit.unpriced)
+      std::snprintf(line, sizeof line,
+                    "evaluate: unpriced frames: every occluder at most %zu triangles drawn with %s (%zu of %zu "
+                    "frames; %.2f ms in all against %.2f ms with every frame priced); %s",
+                    fit.unpriced->max_occluder_triangles, fit.unpriced->method.name().c_str(), fit.unpriced_frames,
+                    fit.frames, fit.fitted_total_ms, fit.priced_total_ms, o.fit_unpriced.c_str());
+    else
+      std::snprintf(line, sizeof line,
+                    "evaluate: unpriced frames: none (pricing every frame was cheapest, %.2f ms); %s",
+                    fit.priced_total_ms, o.fit_unpriced.c_str());
+    fit_line = line;
+    nlohmann::json provenance = nlohmann::json::parse(fitted.provenance_json);
+    provenance["unpriced_frames"] = {{"samples", o.samples},
+                                     {"seed", o.sampler.seed},
+                                     {"paths", o.paths},
+                                     {"width", o.width},
+                                     {"height", o.height},
+                                     {"repeats", o.repeats},
+                                     {"frames", fit.frames},
+                                     {"unpriced_frames", fit.unpriced_frames},
+                                     {"priced_total_ms", fit.priced_total_ms},
+                                     {"fitted_total_ms", fit.fitted_total_ms}};
+    fitted.provenance_json = json_text(provenance);
+    files.add({o.fit_unpriced, analysis::policy_to_json(fitted)});
+  }
   files.commit();
   std::cout << markdown;
+  if (!fit_line.empty()) std::printf("%s\n", fit_line.c_str());
   std::printf("evaluate: %s/evaluation.csv, %s/table.md\n", o.out.c_str(), o.out.c_str());
   for (const analysis::CameraPath& p : paths) {
     const std::string name = std::filesystem::path(p.source).stem().string();
@@ -445,6 +493,10 @@ void register_evaluate(CLI::App& app) {
       "path DIR/oracle-NAME.png",
       run);
   cmd.add_option("--policy", o.policy, "the switch policy under test (nearcap tune writes one)")->capture_default_str();
+  cmd.add_option("--fit-unpriced", o.fit_unpriced,
+                 "training data instead of held-out: evaluate the policy with every frame priced, fit the frames its "
+                 "decision should not price (the largest occluder's triangles at most a threshold, one method) and "
+                 "write the policy with them to FILE");
   cmd.add_option("--path", o.paths, "a held-out camera path (data/paths/), repeatable: one set each");
   add_samples_option(cmd, o.samples, "held-out configurations of the hard-case sampler (the set seed-S)", 0,
                      kMaxSweepSamples);

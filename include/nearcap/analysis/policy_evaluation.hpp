@@ -124,6 +124,9 @@ struct EvaluationRow {
   // configuration to the next; predicted_ms is priced after it.
   std::optional<double> decision_warm_ms;
   std::string chosen;  // oracle rows: the candidate it is; the policy's: its occluders' methods, "+"-joined
+  // The configuration's largest occluder's triangles (every row), which
+  // UnpricedFrames is fitted against (unpriced_frames_fit.hpp).
+  std::size_t occluder_triangles = 0;
 };
 
 // No more wrong pixels and no more cracks than Z-fail's row of the same
@@ -189,7 +192,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows);
 // light, rule, refused, applies, wrong, cracks, decision_ms, cpu_ms,
 // end_to_end_ms, choice_ms (empty when absent), chosen, decision_warm_ms,
 // predicted_ms and profile_ms (these two empty when absent: every row but
-// the policy's, and its own without a device profile)).
+// the policy's, and its own without a device profile), occluder_triangles).
 std::string evaluation_csv_header();
 std::string evaluation_csv_line(const EvaluationRow& row);
 

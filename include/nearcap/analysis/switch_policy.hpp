@@ -37,7 +37,9 @@
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
 // "ms_per_mfragment": b}, ...} (possibly empty), "device_profile": {...}
 // (version 4, optional: DeviceProfile's fields, parse_device_profile below),
-// "provenance": {...}}.
+// "unpriced_frames": {"max_occluder_triangles": n, "method": "zfail" or
+// "zpplus-clipped-sides"} (version 4, optional, with a device_profile:
+// UnpricedFrames below), "provenance": {...}}.
 // Every field is checked: an unknown key, a duplicate key (in any object,
 // provenance's too), a missing one (cost_models and provenance included), a
 // wrong type, an unknown or repeated feature, an unknown method, lengths that
@@ -109,6 +111,20 @@ struct CostModel {
   }
 };
 
+// Frames whose every occluder has at most `max_occluder_triangles`
+// triangles: the cost decision gives each occluder `method` (Z-fail, or ZP+
+// with the clipped-sides cap: both as right as Z-fail) and prices nothing.
+// On such frames choosing gains less than the pricing costs (its code and
+// data cold in a new configuration); both fields are fitted on training
+// frames from `nearcap evaluate`'s rows (unpriced_frames_fit.hpp).
+struct UnpricedFrames {
+  std::size_t max_occluder_triangles = 0;
+  CandidateMethod method;  // zfail or zpplus-clipped-sides
+};
+
+// Whether every occluder of `scene` has at most `max_triangles` triangles.
+bool occluders_at_most(const Scene& scene, std::size_t max_triangles);
+
 struct SwitchPolicy {
   gl::ShadowMethod capped_method = gl::ShadowMethod::ZPPlusCorrected;
   gl::ShadowMethod fallback_method = gl::ShadowMethod::ZFail;
@@ -135,6 +151,9 @@ struct SwitchPolicy {
   // Version 4, optional: what each pass and CPU task costs on the GL the
   // policy was calibrated on (device_profile.hpp); the decision's costs.
   std::optional<DeviceProfile> device_profile;
+  // Version 4, optional, with a device profile: the frames the cost
+  // decision draws without pricing (UnpricedFrames).
+  std::optional<UnpricedFrames> unpriced_frames;
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
@@ -187,6 +206,9 @@ struct FramePrices {
   bool paper_ok = false;
   std::string paper_why;  // why not, where !paper_ok
   bool atomiczp_priced = false;
+  // The policy's UnpricedFrames applied: every occluder drawn with its
+  // method whatever the prices, which the reason still lists.
+  std::optional<UnpricedFrames> unpriced;
 };
 
 // The policy's choice for one (scene, light).

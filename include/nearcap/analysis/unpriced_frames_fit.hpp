@@ -1,0 +1,42 @@
+// nearcap/analysis/unpriced_frames_fit.hpp — which frames the cost decision
+// should not price (switch_policy.hpp, UnpricedFrames), fitted on training
+// frames that `nearcap evaluate --fit-unpriced` has drawn and timed.
+//
+// Per (configuration, light) with a policy row, the training rows give the
+// policy's end-to-end time (its cold decision included) and each fixed
+// rule's.  An unpriced frame would draw what "always-zfail" or
+// "always-clipped" draws and pay a decision that prices nothing: charged
+// the policy's warm decision time (decision_warm_ms: the camera-space scene
+// and a decision whose code and data are cached), which a measured unpriced
+// decision does not exceed by more than a few microseconds.  For every
+// threshold T among the rows' occluder_triangles and both methods, the
+// total is
+//   sum over frames with occluder_triangles <= T of (the method's rule's
+//   end-to-end time + decision_warm_ms)
+//   + sum over the others of the policy's end-to-end time;
+// the fit keeps the smallest total, and no UnpricedFrames where pricing every
+// frame is not above it.  A rule's frame that was refused or does not apply
+// counts as Z-fail's, as in the evaluation's table.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "nearcap/analysis/policy_evaluation.hpp"
+#include "nearcap/analysis/switch_policy.hpp"
+
+namespace nearcap::analysis {
+
+struct UnpricedFramesFit {
+  std::optional<UnpricedFrames> unpriced;  // absent: pricing every frame was the cheapest
+  std::size_t frames = 0;                  // (configuration, light) with a policy row
+  std::size_t unpriced_frames = 0;         // of those, at or below the threshold
+  double priced_total_ms = 0;              // every frame priced (the policy's rows)
+  double fitted_total_ms = 0;              // with `unpriced`
+};
+
+// `zpass_far`: the policy's, which the method's candidate carries.
+UnpricedFramesFit fit_unpriced_frames(const std::vector<EvaluationRow>& rows, gl::ZPassFar zpass_far);
+
+}  // namespace nearcap::analysis

@@ -1,0 +1,91 @@
+// The unpriced frames' fit (analysis/unpriced_frames_fit.hpp) on synthetic
+// training rows: the threshold and the method with the smallest total, none
+// where pricing every frame is cheapest, refused frames as Z-fail's.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "nearcap/analysis/unpriced_frames_fit.hpp"
+
+namespace nearcap {
+namespace {
+
+using analysis::EvaluationRow;
+
+// One (configuration, light)'s rows: the policy's (its end-to-end time and
+// warm decision), always Z-fail's and always clipped's.
+void add_frame(std::vector<EvaluationRow>& rows, const std::string& id, std::size_t triangles, double policy_ms,
+               double zfail_ms, double clipped_ms, double warm_ms = 0.01) {
+  for (const auto& [rule, ms] : {std::pair<std::string, double>{"policy", policy_ms},
+                                 {"always-zfail", zfail_ms},
+                                 {"always-clipped", clipped_ms},
+                                 {"zfail", zfail_ms}}) {
+    EvaluationRow r;
+    r.set = "seed-1";
+    r.configuration = id;
+    r.rule = rule;
+    r.end_to_end_ms = ms;
+    r.occluder_triangles = triangles;
+    if (rule == "policy") r.decision_warm_ms = warm_ms;
+    rows.push_back(r);
+  }
+}
+
+// Boxes where the priced decision loses its own time, tori where pricing pays.
+std::vector<EvaluationRow> boxes_and_tori(double box_zfail_ms, double box_clipped_ms) {
+  std::vector<EvaluationRow> rows;
+  for (int k = 0; k < 4; ++k) add_frame(rows, "box" + std::to_string(k), 12, 1.0, box_zfail_ms, box_clipped_ms);
+  for (int k = 0; k < 3; ++k) add_frame(rows, "torus" + std::to_string(k), 2304, 2.0, 2.5, 2.4);
+  return rows;
+}
+
+TEST(UnpricedFramesFit, TheThresholdAndMethodWithTheSmallestTotal) {
+  analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(boxes_and_tori(0.9, 0.95), gl::ZPassFar::Infinite);
+  ASSERT_TRUE(fit.unpriced);
+  EXPECT_EQ(fit.unpriced->max_occluder_triangles, 12u);
+  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZFail);
+  EXPECT_EQ(fit.frames, 7u);
+  EXPECT_EQ(fit.unpriced_frames, 4u);
+  EXPECT_DOUBLE_EQ(fit.priced_total_ms, 4 * 1.0 + 3 * 2.0);
+  EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 4 * (0.9 + 0.01) + 3 * 2.0);
+
+  fit = analysis::fit_unpriced_frames(boxes_and_tori(0.95, 0.9), gl::ZPassFar::Infinite);
+  ASSERT_TRUE(fit.unpriced);
+  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZPPlus);
+  EXPECT_EQ(fit.unpriced->method.cap, gl::LightProjection::ClippedSides);
+  EXPECT_EQ(fit.unpriced->method.name(), "zpplus-clipped-sides");
+}
+
+TEST(UnpricedFramesFit, NoneWherePricingEveryFrameIsCheapest) {
+  // The unpriced frame's decision still costs: 0.99 + 0.01 is not below 1.0.
+  const analysis::UnpricedFramesFit fit =
+      analysis::fit_unpriced_frames(boxes_and_tori(0.99, 1.2), gl::ZPassFar::Infinite);
+  EXPECT_FALSE(fit.unpriced);
+  EXPECT_EQ(fit.unpriced_frames, 0u);
+  EXPECT_DOUBLE_EQ(fit.fitted_total_ms, fit.priced_total_ms);
+}
+
+TEST(UnpricedFramesFit, EveryFrameUnpricedWhereThatIsCheapest) {
+  std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
+  for (EvaluationRow& r : rows)
+    if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = 1.5;
+  const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Finite);
+  ASSERT_TRUE(fit.unpriced);
+  // Z-fail on the boxes would be cheaper, but one method serves every unpriced frame.
+  EXPECT_EQ(fit.unpriced->max_occluder_triangles, 2304u);
+  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZPPlus);
+  EXPECT_EQ(fit.unpriced->method.zpass_far, gl::ZPassFar::Finite);
+  EXPECT_EQ(fit.unpriced_frames, 7u);
+}
+
+TEST(UnpricedFramesFit, ARefusedClippedFrameCountsAsZFails) {
+  std::vector<EvaluationRow> rows = boxes_and_tori(0.99, 0.5);
+  for (EvaluationRow& r : rows)
+    if (r.rule == "always-clipped") r.refused = true;
+  const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
+  EXPECT_FALSE(fit.unpriced) << "clipped's 0.5 ms frames were never drawn";
+}
+
+}  // namespace
+}  // namespace nearcap
