@@ -470,6 +470,9 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
        "--fit-unpriced would replace the policy it evaluates"},
       {"evaluate --samples 2 --policy data/policy-tight-near.json --fit-unpriced p.json" + out, "usage",
        "has no device profile"},
+      {"evaluate --samples 2 --fit-unpriced data" + out, "io", "'data' is a directory"},
+      {"evaluate --samples 2 --fit-unpriced '" + (dir / "table.md").string() + "'" + out, "usage",
+       "is the table.md --out writes"},
   };
   for (const auto& c : cases) {
     const test::CliResult r = test::run_cli(c.args, "evaluate_bad");

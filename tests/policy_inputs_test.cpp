@@ -302,7 +302,7 @@ TEST(PolicyReader, IsStrict) {
   expect_policy_error(replaced("\"l_near_over_l_far\"]", "\"log_skew\"]"), ErrorKind::Schema,
                       "crack_model.features[1]: 'log_skew' appears twice");
   expect_policy_error(replaced("\"version\": 3", "\"version\": 99"), ErrorKind::Schema,
-                      "version: 99 is not a version this nearcap reads (1 to 4)");
+                      "version: 99 is not a version this nearcap reads (1 to 5)");
   expect_policy_error(replaced("\"bias\": -3", "\"bias\": 1e999"), ErrorKind::Parse,
                       "p.json: crack_model.bias: malformed JSON: number overflow parsing '1e999'");
   expect_policy_error(replaced("\"mean\": [0, 0.2]", "\"mean\": [0, -1e999]"), ErrorKind::Parse,
@@ -339,6 +339,9 @@ TEST(PolicyReader, UnpricedFramesNeedAProfileAndAKnownMethod) {
                       "unpriced_frames.max_occluder_triangles: missing");
   expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 12, \"method\": \"zfail\", \"x\": 1},"),
                       ErrorKind::Schema, "unpriced_frames.x");
+  std::string v4 = shipped;
+  v4.replace(v4.find("\"version\": 5"), 12, "\"version\": 4");
+  expect_policy_error(v4, ErrorKind::Schema, "unpriced_frames: is a version 5 field (this file says version 4)");
   // Without the profile it would name frames that nothing prices.
   nlohmann::json j = nlohmann::json::parse(shipped);
   j.erase("device_profile");

@@ -156,7 +156,7 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   SwitchPolicy sides = p;
   sides.light_projection = gl::LightProjection::ClippedSides;
   const std::string written = analysis::policy_to_json(sides);
-  EXPECT_NE(written.find("\"version\": 4"), std::string::npos) << written;
+  EXPECT_NE(written.find("\"version\": 5"), std::string::npos) << written;
   EXPECT_EQ(written.find("\"depth"), std::string::npos) << "unset version-3 fields are not written: " << written;
   EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
   EXPECT_TRUE(analysis::parse_policy(written, "s.json").exact_zpass);
@@ -201,7 +201,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   };
   const std::pair<std::string, std::string> cases[] = {
       {"{", "malformed JSON"},
-      {replaced("\"version\": 1", "\"version\": 5"), "version: 5 is not a version"},
+      {replaced("\"version\": 1", "\"version\": 6"), "version: 6 is not a version"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"depth\": \"float32\""),
        "depth: is a version 3 field (this file says version 1)"},
       {replaced("\"version\": 1, \"capped_method\"", "\"version\": 3, \"depth\": \"float16\", \"capped_method\""),

@@ -58,9 +58,9 @@ TEST(UnpricedFramesFit, TheThresholdAndMethodWithTheSmallestTotal) {
 }
 
 TEST(UnpricedFramesFit, NoneWherePricingEveryFrameIsCheapest) {
-  // The unpriced frame's decision still costs: 0.99 + 0.01 is not below 1.0.
+  // The unpriced frame's decision still costs: 0.995 + 0.01 is above 1.0.
   const analysis::UnpricedFramesFit fit =
-      analysis::fit_unpriced_frames(boxes_and_tori(0.99, 1.2), gl::ZPassFar::Infinite);
+      analysis::fit_unpriced_frames(boxes_and_tori(0.995, 1.2), gl::ZPassFar::Infinite);
   EXPECT_FALSE(fit.unpriced);
   EXPECT_EQ(fit.unpriced_frames, 0u);
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, fit.priced_total_ms);
@@ -79,12 +79,39 @@ TEST(UnpricedFramesFit, EveryFrameUnpricedWhereThatIsCheapest) {
   EXPECT_EQ(fit.unpriced_frames, 7u);
 }
 
-TEST(UnpricedFramesFit, ARefusedClippedFrameCountsAsZFails) {
-  std::vector<EvaluationRow> rows = boxes_and_tori(0.99, 0.5);
+// The clipped-sides ZP+ is no method where always clipped did not draw or
+// is less right than Z-fail on a frame at or below the threshold.
+TEST(UnpricedFramesFit, ClippedOnlyWhereItDrewAndIsAsRightAsZFail) {
+  for (int broken = 0; broken < 2; ++broken) {
+    std::vector<EvaluationRow> rows = boxes_and_tori(0.995, 0.5);
+    for (EvaluationRow& r : rows)
+      if (r.configuration == "box2" && r.rule == "always-clipped") {
+        if (broken == 0)
+          r.refused = true;
+        else
+          r.cracks = 1;  // Z-fail's: none
+      }
+    const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
+    EXPECT_FALSE(fit.unpriced) << (broken == 0 ? "refused" : "a crack Z-fail lacks");
+  }
+  // A box frame the policy did not draw is left out.
+  std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
   for (EvaluationRow& r : rows)
-    if (r.rule == "always-clipped") r.refused = true;
+    if (r.configuration == "box0" && r.rule == "policy") r.refused = true;
   const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
-  EXPECT_FALSE(fit.unpriced) << "clipped's 0.5 ms frames were never drawn";
+  EXPECT_EQ(fit.frames, 6u);
+  EXPECT_EQ(fit.unpriced_frames, 3u);
+}
+
+// A threshold falls between triangle counts, never inside one: frames with
+// the same count but different times are unpriced together.
+TEST(UnpricedFramesFit, FramesOfOneCountShareTheirFate) {
+  std::vector<EvaluationRow> rows;
+  add_frame(rows, "a", 12, 1.0, 0.5, 2.0);  // Z-fail much cheaper here
+  add_frame(rows, "b", 12, 1.0, 1.8, 2.0);  // and dearer here: together 2.32 against 2.0
+  add_frame(rows, "c", 100, 1.0, 2.0, 2.0);
+  const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
+  EXPECT_FALSE(fit.unpriced) << "frame a alone would gain, but b shares its count";
 }
 
 }  // namespace

@@ -119,7 +119,7 @@ FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms",
 PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + PASS_COLUMNS
-POLICY_VERSIONS = (1, 4)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
+POLICY_VERSIONS = (1, 5)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
 MAX_LINE_BYTES = 1 << 20  # a sweep row is under 1 kB; a longer line is not a sweep CSV
 FEATURE_POINTS = 20000  # scatter points kept per (feature, method, cracked or not) before sampling
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
@@ -872,6 +872,14 @@ class Report:
             text += self.table(cost_header, costs, "policy_costs.csv")
         else:
             self.table(cost_header, costs, "policy_costs.csv")  # the CSV, header only: the decision reads none
+        unpriced = p.get("unpriced_frames")
+        if isinstance(unpriced, dict):
+            fit = prov.get("unpriced_frames", {})
+            text += (f"<p>Unpriced frames: where every occluder has at most "
+                     f"{html.escape(str(unpriced.get('max_occluder_triangles')))} triangles the decision draws "
+                     f"<code>{html.escape(str(unpriced.get('method')))}</code> without pricing (fitted on "
+                     f"{html.escape(str(fit.get('frames', '?')))} training frames, "
+                     f"{html.escape(str(fit.get('unpriced_frames', '?')))} of them unpriced).</p>")
         self.sections.append(("The switch policy's fitted models", text))
 
     # ---- 5d. the policy's cost against its targets ---------------------------

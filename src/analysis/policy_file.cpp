@@ -231,7 +231,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
     p.device_profile = device_profile_of(*v);
   }
   if (const auto v = j.find("unpriced_frames")) {
-    since(*v, 4);
+    since(*v, 5);
     if (!p.device_profile) v->fail("needs a device_profile (it names the frames the cost decision does not price)");
     v->only_keys({"max_occluder_triangles", "method"});
     UnpricedFrames u;

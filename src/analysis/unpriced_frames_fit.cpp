@@ -16,6 +16,9 @@ struct TrainingFrame {
   double policy_ms = 0;
   double unpriced_decision_ms = 0;
   double zfail_ms = 0, clipped_ms = 0;  // the fixed rules' end-to-end times
+  // Always clipped drew this frame and is as right as Z-fail here: only
+  // then may the clipped-sides ZP+ be the unpriced method at or above it.
+  bool clipped_right = false;
 };
 
 }  // namespace
@@ -28,15 +31,19 @@ UnpricedFramesFit fit_unpriced_frames(const std::vector<EvaluationRow>& rows, gl
   for (const auto& [key, by_rule] : groups) {
     const auto policy = by_rule.find("policy");
     const auto zfail = by_rule.find("always-zfail");
-    if (policy == by_rule.end() || zfail == by_rule.end() || zfail->second->refused) continue;
+    // A frame the policy or Z-fail did not draw is left out, as the table leaves it out.
+    if (policy == by_rule.end() || zfail == by_rule.end() || policy->second->refused || zfail->second->refused)
+      continue;
     TrainingFrame f;
     f.occluder_triangles = policy->second->occluder_triangles;
-    f.policy_ms = policy->second->refused ? zfail->second->end_to_end_ms : policy->second->end_to_end_ms;
+    f.policy_ms = policy->second->end_to_end_ms;
     f.unpriced_decision_ms = policy->second->decision_warm_ms.value_or(0);
     f.zfail_ms = zfail->second->end_to_end_ms;
     const auto clipped = by_rule.find("always-clipped");
-    const bool clipped_drawn = clipped != by_rule.end() && !clipped->second->refused && clipped->second->applies;
-    f.clipped_ms = clipped_drawn ? clipped->second->end_to_end_ms : f.zfail_ms;
+    f.clipped_right = clipped != by_rule.end() && !clipped->second->refused && clipped->second->applies &&
+                      clipped->second->wrong <= zfail->second->wrong &&
+                      clipped->second->cracks <= zfail->second->cracks;
+    f.clipped_ms = f.clipped_right ? clipped->second->end_to_end_ms : 0;
     frames.push_back(f);
   }
   std::sort(frames.begin(), frames.end(),
@@ -50,14 +57,17 @@ UnpricedFramesFit fit_unpriced_frames(const std::vector<EvaluationRow>& rows, gl
   // Frames [0, k) unpriced: the running sums over the sorted frames, a
   // threshold where the triangle count changes (or after the last frame).
   double zfail_sum = 0, clipped_sum = 0, policy_sum = 0;
+  bool clipped_right = true;  // on every frame so far
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const TrainingFrame& f = frames[k];
     zfail_sum += f.zfail_ms + f.unpriced_decision_ms;
     clipped_sum += f.clipped_ms + f.unpriced_decision_ms;
+    clipped_right = clipped_right && f.clipped_right;
     policy_sum += f.policy_ms;
     if (k + 1 < frames.size() && frames[k + 1].occluder_triangles == f.occluder_triangles) continue;
     const double rest = fit.priced_total_ms - policy_sum;
     for (const auto& [method, sum] : {std::pair{zfail, zfail_sum}, std::pair{clipped, clipped_sum}}) {
+      if (method.method != gl::ShadowMethod::ZFail && !clipped_right) continue;
       if (!(sum + rest < fit.fitted_total_ms)) continue;
       fit.fitted_total_ms = sum + rest;
       fit.unpriced = UnpricedFrames{f.occluder_triangles, method};

@@ -328,12 +328,6 @@ std::string resolve_path(const std::string& p) {
   return p;  // load_camera_path names it in its error
 }
 
-void refuse_directory(const std::string& file, const std::string& option) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec))
-    throw Error(ErrorKind::Io, option + " '" + file + "' is a directory, not a file");
-}
-
 void run(CalibrateOptions o) {
   if (o.policy_given && o.write_policy.empty())
     throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
@@ -446,6 +440,8 @@ void run(CalibrateOptions o) {
     analysis::ProfileFitReport report;
     policy->device_profile =
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
+    // Frames fitted against another profile's prices: `evaluate --fit-unpriced` fits them again.
+    policy->unpriced_frames.reset();
     analysis::EyeCountFitReport eye_report;
     policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
     // Without the eye-count row, AtomicZP's whole frames (whose eye-count

@@ -57,6 +57,9 @@ struct ExitCode {
 // keeps its real name.
 std::string json_text(const nlohmann::json& j, int indent = -1);
 
+// An output file option naming a directory: a one-line io error.
+void refuse_directory(const std::string& file, const std::string& option);
+
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);
 

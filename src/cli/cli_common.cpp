@@ -24,6 +24,12 @@ extern char** environ;
 
 namespace nearcap::cli {
 
+void refuse_directory(const std::string& file, const std::string& option) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(ErrorKind::Io, option + " '" + file + "' is a directory, not a file");
+}
+
 std::string json_text(const nlohmann::json& j, int indent) {
   return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -366,9 +366,19 @@ void run(const EvaluateOptions& o) {
   if (!o.fit_unpriced.empty()) {
     if (!policy.device_profile)
       throw Error(ErrorKind::Usage, "--fit-unpriced: " + o.policy + " has no device profile (nothing is priced)");
-    std::error_code ec;
-    if (std::filesystem::weakly_canonical(o.fit_unpriced, ec) == std::filesystem::weakly_canonical(o.policy, ec))
+    refuse_directory(o.fit_unpriced, "--fit-unpriced");
+    std::error_code in_ec, out_ec, same_ec;
+    const std::filesystem::path in = std::filesystem::weakly_canonical(o.policy, in_ec);
+    const std::filesystem::path outp = std::filesystem::weakly_canonical(o.fit_unpriced, out_ec);
+    if ((!in_ec && !out_ec && in == outp) ||
+        (std::filesystem::equivalent(o.policy, o.fit_unpriced, same_ec) && !same_ec))
       throw Error(ErrorKind::Usage, "--fit-unpriced would replace the policy it evaluates (" + o.policy + ")");
+    for (const char* name : {"evaluation.csv", "table.md"}) {
+      std::error_code ec;
+      const std::filesystem::path written = std::filesystem::weakly_canonical(std::filesystem::path(o.out) / name, ec);
+      if (!out_ec && !ec && written == outp)
+        throw Error(ErrorKind::Usage, "--fit-unpriced '" + o.fit_unpriced + "' is the " + name + " --out writes");
+    }
     policy.unpriced_frames.reset();  // every frame priced: the fit compares against that
   }
   // Everything read and checked before the GL starts.

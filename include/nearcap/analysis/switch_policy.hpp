@@ -38,7 +38,7 @@
 // "ms_per_mfragment": b}, ...} (possibly empty), "device_profile": {...}
 // (version 4, optional: DeviceProfile's fields, parse_device_profile below),
 // "unpriced_frames": {"max_occluder_triangles": n, "method": "zfail" or
-// "zpplus-clipped-sides"} (version 4, optional, with a device_profile:
+// "zpplus-clipped-sides"} (version 5, optional, with a device_profile:
 // UnpricedFrames below), "provenance": {...}}.
 // Every field is checked: an unknown key, a duplicate key (in any object,
 // provenance's too), a missing one (cost_models and provenance included), a
@@ -151,13 +151,13 @@ struct SwitchPolicy {
   // Version 4, optional: what each pass and CPU task costs on the GL the
   // policy was calibrated on (device_profile.hpp); the decision's costs.
   std::optional<DeviceProfile> device_profile;
-  // Version 4, optional, with a device profile: the frames the cost
+  // Version 5, optional, with a device profile: the frames the cost
   // decision draws without pricing (UnpricedFrames).
   std::optional<UnpricedFrames> unpriced_frames;
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
 
-inline constexpr int kPolicyVersion = 4;  // written; 1 to 4 are read
+inline constexpr int kPolicyVersion = 5;  // written; 1 to 5 are read
 
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);

@@ -15,8 +15,13 @@
 //   end-to-end time + decision_warm_ms)
 //   + sum over the others of the policy's end-to-end time;
 // the fit keeps the smallest total, and no UnpricedFrames where pricing every
-// frame is not above it.  A rule's frame that was refused or does not apply
-// counts as Z-fail's, as in the evaluation's table.
+// frame is not above it.  The clipped-sides ZP+ is a method only up to the
+// first frame where always clipped did not draw, does not apply or is less
+// right than Z-fail (more wrong pixels or cracks); a frame the policy or
+// always Z-fail did not draw is left out, as the evaluation's table leaves
+// it out.  The fixed rules' frames are drawn with `nearcap evaluate`'s
+// settings, the policy's unpriced frames with the policy's (its tight near
+// plane on a depth-limited frame): the fit prices them as the former.
 #pragma once
 
 #include <cstddef>
