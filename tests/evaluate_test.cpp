@@ -417,6 +417,7 @@ TEST(EvaluateCommand, FitUnpricedWritesThePolicyWithTheFittedFrames) {
     GTEST_SKIP() << "no headless OpenGL here: " << r.err;
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("evaluate: unpriced frames: "), std::string::npos) << r.out;
+  EXPECT_NE(test::slurp(dir / "table.md").find(" with every frame priced (--fit-unpriced)."), std::string::npos);
   const nlohmann::json p = nlohmann::json::parse(test::slurp(fitted));
   const nlohmann::json& fit = p.at("provenance").at("unpriced_frames");
   EXPECT_EQ(fit.at("seed"), 100);

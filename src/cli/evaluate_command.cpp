@@ -436,7 +436,8 @@ void run(const EvaluateOptions& o) {
   for (const analysis::EvaluationRow& r : rows) csv += analysis::evaluation_csv_line(r);
   for (const analysis::EvaluationRow& r : table.oracle_rows) csv += analysis::evaluation_csv_line(r);
   std::string heading = "# " + std::filesystem::path(o.policy).filename().string() + " against the oracle\n\n";
-  heading += "On " + context.renderer() + " (" + context.version() + "), policy " + o.policy + ".";
+  heading += "On " + context.renderer() + " (" + context.version() + "), policy " + o.policy;
+  heading += o.fit_unpriced.empty() ? "." : " with every frame priced (--fit-unpriced).";
   if (rejected > 0) heading += " " + std::to_string(rejected) + " sampled configurations rejected (they do not load).";
   heading += "\n\n";
   const std::string markdown = heading + analysis::evaluation_table_markdown(table);
