@@ -192,8 +192,7 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
     EXPECT_EQ(d.settings.light_frustum.projection, priced.settings.light_frustum.projection);
   }
   EXPECT_EQ(analysis::decide(policy, cs, 0, {}).reason(0).find("unpriced"), std::string::npos);
-  EXPECT_TRUE(analysis::occluders_at_most(box, 12));
-  EXPECT_FALSE(analysis::occluders_at_most(box, 11));
+  EXPECT_EQ(analysis::largest_occluder_triangles(box), 12u);  // the receiver's box is no occluder
 }
 
 TEST(CostDecision, APredictedCrackRemovesThePaperCap) {

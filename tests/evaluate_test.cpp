@@ -402,9 +402,9 @@ TEST(EvaluateCommand, PathFramesMakeTheWindowLineAndThePlot) {
   std::filesystem::remove_all(dir);
 }
 
-// --fit-unpriced: the policy evaluated with every frame priced (its own
-// unpriced frames dropped), the fit's line, and the policy written with the
-// fitted frames and their provenance.
+// --fit-unpriced: the fit's line, the table's heading saying every frame
+// was priced, the priced total the policy's rows' sum, and the policy written
+// with the fitted frames and their provenance.
 TEST(EvaluateCommand, FitUnpricedWritesThePolicyWithTheFittedFrames) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("nearcap_evaluate_fit_" + std::to_string(::getpid()));

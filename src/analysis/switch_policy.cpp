@@ -117,10 +117,11 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
                               FacingCache* facings, DecisionPricing pricing);
 }  // namespace
 
-bool occluders_at_most(const Scene& scene, std::size_t max_triangles) {
+std::size_t largest_occluder_triangles(const Scene& scene) {
+  std::size_t largest = 0;
   for (const SceneObject& o : scene.objects)
-    if (o.occluder && o.mesh->triangles.size() > max_triangles) return false;
-  return true;
+    if (o.occluder) largest = std::max(largest, o.mesh->triangles.size());
+  return largest;
 }
 
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
@@ -414,7 +415,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   // A frame the policy draws without pricing: the choice is made here; the
   // full decision prices its candidates for the reasons, then draws it.
   const bool unpriced =
-      policy.unpriced_frames && occluders_at_most(scene, policy.unpriced_frames->max_occluder_triangles);
+      policy.unpriced_frames && largest_occluder_triangles(scene) <= policy.unpriced_frames->max_occluder_triangles;
   if (unpriced && choice_only) {
     const CandidateMethod& m = policy.unpriced_frames->method;
     if (m.method != gl::ShadowMethod::ZFail) d.settings.light_frustum.projection = m.cap;

@@ -41,8 +41,7 @@ UnpricedFramesFit fit_unpriced_frames(const std::vector<EvaluationRow>& rows, gl
     f.zfail_ms = zfail->second->end_to_end_ms;
     const auto clipped = by_rule.find("always-clipped");
     f.clipped_right = clipped != by_rule.end() && !clipped->second->refused && clipped->second->applies &&
-                      clipped->second->wrong <= zfail->second->wrong &&
-                      clipped->second->cracks <= zfail->second->cracks;
+                      as_right_as_zfail(*clipped->second, *zfail->second);
     f.clipped_ms = f.clipped_right ? clipped->second->end_to_end_ms : 0;
     frames.push_back(f);
   }

@@ -255,9 +255,7 @@ class Evaluation {
     const PixelReference ref = compute_pixel_reference(tracer);
     CrackDistances distances(tracer, ref);
     std::vector<RuleFrame> frames = rule_frames(scene, cs, light);
-    std::size_t occluder_triangles = 0;
-    for (const SceneObject& o : scene.objects)
-      if (o.occluder) occluder_triangles = std::max(occluder_triangles, o.mesh->triangles.size());
+    const std::size_t occluder_triangles = analysis::largest_occluder_triangles(scene);
     std::vector<analysis::EvaluationRow> out;
     for (RuleFrame& r : frames) {
       analysis::EvaluationRow row;

@@ -122,8 +122,8 @@ struct UnpricedFrames {
   CandidateMethod method;  // zfail or zpplus-clipped-sides
 };
 
-// Whether every occluder of `scene` has at most `max_triangles` triangles.
-bool occluders_at_most(const Scene& scene, std::size_t max_triangles);
+// The triangles of the scene's largest occluder (0 without one).
+std::size_t largest_occluder_triangles(const Scene& scene);
 
 struct SwitchPolicy {
   gl::ShadowMethod capped_method = gl::ShadowMethod::ZPPlusCorrected;
