@@ -160,7 +160,7 @@ TEST(PolicyEvaluation, OracleChoosesOnRoundsItDoesNotCount) {
   EXPECT_EQ(table.oracle_rows.at(0).chosen, "zpplus-corrected");
   EXPECT_DOUBLE_EQ(table.sets.at(0).find("oracle")->end_to_end_ms, 11);
   EXPECT_EQ(analysis::evaluation_csv_line(table.oracle_rows.at(0)),
-            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,,,0\n");
+            "seed-7,c1,,0,oracle,0,1,0,0,0.0000,1.0000,11.0000,5.0000,zpplus-corrected,,,,0,0\n");
 }
 
 // A (configuration, light) where the policy or a fixed rule did not draw is
@@ -280,14 +280,15 @@ TEST(PolicyEvaluation, PredictedFrameTimeErrorBesideTheNoiseFloor) {
 
 TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EvaluationRow r = row("sample:7:3", "doom3", 1.5, 2, 1);
-  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,,,0\n");
+  EXPECT_EQ(analysis::evaluation_csv_line(r), "seed-7,sample:7:3,,0,doom3,0,1,2,1,0.0000,0.1500,1.5000,,,,,,0,0\n");
   EvaluationRow p = row("sample:7:3", "policy", 1.5);
   p.decision_ms = 0.25;
   p.decision_warm_ms = 0.0625;
   p.predicted_ms = 1.25;
   p.profile_ms = 1.125;
+  p.frames_since_priced = 2;
   EXPECT_EQ(analysis::evaluation_csv_line(p),
-            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500,1.1250,0\n");
+            "seed-7,sample:7:3,,0,policy,0,1,0,0,0.2500,0.1500,1.5000,,,0.0625,1.2500,1.1250,0,2\n");
   r.set = "a,b";
   r.frame = 4;
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
@@ -344,11 +345,12 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
     std::vector<std::string> fields;
     std::istringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-    ASSERT_GE(fields.size(), 12u) << line;
+    ASSERT_EQ(fields.size(), 19u) << line;
     // The configuration's largest occluder: a box (12) or a sampled mesh.
-    EXPECT_GE(std::stoul(fields.back()), 12u) << line;
+    EXPECT_GE(std::stoul(fields[17]), 12u) << line;
+    // No choice kept between two sampled configurations (other objects).
+    EXPECT_EQ(fields[18], "0") << line;
     if (fields[4] == "policy") {
-      ASSERT_EQ(fields.size(), 18u) << line;
       EXPECT_FALSE(fields[14].empty()) << "the policy's warm decision time: " << line;
       const double decision = std::stod(fields[9]), measured = std::stod(fields[11]);
       const double predicted = std::stod(fields[15]), priced = std::stod(fields[16]);
@@ -379,27 +381,59 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
 }
 
 // Along a path: the set is the path's name, the near_plane_sweep window's
-// line, and the plot of the policy against the oracle.
+// line, and the plot of the policy against the oracle.  The policy's first
+// frame is priced and a later one may keep its choice for at most
+// KeptChoices::kMaxKeptFrames frames, which the table counts; with
+// --price-every-frame none is kept, and the heading says so.
 TEST(EvaluateCommand, PathFramesMakeTheWindowLineAndThePlot) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("nearcap_evaluate_path_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  const test::CliResult r = test::run_cli(
-      "evaluate --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 41 --width 32 "
-      "--height 24 --repeats 2 --out '" +
-          dir.string() + "'",
-      "evaluate");
-  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
-    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("### near_plane_sweep"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("- frames 40-59: policy "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("(2 frame-lights)"), std::string::npos) << r.out;
-  const std::string csv = test::slurp(dir / "evaluation.csv");
-  EXPECT_NE(csv.find("near_plane_sweep,path:near_plane_sweep:41,41,0,oracle,"), std::string::npos) << csv;
-  EXPECT_EQ(csv.find(":42,"), std::string::npos) << csv;
-  EXPECT_GT(std::filesystem::file_size(dir / "oracle-near_plane_sweep.png"), 1000u);
-  std::filesystem::remove_all(dir);
+  for (const bool price_every_frame : {false, true}) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("nearcap_evaluate_path_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    const test::CliResult r = test::run_cli(
+        "evaluate --path data/paths/near_plane_sweep.json --first-frame 40 --last-frame 43 --width 32 "
+        "--height 24 --repeats 2 --out '" +
+            dir.string() + "'" + (price_every_frame ? " --price-every-frame" : ""),
+        "evaluate");
+    if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+      GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("### near_plane_sweep"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("- frames 40-59: policy "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("(4 frame-lights)"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find(" with every frame priced (--price-every-frame).") != std::string::npos, price_every_frame)
+        << r.out;
+    const std::string csv = test::slurp(dir / "evaluation.csv");
+    EXPECT_NE(csv.find("near_plane_sweep,path:near_plane_sweep:41,41,0,oracle,"), std::string::npos) << csv;
+    EXPECT_EQ(csv.find(":44,"), std::string::npos) << csv;
+    EXPECT_GT(std::filesystem::file_size(dir / "oracle-near_plane_sweep.png"), 1000u);
+    std::istringstream lines(csv);
+    std::string line;
+    std::getline(lines, line);
+    std::size_t policy_rows = 0, kept = 0;
+    while (std::getline(lines, line)) {
+      std::vector<std::string> f;
+      std::istringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+      ASSERT_EQ(f.size(), 19u) << line;
+      if (f[4] != "policy") {
+        EXPECT_EQ(f[18], "0") << line;
+        continue;
+      }
+      ++policy_rows;
+      const int since = std::stoi(f[18]);
+      EXPECT_GE(since, 0) << line;
+      EXPECT_LE(since, price_every_frame || f[2] == "40" ? 0 : analysis::KeptChoices::kMaxKeptFrames) << line;
+      kept += since > 0 ? 1 : 0;
+    }
+    EXPECT_EQ(policy_rows, 4u);
+    if (!price_every_frame) {
+      EXPECT_GT(kept, 0u) << csv;
+    }
+    EXPECT_EQ(r.out.find("in " + std::to_string(kept) + " of the 4 its choice was kept") != std::string::npos, kept > 0)
+        << r.out;
+    std::filesystem::remove_all(dir);
+  }
 }
 
 // --fit-unpriced: the fit's line, the table's heading saying every frame

@@ -115,6 +115,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
       ++t.oracle_choices[best->rule];
       if (const EvaluationRow* policy = g.row("policy"); policy != nullptr && !policy->chosen.empty())
         ++t.policy_choices[policy->chosen];
+      if (g.row("policy")->frames_since_priced > 0) ++t.policy_kept;
       out.oracle_rows.push_back(oracle);
       for (const std::string& rule : listed) {
         const EvaluationRow* r = rule == kOracleRule ? &oracle : g.row(rule);
@@ -190,7 +191,7 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
 
 std::string evaluation_csv_header() {
   return "set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,cpu_ms,end_to_end_ms,choice_ms,"
-         "chosen,decision_warm_ms,predicted_ms,profile_ms,occluder_triangles\n";
+         "chosen,decision_warm_ms,predicted_ms,profile_ms,occluder_triangles,frames_since_priced\n";
 }
 
 std::string evaluation_csv_line(const EvaluationRow& r) {
@@ -207,7 +208,7 @@ std::string evaluation_csv_line(const EvaluationRow& r) {
   if (r.predicted_ms) s << fixed(*r.predicted_ms, 4);
   s << ',';
   if (r.profile_ms) s << fixed(*r.profile_ms, 4);
-  s << ',' << r.occluder_triangles << '\n';
+  s << ',' << r.occluder_triangles << ',' << r.frames_since_priced << '\n';
   return s.str();
 }
 
@@ -247,6 +248,9 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
     if (t.decision_warm_share)
       s << "; " << fixed(100 * *t.decision_warm_share, 2)
         << "% warm (the same decision repeated at once, as a renderer's frame loop that decides every frame pays it)";
+    if (t.policy_kept > 0)
+      s << "; in " << t.policy_kept << " of the " << t.groups
+        << " its choice was kept from a frame priced before it (kept_choices.hpp), not priced";
     s << "\n";
     if (t.noise_pairs > 0)
       s << "- noise floor: Z-fail's frame timed twice, end-to-end again/first " << fixed(t.noise_p05, 3) << " to "

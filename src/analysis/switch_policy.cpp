@@ -114,7 +114,8 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 namespace {
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
-                              FacingCache* facings, DecisionPricing pricing);
+                              FacingCache* facings, DecisionPricing pricing, double* margin,
+                              const PolicyDecision* forced);
 }  // namespace
 
 std::size_t largest_occluder_triangles(const Scene& scene) {
@@ -124,8 +125,14 @@ std::size_t largest_occluder_triangles(const Scene& scene) {
   return largest;
 }
 
-PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
-                      const gl::EmulationSettings& base, FacingCache* facings, DecisionPricing pricing) {
+namespace {
+
+// decide(), and price_decision's pricing of a kept choice: `forced`, a
+// decision whose methods and light projection the cost decision prices as
+// drawn instead of choosing.
+PolicyDecision decide_impl(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                           const gl::EmulationSettings& base, FacingCache* facings, DecisionPricing pricing,
+                           KeptChoices* kept, const PolicyDecision* forced) {
   const auto t0 = std::chrono::steady_clock::now();
   const Scene& scene = cs.scene();
   PolicyDecision d;
@@ -197,7 +204,23 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
                 "the policy's exact Z-pass test decides for the scene's near plane, and the frame would use the tight "
                 "one: a tight near plane needs a policy with exact_zpass false");
   if (policy.device_profile) {
-    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing);
+    const gl::NearPlane near_plane = d.settings.near_plane;
+    const bool depth_limited = d.depth_limited;
+    if (kept && !forced && pricing == DecisionPricing::ChoiceOnly)
+      if (std::optional<KeptChoices::Choice> k = kept->take(policy, scene, light, near_plane, depth_limited)) {
+        d.object_methods = std::move(k->object_methods);
+        d.settings.light_frustum.projection = k->projection;
+        d.frames_since_priced = k->frames_since_priced;
+        d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return d;
+      }
+    double margin = kNaN;
+    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing,
+                       &margin, forced);
+    d.choice_margin = margin;
+    if (kept && !forced)
+      kept->remember(policy, scene, light, near_plane, depth_limited, d.object_methods,
+                     d.settings.light_frustum.projection, margin);
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return d;
   }
@@ -277,6 +300,14 @@ PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, st
   }
   d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return d;
+}
+
+}  // namespace
+
+PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
+                      const gl::EmulationSettings& base, FacingCache* facings, DecisionPricing pricing,
+                      KeptChoices* kept) {
+  return decide_impl(policy, cs, light, base, facings, pricing, kept, nullptr);
 }
 
 namespace {
@@ -399,7 +430,8 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
 // where the frame uses it), for the work estimate.
 PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
-                              FacingCache* facings, DecisionPricing pricing) {
+                              FacingCache* facings, DecisionPricing pricing, double* margin,
+                              const PolicyDecision* forced) {
   const DeviceProfile& profile = *policy.device_profile;
   const Scene& scene = drawn;
   const gl::ZPassFar far = policy.zpass_far;
@@ -519,8 +551,9 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     FrameWork work;
     gl::LightProjection projection = gl::LightProjection::Paper;
   };
+  // `frames`, where given, receives every option's best frame.
   auto best_frame = [&](const std::vector<bool>& zpass_allowed, const FrameWork& extra,
-                        std::vector<std::pair<std::string_view, double>>* log) {
+                        std::vector<std::pair<std::string_view, double>>* log, std::vector<Frame>* frames) {
     Frame best;
     for (const Option& option : options) {
       Frame f;
@@ -550,6 +583,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       if (f.work.eye_count.drawn) f.work.eye_count.fragments = viewport_pixels;  // the count's stencil write
       f.ms = profile.predict_ms(f.work);
       if (log) log->push_back({option.name, f.ms});
+      if (frames) frames->push_back(f);
       if (!(f.ms >= best.ms)) best = std::move(f);
     }
     return best;
@@ -558,7 +592,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   for (std::size_t i = 0; i < occluders.size(); ++i) allowed[i] = occluders[i].zpass_ok;
   // The options' prices are kept where the decision is priced.
   std::vector<std::pair<std::string_view, double>>* const log = choice_only ? nullptr : &d.predicted_options;
-  Frame chosen = best_frame(allowed, {}, log);
+  std::vector<Frame> option_frames;  // the chosen frame's options, for the margin
+  Frame chosen = best_frame(allowed, {}, log, &option_frames);
   if (any_untested) {
     // The test runs when the frame it could give at best, Z-pass for every
     // occluder it tests and the test paid, beats the frame without it.
@@ -571,7 +606,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     for (std::size_t i = 0; i < occluders.size(); ++i)
       if (untested[i]) optimistic[i] = true;
     const double test_ms = profile.cpu_ms(test_work);
-    if (best_frame(optimistic, test_work, nullptr).ms < chosen.ms) {
+    if (best_frame(optimistic, test_work, nullptr, nullptr).ms < chosen.ms) {
       const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);
       for (std::size_t i = 0; i < occluders.size(); ++i) {
         if (!untested[i]) continue;
@@ -581,7 +616,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         oc.exact_test_ms = test_ms;
       }
       d.predicted_options.clear();
-      chosen = best_frame(allowed, test_work, log);
+      option_frames.clear();
+      chosen = best_frame(allowed, test_work, log, &option_frames);
     } else {
       for (std::size_t i = 0; i < occluders.size(); ++i)
         if (untested[i]) {
@@ -590,15 +626,56 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         }
     }
   }
-  if (unpriced) {
-    const CandidateMethod& m = policy.unpriced_frames->method;
+  if (margin && !unpriced && !forced) {
+    // The kept-choice margin (kept_choices.hpp): the least rise of the
+    // predicted frame time that another choice weighed here brings (another
+    // option's best frame where its methods differ, or one occluder with
+    // another of its candidates), over the chosen frame's predicted time.
+    auto same_choice = [](const std::vector<CandidateMethod>& a, const std::vector<CandidateMethod>& b) {
+      for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].method != b[i].method || a[i].cap != b[i].cap) return false;
+      return a.size() == b.size();
+    };
+    double rise = std::numeric_limits<double>::infinity();
+    for (const Frame& f : option_frames)
+      if (!same_choice(f.choice, chosen.choice)) rise = std::min(rise, f.ms - chosen.ms);
+    for (std::size_t i = 0; i < occluders.size(); ++i) {
+      const Occluder& oc = occluders[i];
+      const CandidateMethod& c = chosen.choice[i];
+      // Each candidate the occluder has, by its price.
+      const std::array<std::pair<bool, double>, 5> candidates{
+          {{c.method == gl::ShadowMethod::ZFail, oc.zfail_ms},
+           {c.cap == gl::LightProjection::ClippedSides && c.method == gl::ShadowMethod::ZPPlus, oc.clipped_ms},
+           {c.method == paper.method && c.cap == paper.cap, paper_ok ? oc.paper_ms : kNaN},
+           {c.method == gl::ShadowMethod::AtomicZP, oc.atomiczp_ok ? oc.atomiczp_ms : kNaN},
+           {c.method == gl::ShadowMethod::ZPass, allowed[i] ? oc.zpass_ms : kNaN}}};
+      double chosen_ms = kNaN;
+      for (const auto& [is_chosen, ms] : candidates)
+        if (is_chosen) chosen_ms = ms;
+      for (const auto& [is_chosen, ms] : candidates)
+        if (!is_chosen && !std::isnan(ms)) rise = std::min(rise, ms - chosen_ms);
+    }
+    *margin = rise / chosen.ms;
+  }
+  // A choice drawn whatever the prices: the policy's unpriced frames, or a
+  // kept choice priced as drawn.
+  if (unpriced || forced) {
     Frame f;
     f.work = shared;
-    f.projection = m.method == gl::ShadowMethod::ZFail ? policy.light_projection : m.cap;
     for (const Occluder& oc : occluders) {
+      CandidateMethod m = unpriced ? policy.unpriced_frames->method : zfail;
+      if (forced && forced->object_methods[oc.object] != gl::ShadowMethod::ZFail)
+        m = {forced->object_methods[oc.object], forced->settings.light_frustum.projection, far};
       f.work += occluder_work(oc.in, m);
       f.choice.push_back(m);
     }
+    if (unpriced) {
+      const CandidateMethod& m = policy.unpriced_frames->method;
+      f.projection = m.method == gl::ShadowMethod::ZFail ? policy.light_projection : m.cap;
+    } else {
+      f.projection = forced->settings.light_frustum.projection;
+    }
+    if (f.work.eye_count.drawn) f.work.eye_count.fragments = viewport_pixels;  // the count's stencil write
     f.ms = profile.predict_ms(f.work);
     chosen = std::move(f);
   }
@@ -617,6 +694,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   if (!paper_ok) prices.paper_why = std::move(paper_why);
   prices.atomiczp_priced = atomiczp_priced;
   if (unpriced) prices.unpriced = policy.unpriced_frames;
+  if (forced) prices.frames_since_priced = forced->frames_since_priced;
   prices.occluders.reserve(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) {
     Occluder& oc = occluders[k];
@@ -659,6 +737,14 @@ std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
     why += std::to_string(f.unpriced->max_occluder_triangles);
     why += " triangles)";
   }
+  if (f.frames_since_priced > 0) {
+    why += " (kept from the frame priced ";
+    why += std::to_string(f.frames_since_priced);
+    why += f.frames_since_priced == 1 ? " frame" : " frames";
+    why += " before, where every other choice was predicted ";
+    why += std::to_string(static_cast<int>(std::lround(100 * KeptChoices::kMargin)));
+    why += "% dearer or more)";
+  }
   why += "; predicted ms: zfail ";
   append_ms(why, p.zfail_ms);
   why += ", ";
@@ -696,7 +782,8 @@ std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
 void price_decision(PolicyDecision& d, const SwitchPolicy& policy, const CameraSpaceScene& cs, std::size_t light,
                     const gl::EmulationSettings& base, FacingCache* facings) {
   if (!policy.device_profile) return;
-  PolicyDecision full = decide(policy, cs, light, base, facings, DecisionPricing::Full);
+  PolicyDecision full = decide_impl(policy, cs, light, base, facings, DecisionPricing::Full, nullptr,
+                                    d.frames_since_priced > 0 ? &d : nullptr);
   d.predicted_ms = full.predicted_ms;
   d.predicted_work = full.predicted_work;
   d.predicted_options = std::move(full.predicted_options);

@@ -55,6 +55,8 @@ struct EvaluateOptions {
   // Training data instead: the policy evaluated without its unpriced frames,
   // then written here with the ones fitted on these rows.
   std::string fit_unpriced;
+  // Every frame of the policy priced: no choice kept from the frame before.
+  bool price_every_frame = false;
 };
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -79,6 +81,7 @@ struct RuleFrame {
   double decision_ms = 0;
   std::optional<double> profile_ms, predicted_ms;  // the policy's, with a device profile (EvaluationRow)
   std::optional<double> decision_warm_ms;          // the policy's: the same decision again at once (EvaluationRow)
+  int frames_since_priced = 0;                     // the policy's: a kept choice (EvaluationRow)
   bool applies = true;
   gl::ShadowFrame frame;
   std::string refused;
@@ -157,8 +160,8 @@ gl::ShadowFrame draw(const Scene& scene, std::size_t light, const RuleFrame& r) 
 
 class Evaluation {
  public:
-  Evaluation(const analysis::SwitchPolicy& policy, render::LitFrameRenderer& renderer, int repeats)
-      : policy_(policy), renderer_(renderer), repeats_(repeats) {
+  Evaluation(const analysis::SwitchPolicy& policy, render::LitFrameRenderer& renderer, int repeats, bool keep_choices)
+      : policy_(policy), renderer_(renderer), repeats_(repeats), keep_choices_(keep_choices) {
     base_.zpass_far = gl::ZPassFar::Infinite;
     base_.switch_clamp = gl::SwitchClamp::DepthClampFar;
     base_.record_draws = true;
@@ -166,8 +169,9 @@ class Evaluation {
 
   // Every rule of every light of `c`, appended to `rows`.
   void run(const Configuration& c, const Scene& scene, std::vector<analysis::EvaluationRow>& rows) {
-    if (c.set != drift_set_) {  // each set's predictions from its own frames alone
+    if (c.set != drift_set_) {  // each set's predictions from its own frames alone, no choice kept across sets
       drift_ = {};
+      kept_ = {};
       drift_set_ = c.set;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -184,14 +188,15 @@ class Evaluation {
       s.light_frustum.projection = p;
       return s;
     };
-    auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p) {
+    auto decided = [&](const std::string& name, const analysis::SwitchPolicy& p, analysis::KeptChoices* kept) {
       // The choice timed (decide_ms); its prices, the predicted frame time
       // among them, computed after.
       analysis::PolicyDecision d =
-          analysis::decide(p, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly);
+          analysis::decide(p, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly, kept);
       analysis::price_decision(d, p, cs, light, base_, &facings_);
       d.settings.record_draws = true;
       RuleFrame r = rule_frame(name, std::nullopt, d.object_methods, d.settings, camera_space_ms_ + d.decide_ms);
+      r.frames_since_priced = d.frames_since_priced;
       if (!std::isnan(d.predicted_ms)) {
         r.profile_ms = d.predicted_ms;
         r.predicted_ms = d.predicted_ms * drift_.scale() + r.decision_ms;
@@ -199,7 +204,7 @@ class Evaluation {
       return r;
     };
     const RuleFrame exact_zfail =
-        decided("exact-zpass+zfail", exact_zpass_rule(gl::ShadowMethod::ZFail, gl::LightProjection::Paper));
+        decided("exact-zpass+zfail", exact_zpass_rule(gl::ShadowMethod::ZFail, gl::LightProjection::Paper), nullptr);
     bool zpass_exact = true;  // the exact test finds every occluder's near-cap empty
     for (std::size_t o = 0; o < scene.objects.size(); ++o)
       if (scene.objects[o].occluder && exact_zfail.object_methods[o] != gl::ShadowMethod::ZPass) zpass_exact = false;
@@ -215,8 +220,8 @@ class Evaluation {
                              with_projection(gl::LightProjection::Paper)));
     out.push_back(rule_frame("atomiczp", gl::ShadowMethod::AtomicZP, {}, base_));
     out.push_back(exact_zfail);
-    out.push_back(
-        decided("exact-zpass+clipped", exact_zpass_rule(gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides)));
+    out.push_back(decided("exact-zpass+clipped",
+                          exact_zpass_rule(gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides), nullptr));
     for (analysis::EnginePolicy p : {analysis::EnginePolicy::Doom3, analysis::EnginePolicy::Doom3BFG}) {
       const auto t0 = std::chrono::steady_clock::now();
       std::vector<gl::ShadowMethod> methods =
@@ -224,14 +229,19 @@ class Evaluation {
       out.push_back(
           rule_frame(std::string(analysis::to_string(p)), std::nullopt, std::move(methods), base_, ms_since(t0)));
     }
-    RuleFrame policy = decided("policy", policy_);
+    // The kept choices as this decision finds them: each repeat below
+    // starts from them, and so makes the same decision the same way.
+    const analysis::KeptChoices kept_before = kept_;
+    RuleFrame policy = decided("policy", policy_, keep_choices_ ? &kept_ : nullptr);
     // The same decision again at once, warm: what a renderer's frame loop
     // pays.  Three calls, their median: one call of a few microseconds is
     // at the mercy of a preemption.  Each must decide the same.
     std::array<double, 3> warm{};
     for (double& ms : warm) {
+      analysis::KeptChoices kept_again = kept_before;
       const analysis::PolicyDecision again =
-          analysis::decide(policy_, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly);
+          analysis::decide(policy_, cs, light, base_, &facings_, analysis::DecisionPricing::ChoiceOnly,
+                           keep_choices_ ? &kept_again : nullptr);
       NEARCAP_CHECK(again.object_methods == policy.object_methods);
       ms = camera_space_ms_ + again.decide_ms;
     }
@@ -271,6 +281,7 @@ class Evaluation {
       row.predicted_ms = r.predicted_ms;
       row.decision_warm_ms = r.decision_warm_ms;
       row.occluder_triangles = occluder_triangles;
+      row.frames_since_priced = r.frames_since_priced;
       try {
         r.frame = draw(scene, light, r);
         CrackReport report = judge_frame(r.frame, ref);
@@ -347,6 +358,11 @@ class Evaluation {
   // next, as `nearcap render` keeps them along a path (the decisions are the
   // same without).
   analysis::FacingCache facings_;
+  // The policy's choices kept from one frame of a path to the next, as
+  // `nearcap render` keeps them (kept_choices.hpp); unused with
+  // --price-every-frame.
+  bool keep_choices_;
+  analysis::KeptChoices kept_;
   // The policy's measured over priced frame time, per set (predicted_ms).
   analysis::FrameTimeDrift drift_;
   std::string drift_set_;
@@ -410,7 +426,7 @@ void run(const EvaluateOptions& o) {
 
   const render::EglContext context;
   render::LitFrameRenderer renderer;
-  Evaluation evaluation(policy, renderer, o.repeats);
+  Evaluation evaluation(policy, renderer, o.repeats, !o.price_every_frame && o.fit_unpriced.empty());
   MeshCache meshes;
   std::vector<analysis::EvaluationRow> rows;
   std::size_t rejected = 0;
@@ -435,7 +451,9 @@ void run(const EvaluateOptions& o) {
   for (const analysis::EvaluationRow& r : table.oracle_rows) csv += analysis::evaluation_csv_line(r);
   std::string heading = "# " + std::filesystem::path(o.policy).filename().string() + " against the oracle\n\n";
   heading += "On " + context.renderer() + " (" + context.version() + "), policy " + o.policy;
-  heading += o.fit_unpriced.empty() ? "." : " with every frame priced (--fit-unpriced).";
+  heading += !o.fit_unpriced.empty() ? " with every frame priced (--fit-unpriced)."
+             : o.price_every_frame   ? " with every frame priced (--price-every-frame)."
+                                     : ".";
   if (rejected > 0) heading += " " + std::to_string(rejected) + " sampled configurations rejected (they do not load).";
   heading += "\n\n";
   const std::string markdown = heading + analysis::evaluation_table_markdown(table);
@@ -506,6 +524,9 @@ void register_evaluate(CLI::App& app) {
                  "training data instead of held-out: evaluate the policy with every frame priced, fit the frames its "
                  "decision should not price (the largest occluder's triangles at most a threshold, one method) and "
                  "write the policy with them to FILE");
+  cmd.add_flag("--price-every-frame", o.price_every_frame,
+               "price the policy's choice on every frame of a path (by default a choice that undercut every other "
+               "by a wide margin is kept for the next few frames, as `nearcap render` keeps it)");
   cmd.add_option("--path", o.paths, "a held-out camera path (data/paths/), repeatable: one set each");
   add_samples_option(cmd, o.samples, "held-out configurations of the hard-case sampler (the set seed-S)", 0,
                      kMaxSweepSamples);

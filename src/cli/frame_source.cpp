@@ -19,6 +19,7 @@ RenderMethods render_methods(const std::string& method, const std::string& polic
   if (choice.policy) {
     r.policy = analysis::load_policy(policy_file);
     r.facings = std::make_shared<analysis::FacingCache>();
+    r.kept = std::make_shared<analysis::KeptChoices>();
   }
   return r;
 }
@@ -48,7 +49,7 @@ gl::ShadowFrame FrameSource::frame(std::size_t k) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!cs_) cs_ = std::make_unique<CameraSpaceScene>(scene_);
   decision_ = analysis::decide(*methods_.policy, *cs_, light_, settings_, methods_.facings.get(),
-                               analysis::DecisionPricing::ChoiceOnly);
+                               analysis::DecisionPricing::ChoiceOnly, methods_.kept.get());
   decision_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // The predicted frame time and the reasons' prices: what the records
   // report, not part of the frame's work.

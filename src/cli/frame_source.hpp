@@ -25,6 +25,9 @@ struct RenderMethods {
   // The occluders' facings the policy's decisions keep across frames (the
   // lights and occluders of a path stay put while its camera moves).
   std::shared_ptr<analysis::FacingCache> facings;
+  // The policy's priced choices, kept for the next few decisions of a light
+  // while the scene's objects and lights stay put (kept_choices.hpp).
+  std::shared_ptr<analysis::KeptChoices> kept;
   // Whether each decision is priced after its choice (the predicted frame
   // time and the reasons the records report): not where nothing reads them.
   bool priced = true;

@@ -127,6 +127,10 @@ struct EvaluationRow {
   // The configuration's largest occluder's triangles (every row), which
   // UnpricedFrames is fitted against (unpriced_frames_fit.hpp).
   std::size_t occluder_triangles = 0;
+  // The policy's rows: 0 where its choice was priced on this frame; k > 0
+  // where it was the choice of the frame priced k frames before, kept
+  // (kept_choices.hpp).
+  int frames_since_priced = 0;
 };
 
 // No more wrong pixels and no more cracks than Z-fail's row of the same
@@ -157,6 +161,7 @@ struct SetTable {
   std::map<std::string, std::size_t> oracle_choices;  // candidate -> (configuration, light) it won
   std::map<std::string, std::size_t> policy_choices;  // the policy's methods -> (configuration, light)
   double decision_share = 0;                          // the policy's decision_ms / its end_to_end_ms
+  std::size_t policy_kept = 0;  // compared groups whose policy row has a kept choice (frames_since_priced > 0)
   // The policy's frames with their warm decision instead of the first:
   // sum decision_warm_ms / sum (end_to_end_ms - decision_ms +
   // decision_warm_ms), over the compared groups whose policy row has one

@@ -62,6 +62,7 @@
 
 #include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/kept_choices.hpp"
 #include "nearcap/analysis/work_estimate.hpp"
 #include "nearcap/exact/camera_space.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
@@ -209,6 +210,9 @@ struct FramePrices {
   // The policy's UnpricedFrames applied: every occluder drawn with its
   // method whatever the prices, which the reason still lists.
   std::optional<UnpricedFrames> unpriced;
+  // A kept choice priced (PolicyDecision::frames_since_priced): the reason
+  // says so, and lists this frame's prices.
+  int frames_since_priced = 0;
 };
 
 // The policy's choice for one (scene, light).
@@ -223,6 +227,15 @@ struct PolicyDecision {
   std::optional<FramePrices> prices;
   double crack_probability = 0;  // the model's, NaN when not asked
   double decide_ms = 0;          // the decision's own time (with DecisionPricing::ChoiceOnly, the choice's)
+  // 0: this frame's choice was priced; k > 0: the choice of the frame
+  // priced k frames before, kept (kept_choices.hpp).
+  int frames_since_priced = 0;
+  // A priced cost decision's margin (kept_choices.hpp): the least rise of
+  // the predicted frame time that another choice it weighed brings (another
+  // frame option's best frame where its methods differ, or one occluder with
+  // another of its candidates), over the chosen frame's predicted time; NaN
+  // where nothing was priced (no profile, unpriced or kept frames).
+  double choice_margin = std::numeric_limits<double>::quiet_NaN();
   // The frame's depth step at its farthest point over the scene's size, for
   // the settings below, or a bound of it where the bound is below
   // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
@@ -296,16 +309,25 @@ struct PolicyDecision {
 // predicted_work and predicted_options empty and its prices absent:
 // price_decision completes them.  A frame loop times the choice; the prices
 // are what a report reads, as the reasons' text is.
+//
+// With `kept` (a frame loop's KeptChoices, kept_choices.hpp), a ChoiceOnly
+// cost decision takes the choice kept from a recent priced frame where it
+// qualifies (frames_since_priced > 0: no pricing, the frame's settings still
+// settled above), and every priced decision offers its choice and margin to
+// be kept.
 enum class DecisionPricing { Full, ChoiceOnly };
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
                       const gl::EmulationSettings& base, FacingCache* facings = nullptr,
-                      DecisionPricing pricing = DecisionPricing::Full);
+                      DecisionPricing pricing = DecisionPricing::Full, KeptChoices* kept = nullptr);
 
 // The prices of a ChoiceOnly decision `d` made with the same arguments: its
 // predicted frame time, work, options and every candidate's prices, as the
 // full decision computes them; d's methods and decide_ms are kept (a choice
 // and the full decision differ only where two options' prices tie within
-// rounding).  Nothing to do for a decision without a device profile.
+// rounding).  A kept choice (d.frames_since_priced > 0) is priced as drawn:
+// its predicted frame time and work are its methods', the candidates'
+// prices this frame's.  Nothing to do for a decision without a device
+// profile.
 void price_decision(PolicyDecision& d, const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
                     const gl::EmulationSettings& base, FacingCache* facings = nullptr);
 
