@@ -91,6 +91,11 @@ TEST(KeptChoices, OnlyAWideMarginAndMethodsEveryFrameOffers) {
     KeptChoices kept;
     remember(kept, policy, f, c.method, c.projection, c.margin);
     EXPECT_EQ(taken(kept, policy, f), c.kept) << gl::to_string(c.method) << " margin " << c.margin;
+    // A kept choice, then a priced frame that does not qualify: nothing kept.
+    KeptChoices replaced;
+    remember(replaced, policy, f, ShadowMethod::ZFail, LightProjection::Paper, kWide);
+    remember(replaced, policy, f, c.method, c.projection, c.margin);
+    EXPECT_EQ(taken(replaced, policy, f), c.kept) << gl::to_string(c.method) << " margin " << c.margin;
   }
 }
 
@@ -140,9 +145,35 @@ TEST(KeptChoices, AnotherSceneSetupIsPriced) {
 // drawn.  A kept choice that differs from the fresh one is priced as drawn
 // too: Z-fail kept on a frame whose fresh choice is the clipped-sides ZP+
 // costs what the fresh decision's "no near-cap" option costs.
+// The decision's margin: the least rise another option or the occluder's
+// other candidate brings, from the full decision's own prices, in ms the
+// same for the choice alone, and over the chosen frame's price.
+void expect_margin(const analysis::SwitchPolicy& policy, const CameraSpaceScene& cs, analysis::FacingCache* facings,
+                   const std::string& what) {
+  const analysis::PolicyDecision full = analysis::decide(policy, cs, 0, {}, facings);
+  const analysis::PolicyDecision choice =
+      analysis::decide(policy, cs, 0, {}, facings, analysis::DecisionPricing::ChoiceOnly);
+  ASSERT_TRUE(full.prices.has_value()) << what;
+  ASSERT_EQ(full.prices->occluders.size(), 1u) << what;
+  const analysis::OccluderPrices& p = full.prices->occluders[0];
+  const bool zfail = p.chosen.method == ShadowMethod::ZFail;
+  ASSERT_TRUE(zfail || p.chosen.method == ShadowMethod::ZPPlus) << what << ": " << full.reason(0);
+  double rise = zfail ? p.clipped_ms - p.zfail_ms : p.zfail_ms - p.clipped_ms;
+  for (const auto& [option, ms] : full.predicted_options)
+    if (ms > full.predicted_ms) rise = std::min(rise, ms - full.predicted_ms);
+  ASSERT_TRUE(std::isfinite(rise)) << what;
+  EXPECT_NEAR(full.choice_margin_ms, rise, 1e-9 * full.predicted_ms) << what << ": " << full.reason(0);
+  EXPECT_NEAR(full.choice_margin, rise / full.predicted_ms, 1e-9) << what;
+  EXPECT_NEAR(choice.choice_margin_ms, rise, 1e-9 * full.predicted_ms) << what << ": " << full.reason(0);
+  // Over a price without what every candidate shares: at least as large.
+  EXPECT_GE(choice.choice_margin, full.choice_margin - 1e-12) << what;
+}
+
 TEST(KeptChoices, APathDrawsWhatItDrawsWithoutThem) {
   const analysis::SwitchPolicy policy = analysis::load_policy(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json");
   ASSERT_TRUE(policy.device_profile.has_value());
+  analysis::SwitchPolicy zfail_capped = policy;
+  zfail_capped.capped_method = ShadowMethod::ZFail;
   std::size_t frames = 0, kept_frames = 0;
   for (const char* name : {"near_plane_sweep", "fly_around"}) {
     const analysis::CameraPath path =
@@ -158,16 +189,10 @@ TEST(KeptChoices, APathDrawsWhatItDrawsWithoutThem) {
           analysis::decide(policy, cs, 0, {}, &facings, analysis::DecisionPricing::ChoiceOnly, &kept);
       const analysis::PolicyDecision fresh = analysis::decide(policy, cs, 0, {}, &facings);
       EXPECT_EQ(d.object_methods, fresh.object_methods) << what;
-      // The margin: the least rise another option or candidate brings.
-      ASSERT_TRUE(fresh.prices.has_value()) << what;
-      ASSERT_EQ(fresh.prices->occluders.size(), 1u) << what;
-      const analysis::OccluderPrices& p = fresh.prices->occluders[0];
-      const bool zfail = p.chosen.method == ShadowMethod::ZFail;
-      ASSERT_TRUE(zfail || p.chosen.method == ShadowMethod::ZPPlus) << what << ": " << fresh.reason(0);
-      double rise = zfail ? p.clipped_ms - p.zfail_ms : p.zfail_ms - p.clipped_ms;
-      for (const auto& [option, ms] : fresh.predicted_options)
-        if (ms > fresh.predicted_ms) rise = std::min(rise, ms - fresh.predicted_ms);
-      EXPECT_NEAR(fresh.choice_margin, rise / fresh.predicted_ms, 1e-12) << what << ": " << fresh.reason(0);
+      expect_margin(policy, cs, &facings, what);
+      // A policy whose capped method is Z-fail: its paper-cap candidate is
+      // Z-fail itself, not another choice.
+      expect_margin(zfail_capped, cs, &facings, what + " (capped method zfail)");
       EXPECT_EQ(d.settings.light_frustum.projection, fresh.settings.light_frustum.projection) << what;
       EXPECT_LE(d.frames_since_priced, KeptChoices::kMaxKeptFrames) << what;
       analysis::price_decision(d, policy, cs, 0, {}, &facings);

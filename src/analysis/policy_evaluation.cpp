@@ -115,7 +115,8 @@ EvaluationTable evaluate_rows(const std::vector<EvaluationRow>& rows) {
       ++t.oracle_choices[best->rule];
       if (const EvaluationRow* policy = g.row("policy"); policy != nullptr && !policy->chosen.empty())
         ++t.policy_choices[policy->chosen];
-      if (g.row("policy")->frames_since_priced > 0) ++t.policy_kept;
+      if (const EvaluationRow* policy = g.row("policy"); policy != nullptr && policy->frames_since_priced > 0)
+        ++t.policy_kept;
       out.oracle_rows.push_back(oracle);
       for (const std::string& rule : listed) {
         const EvaluationRow* r = rule == kOracleRule ? &oracle : g.row(rule);

@@ -3,12 +3,14 @@
 #include "nearcap/analysis/switch_policy.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
 #include <set>
+#include <tuple>
 
 #include "general4.hpp"
 #include "nearcap/analysis/near_rectangle_pyramid.hpp"
@@ -218,7 +220,7 @@ PolicyDecision decide_impl(const SwitchPolicy& policy, const CameraSpaceScene& c
     d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing,
                        &margin, forced);
     d.choice_margin = margin;
-    if (kept && !forced)
+    if (kept && !forced && pricing == DecisionPricing::ChoiceOnly)
       kept->remember(policy, scene, light, near_plane, depth_limited, d.object_methods,
                      d.settings.light_frustum.projection, margin);
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -594,6 +596,9 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   std::vector<std::pair<std::string_view, double>>* const log = choice_only ? nullptr : &d.predicted_options;
   std::vector<Frame> option_frames;  // the chosen frame's options, for the margin
   Frame chosen = best_frame(allowed, {}, log, &option_frames);
+  // The best frame with the exact test and Z-pass where it would allow it,
+  // where it was weighed and not run (the test's saving fell short).
+  double untested_alternative_ms = kNaN;
   if (any_untested) {
     // The test runs when the frame it could give at best, Z-pass for every
     // occluder it tests and the test paid, beats the frame without it.
@@ -606,7 +611,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     for (std::size_t i = 0; i < occluders.size(); ++i)
       if (untested[i]) optimistic[i] = true;
     const double test_ms = profile.cpu_ms(test_work);
-    if (best_frame(optimistic, test_work, nullptr, nullptr).ms < chosen.ms) {
+    const double optimistic_ms = best_frame(optimistic, test_work, nullptr, nullptr).ms;
+    if (optimistic_ms < chosen.ms) {
       const std::vector<bool> meets = occluders_meeting_light_pyramid(cs, light);
       for (std::size_t i = 0; i < occluders.size(); ++i) {
         if (!untested[i]) continue;
@@ -619,6 +625,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       option_frames.clear();
       chosen = best_frame(allowed, test_work, log, &option_frames);
     } else {
+      untested_alternative_ms = optimistic_ms;
       for (std::size_t i = 0; i < occluders.size(); ++i)
         if (untested[i]) {
           occluders[i].zpass_verdict = ZPassVerdict::TestNotRun;
@@ -626,35 +633,37 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
         }
     }
   }
-  if (margin && !unpriced && !forced) {
+  if (margin && !unpriced && !forced && chosen.ms > 0) {
     // The kept-choice margin (kept_choices.hpp): the least rise of the
-    // predicted frame time that another choice weighed here brings (another
-    // option's best frame where its methods differ, or one occluder with
-    // another of its candidates), over the chosen frame's predicted time.
-    auto same_choice = [](const std::vector<CandidateMethod>& a, const std::vector<CandidateMethod>& b) {
-      for (std::size_t i = 0; i < a.size(); ++i)
-        if (a[i].method != b[i].method || a[i].cap != b[i].cap) return false;
-      return a.size() == b.size();
+    // chosen frame's price that another choice weighed here brings (another
+    // option's best frame where its methods differ, the frame with the exact
+    // test where it was weighed and not run, or one occluder with another of
+    // its candidates, by its marginal price), over the chosen frame's price,
+    // both as this pricing weighs them (ChoiceOnly: without the coverage
+    // every candidate draws alike).
+    auto same = [](const CandidateMethod& a, const CandidateMethod& b) {
+      return a.method == b.method && a.cap == b.cap;
     };
     double rise = std::numeric_limits<double>::infinity();
     for (const Frame& f : option_frames)
-      if (!same_choice(f.choice, chosen.choice)) rise = std::min(rise, f.ms - chosen.ms);
+      if (!std::equal(f.choice.begin(), f.choice.end(), chosen.choice.begin(), chosen.choice.end(), same))
+        rise = std::min(rise, f.ms - chosen.ms);
+    if (!std::isnan(untested_alternative_ms)) rise = std::min(rise, untested_alternative_ms - chosen.ms);
     for (std::size_t i = 0; i < occluders.size(); ++i) {
       const Occluder& oc = occluders[i];
       const CandidateMethod& c = chosen.choice[i];
-      // Each candidate the occluder has, by its price.
-      const std::array<std::pair<bool, double>, 5> candidates{
-          {{c.method == gl::ShadowMethod::ZFail, oc.zfail_ms},
-           {c.cap == gl::LightProjection::ClippedSides && c.method == gl::ShadowMethod::ZPPlus, oc.clipped_ms},
-           {c.method == paper.method && c.cap == paper.cap, paper_ok ? oc.paper_ms : kNaN},
-           {c.method == gl::ShadowMethod::AtomicZP, oc.atomiczp_ok ? oc.atomiczp_ms : kNaN},
-           {c.method == gl::ShadowMethod::ZPass, allowed[i] ? oc.zpass_ms : kNaN}}};
-      double chosen_ms = kNaN;
-      for (const auto& [is_chosen, ms] : candidates)
-        if (is_chosen) chosen_ms = ms;
-      for (const auto& [is_chosen, ms] : candidates)
-        if (!is_chosen && !std::isnan(ms)) rise = std::min(rise, ms - chosen_ms);
+      const double chosen_ms = marginal_ms(profile, occluder_work(oc.in, c));
+      // Each candidate the occluder has here, with its price.
+      const std::array<std::tuple<CandidateMethod, bool, double>, 5> candidates{
+          {{zfail, true, oc.zfail_ms},
+           {clipped, true, oc.clipped_ms},
+           {paper, paper_ok, oc.paper_ms},
+           {atomiczp, oc.atomiczp_ok, oc.atomiczp_ms},
+           {zpass, allowed[i], oc.zpass_ms}}};
+      for (const auto& [candidate, admitted, ms] : candidates)
+        if (admitted && !same(candidate, c)) rise = std::min(rise, ms - chosen_ms);
     }
+    d.choice_margin_ms = rise;
     *margin = rise / chosen.ms;
   }
   // A choice drawn whatever the prices: the policy's unpriced frames, or a
@@ -741,7 +750,7 @@ std::string cost_reason(const FramePrices& f, const OccluderPrices& p) {
     why += " (kept from the frame priced ";
     why += std::to_string(f.frames_since_priced);
     why += f.frames_since_priced == 1 ? " frame" : " frames";
-    why += " before, where every other choice was predicted ";
+    why += " before, where every other choice was priced ";
     why += std::to_string(static_cast<int>(std::lround(100 * KeptChoices::kMargin)));
     why += "% dearer or more)";
   }

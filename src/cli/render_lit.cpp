@@ -131,12 +131,16 @@ LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, con
   for (std::size_t k = 0; k < scene.lights.size(); ++k)
     if (!o.light_given || k == o.light) out.light_index.push_back(k);
   out.lights = out.light_index.size();
-  auto make_sources = [&] {
+  auto make_sources = [&](const RenderMethods& m) {
     std::vector<std::unique_ptr<FrameSource>> sources;  // one per light, shared by the methods
-    for (std::size_t k : out.light_index) sources.push_back(std::make_unique<FrameSource>(scene, k, methods, settings));
+    for (std::size_t k : out.light_index) sources.push_back(std::make_unique<FrameSource>(scene, k, m, settings));
     return sources;
   };
-  const std::vector<std::unique_ptr<FrameSource>> sources = make_sources();
+  // --bench's second draw of method 0 decides as the first did: from the
+  // policy's kept choices as this frame found them, in a copy of its own.
+  RenderMethods again_methods = methods;
+  if (o.bench && methods.kept) again_methods.kept = std::make_shared<analysis::KeptChoices>(*methods.kept);
+  const std::vector<std::unique_ptr<FrameSource>> sources = make_sources(methods);
   for (std::size_t m = 0; m < methods.count(); ++m) {
     try {
       out.methods.push_back(method_frame(renderer, scene, o, methods, sources, m, true));
@@ -148,7 +152,7 @@ LitFrames lit_frames(render::LitFrameRenderer& renderer, const Scene& scene, con
     }
   }
   if (o.bench && out.refused[0].empty())
-    out.again = method_frame(renderer, scene, o, methods, make_sources(), 0, false);
+    out.again = method_frame(renderer, scene, o, again_methods, make_sources(again_methods), 0, false);
   const std::size_t zpass = depth_clamp_bench_method(o, methods);
   if (zpass < methods.methods.size() && out.refused[zpass].empty())
     out.clamped = method_frame(renderer, scene, o, methods, sources, zpass, false, true);

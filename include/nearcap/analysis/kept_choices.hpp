@@ -16,9 +16,11 @@
 //     paper cap the crack model, AtomicZP its conditions), so a kept choice
 //     is one the policy offers on the frame it is drawn on;
 //   - at the priced frame, every other choice the decision weighed (the best
-//     frame of another frame option, or one occluder with another of its
-//     candidates) predicted dearer by at least kMargin of the chosen frame's
-//     predicted time (decide_by_cost's `margin`).
+//     frame of another frame option, the frame with the exact Z-pass test
+//     where it was weighed and not run, or one occluder with another of its
+//     candidates) priced dearer by at least kMargin of the chosen frame's
+//     price, both as the choice weighs them, without the coverage every
+//     candidate draws alike (PolicyDecision::choice_margin).
 // A kept choice is then as right as a priced one; only its cost can differ,
 // where the prices crossed within a few frames.  Not thread-safe: one per
 // frame loop, whose base settings stay the same.
@@ -39,7 +41,7 @@ struct SwitchPolicy;
 class KeptChoices {
  public:
   static constexpr int kMaxKeptFrames = 2;  // frames after the priced one
-  static constexpr double kMargin = 0.2;    // of the chosen frame's predicted time
+  static constexpr double kMargin = 0.2;    // of the chosen frame's price, as the choice weighs it
 
   // What a frame gets from the priced frame before it.
   struct Choice {

@@ -231,11 +231,18 @@ struct PolicyDecision {
   // priced k frames before, kept (kept_choices.hpp).
   int frames_since_priced = 0;
   // A priced cost decision's margin (kept_choices.hpp): the least rise of
-  // the predicted frame time that another choice it weighed brings (another
-  // frame option's best frame where its methods differ, or one occluder with
-  // another of its candidates), over the chosen frame's predicted time; NaN
-  // where nothing was priced (no profile, unpriced or kept frames).
+  // the chosen frame's price that another choice it weighed brings (another
+  // frame option's best frame where its methods differ, the frame with the
+  // exact Z-pass test where it was weighed and not run, or one occluder with
+  // another of its candidates, by its marginal price), in ms
+  // (choice_margin_ms) and over the chosen frame's price (choice_margin),
+  // both as the decision's pricing weighs them: with
+  // DecisionPricing::ChoiceOnly without the coverage every candidate draws
+  // alike, so the ratio is larger than over the whole frame's predicted
+  // time.  NaN where nothing was priced (no profile, unpriced or kept
+  // frames).
   double choice_margin = std::numeric_limits<double>::quiet_NaN();
+  double choice_margin_ms = std::numeric_limits<double>::quiet_NaN();
   // The frame's depth step at its farthest point over the scene's size, for
   // the settings below, or a bound of it where the bound is below
   // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
@@ -313,8 +320,8 @@ struct PolicyDecision {
 // With `kept` (a frame loop's KeptChoices, kept_choices.hpp), a ChoiceOnly
 // cost decision takes the choice kept from a recent priced frame where it
 // qualifies (frames_since_priced > 0: no pricing, the frame's settings still
-// settled above), and every priced decision offers its choice and margin to
-// be kept.
+// settled above), and otherwise offers its choice and margin to be kept; a
+// Full decision neither takes nor offers one.
 enum class DecisionPricing { Full, ChoiceOnly };
 PolicyDecision decide(const SwitchPolicy& policy, const CameraSpaceScene& scene, std::size_t light,
                       const gl::EmulationSettings& base, FacingCache* facings = nullptr,
