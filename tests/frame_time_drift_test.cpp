@@ -44,6 +44,23 @@ TEST(FrameTimeDrift, ForgetsFramesOlderThanItsWindow) {
   EXPECT_EQ(drift.observed(), 2 * FrameTimeDrift::kWindow);
 }
 
+// A shorter window: the median of the last `window` ratios, in the order
+// observed across the buffer's wrap; a path's window is the last ratio.
+TEST(FrameTimeDrift, AShorterWindowIsTheMedianOfTheLastRatios) {
+  FrameTimeDrift three(3);
+  EXPECT_EQ(three.window(), 3u);
+  for (double r : {5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 0.5, 1000.0, 2.0}) three.observe(1, r);
+  EXPECT_NEAR(three.scale(), 2.0, 1e-12) << "the median of {0.5, 1000, 2}";
+  FrameTimeDrift path(FrameTimeDrift::kPathWindow);
+  EXPECT_EQ(path.scale(), 1.0);
+  for (double r : {5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 0.5}) {
+    path.observe(2, 2 * r);
+    EXPECT_NEAR(path.scale(), r, 1e-12);
+  }
+  EXPECT_EQ(FrameTimeDrift(0).window(), 1u);
+  EXPECT_EQ(FrameTimeDrift(100).window(), FrameTimeDrift::kWindow);
+}
+
 TEST(FrameTimeDrift, IgnoresFramesThatAreNotTwoPositiveTimes) {
   FrameTimeDrift drift;
   drift.observe(1, 3);

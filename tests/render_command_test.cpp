@@ -194,7 +194,7 @@ TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
       EXPECT_FALSE(m["frames"][0].contains("predicted_ms")) << m["method"];
       continue;
     }
-    analysis::FrameTimeDrift drift;
+    analysis::FrameTimeDrift drift(analysis::FrameTimeDrift::kPathWindow);  // a path's, as render keeps it
     for (const nlohmann::json& f : m["frames"]) {
       double decision = 0, lights_priced = 0;
       for (const nlohmann::json& light : f["cpu"]["lights"]) {

@@ -258,9 +258,10 @@ std::string evaluation_table_markdown(const EvaluationTable& table) {
         << fixed(t.noise_p95, 3) << " (5th to 95th percentile, " << t.noise_pairs << " pairs; median |again/first - 1| "
         << fixed(100 * t.noise_median_deviation, 1) << "%)\n";
     if (!std::isnan(t.predicted_median_error)) {
-      s << "- the policy's predicted frame time (before drawing: the device profile's price times the median "
-           "measured/priced of the set's last "
-        << FrameTimeDrift::kWindow << " policy frames, plus the decision's own time): median error "
+      s << "- the policy's predicted frame time (before drawing: the device profile's price times the "
+           "measured/priced of the set's earlier policy frames, along a path the last one's, else the median of the "
+           "last "
+        << FrameTimeDrift::kWindow << ", plus the decision's own time): median error "
         << fixed(100 * t.predicted_median_error, 1) << "% of the measured end-to-end time; predicted/measured median "
         << fixed(t.predicted_median_ratio, 3);
       if (!std::isnan(t.profile_median_error))

@@ -170,7 +170,8 @@ class Evaluation {
   // Every rule of every light of `c`, appended to `rows`.
   void run(const Configuration& c, const Scene& scene, std::vector<analysis::EvaluationRow>& rows) {
     if (c.set != drift_set_) {  // each set's predictions from its own frames alone, no choice kept across sets
-      drift_ = {};
+      drift_ = analysis::FrameTimeDrift(c.frame >= 0 ? analysis::FrameTimeDrift::kPathWindow
+                                                     : analysis::FrameTimeDrift::kWindow);
       kept_ = {};
       drift_set_ = c.set;
     }

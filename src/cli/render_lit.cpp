@@ -202,8 +202,9 @@ struct LitFrameRecord {
 
 // The policy's predicted end-to-end time of each frame of a path, as a
 // renderer predicts it: its lights' prices (the device profile's) times the
-// measured/priced median of the frames drawn before it
-// (analysis::FrameTimeDrift), plus its decisions' time, spent by then.
+// measured/priced ratio of the frame drawn before it
+// (analysis::FrameTimeDrift, a path's window), plus its decisions' time,
+// spent by then.
 class FramePrediction {
  public:
   void predict(LitFrameRecord& fr) {
@@ -227,7 +228,7 @@ class FramePrediction {
   const std::vector<double>& profile_error() const { return profile_error_; }
 
  private:
-  analysis::FrameTimeDrift drift_;
+  analysis::FrameTimeDrift drift_{analysis::FrameTimeDrift::kPathWindow};
   std::vector<double> predicted_error_, profile_error_;
 };
 

@@ -20,20 +20,31 @@ namespace nearcap::analysis {
 class FrameTimeDrift {
  public:
   // The frames whose ratio the scale is the median of: few, so that it
-  // follows the device's speed now and the scene the frames show.
+  // follows the device's speed now and the scene the frames show.  Along a
+  // camera path, whose frames differ little from one to the next, the last
+  // frame's ratio alone (kPathWindow); across unrelated configurations (a
+  // sampler's), the median of the last kWindow.  Both chosen on the
+  // shipped policy's training data: the bundled paths it was not judged on
+  // and seed 100's configurations (docs/findings/policy-oracle.md).
   static constexpr std::size_t kWindow = 8;
+  static constexpr std::size_t kPathWindow = 1;
+
+  // The median over the last `window` frames (1 to kWindow).
+  explicit FrameTimeDrift(std::size_t window = kWindow);
 
   // One drawn frame: the profile's price of the work it drew (`priced_ms`,
   // price_decision's predicted_ms before any scaling) and its measured time
   // for the same part (the decision's own time left out).  A pair that is
   // not two positive finite numbers is ignored.
   void observe(double priced_ms, double measured_ms);
-  // The median of measured / priced over the last kWindow frames observed
+  // The median of measured / priced over the last window() frames observed
   // (the geometric mean of the middle two of an even count); 1 before any.
   double scale() const;
   std::size_t observed() const { return observed_; }
+  std::size_t window() const { return window_; }
 
  private:
+  std::size_t window_;
   std::array<double, kWindow> log_ratio_{};
   std::size_t observed_ = 0;
 };
