@@ -24,8 +24,9 @@ class FrameTimeDrift {
   // camera path, whose frames differ little from one to the next, the last
   // frame's ratio alone (kPathWindow); across unrelated configurations (a
   // sampler's), the median of the last kWindow.  Both chosen on the
-  // shipped policy's training data: the bundled paths it was not judged on
-  // and seed 100's configurations (docs/findings/policy-oracle.md).
+  // shipped policy's training data: the bundled paths its profile was
+  // calibrated on and seed 100's configurations
+  // (docs/findings/policy-oracle.md).
   static constexpr std::size_t kWindow = 8;
   static constexpr std::size_t kPathWindow = 1;
 
