@@ -18,6 +18,7 @@
 #include "cli_support.hpp"
 #include "llvmpipe_fixture.hpp"
 #include "nearcap/analysis/frame_time_drift.hpp"
+#include "nearcap/analysis/kept_choices.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -165,9 +166,9 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
 
 // --bench along a path with the policy: each of its frames' price (the
 // device profile's, its lights summed) and the end-to-end time predicted
-// before drawing it: that price times the measured/priced median of the
-// frames before it (1 for the first), plus the frame's decision; the
-// medians of both errors.
+// before drawing it: that price times the measured/priced of the frame
+// before it (1 for the first: FrameTimeDrift's path window), plus the
+// frame's decision; the medians of both errors.
 TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_predict_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
@@ -212,6 +213,57 @@ TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
     EXPECT_GE(m.at("profile_median_error").get<double>(), 0);
   }
   EXPECT_EQ(checked, 6u);
+  std::filesystem::remove_all(dir);
+}
+
+// --bench along a path keeps the policy's choices as a frame loop does
+// (kept_choices.hpp): frames priced, a choice kept for at most
+// KeptChoices::kMaxKeptFrames frames after, and the same frames kept whether
+// the policy is drawn alone (then --bench's second draw of the first method
+// is the policy's, which decides again from its own copy of the kept
+// choices) or beside Z-fail (drawn first and again).
+TEST(RenderCommand, BenchKeepsThePolicysChoicesAsAFrameLoopDoes) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_kept_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  nlohmann::json path =
+      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json"));
+  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room_side_light.json";
+  path["width"] = 64;
+  path["height"] = 48;
+  {
+    std::ofstream out(dir / "path.json");
+    out << path.dump();
+  }
+  std::vector<std::vector<int>> runs;
+  for (const char* methods : {"zfail,policy", "policy"}) {
+    const std::string out = (dir / methods).string();
+    const test::CliResult r = test::run_cli("render --path '" + (dir / "path.json").string() + "' --method " +
+                                                methods + " --bench --out '" + out + "'",
+                                            "render_kept");
+    if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+      GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::slurp(std::filesystem::path(out) / "render.json"));
+    std::vector<int> since;
+    for (const nlohmann::json& m : j["methods"]) {
+      if (m["method"] != "policy") continue;
+      for (const nlohmann::json& f : m["frames"]) since.push_back(f["cpu"]["lights"][0].at("frames_since_priced"));
+    }
+    ASSERT_EQ(since.size(), static_cast<std::size_t>(path["frames"].get<int>())) << methods;
+    for (int k : since) EXPECT_LE(k, analysis::KeptChoices::kMaxKeptFrames) << methods;
+    // Priced and kept frames both (the warm-up draw before the first frame
+    // decides too: the first frame may keep its choice).
+    EXPECT_GT(std::count(since.begin(), since.end(), 0), 0) << methods;
+    EXPECT_GT(std::count_if(since.begin(), since.end(), [](int k) { return k > 0; }), 0) << methods;
+    for (std::size_t f = 1; f < since.size(); ++f) {
+      if (since[f] > 0) {
+        EXPECT_EQ(since[f], since[f - 1] + 1) << methods << " frame " << f;
+      }
+    }
+    runs.push_back(since);
+  }
+  EXPECT_EQ(runs[0], runs[1]);
   std::filesystem::remove_all(dir);
 }
 

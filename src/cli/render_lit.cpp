@@ -40,6 +40,9 @@ struct LightCpu {
   // (price_decision's predicted_ms; NaN for a fixed method or a policy
   // without a profile).
   double profile_ms = std::numeric_limits<double>::quiet_NaN();
+  // The policy's: 0 where its choice was priced on this frame, k > 0 where
+  // it was kept from the frame priced k frames before (kept_choices.hpp).
+  std::optional<int> frames_since_priced;
   double total() const { return decision_ms + work.total(); }
 };
 
@@ -94,8 +97,16 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
         if (d.pass == gl::DrawPass::Volume) d.state.depth_clamp_near = d.state.depth_clamp_far = true;
     const gl::ShadowFrame& f = frames.back();
     const bool policy = m >= methods.methods.size();
-    out.cpu.push_back({f.light, policy ? source->decision_ms() : 0.0, f.cpu, f.object_methods});
-    if (policy) out.cpu.back().profile_ms = source->decision().predicted_ms;
+    LightCpu light;
+    light.light = f.light;
+    light.decision_ms = policy ? source->decision_ms() : 0.0;
+    light.work = f.cpu;
+    light.methods = f.object_methods;
+    out.cpu.push_back(std::move(light));
+    if (policy) {
+      out.cpu.back().profile_ms = source->decision().predicted_ms;
+      out.cpu.back().frames_since_priced = source->decision().frames_since_priced;
+    }
   }
   render::LitFrameOptions options;
   options.read_stencils = o.stencil && keep_images;
@@ -252,6 +263,7 @@ nlohmann::json cpu_json(const LitFrameRecord& fr) {
                       {"light_frustum_ms", l.work.light_frustum_ms},
                       {"occluders", std::move(occluders)}});
     if (std::isfinite(l.profile_ms)) lights.back()["profile_ms"] = l.profile_ms;
+    if (l.frames_since_priced) lights.back()["frames_since_priced"] = *l.frames_since_priced;
   }
   return {{"upload_ms", fr.upload_ms}, {"lights", std::move(lights)}};
 }
