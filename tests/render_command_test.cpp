@@ -238,9 +238,9 @@ TEST(RenderCommand, BenchKeepsThePolicysChoicesAsAFrameLoopDoes) {
   std::vector<std::vector<int>> runs;
   for (const char* methods : {"zfail,policy", "policy"}) {
     const std::string out = (dir / methods).string();
-    const test::CliResult r = test::run_cli("render --path '" + (dir / "path.json").string() + "' --method " +
-                                                methods + " --bench --out '" + out + "'",
-                                            "render_kept");
+    const test::CliResult r = test::run_cli(
+        "render --path '" + (dir / "path.json").string() + "' --method " + methods + " --bench --out '" + out + "'",
+        "render_kept");
     if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
       GTEST_SKIP() << "no headless OpenGL here: " << r.err;
     ASSERT_EQ(r.exit_code, 0) << r.err;
