@@ -231,6 +231,7 @@ TEST(RenderCommand, BenchKeepsThePolicysChoicesAsAFrameLoopDoes) {
   path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room_side_light.json";
   path["width"] = 64;
   path["height"] = 48;
+  path["frames"] = 20;
   {
     std::ofstream out(dir / "path.json");
     out << path.dump();
