@@ -2,27 +2,9 @@
 #include "nearcap/analysis/kept_choices.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
 
 namespace nearcap::analysis {
 namespace {
-
-template <class T>
-bool same_bits(const T& a, const T& b) {
-  return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
-bool same_vec(const Vec3d& a, const Vec3d& b) {
-  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
-
-bool same_affine(const Affine3d& a, const Affine3d& b) {
-  for (std::size_t r = 0; r < 3; ++r)
-    for (std::size_t c = 0; c < 4; ++c)
-      if (!same_bits(a.rows[r][c], b.rows[r][c])) return false;
-  return true;
-}
 
 // Candidates on every frame, admitted by no per-frame test.
 bool keepable(gl::ShadowMethod method, gl::LightProjection projection) {
@@ -35,14 +17,15 @@ bool keepable(gl::ShadowMethod method, gl::LightProjection projection) {
 bool KeptChoices::same_frame_setup(const Entry& e, const SwitchPolicy& policy, const Scene& scene, std::size_t light,
                                    gl::NearPlane near_plane, bool depth_limited) const {
   if (e.policy != &policy || e.light != light || light >= scene.lights.size() ||
-      !same_vec(e.light_position, scene.lights[light].position) || e.objects.size() != scene.objects.size() ||
-      e.width != scene.camera.width || e.height != scene.camera.height || e.near_plane != near_plane ||
-      e.depth_limited != depth_limited)
+      !(e.light_position.x == scene.lights[light].position.x && e.light_position.y == scene.lights[light].position.y &&
+        e.light_position.z == scene.lights[light].position.z) ||
+      e.objects.size() != scene.objects.size() || e.width != scene.camera.width || e.height != scene.camera.height ||
+      e.near_plane != near_plane || e.depth_limited != depth_limited)
     return false;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const SceneObject& so = scene.objects[o];
     const ObjectKey& k = e.objects[o];
-    if (k.mesh != so.mesh || k.occluder != so.occluder || !same_affine(k.object_to_world, so.object_to_world))
+    if (k.mesh != so.mesh || k.occluder != so.occluder || k.object_to_world.rows != so.object_to_world.rows)
       return false;
   }
   return true;

@@ -216,11 +216,13 @@ PolicyDecision decide_impl(const SwitchPolicy& policy, const CameraSpaceScene& c
         d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return d;
       }
+    // The margin is weighed only where a choice may be kept.
+    const bool keeps = kept && !forced && pricing == DecisionPricing::ChoiceOnly;
     double margin = kNaN;
     d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing,
-                       &margin, forced);
+                       keeps ? &margin : nullptr, forced);
     d.choice_margin = margin;
-    if (kept && !forced && pricing == DecisionPricing::ChoiceOnly)
+    if (keeps)
       kept->remember(policy, scene, light, near_plane, depth_limited, d.object_methods,
                      d.settings.light_frustum.projection, margin);
     d.decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -595,7 +597,8 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   // The options' prices are kept where the decision is priced.
   std::vector<std::pair<std::string_view, double>>* const log = choice_only ? nullptr : &d.predicted_options;
   std::vector<Frame> option_frames;  // the chosen frame's options, for the margin
-  Frame chosen = best_frame(allowed, {}, log, &option_frames);
+  std::vector<Frame>* const frames = margin ? &option_frames : nullptr;
+  Frame chosen = best_frame(allowed, {}, log, frames);
   // The best frame with the exact test and Z-pass where it would allow it,
   // where it was weighed and not run (the test's saving fell short).
   double untested_alternative_ms = kNaN;
@@ -623,7 +626,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
       }
       d.predicted_options.clear();
       option_frames.clear();
-      chosen = best_frame(allowed, test_work, log, &option_frames);
+      chosen = best_frame(allowed, test_work, log, frames);
     } else {
       untested_alternative_ms = optimistic_ms;
       for (std::size_t i = 0; i < occluders.size(); ++i)
@@ -684,7 +687,6 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     } else {
       f.projection = forced->settings.light_frustum.projection;
     }
-    if (f.work.eye_count.drawn) f.work.eye_count.fragments = viewport_pixels;  // the count's stencil write
     f.ms = profile.predict_ms(f.work);
     chosen = std::move(f);
   }

@@ -239,8 +239,8 @@ struct PolicyDecision {
   // both as the decision's pricing weighs them: with
   // DecisionPricing::ChoiceOnly without the coverage every candidate draws
   // alike, so the ratio is larger than over the whole frame's predicted
-  // time.  NaN where nothing was priced (no profile, unpriced or kept
-  // frames).
+  // time.  Weighed where a ChoiceOnly decision is given a KeptChoices and
+  // prices the frame; NaN elsewhere.
   double choice_margin = std::numeric_limits<double>::quiet_NaN();
   double choice_margin_ms = std::numeric_limits<double>::quiet_NaN();
   // The frame's depth step at its farthest point over the scene's size, for
