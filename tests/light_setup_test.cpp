@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "nearcap/exact/light_setup.hpp"
@@ -108,6 +110,42 @@ TEST(LightSetupCache, BundledSceneFramesEqualFreshReferences) {
   const LightSetupCache::Counts n = cache.counts();
   EXPECT_EQ(n.setup_builds, 3u);
   EXPECT_EQ(n.setup_hits, 1u);
+}
+
+// Threads that ask for the same light setup at once (a sweep's first
+// configurations on every core) get one setup, built once: the first
+// builds it and the others join that build.  The bunny's light setup takes
+// long enough (tens of milliseconds) that threads started together overlap
+// it.
+TEST(LightSetupCache, ThreadsAskingAtOnceShareOneBuild) {
+  MeshCache meshes;
+  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 8;
+  j["camera"]["height"] = 6;
+  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const CameraSpaceScene cs(scene);
+  LightSetupCache cache;
+  constexpr int kThreads = 4;
+  std::vector<std::shared_ptr<const LightSetup>> got(kThreads);
+  std::atomic<int> ready{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      ++ready;
+      while (ready.load() < kThreads) std::this_thread::yield();
+      got[t] = light_setup(cs, 0, &cache);
+    });
+  for (std::thread& t : threads) t.join();
+  for (int t = 0; t < kThreads; ++t) {
+    ASSERT_NE(got[t], nullptr);
+    EXPECT_EQ(got[t].get(), got[0].get()) << "thread " << t;
+  }
+  const LightSetupCache::Counts n = cache.counts();
+  EXPECT_EQ(n.setup_builds, 1u);
+  EXPECT_EQ(n.setup_hits, static_cast<std::size_t>(kThreads - 1));
+  EXPECT_FALSE(got[0]->lit.empty());
 }
 
 // WorldDirections: the world direction's estimate lies within its bound of

@@ -2,6 +2,7 @@
 #include "nearcap/exact/light_setup.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -143,23 +144,47 @@ LightSetupCache::Counts LightSetupCache::counts() const {
   return counts_;
 }
 
+struct LightSetupCache::PendingSetup {
+  tbb::collaborative_once_flag built;
+  std::shared_ptr<const LightSetup> setup;  // set once `built` has run
+};
+
 std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::size_t light, LightSetupCache* cache) {
   const Scene& scene = cs.scene();
   const Vec3d& l = scene.lights[light].position;
   std::vector<LightSetupCache::ObjectKey> keys;
   keys.reserve(scene.objects.size());
   for (const SceneObject& o : scene.objects) keys.push_back({o.mesh, o.object_to_world, o.occluder});
-  if (cache) {
+  if (!cache) return LightSetupCache::build(cs, light, keys, nullptr);
+  std::shared_ptr<LightSetupCache::PendingSetup> pending;
+  {
     const std::lock_guard<std::mutex> lock(cache->mutex_);
-    for (std::size_t k = 0; k < cache->setups_.size(); ++k) {
+    for (std::size_t k = 0; k < cache->setups_.size() && !pending; ++k) {
       const LightSetupCache::SetupEntry& e = cache->setups_[k];
       if (same_point(e.light, l) && e.objects == keys) {
         ++cache->counts_.setup_hits;
-        return touch(cache->setups_, k).setup;
+        pending = touch(cache->setups_, k).setup;
       }
     }
+    if (!pending) {
+      pending = std::make_shared<LightSetupCache::PendingSetup>();
+      store(cache->setups_, LightSetupCache::SetupEntry{keys, l, pending}, cache->setup_capacity_);
+    }
   }
+  // The first caller builds; a caller that arrives meanwhile works on the
+  // same build's parallel loops and returns when it is done.
+  tbb::collaborative_call_once(pending->built, [&] {
+    pending->setup = LightSetupCache::build(cs, light, keys, cache);
+    const std::lock_guard<std::mutex> lock(cache->mutex_);
+    ++cache->counts_.setup_builds;
+  });
+  return pending->setup;
+}
 
+std::shared_ptr<const LightSetup> LightSetupCache::build(const CameraSpaceScene& cs, std::size_t light,
+                                                       const std::vector<ObjectKey>& keys, LightSetupCache* cache) {
+  const Scene& scene = cs.scene();
+  const Vec3d& l = scene.lights[light].position;
   auto setup = std::make_shared<LightSetup>();
   const std::size_t objects = scene.objects.size();
   setup->facing.resize(objects);
@@ -197,11 +222,6 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
   // rest of the light side.
   constexpr double kInf = std::numeric_limits<double>::infinity();
   setup->grid->build_faces_meeting({-kInf, -kInf, -kInf}, {kInf, kInf, kInf});
-  if (cache) {
-    const std::lock_guard<std::mutex> lock(cache->mutex_);
-    ++cache->counts_.setup_builds;
-    store(cache->setups_, LightSetupCache::SetupEntry{std::move(keys), l, setup}, cache->setup_capacity_);
-  }
   return setup;
 }
 

@@ -69,9 +69,13 @@ class WorldDirections {
 };
 
 // Light setups and facings kept across frames.  Thread-safe: a sweep's
-// configurations ask for them from several threads; two threads that miss the
-// same entry both build it, and the first one stored is kept.  Bounded: the
-// least recently used entries are dropped beyond the capacities.
+// configurations ask for them from several threads.  A setup is built once:
+// the first thread to miss it stores a pending entry and builds it; a thread
+// that asks for it meanwhile joins that build (its parallel loops) and gets
+// the same setup.  A build that throws leaves the entry pending, and the next
+// thread to ask builds it.  Two threads that miss the same facing outside a
+// setup build both compute it, and the first one stored is kept.  Bounded:
+// the least recently used entries are dropped beyond the capacities.
 class LightSetupCache {
  public:
   explicit LightSetupCache(std::size_t setups = 4, std::size_t facings = 64);
@@ -96,10 +100,15 @@ class LightSetupCache {
     Vec3d light;
     std::shared_ptr<const std::vector<Facing>> facing;
   };
+  struct PendingSetup;  // the build's once-flag and its result (light_setup.cpp)
+  // The light setup of `scene` for `light` (`keys`: its objects), its
+  // facings taken from and stored in `cache` where given.
+  static std::shared_ptr<const LightSetup> build(const CameraSpaceScene& scene, std::size_t light,
+                                                 const std::vector<ObjectKey>& keys, LightSetupCache* cache);
   struct SetupEntry {
     std::vector<ObjectKey> objects;
     Vec3d light;
-    std::shared_ptr<const LightSetup> setup;
+    std::shared_ptr<PendingSetup> setup;
   };
   std::size_t setup_capacity_, facing_capacity_;
   mutable std::mutex mutex_;
