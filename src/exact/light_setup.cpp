@@ -182,7 +182,7 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
 }
 
 std::shared_ptr<const LightSetup> LightSetupCache::build(const CameraSpaceScene& cs, std::size_t light,
-                                                       const std::vector<ObjectKey>& keys, LightSetupCache* cache) {
+                                                         const std::vector<ObjectKey>& keys, LightSetupCache* cache) {
   const Scene& scene = cs.scene();
   const Vec3d& l = scene.lights[light].position;
   auto setup = std::make_shared<LightSetup>();
