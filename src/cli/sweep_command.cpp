@@ -31,8 +31,10 @@
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -43,6 +45,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -558,8 +561,32 @@ void run_sweep(const SweepCommandOptions& o) {
   if (world.rank() == 0)
     writer = std::make_unique<OrderedWriter>(
         fd, o.out, first, total, options.methods.size() + options.policies.size() + (options.switch_policy ? 1 : 0));
+  if (world.size() == 1) {
+    // One process: each core takes the next configuration when it finishes
+    // one, and hands its rows to the writer, which writes them in order.  A
+    // configuration's own parallel loops run isolated, so that a core
+    // waiting in them never takes up a whole other configuration.  One that
+    // fails stops the others from taking more; the rows of those before it
+    // are written, as a resumed sweep expects.
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex writing;
+    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
+      for (std::size_t k = next++; k < mine.size() && !stop.load(); k = next++) {
+        std::string rows;
+        try {
+          tbb::this_task_arena::isolate([&] { rows = configuration_csv(configurations.at(mine[k]), options); });
+        } catch (...) {
+          stop = true;
+          throw;
+        }
+        const std::lock_guard<std::mutex> lock(writing);
+        writer->add(mine[k], std::move(rows));
+      }
+    });
+  }
   constexpr std::size_t kBlock = 8;  // run together on this rank's cores
-  for (std::size_t begin = 0; begin < mine.size(); begin += kBlock) {
+  for (std::size_t begin = 0; world.size() > 1 && begin < mine.size(); begin += kBlock) {
     const std::size_t end = std::min(mine.size(), begin + kBlock);
     std::vector<std::string> blocks(end - begin);
     tbb::parallel_for(
