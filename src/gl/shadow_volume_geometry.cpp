@@ -70,6 +70,19 @@ std::vector<std::uint32_t> side_strip_indices(const std::vector<ShadowVertex>& s
 
 ShadowVolumeGeometry shadow_volume_geometry(const TriangleMesh& mesh, const EngineSilhouette& silhouette) {
   ShadowVolumeGeometry g;
+  // Each array allocated once at its size (grown by doubling, the arrays of
+  // every frame leave freed blocks of every size behind in the heap).
+  std::size_t fronts = 0, corrective = 0;
+  for (FaceIndex f = 0; f < mesh.triangle_count(); ++f) fronts += silhouette.facing[f] == Facing::Front ? 1 : 0;
+  for (QuadCase c : silhouette.cases) corrective += c == QuadCase::C1 || c == QuadCase::C2 ? 1 : 0;
+  const std::size_t backs = mesh.triangle_count() - fronts;
+  g.sides.reserve(6 * silhouette.edges.size());
+  g.sides_vertex.reserve(6 * silhouette.edges.size());
+  g.corrective.reserve(6 * corrective);
+  g.light_cap.reserve(3 * fronts);
+  g.light_cap_vertex.reserve(3 * fronts);
+  g.dark_cap.reserve(3 * backs);
+  g.dark_cap_vertex.reserve(3 * backs);
   for (std::size_t k = 0; k < silhouette.edges.size(); ++k) {
     const Vec3d& a = mesh.positions[silhouette.edges[k].a];
     const Vec3d& d = mesh.positions[silhouette.edges[k].d];
