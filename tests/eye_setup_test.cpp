@@ -7,9 +7,14 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <tbb/parallel_invoke.h>
+
+#include <chrono>
 #include <fstream>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "nearcap/exact/crack_distance.hpp"
@@ -164,6 +169,32 @@ TEST(EyeSetupCache, BundledSceneLightsShareTheEyeSide) {
   const EyeSetupCache::Counts n = eye_setups.counts();
   EXPECT_EQ(n.builds, 2u);
   EXPECT_EQ(n.hits, 4u);
+}
+
+// An eye setup built beside a task that throws (TBB cancels the tasks of the
+// group it throws in, and the loops nested in them) is whole in the cache
+// all the same: the frame's next light reads a fresh build's setup.
+TEST(EyeSetupCache, ABuildBesideAThrowingTaskIsWholeInTheCache) {
+  MeshCache meshes;
+  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 32;
+  j["camera"]["height"] = 24;
+  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const CameraSpaceScene cs(scene);
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    SCOPED_TRACE(attempt);
+    EyeSetupCache cache;
+    EXPECT_THROW(tbb::parallel_invoke([&] { eye_setup(cs, &cache); },
+                                      [] {
+                                        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                                        throw std::runtime_error("the task beside the build");
+                                      }),
+                 std::runtime_error);
+    const PixelReferenceTracer from_cache(cs, 0, nullptr, &cache), built(cs, 0);
+    EXPECT_TRUE(same_reference(compute_pixel_reference(from_cache), compute_pixel_reference(built)));
+  }
 }
 
 }  // namespace

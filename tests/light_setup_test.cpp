@@ -4,10 +4,13 @@
 // the grids still agree with brute force on every pixel.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
+#include <tbb/parallel_invoke.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -146,6 +149,36 @@ TEST(LightSetupCache, ThreadsAskingAtOnceShareOneBuild) {
   EXPECT_EQ(n.setup_builds, 1u);
   EXPECT_EQ(n.setup_hits, static_cast<std::size_t>(kThreads - 1));
   EXPECT_FALSE(got[0]->lit.empty());
+}
+
+// A build that a task beside it cuts short by throwing (TBB cancels the
+// tasks of the group it throws in, and the loops nested in them) is whole in
+// the cache all the same: the next frame's setup is a fresh build's, and so
+// is its reference.
+TEST(LightSetupCache, ABuildBesideAThrowingTaskIsWholeInTheCache) {
+  MeshCache meshes;
+  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = 32;
+  j["camera"]["height"] = 24;
+  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const CameraSpaceScene cs(scene);
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    SCOPED_TRACE(attempt);
+    LightSetupCache cache;
+    EXPECT_THROW(tbb::parallel_invoke([&] { light_setup(cs, 0, &cache); },
+                                      [] {
+                                        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                                        throw std::runtime_error("the task beside the build");
+                                      }),
+                 std::runtime_error);
+    const std::shared_ptr<const LightSetup> cached = light_setup(cs, 0, &cache), fresh = light_setup(cs, 0);
+    ASSERT_NE(cached, nullptr);
+    EXPECT_EQ(cached->lit, fresh->lit);
+    const PixelReferenceTracer from_cache(cs, 0, &cache), built(cs, 0);
+    EXPECT_TRUE(same_reference(compute_pixel_reference(from_cache), compute_pixel_reference(built)));
+  }
 }
 
 // WorldDirections: the world direction's estimate lies within its bound of

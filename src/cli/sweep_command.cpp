@@ -31,6 +31,7 @@
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
@@ -40,12 +41,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -562,28 +563,53 @@ void run_sweep(const SweepCommandOptions& o) {
     writer = std::make_unique<OrderedWriter>(
         fd, o.out, first, total, options.methods.size() + options.policies.size() + (options.switch_policy ? 1 : 0));
   if (world.size() == 1) {
-    // One process: each core takes the next configuration when it finishes
-    // one, and hands its rows to the writer, which writes them in order.  A
-    // configuration's own parallel loops run isolated, so that a core
-    // waiting in them never takes up a whole other configuration.  One that
-    // fails stops the others from taking more; the rows of those before it
-    // are written, as a resumed sweep expects.
-    std::atomic<std::size_t> next{0};
+    // One process: a pipeline that hands out this rank's configurations in
+    // order, computes them on every core (each one's own parallel loops
+    // isolated, so that a core waiting in them never takes up another
+    // configuration), and writes their rows in order, at most two per core
+    // in flight.  Nothing throws inside it, so no configuration is cut
+    // short: one that fails (or a write that fails) stops the handing out,
+    // the rows of the configurations before it are written, none after it,
+    // and its error is thrown here.
+    struct Computed {
+      std::size_t k = 0;
+      std::string rows;
+      std::exception_ptr error;
+    };
+    std::size_t next = 0;
     std::atomic<bool> stop{false};
-    std::mutex writing;
-    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
-      for (std::size_t k = next++; k < mine.size() && !stop.load(); k = next++) {
-        std::string rows;
-        try {
-          tbb::this_task_arena::isolate([&] { rows = configuration_csv(configurations.at(mine[k]), options); });
-        } catch (...) {
-          stop = true;
-          throw;
-        }
-        const std::lock_guard<std::mutex> lock(writing);
-        writer->add(mine[k], std::move(rows));
-      }
-    });
+    std::exception_ptr failure;
+    const auto in_flight = static_cast<std::size_t>(2 * tbb::this_task_arena::max_concurrency());
+    tbb::parallel_pipeline(
+        in_flight,
+        tbb::make_filter<void,
+                         std::size_t>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> std::size_t {
+          if (next >= mine.size() || stop.load()) {
+            fc.stop();
+            return 0;
+          }
+          return next++;
+        }) & tbb::make_filter<std::size_t, Computed>(tbb::filter_mode::parallel, [&](std::size_t k) {
+          Computed c;
+          c.k = k;
+          try {
+            tbb::this_task_arena::isolate([&] { c.rows = configuration_csv(configurations.at(mine[k]), options); });
+          } catch (...) {
+            c.error = std::current_exception();
+            stop = true;
+          }
+          return c;
+        }) & tbb::make_filter<Computed, void>(tbb::filter_mode::serial_in_order, [&](Computed c) {
+          if (failure) return;
+          try {
+            if (c.error) std::rethrow_exception(c.error);
+            writer->add(mine[c.k], std::move(c.rows));
+          } catch (...) {
+            failure = std::current_exception();
+            stop = true;
+          }
+        }));
+    if (failure) std::rethrow_exception(failure);
   }
   constexpr std::size_t kBlock = 8;  // run together on this rank's cores
   for (std::size_t begin = 0; world.size() > 1 && begin < mine.size(); begin += kBlock) {

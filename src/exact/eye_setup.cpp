@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "pixel_tracer_impl.hpp"
+#include "uncancelled.hpp"
 #include "vector_pool.hpp"
 
 namespace nearcap {
@@ -92,7 +93,9 @@ std::shared_ptr<const EyeSetup> eye_setup(const CameraSpaceScene& cs, EyeSetupCa
         return entries.back().setup;
       }
   }
-  std::shared_ptr<const EyeSetup> setup = build_eye_setup(cs);
+  // Uncancelled: the setup stays in the cache for the frame's other lights.
+  std::shared_ptr<const EyeSetup> setup;
+  run_uncancelled([&] { setup = build_eye_setup(cs); });
   const std::lock_guard<std::mutex> lock(cache->mutex_);
   ++cache->counts_.builds;
   if (cache->capacity_ == 0) return setup;

@@ -10,6 +10,8 @@
 #include <limits>
 #include <utility>
 
+#include "nearcap/check.hpp"
+#include "uncancelled.hpp"
 #include "vector_pool.hpp"
 
 namespace nearcap {
@@ -172,12 +174,16 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
     }
   }
   // The first caller builds; a caller that arrives meanwhile works on the
-  // same build's parallel loops and returns when it is done.
-  tbb::collaborative_call_once(pending->built, [&] {
-    pending->setup = LightSetupCache::build(cs, light, keys, cache);
-    const std::lock_guard<std::mutex> lock(cache->mutex_);
-    ++cache->counts_.setup_builds;
+  // same build's parallel loops and returns when it is done.  The build
+  // runs uncancelled: the setup stays in the cache for later frames.
+  run_uncancelled([&] {
+    tbb::collaborative_call_once(pending->built, [&] {
+      pending->setup = LightSetupCache::build(cs, light, keys, cache);
+      const std::lock_guard<std::mutex> lock(cache->mutex_);
+      ++cache->counts_.setup_builds;
+    });
   });
+  NEARCAP_CHECK(pending->setup != nullptr);
   return pending->setup;
 }
 
