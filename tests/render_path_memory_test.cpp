@@ -1,7 +1,11 @@
 // `nearcap render --path` draws a camera path in memory that does not grow
 // with the path's length: the same path at 20 and at 200 frames peaks within
 // a few megabytes.  The peak is the child process's own maximum resident set
-// (wait4's rusage), so nothing else this test process has run counts.
+// (wait4's rusage), so nothing else this test process has run counts.  It
+// runs under oneTBB's allocator where the build has it: glibc's heap
+// fragments under the GL driver's per-frame allocations and grows the
+// resident set by an amount that changes from run to run though the program
+// keeps nothing more (docs/findings/path-memory.md).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -14,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -38,6 +43,17 @@ PeakRun run_with_peak(const std::vector<std::string>& args, const fs::path& err_
   std::vector<std::string> copies = args;
   for (std::string& a : copies) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // The environment, with oneTBB's allocator preloaded where the build
+  // found it (tests/CMakeLists.txt), made before the fork.
+  std::vector<std::string> environment;
+  for (char** e = environ; *e != nullptr; ++e)
+    if (std::string_view(*e).rfind("LD_PRELOAD=", 0) != 0) environment.emplace_back(*e);
+#if defined(NEARCAP_TBBMALLOC_PROXY)
+  environment.push_back(std::string("LD_PRELOAD=") + NEARCAP_TBBMALLOC_PROXY);
+#endif
+  std::vector<char*> envp;
+  for (std::string& e : environment) envp.push_back(e.data());
+  envp.push_back(nullptr);
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int null_fd = ::open("/dev/null", O_WRONLY);
@@ -45,7 +61,7 @@ PeakRun run_with_peak(const std::vector<std::string>& args, const fs::path& err_
     if (null_fd < 0 || err_fd < 0 || ::chdir(NEARCAP_SOURCE_DIR) != 0) ::_exit(127);
     ::dup2(null_fd, 1);
     ::dup2(err_fd, 2);
-    ::execv(argv[0], argv.data());
+    ::execve(argv[0], argv.data(), envp.data());
     ::_exit(127);
   }
   PeakRun r;
