@@ -33,6 +33,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -567,10 +568,9 @@ void run_sweep(const SweepCommandOptions& o) {
     // order, computes them on every core (each one's own parallel loops
     // isolated, so that a core waiting in them never takes up another
     // configuration), and writes their rows in order, at most two per core
-    // in flight.  Nothing throws inside it, so no configuration is cut
-    // short: one that fails (or a write that fails) stops the handing out,
-    // the rows of the configurations before it are written, none after it,
-    // and its error is thrown here.
+    // in flight.  Nothing throws inside it, and each configuration runs in
+    // a context of its own, so no configuration is cut short: one that fails (or a write that fails) stops the handing
+    // out, the rows of the configurations before it are written, none after it, and its error is thrown here.
     struct Computed {
       std::size_t k = 0;
       std::string rows;
@@ -593,7 +593,12 @@ void run_sweep(const SweepCommandOptions& o) {
           Computed c;
           c.k = k;
           try {
-            tbb::this_task_arena::isolate([&] { c.rows = configuration_csv(configurations.at(mine[k]), options); });
+            // In a context of its own, which nothing cancels.
+            tbb::task_group_context own(tbb::task_group_context::isolated);
+            tbb::task_group group(own);
+            group.run_and_wait([&] {
+              tbb::this_task_arena::isolate([&] { c.rows = configuration_csv(configurations.at(mine[k]), options); });
+            });
           } catch (...) {
             c.error = std::current_exception();
             stop = true;

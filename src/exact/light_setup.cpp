@@ -11,7 +11,6 @@
 #include <utility>
 
 #include "nearcap/check.hpp"
-#include "uncancelled.hpp"
 #include "vector_pool.hpp"
 
 namespace nearcap {
@@ -175,13 +174,13 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
   }
   // The first caller builds; a caller that arrives meanwhile works on the
   // same build's parallel loops and returns when it is done.  The build
-  // runs uncancelled: the setup stays in the cache for later frames.
-  run_uncancelled([&] {
-    tbb::collaborative_call_once(pending->built, [&] {
-      pending->setup = LightSetupCache::build(cs, light, keys, cache);
-      const std::lock_guard<std::mutex> lock(cache->mutex_);
-      ++cache->counts_.setup_builds;
-    });
+  // runs in a context of collaborative_call_once's own, which a
+  // cancellation of the caller's tasks does not reach: the setup stays
+  // whole in the cache for later frames (uncancelled.hpp).
+  tbb::collaborative_call_once(pending->built, [&] {
+    pending->setup = LightSetupCache::build(cs, light, keys, cache);
+    const std::lock_guard<std::mutex> lock(cache->mutex_);
+    ++cache->counts_.setup_builds;
   });
   NEARCAP_CHECK(pending->setup != nullptr);
   return pending->setup;

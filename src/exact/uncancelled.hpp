@@ -6,8 +6,9 @@
 // and returns as if it were done.  A structure built for a cache that later
 // frames read (a light setup, an eye setup) must not be left half built that
 // way by an exception elsewhere in the frame (tests/light_setup_test.cpp and
-// tests/eye_setup_test.cpp build one beside a throwing task).  A grid's
-// faces are built through tbb::collaborative_call_once, whose function a
+// tests/eye_setup_test.cpp build one in a cancelled group).  Light setups
+// and a grid's faces are built through tbb::collaborative_call_once, whose
+// function runs in a context of its own (task_arena::execute), which a
 // cancellation of the caller's group does not reach.
 #pragma once
 
