@@ -569,8 +569,10 @@ void run_sweep(const SweepCommandOptions& o) {
     // isolated, so that a core waiting in them never takes up another
     // configuration), and writes their rows in order, at most two per core
     // in flight.  Nothing throws inside it, and each configuration runs in
-    // a context of its own, so no configuration is cut short: one that fails (or a write that fails) stops the handing
-    // out, the rows of the configurations before it are written, none after it, and its error is thrown here.
+    // a task context of its own, so no configuration is cut short: one that
+    // fails (or a write that fails) stops the handing out, the rows of the
+    // configurations before it are written, none after it, and its error is
+    // thrown here.
     struct Computed {
       std::size_t k = 0;
       std::string rows;
