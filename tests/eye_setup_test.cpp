@@ -174,12 +174,7 @@ TEST(EyeSetupCache, BundledSceneLightsShareTheEyeSide) {
 // frame's next light reads what a fresh build gives.
 TEST(EyeSetupCache, ABuildInACancelledGroupIsWholeInTheCache) {
   MeshCache meshes;
-  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
-  std::ifstream in(path);
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["camera"]["width"] = 32;
-  j["camera"]["height"] = 24;
-  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const Scene scene = test::bundled_scene_at("bunny", 32, 24, meshes);
   const CameraSpaceScene cs(scene);
   EyeSetupCache cache;
   tbb::task_group_context group_context;

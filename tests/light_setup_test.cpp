@@ -120,12 +120,7 @@ TEST(LightSetupCache, BundledSceneFramesEqualFreshReferences) {
 // it.
 TEST(LightSetupCache, ThreadsAskingAtOnceShareOneBuild) {
   MeshCache meshes;
-  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
-  std::ifstream in(path);
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["camera"]["width"] = 8;
-  j["camera"]["height"] = 6;
-  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const Scene scene = test::bundled_scene_at("bunny", 8, 6, meshes);
   const CameraSpaceScene cs(scene);
   LightSetupCache cache;
   constexpr int kThreads = 4;
@@ -155,12 +150,7 @@ TEST(LightSetupCache, ThreadsAskingAtOnceShareOneBuild) {
 // the next frame's setup and reference are a fresh build's.
 TEST(LightSetupCache, ABuildInACancelledGroupIsWholeInTheCache) {
   MeshCache meshes;
-  const std::string path = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/bunny.json";
-  std::ifstream in(path);
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["camera"]["width"] = 32;
-  j["camera"]["height"] = 24;
-  const Scene scene = parse_scene(j.dump(), path, std::string(NEARCAP_SOURCE_DIR) + "/data/scenes", &meshes);
+  const Scene scene = test::bundled_scene_at("bunny", 32, 24, meshes);
   const CameraSpaceScene cs(scene);
   LightSetupCache cache;
   tbb::task_group_context group_context;

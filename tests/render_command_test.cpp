@@ -164,6 +164,22 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   std::filesystem::remove_all(dir);
 }
 
+// DIR (made anew) holding path.json: the bundled path NAME with `frames`
+// frames, its scene data/scenes/SCENE.json by absolute name, and the
+// viewport width x height where given.
+void write_path_copy(const std::filesystem::path& dir, const std::string& name, const std::string& scene, int frames,
+                     int width = 0, int height = 0) {
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  nlohmann::json path =
+      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/" + name + ".json"));
+  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + scene + ".json";
+  path["frames"] = frames;
+  if (width > 0) path["width"] = width;
+  if (height > 0) path["height"] = height;
+  std::ofstream(dir / "path.json") << path.dump();
+}
+
 // --bench along a path with the policy: each of its frames' price (the
 // device profile's, its lights summed) and the end-to-end time predicted
 // before drawing it: that price times the measured/priced of the frame
@@ -171,16 +187,7 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
 // frame's decision; the medians of both errors.
 TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_predict_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  nlohmann::json path =
-      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/eye_in_shadow.json"));
-  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room.json";
-  path["frames"] = 6;
-  {
-    std::ofstream out(dir / "path.json");
-    out << path.dump();
-  }
+  write_path_copy(dir, "eye_in_shadow", "room", 6);
   const test::CliResult r = test::run_cli("render --path '" + (dir / "path.json").string() +
                                               "' --method zfail,policy --bench --out '" + (dir / "out").string() + "'",
                                           "render_predict");
@@ -224,18 +231,8 @@ TEST(RenderCommand, BenchPredictsThePolicysFramesFromTheFramesBefore) {
 // choices) or beside Z-fail (drawn first and again).
 TEST(RenderCommand, BenchKeepsThePolicysChoicesAsAFrameLoopDoes) {
   const auto dir = std::filesystem::temp_directory_path() / ("nearcap_render_kept_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  nlohmann::json path =
-      nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json"));
-  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room_side_light.json";
-  path["width"] = 64;
-  path["height"] = 48;
-  path["frames"] = 20;
-  {
-    std::ofstream out(dir / "path.json");
-    out << path.dump();
-  }
+  constexpr int kFrames = 20;
+  write_path_copy(dir, "near_plane_sweep", "room_side_light", kFrames, 64, 48);
   std::vector<std::vector<int>> runs;
   for (const char* methods : {"zfail,policy", "policy"}) {
     const std::string out = (dir / methods).string();
@@ -251,7 +248,7 @@ TEST(RenderCommand, BenchKeepsThePolicysChoicesAsAFrameLoopDoes) {
       if (m["method"] != "policy") continue;
       for (const nlohmann::json& f : m["frames"]) since.push_back(f["cpu"]["lights"][0].at("frames_since_priced"));
     }
-    ASSERT_EQ(since.size(), static_cast<std::size_t>(path["frames"].get<int>())) << methods;
+    ASSERT_EQ(since.size(), static_cast<std::size_t>(kFrames)) << methods;
     for (int k : since) EXPECT_LE(k, analysis::KeptChoices::kMaxKeptFrames) << methods;
     // Priced and kept frames both (the warm-up draw before the first frame
     // decides too: the first frame may keep its choice).

@@ -618,7 +618,10 @@ void run_sweep(const SweepCommandOptions& o) {
         }));
     if (failure) std::rethrow_exception(failure);
   }
-  constexpr std::size_t kBlock = 8;  // run together on this rank's cores
+  // Under MPI: blocks of configurations run together on this rank's cores,
+  // and between blocks the main thread sends or collects rows (MPI is
+  // called from that thread alone, as MPI_Init allows).
+  constexpr std::size_t kBlock = 8;
   for (std::size_t begin = 0; world.size() > 1 && begin < mine.size(); begin += kBlock) {
     const std::size_t end = std::min(mine.size(), begin + kBlock);
     std::vector<std::string> blocks(end - begin);

@@ -164,7 +164,7 @@ std::shared_ptr<const LightSetup> light_setup(const CameraSpaceScene& cs, std::s
       const LightSetupCache::SetupEntry& e = cache->setups_[k];
       if (same_point(e.light, l) && e.objects == keys) {
         ++cache->counts_.setup_hits;
-        pending = touch(cache->setups_, k).setup;
+        pending = touch(cache->setups_, k).pending;
       }
     }
     if (!pending) {

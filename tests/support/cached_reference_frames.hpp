@@ -8,6 +8,8 @@
 
 #include <rapidcheck.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,18 @@ inline bool same_reference(const PixelReference& a, const PixelReference& b) {
 
 inline bool same_sample(const PixelSample& a, const PixelSample& b) {
   return a.cap == b.cap && a.stencil == b.stencil && a.object == b.object && a.face == b.face;
+}
+
+// A bundled scene (data/scenes/NAME.json) at a width x height viewport, its
+// meshes from `meshes`.
+inline Scene bundled_scene_at(const std::string& name, int width, int height, MeshCache& meshes) {
+  const std::string dir = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes";
+  const std::string path = dir + "/" + name + ".json";
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["camera"]["width"] = width;
+  j["camera"]["height"] = height;
+  return parse_scene(j.dump(), path, dir, &meshes);
 }
 
 // One frame of a property case: what moved, and its scene's JSON.

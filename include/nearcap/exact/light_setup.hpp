@@ -108,7 +108,7 @@ class LightSetupCache {
   struct SetupEntry {
     std::vector<ObjectKey> objects;
     Vec3d light;
-    std::shared_ptr<PendingSetup> setup;
+    std::shared_ptr<PendingSetup> pending;  // its setup, once built
   };
   std::size_t setup_capacity_, facing_capacity_;
   mutable std::mutex mutex_;
