@@ -82,7 +82,7 @@ PixelReference exact_reference(const Scene& scene, std::size_t light);
 // a frame judged here is the frame `nearcap cracks SCENE --light L --method M`
 // judges with the same options.
 struct FrameSettings {
-  ShadowMethod method = ShadowMethod::ZPPlusCorrected;  // zpass, zfail, zpplus, zpplus-corrected, preload
+  ShadowMethod method = ShadowMethod::ZPPlusCorrected;  // zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp
   std::size_t light = 0;                                // index into the scene's lights
   // The image in pixels; 0 keeps the scene camera's.  The frustum is the
   // scene's either way (a different aspect ratio stretches the pixels).
