@@ -142,6 +142,62 @@ TEST_F(Reliability, AFailedRunLeavesNoNewOutputDirectory) {
   EXPECT_FALSE(fs::exists(path("new")));
 }
 
+TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
+  const std::string scene = test::slurp(path("B.json"));
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out " + path("B.json")), "would replace the scene",
+                        "cap --out");
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --svg " + path("B.json")), "would replace the scene",
+                        "cap --svg");
+  write_scene("reference.json", scene_b());
+  expect_one_line_error(run("reference " + path("reference.json") + " --light 0 --out " + dir_.string()),
+                        "would replace the scene", "reference");
+  write_scene("cracks.json", scene_b());
+  expect_one_line_error(
+      run("cracks " + path("cracks.json") + " --light 0 --method zfail --out " + dir_.string()),
+      "would replace the scene", "cracks");
+  write_text("path.json", R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
+  const std::string path_text = test::slurp(path("path.json"));
+  expect_one_line_error(run("frame " + path("path.json") + " --frame 0 --out " + path("path.json")),
+                        "would replace the camera path file", "frame onto its path");
+  expect_one_line_error(run("frame " + path("path.json") + " --frame 0 --out " + path("B.json")),
+                        "would replace the scene file", "frame onto its scene");
+  EXPECT_EQ(test::slurp(path("B.json")), scene);
+  EXPECT_EQ(test::slurp(path("reference.json")), scene);
+  EXPECT_EQ(test::slurp(path("cracks.json")), scene);
+  EXPECT_EQ(test::slurp(path("path.json")), path_text);
+}
+
+TEST_F(Reliability, AFullStandardOutputIsAnError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  // Run directly: run_cli redirects stdout to a file of its own.
+  const std::string command = "'" + std::string(NEARCAP_CLI) + "' classify '" + path("B.json") + "' > /dev/full 2> '" +
+                              path("err.txt") + "'";
+  const int status = std::system(command.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+  const std::string err = test::slurp(path("err.txt"));
+  EXPECT_EQ(err.rfind("nearcap: error (io): standard output", 0), 0u) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+TEST_F(Reliability, ACameraPathNamedWithoutAFolderIsReadFromTheWorkingFolder) {
+  write_text("path.json", R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
+  const test::CliResult r = test::run_cli("frame path.json --frame 1", "reliability", "cd '" + dir_.string() + "' &&");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find((dir_ / "box.off").lexically_normal().string()), std::string::npos) << r.out;
+  const test::CliResult s = test::run_cli("classify B.json", "reliability", "cd '" + dir_.string() + "' &&");
+  EXPECT_EQ(s.exit_code, 0) << s.err;
+}
+
+TEST_F(Reliability, FrameRefusesAFrameNoOtherCommandWouldRead) {
+  // The up vectors interpolate to zero halfway.
+  write_text("flip.json", R"({"scene":"B.json","frames":3,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0]},
+    {"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,-1,0]}]})");
+  EXPECT_EQ(run("frame " + path("flip.json") + " --frame 0").exit_code, 0);
+  expect_one_line_error(run("frame " + path("flip.json") + " --frame 1 --out " + path("f1.json")),
+                        "flip.json frame 1: camera.up", "frame 1");
+  EXPECT_FALSE(fs::exists(path("f1.json")));
+}
+
 // ---- 3. derived cameras -----------------------------------------------------
 
 TEST_F(Reliability, AnEyeBeyondTheFloatRangeIsARangeError) {

@@ -1,7 +1,10 @@
 // A command's outputs (see command_output.hpp).
 #include "command_output.hpp"
 
+#include <filesystem>
 #include <iostream>
+
+#include "nearcap/error.hpp"
 
 #include "cli_commands.hpp"
 
@@ -11,12 +14,24 @@ std::string json_file_text(const nlohmann::json& j) { return json_text(j, 1) + "
 
 void print_json_line(const nlohmann::json& j) { std::cout << json_text(j) << "\n"; }
 
+void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs) {
+  for (const CommandInput& in : inputs) {
+    std::error_code ec;
+    if (output == in.path || (std::filesystem::equivalent(output, in.path, ec) && !ec))
+      throw Error(ErrorKind::Usage, output + ": this output would replace the " + in.what +
+                                        " the command reads (" + in.path + "); name another file");
+  }
+}
+
 void OutputDir::add(const std::string& name, const std::function<std::string()>& make) {
-  if (given()) files_.push_back({path(name), make()});
+  if (!given()) return;
+  refuse_replacing_inputs(path(name), inputs_);
+  files_.push_back({path(name), make()});
 }
 
 void OutputDir::write(const std::string& json_name, const nlohmann::json& j) {
   if (!given()) return;
+  refuse_replacing_inputs(path(json_name), inputs_);
   files_.push_back({path(json_name), json_file_text(j)});
   io::write_output_files(files_);
 }

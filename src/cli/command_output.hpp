@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nearcap/io/output_files.hpp"
@@ -20,13 +21,26 @@ std::string json_file_text(const nlohmann::json& j);
 // Prints `j` on stdout as one line of JSON.
 void print_json_line(const nlohmann::json& j);
 
+// A file a command reads, which none of its outputs may replace: its path
+// and what it is ("scene file", "camera path file").
+struct CommandInput {
+  std::string path, what;
+};
+
+// Throws Error(Usage) where `output` names the same file as one of `inputs`
+// (through a link too), before anything is written: a command never
+// replaces what it reads.
+void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs);
+
 // The files of a command's --out DIR, gathered while the command runs and
 // written together at its end by io::write_output_files (every file or
 // none).  Without --out (an empty DIR) nothing is gathered or written, and
 // no output's bytes are made.
 class OutputDir {
  public:
-  explicit OutputDir(const std::string& dir) : dir_(dir) {}
+  // `inputs`: the files none of DIR's may replace (refuse_replacing_inputs).
+  explicit OutputDir(const std::string& dir, std::vector<CommandInput> inputs = {})
+      : dir_(dir), inputs_(std::move(inputs)) {}
   bool given() const { return !dir_.empty(); }
   // DIR/name.
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
@@ -37,6 +51,7 @@ class OutputDir {
 
  private:
   std::filesystem::path dir_;
+  std::vector<CommandInput> inputs_;
   std::vector<io::OutputFile> files_;
 };
 

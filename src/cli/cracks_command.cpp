@@ -196,7 +196,9 @@ void run(const CracksOptions& o) {
   const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 
   MethodRecords records(choice.count());
-  OutputDir out(o.out);
+  std::vector<CommandInput> inputs{{o.scene, "scene file"}};
+  if (choice.policy) inputs.push_back({o.policy, "policy file"});
+  OutputDir out(o.out, std::move(inputs));
   // A method's crack image: cracks.png when it runs alone.
   const auto image_name = [&](const std::string& method) {
     return choice.count() == 1 ? std::string("cracks.png") : "cracks-" + method + ".png";

@@ -3,8 +3,10 @@
 #include <iostream>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -19,6 +21,7 @@ struct FrameOptions {
 
 void run(const std::string& path_file, int frame, int width, int height, const std::string& out) {
   analysis::CameraPath path = analysis::load_camera_path(path_file);
+  if (!out.empty()) refuse_replacing_inputs(out, {{path_file, "camera path file"}, {path.scene_file, "scene file"}});
   if (width > 0) path.width = width;
   if (height > 0) path.height = height;
   if (frame < 0 || frame >= path.frames)
@@ -26,6 +29,10 @@ void run(const std::string& path_file, int frame, int width, int height, const s
                                       std::to_string(path.frames) + ") (the path has " + std::to_string(path.frames) +
                                       " frames)");
   const std::string json = analysis::path_frame_json(path, frame) + "\n";
+  // The frame as every other command reads it: a camera the keyframes
+  // interpolate to nothing drawable (a zero up vector, the eye on the
+  // target) is refused here, naming the path and the frame.
+  parse_scene(json, path_file + " frame " + std::to_string(frame), ".");
   if (out.empty())
     std::cout << json;
   else

@@ -6,8 +6,10 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <new>
 #include <string>
 
@@ -104,6 +106,19 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", e.what());
     return fail(1);
+  }
+  // What the command printed on stdout, all of it written: a full disk or a
+  // closed stdout fails the command instead of leaving a short output behind
+  // a success.
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  const bool written = flushed && std::cout.good() && std::ferror(stdout) == 0;
+  if (!written) {
+    const int err = errno;
+    if (report())
+      std::fprintf(stderr, "nearcap: error (io): standard output: cannot write what the command printed%s%s\n",
+                   err != 0 ? ": " : "", err != 0 ? std::strerror(err) : "");
+    return fail(2);
   }
   return 0;
 }

@@ -123,7 +123,9 @@ void run(const RenderOptions& o) {
   CrackDistances distances(tracer, ref);
 
   MethodRecords records(methods.count());
-  OutputDir out(o.out);
+  std::vector<CommandInput> inputs{{o.scene, "scene file"}};
+  if (methods.policy) inputs.push_back({o.policy, "policy file"});
+  OutputDir out(o.out, std::move(inputs));
   FrameSource source(scene, o.light, methods, settings);
   std::unique_ptr<render::GlFrameReplay> replay;   // made for each depth buffer the methods need
   std::unique_ptr<render::EyeCountPass> eye_pass;  // made for the first AtomicZP frame

@@ -318,7 +318,10 @@ std::string with_absolute_mesh_paths(const std::string& json_text, const std::st
   } catch (const Json::exception& e) {
     throw Error(ErrorKind::Parse, scene_file + ": malformed JSON: " + e.what());
   }
-  const std::filesystem::path base = std::filesystem::absolute(std::filesystem::path(scene_file).parent_path());
+  // A bare file name's folder is the working one (absolute("") is an error).
+  std::filesystem::path folder = std::filesystem::path(scene_file).parent_path();
+  if (folder.empty()) folder = ".";
+  const std::filesystem::path base = std::filesystem::absolute(folder).lexically_normal();
   if (root.is_object() && root.contains("objects") && root["objects"].is_array())
     for (Json& o : root["objects"])
       if (o.is_object() && o.contains("mesh") && o["mesh"].is_string()) {
