@@ -152,10 +152,11 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
   expect_one_line_error(run("reference " + path("reference.json") + " --light 0 --out " + dir_.string()),
                         "would replace the scene", "reference");
   write_scene("cracks.json", scene_b());
-  expect_one_line_error(
-      run("cracks " + path("cracks.json") + " --light 0 --method zfail --out " + dir_.string()),
-      "would replace the scene", "cracks");
-  write_text("path.json", R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
+  expect_one_line_error(run("cracks " + path("cracks.json") + " --light 0 --method zfail --out " + dir_.string()),
+                        "would replace the scene", "cracks");
+  write_text(
+      "path.json",
+      R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
   const std::string path_text = test::slurp(path("path.json"));
   expect_one_line_error(run("frame " + path("path.json") + " --frame 0 --out " + path("path.json")),
                         "would replace the camera path file", "frame onto its path");
@@ -170,8 +171,8 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
 TEST_F(Reliability, AFullStandardOutputIsAnError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   // Run directly: run_cli redirects stdout to a file of its own.
-  const std::string command = "'" + std::string(NEARCAP_CLI) + "' classify '" + path("B.json") + "' > /dev/full 2> '" +
-                              path("err.txt") + "'";
+  const std::string command =
+      "'" + std::string(NEARCAP_CLI) + "' classify '" + path("B.json") + "' > /dev/full 2> '" + path("err.txt") + "'";
   const int status = std::system(command.c_str());
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
   const std::string err = test::slurp(path("err.txt"));
@@ -180,7 +181,9 @@ TEST_F(Reliability, AFullStandardOutputIsAnError) {
 }
 
 TEST_F(Reliability, ACameraPathNamedWithoutAFolderIsReadFromTheWorkingFolder) {
-  write_text("path.json", R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
+  write_text(
+      "path.json",
+      R"({"scene":"B.json","frames":2,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},{"eye":[0,2.5,4],"target":[0,0.7,0]}]})");
   const test::CliResult r = test::run_cli("frame path.json --frame 1", "reliability", "cd '" + dir_.string() + "' &&");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find((dir_ / "box.off").lexically_normal().string()), std::string::npos) << r.out;
@@ -190,7 +193,8 @@ TEST_F(Reliability, ACameraPathNamedWithoutAFolderIsReadFromTheWorkingFolder) {
 
 TEST_F(Reliability, FrameRefusesAFrameNoOtherCommandWouldRead) {
   // The up vectors interpolate to zero halfway.
-  write_text("flip.json", R"({"scene":"B.json","frames":3,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0]},
+  write_text("flip.json",
+             R"({"scene":"B.json","frames":3,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0]},
     {"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,-1,0]}]})");
   EXPECT_EQ(run("frame " + path("flip.json") + " --frame 0").exit_code, 0);
   expect_one_line_error(run("frame " + path("flip.json") + " --frame 1 --out " + path("f1.json")),

@@ -18,8 +18,8 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
   for (const CommandInput& in : inputs) {
     std::error_code ec;
     if (output == in.path || (std::filesystem::equivalent(output, in.path, ec) && !ec))
-      throw Error(ErrorKind::Usage, output + ": this output would replace the " + in.what +
-                                        " the command reads (" + in.path + "); name another file");
+      throw Error(ErrorKind::Usage, output + ": this output would replace the " + in.what + " the command reads (" +
+                                        in.path + "); name another file");
   }
 }
 
