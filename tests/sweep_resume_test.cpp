@@ -241,6 +241,43 @@ TEST_F(SweepFile, ResumeRefusesOtherOptionsNamingTheFirstThatDiffers) {
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
 }
 
+// A camera path's rows depend on its base scene and meshes too: a resume
+// after either changed is refused, as after the path file itself changed.
+TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
+  for (const char* mesh : {"box.off", "ground.off"})
+    fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes" / mesh, dir_ / mesh);
+  const std::string scene = R"({"camera":{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0],"fovy_deg":50,
+    "near":0.1,"far":100,"width":16,"height":12},"lights":[{"position":[2,5,1.5]}],
+    "objects":[{"mesh":"box.off","translate":[0,1,0]},{"mesh":"ground.off","occluder":false}]})";
+  write_file(path("base.json"), scene);
+  write_file(path("p.json"), R"({"scene":"base.json","frames":4,"keyframes":[{"eye":[0,2.5,5],"target":[0,0.7,0]},
+    {"eye":[1,2.5,4],"target":[0,0.7,0]}]})");
+  const std::string csv = path("p.csv");
+  const std::string command = "sweep --path " + path("p.json") + " --methods zpass --out " + csv;
+  ASSERT_EQ(test::run_cli(command, "sweep_file_scene").exit_code, 0);
+  const std::vector<std::string> lines = lines_of(test::slurp(csv));
+  const std::string cut = joined(lines, 0, group_starts(lines)[2]);
+  write_file(csv, cut);
+  const std::string box = test::slurp(path("box.off"));
+  for (int edit = 0; edit < 2; ++edit) {
+    if (edit == 0) {
+      std::string moved = scene;
+      moved.replace(moved.find("[2,5,1.5]"), 9, "[2,6,1.5]");
+      write_file(path("base.json"), moved);
+    } else {
+      write_file(path("base.json"), scene);
+      write_file(path("box.off"), box + "\n");  // the same mesh, other bytes
+    }
+    const test::CliResult r = test::run_cli(command + " --resume", "sweep_file_scene_resume");
+    expect_one_line_error(r, "usage", "--path (scene and meshes digest): ", edit == 0 ? "scene edited" : "mesh edited");
+    EXPECT_EQ(test::slurp(csv), cut);
+  }
+  write_file(path("box.off"), box);
+  const test::CliResult same = test::run_cli(command + " --resume", "sweep_file_scene_same");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
+}
+
 // More --samples extend a sweep: its rows are those of the larger sweep run whole.
 TEST_F(SweepFile, ALargerSamplesCountExtendsTheSweep) {
   const std::string csv = path("a.csv");
@@ -445,7 +482,9 @@ TEST_F(SweepFile, DuplicatedListEntriesAreUsageErrors) {
        "--path data/paths/zoom.json is given twice"},
       {"sweep --path data/paths/zoom.json --path ./data/paths/zoom.json --out " + csv,
        "--path ./data/paths/zoom.json is given twice"},
+      {"sweep --path data/paths/zoom.json --path " + path("zoom.json") + " --out " + csv, "are both named 'zoom'"},
   };
+  fs::copy_file(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/zoom.json", path("zoom.json"));
   for (const auto& [command, message] : cases) {
     expect_one_line_error(test::run_cli(command, "sweep_file_dup"), "usage", message, command);
     EXPECT_FALSE(fs::exists(csv)) << command;

@@ -36,6 +36,8 @@
 #include <tbb/task_group.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -61,6 +63,7 @@
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -424,6 +427,22 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
   return out;
 }
 
+// The digest of what a camera path's frames are made of besides the path
+// file: its base scene's text and every mesh file the scene names.
+std::string path_scene_digest(const std::string& path_file) {
+  const analysis::CameraPath path = analysis::load_camera_path(path_file);
+  const std::string scene_text = io::read_input_file(path.scene_file, "scene file");
+  std::string content = scene_text;
+  const nlohmann::json scene = nlohmann::json::parse(with_absolute_mesh_paths(scene_text, path.scene_file));
+  if (scene.contains("objects") && scene["objects"].is_array())
+    for (const nlohmann::json& o : scene["objects"])
+      if (o.is_object() && o.contains("mesh") && o["mesh"].is_string()) {
+        const std::string mesh = o["mesh"].get<std::string>();
+        content += '\0' + mesh + '\0' + io::read_input_file(mesh, "mesh file");
+      }
+  return analysis::content_digest(content);
+}
+
 // The options that determine the rows, for the sidecar (analysis/sweep_file.hpp).
 analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::SweepOptions& options,
                                const analysis::SweepLayout& layout) {
@@ -431,12 +450,15 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
   meta.nearcap_version = NEARCAP_VERSION;
   meta.samples = o.samples;
   const auto one = [](const std::string& v) { return std::vector<std::string>{v}; };
-  std::vector<std::string> digests;
-  for (const std::string& p : o.paths)
+  std::vector<std::string> digests, scene_digests;
+  for (const std::string& p : o.paths) {
     digests.push_back(analysis::content_digest(io::read_input_file(p, "camera path file")));
+    scene_digests.push_back(path_scene_digest(p));
+  }
   meta.options = {
       {"--path", o.paths},
       {"--path (content digest)", digests},
+      {"--path (scene and meshes digest)", scene_digests},
       {"--seed", one(std::to_string(o.sampler.seed))},
       {"--kinds", one(o.sampler.kinds)},
       {"--allow-bunny", one(o.sampler.allow_bunny ? "yes" : "no")},
@@ -472,6 +494,11 @@ void run_sweep(const SweepCommandOptions& o) {
       std::error_code ec;  // a missing file is reported where it is read
       if (o.paths[j] == o.paths[k] || std::filesystem::equivalent(o.paths[j], o.paths[k], ec))
         throw Error(ErrorKind::Usage, "--path " + o.paths[k] + " is given twice");
+      const std::string name = std::filesystem::path(o.paths[k]).stem().string();
+      if (std::filesystem::path(o.paths[j]).stem().string() == name)
+        throw Error(ErrorKind::Usage, "--path " + o.paths[j] + " and --path " + o.paths[k] + " are both named '" +
+                                          name + "': their rows' configuration ids (path:" + name +
+                                          ":FRAME) would be the same; give one a file name of its own");
     }
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
