@@ -216,6 +216,28 @@ TEST_F(CliValidation, NonFiniteFloatOptionsAreUsageErrors) {
   }
 }
 
+TEST_F(CliValidation, AValueBelowTheDoublesRangeIsFiniteAndAZeroMemoryLimitIsNamedAsSuch) {
+  // 1e-310 is a subnormal double: finite; --max-memory must be above 0.
+  const test::CliResult r = test::run_cli("cracks B.json --light 0 --method zpass --l-near-scale 1e-310", "validation",
+                                          "cd '" + dir_.string() + "' && ");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const test::CliResult zero =
+      test::run_cli("cracks B.json --light 0 --max-memory 0", "validation", "cd '" + dir_.string() + "' && ");
+  EXPECT_EQ(zero.exit_code, 2);
+  EXPECT_EQ(zero.err, "nearcap: error (usage): --max-memory: '0' is not above 0 (GB) (see nearcap --help)\n");
+}
+
+TEST_F(CliValidation, ASweepTooLargeForTheMachineIsRefusedBeforeItsCsvExists) {
+  const test::CliResult r = test::run_cli(
+      "sweep --samples 1 --width 16384 --height 16384 --methods zpass --max-memory 4 --out " + path("big.csv"),
+      "validation", "timeout 60");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("nearcap: error (resource): the sampled configurations: sweep (", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("at 16384x16384 needs about"), std::string::npos) << r.err;
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_NE(e.path().filename().string().rfind("big.csv", 0), 0u) << e.path();
+}
+
 // ---- file names that are not UTF-8 ---------------------------------------
 
 const std::string kReplacement = "\xEF\xBF\xBD";  // U+FFFD in UTF-8

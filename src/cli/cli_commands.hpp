@@ -104,6 +104,10 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 // with the estimate in the message, before anything is allocated.
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
+// The same for a frame of width x height pixels from `source`; `advice`
+// says what to lower ("lower --width/--height").
+void check_memory_estimate(const std::string& source, int width, int height, const std::string& command,
+                           double bytes_per_pixel, double max_memory_gb, const std::string& advice);
 
 // The float pipeline's choices, as command-line options (cracks, sweep, ...).
 // The options set the fields of gl::EmulationSettings itself, so each

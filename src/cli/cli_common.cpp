@@ -67,9 +67,10 @@ CLI::Validator finite_number() {
   return CLI::Validator(
       [](std::string& value) -> std::string {
         char* end = nullptr;
-        errno = 0;
         const double d = std::strtod(value.c_str(), &end);
-        const bool ok = !value.empty() && end == value.c_str() + value.size() && errno != ERANGE && std::isfinite(d);
+        // A value below the doubles' range (ERANGE, rounded to a subnormal or
+        // zero) is finite; one above it is infinite.
+        const bool ok = !value.empty() && end == value.c_str() + value.size() && std::isfinite(d);
         return ok ? std::string() : "'" + value + "' is not a finite number";
       },
       "FINITE");
@@ -104,12 +105,22 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
   cmd.add_option("--max-memory", max_memory_gb,
                  "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
       ->check(finite_number())
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            return std::strtod(value.c_str(), nullptr) > 0 ? std::string() : "'" + value + "' is not above 0 (GB)";
+          },
+          "POSITIVE"));
 }
 
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb) {
-  const double pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
+  check_memory_estimate(scene.source, scene.camera.width, scene.camera.height, command, bytes_per_pixel, max_memory_gb,
+                        "lower width/height in the scene");
+}
+
+void check_memory_estimate(const std::string& source, int width, int height, const std::string& command,
+                           double bytes_per_pixel, double max_memory_gb, const std::string& advice) {
+  const double pixels = static_cast<double>(width) * height;
   const double estimate = 64e6 + bytes_per_pixel * pixels;
   double limit = max_memory_gb * 1e9;
   if (limit <= 0) {
@@ -117,12 +128,12 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
     limit = pages > 0 && page > 0 ? 0.75 * static_cast<double>(pages) * static_cast<double>(page) : 8e9;
   }
   if (estimate <= limit) return;
-  char message[320];
+  char message[640];
   std::snprintf(message, sizeof message,
-                "%s: %s at %dx%d needs about %.1f GB (%.0f bytes per pixel), over the limit of %.1f GB; lower "
-                "width/height in the scene, or raise the limit with --max-memory GB",
-                scene.source.c_str(), command.c_str(), scene.camera.width, scene.camera.height, estimate / 1e9,
-                bytes_per_pixel, limit / 1e9);
+                "%s: %s at %dx%d needs about %.1f GB (%.0f bytes per pixel), over the limit of %.1f GB; %s, or "
+                "raise the limit with --max-memory GB",
+                source.c_str(), command.c_str(), width, height, estimate / 1e9, bytes_per_pixel, limit / 1e9,
+                advice.c_str());
   throw Error(ErrorKind::Resource, message);
 }
 
