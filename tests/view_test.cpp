@@ -292,6 +292,17 @@ TEST_F(ViewCommand, ScreenshotAfterAKeyScriptIsTheHeadlessRenderOfTheSavedView) 
   EXPECT_NE(start.rgb, a.rgb);
 }
 
+// Escape played by --keys quits as the key does: the keys before it run
+// (the view saved), none after it.
+TEST_F(ViewCommand, EscapeInAKeyScriptQuits) {
+  const auto r =
+      test::run_cli("view data/scenes/default.json --method zpass --keys 'w p escape p' --out '" + dir_.string() + "'",
+                    "view", "timeout 120 xvfb-run -a -s '-screen 0 1280x720x24'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "view-000.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "view-001.json"));
+}
+
 TEST_F(ViewCommand, TheStatusLineCoversOnlyTheTopOfTheFrame) {
   const fs::path with = dir_ / "with.png", without = dir_ / "without.png";
   ASSERT_EQ(view("data/scenes/default.json --method policy --screenshot '" + with.string() + "'").exit_code, 0);

@@ -147,7 +147,7 @@ class Viewer {
       }
       bool wait = false;
       for (const view::ViewerInput& in : inputs) wait = apply(in) || wait;
-      if (window.closed()) break;
+      if (window.closed() || quit_) break;
       if (dirty_) draw_frame();
       if (auto r = judge_.poll()) take_overlay(std::move(*r));
       if (wait && show_cracks_) {
@@ -236,6 +236,7 @@ class Viewer {
         save_view();
         return false;
       case ViewerCommand::Quit:
+        quit_ = true;
         return false;
       case ViewerCommand::WaitForCracks:
         return true;
@@ -388,6 +389,7 @@ class Viewer {
   gl::EmulationSettings settings_;
   view::FlyCamera camera_;
   std::deque<view::ViewerInput> script_;
+  bool quit_ = false;  // escape, pressed or played by --keys
 
   view::ViewerWindow* window_ = nullptr;
   render::LitFrameRenderer* renderer_ = nullptr;
