@@ -380,6 +380,47 @@ TEST(RenderBenchScript, TimesAreRelativeToTheTablesTimingBaseline) {
   fs::remove_all(dir);
 }
 
+// The plotting and scale scripts beside the report: bad input is one line
+// on stderr, exit 2, never a traceback or a hang.
+TEST(ReportScripts, BadInputIsOneLineNeverATraceback) {
+  const fs::path dir = test::temp_path("nearcap_report_scripts");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto d = [&](const std::string& name) { return "'" + (dir / name).string() + "'"; };
+  std::ofstream(dir / "short.csv") << "set,configuration,frame,light,rule,refused,applies\np,path:p:0,0,0,policy,0,1\n";
+  std::ofstream(dir / "bench.csv") << "method,frame\n0,zpass\n";
+  std::ofstream(dir / "header.csv") << "configuration,source\n";
+  std::ofstream(dir / "binary.csv") << "\xff\xfe\n";
+  std::ofstream(dir / "settings.json") << settings_table().dump(1);
+  const char* env = std::getenv("NEARCAP_PYTHON");
+  const std::string python = env && *env ? env : "/usr/bin/python3";
+  const std::pair<std::string, std::string> cases[] = {
+      {"policy_oracle.py " + d("short.csv") + " p " + d("o.png"), "not an evaluation CSV"},
+      {"policy_oracle.py " + d("binary.csv") + " p " + d("o.png"), "not an evaluation CSV"},
+      {"policy_oracle.py " + d("short.csv") + " p " + d("o.txt"), "name it NAME.png"},
+      {"render_bench.py " + d("bench.csv") + " " + d("o.png") + " --settings " + d("settings.json"), "not a bench CSV"},
+      {"render_bench.py " + d("bench.csv") + " " + d("o.pdf") + " --settings " + d("settings.json"),
+       "name it NAME.png"},
+      {"replicate_rows.py " + d("header.csv") + " 10 " + d("x.csv"), "no rows to copy"},
+      {"replicate_rows.py " + d("missing.csv") + " 10 " + d("x.csv"), "cannot read it"},
+      {"replicate_rows.py " + d("binary.csv") + " 10 " + d("x.csv"), "cannot read it"},
+      {"replicate_rows.py " + d("header.csv") + " abc " + d("x.csv"), "not a positive whole number"},
+  };
+  for (const auto& [args, fragment] : cases) {
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && timeout 60 '" + python +
+                                "' analysis/report/" + args + " 2> " + d("err.txt");
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
+    const std::string err = test::slurp(dir / "err.txt");
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << "\n" << err;
+    EXPECT_NE(err.find(fragment), std::string::npos) << args << "\n" << err;
+    EXPECT_EQ(err.find("Traceback"), std::string::npos) << args << "\n" << err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "o.png"));
+  EXPECT_FALSE(fs::exists(dir / "x.csv"));
+  fs::remove_all(dir);
+}
+
 TEST(ReportCommand, UnknownSubcommandsAreNamed) {
   const test::CliResult r = test::run_cli("optimize", "optimize");
   EXPECT_EQ(r.exit_code, 2);

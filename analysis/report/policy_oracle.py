@@ -10,6 +10,7 @@ right as Z-fail, per frame and light).  SET is the path file's stem.
 Errors are one line on stderr, exit code 2.
 """
 import csv
+import os
 import sys
 
 
@@ -30,6 +31,9 @@ def main(argv):
         fail("matplotlib is missing (scripts/install-deps.sh installs python3-matplotlib)")
     wanted = ("policy", "oracle", "zfail")
     times = {rule: {} for rule in wanted}  # rule -> {frame: ms}
+    name = os.path.basename(argv[3])
+    if not name.lower().endswith(".png") or name.lower() == ".png":
+        fail(f"{argv[3]}: the plot is a PNG file: name it NAME.png")
     try:
         with open(argv[1], newline="") as f:
             for row in csv.DictReader(f):
@@ -38,7 +42,7 @@ def main(argv):
                 frame = int(row["frame"])
                 by_frame = times[row["rule"]]
                 by_frame[frame] = by_frame.get(frame, 0.0) + float(row["end_to_end_ms"])
-    except (OSError, KeyError, ValueError) as e:
+    except (OSError, KeyError, ValueError, TypeError, UnicodeDecodeError, csv.Error) as e:
         fail(f"{argv[1]}: not an evaluation CSV ({e})")
     if not times["oracle"]:
         fail(f"{argv[1]}: no oracle rows of set {argv[2]}")
@@ -55,7 +59,7 @@ def main(argv):
     fig.tight_layout()
     try:
         fig.savefig(argv[3], dpi=100)
-    except OSError as e:
+    except (OSError, ValueError) as e:
         fail(f"{argv[3]}: {e}")
 
 

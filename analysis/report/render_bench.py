@@ -13,6 +13,7 @@ times are relative to the method whose role is the timing baseline (Z-pass).
 Errors are one line on stderr, exit code 2.
 """
 import csv
+import os
 import sys
 
 
@@ -48,11 +49,14 @@ def main(argv):
         fail(str(e))
     baseline = table.role("timing-baseline")
     times = {}  # method -> {frame: ms}
+    name = os.path.basename(args[1])
+    if not name.lower().endswith(".png") or name.lower() == ".png":
+        fail(f"{args[1]}: the plot is a PNG file: name it NAME.png")
     try:
         with open(args[0], newline="") as f:
             for row in csv.DictReader(f):
                 times.setdefault(row["method"], {})[int(row["frame"])] = float(row["ms"])
-    except (OSError, KeyError, ValueError) as e:
+    except (OSError, KeyError, ValueError, TypeError, UnicodeDecodeError, csv.Error) as e:
         fail(f"{args[0]}: not a bench CSV ({e})")
     if baseline not in times:
         fail(f"{args[0]}: no {baseline} rows (the times are relative to {baseline}'s: render with --method "
@@ -76,7 +80,7 @@ def main(argv):
     fig.tight_layout()
     try:
         fig.savefig(args[1], dpi=100)
-    except OSError as e:
+    except (OSError, ValueError) as e:
         fail(f"{args[1]}: {e}")
 
 

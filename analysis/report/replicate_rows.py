@@ -21,23 +21,45 @@ PERTURBED = ["frame_ms", "frame_again_ms", "setup_ms", "depth_ms", "near_cap_ms"
              "coordinate_over_size", "depth_step_over_size", "cap_window_error_px", "cap_window_error_ulp"]
 
 
+def fail(message):
+    print(f"replicate_rows.py: error: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def main(argv):
     if len(argv) != 3:
-        sys.exit("usage: replicate_rows.py SMALL.csv ROWS OUT.csv")
-    small, wanted, out = argv[0], int(argv[1]), argv[2]
-    with open(small, newline="", encoding="utf-8") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        groups, current = [], None
-        for row in reader:
-            if row[0] != current:
-                groups.append([])
-                current = row[0]
-            groups[-1].append(row)
+        fail("usage: replicate_rows.py SMALL.csv ROWS OUT.csv")
+    small, out = argv[0], argv[2]
+    try:
+        wanted = int(argv[1])
+    except ValueError:
+        wanted = 0
+    if wanted <= 0:
+        fail(f"ROWS: '{argv[1]}' is not a positive whole number")
+    try:
+        with open(small, newline="", encoding="utf-8") as f:
+            reader = csv.reader(f)
+            header = next(reader, None)
+            groups, current = [], None
+            for row in reader:
+                if not row or ":" not in row[0]:
+                    fail(f"{small}: line {reader.line_num}: not a sweep row (no configuration id)")
+                if row[0] != current:
+                    groups.append([])
+                    current = row[0]
+                groups[-1].append(row)
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        fail(f"{small}: cannot read it as a sweep CSV ({e})")
+    if header is None or not groups:
+        fail(f"{small}: no rows to copy (a sweep CSV with at least one configuration is needed)")
     rng = random.Random(1)
     perturbed = [header.index(c) for c in PERTURBED if c in header]
     written, copy = 0, 0
-    with open(out, "w", newline="", encoding="utf-8") as f:
+    try:
+        f = open(out, "w", newline="", encoding="utf-8")
+    except OSError as e:
+        fail(f"{out}: cannot write it ({e.strerror})")
+    with f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(header)
         while written < wanted:
