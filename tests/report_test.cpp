@@ -156,6 +156,40 @@ std::string joined(const std::vector<std::string>& fields) {
   return line;
 }
 
+// A count the program never writes (negative, or more wrong pixels than
+// seen) is refused naming its line and column, not summed.
+TEST_F(Report, ACountNoSweepWritesIsRefused) {
+  std::istringstream in(test::slurp(dir_ / "rows.csv"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_GE(lines.size(), 2u);
+  const std::vector<std::string> header = fields_of(lines[0]);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::tuple<std::string, std::string, std::string> cases[] = {
+      {"wrong", "-5", "line 2: column 'wrong': '-5' is not a count or an index"},
+      {"light", "-1", "line 2: column 'light': '-1' is not a count or an index"},
+      {"pixels_seen", "0", "line 2: column 'wrong':"},
+  };
+  const fs::path out = dir_ / "never";
+  for (const auto& [name, value, fragment] : cases) {
+    std::vector<std::string> fields = fields_of(lines[1]);
+    ASSERT_LT(column(name), fields.size()) << name;
+    if (name == "pixels_seen") fields[column("wrong")] = "5";
+    fields[column(name)] = value;
+    std::string text = lines[0] + "\n" + joined(fields) + "\n";
+    for (std::size_t k = 2; k < lines.size(); ++k) text += lines[k] + "\n";
+    std::ofstream(dir_ / "edited.csv") << text;
+    const test::CliResult r =
+        test::run_cli("report " + (dir_ / "edited.csv").string() + " --out " + out.string(), "report_count");
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (parse): ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 // The first column of a report table's CSV, header left out.
 std::vector<std::string> first_column(const fs::path& csv) {
   std::istringstream in(test::slurp(csv));

@@ -232,7 +232,14 @@ class RowConverter:
                     float(fields[k])
                 except ValueError:
                     self.fail(line, c, fields[k], "a number")
+        if integers and min(integers) < 0:  # every integer column is a count or an index
+            for c, k in zip(self.INTEGERS, self.integers):
+                if int(fields[k]) < 0:
+                    self.fail(line, c, fields[k], "a count or an index (it is negative)")
         r = dict(zip(self.INTEGERS, integers))
+        if r["wrong"] > r["pixels_seen"]:
+            raise ReportError("parse", f"{self.name}: line {line}: column 'wrong': {r['wrong']} wrong pixels of "
+                                       f"{r['pixels_seen']} seen (pixels_seen)")
         r.update(zip(FLOAT_COLUMNS, floats))
         for c, k in self.text:
             r[c] = fields[k]
