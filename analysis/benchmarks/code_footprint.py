@@ -44,8 +44,14 @@ def footprint(path):
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
-    lines = footprint(sys.argv[1])
-    top = int(sys.argv[2]) if len(sys.argv) > 2 else 12
+    try:
+        top = int(sys.argv[2]) if len(sys.argv) > 2 else 12
+    except ValueError:
+        sys.exit(f"code_footprint.py: TOP: '{sys.argv[2]}' is not a whole number")
+    try:
+        lines = footprint(sys.argv[1])
+    except OSError as e:
+        sys.exit(f"code_footprint.py: {sys.argv[1]}: {e.strerror}")
     total = set()
     for s in lines.values():
         total |= s

@@ -16,6 +16,13 @@ KEY = ("configuration", "light", "method", "variant")
 
 
 def read(path):
+    try:
+        return read_rows(path)
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        sys.exit(f"compare_sweep_rows: {path}: cannot read it as a sweep CSV ({e})")
+
+
+def read_rows(path):
     with open(path, newline="", encoding="utf-8") as f:
         reader = csv.reader(f)
         header = next(reader, None)

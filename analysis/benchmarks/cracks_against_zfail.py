@@ -21,10 +21,19 @@ def main(path):
     except OSError as e:
         print(f"cracks_against_zfail.py: error (io): {path}: {e.strerror}", file=sys.stderr)
         sys.exit(2)
+    except (UnicodeDecodeError, csv.Error) as e:
+        print(f"cracks_against_zfail.py: error (parse): {path}: not a sweep CSV ({e})", file=sys.stderr)
+        sys.exit(2)
     needed = {"configuration", "light", "variant", "method", "cracks", "wrong", "refused"}
     if not rows or not needed <= set(rows[0]):
         print(f"cracks_against_zfail.py: error (schema): {path}: not a sweep CSV with rows", file=sys.stderr)
         sys.exit(2)
+    for line, r in enumerate(rows, start=2):
+        for c in ("cracks", "wrong"):
+            if not (r[c] or "").isdigit():
+                print(f"cracks_against_zfail.py: error (parse): {path}: line {line}: column '{c}': "
+                      f"'{r[c]}' is not a count", file=sys.stderr)
+                sys.exit(2)
     frames = collections.defaultdict(dict)
     for r in rows:
         frames[(r["configuration"], r["light"], r["variant"])][r["method"]] = r
