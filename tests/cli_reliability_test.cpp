@@ -202,6 +202,43 @@ TEST_F(Reliability, FrameRefusesAFrameNoOtherCommandWouldRead) {
   EXPECT_FALSE(fs::exists(path("f1.json")));
 }
 
+TEST_F(Reliability, MessagesShowTheBytesTheyQuoteAsText) {
+  // A NUL in a mesh name does not cut the message short.
+  nlohmann::json scene = scene_b();
+  scene["objects"][0]["mesh"] = std::string("box.off\0.json", 13);
+  write_scene("nul.json", scene);
+  expect_one_line_error(run("classify " + path("nul.json")), "box.off\\0.json", "a NUL in a mesh name");
+  // A binary file read as OFF: the word quoted is printable.
+  std::string garbage = "\xcf\xbc\xb5\x97)'K+\x85\xae\xed\xa4\x15\xa6\xd6OUo\n3 1 0\n";
+  write_text("garbage.off", garbage);
+  scene = scene_b();
+  scene["objects"][0]["mesh"] = "garbage.off";
+  write_scene("garbage.json", scene);
+  const test::CliResult g = run("classify " + path("garbage.json"));
+  expect_one_line_error(g, "does not start with the keyword OFF", "a binary OFF");
+  for (char c : g.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << g.err;
+}
+
+TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method zpass,zpass"),
+                        "--method names zpass twice", "a method twice");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method foo"), "raytrace, policy (or all)",
+                        "an unknown method");
+  expect_one_line_error(run("--bogus classify " + path("B.json")), "unknown option '--bogus'", "an option first");
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --light 1"),
+                        "--light is given 2 times (give it once)", "an option twice");
+  // A policy's whole number written as a float.
+  nlohmann::json policy = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
+  policy["unpriced_frames"]["max_occluder_triangles"] = 1e30;
+  write_scene("p.json", policy);
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method policy --policy " + path("p.json")),
+                        "a whole number written as a float", "1e30 triangles");
+  // tune checks its --out before fitting: nothing printed.
+  fs::create_directories(dir_ / "outdir");
+  write_text("rows.csv", "configuration\n");
+  expect_one_line_error(run("tune " + path("rows.csv") + " --out " + path("outdir")), "outdir", "tune --out DIR");
+}
+
 // ---- 3. derived cameras -----------------------------------------------------
 
 TEST_F(Reliability, AnEyeBeyondTheFloatRangeIsARangeError) {

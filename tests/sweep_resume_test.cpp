@@ -278,6 +278,16 @@ TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
 }
 
+TEST_F(SweepFile, ACsvWithWindowsLineEndsIsNamedAsSuch) {
+  const std::string text = whole("w.csv");
+  std::string crlf;
+  for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  write_file(path("w.csv"), crlf);
+  expect_one_line_error(test::run_cli(args(path("w.csv"), "--resume"), "sweep_file_crlf"), "schema",
+                        "line 1 ends in CR LF", "CR LF");
+  EXPECT_EQ(test::slurp(path("w.csv")), crlf);
+}
+
 // More --samples extend a sweep: its rows are those of the larger sweep run whole.
 TEST_F(SweepFile, ALargerSamplesCountExtendsTheSweep) {
   const std::string csv = path("a.csv");

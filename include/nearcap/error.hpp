@@ -36,10 +36,18 @@ std::string_view to_string(ErrorKind kind);
 
 class Error : public std::runtime_error {
  public:
-  Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+  // A NUL byte of the message (from a file's bytes or a name in it) is
+  // written as \0: what() is a C string, and the rest would be lost.
+  Error(ErrorKind kind, const std::string& message) : std::runtime_error(without_nul(message)), kind_(kind) {}
   ErrorKind kind() const { return kind_; }
 
  private:
+  static std::string without_nul(const std::string& message) {
+    if (message.find('\0') == std::string::npos) return message;
+    std::string out;
+    for (char c : message) out += c == '\0' ? std::string("\\0") : std::string(1, c);
+    return out;
+  }
   ErrorKind kind_;
 };
 

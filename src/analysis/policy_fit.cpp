@@ -500,7 +500,8 @@ SwitchPolicy tune_policy(const std::vector<PolicySample>& all_samples, gl::Shado
   if (x.empty())
     throw Error(ErrorKind::Usage,
                 "no training samples: the rows need both methods in the policy's variant (sweep with "
-                "--switch-clamp clamp-far, or say which with --variant)");
+                "--switch-clamp clamp-far, or say which with --variant), the capped one without a fallback and "
+                "with every conditioning feature finite");
   SwitchPolicy p;
   p.capped_method = capped;
   p.fallback_method = fallback;

@@ -205,8 +205,16 @@ SweepFileCheck check_sweep_file(int fd, const std::string& file, const SweepLayo
     do n = ::pread(fd, start.data(), start.size(), 0);
     while (n < 0 && errno == EINTR);
     if (n < 0) throw Error(ErrorKind::Io, file + ": cannot read: " + std::strerror(errno));
-    if (static_cast<std::size_t>(n) != header.size() || start != header)
+    if (static_cast<std::size_t>(n) != header.size() || start != header) {
+      // The header with CR LF line ends (a file saved on Windows): say so.
+      const std::string body = header.substr(0, header.size() - 1);
+      if (static_cast<std::size_t>(n) == header.size() && start.compare(0, body.size(), body) == 0 &&
+          start.back() == '\r')
+        throw Error(ErrorKind::Schema, file +
+                                           ": line 1 ends in CR LF; nearcap's sweep files end their lines in LF "
+                                           "alone (convert it back, e.g. with dos2unix, to resume it)");
       throw Error(ErrorKind::Schema, file + ": line 1 is not the header of this nearcap's sweep files");
+    }
   }
   const std::size_t columns = static_cast<std::size_t>(std::count(header.begin(), header.end(), ',')) + 1;
   // The replay column's index (columns are appended after it).

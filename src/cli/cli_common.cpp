@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -428,7 +429,12 @@ MethodChoice method_choice(const std::string& names) {
     return c;
   }
   std::string rest;
+  std::set<std::string> seen;
   for (const std::string& name : comma_separated(names)) {
+    if (name != "policy" && name != "raytrace" && !gl::shadow_method_from_string(name))
+      throw Error(ErrorKind::Usage, "--method '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() +
+                                        ", raytrace, policy (or all)");
+    if (!seen.insert(name).second) throw Error(ErrorKind::Usage, "--method names " + name + " twice");
     if (name == "policy")
       c.policy = true;
     else if (name == "raytrace")

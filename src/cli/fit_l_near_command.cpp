@@ -26,6 +26,7 @@ void run(const FitOptions& o) {
   const std::string command = "nearcap fit-l-near --samples " + std::to_string(o.samples) + " --seed " +
                               std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds;
   if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
+  if (!o.out.empty()) io::check_output_files({o.out});  // before the fit
   const analysis::HardCaseSampler sampler(sampler_spec(o.sampler));
   std::vector<analysis::KnobConfiguration> configurations;
   for (std::uint64_t i = 0; i < o.samples; ++i) {

@@ -84,13 +84,24 @@ int main(int argc, char** argv) {
                                         [&](const CLI::App* sub) { return sub->get_name() == argv[1]; }))
     return usage_error(std::string("unknown subcommand '") + argv[1] + "' (one of " +
                        nearcap::cli::subcommand_names(app) + ")");
+  if (argv[1][0] == '-' && std::strcmp(argv[1], "--help") != 0 && std::strcmp(argv[1], "-h") != 0 &&
+      std::strcmp(argv[1], "--version") != 0)
+    return usage_error(std::string("unknown option '") + argv[1] + "': the subcommand comes first (one of " +
+                       nearcap::cli::subcommand_names(app) + ")");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty())
       return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
-    return usage_error(e.what());
+    // CLI11's words for an option given more than once.
+    const std::string what = e.what();
+    const std::size_t at_most = what.find(": At Most 1 required but received ");
+    if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && at_most != std::string::npos)
+      return usage_error(what.substr(0, at_most) + " is given " +
+                         what.substr(at_most + std::strlen(": At Most 1 required but received ")) +
+                         " times (give it once)");
+    return usage_error(what);
   } catch (const nearcap::cli::ExitCode& e) {
     return fail(e.code);
   } catch (const nearcap::Error& e) {

@@ -10,6 +10,7 @@
 #include "cli_commands.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/output_files.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -65,6 +66,7 @@ std::string command_line(const TuneOptions& o) {
 void run(const TuneOptions& o) {
   const std::string command = command_line(o);
   refuse_output_over_input(o.out, o.results);
+  io::check_output_files({o.out});  // before the fits: a directory or a socket is refused now
   const auto capped = gl::shadow_method_from_string(o.capped);
   const auto fallback = gl::shadow_method_from_string(o.fallback);
   if (!capped || !gl::uses_near_cap(*capped))

@@ -236,8 +236,17 @@ std::vector<double> JsonValue::numbers() const {
 
 long long JsonValue::integer() const {
   const JsonNode& n = node_of(node_);
-  if (!n.is_number_integer())
-    fail("expected an integer, found " + std::string(n.is_number() ? "a fraction" : type_name()));
+  if (n.is_number_float()) {
+    // A number written with a fraction or an exponent (1e30, 2.5).
+    const double v = n.get<double>();
+    if (std::isfinite(v) && v == std::floor(v))
+      fail("expected an integer, found " + n.dump() +
+           ", a whole number written as a float (write it in digits, "
+           "at most " +
+           std::to_string(std::numeric_limits<long long>::max()) + ")");
+    fail("expected an integer, found a fraction (" + n.dump() + ")");
+  }
+  if (!n.is_number_integer()) fail("expected an integer, found " + std::string(type_name()));
   if (n.is_number_unsigned() &&
       n.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<long long>::max()))
     fail("the integer " + n.dump() + " is too large");

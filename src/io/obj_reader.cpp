@@ -86,7 +86,7 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
         char* end = nullptr;
         const double v = std::strtod(tokens[k].c_str(), &end);
         if (end != tokens[k].c_str() + tokens[k].size())
-          error(ErrorKind::Parse, "expected a vertex coordinate, found '" + tokens[k] + "'");
+          error(ErrorKind::Parse, "expected a vertex coordinate, found '" + mesh_reading::printable(tokens[k]) + "'");
         values.push_back(v);
       }
       if (values.size() == 4 && values[3] != 1.0)
@@ -111,7 +111,8 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
           used = 0;
         }
         if (index_text.empty() || used != index_text.size())
-          error(ErrorKind::Parse, "face " + std::to_string(face) + ": expected a vertex index, found '" + token + "'");
+          error(ErrorKind::Parse, "face " + std::to_string(face) + ": expected a vertex index, found '" +
+                                      mesh_reading::printable(token) + "'");
         const long long defined = static_cast<long long>(mesh.positions.size());
         const long long resolved = index < 0 ? defined + index : index - 1;  // negative: relative to the end
         if (index == 0 || resolved < 0 || resolved >= defined)

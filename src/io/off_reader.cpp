@@ -29,9 +29,9 @@ class OffTokens : public mesh_reading::TextTokens {
     try {
       v = std::stoll(t, &used);
     } catch (const std::exception&) {
-      error(std::string("expected ") + what + ", found '" + t + "'");
+      error(std::string("expected ") + what + ", found '" + mesh_reading::printable(t) + "'");
     }
-    if (used != t.size()) error(std::string("expected ") + what + ", found '" + t + "'");
+    if (used != t.size()) error(std::string("expected ") + what + ", found '" + mesh_reading::printable(t) + "'");
     return v;
   }
   double need_double(const char* what) {
@@ -39,7 +39,8 @@ class OffTokens : public mesh_reading::TextTokens {
     // strtod accepts "nan" and "inf": those are reported as NonFinite later, by vertex.
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
-    if (end != t.c_str() + t.size()) error(std::string("expected ") + what + ", found '" + t + "'");
+    if (end != t.c_str() + t.size())
+      error(std::string("expected ") + what + ", found '" + mesh_reading::printable(t) + "'");
     return v;
   }
 };
@@ -51,7 +52,8 @@ TriangleMesh parse_off(const std::string& text, const std::string& source) {
   mesh.source = source;
   OffTokens tokens(text, source);
   std::string header = tokens.need("the OFF header");
-  if (header != "OFF") tokens.error("the file does not start with the keyword OFF (found '" + header + "')");
+  if (header != "OFF")
+    tokens.error("the file does not start with the keyword OFF (found '" + mesh_reading::printable(header) + "')");
   const long long nv = tokens.need_integer("the vertex count");
   const long long nf = tokens.need_integer("the face count");
   tokens.need_integer("the edge count");

@@ -298,6 +298,17 @@ void write_output_files(const std::vector<OutputFile>& files) {
   filesystem_errors_as_io([&] { write_output_files_unguarded(files); });
 }
 
+void check_output_files(const std::vector<std::string>& paths) {
+  filesystem_errors_as_io([&] {
+    std::vector<Plan> plans;
+    plans.reserve(paths.size());
+    for (const std::string& p : paths) plans.push_back(plan_for(p));
+    for (std::size_t a = 0; a < plans.size(); ++a)
+      for (std::size_t b = 0; b < a; ++b)
+        if (same_destination(plans[a], plans[b])) fail_same_destination(plans[b], plans[a]);
+  });
+}
+
 struct StagedOutputFiles::State {
   std::vector<Plan> plans;
   std::vector<std::string> through;  // a write-through plan's bytes, else empty

@@ -37,6 +37,12 @@ struct OutputFile {
 // are created, and removed again if the call fails.
 void write_output_files(const std::vector<OutputFile>& files);
 
+// The first of those promises alone, before a command's work: every
+// destination that write_output_files would refuse (a directory, a block
+// device, a socket, two paths naming one file) is an Error now; nothing is
+// created or written.
+void check_output_files(const std::vector<std::string>& paths);
+
 // The same promises for outputs made one at a time (a camera path's frames):
 // add() checks a destination against the special files and the outputs added
 // before it, creates its missing parents and writes its bytes to the
