@@ -255,14 +255,23 @@ void commit_all(std::vector<Plan>& plans, const std::vector<const std::string*>&
     if (!p.backup.empty()) ::unlink(p.backup.c_str());
 }
 
-void write_output_files_unguarded(const std::vector<OutputFile>& files) {
-  // 1. Check every destination before touching any.
+// Every destination's plan, each checked, and no two naming one file.
+std::vector<Plan> checked_plans(const std::vector<std::string>& paths) {
   std::vector<Plan> plans;
-  plans.reserve(files.size());
-  for (const OutputFile& f : files) plans.push_back(plan_for(f.path));
+  plans.reserve(paths.size());
+  for (const std::string& p : paths) plans.push_back(plan_for(p));
   for (std::size_t a = 0; a < plans.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
       if (same_destination(plans[a], plans[b])) fail_same_destination(plans[b], plans[a]);
+  return plans;
+}
+
+void write_output_files_unguarded(const std::vector<OutputFile>& files) {
+  // 1. Check every destination before touching any.
+  std::vector<std::string> paths;
+  paths.reserve(files.size());
+  for (const OutputFile& f : files) paths.push_back(f.path);
+  std::vector<Plan> plans = checked_plans(paths);
 
   // 2. Directories, then temporaries; any failure removes what was made.
   std::vector<fs::path> created_dirs;
@@ -299,14 +308,7 @@ void write_output_files(const std::vector<OutputFile>& files) {
 }
 
 void check_output_files(const std::vector<std::string>& paths) {
-  filesystem_errors_as_io([&] {
-    std::vector<Plan> plans;
-    plans.reserve(paths.size());
-    for (const std::string& p : paths) plans.push_back(plan_for(p));
-    for (std::size_t a = 0; a < plans.size(); ++a)
-      for (std::size_t b = 0; b < a; ++b)
-        if (same_destination(plans[a], plans[b])) fail_same_destination(plans[b], plans[a]);
-  });
+  filesystem_errors_as_io([&] { checked_plans(paths); });
 }
 
 struct StagedOutputFiles::State {
