@@ -1088,9 +1088,13 @@ def main(argv):
     args, valued = [], {"--out": None, "--policy": None, "--settings": None}
     k = 0
     while k < len(argv):
-        if argv[k] in valued and k + 1 < len(argv):
+        if argv[k] in valued:
+            if k + 1 == len(argv) or argv[k + 1].startswith("--"):
+                raise ReportError("usage", f"{argv[k]} needs a value")
             valued[argv[k]] = argv[k + 1]
             k += 2
+        elif argv[k].startswith("--"):
+            raise ReportError("usage", f"unknown option {argv[k]} (the options are --out, --settings, --policy)")
         else:
             args.append(argv[k])
             k += 1
