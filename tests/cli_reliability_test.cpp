@@ -225,6 +225,8 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
   expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method foo"), "raytrace, policy (or all)",
                         "an unknown method");
   expect_one_line_error(run("--bogus classify " + path("B.json")), "unknown option '--bogus'", "an option first");
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out ''"), "--out: the file name is empty",
+                        "an empty --out");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --light 1"),
                         "--light is given 2 times (give it once)", "an option twice");
   // A policy's whole number written as a float.

@@ -9,6 +9,8 @@
 #include <memory>
 #include <string>
 
+#include "nearcap/error.hpp"
+
 namespace nearcap::cli {
 
 template <class Options>
@@ -20,11 +22,27 @@ struct Subcommand {
 // Adds subcommand `name` with its one-line `help` to `app`, its options'
 // values a default Options; run(options) runs it after parsing (what it
 // throws is main's to report).
+// A file-naming option given an empty value (`--out ""`) is refused: an
+// empty name would read as the option left out (stdout, the default).
+inline void refuse_empty_file_names(const CLI::App& cmd) {
+  for (const CLI::Option* o : cmd.get_options()) {
+    const std::string& name = o->get_name();
+    if (name != "--out" && name != "--svg" && name != "--screenshot" && name != "--policy" && name != "--path" &&
+        name != "--write-policy" && name != "--fit-unpriced")
+      continue;
+    for (const std::string& value : o->results())
+      if (value.empty()) throw Error(ErrorKind::Usage, name + ": the file name is empty");
+  }
+}
+
 template <class Options, class Run>
 Subcommand<Options> add_subcommand(CLI::App& app, const std::string& name, const std::string& help, Run run) {
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(name, help);
-  cmd->callback([options, run] { run(*options); });
+  cmd->callback([cmd, options, run] {
+    refuse_empty_file_names(*cmd);
+    run(*options);
+  });
   return {*cmd, *options};
 }
 
