@@ -162,6 +162,14 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
                         "would replace the camera path file", "frame onto its path");
   expect_one_line_error(run("frame " + path("path.json") + " --frame 0 --out " + path("B.json")),
                         "would replace the scene file", "frame onto its scene");
+  const std::string box = test::slurp(path("box.off"));
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out " + path("box.off")),
+                        "would replace the mesh file", "cap onto a mesh");
+  expect_one_line_error(run("frame " + path("path.json") + " --frame 0 --out " + path("box.off")),
+                        "would replace the mesh file", "frame onto a mesh");
+  expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("path.json")),
+                        "would replace the camera path file", "calibrate onto its path");
+  EXPECT_EQ(test::slurp(path("box.off")), box);
   EXPECT_EQ(test::slurp(path("B.json")), scene);
   EXPECT_EQ(test::slurp(path("reference.json")), scene);
   EXPECT_EQ(test::slurp(path("cracks.json")), scene);

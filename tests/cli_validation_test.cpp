@@ -236,6 +236,13 @@ TEST_F(CliValidation, ASweepTooLargeForTheMachineIsRefusedBeforeItsCsvExists) {
   EXPECT_NE(r.err.find("at 16384x16384 needs about"), std::string::npos) << r.err;
   for (const auto& e : fs::directory_iterator(dir_))
     EXPECT_NE(e.path().filename().string().rfind("big.csv", 0), 0u) << e.path();
+  // One configuration is computed once, whatever the cores: 64 MB + 120 bytes x 1024 x 1024 fits 0.2 GB.
+  const test::CliResult one = test::run_cli(
+      "sweep --samples 1 --width 1024 --height 1024 --methods zpass "
+      "--max-memory 0.2 --out " +
+          path("one.csv"),
+      "validation", "timeout 300");
+  EXPECT_EQ(one.exit_code, 0) << one.err;
 }
 
 // ---- file names that are not UTF-8 ---------------------------------------

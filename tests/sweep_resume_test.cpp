@@ -273,6 +273,25 @@ TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
     EXPECT_EQ(test::slurp(csv), cut);
   }
   write_file(path("box.off"), box);
+  // The same files in another folder resume it: the digest is of their bytes.
+  const fs::path a = dir_ / "a", b = dir_ / "b";
+  fs::create_directories(a);
+  for (const char* f : {"box.off", "ground.off", "base.json", "p.json"}) fs::copy_file(dir_ / f, a / f);
+  const std::string relative = "sweep --path p.json --methods zpass --out p.csv";
+  ASSERT_EQ(test::run_cli(relative, "sweep_file_scene_a", "cd '" + a.string() + "' &&").exit_code, 0);
+  const std::vector<std::string> a_lines = lines_of(test::slurp(a / "p.csv"));
+  write_file((a / "p.csv").string(), joined(a_lines, 0, group_starts(a_lines)[2]));
+  fs::copy(a, b, fs::copy_options::recursive);
+  const test::CliResult there =
+      test::run_cli(relative + " --resume", "sweep_file_scene_b", "cd '" + b.string() + "' &&");
+  ASSERT_EQ(there.exit_code, 0) << there.err;
+  EXPECT_EQ(untimed_rows(test::slurp(b / "p.csv")), untimed_rows(joined(a_lines, 0, a_lines.size())));
+  // A sidecar without the scene digest (nothing to compare) resumes as before.
+  std::string without = test::slurp(path("p.csv.meta.json"));
+  const std::size_t key = without.find("\"--path (scene and meshes digest)\"");
+  ASSERT_NE(key, std::string::npos) << without;
+  without.erase(key, without.find('\n', key) + 1 - key);
+  write_file(path("p.csv.meta.json"), without);
   const test::CliResult same = test::run_cli(command + " --resume", "sweep_file_scene_same");
   ASSERT_EQ(same.exit_code, 0) << same.err;
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));

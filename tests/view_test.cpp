@@ -301,6 +301,13 @@ TEST_F(ViewCommand, EscapeInAKeyScriptQuits) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "view-000.json"));
   EXPECT_FALSE(fs::exists(dir_ / "view-001.json"));
+  // With --screenshot, the view at escape is the screenshot.
+  const fs::path shot = dir_ / "shot.png";
+  const auto s = test::run_cli(
+      "view data/scenes/default.json --method zpass --keys 'w escape' --screenshot '" + shot.string() + "'", "view",
+      "timeout 120 xvfb-run -a -s '-screen 0 1280x720x24'");
+  EXPECT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_TRUE(fs::exists(shot));
 }
 
 TEST_F(ViewCommand, TheStatusLineCoversOnlyTheTopOfTheFrame) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/device_profile.hpp"
@@ -347,6 +348,9 @@ void run(CalibrateOptions o) {
     policy = analysis::load_policy(o.policy);
   }
   for (std::string& p : o.paths) p = resolve_path(p);
+  for (const std::string& p : o.paths)
+    for (const std::string& output : {o.out, o.write_policy})
+      if (!output.empty()) refuse_replacing_inputs(output, {{p, "camera path file"}});
   const CalibrationSet set(o);
   if (set.count() == 0)
     throw Error(ErrorKind::Usage, "nothing to calibrate on: give --samples N (N > 0) and/or --path P");

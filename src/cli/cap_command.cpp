@@ -43,6 +43,8 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   for (const std::string& file : {out, svg_path})
     if (!file.empty()) refuse_replacing_inputs(file, {{scene_path, "scene file"}});
   const Scene scene = load_scene(scene_path);
+  for (const std::string& file : {out, svg_path})
+    if (!file.empty()) refuse_replacing_inputs(file, scene_inputs(scene));
   check_light_index(scene, light);
   const CameraSpaceScene cs(scene);
   const auto t0 = std::chrono::steady_clock::now();

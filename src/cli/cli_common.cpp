@@ -131,7 +131,7 @@ void check_memory_estimate(const std::string& source, int width, int height, con
   if (estimate <= limit) return;
   char message[640];
   std::snprintf(message, sizeof message,
-                "%s: %s at %dx%d needs about %.1f GB (%.0f bytes per pixel), over the limit of %.1f GB; %s, or "
+                "%s: %s at %dx%d needs about %.3g GB (%.0f bytes per pixel), over the limit of %.3g GB; %s, or "
                 "raise the limit with --max-memory GB",
                 source.c_str(), command.c_str(), width, height, estimate / 1e9, bytes_per_pixel, limit / 1e9,
                 advice.c_str());

@@ -23,6 +23,13 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
   }
 }
 
+std::vector<CommandInput> scene_inputs(const Scene& scene) {
+  std::vector<CommandInput> inputs{{scene.source, "scene file"}};
+  for (const SceneObject& o : scene.objects)
+    if (!o.mesh_path.empty()) inputs.push_back({o.mesh_path, "mesh file"});
+  return inputs;
+}
+
 void OutputDir::add(const std::string& name, const std::function<std::string()>& make) {
   if (!given()) return;
   refuse_replacing_inputs(path(name), inputs_);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nearcap/io/output_files.hpp"
+#include "nearcap/scene/scene.hpp"
 
 namespace nearcap::cli {
 
@@ -31,6 +32,9 @@ struct CommandInput {
 // (through a link too), before anything is written: a command never
 // replaces what it reads.
 void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs);
+
+// A scene's files: the scene file and each object's mesh file.
+std::vector<CommandInput> scene_inputs(const Scene& scene);
 
 // The files of a command's --out DIR, gathered while the command runs and
 // written together at its end by io::write_output_files (every file or

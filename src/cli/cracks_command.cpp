@@ -196,7 +196,7 @@ void run(const CracksOptions& o) {
   const std::size_t case_disagreements = compare_engine_cases(cs, classification).total(o.light);
 
   MethodRecords records(choice.count());
-  std::vector<CommandInput> inputs{{o.scene, "scene file"}};
+  std::vector<CommandInput> inputs = scene_inputs(scene);
   if (choice.policy) inputs.push_back({o.policy, "policy file"});
   OutputDir out(o.out, std::move(inputs));
   // A method's crack image: cracks.png when it runs alone.

@@ -32,7 +32,9 @@ void run(const std::string& path_file, int frame, int width, int height, const s
   // The frame as every other command reads it: a camera the keyframes
   // interpolate to nothing drawable (a zero up vector, the eye on the
   // target) is refused here, naming the path and the frame.
-  parse_scene(json, path_file + " frame " + std::to_string(frame), ".");
+  const Scene scene = parse_scene(json, path_file + " frame " + std::to_string(frame), ".");
+  if (!out.empty())
+    for (const SceneObject& o : scene.objects) refuse_replacing_inputs(out, {{o.mesh_path, "mesh file"}});
   if (out.empty())
     std::cout << json;
   else

@@ -30,6 +30,19 @@ int usage_error(const std::string& message) {
   return 2;
 }
 
+// Whether everything printed on stdout was written (a full disk or a closed
+// stdout is not); else reports it (on rank 0) and returns false.
+bool stdout_written(bool report) {
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  if (flushed && std::cout.good() && std::ferror(stdout) == 0) return true;
+  const int err = errno;
+  if (report)
+    std::fprintf(stderr, "nearcap: error (io): standard output: cannot write what the command printed%s%s\n",
+                 err != 0 ? ": " : "", err != 0 ? std::strerror(err) : "");
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -76,7 +89,7 @@ int main(int argc, char** argv) {
       topic = *sub;
     }
     if (world.rank() == 0) std::fputs(topic->help().c_str(), stdout);
-    return 0;
+    return stdout_written(world.rank() == 0) ? 0 : 2;
   }
   // The subcommand comes first; name an unknown one as such.
   const auto subcommands = app.get_subcommands([](const CLI::App*) { return true; });
@@ -121,15 +134,6 @@ int main(int argc, char** argv) {
   // What the command printed on stdout, all of it written: a full disk or a
   // closed stdout fails the command instead of leaving a short output behind
   // a success.
-  errno = 0;
-  const bool flushed = std::fflush(stdout) == 0;
-  const bool written = flushed && std::cout.good() && std::ferror(stdout) == 0;
-  if (!written) {
-    const int err = errno;
-    if (report())
-      std::fprintf(stderr, "nearcap: error (io): standard output: cannot write what the command printed%s%s\n",
-                   err != 0 ? ": " : "", err != 0 ? std::strerror(err) : "");
-    return fail(2);
-  }
+  if (!stdout_written(report())) return fail(2);
   return 0;
 }

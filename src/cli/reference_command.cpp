@@ -66,7 +66,7 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   const std::string cap = cap_pgm(ref), stencil = stencil_pgm(ref), shadow = shadow_png(cs, ref);
   const std::filesystem::path dir(out_dir);
   for (const char* name : {"cap.pgm", "stencil.pgm", "shadow.png", "reference.json"})
-    refuse_replacing_inputs((dir / name).string(), {{scene_path, "scene file"}});
+    refuse_replacing_inputs((dir / name).string(), scene_inputs(scene));
   io::write_output_files({{(dir / "cap.pgm").string(), cap},
                           {(dir / "stencil.pgm").string(), stencil},
                           {(dir / "shadow.png").string(), shadow},

@@ -123,7 +123,7 @@ void run(const RenderOptions& o) {
   CrackDistances distances(tracer, ref);
 
   MethodRecords records(methods.count());
-  std::vector<CommandInput> inputs{{o.scene, "scene file"}};
+  std::vector<CommandInput> inputs = scene_inputs(scene);
   if (methods.policy) inputs.push_back({o.policy, "policy file"});
   OutputDir out(o.out, std::move(inputs));
   FrameSource source(scene, o.light, methods, settings);

@@ -458,8 +458,8 @@ std::string path_scene_digest(const std::string& path_file) {
   if (scene.contains("objects") && scene["objects"].is_array())
     for (const nlohmann::json& o : scene["objects"])
       if (o.is_object() && o.contains("mesh") && o["mesh"].is_string()) {
-        const std::string mesh = o["mesh"].get<std::string>();
-        content += '\0' + mesh + '\0' + io::read_input_file(mesh, "mesh file");
+        // The bytes alone: the same files in another folder make the same rows.
+        content += '\0' + io::read_input_file(o["mesh"].get<std::string>(), "mesh file");
       }
   return analysis::content_digest(content);
 }
@@ -552,15 +552,29 @@ void run_sweep(const SweepCommandOptions& o) {
   options.light_setups = &light_setups;
   const Configurations configurations(o, &meshes);
   const std::uint64_t total = configurations.count();
-  {
-    const auto [source, width, height] = configurations.largest_frame();
-    const int cores = std::max(1, tbb::this_task_arena::max_concurrency());
-    check_memory_estimate(source, width, height, "sweep (" + std::to_string(cores) + " configurations at once)",
-                          kSweepBytesPerPixel * cores, o.max_memory_gb, "lower --width/--height");
-  }
   MpiWorld* const world_ptr = mpi_world();  // made by main
   NEARCAP_CHECK(world_ptr != nullptr);
   MpiWorld& world = *world_ptr;
+  {
+    // Rank 0 checks on its machine and every rank gets the verdict, so that
+    // all stop together (ranks on other machines may count other cores).
+    std::string refused;
+    if (world.rank() == 0) {
+      const auto [source, width, height] = configurations.largest_frame();
+      const std::uint64_t at_once = std::clamp<std::uint64_t>(
+          total, 1, static_cast<std::uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency())));
+      try {
+        check_memory_estimate(
+            source, width, height,
+            "sweep (" + std::to_string(at_once) + " configuration" + (at_once > 1 ? "s" : "") + " at once)",
+            kSweepBytesPerPixel * static_cast<double>(at_once), o.max_memory_gb, "lower --width/--height");
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Resource) throw;
+        refused = e.what();
+      }
+    }
+    if (world.broadcast(refused.empty() ? 0 : 1) != 0) throw Error(ErrorKind::Resource, refused);
+  }
 
   // Rank 0 owns the file: new, or resumed after its last whole configuration.
   constexpr std::uint64_t kFailed = ~std::uint64_t{0};

@@ -147,13 +147,14 @@ class Viewer {
       }
       bool wait = false;
       for (const view::ViewerInput& in : inputs) wait = apply(in) || wait;
-      if (window.closed() || quit_) break;
+      if (window.closed() || (quit_ && options_.screenshot.empty())) break;
       if (dirty_) draw_frame();
       if (auto r = judge_.poll()) take_overlay(std::move(*r));
       if (wait && show_cracks_) {
         if (auto r = judge_.wait()) take_overlay(std::move(*r));
       }
-      if (script_.empty() && !options_.screenshot.empty()) {
+      // The keys played (or escape among them): the screenshot, then the end.
+      if ((script_.empty() || quit_) && !options_.screenshot.empty()) {
         if (show_cracks_)
           if (auto r = judge_.wait()) take_overlay(std::move(*r));
         legend::Image shot;

@@ -42,6 +42,9 @@ struct SweepMeta {
   std::vector<std::pair<std::string, std::vector<std::string>>> options;
 };
 
+// The sidecar key of each camera path's base scene and meshes digest.
+inline constexpr const char* kPathSceneDigestKey = "--path (scene and meshes digest)";
+
 // "results.csv" -> "results.csv.meta.json".
 std::string sweep_meta_path(const std::string& csv);
 // The sidecar's text (JSON, ending in a newline).
