@@ -103,14 +103,14 @@ void expect_one_line_error(const test::CliResult& r, const std::string& kind, co
 TEST_F(PolicyInputs, TuneRefusesAnOutputThatIsAnInput) {
   const std::string csv = write("rows.csv", sweep_csv());
   const test::CliResult same = test::run_cli("tune " + csv + " --out " + csv, "tune_same");
-  expect_one_line_error(same, "usage", "is the input");
+  expect_one_line_error(same, "usage", "would replace the sweep CSV the command reads");
   EXPECT_EQ(test::slurp(csv), sweep_csv());
   // Through a symlink, and from a second input.
   fs::create_symlink(csv, dir_ / "link.json");
   const std::string other = write("other.csv", sweep_csv());
   const test::CliResult link =
       test::run_cli("tune " + other + " " + csv + " --out " + (dir_ / "link.json").string(), "tune_link");
-  expect_one_line_error(link, "usage", "is the input '" + csv + "'");
+  expect_one_line_error(link, "usage", "would replace the sweep CSV the command reads (" + csv + ")");
   EXPECT_EQ(test::slurp(csv), sweep_csv());
   EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
 }

@@ -337,12 +337,7 @@ void run(CalibrateOptions o) {
   std::optional<analysis::SwitchPolicy> policy;
   if (!o.write_policy.empty()) {
     refuse_directory(o.write_policy, "--write-policy");
-    std::error_code ec;
-    const std::filesystem::path in = std::filesystem::weakly_canonical(o.policy, ec);
-    const std::filesystem::path outp = std::filesystem::weakly_canonical(o.write_policy, ec);
-    if (in == outp || (std::filesystem::equivalent(o.policy, o.write_policy, ec) && !ec))
-      throw Error(ErrorKind::Usage, "--write-policy '" + o.write_policy + "' is the input policy '" + o.policy +
-                                        "': write the calibrated policy to another file");
+    refuse_replacing_inputs(o.write_policy, {{o.policy, "policy file"}}, "--write-policy");
     if (o.write_policy == o.out)
       throw Error(ErrorKind::Usage, "--write-policy and --out name the same file '" + o.out + "'");
     policy = analysis::load_policy(o.policy);

@@ -40,8 +40,6 @@ struct CapOptions {
 };
 
 void run(const std::string& scene_path, std::size_t light, const std::string& out, const std::string& svg_path) {
-  for (const std::string& file : {out, svg_path})
-    if (!file.empty()) refuse_replacing_inputs(file, {{scene_path, "scene file"}});
   const Scene scene = load_scene(scene_path);
   for (const std::string& file : {out, svg_path})
     if (!file.empty()) refuse_replacing_inputs(file, scene_inputs(scene));

@@ -14,12 +14,13 @@ std::string json_file_text(const nlohmann::json& j) { return json_text(j, 1) + "
 
 void print_json_line(const nlohmann::json& j) { std::cout << json_text(j) << "\n"; }
 
-void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs) {
+void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs,
+                             const std::string& option) {
   for (const CommandInput& in : inputs) {
     std::error_code ec;
     if (output == in.path || (std::filesystem::equivalent(output, in.path, ec) && !ec))
-      throw Error(ErrorKind::Usage, output + ": this output would replace the " + in.what + " the command reads (" +
-                                        in.path + "); name another file");
+      throw Error(ErrorKind::Usage, (option.empty() ? "" : option + " ") + output + ": this output would replace the " +
+                                        in.what + " the command reads (" + in.path + "); name another file");
   }
 }
 

@@ -30,8 +30,10 @@ struct CommandInput {
 
 // Throws Error(Usage) where `output` names the same file as one of `inputs`
 // (through a link too), before anything is written: a command never
-// replaces what it reads.
-void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs);
+// replaces what it reads.  `option`, where given, is named before the path
+// ("--write-policy").
+void refuse_replacing_inputs(const std::string& output, const std::vector<CommandInput>& inputs,
+                             const std::string& option = "");
 
 // A scene's files: the scene file and each object's mesh file.
 std::vector<CommandInput> scene_inputs(const Scene& scene);

@@ -1,6 +1,7 @@
 // nearcap frame PATH --frame K [--out FILE]: one frame of a camera path as a
 // scene file, to replay it alone with the other commands.
 #include <iostream>
+#include <vector>
 
 #include "cli_commands.hpp"
 #include "command_output.hpp"
@@ -21,7 +22,6 @@ struct FrameOptions {
 
 void run(const std::string& path_file, int frame, int width, int height, const std::string& out) {
   analysis::CameraPath path = analysis::load_camera_path(path_file);
-  if (!out.empty()) refuse_replacing_inputs(out, {{path_file, "camera path file"}, {path.scene_file, "scene file"}});
   if (width > 0) path.width = width;
   if (height > 0) path.height = height;
   if (frame < 0 || frame >= path.frames)
@@ -33,8 +33,11 @@ void run(const std::string& path_file, int frame, int width, int height, const s
   // interpolate to nothing drawable (a zero up vector, the eye on the
   // target) is refused here, naming the path and the frame.
   const Scene scene = parse_scene(json, path_file + " frame " + std::to_string(frame), ".");
-  if (!out.empty())
-    for (const SceneObject& o : scene.objects) refuse_replacing_inputs(out, {{o.mesh_path, "mesh file"}});
+  if (!out.empty()) {
+    std::vector<CommandInput> inputs{{path_file, "camera path file"}, {path.scene_file, "scene file"}};
+    for (const SceneObject& o : scene.objects) inputs.push_back({o.mesh_path, "mesh file"});
+    refuse_replacing_inputs(out, inputs);
+  }
   if (out.empty())
     std::cout << json;
   else

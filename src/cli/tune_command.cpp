@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/output_files.hpp"
@@ -31,18 +32,6 @@ struct TuneOptions {
   std::optional<gl::NearPlane> near_plane;        // nullopt: not written
 };
 
-// --out must not name one of the inputs: writing the policy would replace the
-// sweep CSV it is fitted on.  Compared by file identity (device and inode), so
-// a symlink or a hard link to an input is caught too.
-void refuse_output_over_input(const std::string& out, const std::vector<std::string>& inputs) {
-  for (const std::string& input : inputs) {
-    std::error_code ec;
-    if (std::filesystem::equivalent(out, input, ec) && !ec)
-      throw Error(ErrorKind::Usage, "--out '" + out + "' is the input '" + input +
-                                        "' (the policy would replace the sweep CSV); name another file");
-  }
-}
-
 // The command line that makes this fit again, written into the policy: the
 // options that differ from their defaults.
 std::string command_line(const TuneOptions& o) {
@@ -65,7 +54,7 @@ std::string command_line(const TuneOptions& o) {
 
 void run(const TuneOptions& o) {
   const std::string command = command_line(o);
-  refuse_output_over_input(o.out, o.results);
+  for (const std::string& input : o.results) refuse_replacing_inputs(o.out, {{input, "sweep CSV"}});
   io::check_output_files({o.out});  // before the fits: a directory or a socket is refused now
   const auto capped = gl::shadow_method_from_string(o.capped);
   const auto fallback = gl::shadow_method_from_string(o.fallback);
