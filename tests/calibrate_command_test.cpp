@@ -12,6 +12,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "cli_support.hpp"
@@ -210,6 +211,32 @@ TEST_F(CalibrateCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(r.err.rfind("nearcap: error (", 0), 0u) << args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
     EXPECT_FALSE(fs::exists(csv)) << args;
+  }
+}
+
+// One configuration leaves the held-out fifth without some pass kinds: the
+// profile is written, and stderr names what it could not check.
+TEST_F(CalibrateCommand, AProfileWithoutHeldOutObservationsIsWrittenWithAWarning) {
+  const fs::path csv = dir_ / "c.csv", policy = dir_ / "p.json";
+  const test::CliResult r = test::run_cli("calibrate --samples 1 --width 32 --height 24 --out '" + csv.string() +
+                                              "' --write-policy '" + policy.string() + "'",
+                                          "calibrate_one");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(policy));
+  EXPECT_NE(r.err.find("calibrate: warning: no held-out observation of "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("fitted but unchecked"), std::string::npos) << r.err;
+  // Each name it lists is a row the report printed with no held-out passes.
+  const std::size_t at = r.err.find("observation of ") + 15;
+  const std::string names = r.err.substr(at, r.err.find(':', at) - at);
+  std::stringstream list(names);
+  for (std::string name; std::getline(list, name, ',');) {
+    if (name.front() == ' ') name.erase(0, 1);
+    const std::size_t row = r.out.find("  " + name + " ", r.out.find("device profile for"));
+    ASSERT_NE(row, std::string::npos) << name << "\n" << r.out;
+    const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+    EXPECT_NE(line.find(" / 0 "), std::string::npos) << line;
   }
 }
 

@@ -176,6 +176,20 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
   EXPECT_EQ(test::slurp(path("path.json")), path_text);
 }
 
+// A file where an output directory goes is refused before any work (the
+// writes would fail only at the end, after the frames are drawn).
+TEST_F(Reliability, AFileNamedAsTheOutputDirectoryIsRefusedUpFront) {
+  write_text("afile", "kept");
+  const std::string out = " --out " + path("afile");
+  for (const std::string& args :
+       {"cracks " + path("B.json") + " --light 0" + out, "render " + path("B.json") + " --light 0 --compare" + out,
+        "render " + path("B.json") + out, "evaluate --samples 1" + out, "view " + path("B.json") + out}) {
+    const test::CliResult r = run(args);
+    expect_one_line_error(r, "--out '" + path("afile") + "' is there and is not a directory", args);
+  }
+  EXPECT_EQ(test::slurp(path("afile")), "kept");
+}
+
 TEST_F(Reliability, AFullStandardOutputIsAnError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   // Run directly: run_cli redirects stdout to a file of its own.

@@ -532,6 +532,12 @@ TEST(MeshReadPly, ErrorsNameTheLineOrByte) {
             "line 3: unknown PLY header line 'ex'");
   ply_error("ply\nformat ascii 1.0\nproperty float x\nend_header\n", ErrorKind::Parse,
             "line 3: a property declared before any element");
+  // Which of two y's, or two vertex elements, a reader takes is a guess:
+  // refused, naming the line.
+  ply_error(head + "property float y\n" + faces, ErrorKind::Parse,
+            "line 7: element 'vertex' declares property 'y' twice");
+  ply_error(head + "element vertex 3\nproperty float x\n" + faces, ErrorKind::Parse,
+            "line 7: a second 'vertex' element (a mesh has one)");
 }
 
 TEST(MeshReadPly, OtherElementsAndPropertiesAreSkippedByType) {

@@ -395,6 +395,23 @@ TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
   expect_csv_error("", ErrorKind::Parse, "s.csv: empty");
 }
 
+// A length ratio or a condition number the sweep never writes negative
+// (skew, cap_window_error_px, ...) is refused, not fitted through its log's
+// magnitude.
+TEST(PolicyCsv, NegativeMagnitudesAreRefused) {
+  std::string r = row("sample:1:1", "zpplus-corrected", 0, "1");
+  r.replace(r.find(",0.3,0.1,"), 9, ",0.3,-0.1,");
+  try {
+    (void)analysis::policy_samples_from_text(with_line(sweep_csv(), 3, r), "s.csv", ShadowMethod::ZPPlusCorrected,
+                                             ShadowMethod::ZFail);
+    ADD_FAILURE() << "a negative skew was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Parse) << e.what();
+    EXPECT_NE(std::string(e.what()).find("s.csv: line 3: column 'skew': '-0.1' is negative"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(PolicyCsv, CountsAreWholeNumbers) {
   const std::string csv = sweep_csv();
   std::string r = row("sample:1:1", "zfail", 0, "1");

@@ -124,6 +124,14 @@ struct Row {
     if (v < 0) fail(ErrorKind::Parse, name, "'" + at(name) + "' is negative");
     return v;
   }
+  // A ratio of lengths or a condition number: nan where undefined, inf
+  // where unbounded, never negative.
+  double magnitude(const char* name) const {
+    const double v = number(name);
+    if (v < 0)
+      fail(ErrorKind::Parse, name, "'" + at(name) + "' is negative (the sweep writes no negative " + name + ")");
+    return v;
+  }
   std::size_t count(const char* name) const {
     const double v = measure(name);
     if (v != std::floor(v) || v > 9007199254740992.0)
@@ -284,12 +292,12 @@ std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs,
                    ConditioningFeatures& c = p.features;
                    c.light_frustum_defined = row.at("light_frustum_defined") == "1";
                    c.light_near_distance = row.number("light_near_distance");
-                   c.l_far_over_width = row.number("l_far_over_width");
-                   c.delta_over_width = row.number("delta_over_width");
-                   c.skew = row.number("skew");
-                   c.cond_light_transform = row.number("cond_light_transform");
-                   c.cap_window_error_px = row.number("cap_window_error_px");
-                   c.coordinate_over_size = row.number("coordinate_over_size");
+                   c.l_far_over_width = row.magnitude("l_far_over_width");
+                   c.delta_over_width = row.magnitude("delta_over_width");
+                   c.skew = row.magnitude("skew");
+                   c.cond_light_transform = row.magnitude("cond_light_transform");
+                   c.cap_window_error_px = row.magnitude("cap_window_error_px");
+                   c.coordinate_over_size = row.magnitude("coordinate_over_size");
                    c.l_near_over_l_far = row.number("l_near_over_l_far");
                  } else {
                    p.fallback_cracks = cracks;

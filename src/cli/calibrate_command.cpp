@@ -318,6 +318,22 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
   else
     std::printf("  whole frame  no frame timed end to end: no frame row\n");
   std::printf("  (error: median |predicted - measured| / measured)\n");
+  // What was fitted but never checked: too few configurations for the
+  // held-out fifth to hold one of its observations.
+  std::string unchecked;
+  auto check = [&](std::string_view name, std::size_t train, std::size_t held_out) {
+    if (train > 0 && held_out == 0) unchecked += (unchecked.empty() ? "" : ", ") + std::string(name);
+  };
+  for (std::size_t k = 0; k < analysis::kPassKindCount; ++k)
+    check(analysis::kPassKindNames[k], r.train_count[k], r.held_out_count[k]);
+  if (p.eye_count) check("eye_count", eye.train_count, eye.held_out_count);
+  for (std::size_t t = 0; t < 3; ++t) check(analysis::kCpuTaskNames[t], r.cpu_train_count[t], r.cpu_held_out_count[t]);
+  if (p.frame) check("whole frame", frame.train_count, frame.held_out_count);
+  if (!unchecked.empty())
+    std::fprintf(stderr,
+                 "calibrate: warning: no held-out observation of %s: those costs are fitted but unchecked; calibrate "
+                 "on more configurations (--samples, --path)\n",
+                 unchecked.c_str());
 }
 
 // --path NAME: a file, or a bundled path's name (data/paths/NAME.json).

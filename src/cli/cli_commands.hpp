@@ -59,6 +59,9 @@ std::string json_text(const nlohmann::json& j, int indent = -1);
 
 // An output file option naming a directory: a one-line io error.
 void refuse_directory(const std::string& file, const std::string& option);
+// An output directory option naming something that is there and is not a
+// directory: a one-line io error, before any work.
+void refuse_non_directory(const std::string& dir, const std::string& option);
 
 // "classify, cap, reference, cracks": the registered subcommands' names.
 std::string subcommand_names(const CLI::App& app);

@@ -31,6 +31,13 @@ void refuse_directory(const std::string& file, const std::string& option) {
     throw Error(ErrorKind::Io, option + " '" + file + "' is a directory, not a file");
 }
 
+void refuse_non_directory(const std::string& dir, const std::string& option) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(dir, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_directory(st))
+    throw Error(ErrorKind::Io, option + " '" + dir + "' is there and is not a directory");
+}
+
 std::string json_text(const nlohmann::json& j, int indent) {
   return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }

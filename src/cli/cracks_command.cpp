@@ -179,6 +179,7 @@ nlohmann::json raytrace_json(const raytrace::RaytraceFrame& f, const CrackReport
 void run(const CracksOptions& o) {
   const MethodChoice choice = method_choice(o.method);
   const std::vector<gl::ShadowMethod>& methods = choice.methods;
+  refuse_non_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
   if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);

@@ -372,6 +372,7 @@ class Evaluation {
 void run(const EvaluateOptions& o) {
   if (o.out.empty())
     throw Error(ErrorKind::Usage, "nearcap evaluate writes evaluation.csv and table.md into --out DIR");
+  refuse_non_directory(o.out, "--out");
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nearcap evaluate needs held-out data: --path P (repeatable) and/or --samples N");
   if (o.last_frame >= 0 && o.last_frame < o.first_frame)

@@ -109,6 +109,7 @@ void run(const RenderOptions& o) {
     throw Error(ErrorKind::Usage, "--stencil goes with the lit frames; with --compare, --out DIR writes both stencils");
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
+  refuse_non_directory(o.out, "--out");
   const RenderMethods methods = render_methods(o.method, o.policy, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;

@@ -301,6 +301,7 @@ std::string lit_stencil_file(const RenderOptions& o, const std::string& name, st
 // its times are kept, so memory stays flat however long the path.
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
+  refuse_non_directory(o.out, "--out");
   const RenderMethods methods = render_methods(o.method, o.policy, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;

@@ -125,6 +125,7 @@ class Viewer {
       light_choice_ = static_cast<int>(o.light);
     }
     check_memory_estimate(scene_, "view", 40, o.max_memory_gb);
+    refuse_non_directory(o.out, "--out");
     settings_.record_draws = true;
     // The first method named is shown first (RenderMethods keeps the policy last).
     if (o.method.rfind("policy", 0) == 0 && methods_.policy) method_ = methods_.methods.size();

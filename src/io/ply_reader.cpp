@@ -133,6 +133,9 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       if (endp != w[2].c_str() + w[2].size() || w[2][0] == '-' || errno == ERANGE)
         error("element '" + mesh_reading::printable(w[1]) + "' has count '" + mesh_reading::printable(w[2]) +
               "', not a non-negative integer");
+      if ((w[1] == "vertex" || w[1] == "face") && std::any_of(header.elements.begin(), header.elements.end(),
+                                                              [&](const PlyElement& e) { return e.name == w[1]; }))
+        error("a second '" + w[1] + "' element (a mesh has one)");
       header.elements.push_back({w[1], count, {}});
     } else if (w[0] == "property") {
       if (header.elements.empty()) error("a property declared before any element");
@@ -149,7 +152,12 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
       } else {
         error("expected 'property <type> <name>' or 'property list <count type> <item type> <name>'");
       }
-      header.elements.back().properties.push_back(p);
+      PlyElement& element = header.elements.back();
+      if (std::any_of(element.properties.begin(), element.properties.end(),
+                      [&](const PlyProperty& q) { return q.name == p.name; }))
+        error("element '" + mesh_reading::printable(element.name) + "' declares property '" +
+              mesh_reading::printable(p.name) + "' twice");
+      element.properties.push_back(p);
     } else {
       error("unknown PLY header line '" + mesh_reading::printable(w[0]) + "'");
     }
