@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Configurations per second of `nearcap sweep` (all five methods and the exact
+# Configurations per second of `nearcap sweep` (all six methods and the exact
 # reference, crack distance and conditioning features included) on the
 # issue's target workloads, one run each, on this machine's cores:
 #   room + torus paths at 160x120 and at 640x480, the 75k-triangle bunny orbit

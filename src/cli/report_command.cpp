@@ -47,7 +47,7 @@ namespace nearcap::cli {
 namespace {
 
 // A sweep CSV's default size limit: the million-configuration sweep's CSV is
-// about 2.4 GB (about 5.8 million rows of 414 bytes); the report streams it
+// about 3.0 GB (docs/findings/sweep-speed.md); the report streams it
 // in bounded memory, so the limit bounds only the time (a few minutes per GB;
 // docs/findings/report-scale.md).
 constexpr std::uint64_t kDefaultMaxCsvBytes = std::uint64_t{16} << 30;
