@@ -251,6 +251,8 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "an empty --out");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --light 1"),
                         "--light is given 2 times (give it once)", "an option twice");
+  expect_one_line_error(run("classify " + path("B.json") + " first second third"),
+                        "unexpected arguments: first second third", "extras in the order given");
   // A policy's whole number written as a float.
   nlohmann::json policy = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
   policy["unpriced_frames"]["max_occluder_triangles"] = 1e30;

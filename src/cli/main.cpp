@@ -114,6 +114,15 @@ int main(int argc, char** argv) {
       return usage_error(what.substr(0, at_most) + " is given " +
                          what.substr(at_most + std::strlen(": At Most 1 required but received ")) +
                          " times (give it once)");
+    // CLI11 lists the extras of a subcommand last first: in the order given.
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+      const std::vector<std::string> extras = app.remaining(true);
+      if (!extras.empty()) {
+        std::string list;
+        for (const std::string& a : extras) list += (list.empty() ? "" : " ") + a;
+        return usage_error((extras.size() > 1 ? "unexpected arguments: " : "unexpected argument: ") + list);
+      }
+    }
     return usage_error(what);
   } catch (const nearcap::cli::ExitCode& e) {
     return fail(e.code);
