@@ -93,7 +93,7 @@ enum class ClipperArithmetic {
 };
 inline constexpr NamedValue<ClipperArithmetic> kClipperArithmeticTable[] = {
     {ClipperArithmetic::Inside, "inside", "intersections from the inside vertex"},
-    {ClipperArithmetic::Mesa, "mesa", "Mesa's plane order, from the outside vertex, its fan order"},
+    {ClipperArithmetic::Mesa, "mesa", "Mesa's plane order, from the endpoint nearer the plane, its fan order"},
 };
 constexpr const auto& named_values(ClipperArithmetic) { return kClipperArithmeticTable; }
 static_assert(names_are_unique<ClipperArithmetic>());
