@@ -127,10 +127,17 @@ TEST_F(PolicyInputs, TuneRefusesInputsThatAreNotRegularFiles) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST_F(PolicyInputs, ACsvGivenTwiceIsRefused) {
+  const std::string csv = write("t.csv", sweep_csv()), out = (dir_ / "p.json").string();
+  expect_one_line_error(test::run_cli("tune " + csv + " " + csv + " --out " + out, "tune_twice"), "parse",
+                        csv + ": line 2: configuration '" + training_configurations(8)[0] + "' again after other");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST_F(PolicyInputs, TheInputLimitAppliesToSweepCsvsAndPolicies) {
   // Rows of a method tune does not read, past 1 MB.
   std::string big = sweep_csv();
-  while (big.size() < (3u << 19)) big += row("sample:9:9", "preload", 0, "1") + "\n";
+  for (int k = 0; big.size() < (3u << 19); ++k) big += row("sample:9:" + std::to_string(k), "preload", 0, "1") + "\n";
   const std::string csv = write("big.csv", big);
   const std::string out = (dir_ / "p.json").string();
   expect_one_line_error(test::run_cli("tune " + csv + " --out " + out, "tune_big", "NEARCAP_MAX_INPUT_MB=1"),
@@ -410,6 +417,21 @@ TEST(PolicyCsv, NegativeMagnitudesAreRefused) {
     EXPECT_NE(std::string(e.what()).find("s.csv: line 3: column 'skew': '-0.1' is negative"), std::string::npos)
         << e.what();
   }
+}
+
+// A row repeated, a configuration's rows apart, or one CSV given twice
+// would count twice in the fits: refused, naming the line.
+TEST(PolicyCsv, EachRowOnceAndEachConfigurationTogether) {
+  const std::string csv = sweep_csv();
+  const std::vector<std::string> ids = training_configurations(8);
+  const std::string repeated = csv + row(ids[7], "zfail", 0, "9") + "\n";
+  expect_csv_error(repeated, ErrorKind::Parse,
+                   "s.csv: line 18: a second row of configuration '" + ids[7] +
+                       "', light 0, method zfail, variant switch-clamp=clamp-far");
+  const std::string apart = csv + row(ids[0], "preload", 0, "9") + "\n";
+  expect_csv_error(apart, ErrorKind::Parse, "s.csv: line 18: configuration '" + ids[0] + "' again after other");
+  const std::string empty_id = with_line(csv, 2, row("", "zfail", 0, "1"));
+  expect_csv_error(empty_id, ErrorKind::Parse, "s.csv: line 2: column 'configuration': is empty");
 }
 
 TEST(PolicyCsv, CountsAreWholeNumbers) {

@@ -171,12 +171,18 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
       {"wrong", "-5", "line 2: column 'wrong': '-5' is not a count or an index"},
       {"light", "-1", "line 2: column 'light': '-1' is not a count or an index"},
       {"pixels_seen", "0", "line 2: column 'wrong':"},
+      {"cracks", "4", "line 2: column 'cracks': 4 cracks of 3 wrong pixels"},
+      {"cracks", "99999999999999999999999", "'99999999999999999999999' is not a count a sweep writes"},
+      {"frame_ms", "-3", "line 2: column 'frame_ms': '-3' is not a time"},
+      {"frame_ms", "inf", "line 2: column 'frame_ms': 'inf' is not a time"},
+      {"configuration", "", "line 2: column 'configuration': '' is not a configuration id"},
   };
   const fs::path out = dir_ / "never";
   for (const auto& [name, value, fragment] : cases) {
     std::vector<std::string> fields = fields_of(lines[1]);
     ASSERT_LT(column(name), fields.size()) << name;
     if (name == "pixels_seen") fields[column("wrong")] = "5";
+    if (value == "4") fields[column("wrong")] = "3";
     fields[column(name)] = value;
     std::string text = lines[0] + "\n" + joined(fields) + "\n";
     for (std::size_t k = 2; k < lines.size(); ++k) text += lines[k] + "\n";

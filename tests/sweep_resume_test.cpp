@@ -297,6 +297,102 @@ TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
 }
 
+// The sampler's meshes come from NEARCAP_DATA_DIR (or the shipped data):
+// a resume with other mesh files is refused, since its rows could differ.
+TEST_F(SweepFile, ResumeRefusesSamplerMeshesThatChanged) {
+  const fs::path meshes = dir_ / "data" / "meshes";
+  fs::create_directories(meshes);
+  for (const char* mesh : {"box.off", "torus.off", "eight.off", "knot1.off"})
+    fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes" / mesh, meshes / mesh);
+  const std::string env = "NEARCAP_DATA_DIR='" + (dir_ / "data").string() + "'";
+  const std::string csv = path("m.csv");
+  ASSERT_EQ(test::run_cli(args(csv), "sweep_file_meshes", env).exit_code, 0);
+  const std::vector<std::string> lines = lines_of(test::slurp(csv));
+  const std::string cut = joined(lines, 0, group_starts(lines)[2]);
+  write_file(csv, cut);
+  const std::string eight = test::slurp(meshes / "eight.off");
+  write_file((meshes / "eight.off").string(), eight + "\n");  // the same mesh, other bytes
+  expect_one_line_error(test::run_cli(args(csv, "--resume"), "sweep_file_meshes_edited", env), "usage",
+                        "--samples (meshes digest): ", "a sampler mesh edited");
+  EXPECT_EQ(test::slurp(csv), cut);
+  // The shipped meshes are other files again: refused too.
+  write_file((meshes / "eight.off").string(), eight);
+  fs::remove(meshes / "knot1.off");
+  expect_one_line_error(test::run_cli(args(csv, "--resume"), "sweep_file_meshes_gone", env), "usage",
+                        "--samples (meshes digest): ", "a sampler mesh removed");
+  fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes/knot1.off", meshes / "knot1.off");
+  const test::CliResult same = test::run_cli(args(csv, "--resume"), "sweep_file_meshes_same", env);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
+}
+
+// A configuration's rows are one "rejected" row exactly where its scene does
+// not load: either put in the other's place is a damaged file.
+TEST_F(SweepFile, ARejectedRowStandsOnlyForASceneThatDoesNotLoad) {
+  // Configuration 85 of seed 3 puts a light inside an occluder.
+  const std::string csv = path("r.csv");
+  const std::string command = "sweep --samples 87 --seed 3 --width 8 --height 6 --methods zpass --out " + csv;
+  ASSERT_EQ(test::run_cli(command, "sweep_file_rejected").exit_code, 0);
+  const std::string full = test::slurp(csv);
+  const std::vector<std::string> lines = lines_of(full);
+  std::size_t rejected = 0, loaded = 0;
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    if (lines[k].find(",rejected,") != std::string::npos) rejected = k;
+    if (first_cell(lines[k]) == "sample:3:1") loaded = loaded ? loaded : k;
+  }
+  ASSERT_NE(rejected, 0u) << "no rejected configuration in this sweep";
+  ASSERT_EQ(first_cell(lines[rejected]), "sample:3:85");
+  ASSERT_NE(loaded, 0u);
+  // A row's own columns (configuration, source, kind, detail) with another's
+  // method and results.
+  const auto in_place_of = [](const std::string& row, const std::string& place) {
+    std::string out;
+    std::stringstream from(place), with(row);
+    for (int c = 0; c < 4; ++c) {
+      std::string cell;
+      std::getline(from, cell, ',');
+      out += cell + ",";
+      std::getline(with, cell, ',');
+    }
+    std::string rest;
+    std::getline(with, rest);
+    return out + rest;
+  };
+  for (int swap = 0; swap < 2; ++swap) {
+    std::vector<std::string> damaged = lines;
+    std::size_t at = swap == 0 ? loaded : rejected;
+    damaged[at] = in_place_of(swap == 0 ? lines[rejected] : lines[loaded], lines[at]);
+    if (swap == 0)  // the loading configuration's other rows dropped
+      while (at + 1 < damaged.size() && first_cell(damaged[at + 1]) == "sample:3:1")
+        damaged.erase(damaged.begin() + static_cast<std::ptrdiff_t>(at + 1));
+    const std::string text = joined(damaged, 0, damaged.size());
+    write_file(csv, text);
+    expect_one_line_error(test::run_cli(command + " --resume", "sweep_file_rejected_swap"), "schema",
+                          swap == 0 ? "'sample:3:1' is 'rejected' where its scene loads"
+                                    : "'sample:3:85' has method zpass where its scene can only be rejected",
+                          swap == 0 ? "a rejected row for a scene that loads" : "rows for a scene that does not");
+    EXPECT_EQ(test::slurp(csv), text);
+  }
+}
+
+// A sweep stopped after its CSV got its name and before the sidecar was
+// written leaves the header alone: --resume starts it, as nothing can mix.
+TEST_F(SweepFile, AHeaderAloneWithoutItsSidecarResumes) {
+  const std::string full = whole("h.csv");
+  const std::vector<std::string> lines = lines_of(full);
+  write_file(path("h.csv"), joined(lines, 0, 1));
+  fs::remove(path("h.csv.meta.json"));
+  const test::CliResult r = test::run_cli(args(path("h.csv"), "--resume"), "sweep_file_header_alone");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(untimed_rows(test::slurp(path("h.csv"))), untimed_rows(full));
+  EXPECT_TRUE(fs::exists(path("h.csv.meta.json")));
+  // With one row, no sidecar is still refused: what made the row is unknown.
+  write_file(path("h.csv"), joined(lines, 0, 2));
+  fs::remove(path("h.csv.meta.json"));
+  expect_one_line_error(test::run_cli(args(path("h.csv"), "--resume"), "sweep_file_no_sidecar"), "schema",
+                        "has no sidecar", "a row without a sidecar");
+}
+
 TEST_F(SweepFile, ACsvWithWindowsLineEndsIsNamedAsSuch) {
   const std::string text = whole("w.csv");
   std::string crlf;
@@ -417,12 +513,14 @@ TEST(SweepFileCheck, ReadsAFileOfManyBlocksRowByRow) {
   const fs::path file = fs::temp_directory_path() / ("nearcap_sweep_check_" + std::to_string(::getpid()) + ".csv");
   const analysis::SweepLayout layout{{"default", "fma=1"}, {"zpass", "zfail"}};
   const auto expected = [](std::uint64_t k) {
-    return analysis::ExpectedGroup{"sample:1:" + std::to_string(k),
-                                   "sampler",
-                                   "grazing",
-                                   "a, \"quoted\"\nline " + std::to_string(k),
-                                   "nearcap sample --index " + std::to_string(k),
-                                   k % 3 == 0 ? 2u : 1u};
+    analysis::ExpectedGroup g;
+    g.id = "sample:1:" + std::to_string(k);
+    g.source = "sampler";
+    g.kind = "grazing";
+    g.detail = "a, \"quoted\"\nline " + std::to_string(k);
+    g.replay = "nearcap sample --index " + std::to_string(k);
+    g.lights = k % 3 == 0 ? 2u : 1u;
+    return g;
   };
   std::string text = analysis::csv_header();
   constexpr std::uint64_t kGroups = 4000;

@@ -114,8 +114,9 @@ FEATURES = [
 INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_lit", "wrong_shadowed", "count_mismatch",
                    "zfail_objects", "case_disagreements"] + ["wrong_r_" + b for b in BUCKETS] + \
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
-FLOAT_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"] + \
-                [f for f, _ in FEATURES]
+TIME_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"]
+FLOAT_COLUMNS = TIME_COLUMNS + [f for f, _ in FEATURES]
+MAX_COUNT = 1 << 53  # counts above are not exact as the doubles the report sums them in
 PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + PASS_COLUMNS
@@ -236,13 +237,25 @@ class RowConverter:
             for c, k in zip(self.INTEGERS, self.integers):
                 if int(fields[k]) < 0:
                     self.fail(line, c, fields[k], "a count or an index (it is negative)")
+        if integers and max(integers) > MAX_COUNT:
+            for c, k in zip(self.INTEGERS, self.integers):
+                if int(fields[k]) > MAX_COUNT:
+                    self.fail(line, c, fields[k], "a count a sweep writes (over 2^53)")
         r = dict(zip(self.INTEGERS, integers))
         if r["wrong"] > r["pixels_seen"]:
             raise ReportError("parse", f"{self.name}: line {line}: column 'wrong': {r['wrong']} wrong pixels of "
                                        f"{r['pixels_seen']} seen (pixels_seen)")
+        if r["cracks"] > r["wrong"]:
+            raise ReportError("parse", f"{self.name}: line {line}: column 'cracks': {r['cracks']} cracks of "
+                                       f"{r['wrong']} wrong pixels (a crack is a wrong pixel)")
+        for c, v in zip(FLOAT_COLUMNS, floats):
+            if c in TIME_COLUMNS and not (math.isfinite(v) and v >= 0):
+                self.fail(line, c, fields[self.index[c]], "a time (finite, not negative)")
         r.update(zip(FLOAT_COLUMNS, floats))
         for c, k in self.text:
             r[c] = fields[k]
+        if not r["configuration"]:
+            self.fail(line, "configuration", "", "a configuration id (it is empty)")
         value = fields[self.cap_mismatch]
         try:
             r["cap_mismatch"] = int(value) if value else None

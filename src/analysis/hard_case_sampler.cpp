@@ -17,6 +17,14 @@ namespace {
 using Json = nlohmann::json;
 using V3 = std::array<double, 3>;
 
+// The bundled meshes the configurations are built of (data/meshes): a box
+// (occluders and the floor), a torus, the real meshes, and the bunny where
+// the spec allows it.
+constexpr const char* kBoxMesh = "box.off";
+constexpr const char* kTorusMesh = "torus.off";
+constexpr const char* kRealMeshes[] = {"eight.off", "knot1.off"};
+constexpr const char* kBunnyMesh = "bunny.off";
+
 // SplitMix64: decorrelates (seed, index) into one generator seed.
 std::uint64_t splitmix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ull;
@@ -121,8 +129,8 @@ class Builder {
         break;
       }
       case HardCaseKind::RealMesh: {
-        std::vector<std::string> meshes = {"eight.off", "knot1.off"};
-        if (spec_.allow_bunny) meshes.push_back("bunny.off");
+        std::vector<std::string> meshes(std::begin(kRealMeshes), std::end(kRealMeshes));
+        if (spec_.allow_bunny) meshes.push_back(kBunnyMesh);
         occluders_[0].mesh = meshes[static_cast<std::size_t>(uniform(0, static_cast<int>(meshes.size()) - 1))];
         occluders_[0].scale = sixteenths(8, 24);
         detail << occluders_[0].mesh;
@@ -184,10 +192,10 @@ class Builder {
   }
 
   Occluder box(const V3& centre, double scale) {
-    return {"box.off", centre, scale, {double(uniform(0, 89)), double(uniform(0, 89)), double(uniform(0, 89))}};
+    return {kBoxMesh, centre, scale, {double(uniform(0, 89)), double(uniform(0, 89)), double(uniform(0, 89))}};
   }
   Occluder torus(const V3& centre, double scale) {
-    return {"torus.off", centre, scale, {double(uniform(0, 89)), double(uniform(0, 89)), double(uniform(0, 89))}};
+    return {kTorusMesh, centre, scale, {double(uniform(0, 89)), double(uniform(0, 89)), double(uniform(0, 89))}};
   }
   V3 shifted(V3 v) const {
     for (int k = 0; k < 3; ++k) v[k] += offset_[k];
@@ -222,7 +230,7 @@ class Builder {
       j["objects"].push_back(jo);
     }
     j["objects"].push_back(
-        {{"mesh", mesh_path("box.off")}, {"translate", shifted({0, -9.5, 0})}, {"scale", 16}, {"occluder", false}});
+        {{"mesh", mesh_path(kBoxMesh)}, {"translate", shifted({0, -9.5, 0})}, {"scale", 16}, {"occluder", false}});
     // JSON text is UTF-8 and a file name is bytes (U+FFFD would name another file).
     try {
       return j.dump();
@@ -256,6 +264,16 @@ HardCaseKind hard_case_kind_from_string(std::string_view name) {
   if (const std::optional<HardCaseKind> kind = value_named<HardCaseKind>(name)) return *kind;
   throw Error(ErrorKind::Usage,
               "unknown hard-case kind '" + std::string(name) + "' (one of " + names_joined<HardCaseKind>() + ")");
+}
+
+std::vector<std::string> sampler_mesh_files(const SamplerSpec& spec) {
+  std::vector<std::string> names{kBoxMesh, kTorusMesh};
+  names.insert(names.end(), std::begin(kRealMeshes), std::end(kRealMeshes));
+  if (spec.allow_bunny) names.push_back(kBunnyMesh);
+  std::vector<std::string> files;
+  for (const std::string& name : names)
+    files.push_back((std::filesystem::absolute(spec.mesh_directory) / name).lexically_normal().string());
+  return files;
 }
 
 HardCaseSampler::HardCaseSampler(SamplerSpec spec) : spec_(std::move(spec)) {

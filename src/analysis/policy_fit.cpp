@@ -15,7 +15,9 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <unordered_set>
 
 #include "ceres_solve.hpp"
 #include "nearcap/error.hpp"
@@ -150,8 +152,44 @@ struct CsvInput {
 // Calls visit for every row of the inputs, after checking each header holds
 // the needed columns.  Every line is checked as it is read: UTF-8, closed
 // quotes, as many fields as the header; errors name the file and the line.
+// FNV-1a, 64 bits: a configuration's id as a key of a set.
+std::uint64_t fnv1a_64(const std::string& s) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
 template <class Visit>
 void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<const char*> needed, Visit&& visit) {
+  // Each configuration's rows together, each (light, method, variant) once,
+  // as nearcap sweep writes them: a row repeated, or a CSV given twice,
+  // would count twice in the fits.  The configurations already passed are
+  // kept as 64-bit hashes (as `nearcap report` keeps them).
+  std::unordered_set<std::uint64_t> passed;
+  std::string current;
+  std::set<std::string> current_rows;
+  const auto check_once = [&](const Row& row) {
+    const std::string& id = row.at("configuration");
+    if (id.empty()) row.fail(ErrorKind::Parse, "configuration", "is empty");
+    if (id != current) {
+      if (!current.empty()) passed.insert(fnv1a_64(current));
+      if (passed.count(fnv1a_64(id)))
+        throw Error(ErrorKind::Parse, row.where() + ": configuration '" + id +
+                                          "' again after other configurations (a row repeated, or a CSV given "
+                                          "twice: each configuration's rows come together, as nearcap sweep writes "
+                                          "them)");
+      current = id;
+      current_rows.clear();
+    }
+    const std::string key = row.at("light") + '\0' + row.at("method") + '\0' + row.at("variant");
+    if (!current_rows.insert(key).second)
+      throw Error(ErrorKind::Parse, row.where() + ": a second row of configuration '" + id + "', light " +
+                                        row.at("light") + ", method " + row.at("method") + ", variant " +
+                                        row.at("variant"));
+  };
   for (const CsvInput& input : inputs) {
     const std::string& file = input.source;
     std::ifstream stream;
@@ -172,6 +210,7 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
     std::size_t number = 0;
     std::vector<std::string> header;
     std::map<std::string, std::size_t> column;
+    bool grouped = false;
     while (std::getline(*in, line)) {
       ++number;
       read += line.size() + 1;
@@ -194,6 +233,8 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
         for (std::size_t k = 0; k < header.size(); ++k)
           if (!column.emplace(header[k], k).second)
             throw Error(ErrorKind::Parse, where + ": column '" + header[k] + "' appears twice in the header");
+        grouped =
+            column.count("configuration") && column.count("light") && column.count("method") && column.count("variant");
         for (const char* c : needed)
           if (!column.count(c))
             throw Error(ErrorKind::Parse,
@@ -203,7 +244,9 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
       if (fields.size() != header.size())
         throw Error(ErrorKind::Parse, where + ": " + std::to_string(fields.size()) + " fields, the header has " +
                                           std::to_string(header.size()));
-      visit(Row{fields, column, file, number});
+      const Row row{fields, column, file, number};
+      if (grouped) check_once(row);
+      visit(row);
     }
     if (!input.text && stream.bad()) throw Error(ErrorKind::Io, file + ": cannot read the sweep CSV");
     if (number == 0) throw Error(ErrorKind::Parse, file + ": empty, not a nearcap sweep CSV");

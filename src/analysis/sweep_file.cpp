@@ -172,9 +172,9 @@ std::optional<std::string> resume_mismatch(const SweepMeta& here_as_given, const
     const auto it = std::find_if(resumed.options.begin(), resumed.options.end(),
                                  [&name = name](const auto& o) { return o.first == name; });
     // A sidecar of this version may lack the paths' scene and meshes
-    // digest: nothing to compare, the resume goes on as the path files'
-    // own digests allow.
-    if (it == resumed.options.end() && name == kPathSceneDigestKey) continue;
+    // digest or the sampler's meshes digest: nothing to compare, the resume
+    // goes on as the other options allow.
+    if (it == resumed.options.end() && (name == kPathSceneDigestKey || name == kSamplerMeshesDigestKey)) continue;
     if (it == resumed.options.end()) return name + ": " + listed(values) + " here, not recorded" + there;
     if (it->second != values) return name + ": " + listed(values) + " here, " + listed(it->second) + there;
   }
@@ -258,12 +258,15 @@ SweepFileCheck check_sweep_file(int fd, const std::string& file, const SweepLayo
       if (id != group.id)
         throw fault("configuration '" + id + "' where configuration " + std::to_string(check.groups) + " ('" +
                     group.id + "') belongs" + (id == previous_id ? " (a configuration repeated)" : ""));
-      if (method == "rejected")
+      if (method == "rejected") {
+        if (group.loads && !(group.rejected_after_loading && group.rejected_after_loading()))
+          throw fault("configuration '" + id + "' is 'rejected' where its scene loads and its rows are made");
         size = 1;
-      else if (group.lights == 0)
+      } else if (group.lights == 0 || !group.loads) {
         throw fault("configuration '" + id + "' has method " + method + " where its scene can only be rejected");
-      else
+      } else {
         size = group.lights * per_light;
+      }
     }
     if (id != group.id)
       throw fault("configuration '" + id + "' inside the rows of configuration '" + group.id + "' (row " +

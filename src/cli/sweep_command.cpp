@@ -223,11 +223,30 @@ std::string configuration_csv(const analysis::SweepConfiguration& c, const analy
 }
 
 // What the rows of a configuration hold (analysis/sweep_file.hpp): its
-// columns, and its scene's light count (one group of rows per light).
-analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c) {
-  analysis::ExpectedGroup g{c.id, c.source, c.kind, c.detail, c.replay, 0};
+// columns, its scene's light count (one group of rows per light), and
+// whether the scene loads, read as the sweep reads it.
+analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c, const analysis::SweepOptions& options) {
+  analysis::ExpectedGroup g;
+  g.id = c.id;
+  g.source = c.source;
+  g.kind = c.kind;
+  g.detail = c.detail;
+  g.replay = c.replay;
   const nlohmann::json scene = nlohmann::json::parse(c.scene_json, nullptr, false);
   if (scene.is_object() && scene.contains("lights") && scene["lights"].is_array()) g.lights = scene["lights"].size();
+  try {
+    (void)parse_scene(c.scene_json, c.id, ".", options.meshes);
+  } catch (const Error&) {
+    g.loads = false;
+  }
+  g.rejected_after_loading = [c, &options] {
+    try {
+      (void)analysis::sweep_configuration(c, options);  // what configuration_csv rejects
+      return false;
+    } catch (const Error&) {
+      return true;
+    }
+  };
   return g;
 }
 
@@ -313,14 +332,34 @@ int create_csv(const std::string& file, const analysis::SweepMeta& meta) {
   return fd;
 }
 
+// Whether the CSV behind `fd` is this nearcap's header and nothing else.
+bool holds_only_the_header(int fd, const std::string& file) {
+  const std::string header = analysis::csv_header();
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw Error(ErrorKind::Io, file + ": cannot inspect it: " + std::strerror(errno));
+  if (static_cast<std::uint64_t>(st.st_size) != header.size()) return false;
+  std::string start(header.size(), '\0');
+  ssize_t n = 0;
+  do n = ::pread(fd, start.data(), start.size(), 0);
+  while (n < 0 && errno == EINTR);
+  return n == static_cast<ssize_t>(header.size()) && start == header;
+}
+
 // --resume: checks the locked CSV against its sidecar and these options, and
 // every row (analysis/sweep_file.hpp); returns how many configurations it
 // holds whole.  With `repair`, the start of a configuration cut off mid-write
 // is removed (and said so); without, it is an error naming --repair.
 std::uint64_t resume_point(int fd, const std::string& file, const Configurations& configurations,
-                           const analysis::SweepLayout& layout, const analysis::SweepMeta& here, bool repair) {
+                           const analysis::SweepLayout& layout, const analysis::SweepOptions& options,
+                           const analysis::SweepMeta& here, bool repair) {
   const std::string meta_file = analysis::sweep_meta_path(file);
   std::error_code ec;
+  if (!std::filesystem::exists(meta_file, ec) && holds_only_the_header(fd, file)) {
+    // A sweep stopped between making its CSV and writing the sidecar: no
+    // row to mix, so these options start it.
+    io::write_output_files({{meta_file, analysis::sweep_meta_json(here)}});
+    return 0;
+  }
   if (!std::filesystem::exists(meta_file, ec))
     throw Error(ErrorKind::Schema, file + ": has no sidecar " + meta_file +
                                        " (what made its rows is unknown: an older nearcap, or not nearcap sweep); "
@@ -331,7 +370,7 @@ std::uint64_t resume_point(int fd, const std::string& file, const Configurations
     throw Error(ErrorKind::Usage, file + ": cannot resume it with these options: " + *why);
   const analysis::SweepFileCheck check =
       analysis::check_sweep_file(fd, file, layout, configurations.count(),
-                                 [&configurations](std::uint64_t k) { return expected_group(configurations.at(k)); });
+                                 [&](std::uint64_t k) { return expected_group(configurations.at(k), options); });
   if (!check.cut_tail.empty()) {
     if (!repair)
       throw Error(ErrorKind::Schema, file + ": " + check.cut_tail + "; give --resume --repair to remove line " +
@@ -464,6 +503,21 @@ std::string path_scene_digest(const std::string& path_file) {
   return analysis::content_digest(content);
 }
 
+// The digest of the mesh files the sampler may read: their bytes, or a mark
+// for one that cannot be read (a sweep of paths alone needs none).
+std::string sampler_meshes_digest(const SamplerOptions& sampler) {
+  std::string content;
+  for (const std::string& file : analysis::sampler_mesh_files(sampler_spec(sampler))) {
+    try {
+      content += io::read_input_file(file, "mesh file");
+    } catch (const Error&) {
+      content += "(unreadable)";
+    }
+    content += '\0';
+  }
+  return analysis::content_digest(content);
+}
+
 // The options that determine the rows, for the sidecar (analysis/sweep_file.hpp).
 analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::SweepOptions& options,
                                const analysis::SweepLayout& layout) {
@@ -479,7 +533,8 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
   meta.options = {
       {"--path", o.paths},
       {"--path (content digest)", digests},
-      {"--path (scene and meshes digest)", scene_digests},
+      {analysis::kPathSceneDigestKey, scene_digests},
+      {analysis::kSamplerMeshesDigestKey, one(sampler_meshes_digest(o.sampler))},
       {"--seed", one(std::to_string(o.sampler.seed))},
       {"--kinds", one(o.sampler.kinds)},
       {"--allow-bunny", one(o.sampler.allow_bunny ? "yes" : "no")},
@@ -608,7 +663,7 @@ void run_sweep(const SweepCommandOptions& o) {
       if (resuming) {
         lock_csv(fd, o.out);
         try {
-          first = resume_point(fd, o.out, configurations, layout, meta, o.repair);
+          first = resume_point(fd, o.out, configurations, layout, options, meta, o.repair);
         } catch (...) {
           ::close(fd);
           throw;

@@ -91,6 +91,10 @@ struct HardCase {
   std::string scene_json;  // a scene file's text; mesh paths absolute
 };
 
+// The mesh files a sampler with `spec` may read (absolute paths, in a fixed
+// order): what its configurations are made of besides the spec.
+std::vector<std::string> sampler_mesh_files(const SamplerSpec& spec);
+
 class HardCaseSampler {
  public:
   explicit HardCaseSampler(SamplerSpec spec);

@@ -44,6 +44,9 @@ struct SweepMeta {
 
 // The sidecar key of each camera path's base scene and meshes digest.
 inline constexpr const char* kPathSceneDigestKey = "--path (scene and meshes digest)";
+// The sidecar key of the digest of the mesh files the sampler reads
+// (NEARCAP_DATA_DIR's or the shipped data/meshes).
+inline constexpr const char* kSamplerMeshesDigestKey = "--samples (meshes digest)";
 
 // "results.csv" -> "results.csv.meta.json".
 std::string sweep_meta_path(const std::string& csv);
@@ -68,6 +71,12 @@ std::string content_digest(const std::string& bytes);
 struct ExpectedGroup {
   std::string id, source, kind, detail, replay;  // the CSV's columns of every row of the group
   std::size_t lights = 0;                        // of its scene; 0 when the scene text is not even JSON
+  // Whether its scene loads: one that does not has one row, "rejected".
+  bool loads = true;
+  // For a scene that loads and yet has a "rejected" row (an error past the
+  // scene's reading): whether computing the configuration again is
+  // rejected too.  Unset: such a row is a fault.
+  std::function<bool()> rejected_after_loading;
 };
 
 // The row layout of every group: the variant names and the entry names
