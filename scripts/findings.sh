@@ -20,7 +20,7 @@ paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
 
 # ---- zpplus-cracks.md --------------------------------------------------------
-step_bundled_scenes() {  # every method on every bundled scene, light 0
+step_bundled_scenes() {  # --method all on twelve bundled scenes, light 0; the table: five methods and the ray tracer
   for scene in default no_near_clip eye_in_shadow near_split case_d light_on_near_plane near_cap_bunny_wall \
                near_cap_bunny_cut twisted bunny armadillo far_grazing; do
     $n cracks "data/scenes/$scene.json" --light 0 --method all --out "$dir/$scene" > "$dir/$scene.json"
@@ -38,7 +38,7 @@ for f in sorted(d.glob("*.json")):
     print(f"| {f.stem} | {rec['zpass']['pixels_seen']:,} | " + " | ".join(cells) + " |")
 EOF
 }
-step_stress() {  # the float methods on 1,995 hard configurations (the stress test)
+step_stress() {  # the float methods on the stress test's 2,000 sampled hard configurations (those the reader accepts)
   NEARCAP_STRESS_SEED=2026 ./build/tests/nearcap_tests --gtest_filter='Stress.Float*'
 }
 
@@ -167,7 +167,8 @@ step_whole_frame() {  # a whole frame against its passes timed each on its own; 
   python3 analysis/benchmarks/frame_against_passes.py "$dir/whole-frame.csv"
   python3 -c 'import json,sys; p=json.load(open(sys.argv[1])); del p["device_profile"]["frame"]; json.dump(p,open(sys.argv[2],"w"),indent=1)' \
     "$dir/policy-frame-row.json" "$dir/policy-no-frame-row.json"
-  for p in policy-frame-row policy-no-frame-row; do
+  git show 5745e30:data/policy.json > "$dir/policy-5745e30.json"
+  for p in policy-frame-row policy-no-frame-row policy-5745e30; do
     $n evaluate --policy "$dir/$p.json" --samples 500 --seed 4242 --width 160 --height 120 \
       --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$p"
   done
@@ -187,16 +188,18 @@ step_in_view_triangles() {  # what a pass's triangles in view add to its cost mo
     --out "$dir/in-view.csv" --policy data/policy.json --write-policy "$dir/policy-in-view.json" --no-atomiczp
   python3 analysis/benchmarks/in_view_fit.py "$dir/in-view.csv"
 }
-step_cpu_task_models() {  # a profile fitted by counts against the shipped one, in one window, end to end
+step_cpu_task_models() {  # a profile fitted by counts against the per-triangle one, in one window, end to end
   local calibration=()
   for p in data/paths/*.json; do
     case $(basename "$p" .json) in near_plane_sweep | fly_around) ;; *) calibration+=(--path "$p") ;; esac
   done
   $n calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
     --out "$dir/calibration.csv" --policy data/policy.json --write-policy "$dir/policy-counts.json"
+  # the per-triangle profile the page compares with
+  git show 5745e30:data/policy.json > "$dir/policy-per-triangle.json"
   local round policy
   for round in 1 2; do
-    for policy in data/policy.json "$dir/policy-counts.json"; do
+    for policy in "$dir/policy-per-triangle.json" "$dir/policy-counts.json"; do
       $n evaluate --policy "$policy" --samples 0 --width 160 --height 120 \
         --path data/paths/near_plane_sweep.json --repeats 8 --out "$dir/$(basename "$policy" .json)-$round"
     done
@@ -221,7 +224,7 @@ step_sweep_rates() {  # configurations per second
   ./analysis/benchmarks/sweep_rates.sh; }
 step_orbit_instructions() {  # the bunny orbit's instructions per frame (callgrind, one core)
   ./analysis/benchmarks/orbit_instructions.sh; }
-step_shadow_method_speed() {  # the five methods' emulated frame on the armadillo
+step_shadow_method_speed() {  # the emulated frame on the armadillo: each method but AtomicZP, then all six back to back
   $bench/nearcap_benchmarks --benchmark_filter='ShadowMethod|AllShadow'; }
 step_classification_speed() {  # exact against float classification on the bunny
   $bench/nearcap_benchmarks --benchmark_filter=Classification --benchmark_repetitions=3 \
