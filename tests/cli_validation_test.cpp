@@ -216,6 +216,16 @@ TEST_F(CliValidation, NonFiniteFloatOptionsAreUsageErrors) {
   }
 }
 
+// A guard band past float32's range reads as infinity: refused, not run as
+// "inf" (inf times a zero w is no distance).
+TEST_F(CliValidation, AGuardBandBeyondFloat32IsRefused) {
+  const test::CliResult r =
+      test::run_cli("cracks B.json --light 0 --guard-band 1e300", "validation", "cd '" + dir_.string() + "' && ");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("nearcap: error (usage): --guard-band must be at least 1", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("a finite float32"), std::string::npos) << r.err;
+}
+
 TEST_F(CliValidation, AValueBelowTheDoublesRangeIsFiniteAndAZeroMemoryLimitIsNamedAsSuch) {
   // 1e-310 is a subnormal double: finite; --max-memory must be above 0.
   const test::CliResult r = test::run_cli("cracks B.json --light 0 --method zpass --l-near-scale 1e-310", "validation",

@@ -619,9 +619,11 @@ TEST_F(SweepFile, DuplicatedListEntriesAreUsageErrors) {
 }
 
 TEST_F(SweepFile, AnOutThatIsNotARegularFileIsNamedAsWhatItIs) {
-  const std::string fifo = path("fifo");
+  const std::string fifo = path("fifo"), dangling = path("dangling.csv");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_symlink(dir_ / "nowhere.csv", dangling);
   const std::pair<std::string, std::string> cases[] = {
+      {dangling, dangling + ": a symbolic link to a file that does not exist"},
       {dir_.string(), dir_.string() + ": a directory, not a regular file"},
       {fifo, fifo + ": a FIFO, not a regular file"},
       {"/dev/full", "/dev/full: a character device, not a regular file"},
@@ -633,7 +635,7 @@ TEST_F(SweepFile, AnOutThatIsNotARegularFileIsNamedAsWhatItIs) {
       expect_one_line_error(r, "io", message, out + resume);
       EXPECT_FALSE(fs::exists(analysis::sweep_meta_path(out))) << out;
     }
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1) << "only the FIFO";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2) << "only the FIFO and the link";
 }
 
 }  // namespace

@@ -332,8 +332,9 @@ gl::EmulationSettings settings_from(const EmulationOptions& o) {
   gl::EmulationSettings s = o.settings;
   if (s.raster.subpixel_bits < 0 || s.raster.subpixel_bits > 12)
     throw Error(ErrorKind::Usage, "--subpixel-bits " + std::to_string(s.raster.subpixel_bits) + " is not in [0, 12]");
-  if (!(s.raster.guard_band >= 1.0f))
-    throw Error(ErrorKind::Usage, "--guard-band must be at least 1 (1 clips x and y at the view volume)");
+  if (!(s.raster.guard_band >= 1.0f) || !std::isfinite(s.raster.guard_band))
+    throw Error(ErrorKind::Usage,
+                "--guard-band must be at least 1 (1 clips x and y at the view volume) and a finite float32");
   s.raster.mesa_clipper = o.clipper == gl::ClipperArithmetic::Mesa;
   s.arithmetic = o.fma ? gl::Arithmetic::Fused : gl::Arithmetic::Separate;
   if (!(s.light_frustum.near_scale > 0 && s.light_frustum.near_scale <= 1))
