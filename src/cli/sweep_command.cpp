@@ -644,8 +644,9 @@ void run_sweep(const SweepCommandOptions& o) {
         throw Error(ErrorKind::Io, o.out + ": cannot use it: " + std::strerror(errno));
       } else if (::lstat(o.out.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
         // link() would not follow it: the name is taken, the file it names is not there.
-        throw Error(ErrorKind::Io, o.out + ": a symbolic link to a file that does not exist; remove the link, or "
-                                           "give the file it names as --out");
+        throw Error(ErrorKind::Io, o.out +
+                                       ": a symbolic link to a file that does not exist; remove the link, or "
+                                       "give the file it names as --out");
       }
       const analysis::SweepMeta meta = sweep_meta(o, options, layout);
       const std::string exists = o.out + ": exists; give --resume to continue that sweep, or another --out";
