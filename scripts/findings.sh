@@ -19,6 +19,13 @@ top=out/findings
 paths=()
 for p in data/paths/*.json; do paths+=(--path "$p"); done
 
+# The per-triangle device profile the whole-frame and cpu-task-models pages
+# compare with: data/policy.json of commit 5745e30 (needs a git clone).
+per_triangle_policy() {
+  git show 5745e30:data/policy.json > "$1" ||
+    { echo "findings.sh: this step needs a git clone with commit 5745e30 (git show 5745e30:data/policy.json)" >&2; return 1; }
+}
+
 # ---- zpplus-cracks.md --------------------------------------------------------
 step_bundled_scenes() {  # --method all on twelve bundled scenes, light 0; the table: five methods and the ray tracer
   for scene in default no_near_clip eye_in_shadow near_split case_d light_on_near_plane near_cap_bunny_wall \
@@ -167,7 +174,7 @@ step_whole_frame() {  # a whole frame against its passes timed each on its own; 
   python3 analysis/benchmarks/frame_against_passes.py "$dir/whole-frame.csv"
   python3 -c 'import json,sys; p=json.load(open(sys.argv[1])); del p["device_profile"]["frame"]; json.dump(p,open(sys.argv[2],"w"),indent=1)' \
     "$dir/policy-frame-row.json" "$dir/policy-no-frame-row.json"
-  git show 5745e30:data/policy.json > "$dir/policy-5745e30.json"
+  per_triangle_policy "$dir/policy-5745e30.json"
   for p in policy-frame-row policy-no-frame-row policy-5745e30; do
     $n evaluate --policy "$dir/$p.json" --samples 500 --seed 4242 --width 160 --height 120 \
       --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$p"
@@ -196,7 +203,7 @@ step_cpu_task_models() {  # a profile fitted by counts against the per-triangle 
   $n calibrate --samples 100 --seed 100 "${calibration[@]}" --width 160 --height 120 \
     --out "$dir/calibration.csv" --policy data/policy.json --write-policy "$dir/policy-counts.json"
   # the per-triangle profile the page compares with
-  git show 5745e30:data/policy.json > "$dir/policy-per-triangle.json"
+  per_triangle_policy "$dir/policy-per-triangle.json"
   local round policy
   for round in 1 2; do
     for policy in "$dir/policy-per-triangle.json" "$dir/policy-counts.json"; do

@@ -183,10 +183,13 @@ TEST_F(Reliability, AFileNamedAsTheOutputDirectoryIsRefusedUpFront) {
   const std::string out = " --out " + path("afile");
   for (const std::string& args :
        {"cracks " + path("B.json") + " --light 0" + out, "render " + path("B.json") + " --light 0 --compare" + out,
-        "render " + path("B.json") + out, "evaluate --samples 1" + out, "view " + path("B.json") + out}) {
+        "render " + path("B.json") + out, "evaluate --samples 1" + out, "view " + path("B.json") + out,
+        "reference " + path("B.json") + " --light 0" + out}) {
     const test::CliResult r = run(args);
     expect_one_line_error(r, "--out '" + path("afile") + "' is there and is not a directory", args);
   }
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --out " + path("afile/sub")),
+                        "a folder on its way is a file", "a file on the way");
   EXPECT_EQ(test::slurp(path("afile")), "kept");
 }
 

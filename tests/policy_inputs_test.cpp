@@ -130,7 +130,8 @@ TEST_F(PolicyInputs, TuneRefusesInputsThatAreNotRegularFiles) {
 TEST_F(PolicyInputs, ACsvGivenTwiceIsRefused) {
   const std::string csv = write("t.csv", sweep_csv()), out = (dir_ / "p.json").string();
   expect_one_line_error(test::run_cli("tune " + csv + " " + csv + " --out " + out, "tune_twice"), "parse",
-                        csv + ": line 2: configuration '" + training_configurations(8)[0] + "' again after other");
+                        csv + ": line 2: configuration '" + training_configurations(8)[0] +
+                            "' again, after other configurations (" + csv + ": line 2)");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -429,7 +430,8 @@ TEST(PolicyCsv, EachRowOnceAndEachConfigurationTogether) {
                    "s.csv: line 18: a second row of configuration '" + ids[7] +
                        "', light 0, method zfail, variant switch-clamp=clamp-far");
   const std::string apart = csv + row(ids[0], "preload", 0, "9") + "\n";
-  expect_csv_error(apart, ErrorKind::Parse, "s.csv: line 18: configuration '" + ids[0] + "' again after other");
+  expect_csv_error(apart, ErrorKind::Parse,
+                   "s.csv: line 18: configuration '" + ids[0] + "' again, after other configurations (s.csv: line 2)");
   const std::string empty_id = with_line(csv, 2, row("", "zfail", 0, "1"));
   expect_csv_error(empty_id, ErrorKind::Parse, "s.csv: line 2: column 'configuration': is empty");
 }

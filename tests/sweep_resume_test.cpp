@@ -324,6 +324,17 @@ TEST_F(SweepFile, ResumeRefusesSamplerMeshesThatChanged) {
   const test::CliResult same = test::run_cli(args(csv, "--resume"), "sweep_file_meshes_same", env);
   ASSERT_EQ(same.exit_code, 0) << same.err;
   EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(joined(lines, 0, lines.size())));
+  // A sweep of paths alone has no row of the sampler's: its meshes may change.
+  const std::string paths = path("p.csv");
+  const std::string path_sweep = "sweep --path '" + std::string(NEARCAP_SOURCE_DIR) +
+                                 "/data/paths/near_plane_sweep.json' --width 8 --height 6 --methods zpass --out " + paths;
+  ASSERT_EQ(test::run_cli(path_sweep, "sweep_file_meshes_paths", env).exit_code, 0);
+  const std::vector<std::string> path_lines = lines_of(test::slurp(paths));
+  write_file(paths, joined(path_lines, 0, group_starts(path_lines)[2]));
+  write_file((meshes / "eight.off").string(), eight + "\n");
+  const test::CliResult path_resume = test::run_cli(path_sweep + " --resume", "sweep_file_meshes_paths_resume", env);
+  ASSERT_EQ(path_resume.exit_code, 0) << path_resume.err;
+  EXPECT_EQ(untimed_rows(test::slurp(paths)), untimed_rows(joined(path_lines, 0, path_lines.size())));
 }
 
 // A configuration's rows are one "rejected" row exactly where its scene does
@@ -343,6 +354,9 @@ TEST_F(SweepFile, ARejectedRowStandsOnlyForASceneThatDoesNotLoad) {
   ASSERT_NE(rejected, 0u) << "no rejected configuration in this sweep";
   ASSERT_EQ(first_cell(lines[rejected]), "sample:3:85");
   ASSERT_NE(loaded, 0u);
+  const test::CliResult whole_again = test::run_cli(command + " --resume", "sweep_file_rejected_whole");
+  ASSERT_EQ(whole_again.exit_code, 0) << "the sweep's own rejected row resumes: " << whole_again.err;
+  EXPECT_EQ(test::slurp(csv), full);
   // A row's own columns (configuration, source, kind, detail) with another's
   // method and results.
   const auto in_place_of = [](const std::string& row, const std::string& place) {
@@ -509,6 +523,44 @@ TEST_F(SweepFile, ACutOffConfigurationNeedsRepairAndAWholeOneDoesNot) {
 
 // check_sweep_file reads in blocks: rows across block boundaries, quoted
 // fields with commas, quotes and line breaks, and a file of several megabytes.
+// A "rejected" row where the scene loads stands only when the configuration,
+// computed again, is rejected too.
+TEST(SweepFileCheck, ARejectedRowOfASceneThatLoadsIsCheckedByComputingItAgain) {
+  const fs::path file = fs::temp_directory_path() / ("nearcap_sweep_rejected_" + std::to_string(::getpid()) + ".csv");
+  const analysis::SweepLayout layout{{"default"}, {"zpass"}};
+  analysis::SweepRow r;
+  r.configuration = "sample:1:0";
+  r.source = "sampler";
+  r.kind = "grazing";
+  r.method = "rejected";
+  write_file(file.string(), analysis::csv_header() + analysis::csv_line(r));
+  for (int again = 0; again < 3; ++again) {
+    const auto expected = [again](std::uint64_t) {
+      analysis::ExpectedGroup g;
+      g.id = "sample:1:0";
+      g.source = "sampler";
+      g.kind = "grazing";
+      g.lights = 1;
+      if (again < 2) g.rejected_after_loading = [again] { return again == 0; };
+      return g;
+    };
+    const int fd = ::open(file.c_str(), O_RDONLY);
+    ASSERT_GE(fd, 0);
+    if (again == 0) {
+      EXPECT_EQ(analysis::check_sweep_file(fd, file.string(), layout, 1, expected).groups, 1u);
+    } else {
+      try {
+        (void)analysis::check_sweep_file(fd, file.string(), layout, 1, expected);
+        ADD_FAILURE() << "a rejected row accepted where the configuration is computed whole (" << again << ")";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is 'rejected' where its scene loads"), std::string::npos) << e.what();
+      }
+    }
+    ::close(fd);
+  }
+  fs::remove(file);
+}
+
 TEST(SweepFileCheck, ReadsAFileOfManyBlocksRowByRow) {
   const fs::path file = fs::temp_directory_path() / ("nearcap_sweep_check_" + std::to_string(::getpid()) + ".csv");
   const analysis::SweepLayout layout{{"default", "fma=1"}, {"zpass", "zfail"}};

@@ -17,7 +17,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
-#include <unordered_set>
+#include <unordered_map>
 
 #include "ceres_solve.hpp"
 #include "nearcap/error.hpp"
@@ -149,10 +149,7 @@ struct CsvInput {
   const std::string* text = nullptr;
 };
 
-// Calls visit for every row of the inputs, after checking each header holds
-// the needed columns.  Every line is checked as it is read: UTF-8, closed
-// quotes, as many fields as the header; errors name the file and the line.
-// FNV-1a, 64 bits: a configuration's id as a key of a set.
+// FNV-1a, 64 bits: a configuration's id as a key.
 std::uint64_t fnv1a_64(const std::string& s) {
   std::uint64_t h = 14695981039346656037ull;
   for (unsigned char c : s) {
@@ -162,26 +159,66 @@ std::uint64_t fnv1a_64(const std::string& s) {
   return h;
 }
 
+// Field `column` of line `line` of an input read before (a line the reader
+// accepted: one record on one line).
+std::string field_on_line(const CsvInput& input, std::size_t line, std::size_t column) {
+  std::ifstream stream;
+  std::istringstream memory;
+  std::istream* in = &memory;
+  if (input.text) {
+    memory.str(*input.text);
+  } else {
+    stream.open(input.source, std::ios::binary);
+    in = &stream;
+  }
+  std::string text;
+  for (std::size_t k = 0; k < line && std::getline(*in, text); ++k) {
+  }
+  bool closed = true;
+  const std::vector<std::string> fields = csv_fields(text, closed);
+  return column < fields.size() ? fields[column] : std::string();
+}
+
+// Where a configuration's rows were first read.
+struct RowPlace {
+  std::uint32_t input = 0;
+  std::uint32_t column = 0;  // of the configuration id in that input
+  std::uint64_t line = 0;
+};
+
+// Calls visit for every row of the inputs, after checking each header holds
+// the needed columns.  Every line is checked as it is read: UTF-8, closed
+// quotes, as many fields as the header; errors name the file and the line.
 template <class Visit>
 void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<const char*> needed, Visit&& visit) {
   // Each configuration's rows together, each (light, method, variant) once,
-  // as nearcap sweep writes them: a row repeated, or a CSV given twice,
-  // would count twice in the fits.  The configurations already passed are
-  // kept as 64-bit hashes (as `nearcap report` keeps them).
-  std::unordered_set<std::uint64_t> passed;
+  // as nearcap sweep writes them: a row repeated, a CSV given twice, or two
+  // sweeps whose configurations share ids (a seed, a path's name) would
+  // mix or count twice in the fits.  The configurations already passed are
+  // kept by the 64-bit hash of their id; a hash met again is confirmed on
+  // the line it was first read (two ids of one hash are no error).
+  std::unordered_map<std::uint64_t, RowPlace> passed;
   std::string current;
+  RowPlace current_place;
   std::set<std::string> current_rows;
+  std::uint32_t input_index = 0;
   const auto check_once = [&](const Row& row) {
     const std::string& id = row.at("configuration");
     if (id.empty()) row.fail(ErrorKind::Parse, "configuration", "is empty");
     if (id != current) {
-      if (!current.empty()) passed.insert(fnv1a_64(current));
-      if (passed.count(fnv1a_64(id)))
-        throw Error(ErrorKind::Parse, row.where() + ": configuration '" + id +
-                                          "' again after other configurations (a row repeated, or a CSV given "
-                                          "twice: each configuration's rows come together, as nearcap sweep writes "
-                                          "them)");
+      if (!current.empty()) passed.emplace(fnv1a_64(current), current_place);
+      const auto seen = passed.find(fnv1a_64(id));
+      if (seen != passed.end() &&
+          field_on_line(inputs[seen->second.input], seen->second.line, seen->second.column) == id)
+        throw Error(ErrorKind::Parse, row.where() + ": configuration '" + id + "' again, after other configurations (" +
+                                          inputs[seen->second.input].source + ": line " +
+                                          std::to_string(seen->second.line) +
+                                          "): a row repeated, a CSV given twice, or two sweeps whose configurations "
+                                          "share ids (the same seed, or paths of the same name); a configuration's "
+                                          "rows come together, as nearcap sweep writes them");
       current = id;
+      current_place = {input_index, static_cast<std::uint32_t>(row.column.at("configuration")),
+                       static_cast<std::uint64_t>(row.line)};
       current_rows.clear();
     }
     const std::string key = row.at("light") + '\0' + row.at("method") + '\0' + row.at("variant");
@@ -191,6 +228,7 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
                                         row.at("variant"));
   };
   for (const CsvInput& input : inputs) {
+    input_index = static_cast<std::uint32_t>(&input - inputs.data());
     const std::string& file = input.source;
     std::ifstream stream;
     std::istringstream memory;

@@ -36,6 +36,8 @@ void refuse_non_directory(const std::string& dir, const std::string& option) {
   const std::filesystem::file_status st = std::filesystem::status(dir, ec);
   if (!ec && std::filesystem::exists(st) && !std::filesystem::is_directory(st))
     throw Error(ErrorKind::Io, option + " '" + dir + "' is there and is not a directory");
+  if (ec == std::errc::not_a_directory)
+    throw Error(ErrorKind::Io, option + " '" + dir + "': a folder on its way is a file, not a directory");
 }
 
 std::string json_text(const nlohmann::json& j, int indent) {

@@ -59,6 +59,7 @@ void run(const std::string& scene_path, std::size_t light, const std::string& ou
   const Scene scene = load_scene(scene_path);
   check_light_index(scene, light);
   check_memory_estimate(scene, "reference", kReferenceBytesPerPixel, max_memory_gb);
+  refuse_non_directory(out_dir, "--out");
   const CameraSpaceScene cs(scene);
   const PixelReference ref = compute_pixel_reference(cs, light);
   const nlohmann::json summary = summary_json(scene, ref);
