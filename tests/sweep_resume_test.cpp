@@ -327,7 +327,8 @@ TEST_F(SweepFile, ResumeRefusesSamplerMeshesThatChanged) {
   // A sweep of paths alone has no row of the sampler's: its meshes may change.
   const std::string paths = path("p.csv");
   const std::string path_sweep = "sweep --path '" + std::string(NEARCAP_SOURCE_DIR) +
-                                 "/data/paths/near_plane_sweep.json' --width 8 --height 6 --methods zpass --out " + paths;
+                                 "/data/paths/near_plane_sweep.json' --width 8 --height 6 --methods zpass --out " +
+                                 paths;
   ASSERT_EQ(test::run_cli(path_sweep, "sweep_file_meshes_paths", env).exit_code, 0);
   const std::vector<std::string> path_lines = lines_of(test::slurp(paths));
   write_file(paths, joined(path_lines, 0, group_starts(path_lines)[2]));
