@@ -37,13 +37,13 @@ struct CracksOptions {
   double max_memory_gb = 0;
 };
 
-// Peak memory per pixel, measured (docs/scene-format.md, "Limits on inputs"): the exact reference, one
-// emulated frame at a time (depth, stencil, object ids, near-cap copy), and
-// one encoded crack image per method.
-// Measured at 2048x2048 (docs/outputs.md): 27 bytes per pixel
-// beyond the fixed 64 MB with one method, 36 with two (the second projection's
-// depth pre-pass), 37 with the five, 46 with `all` (the policy's own batch;
-// raytrace's frame is freed by then).
+// Memory per pixel beyond the fixed 64 MB: the exact reference, one emulated
+// frame at a time (depth, stencil, object ids, near-cap copy), and one
+// encoded crack image per method.  The peaks measured at 2048x2048
+// (docs/findings/exact-speed.md, "Memory") are 31 bytes per pixel beyond 64
+// MB with one method, 43 with two (the second projection's depth pre-pass)
+// and 51 with `all` (the policy's own batch; raytrace's frame is freed by
+// then), against estimates of 32, 43 and 64.
 constexpr double kCracksBytesPerPixel = 30;
 constexpr double kCracksBytesPerPixelPerMethod = 2;
 constexpr double kCracksBytesPerPixelPerBatch = 9;  // a second depth pre-pass; the policy's batch

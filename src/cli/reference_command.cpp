@@ -44,9 +44,12 @@ nlohmann::json summary_json(const Scene& scene, const PixelReference& ref) {
           {"filter", filter}};
 }
 
-// Peak memory per pixel, measured (docs/scene-format.md, "Limits on inputs"): the reference's cap and
-// stencil counts, the per-pixel scratch of the trace, the encoded images.
-constexpr double kReferenceBytesPerPixel = 30;  // 28.5 measured at 2048x2048
+// Memory per pixel beyond the fixed 64 MB: the reference's cap and stencil
+// counts, the per-pixel scratch of the trace, the encoded images.  The peak
+// measured at 2048x2048 is 18.5 bytes per pixel beyond 64 MB
+// (docs/findings/exact-speed.md, "Memory"); 30 leaves room for scenes whose
+// trace keeps more per pixel.
+constexpr double kReferenceBytesPerPixel = 30;
 
 struct ReferenceOptions {
   std::string scene;
