@@ -3,6 +3,8 @@
 // wrong pixel that remains.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <string>
@@ -256,6 +258,47 @@ TEST(ShadowMethods, LightNearPlaneIsMeasuredInOneSpaceUnderScaledAndShearedViews
     }
     // The configuration matters: Z-pass is wrong here (the near plane cuts the volume).
     EXPECT_GT(judge_frame(gl::render_shadow_frame(*scene, 0, ShadowMethod::ZPass), ref).wrong, 0u) << scene->source;
+  }
+}
+
+// The box over the ground at `scale` (every length: camera, light, meshes).
+Scene box_over_ground_at(double scale) {
+  const std::string meshes = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/";
+  const auto at = [scale](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", v * scale);  // the double itself, read back exactly
+    return std::string(text);
+  };
+  const std::string text = R"({"camera": {"eye": [)" + at(0.7) + "," + at(0.5) + "," + at(0.5) + R"(], "target": [)" +
+                           at(0.4) + ",0," + at(-3) + R"(], "up": [0, 1, 0], "fovy_deg": 60, "near": )" + at(0.1) +
+                           R"(, "far": )" + at(100) + R"(, "width": 64, "height": 48}, "lights": [{"position": [0, )" +
+                           at(5) + R"(, 0]}], "objects": [{"mesh": ")" + meshes +
+                           R"(ground.off", "occluder": false, "scale": )" + at(1) + R"(}, {"mesh": ")" + meshes +
+                           R"(box.off", "translate": [0, )" + at(2) + R"(, 0], "scale": )" + at(1) + "}]}";
+  return parse_scene(text, "box over the ground at scale " + at(1), ".");
+}
+
+// The depth clamp's plane w >= w_min (DrawState::clamp_w_min) follows the
+// near plane: a scene scaled by a power of two, down to a millionth of a
+// unit and up to a million, draws the same stencil in every method, the
+// depth-clamped draws (ZP+ corrected's switch to Z-fail, AtomicZP's sides,
+// Z-fail with a clamped far plane) included.
+TEST(ShadowMethods, AScaleByAPowerOfTwoDrawsTheSameStencil) {
+  const Scene unit = box_over_ground_at(1);
+  gl::EmulationSettings clamped;
+  clamped.zfail_far = gl::ZFailFar::DepthClamp;
+  const std::pair<ShadowMethod, gl::EmulationSettings> methods[] = {
+      {ShadowMethod::ZPass, {}},   {ShadowMethod::ZFail, {}},           {ShadowMethod::ZFail, clamped},
+      {ShadowMethod::ZPPlus, {}},  {ShadowMethod::ZPPlusCorrected, {}}, {ShadowMethod::Preload, {}},
+      {ShadowMethod::AtomicZP, {}}};
+  for (const double scale : {std::ldexp(1.0, -24), std::ldexp(1.0, 20)}) {
+    const Scene scaled = box_over_ground_at(scale);
+    for (const auto& [method, settings] : methods) {
+      const gl::ShadowFrame a = gl::render_shadow_frame(unit, 0, method, settings);
+      const gl::ShadowFrame b = gl::render_shadow_frame(scaled, 0, method, settings);
+      EXPECT_EQ(a.stencil, b.stencil) << to_string(method) << " at scale " << scale;
+      EXPECT_EQ(a.object, b.object) << to_string(method) << " at scale " << scale;
+    }
   }
 }
 

@@ -223,7 +223,8 @@ void register_render(CLI::App& app) {
   cmd.add_flag("--compare", o.compare, "compare the real GL's stencil with the emulation's and the exact reference");
   cmd.add_flag("--table", o.table, "with --compare, print a human-readable table instead of JSON");
   cmd.add_flag("--stencil", o.stencil,
-               "with the lit frames, each light's real stencil as a 16-bit PGM like the reference's: "
+               "with the lit frames, each light's real stencil as a 16-bit PGM in the reference's format (the stencil "
+               "at every pixel, also where nothing is seen, where the reference writes 65535): "
                "DIR/stencil-METHOD-light-K.pgm (DIR/METHOD/stencil-NNNN-light-K.pgm along a path)");
   cmd.add_flag("--bench", o.bench,
                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes) "

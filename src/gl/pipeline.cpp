@@ -130,7 +130,7 @@ bool same_setup(const DrawState& a, const DrawState& b) {
   return a.cull == b.cull && a.depth_mapping == b.depth_mapping && a.depth_clamp_near == b.depth_clamp_near &&
          a.depth_clamp_far == b.depth_clamp_far && a.clip_far == b.clip_far &&
          a.vertices_on_near_plane == b.vertices_on_near_plane && a.far_first == b.far_first &&
-         a.vertices_on_far_plane == b.vertices_on_far_plane;
+         a.vertices_on_far_plane == b.vertices_on_far_plane && a.clamp_w_min == b.clamp_w_min;
 }
 
 DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const DrawState& state,
@@ -153,6 +153,7 @@ void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawStat
   counters = {};
   ClipSettings clip;
   clip.clip_near = !state.depth_clamp_near;
+  clip.w_min = state.clamp_w_min;
   clip.clip_far = state.clip_far && !state.depth_clamp_far && !state.vertices_on_far_plane;
   clip.skip_near_side = state.vertices_on_near_plane;
   clip.far_first = state.far_first || state.vertices_on_far_plane;

@@ -75,6 +75,13 @@ struct DrawState {
   // (one_sided_depth_clamp, below).
   bool depth_clamp_near = false;
   bool depth_clamp_far = false;
+  // With the near side clamped, the plane w >= clamp_w_min that keeps the
+  // divide's w positive (ClipSettings::w_min).  Camera passes set it to the
+  // near plane's w times 1e-5 (shadow_methods.cpp, camera_state: 1e-6 for a
+  // near plane at 0.1), so that it cuts only what is nearer the eye than
+  // 1/100,000 of the near distance, whatever the scene's unit: a scene
+  // scaled by a power of two draws the same frames.
+  float clamp_w_min = 1e-6f;
   bool clip_far = true;  // false with an infinite far plane (w - z is 0 at infinity)
   // The clipped-sides near cap (near_plane_cap.hpp): its vertices are where
   // the clipper put the sides' near edges, so no near-side plane cuts them
