@@ -57,6 +57,41 @@ TEST(Clipping, SharedEdgeIsCutAtTheSamePointFromBothSides) {
   }
 }
 
+// A side of a shadow volume extruded towards a light a million times the
+// scene's size away: its third vertex is ~1e6 to 1e8 in clip space.  Cut
+// from that vertex, the near plane's point would be a difference of numbers
+// 1e7 apart (every digit cancelled: at 1e7, a vertex with w = 0); the
+// clipper cuts it from the small outside vertex instead.  Every vertex of
+// the result lies in the view volume (guard band 1) and the near plane's
+// cut is the double-precision point to within float rounding.
+TEST(Clipping, AVertexExtrudedTowardsAFarLightDoesNotCancelTheCut) {
+  const Vec4f v0{-0.330681145f, 1.95595551f, 0.694452763f, 0.89445281f};
+  const Vec4f v1{-0.514392912f, 1.71115232f, -0.28535527f, -0.085355252f};  // behind the near plane
+  for (const Vec4f v2 : {Vec4f{-918558.0f, -8046954.0f, 2813448.0f, 2813448.0f},
+                         Vec4f{-9185585.0f, -80469560.0f, 28134488.0f, 28134488.0f}}) {
+    ClipSettings settings;
+    settings.guard_band = 1;
+    const auto poly = clip_triangle(v0, v1, v2, settings);
+    ASSERT_GE(poly.size(), 3u) << v2.x;
+    for (const Vec4f& v : poly) {
+      EXPECT_GT(v.w, 0.0f) << v2.x;
+      const float slack = v.w * 1e-5f;
+      EXPECT_LE(std::fabs(v.x), v.w + slack) << v.x << " " << v.w << " (v2.x " << v2.x << ")";
+      EXPECT_LE(std::fabs(v.y), v.w + slack) << v.y << " " << v.w << " (v2.x " << v2.x << ")";
+      EXPECT_GE(v.z + v.w, -slack) << v.z << " " << v.w << " (v2.x " << v2.x << ")";
+    }
+    // The near plane's cut of edge (v1, v2), in double.
+    const double d1 = double(v1.z) + v1.w, d2 = double(v2.z) + v2.w, t = d1 / (d1 - d2);
+    const double x = v1.x + t * (double(v2.x) - v1.x), y = v1.y + t * (double(v2.y) - v1.y);
+    const double w = v1.w + t * (double(v2.w) - v1.w);
+    const auto cut = clip_to_near_plane(v0, v1, v2, DepthMapping::Standard);
+    bool found = false;
+    for (const Vec4f& v : cut.vertices)
+      found |= std::fabs(v.x - x) < 1e-5 && std::fabs(v.y - y) < 1e-5 && std::fabs(v.w - w) < 1e-5;
+    EXPECT_TRUE(found) << "the cut of (v1, v2) at (" << x << ", " << y << ", w " << w << ") (v2.x " << v2.x << ")";
+  }
+}
+
 // Mesa's clipper (draw_pipe_clip.c, 22.3) cuts from the endpoint nearer
 // the plane: c + t (o - c), t = d_c / (d_c - d_o), each operation in float32.
 TEST(Clipping, MesasClipperCutsFromTheEndpointNearerThePlane) {

@@ -2,9 +2,12 @@
 // issue 3 says must hold, and the explanations the README gives for each
 // wrong pixel that remains.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
@@ -300,6 +303,32 @@ TEST(ShadowMethods, AScaleByAPowerOfTwoDrawsTheSameStencil) {
       EXPECT_EQ(a.object, b.object) << to_string(method) << " at scale " << scale;
     }
   }
+}
+
+// A light a million and ten million units away (the sun's stand-in) over
+// the tutorial's box and floor: Z-pass and Z-fail right, none refused (the
+// sides' vertices extruded towards it are cut without cancellation:
+// Clipping.AVertexExtrudedTowardsAFarLightDoesNotCancelTheCut).
+TEST(ShadowMethods, AFarLightIsDrawnRight) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_far_light_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "floor.off") << "OFF\n4 2 0\n-10 0 -10\n-10 0 10\n10 0 10\n10 0 -10\n3 0 1 2\n3 0 2 3\n";
+  for (const char* light : {"[1e6, 5e6, 2e6]", "[1e7, 5e7, 2e7]"}) {
+    const std::string text =
+        R"({"camera": {"eye": [0.9, 0.51, 0.5], "target": [0.4, 0, -3], "up": [0, 1, 0], "fovy_deg": 60,
+            "near": 0.1, "far": 100, "width": 64, "height": 48}, "lights": [{"position": )" +
+        std::string(light) + R"(}], "objects": [{"mesh": "floor.off", "occluder": false}, {"mesh": ")" +
+        std::string(NEARCAP_SOURCE_DIR) + R"(/data/meshes/box.off", "translate": [0, 2, 0]}]})";
+    const Scene scene = parse_scene(text, "far light", dir.string());
+    const CameraSpaceScene cs(scene);
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    for (ShadowMethod m : {ShadowMethod::ZPass, ShadowMethod::ZFail, ShadowMethod::AtomicZP}) {
+      const CrackReport r = judge_frame(gl::render_shadow_frame(scene, 0, m), ref);
+      EXPECT_EQ(r.wrong, 0u) << to_string(m) << ", light at " << light;
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

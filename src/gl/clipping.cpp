@@ -2,6 +2,7 @@
 #include "nearcap/gl/clipping.hpp"
 
 #include <array>
+#include <cmath>
 
 #include <algorithm>
 #include <utility>
@@ -53,6 +54,14 @@ ClipVertex interpolate(const ClipVertex& in, const ClipVertex& out, float t) {
   return {interpolate(in.p, out.p, t), in.clip_distance + t * (out.clip_distance - in.clip_distance)};
 }
 
+// The largest |coordinate| of a clip-space vertex, and the factor by which an
+// inside vertex must exceed the outside one's for the cut to start from the
+// outside vertex (bundled scenes: at most ~50).
+inline float magnitude(const Vec4f& v) {
+  return std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::max(std::fabs(v.z), std::fabs(v.w)));
+}
+constexpr float kCancellation = 1024.0f;
+
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
 // `carried`: plane p's distance is the vertex's clip_distance.
@@ -87,11 +96,18 @@ void clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w
       continue;
     }
     if (a_in != b_in) {
-      // From the inside vertex towards the outside one.
-      if (a_in)
-        out.push_back(interpolate(a, b, da / (da - db)));
+      // From the inside vertex towards the outside one, unless that cancels
+      // catastrophically: an inside vertex far larger than the outside one
+      // (a vertex extruded to a far light) with the outside one the nearer
+      // the plane.  Then from the outside one, as Mesa does.  Decided from
+      // the edge alone, so a shared edge is still cut alike from both sides.
+      const ClipVertex& in = a_in ? a : b;
+      const ClipVertex& o = a_in ? b : a;
+      const float d_in = a_in ? da : db, d_out = a_in ? db : da;
+      if (-d_out < d_in && magnitude(in.p) > kCancellation * magnitude(o.p))
+        out.push_back(interpolate(o, in, d_out / (d_out - d_in)));
       else
-        out.push_back(interpolate(b, a, db / (db - da)));
+        out.push_back(interpolate(in, o, d_in / (d_in - d_out)));
       if (on_plane) on_plane->push_back(true);
     }
   }

@@ -9,7 +9,11 @@
 // are rarely clipped).  Sutherland-Hodgman, one plane after the other; an
 // intersection is interpolated from the INSIDE vertex towards the outside one
 // with t = d_in / (d_in - d_out), so an edge shared by two triangles is cut
-// at the same point from both sides.  Mesa's clipper interpolates from the
+// at the same point from both sides; except where that cancels away every
+// digit: an inside vertex over 1024 times the outside one's largest
+// coordinate (a side extruded towards a far light) with the outside one the
+// nearer the plane, cut from the outside one (the choice depends on the edge
+// alone, so shared edges still agree).  Mesa's clipper interpolates from the
 // endpoint nearer the plane, in its own plane order: ClipSettings::mesa.
 #pragma once
 
