@@ -20,6 +20,7 @@
 #include <unordered_map>
 
 #include "ceres_solve.hpp"
+#include "nearcap/analysis/sweep_file.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
 
@@ -148,16 +149,6 @@ struct CsvInput {
   std::string source;
   const std::string* text = nullptr;
 };
-
-// FNV-1a, 64 bits: a configuration's id as a key.
-std::uint64_t fnv1a_64(const std::string& s) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 // Field `column` of line `line` of an input read before (a line the reader
 // accepted: one record on one line).

@@ -191,14 +191,18 @@ std::optional<std::string> resume_mismatch(const SweepMeta& here_as_given, const
   return std::nullopt;
 }
 
-std::string content_digest(const std::string& bytes) {
+std::uint64_t fnv1a_64(std::string_view bytes) {
   std::uint64_t h = 14695981039346656037ull;
   for (unsigned char c : bytes) {
     h ^= c;
     h *= 1099511628211ull;
   }
+  return h;
+}
+
+std::string content_digest(const std::string& bytes) {
   char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(fnv1a_64(bytes)));
   return buf;
 }
 

@@ -225,7 +225,9 @@ std::string configuration_csv(const analysis::SweepConfiguration& c, const analy
 // What the rows of a configuration hold (analysis/sweep_file.hpp): its
 // columns, its scene's light count (one group of rows per light), and
 // whether the scene loads, read as the sweep reads it.
-analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c, const analysis::SweepOptions& options) {
+analysis::ExpectedGroup expected_group(const Configurations& configurations, std::uint64_t k,
+                                       const analysis::SweepOptions& options) {
+  const analysis::SweepConfiguration c = configurations.at(k);
   analysis::ExpectedGroup g;
   g.id = c.id;
   g.source = c.source;
@@ -239,9 +241,9 @@ analysis::ExpectedGroup expected_group(const analysis::SweepConfiguration& c, co
   } catch (const Error&) {
     g.loads = false;
   }
-  g.rejected_after_loading = [c, &options] {
+  g.rejected_after_loading = [&configurations, k, &options] {
     try {
-      (void)analysis::sweep_configuration(c, options);  // what configuration_csv rejects
+      (void)analysis::sweep_configuration(configurations.at(k), options);  // what configuration_csv rejects
       return false;
     } catch (const Error&) {
       return true;
@@ -370,7 +372,7 @@ std::uint64_t resume_point(int fd, const std::string& file, const Configurations
     throw Error(ErrorKind::Usage, file + ": cannot resume it with these options: " + *why);
   const analysis::SweepFileCheck check =
       analysis::check_sweep_file(fd, file, layout, configurations.count(),
-                                 [&](std::uint64_t k) { return expected_group(configurations.at(k), options); });
+                                 [&](std::uint64_t k) { return expected_group(configurations, k, options); });
   if (!check.cut_tail.empty()) {
     if (!repair)
       throw Error(ErrorKind::Schema, file + ": " + check.cut_tail + "; give --resume --repair to remove line " +

@@ -28,6 +28,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -61,8 +62,10 @@ SweepMeta parse_sweep_meta(const std::string& text, const std::string& file);
 // same nearcap version, and here.samples >= resumed.samples.
 std::optional<std::string> resume_mismatch(const SweepMeta& here, const SweepMeta& resumed);
 
-// FNV-1a, 64 bits, as 16 hex digits: tells a changed input file (a camera
-// path, the switch policy) from the one a sweep was made with.
+// FNV-1a, 64 bits.
+std::uint64_t fnv1a_64(std::string_view bytes);
+// fnv1a_64 as 16 hex digits: tells a changed input file (a camera path, the
+// switch policy) from the one a sweep was made with.
 std::string content_digest(const std::string& bytes);
 
 // ---- the rows --------------------------------------------------------------
