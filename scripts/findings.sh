@@ -97,6 +97,45 @@ step_clipped_sides_10k() {  # the clipped-sides cap on 10,000 other hard cases a
   $n report "$dir/paths.csv" --out "$dir/report-paths"
 }
 
+step_far_light() {  # the P_l formulations, the policy and the engines' rules under a far light, llvmpipe beside the model
+  $n sweep --samples 1000 --seed 1 --kinds far-light --methods zpass,zfail,zpplus,zpplus-corrected,atomiczp \
+    --variant light-projection=composed --variant light-projection=rebased \
+    --variant light-projection=clipped-sides,zpass-far=infinite --out "$dir/far-light.csv"
+  $n sweep --samples 1000 --seed 1 --kinds far-light --methods zfail --policies policy,doom3,doom3-bfg,ogre \
+    --out "$dir/far-light-policies.csv"
+  /usr/bin/python3 - "$dir/far-light.csv" "$dir/far-light-policies.csv" "$dir/worst.txt" <<'EOF' > "$dir/table.md"
+import collections, csv, math, re, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["method"] != "rejected"]
+rows += [r for r in csv.DictReader(open(sys.argv[2])) if r["method"] not in ("rejected", "zfail")]
+zfail = {(r["configuration"], r["light"]): int(r["wrong"]) for r in rows
+         if r["method"] == "zfail" and r["variant"] == "default"}
+def decade(detail):  # "light 1eK away" or "light 2^K away": the distance's power of ten, rounded
+    m = re.search(r"light (1e|2\^)(\d+) away", detail)
+    return int(m.group(2)) if m.group(1) == "1e" else round(int(m.group(2)) * math.log10(2))
+worse, pairs, wrong = collections.Counter(), collections.Counter(), collections.Counter()
+for r in rows:
+    key, d = (r["method"], r["variant"]), decade(r["detail"])
+    pairs[key, d] += 1
+    worse[key, d] += int(r["wrong"]) > zfail[r["configuration"], r["light"]]
+    wrong[key] += int(r["wrong"])
+decades = sorted({d for (_, d) in pairs})
+print("| method | variant | wrong pixels | " + " | ".join(f"10^{d}" for d in decades) + " |")
+print("|---|---|---:|" + "---:|" * len(decades))
+for key in sorted({k for (k, _) in pairs}):
+    cells = [f"{worse[key, d]} / {pairs[key, d]}" for d in decades]
+    print(f"| {key[0]} | {key[1]} | {wrong[key]:,} | " + " | ".join(cells) + " |")
+# The five configurations where published ZP+ is wrong on most pixels beyond Z-fail's.
+excess = sorted(((int(r["wrong"]) - zfail[r["configuration"], r["light"]], r["configuration"].split(":")[2])
+                 for r in rows if r["method"] == "zpplus" and r["variant"] == "default"), reverse=True)
+open(sys.argv[3], "w").write("".join(f"{index}\n" for _, index in excess[:5]))
+EOF
+  while read -r index; do  # each drawn by llvmpipe beside the llvmpipe model
+    $n sample --seed 1 --index "$index" --kinds far-light --out "$dir/far-light-$index.json"
+    $n render "$dir/far-light-$index.json" --light 0 --method zpass,zfail,zpplus,zpplus-corrected,atomiczp --compare \
+      --table --viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa
+  done < "$dir/worst.txt"
+}
+
 # ---- depth-precision.md ------------------------------------------------------
 step_depth_precision() {  # reversed-Z, float depth and the tight near plane
   $n sweep --samples 300 --seed 5 --kinds tiny-near --methods all --variant depth=float32 \
@@ -295,7 +334,7 @@ step_report_scale() {  # nearcap report's time and peak memory on 1M and 5.8M ro
 step_fuzz_campaign() {  # 10 million executions per fuzz target
   NEARCAP_FUZZ_RUNS=10000000 ./scripts/fuzz.sh 0; }
 
-steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k depth-precision
+steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
        volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)

@@ -93,7 +93,8 @@ void eye_near_volume_is_what_it_says(const Scene& scene, const CameraSpaceScene&
 // has the property its name promises, decided exactly.
 TEST(HardCaseSampler, EachKindIsWhatItSays) {
   std::vector<HardCaseKind> kinds = analysis::all_hard_case_kinds();
-  kinds.push_back(HardCaseKind::EyeNearVolume);  // asked for by name only
+  for (int k = 0; k < analysis::kHardCaseKindCount; ++k)
+    if (analysis::asked_for_by_name_only(static_cast<HardCaseKind>(k))) kinds.push_back(static_cast<HardCaseKind>(k));
   for (HardCaseKind kind : kinds) {
     const analysis::HardCaseSampler sampler(spec(2026, {kind}));
     int loaded = 0;
@@ -165,6 +166,16 @@ TEST(HardCaseSampler, EachKindIsWhatItSays) {
         case HardCaseKind::EyeNearVolume:
           eye_near_volume_is_what_it_says(scene, cs, c.detail);
           break;
+        case HardCaseKind::FarLight: {
+          // At least 100 units from the box's centre, above it; the eye
+          // placed from the box is in or beside its shadow.
+          const Vec3d& l = scene.lights[0].position;
+          const Vec3d centre = scene.objects[0].object_to_world.apply(Vec3d{0, 0, 0});
+          const Vec3d to_light = l - centre;
+          EXPECT_GE(std::sqrt(dot(to_light, to_light)), 99.0);
+          EXPECT_GT(to_light.y, 0.0);
+          break;
+        }
       }
     }
     std::printf("  %-20s %d of 12 loaded\n", std::string(analysis::to_string(kind)).c_str(), loaded);

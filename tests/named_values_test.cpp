@@ -155,7 +155,7 @@ TEST(NamedValues, NamesStaySpelledAsFilesHoldThem) {
   expect_names<analysis::EnginePolicy>({"doom3", "doom3-bfg", "ogre", "always-zfail"});
   expect_names<analysis::HardCaseKind>({"light-near-plane", "light-in-near-plane", "grazing", "eye-in-shadow",
                                         "far-from-origin", "tiny-near", "straddling", "several-occluders",
-                                        "several-lights", "real-mesh", "eye-near-volume"});
+                                        "several-lights", "real-mesh", "eye-near-volume", "far-light"});
 }
 
 TEST(NamedValues, SwitchClampIsNamedAsTheZFailFarItIs) {

@@ -397,5 +397,33 @@ TEST(NearPlaneCap, NeverWrongerThanZFailOnASliceOfTheHardCaseSampler) {
   EXPECT_GT(capped, 0u);
 }
 
+// Under a far, sun-like light (the sampler's far-light kind: 10^2 to 10^8
+// away) the paper's light frustum is ill-conditioned: published ZP+ is
+// wrong where Z-fail is right, from 10^4 away.  The clipped-sides cap has no light
+// frustum and stays as right as Z-fail.
+TEST(NearPlaneCap, NeverWrongerThanZFailUnderAFarLight) {
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(1);
+  spec.kinds = {analysis::HardCaseKind::FarLight};
+  const analysis::HardCaseSampler sampler(spec);
+  std::vector<std::uint64_t> indices;
+  for (std::uint64_t i = 0; i < 60; ++i) indices.push_back(i);
+  std::size_t frames = 0, capped = 0, paper_worse = 0;
+  test::for_each_sampled_scene(sampler, indices, [&](const Scene& scene, const analysis::HardCase& sample) {
+    const CameraSpaceScene cs(scene);
+    const PixelReference ref = compute_pixel_reference(cs, 0);
+    const CrackReport zfail = judge_frame(gl::render_shadow_frame(scene, 0, ShadowMethod::ZFail), ref);
+    const gl::ShadowFrame frame = gl::render_shadow_frame(scene, 0, ShadowMethod::ZPPlus, clipped_sides());
+    EXPECT_TRUE(frame.fallback.empty()) << "sample " << sample.index << ": " << sample.detail;
+    EXPECT_LE(judge_frame(frame, ref).wrong, zfail.wrong) << "sample " << sample.index << ": " << sample.detail;
+    paper_worse += judge_frame(gl::render_shadow_frame(scene, 0, ShadowMethod::ZPPlus), ref).wrong > zfail.wrong;
+    ++frames;
+    for (std::uint8_t c : frame.near_cap) capped += c != 0;
+  });
+  EXPECT_GT(frames, 50u);
+  EXPECT_GT(capped, 0u);
+  EXPECT_GT(paper_worse, 0u) << "the kind reaches where the paper's frustum fails";
+  std::printf("[ far      ] %zu frames: published ZP+ wrong on more pixels than Z-fail on %zu\n", frames, paper_worse);
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -139,6 +139,9 @@ class Builder {
       case HardCaseKind::EyeNearVolume:
         eye_near_volume(detail);
         break;
+      case HardCaseKind::FarLight:
+        far_light(detail);
+        break;
     }
     out.detail = detail.str();
     out.scene_json = scene_json(out);
@@ -189,6 +192,30 @@ class Builder {
       b.scale = sixteenths(4, 8);
       detail << "box behind the eye, " << f << "/16 of the way to the light";
     }
+  }
+
+  // HardCaseKind::FarLight: the light far along a direction d above the
+  // scene, from the common box (variant 0) or from a box placed 1 to 3 units
+  // from the eye towards the light, the eye moved sideways by up to half the
+  // box's size (in its shadow, or at the edge).
+  void far_light(std::ostringstream& detail) {
+    const V3 d{sixteenths(-16, 16), sixteenths(8, 32), sixteenths(-16, 8)};
+    const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const bool decimal = uniform(0, 1) == 1;
+    const int k = decimal ? uniform(2, 8) : uniform(7, 27);
+    const double distance = decimal ? std::pow(10.0, k) : std::ldexp(1.0, k);
+    const bool from_eye = uniform(0, 1) == 1;
+    if (from_eye) {
+      const double t = sixteenths(16, 48);
+      V3 centre;
+      for (int a = 0; a < 3; ++a) centre[a] = eye_[a] + d[a] / length * t;
+      occluders_[0] = box(centre, sixteenths(4, 12));
+      eye_[0] += occluders_[0].scale * uniform(-8, 8) / 16.0;
+      detail << "box " << t << " from the eye towards the light, ";
+    }
+    for (int a = 0; a < 3; ++a) lights_[0][a] = occluders_[0].centre[a] + d[a] / length * distance;
+    detail << "light " << (decimal ? "1e" : "2^") << k << " away along (" << d[0] << ", " << d[1] << ", " << d[2]
+           << ")";
   }
 
   Occluder box(const V3& centre, double scale) {
@@ -256,8 +283,12 @@ std::string_view to_string(HardCaseKind kind) { return name_of(kind); }
 std::vector<HardCaseKind> all_hard_case_kinds() {
   std::vector<HardCaseKind> kinds;
   for (int k = 0; k < kHardCaseKindCount; ++k)
-    if (static_cast<HardCaseKind>(k) != HardCaseKind::EyeNearVolume) kinds.push_back(static_cast<HardCaseKind>(k));
+    if (!asked_for_by_name_only(static_cast<HardCaseKind>(k))) kinds.push_back(static_cast<HardCaseKind>(k));
   return kinds;
+}
+
+bool asked_for_by_name_only(HardCaseKind kind) {
+  return kind == HardCaseKind::EyeNearVolume || kind == HardCaseKind::FarLight;
 }
 
 HardCaseKind hard_case_kind_from_string(std::string_view name) {

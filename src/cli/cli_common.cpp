@@ -413,7 +413,8 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
       ->capture_default_str();
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
-                     ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) + ")")
+                     ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) +
+                     " and " + std::string(name_of(analysis::HardCaseKind::FarLight)) + ")")
       ->capture_default_str();
   if (sizes) add_viewport_options(cmd, o.width, o.height);
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");

@@ -52,6 +52,11 @@ enum class HardCaseKind {
   // among all_hard_case_kinds(), so that adding it leaves every seed's
   // configurations of the default kinds as they are; asked for by name.
   EyeNearVolume,
+  // A light 10^2 .. 10^8 (or 2^7 .. 2^27) away in a direction above the
+  // scene, a sun-like light: either the common configuration's box, or a box
+  // placed from the eye towards the light so that the eye stands in or at
+  // the edge of its shadow.  Asked for by name only, as EyeNearVolume.
+  FarLight,
 };
 // The kinds' names (named_values.hpp), in the enum's order.
 inline constexpr NamedValue<HardCaseKind> kHardCaseKindTable[] = {
@@ -66,13 +71,18 @@ inline constexpr NamedValue<HardCaseKind> kHardCaseKindTable[] = {
     {HardCaseKind::SeveralLights, "several-lights", "two or three lights"},
     {HardCaseKind::RealMesh, "real-mesh", "a bundled real mesh"},
     {HardCaseKind::EyeNearVolume, "eye-near-volume", "the eye next to a plane of AtomicZP's eye count"},
+    {HardCaseKind::FarLight, "far-light", "the light 10^2 to 10^8 away, sun-like"},
 };
 constexpr const auto& named_values(HardCaseKind) { return kHardCaseKindTable; }
 static_assert(names_are_unique<HardCaseKind>());
 inline constexpr int kHardCaseKindCount = static_cast<int>(named_count<HardCaseKind>());
 std::string_view to_string(HardCaseKind kind);
-// The kinds a sweep samples by default: every kind but EyeNearVolume.
+// The kinds a sweep samples by default: every kind but those asked for by
+// name only (asked_for_by_name_only).
 std::vector<HardCaseKind> all_hard_case_kinds();
+// EyeNearVolume and FarLight: left out of all_hard_case_kinds(), so that a
+// seed's configurations of the default kinds do not depend on them.
+bool asked_for_by_name_only(HardCaseKind kind);
 // Throws Error(Usage) naming the unknown kind.
 HardCaseKind hard_case_kind_from_string(std::string_view name);
 
