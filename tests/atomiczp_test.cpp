@@ -184,12 +184,14 @@ using test::kSidePlaneX;
 
 // Eyes within 32 float32 ulps (of x, 2^-24 here) inside and outside the side
 // plane, in steps of 1/64 ulp: the exact count follows the plane (1 inside,
-// 0 outside), the float count does not everywhere, and where it is wrong the
-// whole frame is.
-TEST(AtomicZP, FloatEyeCountWrongNearASidePlaneAndTheFrameInverts) {
+// 0 outside), the float count does not everywhere.  Where it is wrong, the
+// side quad of that plane passes the eye within rounding and, drawn with
+// depth clamp, covers the frame from just in front of the eye, adding the
+// count the eye count is off by: every such frame is right (so is
+// llvmpipe's on the bundled scene below).
+TEST(AtomicZP, FloatEyeCountWrongNearASidePlane) {
   const double step = std::ldexp(1.0, -30);  // 1/64 of float32's spacing at 0.5 .. 1
-  int float_wrong = 0, largest = 0;
-  double worst_x = 0;
+  int float_wrong = 0, largest = 0, frames_right = 0;
   for (int k = -2048; k <= 2048; ++k) {
     if (k == 0) continue;
     const double x = kSidePlaneX + k * step;
@@ -202,36 +204,36 @@ TEST(AtomicZP, FloatEyeCountWrongNearASidePlaneAndTheFrameInverts) {
     }
     if (fl.count != truth) {
       ++float_wrong;
-      if (std::abs(k) > largest) {
-        largest = std::abs(k);
-        worst_x = x;
-      }
+      largest = std::max(largest, std::abs(k));
+      const JudgedPair p = judge_both(scene);
+      ASSERT_TRUE(p.frame.eye_count);
+      EXPECT_NE(*p.frame.eye_count, p.eye.count) << "k " << k;
+      EXPECT_EQ(p.zpass.wrong, 0u) << "k " << k;
+      std::printf("  k %5d (%.3f ulps): atomiczp wrong %zu of %zu seen\n", k, k / 64.0, p.atomiczp.wrong,
+                  p.atomiczp.pixels_seen);
+      frames_right += p.atomiczp.wrong == 0 ? 1 : 0;
     }
   }
   std::printf(
-      "float count wrong at %d of 4096 eyes within 32 float32 ulps of the side plane; farthest %.3f ulps from it "
-      "(eye x = %.17g)\n",
-      float_wrong, largest / 64.0, worst_x);
-  ASSERT_GT(float_wrong, 0);
-  // The frame at the worst eye: every pixel off by one.
-  const JudgedPair p = judge_both(eye_near_side_plane(worst_x));
-  ASSERT_TRUE(p.frame.eye_count);
-  EXPECT_NE(*p.frame.eye_count, p.eye.count);
-  std::printf("frame at %.3f ulps: atomiczp wrong %zu of %zu seen, zpass wrong %zu\n", largest / 64.0, p.atomiczp.wrong,
-              p.atomiczp.pixels_seen, p.zpass.wrong);
-  EXPECT_GT(p.atomiczp.wrong * 10, p.atomiczp.pixels_seen * 9);
+      "float count wrong at %d of 4096 eyes within 32 float32 ulps of the side plane, at most %.3f ulps from "
+      "it; the frame right at %d of them\n",
+      float_wrong, largest / 64.0, frames_right);
+  EXPECT_GT(float_wrong, 0);
+  EXPECT_LT(largest, 64) << "within one ulp";
+  EXPECT_EQ(frames_right, float_wrong);
 }
 
-// The bundled scene of that failure: float 1, exact 0, every pixel wrong,
-// and every other method right.
-TEST(AtomicZP, BundledSidePlaneSceneInvertsTheWholeFrame) {
+// The bundled scene of that case: float 1, exact 0, and the frame right all
+// the same, as llvmpipe draws it (docs/atomiczp.md): the side seen edge-on
+// adds the -1 over the whole frame.  Every other method right.
+TEST(AtomicZP, BundledSidePlaneSceneIsRightDespiteTheFloatCount) {
   const JudgedPair p = judge_both(bundled("atomiczp_side_plane.json"));
   ASSERT_TRUE(p.frame.eye_count);
   EXPECT_EQ(*p.frame.eye_count, 1u);
   EXPECT_EQ(p.eye.count, 0u);
   EXPECT_EQ(p.zpass.wrong, 0u);
   EXPECT_GT(p.atomiczp.pixels_seen, 40000u);
-  EXPECT_EQ(p.atomiczp.wrong, p.atomiczp.pixels_seen);
+  EXPECT_EQ(p.atomiczp.wrong, 0u);
 }
 
 // A frame that draws one occluder with a ZP+ method (or Z-pass) and the

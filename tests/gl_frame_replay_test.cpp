@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "box_scene.hpp"
 #include "llvmpipe_fixture.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
@@ -192,7 +193,7 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
   for (const char* name :
        {"default.json", "no_near_clip.json", "near_split.json", "twisted.json", "room.json", "exact_camera.json",
         "room_side_light.json", "near_cap_bunny_silhouettes.json", "near_cap_bunny_wall.json", "eye_in_shadow.json",
-        "far_grazing.json", "case_d.json", "light_on_near_plane.json"}) {
+        "far_grazing.json", "case_d.json", "light_on_near_plane.json", "atomiczp_side_plane.json"}) {
     const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
     for (gl::ShadowMethod m : gl::kAllShadowMethods) {
       SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(m)));
@@ -245,6 +246,33 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelOnASliceOfTheSampler) {
       frames, differences, differing_frames, default_differences);
   EXPECT_GT(frames, 200u);
   EXPECT_EQ(differences, 0u);
+}
+
+// AtomicZP's sides under GL_DEPTH_CLAMP where a side plane passes 10^-7 to
+// 10^-6 from the eye (tests/box_scene.hpp's hard case, near planes 0.1 and
+// 0.3): the part of the side quad just in front of the eye covers a wedge of
+// the frame, and llvmpipe draws it; so does the llvmpipe model, every pixel.
+TEST_F(GlFrameReplayTest, TheLlvmpipeModelDrawsASideThatPassesNearTheEye) {
+  std::size_t frames = 0, drawn = 0;
+  for (double near : {0.1, 0.3})
+    for (double offset : {1e-6, -1e-6, 2e-7, 1e-7, -1e-7}) {
+      char trace[64];
+      std::snprintf(trace, sizeof trace, "near %g, the eye %g off the side plane", near, offset);
+      SCOPED_TRACE(trace);
+      test::BoxSceneOptions o;
+      o.near = near;
+      o.target = {test::kSidePlaneX + offset + 1, -0.3, 1};
+      const Scene scene = test::box_scene({test::kSidePlaneX + offset, -0.1, 0}, {0, 5, 0}, o);
+      const std::optional<ExactAndModelled> f = render_exact_and_modelled(scene, 0, gl::ShadowMethod::AtomicZP, {});
+      ASSERT_TRUE(f);
+      render::GlFrameReplay replay(f->exact.width, f->exact.height, gl::EmulationSettings{}.depth);
+      const render::ReplayedFrame real = replay.replay(f->exact.draws);
+      EXPECT_EQ(render::compare(real, f->modelled).stencil, 0u);
+      for (std::uint8_t s : real.stencil) drawn += s != 0;
+      ++frames;
+    }
+  EXPECT_EQ(frames, 10u);
+  EXPECT_GT(drawn, 0u);
 }
 
 // The reversed depth mapping with a float depth buffer (reversed-Z:

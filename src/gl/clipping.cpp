@@ -54,11 +54,24 @@ ClipVertex interpolate(const ClipVertex& in, const ClipVertex& out, float t) {
   return {interpolate(in.p, out.p, t), in.clip_distance + t * (out.clip_distance - in.clip_distance)};
 }
 
-// The largest |coordinate| of a clip-space vertex, and the factor by which an
-// inside vertex must exceed the outside one's for the cut to start from the
-// outside vertex (bundled scenes: at most ~50).
-inline float magnitude(const Vec4f& v) {
-  return std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::max(std::fabs(v.z), std::fabs(v.w)));
+// The largest |coordinate| of a clip-space vertex among those plane p's
+// distance reads, and the factor by which an inside vertex must exceed the
+// outside one's for the cut to start from the outside vertex.
+inline float magnitude(const Vec4f& v, Plane p) {
+  switch (p) {
+    case Plane::WMin:
+      return std::fabs(v.w);
+    case Plane::Left:
+    case Plane::Right:
+      return std::max(std::fabs(v.x), std::fabs(v.w));
+    case Plane::Bottom:
+    case Plane::Top:
+      return std::max(std::fabs(v.y), std::fabs(v.w));
+    case Plane::Near:
+    case Plane::Far:
+      break;
+  }
+  return std::max(std::fabs(v.z), std::fabs(v.w));
 }
 constexpr float kCancellation = 1024.0f;
 
@@ -97,17 +110,23 @@ void clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w
     }
     if (a_in != b_in) {
       // From the inside vertex towards the outside one, unless that cancels
-      // catastrophically: an inside vertex far larger than the outside one
-      // (a vertex extruded to a far light) with the outside one the nearer
-      // the plane.  Then from the outside one, as Mesa does.  Decided from
-      // the edge alone, so a shared edge is still cut alike from both sides.
+      // catastrophically: an inside vertex far larger, in the coordinates
+      // the plane reads, than the outside one (a vertex extruded to a far
+      // light; an outside vertex next to the eye, whose x, y and w are all
+      // small) with the outside one the nearer the plane.  Then from the
+      // outside one, as Mesa does.  Decided from the edge alone, so a shared
+      // edge is still cut alike from both sides.
       const ClipVertex& in = a_in ? a : b;
       const ClipVertex& o = a_in ? b : a;
       const float d_in = a_in ? da : db, d_out = a_in ? db : da;
-      if (-d_out < d_in && magnitude(in.p) > kCancellation * magnitude(o.p))
+      if (-d_out < d_in && magnitude(in.p, p) > kCancellation * magnitude(o.p, p))
         out.push_back(interpolate(o, in, d_out / (d_out - d_in)));
       else
         out.push_back(interpolate(in, o, d_in / (d_in - d_out)));
+      // The plane w = w_min stands in for none of GL's: the cut's w is the
+      // plane's own, whatever the interpolation rounded it to, so that no
+      // vertex it makes has w <= 0.
+      if (p == Plane::WMin) out.back().p.w = w_min;
       if (on_plane) on_plane->push_back(true);
     }
   }
