@@ -184,14 +184,12 @@ using test::kSidePlaneX;
 
 // Eyes within 32 float32 ulps (of x, 2^-24 here) inside and outside the side
 // plane, in steps of 1/64 ulp: the exact count follows the plane (1 inside,
-// 0 outside), the float count does not everywhere.  Where it is wrong, the
-// side quad of that plane passes the eye within rounding and, drawn with
-// depth clamp, covers the frame from just in front of the eye, adding the
-// count the eye count is off by: every such frame is right (so is
-// llvmpipe's on the bundled scene below).
-TEST(AtomicZP, FloatEyeCountWrongNearASidePlane) {
+// 0 outside), the float count does not everywhere, and where it is wrong the
+// whole frame is.
+TEST(AtomicZP, FloatEyeCountWrongNearASidePlaneAndTheFrameInverts) {
   const double step = std::ldexp(1.0, -30);  // 1/64 of float32's spacing at 0.5 .. 1
-  int float_wrong = 0, largest = 0, frames_right = 0;
+  int float_wrong = 0, largest = 0;
+  double worst_x = 0;
   for (int k = -2048; k <= 2048; ++k) {
     if (k == 0) continue;
     const double x = kSidePlaneX + k * step;
@@ -204,36 +202,51 @@ TEST(AtomicZP, FloatEyeCountWrongNearASidePlane) {
     }
     if (fl.count != truth) {
       ++float_wrong;
-      largest = std::max(largest, std::abs(k));
-      const JudgedPair p = judge_both(scene);
-      ASSERT_TRUE(p.frame.eye_count);
-      EXPECT_NE(*p.frame.eye_count, p.eye.count) << "k " << k;
-      EXPECT_EQ(p.zpass.wrong, 0u) << "k " << k;
-      std::printf("  k %5d (%.3f ulps): atomiczp wrong %zu of %zu seen\n", k, k / 64.0, p.atomiczp.wrong,
-                  p.atomiczp.pixels_seen);
-      frames_right += p.atomiczp.wrong == 0 ? 1 : 0;
+      if (std::abs(k) > largest) {
+        largest = std::abs(k);
+        worst_x = x;
+      }
     }
   }
   std::printf(
-      "float count wrong at %d of 4096 eyes within 32 float32 ulps of the side plane, at most %.3f ulps from "
-      "it; the frame right at %d of them\n",
-      float_wrong, largest / 64.0, frames_right);
-  EXPECT_GT(float_wrong, 0);
-  EXPECT_LT(largest, 64) << "within one ulp";
-  EXPECT_EQ(frames_right, float_wrong);
+      "float count wrong at %d of 4096 eyes within 32 float32 ulps of the side plane; farthest %.3f ulps from it "
+      "(eye x = %.17g)\n",
+      float_wrong, largest / 64.0, worst_x);
+  ASSERT_GT(float_wrong, 0);
+  // The frame at the worst eye: every pixel off by one.
+  const JudgedPair p = judge_both(eye_near_side_plane(worst_x));
+  ASSERT_TRUE(p.frame.eye_count);
+  EXPECT_NE(*p.frame.eye_count, p.eye.count);
+  std::printf("frame at %.3f ulps: atomiczp wrong %zu of %zu seen, zpass wrong %zu\n", largest / 64.0, p.atomiczp.wrong,
+              p.atomiczp.pixels_seen, p.zpass.wrong);
+  EXPECT_GT(p.atomiczp.wrong * 10, p.atomiczp.pixels_seen * 9);
 }
 
-// The bundled scene of that case: float 1, exact 0, and the frame right all
-// the same, as llvmpipe draws it (docs/atomiczp.md): the side seen edge-on
-// adds the -1 over the whole frame.  Every other method right.
-TEST(AtomicZP, BundledSidePlaneSceneIsRightDespiteTheFloatCount) {
-  const JudgedPair p = judge_both(bundled("atomiczp_side_plane.json"));
+// The bundled scene of that failure: float 1, exact 0, every pixel wrong,
+// and every other method right.  Under the llvmpipe model, as on llvmpipe,
+// the frame is right: the side quad that passes the eye within rounding is
+// not cut by the spec clipper's w plane there, covers the frame from just in
+// front of the eye and adds the -1 the eye count is off by
+// (gl/clipping.cpp, w_min_of).
+TEST(AtomicZP, BundledSidePlaneSceneInvertsTheWholeFrame) {
+  const Scene scene = bundled("atomiczp_side_plane.json");
+  const JudgedPair p = judge_both(scene);
   ASSERT_TRUE(p.frame.eye_count);
   EXPECT_EQ(*p.frame.eye_count, 1u);
   EXPECT_EQ(p.eye.count, 0u);
   EXPECT_EQ(p.zpass.wrong, 0u);
   EXPECT_GT(p.atomiczp.pixels_seen, 40000u);
-  EXPECT_EQ(p.atomiczp.wrong, 0u);
+  EXPECT_EQ(p.atomiczp.wrong, p.atomiczp.pixels_seen);
+
+  gl::EmulationSettings llvmpipe;
+  llvmpipe.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
+  llvmpipe.raster.depth = gl::DepthInterpolation::Llvmpipe;
+  llvmpipe.raster.mesa_clipper = true;
+  const gl::ShadowFrame modelled = gl::render_shadow_frame(scene, 0, ShadowMethod::AtomicZP, llvmpipe);
+  ASSERT_TRUE(modelled.eye_count);
+  EXPECT_EQ(*modelled.eye_count, 1u);
+  const PixelReference ref = compute_pixel_reference(CameraSpaceScene(scene), 0);
+  EXPECT_EQ(judge_frame(modelled, ref).wrong, 0u);
 }
 
 // A frame that draws one occluder with a ZP+ method (or Z-pass) and the

@@ -54,26 +54,24 @@ ClipVertex interpolate(const ClipVertex& in, const ClipVertex& out, float t) {
   return {interpolate(in.p, out.p, t), in.clip_distance + t * (out.clip_distance - in.clip_distance)};
 }
 
-// The largest |coordinate| of a clip-space vertex among those plane p's
-// distance reads, and the factor by which an inside vertex must exceed the
-// outside one's for the cut to start from the outside vertex.
-inline float magnitude(const Vec4f& v, Plane p) {
-  switch (p) {
-    case Plane::WMin:
-      return std::fabs(v.w);
-    case Plane::Left:
-    case Plane::Right:
-      return std::max(std::fabs(v.x), std::fabs(v.w));
-    case Plane::Bottom:
-    case Plane::Top:
-      return std::max(std::fabs(v.y), std::fabs(v.w));
-    case Plane::Near:
-    case Plane::Far:
-      break;
-  }
-  return std::max(std::fabs(v.z), std::fabs(v.w));
+// The largest |coordinate| of a clip-space vertex, and the factor by which an
+// inside vertex must exceed the outside one's for the cut to start from the
+// outside vertex (bundled scenes: at most ~50).
+inline float magnitude(const Vec4f& v) {
+  return std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::max(std::fabs(v.z), std::fabs(v.w)));
 }
 constexpr float kCancellation = 1024.0f;
+
+// The plane w >= w_min under near depth clamp.  Mesa has no such plane: its
+// x and y planes leave w >= 0, and a side that passes the eye at 10^-7 of the
+// near distance covers a wedge of the frame that llvmpipe draws.  The Mesa
+// model keeps the plane, 2^-24 of the spec clipper's (near x 1e-5 x 2^-24,
+// about near x 2^-40), only to keep w = 0 out of the divide; cutting from the
+// endpoint nearer the plane, it lands there accurately.  The spec clipper,
+// cutting from the inside vertex, needs its plane above that cut's rounding.
+inline float w_min_of(const ClipSettings& settings) {
+  return settings.mesa ? settings.w_min * 0x1p-24f : settings.w_min;
+}
 
 // One Sutherland-Hodgman stage.  `on_plane`, when given, receives for each
 // output vertex whether it lies in plane p (made here, or at distance 0).
@@ -110,23 +108,17 @@ void clip_against(const std::vector<ClipVertex>& poly, Plane p, float g, float w
     }
     if (a_in != b_in) {
       // From the inside vertex towards the outside one, unless that cancels
-      // catastrophically: an inside vertex far larger, in the coordinates
-      // the plane reads, than the outside one (a vertex extruded to a far
-      // light; an outside vertex next to the eye, whose x, y and w are all
-      // small) with the outside one the nearer the plane.  Then from the
-      // outside one, as Mesa does.  Decided from the edge alone, so a shared
-      // edge is still cut alike from both sides.
+      // catastrophically: an inside vertex far larger than the outside one
+      // (a vertex extruded to a far light) with the outside one the nearer
+      // the plane.  Then from the outside one, as Mesa does.  Decided from
+      // the edge alone, so a shared edge is still cut alike from both sides.
       const ClipVertex& in = a_in ? a : b;
       const ClipVertex& o = a_in ? b : a;
       const float d_in = a_in ? da : db, d_out = a_in ? db : da;
-      if (-d_out < d_in && magnitude(in.p, p) > kCancellation * magnitude(o.p, p))
+      if (-d_out < d_in && magnitude(in.p) > kCancellation * magnitude(o.p))
         out.push_back(interpolate(o, in, d_out / (d_out - d_in)));
       else
         out.push_back(interpolate(in, o, d_in / (d_in - d_out)));
-      // The plane w = w_min stands in for none of GL's: the cut's w is the
-      // plane's own, whatever the interpolation rounded it to, so that no
-      // vertex it makes has w <= 0.
-      if (p == Plane::WMin) out.back().p.w = w_min;
       if (on_plane) on_plane->push_back(true);
     }
   }
@@ -176,7 +168,7 @@ TriangleClipper::TriangleClipper(const ClipSettings& settings) : settings_(setti
 void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const {
   polygon.clear();
   const ClipSettings& settings = settings_;
-  const float g = settings.guard_band, w_min = settings.w_min;
+  const float g = settings.guard_band, w_min = w_min_of(settings);
   const DepthMapping m = settings.depth_mapping;
   // Trivial accept: no plane separates any vertex (the common case); trivial
   // reject: one plane has all three outside (clipping would leave nothing).
@@ -197,7 +189,7 @@ void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::
 void TriangleClipper::clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
                                      std::vector<Vec4f>& polygon) const {
   const ClipSettings& settings = settings_;
-  const float g = settings.guard_band, w_min = settings.w_min;
+  const float g = settings.guard_band, w_min = w_min_of(settings);
   const DepthMapping m = settings.depth_mapping;
   // The stages' polygons, kept per thread with their capacity: a draw clips
   // many triangles, and none allocates.

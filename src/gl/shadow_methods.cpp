@@ -470,7 +470,7 @@ class FrameRenderer {
   // mapping's clip planes, and GL_GREATER for GL_LESS.
   DrawState camera_state(DrawState s) const {
     s.depth_mapping = settings_.depth_mapping;
-    s.clamp_w_min = static_cast<float>(scene_.camera.frustum.near * 0x1p-40);
+    s.clamp_w_min = static_cast<float>(scene_.camera.frustum.near * 1e-5);
     if (s.depth_mapping == DepthMapping::Reversed && s.depth_func == DepthFunc::Less) s.depth_func = DepthFunc::Greater;
     return s;
   }

@@ -42,9 +42,9 @@ struct ClipSettings {
   float guard_band = 8192;  // in NDC units; x and y clipped at |x| <= guard_band * w
   // false: depth clamp (GL_DEPTH_CLAMP disables near and far clipping).  The
   // divide still needs w > 0, so the plane w >= w_min takes the near plane's
-  // place (w_min far below the near plane's w: only what passes the eye
-  // closer than that is cut); each vertex it makes has w = w_min exactly.
-  // Fragments in front of the near plane get depth 0 after clamping.
+  // place; fragments in front of the near plane get depth 0 after clamping.
+  // With mesa, the plane is 2^-24 of this (Mesa has none: clipping.cpp,
+  // w_min_of).
   bool clip_near = true;
   float w_min = 1e-6f;
   // No near-side plane at all (neither near nor w_min): for primitives whose

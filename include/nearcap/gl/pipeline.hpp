@@ -77,12 +77,11 @@ struct DrawState {
   bool depth_clamp_far = false;
   // With the near side clamped, the plane w >= clamp_w_min that keeps the
   // divide's w positive (ClipSettings::w_min).  Camera passes set it to the
-  // near plane's w times 2^-40 (shadow_methods.cpp, camera_state), so that it
-  // cuts only what is nearer the eye than 2^-40 of the near distance: a side
-  // that passes 10^-7 of the near distance from the eye still covers its
-  // wedge of the frame, as on llvmpipe (which has no such plane:
-  // GlFrameReplayTest.TheLlvmpipeModelDrawsASideThatPassesNearTheEye).  A
-  // power of two, so a scene scaled by a power of two draws the same frames.
+  // near plane's w times 1e-5 (shadow_methods.cpp, camera_state: 1e-6 for a
+  // near plane at 0.1), so that it cuts only what is nearer the eye than
+  // 1/100,000 of the near distance, whatever the scene's unit: a scene
+  // scaled by a power of two draws the same frames.  The llvmpipe model's
+  // clipper takes 2^-24 of it (clipping.cpp, w_min_of).
   float clamp_w_min = 1e-6f;
   bool clip_far = true;  // false with an infinite far plane (w - z is 0 at infinity)
   // The clipped-sides near cap (near_plane_cap.hpp): its vertices are where

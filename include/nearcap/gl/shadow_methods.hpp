@@ -9,8 +9,8 @@
 //                     front faces -1 on depth fail (Everitt and Kilgard 2002),
 //                     with the infinite far plane or depth clamp (ZFailFar).
 //                     Depth clamp disables near clipping too, so a light-cap
-//                     triangle that crosses the near plane is clipped by the x
-//                     and y planes, not where the depth pre-pass clipped it: its depths are no
+//                     triangle that crosses the near plane is clipped at w_min,
+//                     not where the depth pre-pass clipped it: its depths are no
 //                     longer bit-identical to the surface's, and the depth test
 //                     breaks the tie either way (wrong pixels on such faces).
 //   zpplus            ZP+ as published (section 3): the near-cap pass (every
@@ -40,11 +40,8 @@
 //                     (glStencilFunc(GL_EQUAL, -count)), moved to the clear so
 //                     that "shadowed where the stencil is not 0" holds for
 //                     every method.  Right wherever the float count is the
-//                     exact one.  Where it is not, every pixel starts off by
-//                     the difference; near a side plane (the eye within a
-//                     fraction of an ulp of it) that side's quad, passing the
-//                     eye as closely, covers the frame and makes up for it
-//                     (tests/atomiczp_test.cpp, FloatEyeCountWrongNearASidePlane).
+//                     exact one; where it is not, every pixel is off by the
+//                     difference: the whole frame inverts.
 // When the light lies in the near plane there is no light frustum: both ZP+
 // methods fall back to zfail for the light (ShadowFrame::fallback says so).
 // With LightProjection::ClippedSides (light_frustum.hpp) both ZP+ methods
