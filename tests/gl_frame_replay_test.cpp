@@ -128,13 +128,14 @@ TEST_F(GlFrameReplayTest, LlvmpipeAgreesWithTheEmulationButForDepthNearTies) {
   }
 }
 
-// GL_DEPTH_CLAMP: the emulation's model (no near or far clipping, the plane
-// w >= 1e-6 in the near plane's place, each fragment's depth clamped) is not
-// what llvmpipe does where the clamped volume passes near the eye: on
-// case_d, ZP+ corrected's switch to Z-fail with depth clamp differs on more
-// than 10,000 pixels (README "The real GL beside the emulation").  This test
-// shows the difference until the emulation follows Mesa there.
-TEST_F(GlFrameReplayTest, DepthClampIsNotYetModelledAsLlvmpipeDoesIt) {
+// GL_DEPTH_CLAMP: the spec emulation's model (no near or far clipping, the
+// plane w >= near * 1e-5 in the near plane's place, depths interpolated
+// exactly, each fragment's clamped) is not what llvmpipe does where the
+// clamped volume passes near the eye: on case_d, ZP+ corrected's switch to
+// Z-fail with depth clamp differs on more than 10,000 pixels
+// (docs/findings/real-gl.md).  The llvmpipe model follows Mesa there
+// (TheLlvmpipeModelFollowsMesasDepthPlane).
+TEST_F(GlFrameReplayTest, TheSpecModelOfDepthClampIsNotLlvmpipes) {
   const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/case_d.json");
   const Outcome clamped = replay_and_compare(scene, gl::ShadowMethod::ZPPlusCorrected);
   EXPECT_GT(clamped.differences.stencil, 10000u);
@@ -183,7 +184,7 @@ TEST_F(GlFrameReplayTest, EveryDifferenceIsADepthNearTie) {
 // The llvmpipe model: Mesa's viewport arithmetic (ViewportArithmetic::
 // Llvmpipe), its clipper and fan order (RasterSettings::mesa_clipper) and its
 // float32 depth plane (DepthInterpolation::Llvmpipe), read in Mesa's source,
-// predict llvmpipe's stencil pixel for pixel: on 11 bundled scenes and every
+// predict llvmpipe's stencil pixel for pixel: on 14 bundled scenes and every
 // method, the depth clamp's switch included, no difference, where the exact
 // interpolation with the spec's clipper differs on over a thousand pixels
 // (exact_camera's ground ties: 307 per Z-pass frame; the depth clamp's
@@ -248,14 +249,16 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelOnASliceOfTheSampler) {
   EXPECT_EQ(differences, 0u);
 }
 
-// AtomicZP's sides under GL_DEPTH_CLAMP where a side plane passes 10^-7 to
-// 10^-6 from the eye (tests/box_scene.hpp's hard case, near planes 0.1 and
-// 0.3): the part of the side quad just in front of the eye covers a wedge of
-// the frame, and llvmpipe draws it; so does the llvmpipe model, every pixel.
+// AtomicZP's sides under GL_DEPTH_CLAMP where a side plane passes 10^-7 and
+// 10^-6 units from the eye, the eye inside the volume (tests/box_scene.hpp's
+// hard case, near planes 0.1 and 0.3: 3*10^-7 to 10^-5 of the near
+// distance): the part of the side quad just in front of the eye covers a
+// wedge of the frame, and llvmpipe draws it; so does the llvmpipe model,
+// every pixel, where the spec clipper's w plane cuts it away.
 TEST_F(GlFrameReplayTest, TheLlvmpipeModelDrawsASideThatPassesNearTheEye) {
-  std::size_t frames = 0, drawn = 0;
+  std::size_t frames = 0;
   for (double near : {0.1, 0.3})
-    for (double offset : {1e-6, -1e-6, 2e-7, 1e-7, -1e-7}) {
+    for (double offset : {-1e-6, -1e-7}) {
       char trace[64];
       std::snprintf(trace, sizeof trace, "near %g, the eye %g off the side plane", near, offset);
       SCOPED_TRACE(trace);
@@ -268,11 +271,10 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelDrawsASideThatPassesNearTheEye) {
       render::GlFrameReplay replay(f->exact.width, f->exact.height, gl::EmulationSettings{}.depth);
       const render::ReplayedFrame real = replay.replay(f->exact.draws);
       EXPECT_EQ(render::compare(real, f->modelled).stencil, 0u);
-      for (std::uint8_t s : real.stencil) drawn += s != 0;
+      EXPECT_GT(render::compare(real, f->exact).stencil, 500u) << "the spec clipper's plane cuts the wedge";
       ++frames;
     }
-  EXPECT_EQ(frames, 10u);
-  EXPECT_GT(drawn, 0u);
+  EXPECT_EQ(frames, 4u);
 }
 
 // The reversed depth mapping with a float depth buffer (reversed-Z:

@@ -48,7 +48,7 @@ TEST(HardCaseSampler, EveryConfigurationReplaysFromSeedAndIndexAlone) {
 }
 
 TEST(HardCaseSampler, KindNamesRoundTripAndUnknownOnesAreNamed) {
-  for (HardCaseKind k : analysis::all_hard_case_kinds())
+  for (HardCaseKind k : values_of<HardCaseKind>())
     EXPECT_EQ(analysis::hard_case_kind_from_string(analysis::to_string(k)), k);
   try {
     (void)analysis::hard_case_kind_from_string("lite-near-plane");
@@ -167,13 +167,16 @@ TEST(HardCaseSampler, EachKindIsWhatItSays) {
           eye_near_volume_is_what_it_says(scene, cs, c.detail);
           break;
         case HardCaseKind::FarLight: {
-          // At least 100 units from the box's centre, above it; the eye
-          // placed from the box is in or beside its shadow.
-          const Vec3d& l = scene.lights[0].position;
+          // The distance from the box's centre its detail names (10^k or
+          // 2^k), to rounding.
           const Vec3d centre = scene.objects[0].object_to_world.apply(Vec3d{0, 0, 0});
-          const Vec3d to_light = l - centre;
-          EXPECT_GE(std::sqrt(dot(to_light, to_light)), 99.0);
-          EXPECT_GT(to_light.y, 0.0);
+          const Vec3d to_light = scene.lights[0].position - centre;
+          const std::size_t at = c.detail.find("light ") + 6;
+          const bool decimal = c.detail.compare(at, 2, "1e") == 0;
+          const int k = std::stoi(c.detail.substr(at + 2));
+          const double named = decimal ? std::pow(10.0, k) : std::ldexp(1.0, k);
+          EXPECT_NEAR(std::sqrt(dot(to_light, to_light)) / named, 1.0, 1e-9);
+          EXPECT_GE(named, 100.0);
           break;
         }
       }

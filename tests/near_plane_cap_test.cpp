@@ -399,7 +399,7 @@ TEST(NearPlaneCap, NeverWrongerThanZFailOnASliceOfTheHardCaseSampler) {
 
 // Under a far, sun-like light (the sampler's far-light kind: 10^2 to 10^8
 // away) the paper's light frustum is ill-conditioned: published ZP+ is
-// wrong where Z-fail is right, from 10^4 away.  The clipped-sides cap has no light
+// wrong where Z-fail is right, from 10^3 away.  The clipped-sides cap has no light
 // frustum and stays as right as Z-fail.
 TEST(NearPlaneCap, NeverWrongerThanZFailUnderAFarLight) {
   analysis::SamplerSpec spec = test::bundled_sampler_spec(1);

@@ -194,10 +194,11 @@ class Builder {
     }
   }
 
-  // HardCaseKind::FarLight: the light far along a direction d above the
-  // scene, from the common box (variant 0) or from a box placed 1 to 3 units
-  // from the eye towards the light, the eye moved sideways by up to half the
-  // box's size (in its shadow, or at the edge).
+  // HardCaseKind::FarLight: the light 10^k (k = 2 .. 8) or 2^k (k = 7 .. 27)
+  // units along a direction d above the scene, from the common box, or
+  // (from_eye) from a box placed 1 to 3 units from the eye towards the
+  // light, the eye then moved along x by up to half the box's size (in its
+  // shadow, or at the edge).
   void far_light(std::ostringstream& detail) {
     const V3 d{sixteenths(-16, 16), sixteenths(8, 32), sixteenths(-16, 8)};
     const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);

@@ -411,10 +411,13 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
   cmd.add_option("--seed", o.seed, "the sampler's seed")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
+  std::string by_name_only;
+  for (analysis::HardCaseKind k : values_of<analysis::HardCaseKind>())
+    if (analysis::asked_for_by_name_only(k))
+      by_name_only += (by_name_only.empty() ? "" : " and ") + std::string(name_of(k));
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
-                     ") or all (every kind but " + std::string(name_of(analysis::HardCaseKind::EyeNearVolume)) +
-                     " and " + std::string(name_of(analysis::HardCaseKind::FarLight)) + ")")
+                     ") or all (every kind but " + by_name_only + ")")
       ->capture_default_str();
   if (sizes) add_viewport_options(cmd, o.width, o.height);
   cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");

@@ -63,8 +63,9 @@ inline float magnitude(const Vec4f& v) {
 constexpr float kCancellation = 1024.0f;
 
 // The plane w >= w_min under near depth clamp.  Mesa has no such plane: its
-// x and y planes leave w >= 0, and a side that passes the eye at 10^-7 of the
-// near distance covers a wedge of the frame that llvmpipe draws.  The Mesa
+// x and y planes leave w >= 0, and a side that passes the eye closer than
+// about 10^-5 of the near distance covers a wedge of the frame that llvmpipe
+// draws and the spec clipper's plane cuts.  The Mesa
 // model keeps the plane, 2^-24 of the spec clipper's (near x 1e-5 x 2^-24,
 // about near x 2^-40), only to keep w = 0 out of the divide; cutting from the
 // endpoint nearer the plane, it lands there accurately.  The spec clipper,

@@ -71,7 +71,7 @@ inline constexpr NamedValue<HardCaseKind> kHardCaseKindTable[] = {
     {HardCaseKind::SeveralLights, "several-lights", "two or three lights"},
     {HardCaseKind::RealMesh, "real-mesh", "a bundled real mesh"},
     {HardCaseKind::EyeNearVolume, "eye-near-volume", "the eye next to a plane of AtomicZP's eye count"},
-    {HardCaseKind::FarLight, "far-light", "the light 10^2 to 10^8 away, sun-like"},
+    {HardCaseKind::FarLight, "far-light", "the light about 10^2 to 10^8 away, sun-like"},
 };
 constexpr const auto& named_values(HardCaseKind) { return kHardCaseKindTable; }
 static_assert(names_are_unique<HardCaseKind>());

@@ -40,9 +40,9 @@ namespace nearcap::analysis {
 // The bound in units of side_plane_unit (2^-24, float32's unit roundoff,
 // times the edge's coordinate magnitude and lever).  Measured on the 40
 // eye-near-volume configurations of seed 28, the eye moved off a side plane
-// by 1/16 to 8,192 units: frames wrong where Z-fail is right up to 32.6
-// units from their nearest side plane, none from 45 on (docs/atomiczp.md,
-// "The side-plane condition"); 64 is twice the farthest.
+// by 1/16 to 8,192 units: frames wrong where Z-fail is right up to 32.55
+// units from their nearest side plane, none from 45 on (docs/findings/
+// atomiczp.md, "The side-plane bound"); 64 is about twice the farthest.
 inline constexpr double kSidePlaneBoundUnits = 64;
 
 struct SidePlaneClearance {

@@ -44,7 +44,7 @@ struct ClipSettings {
   // divide still needs w > 0, so the plane w >= w_min takes the near plane's
   // place; fragments in front of the near plane get depth 0 after clamping.
   // With mesa, the plane is 2^-24 of this (Mesa has none: clipping.cpp,
-  // w_min_of).
+  // w_min_of); with depth_plane_as_clip_distance, none.
   bool clip_near = true;
   float w_min = 1e-6f;
   // No near-side plane at all (neither near nor w_min): for primitives whose
@@ -75,7 +75,7 @@ struct ClipSettings {
   // the vertex, so at a vertex the x and y planes made it is the distance
   // interpolated like the position (c + t (o - c)), not the distance of the
   // interpolated position.  No w >= w_min plane: the x and y planes keep
-  // w > 0.  Without mesa this changes nothing (the spec clips the same plane).
+  // w >= 0.  Without mesa this changes nothing (the spec clips the same plane).
   bool depth_plane_as_clip_distance = false;
 };
 
