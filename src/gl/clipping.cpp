@@ -65,11 +65,11 @@ constexpr float kCancellation = 1024.0f;
 // The plane w >= w_min under near depth clamp.  Mesa has no such plane: its
 // x and y planes leave w >= 0, and a side that passes the eye closer than
 // about 10^-5 of the near distance covers a wedge of the frame that llvmpipe
-// draws and the spec clipper's plane cuts.  The Mesa
-// model keeps the plane, 2^-24 of the spec clipper's (near x 1e-5 x 2^-24,
-// about near x 2^-40), only to keep w = 0 out of the divide; cutting from the
-// endpoint nearer the plane, it lands there accurately.  The spec clipper,
-// cutting from the inside vertex, needs its plane above that cut's rounding.
+// draws and the spec clipper's plane cuts.  The Mesa model keeps the plane,
+// 2^-24 of the spec clipper's (near x 1e-5 x 2^-24, about near x 2^-40),
+// only to keep w = 0 out of the divide; cutting from the endpoint nearer the
+// plane, it lands there accurately.  The spec clipper, cutting from the
+// inside vertex, needs its plane above that cut's rounding.
 inline float w_min_of(const ClipSettings& settings) {
   return settings.mesa ? settings.w_min * 0x1p-24f : settings.w_min;
 }
@@ -139,6 +139,7 @@ void clip_triangle(const Vec4f& a, const Vec4f& b, const Vec4f& c, const ClipSet
 }
 
 TriangleClipper::TriangleClipper(const ClipSettings& settings) : settings_(settings) {
+  settings_.w_min = w_min_of(settings);  // once per draw
   std::array<Plane, 6> planes{};
   std::size_t count = 0;
   // Mesa with one depth side clamped through GL_DEPTH_CLAMP and a
@@ -169,7 +170,7 @@ TriangleClipper::TriangleClipper(const ClipSettings& settings) : settings_(setti
 void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const {
   polygon.clear();
   const ClipSettings& settings = settings_;
-  const float g = settings.guard_band, w_min = w_min_of(settings);
+  const float g = settings.guard_band, w_min = settings.w_min;
   const DepthMapping m = settings.depth_mapping;
   // Trivial accept: no plane separates any vertex (the common case); trivial
   // reject: one plane has all three outside (clipping would leave nothing).
@@ -190,7 +191,7 @@ void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::
 void TriangleClipper::clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
                                      std::vector<Vec4f>& polygon) const {
   const ClipSettings& settings = settings_;
-  const float g = settings.guard_band, w_min = w_min_of(settings);
+  const float g = settings.guard_band, w_min = settings.w_min;
   const DepthMapping m = settings.depth_mapping;
   // The stages' polygons, kept per thread with their capacity: a draw clips
   // many triangles, and none allocates.

@@ -99,7 +99,7 @@ class TriangleClipper {
   // plane.  Kept out of clip(), whose trivial tests run for every triangle.
   [[gnu::noinline]] void clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
                                         std::vector<Vec4f>& polygon) const;
-  ClipSettings settings_;
+  ClipSettings settings_;                 // its w_min the plane this clipper cuts at (clipping.cpp, w_min_of)
   std::array<std::uint8_t, 6> planes_{};  // clipping.cpp's planes, in clipping order
   std::size_t count_ = 0;
   bool carried_ = false;  // the last plane's distance is a gl_ClipDistance (depth_plane_as_clip_distance)
