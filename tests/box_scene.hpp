@@ -53,6 +53,19 @@ inline Scene eye_near_side_plane(double x) {
   return box_scene({x, -0.1, 0}, {0, 5, 0}, o);
 }
 
+// A box of edge 4 straight ahead whose front face lies exactly in the near
+// plane (z = -0.5 in camera space: the view is the identity) and fills the
+// frame, lit from in front by a light at (3, 4, 1).  GL's clip volume is
+// closed at the near plane (-w <= z), so the face is drawn and seen lit.
+inline Scene near_plane_face() {
+  BoxSceneOptions o;
+  o.near = 0.5;
+  o.target = {0, 0, -1};
+  o.centre = {0, 0, -2.5};
+  o.size = 4;
+  return box_scene({0, 0, 0}, {3, 4, 1}, o);
+}
+
 // Two boxes under a light at (0, 8, 0): `a` above and beside the eye, its
 // volume cut by the near plane (a near-cap), `b` straight above the eye (the
 // eye in its volume: an eye count of 1).  `a_occluder`, `b_occluder` say

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "box_scene.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/crack_distance.hpp"
@@ -154,6 +155,25 @@ TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
   EXPECT_EQ(*zfail.cracks, 0u);
   Tally tally;
   check_scene(scene, tally, 150);
+}
+
+TEST(CrackDistance, AFaceInTheNearPlaneIsProvenSeen) {
+  // The face fills the frame and is lit (the reference sees it: GL keeps a
+  // face in the near plane).  ZP+'s near-cap counts that face, so its frame
+  // is shadowed where the face is lit, a crack of the whole frame that the
+  // square proofs can only show with the face proven seen over each square.
+  const Scene scene = test::near_plane_face();
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelReference ref = compute_pixel_reference(tracer);
+  CrackDistances distances(tracer, ref);
+  CrackReport zpplus = judge_frame(gl::render_shadow_frame(scene, 0, gl::ShadowMethod::ZPPlus), ref);
+  distances.measure(zpplus);
+  ASSERT_GT(zpplus.wrong, 1000u);
+  EXPECT_GT(*zpplus.cracks, zpplus.wrong * 9 / 10);
+  Tally tally;
+  check_scene(scene, tally, 150);
+  EXPECT_GT(tally.cracks, tally.checked * 9 / 10) << "of the sampled pixels, proven constant over their squares";
 }
 
 TEST(CrackDistance, LevelsDoNotDependOnTheOrderOfMeasurement) {

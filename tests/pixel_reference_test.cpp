@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "box_scene.hpp"
 #include "cli_support.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
@@ -125,6 +126,29 @@ TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
   EXPECT_TRUE(same(s, tracer.trace_brute_force(1, 1, nullptr)));
   // The pixel to its left sees nothing: its ray (x = -t/2) never reaches the box.
   EXPECT_FALSE(tracer.trace(0, 1, nullptr).stencil.has_value());
+}
+
+// A face exactly in the near plane is beyond it, as GL's closed clip volume
+// keeps it: the reference sees the face (lit), not the inside of the box.
+TEST(PixelReference, AFaceInTheNearPlaneIsSeen) {
+  const Scene scene = test::near_plane_face();
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{31, 23}, std::pair{63, 47}, std::pair{5, 40}}) {
+    const PixelSample s = tracer.trace(i, j, nullptr);
+    ASSERT_TRUE(s.stencil.has_value()) << i << "," << j;
+    EXPECT_EQ(s.object, 0);
+    EXPECT_EQ(*s.stencil, 0u) << i << "," << j;
+    const auto& t = cs.mesh(0).triangles[s.face];
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(cs.vertex_estimate(0, t[k]).z, -0.5) << "face " << s.face;
+    EXPECT_TRUE(same(s, tracer.trace_brute_force(i, j, nullptr))) << i << "," << j;
+  }
+  const PixelReference ref = compute_pixel_reference(tracer);
+  for (int j = 0; j < ref.height; ++j)
+    for (int i = 0; i < ref.width; ++i) {
+      ASSERT_TRUE(ref.seen(i, j)) << i << "," << j;
+      ASSERT_FALSE(ref.shadowed(i, j)) << i << "," << j;
+    }
 }
 
 TEST(PixelReference, PgmStoresTheTopRowFirst) {

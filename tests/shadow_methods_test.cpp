@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "box_scene.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_map.hpp"
@@ -69,6 +70,20 @@ TEST(ShadowMethods, ZPassIsWrongWhenTheEyeIsInShadowAndTheOthersAreRight) {
     const CrackReport r = judge("eye_in_shadow.json", m);
     EXPECT_EQ(r.wrong, 0u) << to_string(m);
     EXPECT_EQ(r.count_mismatch, 0u) << to_string(m);
+  }
+}
+
+TEST(ShadowMethods, ZPassAndZFailAreRightOnAFaceInTheNearPlane) {
+  // The face is drawn (GL's clip volume is closed at the near plane) and lit;
+  // the reference sees it too, so the methods that count from the eye or from
+  // infinity are right on every pixel.
+  const Scene scene = test::near_plane_face();
+  const PixelReference ref = compute_pixel_reference(CameraSpaceScene(scene), 0);
+  for (ShadowMethod m : {ShadowMethod::ZPass, ShadowMethod::ZFail, ShadowMethod::Preload, ShadowMethod::AtomicZP}) {
+    const CrackReport r = judge_frame(gl::render_shadow_frame(scene, 0, m), ref);
+    EXPECT_EQ(r.pixels_seen, 64u * 48u) << to_string(m);
+    EXPECT_EQ(r.wrong, 0u) << to_string(m);
+    EXPECT_EQ(r.visibility_mismatch, 0u) << to_string(m);
   }
 }
 

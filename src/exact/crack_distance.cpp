@@ -72,6 +72,7 @@ class SquareProof {
         });
   }
   Sign beyond_near(const EyeTriangle& e) const {
+    if (e.in_near_plane) return e.sigma;  // kept, as GL's closed clip volume keeps it
     return uniform_sign(
         Predicate::RayHit, stats_, c_,
         [&] {

@@ -99,6 +99,10 @@ struct EyeTriangle {
   // Every vertex certainly on the eye's side of the near plane (z > -near):
   // no view ray meets it beyond the near plane (the crack distance's shortcut).
   bool before_near = false;
+  // Every vertex exactly in the near plane (z = -near, exact test): GL's
+  // clip volume is closed there (-w <= z), so the triangle counts as beyond
+  // the near plane, where the perturbed sample point would put it in front.
+  bool in_near_plane = false;
 };
 
 // A light-front-facing occluder triangle as the segments from the light see it.
@@ -137,9 +141,19 @@ inline EyeTriangle make_eye_triangle(const CameraSpaceScene& cs, std::uint32_t o
   const BoundedVec3 a = cs.vertex(o, t[0]), b = cs.vertex(o, t[1]), c = cs.vertex(o, t[2]);
   EyeTriangle et{{cross(a, b), cross(b, c), cross(c, a)}, plane_data(a, b, c), o, f, Sign::Zero};
   et.sigma = plane_offset_sign(cs, o, f, et.plane, nullptr);
+  const BoundedDouble near(cs.frustum().near);
   et.before_near = true;
-  for (const BoundedVec3* v : {&a, &b, &c})
-    et.before_near = et.before_near && (v->z + BoundedDouble(cs.frustum().near)).sign() == Sign::Positive;
+  bool maybe_in_near_plane = true;
+  for (const BoundedVec3* v : {&a, &b, &c}) {
+    const std::optional<Sign> s = (v->z + near).sign();
+    et.before_near = et.before_near && s == Sign::Positive;
+    maybe_in_near_plane = maybe_in_near_plane && (!s || *s == Sign::Zero);
+  }
+  if (maybe_in_near_plane) {
+    const Rational minus_near(-cs.frustum().near);
+    et.in_near_plane = true;
+    for (int k = 0; k < 3; ++k) et.in_near_plane = et.in_near_plane && cs.exact_vertex(o, t[k]).z == minus_near;
+  }
   return et;
 }
 
@@ -268,7 +282,7 @@ struct PixelReferenceTracer::Impl {
           return ExactForm{Rational(-1) * pl.n, pl.d};
         },
         exact_point);
-    if (beyond_p != sigma) return Sign::Zero;
+    if (beyond_p != sigma && !t.in_near_plane) return Sign::Zero;
     const Sign before_far = perturbed_sign(
         Predicate::RayHit, stats, p.approx(),
         [&] {

@@ -23,7 +23,9 @@
 // separate is a property of the scene, with its own rule:
 //   - a triangle whose plane passes through the eye is never seen (edge-on);
 //   - two coplanar triangles both hit: the lower (object, face) index is seen;
-//   - a triangle coplanar with q's triangle is never crossed by (l, q).
+//   - a triangle coplanar with q's triangle is never crossed by (l, q);
+//   - a triangle exactly in the near plane is beyond it (seen), as GL's
+//     closed clip volume keeps it, where the perturbation would not.
 //
 // The forms (camera space, n = (b-a) x (c-a), d = det(a, b, c) for triangle
 // abc, all as functions of the sample point P):
