@@ -58,11 +58,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       sides.depth_mapping = reversed.depth_mapping;
       (void)nearcap::judge_frame(
           nearcap::gl::render_shadow_frame(scene, light, nearcap::gl::ShadowMethod::ZPPlus, sides), ref);
-      // The llvmpipe model: Mesa's viewport arithmetic, clipper and depth plane.
       nearcap::gl::EmulationSettings model;
-      model.raster.viewport = nearcap::gl::ViewportArithmetic::Llvmpipe;
-      model.raster.depth = nearcap::gl::DepthInterpolation::Llvmpipe;
-      model.raster.mesa_clipper = true;
+      model.raster = nearcap::gl::llvmpipe_model();
       for (nearcap::gl::ShadowMethod m : nearcap::gl::kAllShadowMethods)
         (void)nearcap::judge_frame(nearcap::gl::render_shadow_frame(scene, light, m, model), ref);
     }

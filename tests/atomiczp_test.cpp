@@ -242,9 +242,7 @@ TEST(AtomicZP, BundledSidePlaneSceneInvertsTheWholeFrame) {
 TEST(AtomicZP, BundledSidePlaneSceneIsRightUnderTheLlvmpipeModel) {
   const Scene scene = bundled("atomiczp_side_plane.json");
   gl::EmulationSettings llvmpipe;
-  llvmpipe.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
-  llvmpipe.raster.depth = gl::DepthInterpolation::Llvmpipe;
-  llvmpipe.raster.mesa_clipper = true;
+  llvmpipe.raster = gl::llvmpipe_model();
   const gl::ShadowFrame modelled = gl::render_shadow_frame(scene, 0, ShadowMethod::AtomicZP, llvmpipe);
   ASSERT_TRUE(modelled.eye_count);
   EXPECT_EQ(*modelled.eye_count, 1u);

@@ -157,11 +157,7 @@ TEST_F(FarPlaneCapGlTest, TheCaseDSwitchOnLlvmpipe) {
       gl::EmulationSettings s;
       s.record_draws = true;
       s.switch_clamp = clamp;
-      if (clamp != gl::SwitchClamp::FarCap) {
-        s.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
-        s.raster.depth = gl::DepthInterpolation::Llvmpipe;
-        s.raster.mesa_clipper = true;
-      }
+      if (clamp != gl::SwitchClamp::FarCap) s.raster = gl::llvmpipe_model(s.raster);
       const gl::ShadowFrame f = gl::render_shadow_frame(j.scene, 0, gl::ShadowMethod::ZPPlusCorrected, s);
       ASSERT_TRUE(!f.zfail_objects.empty() || !f.fallback.empty());  // the switch: case D, or no light frustum
       render::GlFrameReplay replay(f.width, f.height, s.depth);

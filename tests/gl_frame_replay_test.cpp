@@ -64,8 +64,7 @@ std::optional<ExactAndModelled> render_exact_and_modelled(const Scene& scene, st
   ExactAndModelled f;
   try {
     f.exact = gl::render_shadow_frame(scene, light, m, settings);
-    settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
-    settings.raster.mesa_clipper = true;
+    settings.raster = gl::llvmpipe_model(settings.raster);
     f.modelled = gl::render_shadow_frame(scene, light, m, settings);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Range) throw;
@@ -202,8 +201,7 @@ TEST_F(GlFrameReplayTest, TheLlvmpipeModelFollowsMesasDepthPlane) {
       settings.record_draws = true;
       settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
       const gl::ShadowFrame exact = gl::render_shadow_frame(scene, 0, m, settings);
-      settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
-      settings.raster.mesa_clipper = true;
+      settings.raster = gl::llvmpipe_model(settings.raster);
       const gl::ShadowFrame modelled = gl::render_shadow_frame(scene, 0, m, settings);
       render::GlFrameReplay replay(exact.width, exact.height, settings.depth);
       const render::ReplayedFrame real = replay.replay(exact.draws);

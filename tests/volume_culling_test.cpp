@@ -156,9 +156,7 @@ TEST_F(VolumeCullingGlTest, TheScissorOnLlvmpipe) {
       SCOPED_TRACE(std::string(name) + ", " + std::string(gl::to_string(m)));
       gl::EmulationSettings settings;
       settings.record_draws = true;
-      settings.raster.viewport = gl::ViewportArithmetic::Llvmpipe;
-      settings.raster.depth = gl::DepthInterpolation::Llvmpipe;
-      settings.raster.mesa_clipper = true;
+      settings.raster = gl::llvmpipe_model();
       settings.volume_culling = gl::VolumeCulling::Scissor;
       const gl::ShadowFrame modelled = gl::render_shadow_frame(scene, 0, m, settings);
       bool scissored = false;

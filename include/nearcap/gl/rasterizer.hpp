@@ -122,6 +122,17 @@ struct RasterSettings {
   bool mesa_clipper = false;
 };
 
+// The llvmpipe model: Mesa's viewport arithmetic, depth plane and clipper
+// (`--viewport llvmpipe --depth-interpolation llvmpipe --clipper mesa`), under
+// which the emulation draws what llvmpipe draws (render/gl_frame_replay.hpp
+// measures it); the other settings of `s` are kept.
+inline RasterSettings llvmpipe_model(RasterSettings s = {}) {
+  s.viewport = ViewportArithmetic::Llvmpipe;
+  s.depth = DepthInterpolation::Llvmpipe;
+  s.mesa_clipper = true;
+  return s;
+}
+
 // The float32 plane of a triangle's window z as llvmpipe sets it up
 // (DepthInterpolation::Llvmpipe), for `v` in submission order.
 struct LlvmpipeDepthPlane {
