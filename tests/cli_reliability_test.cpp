@@ -169,11 +169,50 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
                         "would replace the mesh file", "frame onto a mesh");
   expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("path.json")),
                         "would replace the camera path file", "calibrate onto its path");
+  write_scene("render.json", scene_b());
+  expect_one_line_error(run("render " + path("render.json") + " --method zpass --out " + dir_.string()),
+                        "would replace the scene file", "render's lit frames onto the scene");
+  expect_one_line_error(run("view " + path("B.json") + " --screenshot " + path("box.off") + " --keys w"),
+                        "would replace the mesh file", "view's screenshot onto a mesh");
+  // A policy file named as an output: render.json, evaluate's table, calibrate's CSV.
+  fs::create_directories(dir_ / "policy");
+  const std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data/policy.json");
+  for (const char* name : {"render.json", "table.md", "P.json"}) write_text("policy/" + std::string(name), policy);
+  expect_one_line_error(run("render " + path("B.json") + " --method policy --policy " + path("policy/render.json") +
+                            " --out " + path("policy")),
+                        "would replace the policy file", "render onto its policy");
+  expect_one_line_error(run("evaluate --samples 1 --policy " + path("policy/table.md") + " --out " + path("policy")),
+                        "would replace the policy file", "evaluate onto its policy");
+  expect_one_line_error(run("calibrate --samples 1 --policy " + path("policy/P.json") + " --write-policy " +
+                            path("W.json") + " --out " + path("policy/P.json")),
+                        "would replace the policy file", "calibrate's observations onto its policy");
   EXPECT_EQ(test::slurp(path("box.off")), box);
   EXPECT_EQ(test::slurp(path("B.json")), scene);
   EXPECT_EQ(test::slurp(path("reference.json")), scene);
   EXPECT_EQ(test::slurp(path("cracks.json")), scene);
+  EXPECT_EQ(test::slurp(path("render.json")), scene);
   EXPECT_EQ(test::slurp(path("path.json")), path_text);
+  for (const char* name : {"render.json", "table.md", "P.json"})
+    EXPECT_EQ(test::slurp(path("policy/" + std::string(name))), policy) << name;
+  EXPECT_FALSE(fs::exists(path("W.json")));
+}
+
+// An output where no file can be made is refused before the work that would
+// fill it (calibrate measures for minutes; the write would fail at the end).
+TEST_F(Reliability, AnUnwritableOutputIsRefusedBeforeTheWork) {
+  expect_one_line_error(run("calibrate --samples 1 --out /proc/nearcap-calibration.csv"), "cannot write in /proc",
+                        "calibrate into /proc");
+  expect_one_line_error(run("tune " + path("none.csv") + " --out /proc/nearcap-policy.json"), "cannot write in /proc",
+                        "tune into /proc");
+}
+
+// NEARCAP_DATA_DIR names where the sampler's meshes are: a folder without
+// them is an error, not a sweep of rejected rows.
+TEST_F(Reliability, ADataDirectoryWithoutTheMeshesIsAnError) {
+  const test::CliResult r = test::run_cli("sweep --samples 2 --width 8 --height 6 --out " + path("s.csv"),
+                                          "reliability", "NEARCAP_DATA_DIR='" + path("nowhere") + "'");
+  expect_one_line_error(r, "NEARCAP_DATA_DIR=", "a data directory without meshes");
+  EXPECT_FALSE(fs::exists(path("s.csv")));
 }
 
 // A file where an output directory goes is refused before any work (the

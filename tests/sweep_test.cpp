@@ -247,8 +247,9 @@ TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
   EXPECT_EQ(per_variant["default"], 60 * 6);
   EXPECT_EQ(per_variant["light-projection=glfrustum"], 60 * 6);
   EXPECT_EQ(per_variant["zfail-far=clamp-far"], 60 * 6);
-  for (const char* bad : {"--variant bogus=1", "--variant depth=float16", "--variant subpixel-bits=x",
-                          "--variant zfail-far=clamp-far --variant zfail-far=clamp-far"}) {
+  for (const char* bad :
+       {"--variant bogus=1", "--variant depth=float16", "--variant subpixel-bits=x", "--variant subpixel-bits=3.9",
+        "--variant subpixel-bits=1e1", "--variant zfail-far=clamp-far --variant zfail-far=clamp-far"}) {
     const test::CliResult b =
         test::run_cli("sweep --samples 2 " + std::string(bad) + " --out " + path("bad.csv"), "sweep_bad_variant");
     EXPECT_EQ(b.exit_code, 2) << bad;

@@ -226,6 +226,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
       {replaced("\"mean\": [0, 0.2]", "\"mean\": [0]"), "crack_model.mean: 1 values for 2 features"},
       {replaced("\"log_skew\"", "\"log_magic\""), "crack_model.features[0]: 'log_magic' is not a policy feature"},
       {replaced("\"zfail\"", "\"zpplus\""), "fallback_method: must be zfail or preload"},
+      {replaced("\"zfail\"", "\"atomiczp\""), "fallback_method: must be zfail or preload"},
       {replaced("\"zpplus-corrected\"", "\"zpplus-improved\""),
        "capped_method: must be \"zpass\", \"zfail\", \"zpplus\", \"zpplus-corrected\", \"preload\" or \"atomiczp\", "
        "not \"zpplus-improved\""},

@@ -174,7 +174,7 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   }
   p.capped_method = method_field(j.at("capped_method"));
   p.fallback_method = method_field(j.at("fallback_method"));
-  if (gl::uses_near_cap(p.fallback_method) || p.fallback_method == gl::ShadowMethod::ZPass)
+  if (p.fallback_method != gl::ShadowMethod::ZFail && p.fallback_method != gl::ShadowMethod::Preload)
     j.at("fallback_method").fail("must be zfail or preload (a method right without a near-cap)");
   if (p.capped_method == gl::ShadowMethod::ZPass)
     j.at("capped_method").fail("must not be zpass (it is wrong for the occluders that meet the light pyramid)");

@@ -362,6 +362,10 @@ void run(CalibrateOptions o) {
   for (const std::string& p : o.paths)
     for (const std::string& output : {o.out, o.write_policy})
       if (!output.empty()) refuse_replacing_inputs(output, {{p, "camera path file"}});
+  // Every output checked before the measurements: not an input, writable.
+  if (policy) refuse_replacing_inputs(o.out, {{o.policy, "policy file"}}, "--out");
+  io::check_output_files(o.write_policy.empty() ? std::vector<std::string>{o.out}
+                                                : std::vector<std::string>{o.out, o.write_policy});
   const CalibrationSet set(o);
   if (set.count() == 0)
     throw Error(ErrorKind::Usage, "nothing to calibrate on: give --samples N (N > 0) and/or --path P");

@@ -245,6 +245,10 @@ void set_from_text(const std::string& spec, const std::string& name, const std::
     if (value != "0" && value != "1")
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not one of 0, 1");
     field = value == "1";
+  } else if constexpr (std::is_integral_v<T>) {  // subpixel-bits: digits only, as the option takes it
+    if (value.empty() || value.size() > 9 || value.find_first_not_of("0123456789") != std::string::npos)
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " '" + value + "' is not a whole number");
+    field = static_cast<T>(std::stol(value));
   } else {
     field = static_cast<T>(parse_number(spec, name, value));
   }
@@ -389,6 +393,11 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   // The bundled meshes: the environment's NEARCAP_DATA_DIR, or the shipped data.
   const char* data = std::getenv("NEARCAP_DATA_DIR");
   spec.mesh_directory = (std::filesystem::path(data && *data ? data : shipped_data_dir()) / "meshes").string();
+  std::error_code ec;
+  const std::filesystem::path box = std::filesystem::path(spec.mesh_directory) / "box.off";
+  if (data && *data && !std::filesystem::is_regular_file(box, ec))
+    throw Error(ErrorKind::Io, "NEARCAP_DATA_DIR=" + std::string(data) + ": no " + box.string() +
+                                   " (the sampler reads its meshes from $NEARCAP_DATA_DIR/meshes)");
   return spec;
 }
 

@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/analysis/frame_time_drift.hpp"
@@ -408,6 +409,22 @@ void run(const EvaluateOptions& o) {
                                         std::to_string(p.frames) + " frames");
     paths.push_back(std::move(p));
   }
+  // No output replaces what the command reads.
+  std::vector<CommandInput> inputs{{o.policy, "policy file"}};
+  for (const analysis::CameraPath& p : paths) {
+    inputs.push_back({p.source, "camera path file"});
+    inputs.push_back({p.scene_file, "scene file"});
+  }
+  std::vector<std::string> outputs;
+  for (const char* name : {"evaluation.csv", "table.md"}) {
+    outputs.push_back((std::filesystem::path(o.out) / name).string());
+    refuse_replacing_inputs(outputs.back(), inputs);
+  }
+  if (!o.fit_unpriced.empty()) {
+    refuse_replacing_inputs(o.fit_unpriced, inputs, "--fit-unpriced");
+    outputs.push_back(o.fit_unpriced);
+  }
+  io::check_output_files(outputs);
   analysis::SamplerSpec spec = sampler_spec(o.sampler);
   if (o.width > 0) spec.width = o.width;
   if (o.height > 0) spec.height = o.height;

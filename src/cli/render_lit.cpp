@@ -183,6 +183,15 @@ class LitScenes {
       path_ = analysis::load_camera_path(o.path);
   }
   std::size_t count() const { return path_ ? static_cast<std::size_t>(path_->frames) : 1; }
+  // The files the frames are read from: the scene or the camera path, its
+  // base scene, and their meshes.
+  std::vector<CommandInput> inputs() {
+    if (!path_) return scene_inputs(*scene_);
+    std::vector<CommandInput> in{{path_->source, "camera path file"}, {path_->scene_file, "scene file"}};
+    for (const SceneObject& object : at(0).objects)
+      if (!object.mesh_path.empty()) in.push_back({object.mesh_path, "mesh file"});
+    return in;
+  }
   Scene at(std::size_t f) {
     if (!path_) return *scene_;
     const int frame = static_cast<int>(f);
@@ -306,6 +315,12 @@ void run_lit(const RenderOptions& o) {
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   LitScenes scenes(o);
+  // No output replaces what the command reads: the fixed names now, each
+  // frame's images as they are staged.
+  std::vector<CommandInput> inputs = scenes.inputs();
+  if (methods.policy) inputs.push_back({o.policy, "policy file"});
+  for (const char* name : {"render.json", "bench.csv", "bench.png"})
+    refuse_replacing_inputs((std::filesystem::path(o.out) / name).string(), inputs);
   // Every frame checked before the first is drawn (each parsed, then dropped).
   for (std::size_t f = 0; f < scenes.count(); ++f) {
     const Scene scene = scenes.at(f);
@@ -373,9 +388,14 @@ void run_lit(const RenderOptions& o) {
         continue;
       }
       const MethodFrame& mf = frames.methods[m];
-      files.add({lit_frame_file(o, name, f), mf.png});
-      for (std::size_t k = 0; k < mf.stencil_pgm.size(); ++k)
-        files.add({lit_stencil_file(o, name, f, frames.light_index[k]), mf.stencil_pgm[k]});
+      const std::string frame_file = lit_frame_file(o, name, f);
+      refuse_replacing_inputs(frame_file, inputs);
+      files.add({frame_file, mf.png});
+      for (std::size_t k = 0; k < mf.stencil_pgm.size(); ++k) {
+        const std::string stencil_file = lit_stencil_file(o, name, f, frames.light_index[k]);
+        refuse_replacing_inputs(stencil_file, inputs);
+        files.add({stencil_file, mf.stencil_pgm[k]});
+      }
       if (o.bench) {
         const render::LitFramePasses& p = mf.passes;
         bench_row(f, name, mf);

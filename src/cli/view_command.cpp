@@ -126,6 +126,12 @@ class Viewer {
     }
     check_memory_estimate(scene_, "view", 40, o.max_memory_gb);
     refuse_non_directory(o.out, "--out");
+    if (!o.screenshot.empty()) {
+      std::vector<CommandInput> inputs = scene_inputs(scene_);
+      if (methods_.policy) inputs.push_back({o.policy, "policy file"});
+      refuse_replacing_inputs(o.screenshot, inputs, "--screenshot");
+      io::check_output_files({o.screenshot});
+    }
     settings_.record_draws = true;
     // The first method named is shown first (RenderMethods keeps the policy last).
     if (o.method.rfind("policy", 0) == 0 && methods_.policy) method_ = methods_.methods.size();
@@ -371,7 +377,12 @@ class Viewer {
       char name[32];
       std::snprintf(name, sizeof name, "view-%03d.json", n);
       file = dir / name;
-      if (!std::filesystem::exists(file)) break;
+      // A new name, and not the screenshot's, which is written at the end.
+      std::error_code ec;
+      const bool screenshot =
+          !options_.screenshot.empty() &&
+          std::filesystem::weakly_canonical(file, ec) == std::filesystem::weakly_canonical(options_.screenshot, ec);
+      if (!std::filesystem::exists(file) && !screenshot) break;
     }
     Json root = scene_json_;
     const Scene s = current_scene();

@@ -307,8 +307,27 @@ void write_output_files(const std::vector<OutputFile>& files) {
   filesystem_errors_as_io([&] { write_output_files_unguarded(files); });
 }
 
+// Can a temporary be made beside p's target?  Made and removed at once;
+// where the target's directory does not exist yet, nothing is asked (the
+// write creates it, and says so if it cannot).
+void probe_writable(const Plan& p, std::size_t k) {
+  if (p.kind == Destination::WriteThrough) return;
+  const std::string temporary = temporary_name(p.target, k);
+  const fs::path parent = fs::path(temporary).parent_path();
+  const std::string dir = parent.empty() ? std::string(".") : parent.string();
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0) return;
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) fail(p.user_path, "cannot write in " + dir + ": " + errno_text(errno));
+  ::close(fd);
+  ::unlink(temporary.c_str());
+}
+
 void check_output_files(const std::vector<std::string>& paths) {
-  filesystem_errors_as_io([&] { checked_plans(paths); });
+  filesystem_errors_as_io([&] {
+    const std::vector<Plan> plans = checked_plans(paths);
+    for (std::size_t k = 0; k < plans.size(); ++k) probe_writable(plans[k], k);
+  });
 }
 
 struct StagedOutputFiles::State {
