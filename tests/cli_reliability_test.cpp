@@ -426,6 +426,15 @@ TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
     EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("o_" + cmd)));
   }
+  // The commands that draw configurations at --width x --height.
+  for (const std::string cmd :
+       {"calibrate --samples 1 --out " + path("c.csv"), "evaluate --samples 1 --out " + path("e")}) {
+    const test::CliResult r = run(cmd + " --width 16384 --height 16384 --max-memory 2");
+    expect_one_line_error(r, "needs about", cmd);
+    EXPECT_NE(r.err.find("16384x16384"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(path("c.csv")));
+  EXPECT_FALSE(fs::exists(path("e")));
 }
 
 TEST_F(Reliability, AFailedAllocationIsAResourceError) {

@@ -56,7 +56,15 @@ struct CalibrateOptions {
   bool policy_given = false;  // --policy on the command line
   std::string write_policy;
   bool no_atomiczp = false;  // the profile without its eye-count row (--no-atomiczp)
+  double max_memory_gb = 0;  // 0: three quarters of the machine's
 };
+
+// A configuration's memory beyond the fixed part, per pixel of its frame:
+// every method's emulated and GL frames, one configuration at a time
+// (measured: peaks of 284,260 and 755,240 KB for `calibrate --samples 6` at
+// 1024x1024 and 2048x2048, 153 bytes per pixel between them;
+// docs/findings/exact-speed.md, "Memory").
+constexpr double kCalibrateBytesPerPixel = 160;
 
 // The methods calibrated: every candidate of the switch policy's decision.
 // ZP+ with the clipped-sides cap is ZP+ drawn with LightProjection::
@@ -349,6 +357,8 @@ void run(CalibrateOptions o) {
   if (o.policy_given && o.write_policy.empty())
     throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap calibrate writes its observations to --out FILE.csv");
+  check_memory_estimate("the configurations", o.width, o.height, "calibrate", kCalibrateBytesPerPixel, o.max_memory_gb,
+                        "lower --width/--height");
   refuse_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
   if (!o.write_policy.empty()) {
@@ -544,6 +554,7 @@ void register_calibrate(CLI::App& app) {
                  "(repeatable)");
   add_viewport_options(cmd, o.width, o.height);
   cmd.add_option("--out", o.out, "the observations' CSV file")->required();
+  add_max_memory_option(cmd, o.max_memory_gb);
   note_given(cmd.add_option("--policy", o.policy, "the policy the device profile is added to (with --write-policy)")
                  ->capture_default_str(),
              o.policy_given);

@@ -58,7 +58,15 @@ struct EvaluateOptions {
   std::string fit_unpriced;
   // Every frame of the policy priced: no choice kept from the frame before.
   bool price_every_frame = false;
+  double max_memory_gb = 0;  // 0: three quarters of the machine's
 };
+
+// A configuration's memory beyond the fixed part, per pixel of its frame:
+// the exact reference, its crack distances, every candidate's emulated and GL
+// frames (measured: peaks of 249,192 and 710,356 KB for `evaluate --samples
+// 3` at 1024x1024 and 2048x2048, 150 bytes per pixel between them;
+// docs/findings/exact-speed.md, "Memory").
+constexpr double kEvaluateBytesPerPixel = 160;
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -428,6 +436,13 @@ void run(const EvaluateOptions& o) {
   analysis::SamplerSpec spec = sampler_spec(o.sampler);
   if (o.width > 0) spec.width = o.width;
   if (o.height > 0) spec.height = o.height;
+  // The largest frame's memory, checked before any is drawn.
+  for (const analysis::CameraPath& p : paths)
+    check_memory_estimate(p.source, p.width, p.height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
+                          "lower --width/--height");
+  if (o.samples > 0)
+    check_memory_estimate("the sampler", spec.width, spec.height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
+                          "lower --width/--height");
   const analysis::HardCaseSampler sampler(spec);
   std::vector<Configuration> configurations;
   for (const analysis::CameraPath& p : paths) {
@@ -564,6 +579,7 @@ void register_evaluate(CLI::App& app) {
       ->transform(integer_in(1, 1000))
       ->capture_default_str();
   cmd.add_option("--out", o.out, "output directory (created if missing)");
+  add_max_memory_option(cmd, o.max_memory_gb);
 }
 
 }  // namespace nearcap::cli
