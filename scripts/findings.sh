@@ -307,6 +307,14 @@ EOF
     /usr/bin/time -f "cracks --method $methods: %M KB" $n cracks "$dir/scene.json" --light 0 --method "$methods" \
       --out "$dir/out" >/dev/null
   done
+  for s in 1024 2048; do  # the commands that draw sampled configurations at --width x --height
+    /usr/bin/time -f "calibrate --samples 6 at $s: %M KB" $n calibrate --samples 6 --width $s --height $s \
+      --out "$dir/c$s.csv" >/dev/null 2>"$dir/calibrate.err" || cat "$dir/calibrate.err"
+    tail -1 "$dir/calibrate.err"
+    /usr/bin/time -f "evaluate --samples 3 at $s: %M KB" $n evaluate --samples 3 --width $s --height $s \
+      --out "$dir/e$s" >/dev/null 2>"$dir/evaluate.err" || cat "$dir/evaluate.err"
+    tail -1 "$dir/evaluate.err"
+  done
 }
 
 # ---- cap-cpu-time.md -------------------------------------------------------------
