@@ -29,6 +29,48 @@ TEST(AwkwardMesh, OffWithLeadingCommentsIsRead) {
   EXPECT_NO_THROW(validate_occluder(mesh));
 }
 
+TEST(AwkwardMesh, WhitespaceAfterTheLastElementIsRead) {
+  // After the declared elements only whitespace may follow (and in OFF,
+  // comments, which the format allows anywhere): blank lines, CRLF, tabs.
+  const std::string tail = "\n\r\n \t\n  \n";
+  TriangleMesh off =
+      parse_off(std::string("OFF\n8 12 0\n") + kBoxVertices + kBoxFaces + tail + "# the end\n\n# really\n", "t.off");
+  EXPECT_EQ(off.triangle_count(), 12u);
+  const std::string ply_head =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  TriangleMesh ply = parse_mesh(ply_head + kBoxVertices + kBoxFaces + tail, "ply", "t.ply");
+  EXPECT_EQ(ply.triangles, off.triangles);
+  std::string stl = "solid t\n";
+  for (const auto& f : off.triangles) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (VertexIndex v : f) {
+      const Vec3d& p = off.positions[v];
+      stl += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    }
+    stl += "endloop\nendfacet\n";
+  }
+  TriangleMesh ascii_stl = parse_mesh(stl + "endsolid t" + tail, "stl", "t.stl");
+  EXPECT_EQ(ascii_stl.triangle_count(), 12u);
+  EXPECT_NO_THROW(validate_occluder(ascii_stl));
+}
+
+TEST(AwkwardMesh, AsciiStlWithSeveralSolidsReadsEveryOne) {
+  // Several "solid ... endsolid" blocks in one ascii file occur in the wild:
+  // all their facets make one mesh (vertices shared by position across them).
+  auto facet = [](const char* a, const char* b, const char* c) {
+    return std::string("facet normal 0 0 0\nouter loop\nvertex ") + a + "\nvertex " + b + "\nvertex " + c +
+           "\nendloop\nendfacet\n";
+  };
+  const std::string stl = "solid first part\n" + facet("0 0 0", "0 1 0", "1 0 0") + facet("0 0 0", "1 0 0", "0 0 1") +
+                          "endsolid first part\n\nsolid second\n" + facet("0 0 0", "0 0 1", "0 1 0") +
+                          facet("1 0 0", "0 1 0", "0 0 1") + "endsolid second\n";
+  TriangleMesh mesh = parse_mesh(stl, "stl", "two.stl");
+  EXPECT_EQ(mesh.positions.size(), 4u);
+  ASSERT_EQ(mesh.triangle_count(), 4u);
+  EXPECT_NO_THROW(validate_occluder(mesh));
+}
+
 TEST(AwkwardMesh, UnreferencedAndDuplicateVerticesAreLegal) {
   // Vertex 8 duplicates vertex 7's position, vertex 9 is referenced by no face.
   const std::string text = std::string("OFF\n10 12 0\n") + kBoxVertices + "0.5 0.5 0.5\n9 9 9\n" + kBoxFaces;

@@ -352,6 +352,19 @@ TEST(MeshParse, BadHeaderAndBadTokensAreParseErrors) {
   expect_parse_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", ErrorKind::Parse, "found '1.5'");
 }
 
+TEST(MeshParse, ContentAfterTheDeclaredFacesIsRejectedWithItsLine) {
+  // A face beyond the header's count, or anything else after the last face, is
+  // refused rather than dropped: the header and the file disagree.
+  const std::string tetra = "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n";
+  expect_parse_error(tetra + "3 0 1 3\n", ErrorKind::Parse,
+                     "line 8: found '3' after the last of the 1 face the header declares");
+  std::string eleven = box_off();
+  eleven.replace(eleven.find("8 12 0"), 6, "8 11 0");
+  expect_parse_error(eleven, ErrorKind::Parse, "line 22: found '3' after the last of the 11 faces the header declares");
+  expect_parse_error(box_off() + "\n# done\ngarbage\n", ErrorKind::Parse,
+                     "line 25: found 'garbage' after the last of the 12 faces the header declares");
+}
+
 TEST(MeshParse, UnknownFormatIsAParseError) {
   expect_error([] { (void)parse_mesh(box_off(), "gltf", "t.gltf"); }, ErrorKind::Parse, "unknown mesh format",
                "t.gltf");
@@ -540,6 +553,32 @@ TEST(MeshReadPly, ErrorsNameTheLineOrByte) {
             "line 7: a second 'vertex' element (a mesh has one)");
 }
 
+TEST(MeshReadPly, ContentAfterTheLastElementIsRejected) {
+  auto ply_error = [](const std::string& text, const std::string& fragment) {
+    expect_error([&] { (void)parse_mesh(text, "ply", "e.ply"); }, ErrorKind::Parse, fragment, "e.ply");
+  };
+  std::string one_face = kTetraPly;
+  one_face.replace(one_face.find("element face 4"), 14, "element face 3");
+  ply_error(one_face, "line 17: found '3' after the last element the header declares ('element face 3')");
+  ply_error(std::string(kTetraPly) + "\ngarbage", "line 19: found 'garbage' after the last element");
+  // Binary: the data ends with the last element's last byte; the message
+  // names the offset of the first byte past it.
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&](const auto& v) { binary.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (const float c : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f}) put(c);
+  const std::int32_t faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const auto& f : faces) {
+    put(std::uint8_t{3});
+    for (std::int32_t i : f) put(i);
+  }
+  TriangleMesh mesh = parse_mesh(binary, "ply", "b.ply");
+  EXPECT_NO_THROW(validate_occluder(mesh));
+  const std::string end = std::to_string(binary.size());
+  ply_error(binary + "\n", "byte " + end + ": 1 byte after the last element the header declares ('element face 4')");
+}
+
 TEST(MeshReadPly, OtherElementsAndPropertiesAreSkippedByType) {
   // A binary file with an extra vertex property (a double), a list before the
   // face indices and an element of its own: only x, y, z and vertex_indices count.
@@ -590,6 +629,17 @@ TEST(MeshReadStl, ErrorsNameTheFacet) {
   std::string binary(80, ' ');
   binary += std::string("\x02\x00\x00\x00", 4) + std::string(50, '\0');
   stl_error(binary, ErrorKind::Parse, "binary STL header says 2 facets (184 bytes) but the file holds 134 bytes");
+}
+
+TEST(MeshReadStl, ContentAfterEndsolidIsRejected) {
+  auto stl_error = [](const std::string& text, const std::string& fragment) {
+    expect_error([&] { (void)parse_mesh(text, "stl", "e.stl"); }, ErrorKind::Parse, fragment, "e.stl");
+  };
+  const std::string facet =
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  stl_error("solid s\n" + facet + "endsolid s\n" + facet,
+            "line 10: found 'facet' after 'endsolid' (only whitespace or another 'solid' may follow)");
+  stl_error("solid s\n" + facet + "endsolid s\n\n  garbage\n", "line 11: found 'garbage' after 'endsolid'");
 }
 
 TEST(MeshReadStl, BinaryFileStartingWithSolidIsBinary) {

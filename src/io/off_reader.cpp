@@ -85,6 +85,13 @@ TriangleMesh parse_off(const std::string& text, const std::string& source) {
     tokens.skip_rest_of_line();  // optional colour
     mesh.triangles.push_back(t);
   }
+  // Only whitespace and comments may follow the declared faces: an extra face
+  // or trailing garbage is refused, not dropped.
+  std::string extra;
+  if (tokens.next(extra))
+    tokens.error("found '" + mesh_reading::printable(extra) + "' after the last of the " + std::to_string(nf) +
+                 (nf == 1 ? " face" : " faces") +
+                 " the header declares (only whitespace and comments may follow; more faces than declared?)");
   check_read_mesh(mesh);
   return mesh;
 }

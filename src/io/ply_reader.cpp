@@ -182,12 +182,33 @@ class PlyValues {
     fail(kind, source_, "byte " + std::to_string(pos_) + ": " + what);
   }
 
+  // After the last declared element: only whitespace may follow in an ascii
+  // file, nothing in a binary one.  `last` names that element in messages.
+  void expect_end(const std::string& last) {
+    if (format_ == PlyFormat::Ascii) {
+      skip_ascii_space();
+      if (pos_ >= bytes_.size()) return;
+      std::size_t end = pos_;
+      while (end < bytes_.size() && !std::isspace(static_cast<unsigned char>(bytes_[end]))) ++end;
+      error(ErrorKind::Parse, "found '" + mesh_reading::printable(bytes_.substr(pos_, end - pos_)) + "' after " + last +
+                                  " (only whitespace may follow; more entries than declared?)");
+    }
+    const std::size_t extra = bytes_.size() - pos_;
+    if (extra > 0)
+      error(ErrorKind::Parse, std::to_string(extra) + (extra == 1 ? " byte" : " bytes") + " after " + last +
+                                  " (a binary PLY file ends with its last element)");
+  }
+
  private:
-  double next_ascii(PlyType type, const std::string& what) {
+  void skip_ascii_space() {
     while (pos_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[pos_]))) {
       if (bytes_[pos_] == '\n') ++line_;
       ++pos_;
     }
+  }
+
+  double next_ascii(PlyType type, const std::string& what) {
+    skip_ascii_space();
     if (pos_ >= bytes_.size())
       error(ErrorKind::Parse, "unexpected end of data, expected " + what + " (truncated file?)");
     const std::size_t start = pos_;
@@ -345,6 +366,9 @@ TriangleMesh parse_ply(const std::string& bytes, const std::string& source) {
     }
   }
   if (!have_vertices) fail(ErrorKind::Parse, source, "the PLY file declares no vertex element");
+  const PlyElement& last = header.elements.back();
+  values.expect_end("the last element the header declares ('element " + mesh_reading::printable(last.name) + " " +
+                    std::to_string(last.count) + "')");
   mesh_reading::check_read_mesh(mesh);
   return mesh;
 }

@@ -97,14 +97,26 @@ class AsciiStlTokens : public mesh_reading::TextTokens {
   }
 };
 
+// One or more solids, each "solid [name]" ... "endsolid [name]", their facets
+// all read into one mesh; after the last, only whitespace.
 void parse_ascii(const std::string& text, TriangleMesh& mesh) {
   AsciiStlTokens tokens(text, mesh.source);
   tokens.expect("solid");
   tokens.skip_rest_of_line();  // the solid's name
   VertexWelder welder(mesh);
-  for (std::size_t f = 0;; ++f) {
+  for (;;) {
+    const std::size_t f = mesh.triangles.size();  // facets count through every solid of the file
     const std::string t = tokens.need("'facet' or 'endsolid'");
-    if (t == "endsolid") return;  // anything after it is ignored
+    if (t == "endsolid") {
+      tokens.skip_rest_of_line();  // the solid's name
+      std::string next;
+      if (!tokens.next(next)) return;
+      if (next != "solid")
+        tokens.error("found '" + mesh_reading::printable(next) +
+                     "' after 'endsolid' (only whitespace or another 'solid' may follow)");
+      tokens.skip_rest_of_line();  // the next solid's name
+      continue;
+    }
     if (t != "facet") tokens.error("expected 'facet' or 'endsolid', found '" + mesh_reading::printable(t) + "'");
     tokens.expect("normal");
     for (int k = 0; k < 3; ++k) (void)tokens.need_float("a normal component");
