@@ -288,6 +288,11 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "--method names zpass twice", "a method twice");
   expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method foo"), "raytrace, policy (or all)",
                         "an unknown method");
+  expect_one_line_error(run("sweep --samples 1 --kinds grazing,grazing --out " + path("k.csv")),
+                        "grazing is named twice", "a kind twice");
+  expect_one_line_error(run("sweep --samples 1 --kinds grazing, --out " + path("k.csv")), "an empty kind name",
+                        "a trailing comma in --kinds");
+  EXPECT_FALSE(fs::exists(path("k.csv")));
   expect_one_line_error(run("--bogus classify " + path("B.json")), "unknown option '--bogus'", "an option first");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out ''"), "--out: the file name is empty",
                         "an empty --out");
