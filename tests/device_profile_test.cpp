@@ -529,6 +529,16 @@ TEST(DeviceProfileJson, AProfileWithoutTheExaminedTermReadsItAsZero) {
               std::string::npos)
         << e.what();
   }
+  // Past a quarter of an hour: refused, so that no cost swallows the others' milliseconds.
+  j["cpu"]["clipped_cap"]["ms_per_kexamined"] = 1e16;
+  try {
+    analysis::parse_device_profile(j.dump(), "four.json");
+    ADD_FAILURE() << "a cost of 1e16 ms accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("four.json: cpu.clipped_cap.ms_per_kexamined: must be at most 1e6"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A pass row without ms_per_mtriangle_in_view (a profile fitted before the
