@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -386,6 +387,74 @@ TEST_F(ReportInputs, AConfigurationWhoseRowsAreApartIsNamed) {
                   "rows apart");
   EXPECT_NE(result.err.find("line " + std::to_string(r.rows.size() + 1) + ":"), std::string::npos) << result.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// A row whose field count is not the header's is refused naming its line, as
+// `nearcap tune` refuses it: a last line cut off inside a column (a sweep
+// killed mid-write, no newline at its end), a row with a field too many, a
+// `rejected` row cut short, and a quoted field left open at the end.
+TEST_F(ReportInputs, ARowWhoseFieldCountIsNotTheHeadersIsRefused) {
+  const Rows all = Rows::read(rows());
+  // reference_ms: the last column the report reads, three before the last.
+  const std::size_t width = all.header.size(), reference = all.column("reference_ms"), method = all.column("method");
+  ASSERT_LT(reference + 1, width);
+  std::string text = test::slurp(rows());
+  ASSERT_EQ(text.back(), '\n');
+  text.pop_back();
+  const std::size_t last_start = text.rfind('\n') + 1;
+  const std::string last_line = text.substr(last_start);
+  const std::size_t last = 1 + static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  // The last line cut inside reference_ms: its first characters are a
+  // number ("0.2" of "0.2782"), the row one of reference + 1 fields.
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < reference; ++k) at = last_line.find(',', at) + 1;
+  const std::size_t value_length = last_line.find(',', at) - at;
+  ASSERT_GE(value_length, 3u) << last_line;
+  const std::string cut = text.substr(0, last_start) + last_line.substr(0, at + value_length - 2);
+
+  Rows extra = all, rejected = all;
+  extra.rows[3].push_back("0");
+  rejected.rows[3][method] = "rejected";
+  rejected.rows[3].pop_back();
+  const std::string quoted = text.substr(0, last_start) + last_line.substr(0, last_line.rfind(',') + 1) + "\"12";
+
+  const std::tuple<std::string, std::string, std::string> cases[] = {
+      {"cut", cut,
+       "line " + std::to_string(last) + ": " + std::to_string(reference + 1) + " fields, the header has " +
+           std::to_string(width)},
+      {"extra", "", "line 5: " + std::to_string(width + 1) + " fields, the header has " + std::to_string(width)},
+      {"rejected", "", "line 5: " + std::to_string(width - 1) + " fields, the header has " + std::to_string(width)},
+      {"quoted", quoted, "line " + std::to_string(last) + ": unexpected end of data"},
+  };
+  for (const auto& [name, body, fragment] : cases) {
+    const fs::path csv = path("fields_" + name + ".csv");
+    if (name == "extra")
+      extra.write(csv);
+    else if (name == "rejected")
+      rejected.write(csv);
+    else
+      std::ofstream(csv, std::ios::binary) << body;
+    const fs::path out = path("never_fields_" + name);
+    const test::CliResult r = test::run_cli("report " + csv.string() + " --out " + out.string(), "fields_" + name);
+    expect_one_line(r, csv.string() + ": " + fragment, name);
+    EXPECT_EQ(r.err.rfind("nearcap: error (parse): ", 0), 0u) << name << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(out)) << name;
+  }
+}
+
+// A policy that starts with a UTF-8 byte order mark is read, as every other
+// command reads it (nearcap's JSON reader skips the mark).
+TEST_F(ReportInputs, APolicyWithAByteOrderMarkIsRead) {
+  const std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
+  ASSERT_NE(policy.rfind("\xEF\xBB\xBF", 0), 0u);
+  std::ofstream(path("bom_policy.json"), std::ios::binary) << "\xEF\xBB\xBF" << policy;
+  const fs::path out = path("bom_policy");
+  const test::CliResult r = test::run_cli(
+      "report " + rows() + " --policy " + path("bom_policy.json").string() + " --out " + out.string(), "bom");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_NE(test::slurp(out / "index.html").find("From <code>" + path("bom_policy.json").string() + "</code>"),
+            std::string::npos);
 }
 
 TEST_F(ReportInputs, MemoryDoesNotGrowWithTheRows) {

@@ -157,7 +157,9 @@ std::string joined(const std::vector<std::string>& fields) {
 }
 
 // A count the program never writes (negative, or more wrong pixels than
-// seen) is refused naming its line and column, not summed.
+// seen), or a time that is not finite or is negative, is refused naming its
+// line and column, not summed; a column a row may leave empty (cap_mismatch,
+// the per-occluder decisions, frame_again_ms) is checked where it has a value.
 TEST_F(Report, ACountNoSweepWritesIsRefused) {
   std::istringstream in(test::slurp(dir_ / "rows.csv"));
   std::vector<std::string> lines;
@@ -176,6 +178,14 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
       {"frame_ms", "-3", "line 2: column 'frame_ms': '-3' is not a time"},
       {"frame_ms", "inf", "line 2: column 'frame_ms': 'inf' is not a time"},
       {"configuration", "", "line 2: column 'configuration': '' is not a configuration id"},
+      {"frame_again_ms", "-0.5", "line 2: column 'frame_again_ms': '-0.5' is not a time"},
+      {"frame_again_ms", "nan", "line 2: column 'frame_again_ms': 'nan' is not a time"},
+      {"frame_again_ms", "inf", "line 2: column 'frame_again_ms': 'inf' is not a time"},
+      {"reference_ms", "-inf", "line 2: column 'reference_ms': '-inf' is not a time"},
+      {"cap_mismatch", "-1", "line 2: column 'cap_mismatch': '-1' is not a count (it is negative)"},
+      {"cap_mismatch", "9007199254740993", "'9007199254740993' is not a count a sweep writes"},
+      {"false_negatives", "-2", "line 2: column 'false_negatives': '-2' is not a count (it is negative)"},
+      {"occluders", "1.5", "line 2: column 'occluders': '1.5' is not an integer"},
   };
   const fs::path out = dir_ / "never";
   for (const auto& [name, value, fragment] : cases) {

@@ -120,9 +120,10 @@ def base_method(method):
 
 
 def load_json(path, what):
-    """The JSON value in the file `path`; InputError naming the file, and `what` it was to hold, otherwise."""
+    """The JSON value in the file `path`; InputError naming the file, and `what` it was to hold, otherwise.  A
+    UTF-8 byte order mark at the start is skipped, as nearcap's JSON reader skips it."""
     try:
-        with open(path, encoding="utf-8") as handle:
+        with open(path, encoding="utf-8-sig") as handle:
             return json.load(handle)
     except OSError as e:
         raise InputError("io", f"{path}: cannot read the {what}: {e.strerror}")

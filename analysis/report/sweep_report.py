@@ -28,11 +28,11 @@ needs, never held: memory does not grow with the number of rows (the
 million-configuration sweep's CSV included; docs/findings/report-scale.md).
 What that needs of the input: each configuration's rows together, as
 `nearcap sweep` writes them (a configuration met again after others is an
-error naming both places), UTF-8 text, lines under 1 MB.  The one part that
-grows with the input is a 64-bit hash per configuration (8 bytes), to find
-a configuration given twice; the feature scatter plots draw all points up
-to FEATURE_POINTS per (feature, method, cracked or not) and a uniform sample
-beyond, and say so.
+error naming both places), UTF-8 text, lines under 1 MB, every row with
+the header's field count.  The one part that grows with the input is a
+64-bit hash per configuration (8 bytes), to find a configuration given
+twice; the feature scatter plots draw all points up to FEATURE_POINTS per
+(feature, method, cracked or not) and a uniform sample beyond, and say so.
 
 Sections:
   1. speed against error: mean emulated frame time per configuration against
@@ -170,7 +170,7 @@ def parsed_rows(files):
     "rejected" (row None), "refused" or "row"."""
     for name in files:
         with open_input(name) as handle:
-            reader = csv.reader(text_lines(name, handle))
+            reader = csv.reader(text_lines(name, handle), strict=True)  # strict: a quote left open is an error
             try:
                 header = next(reader, None)
                 if header is None:
@@ -185,7 +185,10 @@ def parsed_rows(files):
                     if not fields:
                         continue  # a blank line
                     line = reader.line_num
-                    if method_index < len(fields) and fields[method_index] == "rejected":
+                    if len(fields) != len(header):  # a row cut off, or joined with another, is never read
+                        raise ReportError("parse", f"{name}: line {line}: {len(fields)} fields, the header has "
+                                                   f"{len(header)}")
+                    if fields[method_index] == "rejected":
                         yield "rejected", name, line, None
                         continue
                     r = converter.row(fields, line)
@@ -201,8 +204,7 @@ class RowConverter:
 
     def __init__(self, header, name):
         self.index = {c: k for k, c in enumerate(header)}  # a repeated name: its last column
-        self.name, self.width = name, len(header)
-        self.required_width = 1 + max(self.index[c] for c in REQUIRED)
+        self.name = name
         self.text = [(c, self.index[c]) for c in self.TEXT]
         self.integers = [self.index[c] for c in self.INTEGERS]
         self.floats = [self.index[c] for c in FLOAT_COLUMNS]
@@ -213,10 +215,22 @@ class RowConverter:
     def fail(self, line, column, value, what):
         raise ReportError("parse", f"{self.name}: line {line}: column '{column}': '{value}' is not {what}")
 
+    def optional_count(self, line, column, value):
+        """A count of a column that is empty where the row has none (None then)."""
+        if not value:
+            return None
+        try:
+            count = int(value)
+        except ValueError:
+            self.fail(line, column, value, "an integer")
+        if count < 0:
+            self.fail(line, column, value, "a count (it is negative)")
+        if count > MAX_COUNT:
+            self.fail(line, column, value, "a count a sweep writes (over 2^53)")
+        return count
+
     def row(self, fields, line):
-        if len(fields) > self.width or len(fields) < self.required_width:
-            raise ReportError("parse", f"{self.name}: line {line}: wrong number of fields ({len(fields)}, the "
-                                       f"header has {self.width})")
+        """The row's columns; `fields` has the header's field count (parsed_rows checks it)."""
         try:
             integers = [int(fields[k]) for k in self.integers]
         except ValueError:
@@ -256,26 +270,21 @@ class RowConverter:
             r[c] = fields[k]
         if not r["configuration"]:
             self.fail(line, "configuration", "", "a configuration id (it is empty)")
-        value = fields[self.cap_mismatch]
-        try:
-            r["cap_mismatch"] = int(value) if value else None
-        except ValueError:
-            self.fail(line, "cap_mismatch", value, "an integer")
+        r["cap_mismatch"] = self.optional_count(line, "cap_mismatch", fields[self.cap_mismatch])
         for c, k in self.decisions:
-            value = fields[k] if k < len(fields) else ""
-            try:
-                r[c] = int(value) if value else None
-            except ValueError:
-                self.fail(line, c, value, "an integer")
+            r[c] = self.optional_count(line, c, fields[k])
         for c in DECISION_COLUMNS:
             r.setdefault(c, None)
         r[AGAIN_COLUMN] = None
-        value = fields[self.again] if self.again is not None and self.again < len(fields) else ""
-        if value:
+        value = fields[self.again] if self.again is not None else ""
+        if value:  # empty where the row has no second timing
             try:
-                r[AGAIN_COLUMN] = float(value)
+                again = float(value)
             except ValueError:
                 self.fail(line, AGAIN_COLUMN, value, "a number")
+            if not (math.isfinite(again) and again >= 0):
+                self.fail(line, AGAIN_COLUMN, value, "a time (finite, not negative)")
+            r[AGAIN_COLUMN] = again
         # A method under a non-default variant is its own series: "zpplus [light-projection=glfrustum]".
         if r["variant"] != "default":
             r["method"] = f'{r["method"]} [{r["variant"]}]'
