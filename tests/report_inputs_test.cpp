@@ -417,6 +417,13 @@ TEST_F(ReportInputs, ARowWhoseFieldCountIsNotTheHeadersIsRefused) {
   rejected.rows[3][method] = "rejected";
   rejected.rows[3].pop_back();
   const std::string quoted = text.substr(0, last_start) + last_line.substr(0, last_line.rfind(',') + 1) + "\"12";
+  // The same on line 4, the rest of the file after it: named by the line it opens on.
+  std::size_t line4 = 0;
+  for (int k = 0; k < 3; ++k) line4 = text.find('\n', line4) + 1;
+  const std::size_t line4_end = text.find('\n', line4);
+  const std::string row4 = text.substr(line4, line4_end - line4);
+  const std::string quoted_mid =
+      text.substr(0, line4) + row4.substr(0, row4.rfind(',') + 1) + "\"12" + text.substr(line4_end) + "\n";
 
   const std::tuple<std::string, std::string, std::string> cases[] = {
       {"cut", cut,
@@ -424,7 +431,8 @@ TEST_F(ReportInputs, ARowWhoseFieldCountIsNotTheHeadersIsRefused) {
            std::to_string(width)},
       {"extra", "", "line 5: " + std::to_string(width + 1) + " fields, the header has " + std::to_string(width)},
       {"rejected", "", "line 5: " + std::to_string(width - 1) + " fields, the header has " + std::to_string(width)},
-      {"quoted", quoted, "line " + std::to_string(last) + ": unexpected end of data"},
+      {"quoted", quoted, "line " + std::to_string(last) + ": a quoted field is not closed"},
+      {"quoted_mid", quoted_mid, "line 4: a quoted field is not closed"},
   };
   for (const auto& [name, body, fragment] : cases) {
     const fs::path csv = path("fields_" + name + ".csv");

@@ -171,6 +171,7 @@ def parsed_rows(files):
     for name in files:
         with open_input(name) as handle:
             reader = csv.reader(text_lines(name, handle), strict=True)  # strict: a quote left open is an error
+            start = 1  # the line the record being read starts on
             try:
                 header = next(reader, None)
                 if header is None:
@@ -181,7 +182,11 @@ def parsed_rows(files):
                                                f"(not a nearcap sweep CSV, or one from an older nearcap)")
                 converter = RowConverter(header, name)
                 method_index = converter.index["method"]
-                for fields in reader:
+                while True:
+                    start = reader.line_num + 1
+                    fields = next(reader, None)
+                    if fields is None:
+                        break
                     if not fields:
                         continue  # a blank line
                     line = reader.line_num
@@ -194,7 +199,12 @@ def parsed_rows(files):
                     r = converter.row(fields, line)
                     yield ("refused" if r["refused"] else "row"), name, line, r
             except csv.Error as e:
-                raise ReportError("parse", f"{name}: line {reader.line_num}: {e}")
+                if "unexpected end of data" in str(e):  # as tune says it
+                    raise ReportError("parse", f"{name}: line {start}: a quoted field is not closed")
+                if "field larger than field limit" in str(e):  # a quote left open in a large file
+                    raise ReportError("parse", f"{name}: line {start}: a quoted field is not closed (it runs on "
+                                               f"past {csv.field_size_limit()} characters)")
+                raise ReportError("parse", f"{name}: line {start}: {e}")
 
 
 class RowConverter:
