@@ -169,6 +169,8 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
                         "would replace the mesh file", "frame onto a mesh");
   expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("path.json")),
                         "would replace the camera path file", "calibrate onto its path");
+  expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("B.json")),
+                        "would replace the scene file", "calibrate onto its path's scene");
   write_scene("render.json", scene_b());
   expect_one_line_error(run("render " + path("render.json") + " --method zpass --out " + dir_.string()),
                         "would replace the scene file", "render's lit frames onto the scene");
@@ -204,6 +206,9 @@ TEST_F(Reliability, AnUnwritableOutputIsRefusedBeforeTheWork) {
                         "calibrate into /proc");
   expect_one_line_error(run("tune " + path("none.csv") + " --out /proc/nearcap-policy.json"), "cannot write in /proc",
                         "tune into /proc");
+  // A folder still to be made: its deepest existing ancestor is asked.
+  expect_one_line_error(run("tune " + path("none.csv") + " --out /proc/nearcap-folder/policy.json"),
+                        "cannot write in /proc", "tune into a new folder in /proc");
 }
 
 // NEARCAP_DATA_DIR names where the sampler's meshes are: a folder without
@@ -213,6 +218,11 @@ TEST_F(Reliability, ADataDirectoryWithoutTheMeshesIsAnError) {
                                           "reliability", "NEARCAP_DATA_DIR='" + path("nowhere") + "'");
   expect_one_line_error(r, "NEARCAP_DATA_DIR=", "a data directory without meshes");
   EXPECT_FALSE(fs::exists(path("s.csv")));
+  // A sweep of a camera path alone samples nothing: it runs.
+  const test::CliResult paths = test::run_cli(
+      "sweep --path data/paths/near_plane_sweep.json --width 8 --height 6 --methods zpass --out " + path("p.csv"),
+      "reliability", "NEARCAP_DATA_DIR='" + path("nowhere") + "'");
+  EXPECT_EQ(paths.exit_code, 0) << paths.err;
 }
 
 // A file where an output directory goes is refused before any work (the
@@ -432,7 +442,7 @@ TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
     EXPECT_FALSE(fs::exists(path("o_" + cmd)));
   }
   // The commands that draw configurations at --width x --height.
-  for (const std::string cmd :
+  for (const std::string& cmd :
        {"calibrate --samples 1 --out " + path("c.csv"), "evaluate --samples 1 --out " + path("e")}) {
     const test::CliResult r = run(cmd + " --width 16384 --height 16384 --max-memory 2");
     expect_one_line_error(r, "needs about", cmd);

@@ -640,6 +640,20 @@ TEST(MeshReadStl, ContentAfterEndsolidIsRejected) {
   stl_error("solid s\n" + facet + "endsolid s\n" + facet,
             "line 10: found 'facet' after 'endsolid' (only whitespace or another 'solid' may follow)");
   stl_error("solid s\n" + facet + "endsolid s\n\n  garbage\n", "line 11: found 'garbage' after 'endsolid'");
+  // Padding is not the end when something follows it.
+  stl_error("solid s\n" + facet + "endsolid s\n" + std::string("\0\0\n", 3) + "garbage\n",
+            "found 'garbage' after 'endsolid'");
+}
+
+// NUL bytes or a DOS end-of-file mark after the last endsolid, as some
+// writers pad a file: read as its end.
+TEST(MeshReadStl, PaddingAfterTheLastEndsolidIsTheEnd) {
+  const std::string facet =
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  for (const std::string& padding : {std::string("\0\0\0\0", 4), std::string("\x1a"), std::string("\n\0 \x1a\n", 5)}) {
+    const TriangleMesh mesh = parse_mesh("solid s\n" + facet + "endsolid s\n" + padding, "stl", "p.stl");
+    EXPECT_EQ(mesh.triangle_count(), 1u);
+  }
 }
 
 TEST(MeshReadStl, BinaryFileStartingWithSolidIsBinary) {

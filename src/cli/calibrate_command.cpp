@@ -62,9 +62,10 @@ struct CalibrateOptions {
 // A configuration's memory beyond the fixed part, per pixel of its frame:
 // every method's emulated and GL frames, one configuration at a time
 // (measured: 162 bytes per pixel between `calibrate --samples 6` at
-// 1024x1024 and 2048x2048, docs/findings/exact-speed.md, "Memory"), with a
-// margin for other configurations.
-constexpr double kCalibrateBytesPerPixel = 200;
+// 1024x1024 and 2048x2048 and a fixed part of about 130 MB,
+// docs/findings/exact-speed.md, "Memory"): 240 covers both measured peaks
+// beside the estimate's 64 MB.
+constexpr double kCalibrateBytesPerPixel = 240;
 
 // The methods calibrated: every candidate of the switch policy's decision.
 // ZP+ with the clipped-sides cap is ZP+ drawn with LightProjection::
@@ -106,6 +107,7 @@ class CalibrationSet {
     count_ += static_cast<std::size_t>(o.samples);
   }
   std::size_t count() const { return count_; }
+  const std::vector<analysis::CameraPath>& paths() const { return paths_; }
   Configuration at(std::size_t k) const {
     for (const analysis::CameraPath& p : paths_) {
       if (k < static_cast<std::size_t>(p.frames)) {
@@ -369,14 +371,18 @@ void run(CalibrateOptions o) {
     policy = analysis::load_policy(o.policy);
   }
   for (std::string& p : o.paths) p = resolve_path(p);
-  for (const std::string& p : o.paths)
-    for (const std::string& output : {o.out, o.write_policy})
-      if (!output.empty()) refuse_replacing_inputs(output, {{p, "camera path file"}});
-  // Every output checked before the measurements: not an input, writable.
-  if (policy) refuse_replacing_inputs(o.out, {{o.policy, "policy file"}}, "--out");
+  if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
+  const CalibrationSet set(o);
+  // Every output checked before the measurements: not a file the command
+  // reads (the policy, each camera path, its base scene and meshes), writable.
+  std::vector<CommandInput> inputs;
+  if (policy) inputs.push_back({o.policy, "policy file"});
+  for (const analysis::CameraPath& p : set.paths())
+    for (CommandInput& in : camera_path_inputs(p)) inputs.push_back(std::move(in));
+  refuse_replacing_inputs(o.out, inputs, "--out");
+  if (!o.write_policy.empty()) refuse_replacing_inputs(o.write_policy, inputs, "--write-policy");
   io::check_output_files(o.write_policy.empty() ? std::vector<std::string>{o.out}
                                                 : std::vector<std::string>{o.out, o.write_policy});
-  const CalibrationSet set(o);
   if (set.count() == 0)
     throw Error(ErrorKind::Usage, "nothing to calibrate on: give --samples N (N > 0) and/or --path P");
   const render::EglContext context;

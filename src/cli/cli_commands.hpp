@@ -190,6 +190,10 @@ struct SamplerOptions {
 };
 
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
+// Where NEARCAP_DATA_DIR is set, its meshes folder must hold the sampler's
+// meshes: Error(Io) naming it otherwise (every configuration would be
+// rejected).  For the commands that sample (--samples above 0).
+void check_sampler_meshes(const analysis::SamplerSpec& spec);
 // `sizes`: the --width and --height options too.
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
 // The names of a comma-separated list, in order, empty ones kept: "" is one

@@ -402,12 +402,16 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   // The bundled meshes: the environment's NEARCAP_DATA_DIR, or the shipped data.
   const char* data = std::getenv("NEARCAP_DATA_DIR");
   spec.mesh_directory = (std::filesystem::path(data && *data ? data : shipped_data_dir()) / "meshes").string();
+  return spec;
+}
+
+void check_sampler_meshes(const analysis::SamplerSpec& spec) {
+  const char* data = std::getenv("NEARCAP_DATA_DIR");
   std::error_code ec;
   const std::filesystem::path box = std::filesystem::path(spec.mesh_directory) / "box.off";
   if (data && *data && !std::filesystem::is_regular_file(box, ec))
     throw Error(ErrorKind::Io, "NEARCAP_DATA_DIR=" + std::string(data) + ": no " + box.string() +
                                    " (the sampler reads its meshes from $NEARCAP_DATA_DIR/meshes)");
-  return spec;
 }
 
 CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
 
 #include "cli_commands.hpp"
 
@@ -27,6 +28,14 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
 std::vector<CommandInput> scene_inputs(const Scene& scene) {
   std::vector<CommandInput> inputs{{scene.source, "scene file"}};
   for (const SceneObject& o : scene.objects)
+    if (!o.mesh_path.empty()) inputs.push_back({o.mesh_path, "mesh file"});
+  return inputs;
+}
+
+std::vector<CommandInput> camera_path_inputs(const analysis::CameraPath& path) {
+  std::vector<CommandInput> inputs{{path.source, "camera path file"}, {path.scene_file, "scene file"}};
+  const Scene first = parse_scene(analysis::path_frame_json(path, 0), path.source + " frame 0", ".");
+  for (const SceneObject& o : first.objects)
     if (!o.mesh_path.empty()) inputs.push_back({o.mesh_path, "mesh file"});
   return inputs;
 }

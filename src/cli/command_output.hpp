@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/scene/scene.hpp"
 
@@ -37,6 +38,10 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
 
 // A scene's files: the scene file and each object's mesh file.
 std::vector<CommandInput> scene_inputs(const Scene& scene);
+
+// A camera path's files: the path file, its base scene and the base scene's
+// mesh files (read from its first frame).
+std::vector<CommandInput> camera_path_inputs(const analysis::CameraPath& path);
 
 // The files of a command's --out DIR, gathered while the command runs and
 // written together at its end by io::write_output_files (every file or

@@ -27,7 +27,9 @@ void run(const FitOptions& o) {
                               std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds;
   if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
   if (!o.out.empty()) io::check_output_files({o.out});  // before the fit
-  const analysis::HardCaseSampler sampler(sampler_spec(o.sampler));
+  const analysis::SamplerSpec spec = sampler_spec(o.sampler);
+  check_sampler_meshes(spec);
+  const analysis::HardCaseSampler sampler(spec);
   std::vector<analysis::KnobConfiguration> configurations;
   for (std::uint64_t i = 0; i < o.samples; ++i) {
     const std::string id = "sample:" + std::to_string(o.sampler.seed) + ":" + std::to_string(i);

@@ -185,13 +185,7 @@ class LitScenes {
   std::size_t count() const { return path_ ? static_cast<std::size_t>(path_->frames) : 1; }
   // The files the frames are read from: the scene or the camera path, its
   // base scene, and their meshes.
-  std::vector<CommandInput> inputs() {
-    if (!path_) return scene_inputs(*scene_);
-    std::vector<CommandInput> in{{path_->source, "camera path file"}, {path_->scene_file, "scene file"}};
-    for (const SceneObject& object : at(0).objects)
-      if (!object.mesh_path.empty()) in.push_back({object.mesh_path, "mesh file"});
-    return in;
-  }
+  std::vector<CommandInput> inputs() { return path_ ? camera_path_inputs(*path_) : scene_inputs(*scene_); }
   Scene at(std::size_t f) {
     if (!path_) return *scene_;
     const int frame = static_cast<int>(f);
@@ -315,8 +309,8 @@ void run_lit(const RenderOptions& o) {
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   LitScenes scenes(o);
-  // No output replaces what the command reads: the fixed names now, each
-  // frame's images as they are staged.
+  // No output replaces what the command reads: the fixed names before the
+  // work, each frame's images as they are staged.
   std::vector<CommandInput> inputs = scenes.inputs();
   if (methods.policy) inputs.push_back({o.policy, "policy file"});
   for (const char* name : {"render.json", "bench.csv", "bench.png"})

@@ -99,7 +99,9 @@ struct SampleOptions {
 };
 
 void run_sample(const SamplerOptions& o, std::uint64_t index, const std::string& out) {
-  const analysis::HardCase c = analysis::HardCaseSampler(sampler_spec(o)).sample(index);
+  const analysis::SamplerSpec spec = sampler_spec(o);
+  check_sampler_meshes(spec);
+  const analysis::HardCase c = analysis::HardCaseSampler(spec).sample(index);
   const std::string json = c.scene_json + "\n";
   if (out.empty())
     std::cout << json;
@@ -145,6 +147,7 @@ class Configurations {
     analysis::SamplerSpec spec = sampler_spec(o.sampler);
     if (o.width > 0) spec.width = o.width;
     if (o.height > 0) spec.height = o.height;
+    if (o.samples > 0) check_sampler_meshes(spec);
     sampler_options_ = o.sampler;
     sampler_options_.width = spec.width;
     sampler_options_.height = spec.height;

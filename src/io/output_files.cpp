@@ -307,18 +307,22 @@ void write_output_files(const std::vector<OutputFile>& files) {
   filesystem_errors_as_io([&] { write_output_files_unguarded(files); });
 }
 
-// Can a temporary be made beside p's target?  Made and removed at once;
-// where the target's directory does not exist yet, nothing is asked (the
-// write creates it, and says so if it cannot).
+// Can a file be made where p's target goes?  A temporary made and removed
+// at once in the target's directory, or, where that does not exist yet, in
+// its deepest ancestor that does (where the write would create the rest).
 void probe_writable(const Plan& p, std::size_t k) {
   if (p.kind == Destination::WriteThrough) return;
-  const std::string temporary = temporary_name(p.target, k);
-  const fs::path parent = fs::path(temporary).parent_path();
-  const std::string dir = parent.empty() ? std::string(".") : parent.string();
-  struct stat st {};
-  if (::stat(dir.c_str(), &st) != 0) return;
+  fs::path dir = fs::path(p.target).parent_path();
+  for (;;) {
+    if (dir.empty()) dir = ".";
+    struct stat st {};
+    if (::stat(dir.c_str(), &st) == 0) break;
+    if (errno != ENOENT || dir == dir.parent_path() || dir == ".") return;  // the write says what is wrong
+    dir = dir.parent_path();
+  }
+  const std::string temporary = temporary_name((dir / fs::path(p.target).filename()).string(), k);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) fail(p.user_path, "cannot write in " + dir + ": " + errno_text(errno));
+  if (fd < 0) fail(p.user_path, "cannot write in " + dir.string() + ": " + errno_text(errno));
   ::close(fd);
   ::unlink(temporary.c_str());
 }

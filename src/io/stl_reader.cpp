@@ -98,7 +98,7 @@ class AsciiStlTokens : public mesh_reading::TextTokens {
 };
 
 // One or more solids, each "solid [name]" ... "endsolid [name]", their facets
-// all read into one mesh; after the last, only whitespace.
+// all read into one mesh; after the last, only whitespace (and padding).
 void parse_ascii(const std::string& text, TriangleMesh& mesh) {
   AsciiStlTokens tokens(text, mesh.source);
   tokens.expect("solid");
@@ -109,8 +109,15 @@ void parse_ascii(const std::string& text, TriangleMesh& mesh) {
     const std::string t = tokens.need("'facet' or 'endsolid'");
     if (t == "endsolid") {
       tokens.skip_rest_of_line();  // the solid's name
+      // NUL bytes or a DOS end-of-file mark (0x1A), which some writers pad
+      // their files with, end the text as its end does.
+      const auto padding = [](const std::string& w) {
+        return w.find_first_not_of(std::string("\0\x1a", 2)) == std::string::npos;
+      };
       std::string next;
-      if (!tokens.next(next)) return;
+      bool more = tokens.next(next);
+      while (more && padding(next)) more = tokens.next(next);
+      if (!more) return;
       if (next != "solid")
         tokens.error("found '" + mesh_reading::printable(next) +
                      "' after 'endsolid' (only whitespace or another 'solid' may follow)");

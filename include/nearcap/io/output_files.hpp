@@ -40,8 +40,8 @@ void write_output_files(const std::vector<OutputFile>& files);
 // The first of those promises alone, before a command's work: every
 // destination that write_output_files would refuse (a directory, a block
 // device, a socket, two paths naming one file, a directory where no file can
-// be made: probed with a temporary, removed at once) is an Error now; nothing
-// else is created or written.
+// be made: probed with a temporary, removed at once) is an Error before the
+// command's work; nothing else is created or written.
 void check_output_files(const std::vector<std::string>& paths);
 
 // The same promises for outputs made one at a time (a camera path's frames):
