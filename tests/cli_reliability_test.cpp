@@ -171,6 +171,11 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
                         "would replace the camera path file", "calibrate onto its path");
   expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("B.json")),
                         "would replace the scene file", "calibrate onto its path's scene");
+  expect_one_line_error(run("calibrate --path " + path("path.json") + " --out " + path("box.off")),
+                        "would replace the mesh file", "calibrate onto its path's mesh");
+  expect_one_line_error(run("evaluate --path " + path("path.json") + " --fit-unpriced " + path("box.off") + " --out " +
+                            path("evaluated")),
+                        "would replace the mesh file", "evaluate's fit onto its path's mesh");
   write_scene("render.json", scene_b());
   expect_one_line_error(run("render " + path("render.json") + " --method zpass --out " + dir_.string()),
                         "would replace the scene file", "render's lit frames onto the scene");

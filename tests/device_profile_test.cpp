@@ -519,26 +519,20 @@ TEST(DeviceProfileJson, AProfileWithoutTheExaminedTermReadsItAsZero) {
                                  c.ms_per_ktested * w.tested + c.ms_per_kstraddling * w.straddling) *
                                     1e-3;
   EXPECT_EQ(c.ms(w), four_counts) << "bit for bit";
-  // Negative: refused like the other coefficients.
-  j["cpu"]["clipped_cap"]["ms_per_kexamined"] = -1;
-  try {
-    analysis::parse_device_profile(j.dump(), "four.json");
-    ADD_FAILURE() << "a negative examined cost accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("four.json: cpu.clipped_cap.ms_per_kexamined: must not be negative"),
-              std::string::npos)
-        << e.what();
-  }
-  // Past a quarter of an hour: refused, so that no cost swallows the others' milliseconds.
-  j["cpu"]["clipped_cap"]["ms_per_kexamined"] = 1e16;
-  try {
-    analysis::parse_device_profile(j.dump(), "four.json");
-    ADD_FAILURE() << "a cost of 1e16 ms accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("four.json: cpu.clipped_cap.ms_per_kexamined: must be at most 1e6"),
-              std::string::npos)
-        << e.what();
-  }
+  // Refused like the other coefficients: negative, or past a quarter of an
+  // hour (where a cost would swallow the others' milliseconds).
+  const auto refused = [&j](double cost, const std::string& why) {
+    j["cpu"]["clipped_cap"]["ms_per_kexamined"] = cost;
+    try {
+      analysis::parse_device_profile(j.dump(), "four.json");
+      ADD_FAILURE() << "an examined cost of " << cost << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("four.json: cpu.clipped_cap.ms_per_kexamined: " + why), std::string::npos)
+          << e.what();
+    }
+  };
+  refused(-1, "must not be negative");
+  refused(1e16, "must be at most 1e6");
 }
 
 // A pass row without ms_per_mtriangle_in_view (a profile fitted before the

@@ -384,16 +384,12 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   if (o.kinds != "all") {
     spec.kinds.clear();
     // Each kind once: a kind named twice would be drawn twice as often.
-    for (std::size_t start = 0;;) {
-      const std::size_t comma = o.kinds.find(',', start);
-      const std::string name = o.kinds.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    for (const std::string& name : comma_separated(o.kinds)) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': an empty kind name");
       const analysis::HardCaseKind kind = analysis::hard_case_kind_from_string(name);
       if (std::find(spec.kinds.begin(), spec.kinds.end(), kind) != spec.kinds.end())
         throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': " + name + " is named twice");
       spec.kinds.push_back(kind);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
     }
   }
   spec.width = o.width;

@@ -5,7 +5,6 @@
 #include <iostream>
 
 #include "nearcap/error.hpp"
-#include "nearcap/io/scene_file.hpp"
 
 #include "cli_commands.hpp"
 
@@ -34,9 +33,9 @@ std::vector<CommandInput> scene_inputs(const Scene& scene) {
 
 std::vector<CommandInput> camera_path_inputs(const analysis::CameraPath& path) {
   std::vector<CommandInput> inputs{{path.source, "camera path file"}, {path.scene_file, "scene file"}};
-  const Scene first = parse_scene(analysis::path_frame_json(path, 0), path.source + " frame 0", ".");
-  for (const SceneObject& o : first.objects)
-    if (!o.mesh_path.empty()) inputs.push_back({o.mesh_path, "mesh file"});
+  // The base scene's text names its meshes by absolute path (load_camera_path checked it loads).
+  const nlohmann::json base = nlohmann::json::parse(path.base_scene_json);
+  for (const nlohmann::json& o : base.at("objects")) inputs.push_back({o.at("mesh").get<std::string>(), "mesh file"});
   return inputs;
 }
 

@@ -40,7 +40,7 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
 std::vector<CommandInput> scene_inputs(const Scene& scene);
 
 // A camera path's files: the path file, its base scene and the base scene's
-// mesh files (read from its first frame).
+// mesh files.
 std::vector<CommandInput> camera_path_inputs(const analysis::CameraPath& path);
 
 // The files of a command's --out DIR, gathered while the command runs and
