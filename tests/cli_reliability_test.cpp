@@ -458,7 +458,7 @@ TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
 }
 
 TEST_F(Reliability, AFailedAllocationIsAResourceError) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(NEARCAP_TESTS_UNDER_ASAN)
   GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit this test sets";
 #else
   // --max-memory lets the frame past the estimate; the address-space limit
@@ -495,6 +495,13 @@ TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
       {"classify " + b + " --bogus", "--bogus"},
       {"classify " + b + " extra", "extra"},
       {"cap " + b + " --light 3", "out of range"},
+      // A --policy that no method chosen reads (a broken one would pass unread).
+      {"cracks " + b + " --light 0 --method zfail --policy " + b,
+       "--policy is read only with --method policy (or all)"},
+      {"render " + b + " --method zpass --policy " + b + " --out " + path("r"),
+       "--policy is read only with --method policy (or all)"},
+      {"sweep --samples 1 --policies doom3 --policy " + b + " --out " + path("s.csv"),
+       "--policy is read only with --policies policy (or all)"},
   };
   for (const auto& [args, fragment] : cases) expect_one_line_error(run(args), fragment, args);
 }
@@ -503,8 +510,21 @@ TEST_F(Reliability, VersionAndHelpExitZero) {
   const test::CliResult v = run("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("nearcap 0."), std::string::npos) << v.out;
-  EXPECT_EQ(run("--help").exit_code, 0);
+  const test::CliResult help = run("--help");
+  EXPECT_EQ(help.exit_code, 0);
   EXPECT_EQ(run("cracks --help").exit_code, 0);
+  // `--help CMD` is `help CMD`: that command's help.
+  const test::CliResult cracks_help = run("--help cracks");
+  EXPECT_EQ(cracks_help.exit_code, 0);
+  EXPECT_EQ(cracks_help.out, run("help cracks").out);
+  EXPECT_NE(cracks_help.out, help.out);
+}
+
+TEST_F(Reliability, VersionAndHelpRefuseWhatTheyDoNotRead) {
+  expect_one_line_error(run("--version extra"), "--version takes no arguments (found 'extra')", "version");
+  expect_one_line_error(run("help cracks extra"), "help takes one subcommand's name (found 'extra' after 'cracks')",
+                        "help");
+  expect_one_line_error(run("--help cracks extra"), "found 'extra'", "--help");
 }
 
 TEST_F(Reliability, DuplicateKeysAreRejectedWithTheirPath) {

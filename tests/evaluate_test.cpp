@@ -497,6 +497,7 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
       {"evaluate --path data/paths/fly_around.json --first-frame 5 --last-frame 4" + out, "usage",
        "--last-frame 4 is before --first-frame 5"},
       {"evaluate --path data/paths/fly_around.json --first-frame 900" + out, "usage", "has 90 frames"},
+      {"evaluate --path data/paths/fly_around.json --last-frame 90" + out, "usage", "has 90 frames (the last is 89)"},
       {"evaluate --path data/paths/missing.json" + out, "io", "missing.json"},
       {"evaluate --samples 2 --policy data/missing-policy.json" + out, "io", "missing-policy.json"},
       {"evaluate --samples 2 --policy data/scenes/case_d.json" + out, "schema", "case_d.json"},

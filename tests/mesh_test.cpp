@@ -365,6 +365,23 @@ TEST(MeshParse, ContentAfterTheDeclaredFacesIsRejectedWithItsLine) {
                      "line 25: found 'garbage' after the last of the 12 faces the header declares");
 }
 
+TEST(MeshParse, AFaceLineHoldsItsIndicesAndAtMostAColour) {
+  // A colour after the indices (one colour-map index, RGB or RGBA) is read and
+  // ignored; two faces on one line (seven values after the first's indices) or
+  // a word that is not a number are refused, not dropped.
+  const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  for (const char* colour : {"", " 7", " 255 0 0", " 0.5 0.5 0.5 1", "  # a comment"}) {
+    const TriangleMesh mesh = parse_off(head + "3 0 2 1" + colour + "\n3 0 1 3\n", "t.off");
+    EXPECT_EQ(mesh.triangle_count(), 2u) << colour;
+  }
+  // Four numbers after the indices read as RGBA: the second face is then missing.
+  expect_parse_error(head + "3 0 2 1 3 0 1 3\n", ErrorKind::Parse, "expected a face's vertex count");
+  expect_parse_error("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 3 0 1 3 3 1 2 3\n", ErrorKind::Parse,
+                     "line 7: face 0 has 8 values after its vertex indices; a face colour is 1, 3 or 4 numbers");
+  expect_parse_error(head + "3 0 2 1 255 0\n3 0 1 3\n", ErrorKind::Parse, "line 7: face 0 has 2 values after");
+  expect_parse_error(head + "3 0 2 1 red\n3 0 1 3\n", ErrorKind::Parse, "line 7: face 0: expected a colour value");
+}
+
 TEST(MeshParse, UnknownFormatIsAParseError) {
   expect_error([] { (void)parse_mesh(box_off(), "gltf", "t.gltf"); }, ErrorKind::Parse, "unknown mesh format",
                "t.gltf");

@@ -389,6 +389,10 @@ TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
             8u);
   EXPECT_EQ(analysis::cost_samples_from_text(csv, "s.csv", ShadowMethod::ZFail).size(), 8u);
   expect_csv_error(with_line(csv, 3, "a,b"), ErrorKind::Parse, "s.csv: line 3: 2 fields, the header has 23");
+  expect_csv_error(with_line(csv, 1, "x" + std::string(kHeader)), ErrorKind::Schema,
+                   "s.csv: line 1: missing column 'configuration'");
+  // A byte order mark before the header is read past.
+  EXPECT_EQ(analysis::cost_samples_from_text("\xEF\xBB\xBF" + csv, "s.csv", ShadowMethod::ZFail).size(), 8u);
   expect_csv_error(with_line(csv, 4, row("sample:1:1", "zfail", 0, "1.5ms")), ErrorKind::Parse,
                    "s.csv: line 4: column 'frame_ms': '1.5ms' is not a number", false);
   expect_csv_error(with_line(csv, 4, row("\"sample:1:1", "zfail", 0, "1")), ErrorKind::Parse,

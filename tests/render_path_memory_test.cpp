@@ -108,7 +108,7 @@ class RenderPathMemory : public ::testing::Test {
 };
 
 TEST_F(RenderPathMemory, TenTimesTheFramesPeaksWithinAFewMegabytes) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(NEARCAP_TESTS_UNDER_ASAN)
   GTEST_SKIP() << "AddressSanitizer holds freed memory in its quarantine (256 MB by default), so a longer run's "
                   "peak grows with the memory it has freed, not with what it keeps";
 #else

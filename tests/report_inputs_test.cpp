@@ -465,6 +465,17 @@ TEST_F(ReportInputs, APolicyWithAByteOrderMarkIsRead) {
             std::string::npos);
 }
 
+// A sweep CSV saved by a spreadsheet starts with a byte order mark: read past,
+// it is the same report.
+TEST_F(ReportInputs, ASweepCsvWithAByteOrderMarkIsRead) {
+  std::ofstream(path("bom_rows.csv"), std::ios::binary) << "\xEF\xBB\xBF" << test::slurp(rows());
+  const test::CliResult r =
+      test::run_cli("report " + path("bom_rows.csv").string() + " --out " + path("bom_rows").string(), "bom rows");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_TRUE(fs::exists(path("bom_rows") / "index.html"));
+}
+
 TEST_F(ReportInputs, MemoryDoesNotGrowWithTheRows) {
   if (::access("/usr/bin/time", X_OK) != 0) GTEST_SKIP() << "/usr/bin/time (Debian: time) measures the peak memory";
   // 150,000 rows: the sampled configurations copied under new names.  Holding

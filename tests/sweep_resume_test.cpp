@@ -222,7 +222,7 @@ TEST_F(SweepFile, ResumeRefusesOtherOptionsNamingTheFirstThatDiffers) {
       {"", "--variant fma=1", "--variant: fma=1 here, (none) in the sweep being resumed"},
       {"--samples 6", "--samples 3", "--samples: 3 here, 6 in the sweep being resumed"},
       {"--methods zpass,zfail", "--methods zpass", "--methods: zpass here, zpass, zfail in the sweep being resumed"},
-      {"doom3,policy", "doom3", "--policies: doom3 here, doom3, policy in the sweep being resumed"},
+      {"doom3,policy --policy " + policy, "doom3", "--policies: doom3 here, doom3, policy in the sweep being resumed"},
       {"--policy " + policy, "--policy " + other_policy, "--policy (content digest): "},
   };
   for (const Case& c : cases) {

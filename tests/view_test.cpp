@@ -310,6 +310,19 @@ TEST_F(ViewCommand, EscapeInAKeyScriptQuits) {
   EXPECT_TRUE(fs::exists(shot));
 }
 
+// A view saved by the p key never takes the screenshot's file, also where
+// --screenshot names it through a link that does not resolve yet.
+TEST_F(ViewCommand, ASavedViewNeverTakesTheScreenshotsFile) {
+  const fs::path link = dir_ / "shot-link.png";
+  fs::create_symlink(dir_ / "view-000.json", link);
+  const auto r = view("data/scenes/default.json --method zpass --keys p --out '" + dir_.string() + "' --screenshot '" +
+                      link.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("saved " + (dir_ / "view-001.json").string()), std::string::npos) << r.out;
+  EXPECT_EQ(test::slurp(dir_ / "view-000.json").rfind("\x89PNG", 0), 0u);
+  EXPECT_TRUE(nlohmann::json::parse(test::slurp(dir_ / "view-001.json")).contains("camera"));
+}
+
 TEST_F(ViewCommand, TheStatusLineCoversOnlyTheTopOfTheFrame) {
   const fs::path with = dir_ / "with.png", without = dir_ / "without.png";
   ASSERT_EQ(view("data/scenes/default.json --method policy --screenshot '" + with.string() + "'").exit_code, 0);

@@ -158,6 +158,8 @@ def text_lines(name, handle):
         if len(raw) == MAX_LINE_BYTES and not raw.endswith(b"\n"):
             raise ReportError("parse", f"{name}: line {line}: longer than {MAX_LINE_BYTES >> 20} MB "
                                        "(not a nearcap sweep CSV)")
+        if line == 1 and raw.startswith(b"\xef\xbb\xbf"):
+            raw = raw[3:]  # a byte order mark (a spreadsheet's UTF-8 export) is not part of the first column's name
         try:
             yield raw.decode("utf-8")
         except UnicodeDecodeError as e:

@@ -254,6 +254,8 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
                                           "; a sweep CSV is UTF-8 text)");
       }
       if (number > 1 && line.empty()) continue;
+      // A byte order mark (a spreadsheet's UTF-8 export) is not part of the first column's name.
+      if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
       bool closed = true;
       std::vector<std::string> fields = csv_fields(line, closed);
       if (!closed) throw Error(ErrorKind::Parse, where + ": a quoted field is not closed on its line");
@@ -266,7 +268,7 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
             column.count("configuration") && column.count("light") && column.count("method") && column.count("variant");
         for (const char* c : needed)
           if (!column.count(c))
-            throw Error(ErrorKind::Parse,
+            throw Error(ErrorKind::Schema,
                         where + ": missing column '" + c + "' (not a nearcap sweep CSV, or one from an older nearcap)");
         continue;
       }

@@ -95,6 +95,9 @@ CLI::Option* add_optional_light_option(CLI::App& cmd, std::size_t& light, bool& 
 
 // `option`, with `given` set when the command line gives it.
 CLI::Option* note_given(CLI::Option* option, bool& given);
+// Throws Error(Usage) where --policy is given but nothing chosen reads it
+// (`read_with` names the choice that would).
+void refuse_unread_policy(bool given, bool read, const std::string& read_with);
 
 // The SCENE argument: the scene file's path.
 CLI::Option* add_scene_argument(CLI::App& cmd, std::string& scene);

@@ -107,6 +107,11 @@ CLI::Option* note_given(CLI::Option* option, bool& given) {
   return option->each([&given](const std::string&) { given = true; });
 }
 
+void refuse_unread_policy(bool given, bool read, const std::string& read_with) {
+  if (given && !read)
+    throw Error(ErrorKind::Usage, "--policy is read only with " + read_with + ": no method chosen uses it");
+}
+
 CLI::Option* add_scene_argument(CLI::App& cmd, std::string& scene) {
   return cmd.add_option("scene", scene, "scene file (JSON)");
 }

@@ -30,6 +30,7 @@ struct CracksOptions {
   std::size_t light = 0;
   std::string method = "all";
   std::string policy = shipped_data_dir() + "/policy.json";
+  bool policy_given = false;  // --policy on the command line
   raytrace::ShadowEpsilon shadow_epsilon = raytrace::ShadowEpsilon::Fixed;
   EmulationOptions emulation;
   std::string out;
@@ -181,6 +182,7 @@ void run(const CracksOptions& o) {
   const std::vector<gl::ShadowMethod>& methods = choice.methods;
   refuse_non_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
+  refuse_unread_policy(o.policy_given, choice.policy, "--method policy (or all)");
   if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);
   const Scene scene = load_scene(o.scene);
@@ -302,7 +304,8 @@ void register_cracks(CLI::App& app) {
                      ", raytrace (Embree, float32), policy (a method per occluder, from --policy), comma-separated, "
                      "or all (the six, raytrace and the policy)")
       ->capture_default_str();
-  cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)")
+  note_given(cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)"),
+             o.policy_given)
       ->capture_default_str();
   add_choice_option(
       cmd, "--shadow-epsilon", o.shadow_epsilon,

@@ -416,6 +416,10 @@ void run(const EvaluateOptions& o) {
     if (o.first_frame >= p.frames)
       throw Error(ErrorKind::Usage, "--first-frame " + std::to_string(o.first_frame) + ": " + file + " has " +
                                         std::to_string(p.frames) + " frames");
+    if (o.last_frame >= p.frames)
+      throw Error(ErrorKind::Usage, "--last-frame " + std::to_string(o.last_frame) + ": " + file + " has " +
+                                        std::to_string(p.frames) + " frames (the last is " +
+                                        std::to_string(p.frames - 1) + ")");
     paths.push_back(std::move(p));
   }
   // No output replaces what the command reads.
@@ -447,7 +451,7 @@ void run(const EvaluateOptions& o) {
   std::vector<Configuration> configurations;
   for (const analysis::CameraPath& p : paths) {
     const std::string name = std::filesystem::path(p.source).stem().string();
-    const int last = o.last_frame >= 0 ? std::min(o.last_frame, p.frames - 1) : p.frames - 1;
+    const int last = o.last_frame >= 0 ? o.last_frame : p.frames - 1;
     for (int f = o.first_frame; f <= last; ++f)
       configurations.push_back({name, "path:" + name + ":" + std::to_string(f), f, analysis::path_frame_json(p, f)});
   }

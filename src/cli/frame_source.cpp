@@ -8,8 +8,10 @@
 
 namespace nearcap::cli {
 
-RenderMethods render_methods(const std::string& method, const std::string& policy_file, const std::string& command) {
+RenderMethods render_methods(const std::string& method, const std::string& policy_file, bool policy_given,
+                             const std::string& command) {
   const MethodChoice choice = method_choice(method);
+  refuse_unread_policy(policy_given, choice.policy, "--method policy (or all)");
   if (choice.raytrace && method != "all")
     throw Error(ErrorKind::Usage, "--method raytrace: nearcap " + command +
                                       " draws the stencil methods and the policy (the ray tracer has no stencil; "

@@ -36,8 +36,10 @@ struct RenderMethods {
 };
 
 // `command` names the command in the refusal of raytrace (no stencil).
-// Throws Error(Usage) for an unknown name, what load_policy throws.
-RenderMethods render_methods(const std::string& method, const std::string& policy_file, const std::string& command);
+// Throws Error(Usage) for an unknown name, for a --policy given (`policy_given`)
+// that no method chosen reads, and what load_policy throws.
+RenderMethods render_methods(const std::string& method, const std::string& policy_file, bool policy_given,
+                             const std::string& command);
 
 // What --method policy prices its candidates with: "" without the policy or
 // its device profile; else a line naming the profile's origin and the

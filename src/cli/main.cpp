@@ -75,10 +75,16 @@ int main(int argc, char** argv) {
   nearcap::cli::register_evaluate(app);
 #endif
 
-  // `nearcap` alone and `nearcap help` print the help; `nearcap help CMD`, CMD's.
-  if (argc < 2 || std::strcmp(argv[1], "help") == 0) {
+  // `nearcap` alone, `nearcap help` and `nearcap --help` print the help;
+  // `nearcap help CMD` and `nearcap --help CMD`, CMD's.
+  const bool help_first = argc >= 2 && (std::strcmp(argv[1], "help") == 0 || std::strcmp(argv[1], "--help") == 0 ||
+                                        std::strcmp(argv[1], "-h") == 0);
+  if (argc < 2 || help_first) {
     app.name("nearcap");  // parse() would name it after argv[0]
     const CLI::App* topic = &app;
+    if (argc > 3)
+      return usage_error(std::string(argv[1]) + " takes one subcommand's name (found '" + argv[3] + "' after '" +
+                         argv[2] + "')");
     if (argc > 2) {
       const auto all = app.get_subcommands([](const CLI::App*) { return true; });
       const auto sub =
@@ -97,10 +103,11 @@ int main(int argc, char** argv) {
                                         [&](const CLI::App* sub) { return sub->get_name() == argv[1]; }))
     return usage_error(std::string("unknown subcommand '") + argv[1] + "' (one of " +
                        nearcap::cli::subcommand_names(app) + ")");
-  if (argv[1][0] == '-' && std::strcmp(argv[1], "--help") != 0 && std::strcmp(argv[1], "-h") != 0 &&
-      std::strcmp(argv[1], "--version") != 0)
+  if (argv[1][0] == '-' && std::strcmp(argv[1], "--version") != 0)
     return usage_error(std::string("unknown option '") + argv[1] + "': the subcommand comes first (one of " +
                        nearcap::cli::subcommand_names(app) + ")");
+  if (std::strcmp(argv[1], "--version") == 0 && argc > 2)
+    return usage_error(std::string("--version takes no arguments (found '") + argv[2] + "')");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

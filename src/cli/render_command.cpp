@@ -110,7 +110,7 @@ void run(const RenderOptions& o) {
   if (!o.path.empty()) throw Error(ErrorKind::Usage, "--compare takes a scene file, not --path");
   if (!o.light_given) throw Error(ErrorKind::Usage, "--compare needs --light K");
   refuse_non_directory(o.out, "--out");
-  const RenderMethods methods = render_methods(o.method, o.policy, "render");
+  const RenderMethods methods = render_methods(o.method, o.policy, o.policy_given, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   const Scene scene = load_scene(o.scene);
@@ -218,7 +218,8 @@ void register_render(CLI::App& app) {
                  "zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, policy (a method per occluder, from "
                  "--policy), comma-separated, or all (the six and the policy)")
       ->capture_default_str();
-  cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)")
+  note_given(cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)"),
+             o.policy_given)
       ->capture_default_str();
   cmd.add_flag("--compare", o.compare, "compare the real GL's stencil with the emulation's and the exact reference");
   cmd.add_flag("--table", o.table, "with --compare, print a human-readable table instead of JSON");

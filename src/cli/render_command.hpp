@@ -23,6 +23,7 @@ struct RenderOptions {
   bool light_given = false;
   std::string method = "all";
   std::string policy = shipped_data_dir() + "/policy.json";
+  bool policy_given = false;  // --policy on the command line
   bool compare = false;
   bool table = false;    // with --compare: a table instead of the JSON line
   bool stencil = false;  // the lit frames' stencils too, per light, as 16-bit PGM

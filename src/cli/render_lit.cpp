@@ -305,7 +305,7 @@ std::string lit_stencil_file(const RenderOptions& o, const std::string& name, st
 void run_lit(const RenderOptions& o) {
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap render writes the lit frames into --out DIR");
   refuse_non_directory(o.out, "--out");
-  const RenderMethods methods = render_methods(o.method, o.policy, "render");
+  const RenderMethods methods = render_methods(o.method, o.policy, o.policy_given, "render");
   gl::EmulationSettings settings = settings_from(o.emulation);
   settings.record_draws = true;
   LitScenes scenes(o);

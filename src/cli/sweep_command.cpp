@@ -119,6 +119,7 @@ struct SweepCommandOptions {
   std::string methods = "all";
   std::string policies = "none";
   std::string policy_file = shipped_data_dir() + "/policy.json";
+  bool policy_given = false;  // --policy on the command line
   EmulationOptions emulation;
   std::vector<std::string> variants;
   std::string out;
@@ -589,6 +590,7 @@ void run_sweep(const SweepCommandOptions& o) {
       throw Error(ErrorKind::Usage, "--methods names " + std::string(gl::to_string(options.methods[k])) + " twice");
   bool switch_policy = false;
   options.policies = policies_from(o.policies, switch_policy);
+  refuse_unread_policy(o.policy_given, switch_policy, "--policies policy (or all)");
   if (switch_policy) options.switch_policy = analysis::load_policy(o.policy_file);
   // The options' own choices, then each --variant over them.
   options.variants = {{variant_label(o.emulation), settings_from(o.emulation)}};
@@ -809,7 +811,9 @@ void register_sweep(CLI::App& app) {
                      names_joined<analysis::EnginePolicy>() +
                      ", policy (the switch policy of --policy), or all, or none")
       ->capture_default_str();
-  cmd.add_option("--policy", o.policy_file, "the switch policy for --policies policy (nearcap tune writes one)")
+  note_given(
+      cmd.add_option("--policy", o.policy_file, "the switch policy for --policies policy (nearcap tune writes one)"),
+      o.policy_given)
       ->capture_default_str();
   add_emulation_options(cmd, o.emulation);
   cmd.add_option("--variant", o.variants,

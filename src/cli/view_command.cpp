@@ -44,6 +44,7 @@ struct ViewOptions {
   bool light_given = false;
   std::string method = "all";
   std::string policy = shipped_data_dir() + "/policy.json";
+  bool policy_given = false;  // --policy on the command line
   std::string keys;
   std::string screenshot;
   std::string out = ".";
@@ -116,7 +117,7 @@ class Viewer {
       : options_(o),
         scene_json_(scene_json_with_absolute_meshes(o.scene)),
         scene_(parse_scene(scene_json_.dump(), o.scene, ".", &meshes_)),
-        methods_(unpriced(render_methods(o.method, o.policy, "view"))),
+        methods_(unpriced(render_methods(o.method, o.policy, o.policy_given, "view"))),
         settings_(settings_from(o.emulation)),
         camera_(scene_.camera.view, o.step > 0 ? o.step : default_step(scene_)),
         script_(keys_of(o.keys)) {
@@ -131,6 +132,7 @@ class Viewer {
       if (methods_.policy) inputs.push_back({o.policy, "policy file"});
       refuse_replacing_inputs(o.screenshot, inputs, "--screenshot");
       io::check_output_files({o.screenshot});
+      screenshot_destination_ = io::output_destination(o.screenshot);
     }
     settings_.record_draws = true;
     // The first method named is shown first (RenderMethods keeps the policy last).
@@ -377,11 +379,9 @@ class Viewer {
       char name[32];
       std::snprintf(name, sizeof name, "view-%03d.json", n);
       file = dir / name;
-      // A new name, and not the screenshot's, which is written at the end.
-      std::error_code ec;
+      // A new name, and not the screenshot's (through links too), which is written at the end.
       const bool screenshot =
-          !options_.screenshot.empty() &&
-          std::filesystem::weakly_canonical(file, ec) == std::filesystem::weakly_canonical(options_.screenshot, ec);
+          !options_.screenshot.empty() && io::output_destination(file.string()) == screenshot_destination_;
       if (!std::filesystem::exists(file) && !screenshot) break;
     }
     Json root = scene_json_;
@@ -395,6 +395,7 @@ class Viewer {
   }
 
   const ViewOptions& options_;
+  std::string screenshot_destination_;  // the file --screenshot writes (links followed)
   Json scene_json_;
   MeshCache meshes_;
   Scene scene_;
@@ -435,7 +436,8 @@ void register_view(CLI::App& app) {
                  "the methods the m key cycles through: zpass, zfail, zpplus, zpplus-corrected, preload, atomiczp, "
                  "policy, comma-separated, or all (the six and the policy); the first is shown first")
       ->capture_default_str();
-  cmd.add_option("--policy", o.policy, "the switch policy for the policy method")->capture_default_str();
+  note_given(cmd.add_option("--policy", o.policy, "the switch policy for the policy method"), o.policy_given)
+      ->capture_default_str();
   cmd.add_option("--keys", o.keys,
                  "a key sequence played first, through the same commands as the keys (names as in the key list, "
                  "separated by spaces; 'wait' waits for the crack overlay)");

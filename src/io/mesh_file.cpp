@@ -96,6 +96,22 @@ void TextTokens::skip_rest_of_line() {
   while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
 }
 
+std::vector<std::string> TextTokens::rest_of_line() {
+  std::vector<std::string> words;
+  for (;;) {
+    while (pos_ < text_.size() && text_[pos_] != '\n' && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    if (pos_ >= text_.size() || text_[pos_] == '\n') return words;
+    if (is_comment(text_[pos_])) {
+      skip_rest_of_line();
+      return words;
+    }
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && !is_comment(text_[pos_]))
+      ++pos_;
+    words.push_back(text_.substr(start, pos_ - start));
+  }
+}
+
 std::string TextTokens::need(const std::string& what) {
   std::string t;
   if (!next(t)) error("unexpected end of file, expected " + what + " (truncated file?)");

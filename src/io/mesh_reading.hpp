@@ -41,6 +41,8 @@ class TextTokens {
   bool next(std::string& token);
   // Skips to the end of the current line (values a reader ignores).
   void skip_rest_of_line();
+  // The words left on the current line, up to its end or a comment.
+  std::vector<std::string> rest_of_line();
   int line() const { return line_; }
   // Throws Error(Parse, "<source>: line N: <what>").
   [[noreturn]] void error(const std::string& what) const { fail_at_line(ErrorKind::Parse, source_, line_, what); }

@@ -45,6 +45,25 @@ class OffTokens : public mesh_reading::TextTokens {
   }
 };
 
+// What may follow a face's vertex indices on its line: a colour, one number
+// (a colour-map index) or three or four (RGB or RGBA).  Anything else, such as
+// a second face on the same line, is refused rather than dropped; a face
+// written as four numbers on its predecessor's line still reads as a colour.
+void check_face_colour(const OffTokens& tokens, long long face, const std::vector<std::string>& words) {
+  const std::size_t n = words.size();
+  const bool colour_size = n == 0 || n == 1 || n == 3 || n == 4;
+  for (const std::string& w : words) {
+    char* end = nullptr;
+    std::strtod(w.c_str(), &end);
+    if (end != w.c_str() + w.size())
+      tokens.error("face " + std::to_string(face) + ": expected a colour value or the end of the line after its " +
+                   "vertex indices, found '" + mesh_reading::printable(w) + "'");
+  }
+  if (!colour_size)
+    tokens.error("face " + std::to_string(face) + " has " + std::to_string(n) +
+                 " values after its vertex indices; a face colour is 1, 3 or 4 numbers (two faces on one line?)");
+}
+
 }  // namespace
 
 TriangleMesh parse_off(const std::string& text, const std::string& source) {
@@ -82,7 +101,7 @@ TriangleMesh parse_off(const std::string& text, const std::string& source) {
                      std::to_string(nv) + " vertices");
       t[k] = static_cast<VertexIndex>(idx);
     }
-    tokens.skip_rest_of_line();  // optional colour
+    check_face_colour(tokens, f, tokens.rest_of_line());
     mesh.triangles.push_back(t);
   }
   // Only whitespace and comments may follow the declared faces: an extra face

@@ -116,6 +116,14 @@ Plan plan_for(const std::string& path) {
   return p;
 }
 
+}  // namespace
+
+std::string output_destination(const std::string& path) {
+  return fs::weakly_canonical(follow_dangling_link(path)).string();
+}
+
+namespace {
+
 std::string temporary_name(const std::string& target, std::size_t k) {
   static std::atomic<unsigned> counter{0};
   const fs::path t(target);

@@ -44,6 +44,11 @@ void write_output_files(const std::vector<OutputFile>& files);
 // command's work; nothing else is created or written.
 void check_output_files(const std::vector<std::string>& paths);
 
+// The file a write to `path` lands in: symbolic links followed, a dangling one
+// to the name it would create, the result weakly canonical.  Two outputs
+// collide where these are equal.  Throws Error(Io) on a loop of links.
+std::string output_destination(const std::string& path);
+
 // The same promises for outputs made one at a time (a camera path's frames):
 // add() checks a destination against the special files and the outputs added
 // before it, creates its missing parents and writes its bytes to the
