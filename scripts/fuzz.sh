@@ -3,7 +3,7 @@
 # each one on a working corpus seeded from the minimized corpora kept in the
 # tree (fuzz/corpus/TARGET), the seeds (fuzz/seeds/, data/) and the crash
 # inputs (fuzz/regressions/).  New crash inputs land in fuzz-corpus-work/crashes/.
-#   ./scripts/fuzz.sh              short run (CI): 12 s per target
+#   ./scripts/fuzz.sh              short run (CI): 6 s per target
 #   ./scripts/fuzz.sh 3600         an hour per target
 #   NEARCAP_FUZZ_RUNS=10000000 ./scripts/fuzz.sh 0
 #                                  until 10 million executions per target (a campaign)
@@ -11,12 +11,12 @@
 #   NEARCAP_FUZZ_BIN=DIR ./scripts/fuzz.sh 60   prebuilt fuzz_* binaries from DIR, no build
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-12}
+seconds=${1:-6}
 runs=${NEARCAP_FUZZ_RUNS:-0}
 targets=${NEARCAP_FUZZ_TARGETS:-"scene pipeline off obj ply stl pgm csv policy"}
 bin=${NEARCAP_FUZZ_BIN:-build-fuzz/fuzz}
 if [ -z "${NEARCAP_FUZZ_BIN:-}" ]; then
-  # -O1 -g1 (line tables only) as the sanitizer build of scripts/test.sh: crash stacks keep their lines.
+  # -O1 -g1 (line tables only): crash stacks keep their lines.
   cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DNEARCAP_FUZZ=ON -DNEARCAP_BUILD_TESTS=OFF -DNEARCAP_BUILD_BENCHMARKS=OFF >/dev/null

@@ -370,10 +370,11 @@ TEST(MeshParse, AFaceLineHoldsItsIndicesAndAtMostAColour) {
   // ignored; two faces on one line (seven values after the first's indices) or
   // a word that is not a number are refused, not dropped.
   const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
-  for (const char* colour : {"", " 7", " 255 0 0", " 0.5 0.5 0.5 1", "  # a comment"}) {
+  for (const char* colour : {"", " 7", " 255 0 0", " 0.5 0.5 0.5 1", "  # a comment", " 7\r", " 255 0 0 \r"}) {
     const TriangleMesh mesh = parse_off(head + "3 0 2 1" + colour + "\n3 0 1 3\n", "t.off");
     EXPECT_EQ(mesh.triangle_count(), 2u) << colour;
   }
+  EXPECT_EQ(parse_off(head + "3 0 2 1\n3 0 1 3 255 0 0", "t.off").triangle_count(), 2u);  // no newline at the end
   // Four numbers after the indices read as RGBA: the second face is then missing.
   expect_parse_error(head + "3 0 2 1 3 0 1 3\n", ErrorKind::Parse, "expected a face's vertex count");
   expect_parse_error("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 3 0 1 3 3 1 2 3\n", ErrorKind::Parse,

@@ -574,7 +574,8 @@ void register_evaluate(CLI::App& app) {
   cmd.add_option("--first-frame", o.first_frame, "the first frame of each path")
       ->transform(integer_in(0, 1000000))
       ->capture_default_str();
-  cmd.add_option("--last-frame", o.last_frame, "the last frame of each path (default: its last)")
+  cmd.add_option("--last-frame", o.last_frame,
+                 "the last frame of each path (default: its last; one past a path's end is refused)")
       ->transform(integer_in(0, 1000000));
   cmd.add_option("--repeats", o.repeats,
                  "timing rounds per configuration and light: every rule's frame drawn once per round, "

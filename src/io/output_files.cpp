@@ -119,7 +119,11 @@ Plan plan_for(const std::string& path) {
 }  // namespace
 
 std::string output_destination(const std::string& path) {
-  return fs::weakly_canonical(follow_dangling_link(path)).string();
+  try {
+    return fs::weakly_canonical(follow_dangling_link(path)).string();
+  } catch (const fs::filesystem_error& e) {
+    fail(path, std::string("cannot resolve the output path: ") + e.code().message());
+  }
 }
 
 namespace {

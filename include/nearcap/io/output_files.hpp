@@ -46,7 +46,8 @@ void check_output_files(const std::vector<std::string>& paths);
 
 // The file a write to `path` lands in: symbolic links followed, a dangling one
 // to the name it would create, the result weakly canonical.  Two outputs
-// collide where these are equal.  Throws Error(Io) on a loop of links.
+// collide where these are equal.  Throws Error(Io) on a loop of links or a
+// folder on the way that cannot be read.
 std::string output_destination(const std::string& path);
 
 // The same promises for outputs made one at a time (a camera path's frames):
