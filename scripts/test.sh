@@ -27,7 +27,7 @@ stage_done() {
 ./scripts/check-format.sh
 stage_done "packages and format check"
 # The tests' own units at -O1: the library they test is the Release build's
-# (-O3); their own code compiles in about four fifths of the time.
+# (-O3); their own code compiles faster at -O1.
 ./scripts/build.sh -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_TESTS=ON -DNEARCAP_TEST_CXX_FLAGS=-O1
 stage_done "Release build"
 ctest --test-dir build --output-on-failure --no-tests=error -j2
@@ -36,7 +36,8 @@ if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi
 # clang 14, the fuzzers' compiler: the Release build is GCC's, so the suite
 # runs under both, and clang compiles this build in about two thirds of GCC's
 # time.  The library at -O2 -g1 (line tables for the reports' stacks): its
-# suite runs in about three quarters of -O1's time, for a tenth more build.
+# longest tests run in about three quarters of -O1's time, for a fifth more
+# build.
 # The tests' and the program's own units at -O0 -g0: their work is the
 # library's, whose frames keep their lines (docs/findings/ci-time.md).
 cmake -S . -B build-asan -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \

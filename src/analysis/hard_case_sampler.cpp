@@ -97,7 +97,7 @@ class Builder {
       case HardCaseKind::FarFromOrigin: {
         const bool binary = uniform(0, 1) == 1;
         const int magnitude = uniform(1, 3);
-        int m = magnitude * (uniform(0, 1) ? 1 : -1);
+        const int m = magnitude * (uniform(0, 1) ? 1 : -1);
         offset_ = {binary ? std::ldexp(m, 20) : m * 1e6, 0, 0};
         const int axis = uniform(0, 2);
         std::swap(offset_[0], offset_[axis]);

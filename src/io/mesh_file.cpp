@@ -98,17 +98,12 @@ void TextTokens::skip_rest_of_line() {
 
 std::vector<std::string> TextTokens::rest_of_line() {
   std::vector<std::string> words;
-  for (;;) {
+  for (std::string word;;) {
     while (pos_ < text_.size() && text_[pos_] != '\n' && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-    if (pos_ >= text_.size() || text_[pos_] == '\n') return words;
-    if (is_comment(text_[pos_])) {
-      skip_rest_of_line();
-      return words;
-    }
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && !is_comment(text_[pos_]))
-      ++pos_;
-    words.push_back(text_.substr(start, pos_ - start));
+    // A comment ends the line's words; next() skips it later.
+    if (pos_ >= text_.size() || text_[pos_] == '\n' || is_comment(text_[pos_])) return words;
+    next(word);
+    words.push_back(word);
   }
 }
 
