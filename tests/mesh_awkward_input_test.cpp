@@ -1,8 +1,12 @@
 // Legal but awkward meshes: handled, not rejected, with documented behaviour.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <utility>
 
 #include "cli_support.hpp"
 #include "nearcap/exact/light_facing.hpp"
@@ -53,6 +57,92 @@ TEST(AwkwardMesh, WhitespaceAfterTheLastElementIsRead) {
   TriangleMesh ascii_stl = parse_mesh(stl + "endsolid t" + tail, "stl", "t.stl");
   EXPECT_EQ(ascii_stl.triangle_count(), 12u);
   EXPECT_NO_THROW(validate_occluder(ascii_stl));
+}
+
+// Every '\n' of `text` as the classic Mac OS line end, a lone '\r'.
+std::string with_cr_line_ends(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', '\r');
+  return text;
+}
+
+TEST(AwkwardMesh, CarriageReturnLineEndsReadAsLineFeeds) {
+  // A lone '\r' ends a line (classic Mac OS files), as "\r\n" and "\n" do:
+  // each text format reads the same mesh, its comments and face colours
+  // ending at the line's end.
+  std::string off = std::string("# a box\nOFF\n8 12 0\n") + kBoxVertices + kBoxFaces;
+  off.replace(off.find("3 0 1 3\n"), 8, "3 0 1 3 255 0 0 # a red face\n");
+  std::string obj = "# a box\n";
+  std::istringstream vertices(kBoxVertices);
+  for (std::string line; std::getline(vertices, line);) obj += "v " + line + "\n";
+  std::istringstream faces(kBoxFaces);
+  for (int a = 0, b = 0, c = 0, n = 0; faces >> n >> a >> b >> c;)
+    obj += "f " + std::to_string(a + 1) + " \\\n" + std::to_string(b + 1) + " " + std::to_string(c + 1) + " # face\n";
+  const std::string ply =
+      std::string("ply\nformat ascii 1.0\ncomment a box\nelement vertex 8\nproperty double x\nproperty double y\n") +
+      "property double z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n" + kBoxVertices +
+      kBoxFaces;
+  const TriangleMesh expected = parse_off(off, "lf.off");
+  ASSERT_EQ(expected.triangle_count(), 12u);
+  for (const auto& [format, text] : {std::pair<std::string, std::string>{"off", off}, {"obj", obj}, {"ply", ply}}) {
+    SCOPED_TRACE(format);
+    const TriangleMesh lf = parse_mesh(text, format, "lf." + format);
+    const TriangleMesh cr = parse_mesh(with_cr_line_ends(text), format, "cr." + format);
+    EXPECT_EQ(lf.triangles, expected.triangles);
+    EXPECT_EQ(cr.triangles, expected.triangles);
+    ASSERT_EQ(cr.positions.size(), expected.positions.size());
+    for (std::size_t i = 0; i < cr.positions.size(); ++i)
+      for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(cr.positions[i][k], expected.positions[i][k]);
+  }
+  std::string stl = "solid t\r";
+  for (const auto& f : expected.triangles) {
+    stl += "facet normal 0 0 0\router loop\r";
+    for (VertexIndex v : f) {
+      const Vec3d& p = expected.positions[v];
+      stl += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\r";
+    }
+    stl += "endloop\rendfacet\r";
+  }
+  EXPECT_EQ(parse_mesh(stl + "endsolid t\r", "stl", "cr.stl").triangle_count(), 12u);
+}
+
+TEST(AwkwardMesh, CarriageReturnLineEndsCountInErrorLines) {
+  // An error names its line however the lines end; in "\r\n" the pair is one
+  // line end.
+  const std::string off = std::string("OFF\n8 12 0\n") + kBoxVertices + "3 0 1 x\n";  // line 11
+  for (const std::string& text : {off, with_cr_line_ends(off), [&] {
+                                    std::string crlf;
+                                    for (char c : off) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+                                    return crlf;
+                                  }()}) {
+    try {
+      (void)parse_off(text, "t.off");
+      ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("line 11:"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    (void)parse_mesh(with_cr_line_ends("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"), "obj", "t.obj");
+    ADD_FAILURE() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 4:"), std::string::npos) << e.what();
+  }
+}
+
+TEST(AwkwardMesh, BinaryPlyAfterACarriageReturnEndedHeader) {
+  // The header's lines may end with a lone '\r'; the binary data starts after
+  // end_header's.
+  std::string ply =
+      "ply\rformat binary_little_endian 1.0\relement vertex 3\rproperty float x\rproperty float y\r"
+      "property float z\relement face 1\rproperty list uchar int vertex_indices\rend_header\r";
+  for (float v : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f})
+    ply.append(reinterpret_cast<const char*>(&v), sizeof v);
+  ply.push_back('\x03');
+  for (std::int32_t i : {0, 1, 2}) ply.append(reinterpret_cast<const char*>(&i), sizeof i);
+  const TriangleMesh mesh = parse_mesh(ply, "ply", "cr.ply");
+  ASSERT_EQ(mesh.triangle_count(), 1u);
+  EXPECT_EQ(mesh.positions[1].x, 1.0);
+  EXPECT_EQ(mesh.positions[2].y, 1.0);
 }
 
 TEST(AwkwardMesh, AsciiStlWithSeveralSolidsReadsEveryOne) {

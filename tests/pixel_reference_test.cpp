@@ -180,6 +180,15 @@ TEST(PixelReference, DecodeRejectsMalformedPgm) {
   EXPECT_THROW(decode_pgm16("P5\n1 1\n255\n\x01", "x", &w, &h), Error);
 }
 
+TEST(PixelReference, DecodeEndsACommentAtACarriageReturn) {
+  // Netpbm: a comment runs to the next line feed or carriage return.
+  int w = 0, h = 0;
+  const std::string pgm = std::string("P5 # made by hand\r1 1\r65535\n") + '\x01' + '\x02';
+  EXPECT_EQ(decode_pgm16(pgm, "x", &w, &h), (std::vector<std::uint16_t>{0x0102}));
+  EXPECT_EQ(w, 1);
+  EXPECT_EQ(h, 1);
+}
+
 // ---- the command ------------------------------------------------------------
 int run_cli(const std::string& args, std::string* err) {
   const test::CliResult r = test::run_cli(args, "reference");

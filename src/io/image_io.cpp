@@ -27,7 +27,8 @@ std::vector<std::uint16_t> decode_pgm16(const std::string& bytes, const std::str
   auto token = [&]() {
     while (pos < bytes.size()) {
       if (bytes[pos] == '#') {
-        while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
+        // A comment runs to the next line feed or carriage return (Netpbm's rule).
+        while (pos < bytes.size() && bytes[pos] != '\n' && bytes[pos] != '\r') ++pos;
       } else if (std::isspace(static_cast<unsigned char>(bytes[pos]))) {
         ++pos;
       } else {

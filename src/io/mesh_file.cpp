@@ -63,6 +63,13 @@ std::string printable(const std::string& word) {
   return shown;
 }
 
+std::size_t line_end(const std::string& text, std::size_t pos, std::size_t& next) {
+  std::size_t end = pos;
+  while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
+  next = end == text.size() ? end : end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
+  return end;
+}
+
 std::vector<std::string> split_whitespace(const std::string& line) {
   std::vector<std::string> words;
   std::size_t i = 0;
@@ -78,7 +85,7 @@ std::vector<std::string> split_whitespace(const std::string& line) {
 bool TextTokens::next(std::string& token) {
   for (;;) {
     while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
-      if (text_[pos_] == '\n') ++line_;
+      if (is_line_end(text_, pos_)) ++line_;
       ++pos_;
     }
     if (pos_ >= text_.size()) return false;
@@ -93,15 +100,16 @@ bool TextTokens::next(std::string& token) {
 }
 
 void TextTokens::skip_rest_of_line() {
-  while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  while (pos_ < text_.size() && !is_line_end(text_, pos_)) ++pos_;
 }
 
 std::vector<std::string> TextTokens::rest_of_line() {
   std::vector<std::string> words;
   for (std::string word;;) {
-    while (pos_ < text_.size() && text_[pos_] != '\n' && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    while (pos_ < text_.size() && !is_line_end(text_, pos_) && std::isspace(static_cast<unsigned char>(text_[pos_])))
+      ++pos_;
     // A comment ends the line's words; next() skips it later.
-    if (pos_ >= text_.size() || text_[pos_] == '\n' || is_comment(text_[pos_])) return words;
+    if (pos_ >= text_.size() || is_line_end(text_, pos_) || is_comment(text_[pos_])) return words;
     next(word);
     words.push_back(word);
   }

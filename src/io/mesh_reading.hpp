@@ -27,11 +27,22 @@ void check_read_mesh(const TriangleMesh& mesh);
 // byte that is not printable ASCII as '?'.
 std::string printable(const std::string& word);
 
+// Whether text[pos] ends a line: a line feed, or a carriage return not
+// followed by one (the classic Mac OS line end; in "\r\n" the '\n' ends it).
+inline bool is_line_end(const std::string& text, std::size_t pos) {
+  return text[pos] == '\n' || (text[pos] == '\r' && (pos + 1 == text.size() || text[pos + 1] != '\n'));
+}
+
+// The end of the line that starts at `pos`: the index of its line end ("\n",
+// "\r\n" or a lone "\r"), or text.size() for a last line without one; `next`
+// gets the index after that line end.
+std::size_t line_end(const std::string& text, std::size_t pos, std::size_t& next);
+
 // The words of `line`: its runs of characters other than whitespace, in order.
 std::vector<std::string> split_whitespace(const std::string& line);
 
 // The words of a whole text mesh file, one at a time, with the line each is
-// on.  `comment`, unless '\0', starts a comment that runs to the end of its
+// on (lines end as is_line_end says).  `comment`, unless '\0', starts a comment that runs to the end of its
 // line and ends a word (OFF's '#').
 class TextTokens {
  public:

@@ -57,12 +57,11 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
     std::string line;
     statement_line = line_number + 1;
     for (;;) {
-      std::size_t end = text.find('\n', pos);
-      if (end == std::string::npos) end = text.size();
+      std::size_t next = 0;
+      const std::size_t end = mesh_reading::line_end(text, pos, next);
       ++line_number;
       std::string part = text.substr(pos, end - pos);
-      pos = end + 1;
-      if (!part.empty() && part.back() == '\r') part.pop_back();
+      pos = next;
       const std::size_t hash = part.find('#');
       if (hash != std::string::npos) part.resize(hash);
       if (!part.empty() && part.back() == '\\' && pos < text.size()) {

@@ -92,13 +92,13 @@ PlyHeader parse_header(const std::string& bytes, const std::string& source) {
   int line = 0;
   bool have_format = false;
   for (;;) {
-    const std::size_t end = bytes.find('\n', pos);
-    if (end == std::string::npos)
+    std::size_t next = 0;
+    const std::size_t end = mesh_reading::line_end(bytes, pos, next);
+    if (end == bytes.size())
       fail(ErrorKind::Parse, source, "the PLY header has no end_header line (truncated or not a PLY file)");
     ++line;
-    std::string text = bytes.substr(pos, end - pos);
-    pos = end + 1;
-    if (!text.empty() && text.back() == '\r') text.pop_back();
+    const std::string text = bytes.substr(pos, end - pos);
+    pos = next;
     auto error = [&](const std::string& what) { mesh_reading::fail_at_line(ErrorKind::Parse, source, line, what); };
     if (line == 1) {
       if (text != "ply") error("the file does not start with the line 'ply' (not a PLY file?)");
@@ -202,7 +202,7 @@ class PlyValues {
  private:
   void skip_ascii_space() {
     while (pos_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[pos_]))) {
-      if (bytes_[pos_] == '\n') ++line_;
+      if (mesh_reading::is_line_end(bytes_, pos_)) ++line_;
       ++pos_;
     }
   }
