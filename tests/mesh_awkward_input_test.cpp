@@ -33,6 +33,20 @@ TEST(AwkwardMesh, OffWithLeadingCommentsIsRead) {
   EXPECT_NO_THROW(validate_occluder(mesh));
 }
 
+// An ascii STL file's "solid" line and `mesh`'s facets, up to its "endsolid".
+std::string ascii_stl_facets(const TriangleMesh& mesh) {
+  std::string stl = "solid t\n";
+  for (const auto& f : mesh.triangles) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (VertexIndex v : f) {
+      const Vec3d& p = mesh.positions[v];
+      stl += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    }
+    stl += "endloop\nendfacet\n";
+  }
+  return stl;
+}
+
 TEST(AwkwardMesh, WhitespaceAfterTheLastElementIsRead) {
   // After the declared elements only whitespace may follow (and in OFF,
   // comments, which the format allows anywhere): blank lines, CRLF, tabs.
@@ -45,16 +59,7 @@ TEST(AwkwardMesh, WhitespaceAfterTheLastElementIsRead) {
       "element face 12\nproperty list uchar int vertex_indices\nend_header\n";
   TriangleMesh ply = parse_mesh(ply_head + kBoxVertices + kBoxFaces + tail, "ply", "t.ply");
   EXPECT_EQ(ply.triangles, off.triangles);
-  std::string stl = "solid t\n";
-  for (const auto& f : off.triangles) {
-    stl += "facet normal 0 0 0\nouter loop\n";
-    for (VertexIndex v : f) {
-      const Vec3d& p = off.positions[v];
-      stl += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
-    }
-    stl += "endloop\nendfacet\n";
-  }
-  TriangleMesh ascii_stl = parse_mesh(stl + "endsolid t" + tail, "stl", "t.stl");
+  TriangleMesh ascii_stl = parse_mesh(ascii_stl_facets(off) + "endsolid t" + tail, "stl", "t.stl");
   EXPECT_EQ(ascii_stl.triangle_count(), 12u);
   EXPECT_NO_THROW(validate_occluder(ascii_stl));
 }
@@ -93,16 +98,10 @@ TEST(AwkwardMesh, CarriageReturnLineEndsReadAsLineFeeds) {
     for (std::size_t i = 0; i < cr.positions.size(); ++i)
       for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(cr.positions[i][k], expected.positions[i][k]);
   }
-  std::string stl = "solid t\r";
-  for (const auto& f : expected.triangles) {
-    stl += "facet normal 0 0 0\router loop\r";
-    for (VertexIndex v : f) {
-      const Vec3d& p = expected.positions[v];
-      stl += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\r";
-    }
-    stl += "endloop\rendfacet\r";
-  }
-  EXPECT_EQ(parse_mesh(stl + "endsolid t\r", "stl", "cr.stl").triangle_count(), 12u);
+  const std::string stl = ascii_stl_facets(expected) + "endsolid t\n";
+  const TriangleMesh stl_lf = parse_mesh(stl, "stl", "lf.stl");
+  EXPECT_EQ(stl_lf.triangle_count(), 12u);
+  EXPECT_EQ(parse_mesh(with_cr_line_ends(stl), "stl", "cr.stl").triangles, stl_lf.triangles);
 }
 
 TEST(AwkwardMesh, CarriageReturnLineEndsCountInErrorLines) {
