@@ -124,6 +124,23 @@ TEST(JsonReader, NumberBeyondDoubleIsAParseErrorNamingItsPath) {
       << e.what();
 }
 
+TEST(JsonReader, NestingDeeperThan64IsAParseError) {
+  // A value nested 100,000 deep and a member after it (which, unchecked,
+  // overflowed the stack as the object's member list grew): refused while
+  // parsed, naming where.
+  const std::size_t deep = 100000;
+  const Error e = error_of("{\"objects\": " + std::string(deep, '[') + std::string(deep, ']') + ", \"count\": 3}");
+  EXPECT_EQ(e.kind(), ErrorKind::Parse);
+  std::string where = "objects";
+  for (int k = 0; k < 63; ++k) where += "[0]";
+  EXPECT_EQ(std::string(e.what()).rfind("f.json: " + where + ": arrays and objects", 0), 0u) << e.what();
+  EXPECT_NE(std::string(e.what()).find("nested more than 64 deep"), std::string::npos) << e.what();
+  // 64 levels, the top-level object one of them, are read.
+  EXPECT_NO_THROW((void)JsonDocument::parse("{\"a\": " + std::string(63, '[') + std::string(63, ']') + "}", "f.json"));
+  EXPECT_THROW((void)JsonDocument::parse("{\"a\": " + std::string(64, '[') + std::string(64, ']') + "}", "f.json"),
+               Error);
+}
+
 TEST(JsonReader, SyntaxErrorNamesTheLineAndColumn) {
   const Error e = error_of("{\"count\": 3,\n \"objects\": [\n  {\"mesh\": \"a\",}]}");
   EXPECT_EQ(e.kind(), ErrorKind::Parse);

@@ -12,6 +12,12 @@ namespace {
 
 const JsonNode& node_of(const void* node) { return *static_cast<const JsonNode*>(node); }
 
+// The deepest nesting of arrays and objects read.  nearcap's own files nest
+// a few levels; a deeper tree is refused while it is parsed, before the tree
+// copies a value recursively (a member after a value nested tens of thousands
+// deep overflowed the stack as the object's member list grew).
+constexpr std::size_t kMaxJsonDepth = 64;
+
 // The parser callback.  nlohmann::json keeps the last of two equal keys, so a
 // file with one would be read with half of it ignored; here it is a Schema
 // error naming the key's path.  It also tracks the path of the value being
@@ -27,6 +33,9 @@ class KeyTracker {
     switch (event) {
       case Event::object_start:
       case Event::array_start:
+        if (st.open.size() == kMaxJsonDepth)
+          throw Error(ErrorKind::Parse, source_ + ": " + path() + ": arrays and objects nested more than " +
+                                            std::to_string(kMaxJsonDepth) + " deep (nearcap's files nest a few)");
         next_element(st);
         st.open.push_back({event == Event::array_start, {}, "", -1});
         break;
