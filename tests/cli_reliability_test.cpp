@@ -204,6 +204,47 @@ TEST_F(Reliability, NoCommandReplacesTheFilesItReads) {
   EXPECT_FALSE(fs::exists(path("W.json")));
 }
 
+// The sampler's meshes ($NEARCAP_DATA_DIR/meshes) are what every sampling
+// command reads: no output replaces one.
+TEST_F(Reliability, NoSamplingCommandReplacesTheSamplersMeshes) {
+  fs::create_directories(dir_ / "data/meshes");
+  for (const char* mesh : {"box.off", "torus.off", "eight.off", "knot1.off"})
+    fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes" / mesh, dir_ / "data/meshes" / mesh);
+  const std::string box = test::slurp(path("data/meshes/box.off"));
+  const std::string knot = test::slurp(path("data/meshes/knot1.off"));
+  const std::string env = "NEARCAP_DATA_DIR='" + path("data") + "' " + test::kHangBound;
+  auto sampling = [&](const std::string& args) { return test::run_cli(args, "reliability", env); };
+  expect_one_line_error(sampling("sample --index 0 --out " + path("data/meshes/box.off")),
+                        "would replace the sampler's mesh file", "sample");
+  expect_one_line_error(sampling("fit-l-near --samples 2 --kinds grazing --out " + path("data/meshes/knot1.off")),
+                        "would replace the sampler's mesh file", "fit-l-near");
+  expect_one_line_error(sampling("calibrate --samples 1 --width 16 --height 12 --out " + path("data/meshes/box.off")),
+                        "would replace the sampler's mesh file", "calibrate");
+  expect_one_line_error(sampling("evaluate --samples 1 --repeats 1 --fit-unpriced " + path("data/meshes/knot1.off") +
+                                 " --out " + path("evaluated")),
+                        "would replace the sampler's mesh file", "evaluate's fit");
+  EXPECT_EQ(test::slurp(path("data/meshes/box.off")), box);
+  EXPECT_EQ(test::slurp(path("data/meshes/knot1.off")), knot);
+}
+
+// A new sweep writes its sidecar, OUT.meta.json: a file of that name that is
+// not a sweep's sidecar (here the policy the sweep reads) is never replaced;
+// an earlier sweep's sidecar left behind by a removed CSV is.
+TEST_F(Reliability, ANewSweepNeverReplacesAFileNamedAsItsSidecarThatIsNotOne) {
+  const std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data/policy.json");
+  write_text("r.csv.meta.json", policy);
+  expect_one_line_error(run("sweep --samples 1 --width 8 --height 6 --methods zpass --policies policy --policy " +
+                            path("r.csv.meta.json") + " --out " + path("r.csv")),
+                        "is taken by a file that is not a sweep's sidecar", "the sweep's own policy");
+  EXPECT_EQ(test::slurp(path("r.csv.meta.json")), policy);
+  EXPECT_FALSE(fs::exists(path("r.csv")));
+  const std::string sweep = "sweep --samples 1 --width 8 --height 6 --methods zpass --out " + path("s.csv");
+  ASSERT_EQ(run(sweep).exit_code, 0);
+  fs::remove(path("s.csv"));
+  const test::CliResult again = run(sweep);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+}
+
 // An output where no file can be made is refused before the work that would
 // fill it (calibrate measures for minutes; the write would fail at the end).
 TEST_F(Reliability, AnUnwritableOutputIsRefusedBeforeTheWork) {

@@ -374,8 +374,10 @@ void run(CalibrateOptions o) {
   if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
   const CalibrationSet set(o);
   // Every output checked before the measurements: not a file the command
-  // reads (the policy, each camera path, its base scene and meshes), writable.
+  // reads (the policy, each camera path, its base scene and meshes, the
+  // sampler's meshes), writable.
   std::vector<CommandInput> inputs;
+  if (o.samples > 0) inputs = sampler_inputs(sampler_spec(o.sampler));
   if (policy) inputs.push_back({o.policy, "policy file"});
   for (const analysis::CameraPath& p : set.paths())
     for (CommandInput& in : camera_path_inputs(p)) inputs.push_back(std::move(in));

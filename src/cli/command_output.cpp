@@ -31,6 +31,12 @@ std::vector<CommandInput> scene_inputs(const Scene& scene) {
   return inputs;
 }
 
+std::vector<CommandInput> sampler_inputs(const analysis::SamplerSpec& spec) {
+  std::vector<CommandInput> inputs;
+  for (const std::string& file : analysis::sampler_mesh_files(spec)) inputs.push_back({file, "sampler's mesh file"});
+  return inputs;
+}
+
 std::vector<CommandInput> camera_path_inputs(const analysis::CameraPath& path) {
   std::vector<CommandInput> inputs{{path.source, "camera path file"}, {path.scene_file, "scene file"}};
   // The base scene's text names its meshes by absolute path (load_camera_path checked it loads).

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/scene/scene.hpp"
 
@@ -38,6 +39,9 @@ void refuse_replacing_inputs(const std::string& output, const std::vector<Comman
 
 // A scene's files: the scene file and each object's mesh file.
 std::vector<CommandInput> scene_inputs(const Scene& scene);
+
+// The mesh files a sampler with `spec` may read (the bundled meshes).
+std::vector<CommandInput> sampler_inputs(const analysis::SamplerSpec& spec);
 
 // A camera path's files: the path file, its base scene and the base scene's
 // mesh files.

@@ -424,6 +424,8 @@ void run(const EvaluateOptions& o) {
   }
   // No output replaces what the command reads.
   std::vector<CommandInput> inputs{{o.policy, "policy file"}};
+  if (o.samples > 0)
+    for (CommandInput& in : sampler_inputs(sampler_spec(o.sampler))) inputs.push_back(std::move(in));
   for (const analysis::CameraPath& p : paths)
     for (CommandInput& in : camera_path_inputs(p)) inputs.push_back(std::move(in));
   std::vector<std::string> outputs;

@@ -26,9 +26,12 @@ void run(const FitOptions& o) {
   const std::string command = "nearcap fit-l-near --samples " + std::to_string(o.samples) + " --seed " +
                               std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds;
   if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
-  if (!o.out.empty()) io::check_output_files({o.out});  // before the fit
   const analysis::SamplerSpec spec = sampler_spec(o.sampler);
   check_sampler_meshes(spec);
+  if (!o.out.empty()) {  // before the fit
+    refuse_replacing_inputs(o.out, sampler_inputs(spec), "--out");
+    io::check_output_files({o.out});
+  }
   const analysis::HardCaseSampler sampler(spec);
   std::vector<analysis::KnobConfiguration> configurations;
   for (std::uint64_t i = 0; i < o.samples; ++i) {

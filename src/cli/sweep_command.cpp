@@ -55,6 +55,7 @@
 #include <tuple>
 
 #include "cli_commands.hpp"
+#include "command_output.hpp"
 #include "heap_settings.hpp"
 #include "mpi_world.hpp"
 #include "nearcap/analysis/camera_path.hpp"
@@ -101,6 +102,7 @@ struct SampleOptions {
 void run_sample(const SamplerOptions& o, std::uint64_t index, const std::string& out) {
   const analysis::SamplerSpec spec = sampler_spec(o);
   check_sampler_meshes(spec);
+  if (!out.empty()) refuse_replacing_inputs(out, sampler_inputs(spec), "--out");
   const analysis::HardCase c = analysis::HardCaseSampler(spec).sample(index);
   const std::string json = c.scene_json + "\n";
   if (out.empty())
@@ -300,11 +302,29 @@ void write_all(int fd, const std::string& bytes, const std::string& file) {
   }
 }
 
+// A new sweep writes its sidecar, CSV.meta.json: a file of that name that is
+// not a sweep's sidecar (a policy or a camera path the sweep reads, say) is
+// refused, never replaced; an earlier sweep's sidecar, left behind by a CSV
+// since removed, is replaced.
+void refuse_replacing_non_sidecar(const std::string& file) {
+  const std::string meta_file = analysis::sweep_meta_path(file);
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(meta_file, ec))) return;
+  try {
+    (void)analysis::parse_sweep_meta(io::read_input_file(meta_file, "sweep sidecar"), meta_file);
+  } catch (const Error& e) {
+    throw Error(ErrorKind::Usage, file + ": its sidecar's name " + meta_file +
+                                      " is taken by a file that is not a sweep's sidecar (" + e.what() +
+                                      "); move that file, or give another --out");
+  }
+}
+
 // A new CSV (its header) and its sidecar, the CSV locked by this process, or
 // -1 when `file` exists.  The header is written to a temporary name, locked
 // and then linked to `file`: link fails when the name exists, so no other
 // sweep can open the new file before it is locked.
 int create_csv(const std::string& file, const analysis::SweepMeta& meta) {
+  refuse_replacing_non_sidecar(file);
   const std::filesystem::path parent = std::filesystem::path(file).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
