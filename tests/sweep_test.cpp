@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include <filesystem>
 #include <fstream>
@@ -256,6 +257,25 @@ TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
     EXPECT_NE(b.err.find("--variant"), std::string::npos) << bad << ": " << b.err;
     EXPECT_FALSE(fs::exists(path("bad.csv"))) << bad;
   }
+}
+
+// A variant's label names its values exactly: two values that print alike in
+// six digits are two variants, and a value next to the default is not it.
+TEST_F(Sweep, VariantLabelsNameTheirValuesExactly) {
+  const test::CliResult r =
+      test::run_cli("sweep --samples 1 --width 8 --height 6 --methods zpplus --variant l-near-scale=0.1234567 "
+                    "--variant l-near-scale=0.1234568 --variant l-near-scale=0.9999999 --variant guard-band=1.0000001 "
+                    "--variant l-near-scale=0.5 --out " +
+                        path("labels.csv"),
+                    "sweep_variant_labels");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  SweepCsv in(test::slurp(path("labels.csv")));
+  std::set<std::string> labels;
+  std::string line;
+  std::vector<std::string> cells;
+  while (in.next(line, cells)) labels.insert(cells[6]);
+  EXPECT_EQ(labels, (std::set<std::string>{"default", "l-near-scale=0.1234567", "l-near-scale=0.1234568",
+                                           "l-near-scale=0.9999999", "guard-band=1.0000001", "l-near-scale=0.5"}));
 }
 
 // The sweep sharded over two MPI ranks (mpirun, Open MPI) writes exactly the

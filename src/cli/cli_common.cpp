@@ -204,10 +204,19 @@ void visit_emulation_options(Options& o, Visit&& visit) {
 template <class T>
 constexpr bool kIsChoice = std::is_enum_v<T>;
 
-std::string number_text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+// `v` as a variant label writes it: six significant digits (printf's %g) where
+// they read back as `v`, else the fewest that do (read back as a float for a
+// float option), so that two values never share a label.
+template <class F>
+std::string number_text(F v) {
+  char text[40];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, static_cast<double>(v));
+    const bool exact = std::is_same_v<F, float> ? std::strtof(text, nullptr) == static_cast<float>(v)
+                                                : std::strtod(text, nullptr) == static_cast<double>(v);
+    if (exact) break;
+  }
+  return text;
 }
 
 // The option's value as a variant spec writes it.
@@ -220,7 +229,7 @@ std::string value_text(const T& v) {
   else if constexpr (std::is_integral_v<T>)
     return std::to_string(v);
   else
-    return number_text(static_cast<double>(v));
+    return number_text(v);
 }
 
 double parse_number(const std::string& spec, const std::string& name, const std::string& value) {
