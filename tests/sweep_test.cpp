@@ -262,12 +262,12 @@ TEST_F(Sweep, VariantsAddRowsNamedByTheirChoices) {
 // A variant's label names its values exactly: two values that print alike in
 // six digits are two variants, and a value next to the default is not it.
 TEST_F(Sweep, VariantLabelsNameTheirValuesExactly) {
-  const test::CliResult r =
-      test::run_cli("sweep --samples 1 --width 8 --height 6 --methods zpplus --variant l-near-scale=0.1234567 "
-                    "--variant l-near-scale=0.1234568 --variant l-near-scale=0.9999999 --variant guard-band=1.0000001 "
-                    "--variant l-near-scale=0.5 --out " +
-                        path("labels.csv"),
-                    "sweep_variant_labels");
+  const test::CliResult r = test::run_cli(
+      "sweep --samples 1 --width 8 --height 6 --methods zpplus --variant l-near-scale=0.1234567 "
+      "--variant l-near-scale=0.1234568 --variant l-near-scale=0.9999999 --variant guard-band=1.0000001 "
+      "--variant l-near-scale=0.5 --out " +
+          path("labels.csv"),
+      "sweep_variant_labels");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   SweepCsv in(test::slurp(path("labels.csv")));
   std::set<std::string> labels;
