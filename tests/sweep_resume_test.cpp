@@ -663,8 +663,16 @@ TEST_F(SweepFile, DuplicatedListEntriesAreUsageErrors) {
       {"sweep --path data/paths/zoom.json --path ./data/paths/zoom.json --out " + csv,
        "--path ./data/paths/zoom.json is given twice"},
       {"sweep --path data/paths/zoom.json --path " + path("zoom.json") + " --out " + csv, "are both named 'zoom'"},
+      {"evaluate --path data/paths/zoom.json --path " + path("zoom.json") + " --out " + path("evaluated"),
+       "are both named 'zoom'"},
+      {"calibrate --path data/paths/zoom.json --path " + path("zoom.json") + " --out " + csv, "are both named 'zoom'"},
+      // A name that a CSV field or a replay command cannot hold as it is.
+      {"sweep --path '" + path("z\xff.json") + "' --out " + csv, "is not UTF-8 text, or holds a control character"},
+      {"evaluate --path '" + path("z\nline.json") + "' --out " + path("evaluated"),
+       "is not UTF-8 text, or holds a control character"},
   };
   fs::copy_file(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/zoom.json", path("zoom.json"));
+  for (const char* name : {"z\xff.json", "z\nline.json"}) fs::copy_file(path("zoom.json"), path(name));
   for (const auto& [command, message] : cases) {
     expect_one_line_error(test::run_cli(command, "sweep_file_dup"), "usage", message, command);
     EXPECT_FALSE(fs::exists(csv)) << command;

@@ -23,6 +23,7 @@
 #include "nearcap/analysis/sweep_file.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/utf8_text.hpp"
 
 namespace nearcap::analysis {
 namespace {
@@ -54,40 +55,6 @@ std::vector<std::string> csv_fields(const std::string& line, bool& closed) {
   }
   closed = !quoted;
   return out;
-}
-
-// The offset of the first byte of `s` that does not belong to a well-formed
-// UTF-8 sequence (overlong forms, surrogates and code points past U+10FFFF
-// included), or npos.
-std::size_t first_non_utf8(const std::string& s) {
-  std::size_t k = 0;
-  while (k < s.size()) {
-    const auto lead = static_cast<unsigned char>(s[k]);
-    if (lead < 0x80) {
-      ++k;
-      continue;
-    }
-    std::size_t more = 0;
-    std::uint32_t code = 0, least = 0;
-    if ((lead & 0xE0) == 0xC0) {
-      more = 1, code = lead & 0x1Fu, least = 0x80;
-    } else if ((lead & 0xF0) == 0xE0) {
-      more = 2, code = lead & 0x0Fu, least = 0x800;
-    } else if ((lead & 0xF8) == 0xF0) {
-      more = 3, code = lead & 0x07u, least = 0x10000;
-    } else {
-      return k;
-    }
-    for (std::size_t i = 1; i <= more; ++i) {
-      if (k + i >= s.size()) return k;
-      const auto next = static_cast<unsigned char>(s[k + i]);
-      if ((next & 0xC0) != 0x80) return k;
-      code = (code << 6) | (next & 0x3Fu);
-    }
-    if (code < least || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return k;
-    k += more + 1;
-  }
-  return std::string::npos;
 }
 
 // One data row of a sweep CSV: its fields, the header's column indices, and
@@ -247,7 +214,7 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
         throw Error(ErrorKind::Resource, file + ": the sweep CSV grew past the input limit of " +
                                              std::to_string(limit >> 20) + " MB while being read");
       const std::string where = file + ": line " + std::to_string(number);
-      if (const std::size_t bad = first_non_utf8(line); bad != std::string::npos) {
+      if (const std::size_t bad = io::first_non_utf8(line); bad != std::string::npos) {
         char byte[8];
         std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(line[bad])));
         throw Error(ErrorKind::Parse, where + ": not UTF-8 (byte " + byte + " at column " + std::to_string(bad + 1) +

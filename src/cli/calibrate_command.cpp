@@ -371,6 +371,7 @@ void run(CalibrateOptions o) {
     policy = analysis::load_policy(o.policy);
   }
   for (std::string& p : o.paths) p = resolve_path(p);
+  check_camera_path_names(o.paths);
   if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
   const CalibrationSet set(o);
   // Every output checked before the measurements: not a file the command

@@ -193,6 +193,13 @@ struct SamplerOptions {
 };
 
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
+
+// The --path files of a command that names its rows or pictures by them
+// (sweep, calibrate, evaluate: "path:NAME:FRAME", NAME the file's stem):
+// Error(Usage) for a file given twice, two files of one name, or a file
+// name that is not UTF-8 text or holds a control character (it goes into
+// CSV fields and a row's replay command).
+void check_camera_path_names(const std::vector<std::string>& paths);
 // Where NEARCAP_DATA_DIR is set, its meshes folder must hold the sampler's
 // meshes: Error(Io) naming it otherwise (every configuration would be
 // rejected).  For the commands that sample (--samples above 0).

@@ -20,6 +20,7 @@
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/utf8_text.hpp"
 
 extern char** environ;
 
@@ -413,6 +414,26 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   const char* data = std::getenv("NEARCAP_DATA_DIR");
   spec.mesh_directory = (std::filesystem::path(data && *data ? data : shipped_data_dir()) / "meshes").string();
   return spec;
+}
+
+void check_camera_path_names(const std::vector<std::string>& paths) {
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    if (io::first_non_utf8(paths[k]) != std::string::npos ||
+        io::first_control_character(paths[k]) != std::string::npos)
+      throw Error(ErrorKind::Usage, "--path " + paths[k] +
+                                        ": a file name that is not UTF-8 text, or holds a control character, cannot "
+                                        "name rows (it goes into CSV fields); rename the file");
+    for (std::size_t j = 0; j < k; ++j) {
+      std::error_code ec;  // a missing file is reported where it is read
+      if (paths[j] == paths[k] || std::filesystem::equivalent(paths[j], paths[k], ec))
+        throw Error(ErrorKind::Usage, "--path " + paths[k] + " is given twice");
+      const std::string name = std::filesystem::path(paths[k]).stem().string();
+      if (std::filesystem::path(paths[j]).stem().string() == name)
+        throw Error(ErrorKind::Usage, "--path " + paths[j] + " and --path " + paths[k] + " are both named '" + name +
+                                          "': their rows' configuration ids (path:" + name +
+                                          ":FRAME) would be the same; give one a file name of its own");
+    }
+  }
 }
 
 void check_sampler_meshes(const analysis::SamplerSpec& spec) {

@@ -591,17 +591,7 @@ void run_sweep(const SweepCommandOptions& o) {
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   if (o.repair && !o.resume) throw Error(ErrorKind::Usage, "--repair mends a sweep being resumed: give --resume too");
-  for (std::size_t k = 0; k < o.paths.size(); ++k)
-    for (std::size_t j = 0; j < k; ++j) {
-      std::error_code ec;  // a missing file is reported where it is read
-      if (o.paths[j] == o.paths[k] || std::filesystem::equivalent(o.paths[j], o.paths[k], ec))
-        throw Error(ErrorKind::Usage, "--path " + o.paths[k] + " is given twice");
-      const std::string name = std::filesystem::path(o.paths[k]).stem().string();
-      if (std::filesystem::path(o.paths[j]).stem().string() == name)
-        throw Error(ErrorKind::Usage, "--path " + o.paths[j] + " and --path " + o.paths[k] + " are both named '" +
-                                          name + "': their rows' configuration ids (path:" + name +
-                                          ":FRAME) would be the same; give one a file name of its own");
-    }
+  check_camera_path_names(o.paths);
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
   for (std::size_t k = 0; k < options.methods.size(); ++k)
