@@ -418,8 +418,7 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
 
 void check_camera_path_names(const std::vector<std::string>& paths) {
   for (std::size_t k = 0; k < paths.size(); ++k) {
-    if (io::first_non_utf8(paths[k]) != std::string::npos ||
-        io::first_control_character(paths[k]) != std::string::npos)
+    if (io::first_non_utf8(paths[k]) != std::string::npos || io::first_control_character(paths[k]) != std::string::npos)
       throw Error(ErrorKind::Usage, "--path " + paths[k] +
                                         ": a file name that is not UTF-8 text, or holds a control character, cannot "
                                         "name rows (it goes into CSV fields); rename the file");
