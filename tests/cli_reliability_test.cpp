@@ -543,6 +543,17 @@ TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
        "--policy is read only with --method policy (or all)"},
       {"sweep --samples 1 --policies doom3 --policy " + b + " --out " + path("s.csv"),
        "--policy is read only with --policies policy (or all)"},
+      // Another option that nothing chosen reads.
+      {"cracks " + b + " --light 0 --method zpass --shadow-epsilon relative",
+       "--shadow-epsilon is read only with --method raytrace (or all)"},
+      {"sweep --path data/paths/zoom.json --seed 5 --out " + path("s.csv"),
+       "--seed is read only with --samples: this command samples nothing"},
+      {"sweep --path data/paths/zoom.json --allow-bunny --out " + path("s.csv"),
+       "--allow-bunny is read only with --samples"},
+      {"evaluate --path data/paths/zoom.json --kinds grazing --out " + path("e"),
+       "--kinds is read only with --samples"},
+      {"calibrate --samples 0 --path data/paths/zoom.json --seed 3 --out " + path("c.csv"),
+       "--seed is read only with --samples"},
   };
   for (const auto& [args, fragment] : cases) expect_one_line_error(run(args), fragment, args);
 }

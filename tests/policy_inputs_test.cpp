@@ -251,6 +251,44 @@ TEST_F(PolicyInputs, TuneRefusesACrackModelItsSwitchesBypass) {
   EXPECT_EQ(analysis::load_policy(out).crack_model.features, std::vector<std::string>{"log_skew"});
 }
 
+// A crack model predicts the cracks of the frames its rows drew: a policy
+// carrying one that would draw another cap or depth than the rows' variant
+// is refused, naming the choice; the rows' variant's choices pass, and a
+// policy without a model takes any.  --plain with no model is refused.
+TEST_F(PolicyInputs, TuneRefusesACrackModelForFramesItsRowsDidNotDraw) {
+  const std::string id = training_configurations(8).front();
+  const std::string cracked = with_line(sweep_csv(), 2, row(id, "zpplus-corrected", 1, "1.0"));
+  const std::string csv = write("rows.csv", cracked);
+  const std::string out = (dir_ / "p.json").string();
+  expect_one_line_error(test::run_cli("tune " + csv + " --light-projection glfrustum --out " + out, "tune_projection"),
+                        "usage",
+                        "--light-projection glfrustum: the rows of variant 'switch-clamp=clamp-far' were drawn with "
+                        "light-projection=paper");
+  expect_one_line_error(test::run_cli("tune " + csv + " --depth float32 --out " + out, "tune_depth"), "usage",
+                        "--depth float32: the rows of variant 'switch-clamp=clamp-far' were drawn with depth=fixed24");
+  expect_one_line_error(test::run_cli("tune " + csv + " --features none --plain --out " + out, "tune_plain"), "usage",
+                        "--plain is read only when a crack model is fitted");
+  EXPECT_FALSE(fs::exists(out));
+  // The rows' own choices, named or left at their defaults.
+  ASSERT_EQ(
+      test::run_cli("tune " + csv + " --light-projection paper --depth fixed24 --out " + out, "tune_same").exit_code,
+      0);
+  std::string glfrustum = cracked;
+  const std::string variant = ",switch-clamp=clamp-far,",
+                    drawn_variant = ",\"light-projection=glfrustum,switch-clamp=clamp-far\",";
+  for (std::size_t at = 0; (at = glfrustum.find(variant, at)) != std::string::npos; at += drawn_variant.size())
+    glfrustum.replace(at, variant.size(), drawn_variant);
+  const test::CliResult drawn = test::run_cli("tune " + write("glfrustum.csv", glfrustum) +
+                                                  " --variant light-projection=glfrustum,switch-clamp=clamp-far "
+                                                  "--light-projection glfrustum --out " +
+                                                  out,
+                                              "tune_drawn");
+  EXPECT_EQ(drawn.exit_code, 0) << drawn.err;
+  const test::CliResult no_model =
+      test::run_cli("tune " + csv + " --light-projection glfrustum --features none --out " + out, "tune_no_model");
+  EXPECT_EQ(no_model.exit_code, 0) << no_model.err;
+}
+
 TEST_F(PolicyInputs, APolicyNumberBeyondDoubleIsAParseError) {
   std::string policy = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
   const nlohmann::json j = nlohmann::json::parse(policy);

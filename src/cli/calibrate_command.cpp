@@ -372,6 +372,7 @@ void run(CalibrateOptions o) {
   }
   for (std::string& p : o.paths) p = resolve_path(p);
   check_camera_path_names(o.paths);
+  refuse_unread_sampler_options(o.sampler, o.samples);
   if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
   const CalibrationSet set(o);
   // Every output checked before the measurements: not a file the command

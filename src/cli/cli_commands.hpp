@@ -190,6 +190,7 @@ struct SamplerOptions {
   std::string kinds = "all";
   int width = 48, height = 36;
   bool allow_bunny = false;
+  std::string given;  // the first of --seed, --kinds, --allow-bunny on the command line, or ""
 };
 
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
@@ -204,6 +205,9 @@ void check_camera_path_names(const std::vector<std::string>& paths);
 // meshes: Error(Io) naming it otherwise (every configuration would be
 // rejected).  For the commands that sample (--samples above 0).
 void check_sampler_meshes(const analysis::SamplerSpec& spec);
+// Error(Usage) where a sampler option is given to a command that samples
+// nothing (`samples` 0: camera paths alone), rather than ignored.
+void refuse_unread_sampler_options(const SamplerOptions& o, std::uint64_t samples);
 // `sizes`: the --width and --height options too.
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
 // The names of a comma-separated list, in order, empty ones kept: "" is one

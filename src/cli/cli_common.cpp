@@ -459,9 +459,20 @@ void add_viewport_options(CLI::App& cmd, int& width, int& height, const std::str
   if (height_default.empty()) h->capture_default_str();
 }
 
+void refuse_unread_sampler_options(const SamplerOptions& o, std::uint64_t samples) {
+  if (samples == 0 && !o.given.empty())
+    throw Error(ErrorKind::Usage, o.given + " is read only with --samples: this command samples nothing");
+}
+
 void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
+  const auto note = [&o](const char* name) {
+    return [&o, name](const std::string&) {
+      if (o.given.empty()) o.given = name;
+    };
+  };
   cmd.add_option("--seed", o.seed, "the sampler's seed")
       ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()))
+      ->each(note("--seed"))
       ->capture_default_str();
   std::string by_name_only;
   for (analysis::HardCaseKind k : values_of<analysis::HardCaseKind>())
@@ -470,9 +481,11 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes) {
   cmd.add_option("--kinds", o.kinds,
                  "comma-separated hard-case kinds (" + names_joined<analysis::HardCaseKind>() +
                      ") or all (every kind but " + by_name_only + ")")
+      ->each(note("--kinds"))
       ->capture_default_str();
   if (sizes) add_viewport_options(cmd, o.width, o.height);
-  cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes");
+  cmd.add_flag("--allow-bunny", o.allow_bunny, "the 75k-triangle bunny among the real meshes")
+      ->each(note("--allow-bunny"));
 }
 
 std::vector<std::string> comma_separated(const std::string& names) {

@@ -32,6 +32,7 @@ struct CracksOptions {
   std::string policy = shipped_data_dir() + "/policy.json";
   bool policy_given = false;  // --policy on the command line
   raytrace::ShadowEpsilon shadow_epsilon = raytrace::ShadowEpsilon::Fixed;
+  bool shadow_epsilon_given = false;  // --shadow-epsilon on the command line
   EmulationOptions emulation;
   std::string out;
   bool table = false;
@@ -183,6 +184,10 @@ void run(const CracksOptions& o) {
   refuse_non_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
   refuse_unread_policy(o.policy_given, choice.policy, "--method policy (or all)");
+  if (o.shadow_epsilon_given && !choice.raytrace)
+    throw Error(ErrorKind::Usage,
+                "--shadow-epsilon is read only with --method raytrace (or all): no method chosen "
+                "traces shadow rays");
   if (choice.policy) policy = analysis::load_policy(o.policy);
   const gl::EmulationSettings settings = settings_from(o.emulation);
   const Scene scene = load_scene(o.scene);
@@ -307,9 +312,10 @@ void register_cracks(CLI::App& app) {
   note_given(cmd.add_option("--policy", o.policy, "the switch policy for --method policy (nearcap tune writes one)"),
              o.policy_given)
       ->capture_default_str();
-  add_choice_option(
-      cmd, "--shadow-epsilon", o.shadow_epsilon,
-      "how raytrace's shadow rays leave their surface: " + values_described<raytrace::ShadowEpsilon>(", "));
+  note_given(add_choice_option(
+                 cmd, "--shadow-epsilon", o.shadow_epsilon,
+                 "how raytrace's shadow rays leave their surface: " + values_described<raytrace::ShadowEpsilon>(", ")),
+             o.shadow_epsilon_given);
   add_emulation_options(cmd, o.emulation);
   cmd.add_option("--out", o.out, "output directory for the crack images and cracks.json (created if missing)");
   cmd.add_flag("--table", o.table, "print a human-readable table instead of JSON");

@@ -386,6 +386,7 @@ void run(const EvaluateOptions& o) {
   if (o.paths.empty() && o.samples == 0)
     throw Error(ErrorKind::Usage, "nearcap evaluate needs held-out data: --path P (repeatable) and/or --samples N");
   check_camera_path_names(o.paths);
+  refuse_unread_sampler_options(o.sampler, o.samples);
   if (o.last_frame >= 0 && o.last_frame < o.first_frame)
     throw Error(ErrorKind::Usage, "--last-frame " + std::to_string(o.last_frame) + " is before --first-frame " +
                                       std::to_string(o.first_frame));

@@ -592,6 +592,7 @@ void run_sweep(const SweepCommandOptions& o) {
     throw Error(ErrorKind::Usage, "nothing to sweep: give --path FILE (repeatable) and/or --samples N");
   if (o.repair && !o.resume) throw Error(ErrorKind::Usage, "--repair mends a sweep being resumed: give --resume too");
   check_camera_path_names(o.paths);
+  refuse_unread_sampler_options(o.sampler, o.samples);
   analysis::SweepOptions options;
   options.methods = methods_from(o.methods, "--methods");
   for (std::size_t k = 0; k < options.methods.size(); ++k)

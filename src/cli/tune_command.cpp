@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <system_error>
 
 #include "cli_commands.hpp"
@@ -52,8 +53,42 @@ std::string command_line(const TuneOptions& o) {
   return command;
 }
 
+// The emulation choices of the sweep variant named `label`: a label lists
+// the choices that differ from the defaults ("default": none).
+std::map<std::string, std::string> variant_choices(const std::string& label) {
+  std::map<std::string, std::string> choices;
+  for (const auto& [name, value] : emulation_option_values(EmulationOptions{})) choices[name] = value;
+  if (label == "default") return choices;
+  for (const std::string& part : comma_separated(label))
+    if (const std::size_t eq = part.find('='); eq != std::string::npos)
+      choices[part.substr(0, eq)] = part.substr(eq + 1);
+  return choices;
+}
+
+// A crack model predicts the cracks of the frames its rows drew: a policy
+// that carries one must draw with the rows' variant's cap and depth choices.
+void refuse_choices_the_rows_lack(const TuneOptions& o) {
+  const std::map<std::string, std::string> rows = variant_choices(o.variant);
+  std::vector<std::pair<std::string, std::string>> policy{
+      {"light-projection", std::string(name_of(o.light_projection))}};
+  if (o.depth) policy.emplace_back("depth", std::string(name_of(*o.depth)));
+  if (o.depth_mapping) policy.emplace_back("depth-mapping", std::string(name_of(*o.depth_mapping)));
+  if (o.near_plane) policy.emplace_back("near-plane", std::string(name_of(*o.near_plane)));
+  for (const auto& [name, value] : policy) {
+    const auto drawn = rows.find(name);
+    if (drawn != rows.end() && drawn->second != value)
+      throw Error(ErrorKind::Usage, "--" + name + " " + value + ": the rows of variant '" + o.variant +
+                                        "' were drawn with " + name + "=" + drawn->second +
+                                        ", so a crack model fitted on them predicts other frames' cracks; tune on "
+                                        "a variant with " +
+                                        name + "=" + value + ", or add --features none");
+  }
+}
+
 void run(const TuneOptions& o) {
   const std::string command = command_line(o);
+  if (o.plain && o.features == "none")
+    throw Error(ErrorKind::Usage, "--plain is read only when a crack model is fitted (not --features none)");
   for (const std::string& input : o.results) refuse_replacing_inputs(o.out, {{input, "sweep CSV"}});
   io::check_output_files({o.out});  // before the fits: a directory or a socket is refused now
   const auto capped = gl::shadow_method_from_string(o.capped);
@@ -115,6 +150,7 @@ void run(const TuneOptions& o) {
                       "and the decision asks no model; add --features none, or drop --no-exact-zpass");
     throw Error(ErrorKind::Usage, "the policy would carry " + unread + ", which its decision never reads");
   }
+  if (!policy.crack_model.features.empty()) refuse_choices_the_rows_lack(o);
   // What the written policy's decision reads of what was fitted here.
   if (policy.crack_model.features.empty()) {
     std::cout << "  fits the policy uses: none (every occluder that meets the light pyramid gets "
