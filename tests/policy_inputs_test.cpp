@@ -135,6 +135,18 @@ TEST_F(PolicyInputs, ACsvGivenTwiceIsRefused) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A line longer than 1 MB is no sweep row: refused naming it, read no
+// further (a line of commas once took 37 bytes of memory per byte).
+TEST_F(PolicyInputs, TuneRefusesALineLongerThan1Mb) {
+  const std::string csv = write("long.csv", with_line(sweep_csv(), 3, std::string((1u << 20) + 1, ',')));
+  expect_one_line_error(test::run_cli("tune " + csv + " --out " + (dir_ / "p.json").string(), "tune_long"), "parse",
+                        "long.csv: line 3: longer than 1 MB");
+  // A line of exactly 1 MB is read (and refused for its field count).
+  const std::string fits = write("fits.csv", with_line(sweep_csv(), 3, std::string(1u << 20, ',')));
+  expect_one_line_error(test::run_cli("tune " + fits + " --out " + (dir_ / "p.json").string(), "tune_fits"), "parse",
+                        "fits.csv: line 3: 1048577 fields, the header has 23");
+}
+
 TEST_F(PolicyInputs, TheInputLimitAppliesToSweepCsvsAndPolicies) {
   // Rows of a method tune does not read, past 1 MB.
   std::string big = sweep_csv();

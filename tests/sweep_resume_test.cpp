@@ -459,6 +459,9 @@ TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
   const std::size_t a = starts[g], b = starts[g + 1];  // its rows: lines a .. b-1 (line number = index + 1)
   std::vector<std::string> short_row = lines;
   short_row[a] = short_row[a].substr(0, short_row[a].rfind(',', short_row[a].rfind(',') - 1));
+  std::vector<std::string> stray_quote = lines, overlong = lines;
+  stray_quote[a] = '"' + stray_quote[a];  // a quoted field that the sweep, which writes no line breaks, never opens
+  overlong[a] += std::string((std::size_t{1} << 20) + 1, ',');
   std::vector<std::string> missing_first = lines, missing_last = lines, repeated = lines;
   missing_first.erase(missing_first.begin() + static_cast<std::ptrdiff_t>(a));
   missing_last.erase(missing_last.begin() + static_cast<std::ptrdiff_t>(b - 1));
@@ -477,6 +480,11 @@ TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
        "line " + std::to_string(b) + ": "},
       {"a configuration repeated", joined(repeated, 0, repeated.size()),
        "line " + std::to_string(b + 1) + ": configuration '" + first_cell(lines[a]) + "'"},
+      // Not a write cut off, so not the file's end for --repair to remove.
+      {"a stray quote mid-file", joined(stray_quote, 0, lines.size()),
+       "line " + std::to_string(a + 1) + ": a quoted field is not closed on its line"},
+      {"a line longer than 1 MB mid-file", joined(overlong, 0, lines.size()),
+       "line " + std::to_string(a + 1) + ": longer than 1 MB"},
   };
   for (const Case& c : cases) {
     for (const std::string repair : {"", " --repair"}) {

@@ -28,6 +28,22 @@
 namespace nearcap::analysis {
 namespace {
 
+// The next line of `in` (its newline dropped) into `line`, through `buffer`
+// (kMaxSweepLineBytes + 1 bytes); false at the end.  A longer line is a Parse
+// error naming `file` and line `number`, read no further.
+bool next_line(std::istream& in, std::vector<char>& buffer, std::string& line, const std::string& file,
+               std::size_t number) {
+  in.getline(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  const auto count = static_cast<std::size_t>(in.gcount());
+  if (count == 0 && in.eof()) return false;
+  if (in.fail() && !in.eof())
+    throw Error(ErrorKind::Parse, file + ": line " + std::to_string(number) + ": longer than " +
+                                      std::to_string(kMaxSweepLineBytes >> 20) +
+                                      " MB (a sweep row is under 1 kB: not a nearcap sweep CSV)");
+  line.assign(buffer.data(), in.eof() ? count : count - 1);  // without the newline getline took
+  return true;
+}
+
 // One line of a CSV written by nearcap sweep: commas, fields quoted when they
 // hold a comma or a quote, quotes doubled.  `closed` is false when a quoted
 // field runs to the end of the line (the sweep writes no line breaks in fields).
@@ -207,7 +223,8 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
     std::vector<std::string> header;
     std::map<std::string, std::size_t> column;
     bool grouped = false;
-    while (std::getline(*in, line)) {
+    std::vector<char> buffer(kMaxSweepLineBytes + 1);
+    while (next_line(*in, buffer, line, file, number + 1)) {
       ++number;
       read += line.size() + 1;
       if (read > limit && read - limit > 1)  // the file grew while being read (its last line may lack a newline)

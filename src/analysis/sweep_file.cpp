@@ -42,11 +42,16 @@ class RecordReader {
  public:
   RecordReader(int fd, const std::string& file, std::uint64_t offset) : fd_(fd), file_(file), offset_(offset) {}
 
-  // The next record's fields; `terminated` says whether a newline ended it
-  // (false: the file ended inside it).  False at the end of the file.
+  // The next line's fields; `terminated` says whether a newline ended it
+  // (false: the file ended inside it).  False at the end of the file.  The
+  // sweep writes no line break inside a field, so a newline always ends the
+  // record: one inside a quoted field, or a line past kMaxSweepLineBytes (of
+  // which no more is kept), makes it damaged().
   bool next(std::vector<std::string>& fields, bool& terminated) {
     fields.assign(1, std::string());
+    damage_.clear();
     bool any = false, quoted = false;
+    std::size_t bytes = 0;
     for (;;) {
       const int c = get();
       if (c < 0) {
@@ -54,25 +59,34 @@ class RecordReader {
         return any;
       }
       any = true;
+      if (c == '\n') {
+        ++lines_;
+        terminated = true;
+        if (quoted) damage_ = "a quoted field is not closed on its line";
+        return true;
+      }
+      if (++bytes > kMaxSweepLineBytes) {
+        if (damage_.empty()) {
+          damage_ = "longer than " + std::to_string(kMaxSweepLineBytes >> 20) + " MB (a sweep row is under 1 kB)";
+          fields.assign(1, std::string());
+        }
+        continue;
+      }
       std::string& field = fields.back();
       if (quoted) {
         if (c == '"') {
           if (peek() == '"') {
             get();
+            ++bytes;
             field += '"';
           } else {
             quoted = false;
           }
         } else {
-          if (c == '\n') ++lines_;
           field += static_cast<char>(c);
         }
       } else if (c == ',') {
         fields.emplace_back();
-      } else if (c == '\n') {
-        ++lines_;
-        terminated = true;
-        return true;
       } else if (c == '"' && field.empty()) {
         quoted = true;
       } else {
@@ -80,6 +94,8 @@ class RecordReader {
       }
     }
   }
+  // Why the last record read is not a row the sweep could have written, or "".
+  const std::string& damaged() const { return damage_; }
   std::uint64_t offset() const { return offset_; }  // bytes read
   std::uint64_t lines() const { return lines_; }    // newlines read
 
@@ -106,6 +122,7 @@ class RecordReader {
 
   int fd_;
   const std::string& file_;
+  std::string damage_;
   std::uint64_t offset_, lines_ = 0;
   std::vector<char> block_ = std::vector<char>(std::size_t{1} << 20);
   std::size_t at_ = 0, size_ = 0;
@@ -253,6 +270,7 @@ SweepFileCheck check_sweep_file(int fd, const std::string& file, const SweepLayo
       check.cut_tail = "line " + std::to_string(line) + " has no newline at its end (a write cut off)";
       break;
     }
+    if (!reader.damaged().empty()) throw fault(reader.damaged());
     if (row.size() != columns)
       throw fault(std::to_string(row.size()) + " field(s) where the header has " + std::to_string(columns));
     const std::string &id = row[0], &light = row[4], &method = row[5], &variant = row[6];

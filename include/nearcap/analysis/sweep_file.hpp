@@ -24,6 +24,7 @@
 // complete groups end.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -33,6 +34,11 @@
 #include <vector>
 
 namespace nearcap::analysis {
+
+// The longest line a reader of sweep CSVs takes (--resume, tune; the
+// report's reader has the same bound): a sweep row is under 1 kB, so a longer
+// line is not one, and no reader holds more than this of a line in memory.
+inline constexpr std::size_t kMaxSweepLineBytes = std::size_t{1} << 20;
 
 // ---- the sidecar -----------------------------------------------------------
 
