@@ -206,6 +206,24 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
   }
 }
 
+// A column named twice: which of the two would be summed is a guess.
+TEST_F(Report, AColumnNamedTwiceIsRefused) {
+  std::istringstream in(test::slurp(dir_ / "rows.csv"));
+  std::string text;
+  bool header = true;
+  for (std::string line; std::getline(in, line); header = false) text += line + (header ? ",wrong" : ",0") + "\n";
+  std::ofstream(dir_ / "twice.csv") << text;
+  const fs::path out = dir_ / "never";
+  const test::CliResult r =
+      test::run_cli("report " + (dir_ / "twice.csv").string() + " --out " + out.string(), "report_twice");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("nearcap: error (parse): " + (dir_ / "twice.csv").string() +
+                       ": line 1: column 'wrong' appears twice in the header"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // The first column of a report table's CSV, header left out.
 std::vector<std::string> first_column(const fs::path& csv) {
   std::istringstream in(test::slurp(csv));

@@ -178,6 +178,11 @@ def parsed_rows(files):
                 header = next(reader, None)
                 if header is None:
                     raise ReportError("parse", f"{name}: empty file, not a nearcap sweep CSV")
+                named = set()
+                for column in header:  # which of two columns of one name is read would be a guess
+                    if column in named:
+                        raise ReportError("parse", f"{name}: line 1: column '{column}' appears twice in the header")
+                    named.add(column)
                 missing = [c for c in REQUIRED if c not in header]
                 if missing:
                     raise ReportError("schema", f"{name}: line 1: missing column '{missing[0]}' "
@@ -215,7 +220,7 @@ class RowConverter:
     INTEGERS = INTEGER_COLUMNS + PASS_COLUMNS
 
     def __init__(self, header, name):
-        self.index = {c: k for k, c in enumerate(header)}  # a repeated name: its last column
+        self.index = {c: k for k, c in enumerate(header)}  # each name once (parsed_rows checks it)
         self.name = name
         self.text = [(c, self.index[c]) for c in self.TEXT]
         self.integers = [self.index[c] for c in self.INTEGERS]
