@@ -224,6 +224,43 @@ TEST_F(Report, AColumnNamedTwiceIsRefused) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// nearcap stopped (SIGTERM) while its report script runs: the script is
+// stopped too, through its cleanup, and nothing of the run is left behind
+// (the settings table and the log are temporary files); nearcap ends by the
+// signal.  The script here stands in for the report: it says where its
+// settings and its stderr (the log) are, then waits.
+TEST_F(Report, StoppedWhileItsScriptRunsItStopsTheScriptAndLeavesNothing) {
+  const fs::path run = dir_ / "stopped";
+  fs::create_directories(run);
+  std::ofstream(run / "waiting.py") << "import os, signal, sys, time\n"
+                                       "def stop(signum, frame):\n"
+                                       "    open(sys.argv[0] + '.stopped', 'w').write('stopped')\n"
+                                       "    sys.exit(128 + signum)\n"
+                                       "signal.signal(signal.SIGTERM, stop)\n"
+                                       "settings = sys.argv[sys.argv.index('--settings') + 1]\n"
+                                       "with open(sys.argv[0] + '.tmp', 'w') as f:\n"
+                                       "    f.write(settings + '\\n' + os.readlink('/proc/self/fd/2') + '\\n')\n"
+                                       "os.rename(sys.argv[0] + '.tmp', sys.argv[0] + '.started')\n"
+                                       "time.sleep(120)\n";
+  const std::string script = (run / "waiting.py").string();
+  const std::string command = "cd '" + run.string() + "' && (NEARCAP_REPORT_SCRIPT='" + script + "' '" +
+                              std::string(NEARCAP_CLI) + "' report '" + (dir_ / "rows.csv").string() +
+                              "' --out R 2> err & pid=$!; for i in $(seq 600); do [ -e '" + script +
+                              ".started' ] && break; sleep 0.1; done; kill -TERM $pid; wait $pid; echo $? > rc)";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(test::slurp(run / "rc"), "143\n") << test::slurp(run / "err");
+  EXPECT_EQ(test::slurp(run / "waiting.py.stopped"), "stopped") << "the script got SIGTERM and ran its cleanup";
+  std::istringstream started(test::slurp(run / "waiting.py.started"));
+  std::string settings, log;
+  std::getline(started, settings);
+  std::getline(started, log);
+  EXPECT_FALSE(settings.empty());
+  EXPECT_FALSE(fs::exists(settings)) << "the settings table, a temporary file: " << settings;
+  EXPECT_FALSE(log.empty());
+  EXPECT_FALSE(fs::exists(log)) << "the script's log, a temporary file: " << log;
+  EXPECT_FALSE(fs::exists(run / "R"));
+}
+
 // The first column of a report table's CSV, header left out.
 std::vector<std::string> first_column(const fs::path& csv) {
   std::istringstream in(test::slurp(csv));

@@ -58,6 +58,7 @@ import math
 import os
 import random
 import shutil
+import signal
 import stat
 import sys
 import tempfile
@@ -1210,5 +1211,11 @@ def run(argv):
     return 2
 
 
+def stop_on_sigterm(signum, frame):
+    """SIGTERM (nearcap forwards it when it is stopped): an exit that runs the cleanup."""
+    raise SystemExit(128 + signum)
+
+
 if __name__ == "__main__":
+    signal.signal(signal.SIGTERM, stop_on_sigterm)
     sys.exit(run(sys.argv[1:]))

@@ -51,6 +51,13 @@ struct ExitCode {
   int code = 1;
 };
 
+// Thrown once a child process (Python) has ended after this one received
+// `signal` (SIGINT, SIGTERM or SIGHUP) while waiting for it: the stack
+// unwinds (temporary files removed), then main ends by that signal.
+struct Interrupted {
+  int signal = 0;
+};
+
 // The text of `j` (indent < 0: one line).  File names are bytes, and a
 // string that is not UTF-8 has each bad byte written as U+FFFD rather than
 // refused: the JSON names the file as well as JSON can, and the file itself

@@ -1,9 +1,11 @@
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -566,8 +568,44 @@ void check_light_index(const Scene& scene, std::size_t light) {
 
 namespace {
 
+// The child being waited for, and the signal this process received meanwhile.
+volatile sig_atomic_t g_interrupting_signal = 0;
+volatile pid_t g_child = 0;
+
+// SIGINT, SIGTERM or SIGHUP while a child runs: the child gets SIGTERM, which
+// the report script turns into an exit that runs its cleanup (its staging
+// folder is removed), and this process waits for it to end.
+void interrupt_child(int signal) {
+  g_interrupting_signal = signal;
+  if (g_child > 0) ::kill(g_child, SIGTERM);
+}
+
+// The handlers of the three signals, from construction to destruction.
+class ChildInterrupts {
+ public:
+  explicit ChildInterrupts(pid_t child) {
+    g_interrupting_signal = 0;
+    g_child = child;
+    struct sigaction forward {};
+    forward.sa_handler = interrupt_child;
+    sigemptyset(&forward.sa_mask);
+    for (std::size_t k = 0; k < kSignals.size(); ++k) ::sigaction(kSignals[k], &forward, &previous_[k]);
+  }
+  ~ChildInterrupts() {
+    for (std::size_t k = 0; k < kSignals.size(); ++k) ::sigaction(kSignals[k], &previous_[k], nullptr);
+    g_child = 0;
+  }
+  ChildInterrupts(const ChildInterrupts&) = delete;
+  ChildInterrupts& operator=(const ChildInterrupts&) = delete;
+
+ private:
+  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+  std::array<struct sigaction, 3> previous_{};
+};
+
 // Spawns Python on the script; its stderr goes to `stderr_log` when not empty.
-// Returns waitpid's raw status.
+// Returns waitpid's raw status; throws Interrupted when this process was
+// signalled while Python ran (once Python has ended).
 int spawn_python(const std::string& script, const std::vector<std::string>& args, const std::string& what,
                  const std::string& stderr_log) {
   const char* env = std::getenv("NEARCAP_PYTHON");
@@ -581,15 +619,30 @@ int spawn_python(const std::string& script, const std::vector<std::string>& args
   ::posix_spawn_file_actions_init(&actions);
   if (!stderr_log.empty())
     ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  // The child takes SIGINT and SIGTERM (a shell starts a background job with
+  // SIGINT ignored, which the child would inherit).
+  posix_spawnattr_t attributes;
+  ::posix_spawnattr_init(&attributes);
+  sigset_t defaults;
+  sigemptyset(&defaults);
+  sigaddset(&defaults, SIGINT);
+  sigaddset(&defaults, SIGTERM);
+  ::posix_spawnattr_setsigdefault(&attributes, &defaults);
+  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;
-  const int spawned = ::posix_spawnp(&pid, py.c_str(), &actions, nullptr, argv.data(), environ);
+  const int spawned = ::posix_spawnp(&pid, py.c_str(), &actions, &attributes, argv.data(), environ);
+  ::posix_spawnattr_destroy(&attributes);
   ::posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0)
     throw Error(ErrorKind::Io, py + ": cannot run Python for " + what + ": " + std::strerror(spawned) +
                                    " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  {
+    const ChildInterrupts interrupts(pid);
+    while (::waitpid(pid, &status, 0) < 0)
+      if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  }
+  if (g_interrupting_signal != 0) throw Interrupted{g_interrupting_signal};
   return status;
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -153,6 +154,11 @@ int main(int argc, char** argv) {
     return usage_error(what);
   } catch (const nearcap::cli::ExitCode& e) {
     return fail(e.code);
+  } catch (const nearcap::cli::Interrupted& e) {
+    // Ended by the signal, as it would have been without a child to wait for.
+    std::signal(e.signal, SIG_DFL);
+    std::raise(e.signal);
+    return 128 + e.signal;
   } catch (const nearcap::Error& e) {
     if (report())
       std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(),
