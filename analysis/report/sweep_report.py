@@ -1211,11 +1211,15 @@ def run(argv):
     return 2
 
 
-def stop_on_sigterm(signum, frame):
-    """SIGTERM (nearcap forwards it when it is stopped): an exit that runs the cleanup."""
+def stop_on_signal(signum, frame):
+    """SIGINT or SIGTERM (nearcap forwards SIGTERM when it is stopped; Ctrl-C sends SIGINT to both): one exit
+    that runs the cleanup, the signals that follow ignored so that it finishes."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     raise SystemExit(128 + signum)
 
 
 if __name__ == "__main__":
-    signal.signal(signal.SIGTERM, stop_on_sigterm)
+    signal.signal(signal.SIGINT, stop_on_signal)
+    signal.signal(signal.SIGTERM, stop_on_signal)
     sys.exit(run(sys.argv[1:]))
