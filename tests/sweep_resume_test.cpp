@@ -626,6 +626,32 @@ TEST(SweepFileCheck, ReadsAFileOfManyBlocksRowByRow) {
 
 // ---- the command line ------------------------------------------------------
 
+// A write that fails (a full disk; here the file size limit, its signal
+// ignored, so that write() fails with EFBIG) cuts the file back to the last
+// whole configuration: one line, and --resume continues to the rows of a
+// sweep never stopped.
+TEST_F(SweepFile, AFailedWriteLeavesWholeConfigurationsThatResume) {
+  const std::string csv = path("full.csv");
+  const std::string sweep = "sweep --samples 200 --seed 5 --width 8 --height 6 --methods zpass,zfail --out '";
+  const test::CliResult r = test::run_cli(sweep + csv + "'", "sweep_file_full", "trap '' XFSZ; ulimit -f 60;");
+  // After the sweep's progress lines, its one error line.
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const std::size_t at = r.err.find("nearcap: error (io): " + csv + ": write failed: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\n', at), r.err.size() - 1) << r.err;
+  EXPECT_NE(r.err.find("the configuration being written was removed: --resume continues the sweep", at),
+            std::string::npos)
+      << r.err;
+  const std::string cut = test::slurp(csv);
+  ASSERT_FALSE(cut.empty());
+  EXPECT_EQ(cut.back(), '\n');
+  const test::CliResult resumed = test::run_cli(sweep + csv + "' --resume", "sweep_file_full_resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const test::CliResult whole = test::run_cli(sweep + path("whole.csv") + "'", "sweep_file_full_whole");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_EQ(untimed_rows(test::slurp(csv)), untimed_rows(test::slurp(path("whole.csv"))));
+}
+
 // The replay column runs nearcap with exactly the path it names, whatever
 // the shell makes of its characters.
 TEST_F(SweepFile, TheReplayColumnIsQuotedForTheShell) {

@@ -443,7 +443,7 @@ class OrderedWriter {
     ready_[index] = std::move(rows);
     const std::uint64_t before = next_;
     for (auto it = ready_.find(next_); it != ready_.end(); it = ready_.find(next_)) {
-      write_all(fd_, it->second, file_);
+      write_group(it->second);
       ready_.erase(it);
       ++next_;
     }
@@ -459,6 +459,22 @@ class OrderedWriter {
   }
 
  private:
+  // One configuration's rows, whole or not at all: a failed write (a full
+  // disk) cuts the file back to where they began, so that the CSV ends with
+  // a whole configuration and --resume continues it.
+  void write_group(const std::string& rows) {
+    const off_t start = ::lseek(fd_, 0, SEEK_CUR);
+    try {
+      write_all(fd_, rows, file_);
+    } catch (const Error& e) {
+      if (start >= 0 && ::ftruncate(fd_, start) == 0 && ::lseek(fd_, start, SEEK_SET) == start)
+        throw Error(e.kind(), std::string(e.what()) + " (the configuration being written was removed: --resume " +
+                                  "continues the sweep)");
+      throw Error(e.kind(), std::string(e.what()) + " (the last configuration may be cut off: --resume --repair " +
+                                "runs it again)");
+    }
+  }
+
   double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
   void progress() {
     const double rate = static_cast<double>(next_ - first_) / std::max(elapsed(), 1e-9);
