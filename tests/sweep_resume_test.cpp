@@ -626,6 +626,20 @@ TEST(SweepFileCheck, ReadsAFileOfManyBlocksRowByRow) {
 
 // ---- the command line ------------------------------------------------------
 
+// A temporary CSV left behind by a killed sweep whose process number this
+// one has (in a container, processes start at the same numbers) takes no
+// name a new sweep needs.  The sweep runs as process 1 of its own namespace.
+TEST_F(SweepFile, ATemporaryFileLeftBehindUnderThisProcessNumberIsSkipped) {
+  if (std::system("unshare -pf true > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "unshare -pf (a process namespace) is not allowed here";
+  const std::string csv = path("t.csv");
+  for (const char* left : {".tmp.1", ".tmp.1.0"}) write_file(csv + left, "left behind\n");
+  const test::CliResult r = test::run_cli(args(csv), "sweep_file_tmp", "unshare -pf");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::slurp(csv + ".tmp.1.0"), "left behind\n");
+  EXPECT_EQ(lines_of(test::slurp(csv)).size(), lines_of(whole("w.csv")).size());
+}
+
 // A write that fails (a full disk; here the file size limit, its signal
 // ignored, so that write() fails with EFBIG) cuts the file back to the last
 // whole configuration: one line, and --resume continues to the rows of a

@@ -328,9 +328,16 @@ int create_csv(const std::string& file, const analysis::SweepMeta& meta) {
   const std::filesystem::path parent = std::filesystem::path(file).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  const std::string temporary = file + ".tmp." + std::to_string(::getpid());
-  const int fd = ::open(temporary.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) throw Error(ErrorKind::Io, file + ": cannot create it: " + std::strerror(errno));
+  // A name no file has: one left behind by a process killed before it
+  // renamed it (whose number this one may have, in a container) is skipped.
+  std::string temporary;
+  int fd = -1;
+  for (int k = 0; fd < 0; ++k) {
+    temporary = file + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(k);
+    fd = ::open(temporary.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && (errno != EEXIST || k == 99))
+      throw Error(ErrorKind::Io, file + ": cannot create it (as " + temporary + "): " + std::strerror(errno));
+  }
   try {
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
       throw Error(ErrorKind::Io, file + ": cannot lock it: " + std::strerror(errno));
