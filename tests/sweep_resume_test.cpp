@@ -217,6 +217,7 @@ TEST_F(SweepFile, ResumeRefusesOtherOptionsNamingTheFirstThatDiffers) {
       {"--width 16", "--width 20", "--width: 20 here, 16 in the sweep being resumed"},
       {"--seed 5", "--seed 6", "--seed: 6 here, 5 in the sweep being resumed"},
       {"", "--kinds grazing", "--kinds: grazing here, all in the sweep being resumed"},
+      {"", "--allow-bunny", "--allow-bunny: yes here, no in the sweep being resumed"},
       {"", "--subpixel-bits 4", "--subpixel-bits: 4 here, 8 in the sweep being resumed"},
       {"", "--depth float32", "--depth: float32 here, fixed24 in the sweep being resumed"},
       {"", "--variant fma=1", "--variant: fma=1 here, (none) in the sweep being resumed"},

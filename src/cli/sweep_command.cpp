@@ -583,10 +583,11 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
       {"--path", o.paths},
       {"--path (content digest)", digests},
       {analysis::kPathSceneDigestKey, scene_digests},
-      {analysis::kSamplerMeshesDigestKey, one(sampler_meshes_digest(o.sampler))},
       {"--seed", one(std::to_string(o.sampler.seed))},
       {"--kinds", one(o.sampler.kinds)},
       {"--allow-bunny", one(o.sampler.allow_bunny ? "yes" : "no")},
+      // After --allow-bunny, which changes it: a resume names the option first.
+      {analysis::kSamplerMeshesDigestKey, one(sampler_meshes_digest(o.sampler))},
       {"--width", one(o.width > 0 ? std::to_string(o.width) : "default")},
       {"--height", one(o.height > 0 ? std::to_string(o.height) : "default")},
       {"--methods",
