@@ -206,6 +206,23 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
   }
 }
 
+// A control character of the CSV in the report's error line is written as
+// an escape: the line reaches a terminal, which would act on it.
+TEST_F(Report, AControlCharacterInItsErrorLineIsEscaped) {
+  std::istringstream in(test::slurp(dir_ / "rows.csv"));
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  std::ofstream(dir_ / "escape.csv") << header << "\n"
+                                     << row.substr(0, row.find(',')) << "\x1b[2J" << row.substr(row.find(',')) << "\n";
+  const test::CliResult r = test::run_cli(
+      "report " + (dir_ / "escape.csv").string() + " --out " + (dir_ / "never").string(), "report_escape");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\\x1b[2J"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 // A column named twice: which of the two would be summed is a guess.
 TEST_F(Report, AColumnNamedTwiceIsRefused) {
   std::istringstream in(test::slurp(dir_ / "rows.csv"));

@@ -22,32 +22,13 @@ namespace {
 
 constexpr const char* kVersion = "nearcap 0.1.0";
 
-// `message` on one line: each control character (a file name can hold a
-// line feed) written as an escape, \n, \r, \t or \xHH.
-std::string one_line(const std::string& message) {
-  std::string line;
-  for (const char c : message) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte != 0x7f) {
-      line += c;
-    } else if (c == '\n' || c == '\r' || c == '\t') {
-      line += c == '\n' ? "\\n" : c == '\r' ? "\\r" : "\\t";
-    } else {
-      char escape[5];
-      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
-      line += escape;
-    }
-  }
-  return line;
-}
-
 int usage_error(const std::string& message) {
   if (const nearcap::cli::MpiWorld* world = nearcap::cli::mpi_world(); world && world->rank() != 0) return 2;
   // CLI11 breaks its messages over lines: joined with spaces.
   std::string line = message;
   std::replace(line.begin(), line.end(), '\n', ' ');
   while (!line.empty() && line.back() == ' ') line.pop_back();
-  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n", one_line(line).c_str());
+  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n", nearcap::cli::one_line(line).c_str());
   return 2;
 }
 
@@ -162,16 +143,16 @@ int main(int argc, char** argv) {
   } catch (const nearcap::Error& e) {
     if (report())
       std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(),
-                   one_line(e.what()).c_str());
+                   nearcap::cli::one_line(e.what()).c_str());
     return fail(2);
   } catch (const std::bad_alloc&) {
     if (report())
       std::fprintf(stderr,
-                   "nearcap: error (resource): out of memory (lower the camera's width and height in the scene, or "
-                   "give it more memory; see docs/scene-format.md, \"Limits on inputs\")\n");
+                   "nearcap: error (resource): out of memory (a frame's width and height, or an input file, too "
+                   "large for this machine's memory; see docs/scene-format.md, \"Limits on inputs\")\n");
     return fail(2);
   } catch (const std::exception& e) {
-    if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", one_line(e.what()).c_str());
+    if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", nearcap::cli::one_line(e.what()).c_str());
     return fail(1);
   }
   // What the command printed on stdout, all of it written: a full disk or a

@@ -152,9 +152,9 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
   const LogTail tail = tail_of(log);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 2 && tail.last_line.rfind("nearcap: error (", 0) == 0) {
     if (tail.more) {
-      std::cerr << tail.last_line << " (the report script's other output: " << log << ")\n";
+      std::cerr << one_line(tail.last_line) << " (the report script's other output: " << log << ")\n";
     } else {
-      std::cerr << tail.last_line << "\n";
+      std::cerr << one_line(tail.last_line) << "\n";
       std::filesystem::remove(log, ec);
     }
     throw ExitCode{2};
