@@ -110,6 +110,32 @@ TEST_F(BadPath, NamesTheFileAndTheField) {
   expect_error("{\"frames\": 10,", "malformed JSON");
 }
 
+// Keyframes whose values are too far apart to interpolate in double: a range
+// error naming the frame, the keyframes and the field, not a scene field the
+// user never wrote.
+TEST_F(BadPath, KeyframesInterpolatingPastDoublesRangeAreARangeError) {
+  const std::string scene = "\"scene\": \"" + std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/room.json\"";
+  const std::string file = (dir_ / "far.json").string();
+  for (const auto& [keys, field] :
+       {std::pair<std::string, std::string>{"{\"eye\": [1e308, 2, 3], \"target\": [0, 0, 0]}, "
+                                            "{\"eye\": [-1e308, 2, 3], \"target\": [0, 0, 0]}",
+                                            "eye"},
+        {"{\"eye\": [0, 2, 5], \"target\": [0, 2, 0], \"near\": 5e-324}, "
+         "{\"eye\": [0, 2, 6], \"target\": [0, 2, 0], \"near\": 50}",
+         "near"}}) {
+    std::ofstream(file) << "{" + scene + ", \"frames\": 3, \"keyframes\": [" + keys + "]}";
+    const analysis::CameraPath path = analysis::load_camera_path(file);
+    try {
+      (void)analysis::path_frame_json(path, 1);
+      ADD_FAILURE() << "frame 1 of " << keys;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Range) << e.what();
+      EXPECT_EQ(std::string(e.what()), file + ": frame 1: keyframes 0 and 1 interpolate past double's range in " +
+                                           field + " (their values are too far apart)");
+    }
+  }
+}
+
 // The two eye-in-shadow paths keep the eye inside the torus's shadow volume:
 // the near-cap has no face of count 0 (the near rectangle lies wholly in the
 // shadow), on frames along the whole path, so Z-pass is wrong on every frame

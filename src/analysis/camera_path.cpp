@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
@@ -116,6 +117,20 @@ CameraKeyframe path_camera(const CameraPath& path, int frame) {
   c.up = lerp(a.up, b.up, t);
   c.fovy_deg = a.fovy_deg + (b.fovy_deg - a.fovy_deg) * t;
   c.near = a.near * std::pow(b.near / a.near, t);
+  // Keyframes far apart in double (eyes at +-1e308, near planes 5e-324 and
+  // 50) can interpolate past its range.
+  const std::pair<const char*, bool> finite[] = {
+      {"eye", std::isfinite(c.eye.x) && std::isfinite(c.eye.y) && std::isfinite(c.eye.z)},
+      {"target", std::isfinite(c.target.x) && std::isfinite(c.target.y) && std::isfinite(c.target.z)},
+      {"up", std::isfinite(c.up.x) && std::isfinite(c.up.y) && std::isfinite(c.up.z)},
+      {"fovy_deg", std::isfinite(c.fovy_deg)},
+      {"near", std::isfinite(c.near)}};
+  for (const auto& [field, ok] : finite)
+    if (!ok)
+      throw Error(ErrorKind::Range, path.source + ": frame " + std::to_string(frame) + ": keyframes " +
+                                        std::to_string(k) + " and " + std::to_string(k + 1) +
+                                        " interpolate past double's range in " + field +
+                                        " (their values are too far apart)");
   return c;
 }
 
