@@ -478,6 +478,11 @@ TEST_F(Reliability, FilesOverTheInputLimitAreAResourceError) {
   EXPECT_EQ(run("classify " + path("big.json"), "NEARCAP_MAX_INPUT_MB=2").exit_code, 0);
   expect_one_line_error(run("classify " + path("B.json"), "NEARCAP_MAX_INPUT_MB=lots"), "NEARCAP_MAX_INPUT_MB",
                         "bad variable");
+  // A whole number too large is named as such, whatever its length.
+  for (const char* large : {"1099511627777", "17592186044416", "99999999999999999999999999"})
+    expect_one_line_error(run("classify " + path("B.json"), std::string("NEARCAP_MAX_INPUT_MB=") + large),
+                          "is above 1099511627776 megabytes", large);
+  EXPECT_EQ(run("classify " + path("B.json"), "NEARCAP_MAX_INPUT_MB=1099511627776").exit_code, 0);
 }
 
 TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
@@ -536,6 +541,7 @@ TEST_F(Reliability, EveryUsageErrorIsOneLineWithExitCodeTwo) {
       {"cap " + b + " --light 0 --light 0", "--light"},
       {"cap " + b, "--light"},
       {"reference " + b + " --light 0", "--out"},
+      {"classify ''", "the scene file's name is empty"},
       {"bogus", "unknown subcommand 'bogus'"},
       {"optimize x", "unknown subcommand 'optimize'"},
       {"tune x", "--out is required"},

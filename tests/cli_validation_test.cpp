@@ -293,17 +293,26 @@ TEST_F(CliValidation, ReferenceCracksAndCapOfASceneWhoseNameIsNotUtf8) {
 }
 
 TEST_F(CliValidation, SweepOfAPathWhoseNameIsNotUtf8) {
+  // A path's name goes into the rows (configuration, source, replay), which
+  // tune and report read as UTF-8: refused, nothing written.
   write_path(dir_ / "\xff.json", 2);
-  const test::CliResult r =
-      run("sweep --path '" + path("\xff.json") + "' --methods zfail --out '" + path("out/\xf0.csv") + "'");
+  const test::CliResult refused =
+      run("sweep --path '" + path("\xff.json") + "' --methods zfail --out '" + path("out/p.csv") + "'");
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("is not UTF-8 text, or holds a control character"), std::string::npos) << refused.err;
+  EXPECT_TRUE(written().empty()) << written().front();
+  // The CSV's own name is no field: one that is not UTF-8 is written, its
+  // sidecar stores it with U+FFFD, and the sweep resumes with the options it
+  // was made with (nothing left to run, the rows unchanged).
+  write_path(dir_ / "p.json", 2);
+  const std::string sweep =
+      "sweep --path '" + path("p.json") + "' --methods zfail --out '" + path("out/\xf0.csv") + "'";
+  const test::CliResult r = run(sweep);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = test::slurp(path("out/\xf0.csv"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
-  // Its sidecar stores the name with U+FFFD, and the sweep resumes with the
-  // options it was made with (nothing left to run, the rows unchanged).
   ASSERT_TRUE(nlohmann::json::accept(test::slurp(path("out/\xf0.csv.meta.json"))));
-  const test::CliResult resumed =
-      run("sweep --path '" + path("\xff.json") + "' --methods zfail --out '" + path("out/\xf0.csv") + "' --resume");
+  const test::CliResult resumed = run(sweep + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(test::slurp(path("out/\xf0.csv")), csv);
 }
@@ -317,12 +326,15 @@ TEST_F(CliValidation, AMeshFolderJsonCannotNameIsOneIoError) {
   nlohmann::json p = nlohmann::json::parse(test::slurp(dir_ / "P.json"));
   p["scene"] = "B.json";
   std::ofstream(dir_ / "d\xff/P.json") << p.dump();
-  for (const std::string& args : {"frame '" + path("d\xff/P.json") + "' --frame 0 --out '" + path("out/f.json") + "'",
-                                  "sweep --path '" + path("d\xff/P.json") + "' --out '" + path("out/s.csv") + "'"}) {
+  // (sweep refuses the path's name before it reads the path.)
+  for (const auto& [args, kind] :
+       {std::pair<std::string, std::string>{
+            "frame '" + path("d\xff/P.json") + "' --frame 0 --out '" + path("out/f.json") + "'", "io"},
+        {"sweep --path '" + path("d\xff/P.json") + "' --out '" + path("out/s.csv") + "'", "usage"}}) {
     SCOPED_TRACE(args);
     const test::CliResult r = run(args);
     EXPECT_EQ(r.exit_code, 2) << r.err;
-    EXPECT_EQ(r.err.rfind("nearcap: error (io): ", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (" + kind + "): ", 0), 0u) << r.err;
     EXPECT_NE(r.err.find("not UTF-8"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(written().empty()) << written().front();

@@ -147,6 +147,19 @@ TEST_F(PolicyInputs, TuneRefusesALineLongerThan1Mb) {
                         "fits.csv: line 3: 1048577 fields, the header has 23");
 }
 
+// Lines ended by a carriage return alone read as one line: named as such,
+// not as a header with repeated columns; "\r\n" line ends are read.
+TEST_F(PolicyInputs, TuneNamesCarriageReturnLineEnds) {
+  std::string cr = sweep_csv(), crlf;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  for (const char c : sweep_csv()) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  const std::string out = (dir_ / "p.json").string();
+  expect_one_line_error(test::run_cli("tune " + write("cr.csv", cr) + " --out " + out, "tune_cr"), "parse",
+                        "cr.csv: line 1: a carriage return inside the line at column 333");
+  const test::CliResult r = test::run_cli("tune " + write("crlf.csv", crlf) + " --out " + out, "tune_crlf");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST_F(PolicyInputs, TheInputLimitAppliesToSweepCsvsAndPolicies) {
   // Rows of a method tune does not read, past 1 MB.
   std::string big = sweep_csv();

@@ -237,6 +237,10 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
         throw Error(ErrorKind::Parse, where + ": not UTF-8 (byte " + byte + " at column " + std::to_string(bad + 1) +
                                           "; a sweep CSV is UTF-8 text)");
       }
+      if (const std::size_t cr = line.find('\r'); cr != std::string::npos && cr + 1 != line.size())
+        throw Error(ErrorKind::Parse,
+                    where + ": a carriage return inside the line at column " + std::to_string(cr + 1) +
+                        " (lines ended by a carriage return alone? a sweep CSV's end in a line feed)");
       if (number > 1 && line.empty()) continue;
       // A byte order mark (a spreadsheet's UTF-8 export) is not part of the first column's name.
       if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);

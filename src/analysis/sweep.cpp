@@ -15,6 +15,7 @@
 #include "nearcap/exact/eye_setup.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/io/scene_file.hpp"
+#include "nearcap/io/utf8_text.hpp"
 #include "nearcap/judge/case_comparison.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
@@ -205,16 +206,23 @@ std::string csv_header() {
   return h;
 }
 
+// A text field of a row: its control characters written as escapes (an
+// error message in `fallback` can name a file whose name holds a line feed),
+// so that no field holds a line break, then quoted where CSV needs it.
+namespace {
+std::string text_field(const std::string& text) { return csv_field(io::escaped_control_characters(text)); }
+}  // namespace
+
 std::string csv_line(const SweepRow& r) {
   std::ostringstream s;
-  s << csv_field(r.configuration) << ',' << csv_field(r.source) << ',' << csv_field(r.kind) << ','
-    << csv_field(r.detail) << ',' << r.light << ',' << r.method << ',' << csv_field(r.variant);
+  s << text_field(r.configuration) << ',' << text_field(r.source) << ',' << text_field(r.kind) << ','
+    << text_field(r.detail) << ',' << r.light << ',' << r.method << ',' << text_field(r.variant);
   for (std::size_t c = 0; c < kQuadCaseCount; ++c) s << ',' << r.exact_cases[c];
   for (std::size_t c = 0; c + 1 < kQuadCaseCount; ++c) s << ',' << r.float_cases[c];
   s << ',' << r.case_disagreements << ',' << r.pixels_seen << ',' << r.wrong << ',' << r.cracks << ',' << r.wrong_lit
     << ',' << r.wrong_shadowed << ',' << r.count_mismatch << ',';
   if (r.cap_mismatch >= 0) s << r.cap_mismatch;
-  s << ',' << r.visibility_mismatch << ',' << csv_field(r.fallback) << ',' << r.zfail_objects << ','
+  s << ',' << r.visibility_mismatch << ',' << text_field(r.fallback) << ',' << r.zfail_objects << ','
     << (r.refused ? 1 : 0) << ',' << r.occluders << ',' << r.zpass_wrong_occluders << ',';
   if (r.false_negatives >= 0) s << r.false_negatives;
   s << ',';
@@ -234,7 +242,7 @@ std::string csv_line(const SweepRow& r) {
   s << ',' << number(r.setup.ms) << ',' << number(frame_ms) << ',';
   if (r.frame_again_ms) s << number(*r.frame_again_ms);
   s << ',' << number(r.decide_ms) << ',' << number(r.reference_ms) << ',' << number(r.crack_distance_ms) << ','
-    << csv_field(r.replay) << ',' << number(r.reference_setup_ms) << ',' << number(r.reference_trace_ms) << '\n';
+    << text_field(r.replay) << ',' << number(r.reference_setup_ms) << ',' << number(r.reference_trace_ms) << '\n';
   return s.str();
 }
 

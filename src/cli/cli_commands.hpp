@@ -45,10 +45,6 @@ void register_evaluate(CLI::App& app);   // the real-GL library too
 std::string shipped_data_dir();     // policy*.json, meshes/, scenes/, paths/
 std::string shipped_scripts_dir();  // report/*.py
 
-// `message` on one line: each control character (a file name can hold a
-// line feed) written as an escape, \n, \r, \t or \xHH.
-std::string one_line(const std::string& message);
-
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.
 struct ExitCode {

@@ -418,23 +418,6 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   return spec;
 }
 
-std::string one_line(const std::string& message) {
-  std::string line;
-  for (const char c : message) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte != 0x7f) {
-      line += c;
-    } else if (c == '\n' || c == '\r' || c == '\t') {
-      line += c == '\n' ? "\\n" : c == '\r' ? "\\r" : "\\t";
-    } else {
-      char escape[5];
-      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
-      line += escape;
-    }
-  }
-  return line;
-}
-
 void check_camera_path_names(const std::vector<std::string>& paths) {
   for (std::size_t k = 0; k < paths.size(); ++k) {
     if (io::first_non_utf8(paths[k]) != std::string::npos || io::first_control_character(paths[k]) != std::string::npos)

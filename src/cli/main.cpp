@@ -17,6 +17,7 @@
 #include "cli_commands.hpp"
 #include "mpi_world.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/utf8_text.hpp"
 
 namespace {
 
@@ -28,7 +29,8 @@ int usage_error(const std::string& message) {
   std::string line = message;
   std::replace(line.begin(), line.end(), '\n', ' ');
   while (!line.empty() && line.back() == ' ') line.pop_back();
-  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n", nearcap::cli::one_line(line).c_str());
+  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n",
+               nearcap::io::escaped_control_characters(line).c_str());
   return 2;
 }
 
@@ -143,7 +145,7 @@ int main(int argc, char** argv) {
   } catch (const nearcap::Error& e) {
     if (report())
       std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(),
-                   nearcap::cli::one_line(e.what()).c_str());
+                   nearcap::io::escaped_control_characters(e.what()).c_str());
     return fail(2);
   } catch (const std::bad_alloc&) {
     if (report())
@@ -152,7 +154,8 @@ int main(int argc, char** argv) {
                    "large for this machine's memory; see docs/scene-format.md, \"Limits on inputs\")\n");
     return fail(2);
   } catch (const std::exception& e) {
-    if (report()) std::fprintf(stderr, "nearcap: internal error: %s\n", nearcap::cli::one_line(e.what()).c_str());
+    if (report())
+      std::fprintf(stderr, "nearcap: internal error: %s\n", nearcap::io::escaped_control_characters(e.what()).c_str());
     return fail(1);
   }
   // What the command printed on stdout, all of it written: a full disk or a

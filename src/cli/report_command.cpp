@@ -41,6 +41,7 @@
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
+#include "nearcap/io/utf8_text.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -152,9 +153,10 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
   const LogTail tail = tail_of(log);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 2 && tail.last_line.rfind("nearcap: error (", 0) == 0) {
     if (tail.more) {
-      std::cerr << one_line(tail.last_line) << " (the report script's other output: " << log << ")\n";
+      std::cerr << io::escaped_control_characters(tail.last_line) << " (the report script's other output: " << log
+                << ")\n";
     } else {
-      std::cerr << one_line(tail.last_line) << "\n";
+      std::cerr << io::escaped_control_characters(tail.last_line) << "\n";
       std::filesystem::remove(log, ec);
     }
     throw ExitCode{2};

@@ -23,13 +23,20 @@ std::string megabytes(std::uint64_t bytes) { return std::to_string((bytes + (1u 
 std::uint64_t max_input_bytes() {
   const char* env = std::getenv("NEARCAP_MAX_INPUT_MB");
   if (env == nullptr || *env == '\0') return kDefaultMaxInputMb << 20;
+  constexpr std::uint64_t kMaxMb = std::uint64_t{1} << 40;
   std::uint64_t mb = 0;
+  bool too_large = false;
   for (const char* c = env; *c; ++c) {
-    if (*c < '0' || *c > '9' || mb > (std::uint64_t{1} << 40))
+    if (*c < '0' || *c > '9')
       throw Error(ErrorKind::Usage,
                   std::string("NEARCAP_MAX_INPUT_MB='") + env + "' is not a positive whole number of megabytes");
     mb = 10 * mb + static_cast<std::uint64_t>(*c - '0');
+    too_large = too_large || mb > kMaxMb;
+    if (too_large) mb = kMaxMb + 1;  // no overflow, whatever the digits that follow
   }
+  if (too_large)
+    throw Error(ErrorKind::Usage, std::string("NEARCAP_MAX_INPUT_MB='") + env + "' is above " + std::to_string(kMaxMb) +
+                                      " megabytes, more than any machine reads");
   if (mb == 0) throw Error(ErrorKind::Usage, "NEARCAP_MAX_INPUT_MB must be at least 1");
   return mb << 20;
 }
@@ -67,6 +74,7 @@ std::string read_input_file(const std::string& path, const std::string& what) {
 
 std::uint64_t check_input_file(const std::string& path, const std::string& what) {
   const std::uint64_t limit = max_input_bytes();
+  if (path.empty()) throw Error(ErrorKind::Usage, "the " + what + "'s name is empty");
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int e = errno;

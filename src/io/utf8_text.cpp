@@ -2,6 +2,7 @@
 #include "nearcap/io/utf8_text.hpp"
 
 #include <cstdint>
+#include <cstdio>
 
 namespace nearcap::io {
 
@@ -42,6 +43,24 @@ std::size_t first_control_character(const std::string& s) {
     if (byte < 0x20 || byte == 0x7f) return k;
   }
   return std::string::npos;
+}
+
+std::string escaped_control_characters(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (const char c : s) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte != 0x7f) {
+      out += c;
+    } else if (c == '\n' || c == '\r' || c == '\t') {
+      out += c == '\n' ? "\\n" : c == '\r' ? "\\r" : "\\t";
+    } else {
+      char escape[5];
+      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
+      out += escape;
+    }
+  }
+  return out;
 }
 
 }  // namespace nearcap::io
