@@ -662,6 +662,27 @@ TEST_F(SweepFile, ATemporaryFileLeftBehindUnderThisProcessNumberIsSkipped) {
   EXPECT_EQ(lines_of(test::slurp(csv)).size(), lines_of(whole("w.csv")).size());
 }
 
+// A path frame whose keyframes interpolate past double's range has no scene:
+// its row is 'rejected' with the reason, as a scene that does not load, and
+// the sweep goes on and resumes.
+TEST_F(SweepFile, AFrameWithoutASceneIsRejectedAndTheSweepGoesOn) {
+  const std::string far = path("far.json");
+  write_file(far, "{\"scene\": \"" + std::string(NEARCAP_SOURCE_DIR) +
+                      "/data/scenes/room.json\", \"frames\": 3, \"keyframes\": [{\"eye\": [1e308, 2, 3], "
+                      "\"target\": [0, 0, 0]}, {\"eye\": [-1e308, 2, 3], \"target\": [0, 0, 0]}]}");
+  const std::string sweep =
+      "sweep --path '" + far + "' --width 8 --height 6 --methods zpass --out '" + path("f.csv") + "'";
+  const test::CliResult r = test::run_cli(sweep, "sweep_file_far");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> lines = lines_of(test::slurp(path("f.csv")));
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_NE(lines[2].find("path:far:1,"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[2].find(",rejected,"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[2].find("keyframes 0 and 1 interpolate past double's range in eye"), std::string::npos) << lines[2];
+  const test::CliResult resumed = test::run_cli(sweep + " --resume", "sweep_file_far_resume");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+}
+
 // A write that fails (a full disk; here the file size limit, its signal
 // ignored, so that write() fails with EFBIG) cuts the file back to the last
 // whole configuration: one line, and --resume continues to the rows of a

@@ -52,6 +52,7 @@ constexpr const char* kCaseNames[] = {"A", "B", "C1", "C2", "D", "degenerate"};
 }  // namespace
 
 std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuration, const SweepOptions& options) {
+  if (configuration.scene_error) throw *configuration.scene_error;
   const Scene scene = parse_scene(configuration.scene_json, configuration.id, ".", options.meshes);
   const CameraSpaceScene cs(scene);
   const SceneClassification exact = classify_scene(cs);

@@ -182,7 +182,11 @@ class Configurations {
         c.source = p.source;
         c.kind = name;
         c.detail = "frame " + std::to_string(f) + " of " + std::to_string(p.frames);
-        c.scene_json = analysis::path_frame_json(p, f);
+        try {
+          c.scene_json = analysis::path_frame_json(p, f);
+        } catch (const Error& e) {
+          c.scene_error = e;  // a rejected row, as for a scene that does not load
+        }
         c.replay = "nearcap frame " + shell_word(p.source) + " --frame " + std::to_string(f) + " --width " +
                    std::to_string(p.width) + " --height " + std::to_string(p.height) + " --out c.json";
         return c;

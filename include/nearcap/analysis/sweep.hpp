@@ -21,6 +21,7 @@
 #include "nearcap/analysis/conditioning.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/light_setup.hpp"
 #include "nearcap/exact/quad_case.hpp"
@@ -36,6 +37,10 @@ struct SweepConfiguration {
   std::string detail;      // the sampler's parameters, or "frame F of N"
   std::string scene_json;  // a scene file's text (mesh paths absolute)
   std::string replay;      // shell commands that write this configuration to c.json
+  // Why no scene could be made (a camera path's keyframes that interpolate
+  // past double's range), in place of scene_json: the configuration is
+  // rejected with it, as a scene that does not load is.
+  std::optional<Error> scene_error;
 };
 
 struct PassWork {
