@@ -107,6 +107,7 @@ TEST_F(BadPath, NamesTheFileAndTheField) {
                    "\"near\": -1}]}",
                "keyframes[0].near");
   expect_error("{\"scene\": \"missing.json\", \"frames\": 10, \"keyframes\": [" + key + "]}", "missing.json");
+  expect_error("{\"scene\": \"\", \"frames\": 10, \"keyframes\": [" + key + "]}", "scene: an empty file name");
   expect_error("{\"frames\": 10,", "malformed JSON");
 }
 

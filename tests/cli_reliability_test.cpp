@@ -238,8 +238,8 @@ TEST_F(Reliability, ANewSweepNeverReplacesAFileNamedAsItsSidecarThatIsNotOne) {
                         "is taken by a file that is not a sweep's sidecar", "the sweep's own policy");
   EXPECT_EQ(test::slurp(path("r.csv.meta.json")), policy);
   EXPECT_FALSE(fs::exists(path("r.csv")));
-  // A link from the sidecar's name to the CSV (the rows went to a file the
-  // sidecar then replaced, and the sweep said it succeeded).
+  // A link from the sidecar's name to the CSV: the sidecar would replace the
+  // rows.
   fs::create_symlink("l.csv", dir_ / "l.csv.meta.json");
   expect_one_line_error(run("sweep --samples 1 --width 8 --height 6 --methods zpass --out " + path("l.csv")),
                         "is taken by a file that is not a sweep's sidecar", "a sidecar linked to its CSV");

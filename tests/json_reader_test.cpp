@@ -125,9 +125,9 @@ TEST(JsonReader, NumberBeyondDoubleIsAParseErrorNamingItsPath) {
 }
 
 TEST(JsonReader, NestingDeeperThan64IsAParseError) {
-  // A value nested 100,000 deep and a member after it (which, unchecked,
-  // overflowed the stack as the object's member list grew): refused while
-  // parsed, naming where.
+  // A value nested 100,000 deep and a member after it (the object's member
+  // list would copy it recursively as it grows): refused while parsed,
+  // naming where.
   const std::size_t deep = 100000;
   const Error e = error_of("{\"objects\": " + std::string(deep, '[') + std::string(deep, ']') + ", \"count\": 3}");
   EXPECT_EQ(e.kind(), ErrorKind::Parse);

@@ -136,7 +136,8 @@ TEST_F(PolicyInputs, ACsvGivenTwiceIsRefused) {
 }
 
 // A line longer than 1 MB is no sweep row: refused naming it, read no
-// further (a line of commas once took 37 bytes of memory per byte).
+// further (held whole, a line of commas takes tens of bytes of memory per
+// byte).
 TEST_F(PolicyInputs, TuneRefusesALineLongerThan1Mb) {
   const std::string csv = write("long.csv", with_line(sweep_csv(), 3, std::string((1u << 20) + 1, ',')));
   expect_one_line_error(test::run_cli("tune " + csv + " --out " + (dir_ / "p.json").string(), "tune_long"), "parse",

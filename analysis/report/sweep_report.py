@@ -152,11 +152,11 @@ def text_lines(name, handle):
     """The file's lines as text, each checked to be UTF-8 and under MAX_LINE_BYTES."""
     line = 0
     while True:
-        raw = handle.readline(MAX_LINE_BYTES)
+        raw = handle.readline(MAX_LINE_BYTES + 1)  # a line of MAX_LINE_BYTES and its newline
         if not raw:
             return
         line += 1
-        if len(raw) == MAX_LINE_BYTES and not raw.endswith(b"\n"):
+        if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
             raise ReportError("parse", f"{name}: line {line}: longer than {MAX_LINE_BYTES >> 20} MB "
                                        "(not a nearcap sweep CSV)")
         if line == 1 and raw.startswith(b"\xef\xbb\xbf"):
@@ -1149,6 +1149,7 @@ def main(argv):
         raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
     policy_json = read_policy(policy) if policy is not None else None
     table = settings_table.read(settings)
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])  # this process's signal mask, restored after the cleanup
     try:
         parent = target.resolve().parent
         parent.mkdir(parents=True, exist_ok=True)
@@ -1172,6 +1173,8 @@ def main(argv):
                 if same_file(target / f.name, i):
                     raise ReportError("io", f"{out}: the report would replace {target / f.name}, which is its input "
                                             f"{i}; nothing was written (choose another --out)")
+        # The pages move into DIR whole: a stop signal waits until they have.
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
         try:
             target.mkdir(exist_ok=True)
             for f in staged:
@@ -1179,7 +1182,9 @@ def main(argv):
         except OSError as e:
             raise ReportError("io", f"{out}: cannot write the report: {e.strerror}")
     finally:
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)  # the cleanup runs to its end
         shutil.rmtree(staging, ignore_errors=True)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
     print(f"report: {report.rows} rows, {len(report.plots)} plots, {target / 'index.html'}")
 
 
@@ -1211,15 +1216,19 @@ def run(argv):
     return 2
 
 
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
 def stop_on_signal(signum, frame):
-    """SIGINT or SIGTERM (nearcap forwards SIGTERM when it is stopped; Ctrl-C sends SIGINT to both): one exit
-    that runs the cleanup, the signals that follow ignored so that it finishes."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    """SIGINT, SIGTERM or SIGHUP (nearcap forwards SIGTERM when it is stopped; Ctrl-C and a closed terminal reach
+    both): one exit that runs the cleanup, the signals that follow ignored so that it finishes."""
+    for s in STOP_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
     raise SystemExit(128 + signum)
 
 
 if __name__ == "__main__":
-    signal.signal(signal.SIGINT, stop_on_signal)
-    signal.signal(signal.SIGTERM, stop_on_signal)
+    for stop in STOP_SIGNALS:
+        if signal.getsignal(stop) is not signal.SIG_IGN:  # an ignored one (nohup, a background job) stays so
+            signal.signal(stop, stop_on_signal)
     sys.exit(run(sys.argv[1:]))

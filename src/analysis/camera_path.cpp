@@ -38,6 +38,7 @@ CameraPath load_camera_path(const std::string& file, MeshCache* meshes) {
   const io::JsonValue scene_value = root.at("scene");
   if (!scene_value.is_string())
     scene_value.fail("expected the base scene's file name (a string), found " + std::string(scene_value.type_name()));
+  if (scene_value.string().empty()) scene_value.fail("an empty file name, where the base scene's belongs");
   std::filesystem::path scene(scene_value.string());
   if (scene.is_relative()) scene = std::filesystem::path(file).parent_path() / scene;
   p.scene_file = scene.lexically_normal().string();

@@ -35,6 +35,7 @@ bool next_line(std::istream& in, std::vector<char>& buffer, std::string& line, c
                std::size_t number) {
   in.getline(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   const auto count = static_cast<std::size_t>(in.gcount());
+  if (in.bad()) throw Error(ErrorKind::Io, file + ": cannot read the sweep CSV");
   if (count == 0 && in.eof()) return false;
   if (in.fail() && !in.eof())
     throw Error(ErrorKind::Parse, file + ": line " + std::to_string(number) + ": longer than " +
@@ -240,7 +241,7 @@ void for_each_row(const std::vector<CsvInput>& inputs, std::initializer_list<con
       if (const std::size_t cr = line.find('\r'); cr != std::string::npos && cr + 1 != line.size())
         throw Error(ErrorKind::Parse,
                     where + ": a carriage return inside the line at column " + std::to_string(cr + 1) +
-                        " (lines ended by a carriage return alone? a sweep CSV's end in a line feed)");
+                        " (lines ended by a carriage return alone? a sweep CSV's lines end in a line feed)");
       if (number > 1 && line.empty()) continue;
       // A byte order mark (a spreadsheet's UTF-8 export) is not part of the first column's name.
       if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);

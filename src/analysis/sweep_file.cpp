@@ -62,7 +62,7 @@ class RecordReader {
       if (c == '\n') {
         ++lines_;
         terminated = true;
-        if (quoted) damage_ = "a quoted field is not closed on its line";
+        if (quoted && damage_.empty()) damage_ = "a quoted field is not closed on its line";
         return true;
       }
       if (++bytes > kMaxSweepLineBytes) {

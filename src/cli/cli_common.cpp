@@ -570,37 +570,71 @@ namespace {
 
 // The child being waited for, and the signal this process received meanwhile.
 volatile sig_atomic_t g_interrupting_signal = 0;
-volatile pid_t g_child = 0;
+volatile sig_atomic_t g_child = 0;  // a pid_t (an int here)
 
 // SIGINT, SIGTERM or SIGHUP while a child runs: the child gets SIGTERM, which
 // the report script turns into an exit that runs its cleanup (its staging
 // folder is removed), and this process waits for it to end.
 void interrupt_child(int signal) {
+  const int saved = errno;
   g_interrupting_signal = signal;
-  if (g_child > 0) ::kill(g_child, SIGTERM);
+  if (g_child > 0) ::kill(static_cast<pid_t>(g_child), SIGTERM);
+  errno = saved;
 }
 
-// The handlers of the three signals, from construction to destruction.
+// The signals a child is stopped by, and this process's mask and handlers of
+// them while it runs one.  A signal the process ignores (`nohup`, a shell's
+// background job) stays ignored, here and in the child.  The signals are
+// blocked from construction to start(), so that none arrives between the
+// child's spawn and the handlers that forward it.
 class ChildInterrupts {
  public:
-  explicit ChildInterrupts(pid_t child) {
+  ChildInterrupts() {
     g_interrupting_signal = 0;
+    g_child = 0;
+    sigset_t stops;
+    sigemptyset(&stops);
+    for (int s : kSignals) sigaddset(&stops, s);
+    ::pthread_sigmask(SIG_BLOCK, &stops, &mask_);
+  }
+  // The mask the child starts with: this process's before construction.
+  const sigset_t& child_mask() const { return mask_; }
+  // Forwards the signals to `child` from now on.
+  void start(pid_t child) {
     g_child = child;
     struct sigaction forward {};
     forward.sa_handler = interrupt_child;
     sigemptyset(&forward.sa_mask);
-    for (std::size_t k = 0; k < kSignals.size(); ++k) ::sigaction(kSignals[k], &forward, &previous_[k]);
+    for (std::size_t k = 0; k < kSignals.size(); ++k) {
+      ::sigaction(kSignals[k], nullptr, &previous_[k]);
+      if (previous_[k].sa_handler != SIG_IGN) ::sigaction(kSignals[k], &forward, nullptr);
+    }
+    started_ = true;
+    ::pthread_sigmask(SIG_SETMASK, &mask_, nullptr);
   }
-  ~ChildInterrupts() {
-    for (std::size_t k = 0; k < kSignals.size(); ++k) ::sigaction(kSignals[k], &previous_[k], nullptr);
+  // The handlers and the mask as they were before construction; nothing is
+  // forwarded any more.
+  void stop() {
+    if (stopped_) return;
+    stopped_ = true;
+    sigset_t stops;
+    sigemptyset(&stops);
+    for (int s : kSignals) sigaddset(&stops, s);
+    ::pthread_sigmask(SIG_BLOCK, &stops, nullptr);
     g_child = 0;
+    if (started_)
+      for (std::size_t k = 0; k < kSignals.size(); ++k) ::sigaction(kSignals[k], &previous_[k], nullptr);
+    ::pthread_sigmask(SIG_SETMASK, &mask_, nullptr);
   }
+  ~ChildInterrupts() { stop(); }
   ChildInterrupts(const ChildInterrupts&) = delete;
   ChildInterrupts& operator=(const ChildInterrupts&) = delete;
 
  private:
   static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+  sigset_t mask_{};
   std::array<struct sigaction, 3> previous_{};
+  bool started_ = false, stopped_ = false;
 };
 
 // Spawns Python on the script; its stderr goes to `stderr_log` when not empty.
@@ -619,16 +653,12 @@ int spawn_python(const std::string& script, const std::vector<std::string>& args
   ::posix_spawn_file_actions_init(&actions);
   if (!stderr_log.empty())
     ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  // The child takes SIGINT and SIGTERM (a shell starts a background job with
-  // SIGINT ignored, which the child would inherit).
+  int status = 0;
+  ChildInterrupts interrupts;
   posix_spawnattr_t attributes;
   ::posix_spawnattr_init(&attributes);
-  sigset_t defaults;
-  sigemptyset(&defaults);
-  sigaddset(&defaults, SIGINT);
-  sigaddset(&defaults, SIGTERM);
-  ::posix_spawnattr_setsigdefault(&attributes, &defaults);
-  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
+  ::posix_spawnattr_setsigmask(&attributes, &interrupts.child_mask());
+  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
   pid_t pid = 0;
   const int spawned = ::posix_spawnp(&pid, py.c_str(), &actions, &attributes, argv.data(), environ);
   ::posix_spawnattr_destroy(&attributes);
@@ -636,12 +666,16 @@ int spawn_python(const std::string& script, const std::vector<std::string>& args
   if (spawned != 0)
     throw Error(ErrorKind::Io, py + ": cannot run Python for " + what + ": " + std::strerror(spawned) +
                                    " (scripts/install-deps.sh installs python3 and python3-matplotlib)");
-  int status = 0;
-  {
-    const ChildInterrupts interrupts(pid);
-    while (::waitpid(pid, &status, 0) < 0)
-      if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
-  }
+  interrupts.start(pid);
+  // Waited for without reaping it, so that a signal forwarded before the
+  // handlers are restored reaches this child (a zombie) and no process that
+  // took its number; then reaped.
+  siginfo_t info{};
+  while (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOWAIT) < 0)
+    if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
+  interrupts.stop();
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw Error(ErrorKind::Io, "waiting for " + what + ": " + std::string(std::strerror(errno)));
   if (g_interrupting_signal != 0) throw Interrupted{g_interrupting_signal};
   return status;
 }

@@ -333,7 +333,7 @@ int create_csv(const std::string& file, const analysis::SweepMeta& meta) {
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   // A name no file has: one left behind by a process killed before it
-  // renamed it (whose number this one may have, in a container) is skipped.
+  // linked it (whose number this one may have, in a container) is skipped.
   std::string temporary;
   int fd = -1;
   for (int k = 0; fd < 0; ++k) {

@@ -13,9 +13,10 @@ namespace {
 const JsonNode& node_of(const void* node) { return *static_cast<const JsonNode*>(node); }
 
 // The deepest nesting of arrays and objects read.  nearcap's own files nest
-// a few levels; a deeper tree is refused while it is parsed, before the tree
-// copies a value recursively (a member after a value nested tens of thousands
-// deep overflowed the stack as the object's member list grew).
+// a few levels; a deeper tree is refused while it is parsed, because the
+// tree copies a value recursively (an object's member list copies its
+// members as it grows), so a value nested tens of thousands deep with a
+// member after it would overflow the stack.
 constexpr std::size_t kMaxJsonDepth = 64;
 
 // The parser callback.  nlohmann::json keeps the last of two equal keys, so a
