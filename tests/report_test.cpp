@@ -260,11 +260,15 @@ TEST_F(Report, StoppedWhileItsScriptRunsItStopsTheScriptAndLeavesNothing) {
                                        "os.rename(sys.argv[0] + '.tmp', sys.argv[0] + '.started')\n"
                                        "time.sleep(120)\n";
   const std::string script = (run / "waiting.py").string();
-  const std::string command = "cd '" + run.string() + "' && (NEARCAP_REPORT_SCRIPT='" + script + "' '" +
+  // A SIGHUP the shell ignores (as nohup does) stays ignored: nearcap is
+  // still running half a second later; then SIGTERM stops it.
+  const std::string command = "cd '" + run.string() + "' && (trap '' HUP; NEARCAP_REPORT_SCRIPT='" + script + "' '" +
                               std::string(NEARCAP_CLI) + "' report '" + (dir_ / "rows.csv").string() +
                               "' --out R 2> err & pid=$!; for i in $(seq 600); do [ -e '" + script +
-                              ".started' ] && break; sleep 0.1; done; kill -TERM $pid; wait $pid; echo $? > rc)";
+                              ".started' ] && break; sleep 0.1; done; kill -HUP $pid; sleep 0.5; "
+                              "kill -0 $pid && echo alive > hup; kill -TERM $pid; wait $pid; echo $? > rc)";
   ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(test::slurp(run / "hup"), "alive\n") << "an ignored SIGHUP stopped it";
   EXPECT_EQ(test::slurp(run / "rc"), "143\n") << test::slurp(run / "err");
   EXPECT_EQ(test::slurp(run / "waiting.py.stopped"), "stopped") << "the script got SIGTERM and ran its cleanup";
   std::istringstream started(test::slurp(run / "waiting.py.started"));
