@@ -240,5 +240,29 @@ TEST_F(CalibrateCommand, AProfileWithoutHeldOutObservationsIsWrittenWithAWarning
   }
 }
 
+// A write that fails after the measuring (a full device passes the check made
+// before it) is one error line; stdout names no file that was not written,
+// and the observations, written first, outlive a failed policy write.
+TEST_F(CalibrateCommand, AFailedWriteNamesNoUnwrittenFile) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  const fs::path csv = dir_ / "c.csv";
+  const std::string run = "calibrate --samples 1 --width 32 --height 24 ";
+  const test::CliResult full = test::run_cli(run + "--out /dev/full", "calibrate_full");
+  if (full.exit_code == 2 && full.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << full.err;
+  EXPECT_EQ(full.exit_code, 2) << full.err;
+  EXPECT_NE(full.err.find("nearcap: error (io): /dev/full"), std::string::npos) << full.err;
+  EXPECT_EQ(full.out.find("/dev/full"), std::string::npos) << full.out;
+
+  const test::CliResult policy =
+      test::run_cli(run + "--out '" + csv.string() + "' --write-policy /dev/full", "calibrate_policy_full");
+  EXPECT_EQ(policy.exit_code, 2) << policy.err;
+  EXPECT_NE(policy.err.find("nearcap: error (io): /dev/full"), std::string::npos) << policy.err;
+  EXPECT_EQ(policy.out.find("policy with the device profile"), std::string::npos) << policy.out;
+  EXPECT_NE(policy.out.find("observations in " + csv.string()), std::string::npos) << policy.out;
+  ASSERT_TRUE(fs::exists(csv));
+  EXPECT_GT(fs::file_size(csv), 0u);
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -468,7 +468,10 @@ void run(CalibrateOptions o) {
     std::fprintf(stderr, "\rcalibrate: configuration %zu/%zu (%.0f s)", k + 1, set.count(), ms_since(t0) * 1e-3);
   }
   std::fprintf(stderr, "\n");
-  std::vector<io::OutputFile> files{{o.out, analysis::calibration_csv(observations)}};
+  // The observations first, on their own: the measuring is the dear part,
+  // kept whatever the fit and the policy's write do; and named only once
+  // written.
+  io::write_output_files({{o.out, analysis::calibration_csv(observations)}});
   std::printf(
       "calibrated on %s: %zu configurations (%zu rejected), %zu method frames drawn (%zu refused), %zu pass "
       "and %zu cpu observations in %s\n",
@@ -535,10 +538,9 @@ void run(CalibrateOptions o) {
                                                             : "none"},
         {"held_out_median_relative_error", {{"passes", held_out}, {"frame", frame_held_out}, {"cpu", cpu_held_out}}}};
     policy->provenance_json = json_text(provenance);
-    files.push_back({o.write_policy, analysis::policy_to_json(*policy)});
+    io::write_output_files({{o.write_policy, analysis::policy_to_json(*policy)}});
+    std::printf("policy with the device profile: %s\n", o.write_policy.c_str());
   }
-  io::write_output_files(files);
-  if (policy) std::printf("policy with the device profile: %s\n", o.write_policy.c_str());
 }
 
 }  // namespace

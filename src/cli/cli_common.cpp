@@ -592,9 +592,7 @@ class ChildInterrupts {
   ChildInterrupts() {
     g_interrupting_signal = 0;
     g_child = 0;
-    sigset_t stops;
-    sigemptyset(&stops);
-    for (int s : kSignals) sigaddset(&stops, s);
+    const sigset_t stops = stop_signals();
     ::pthread_sigmask(SIG_BLOCK, &stops, &mask_);
   }
   // The mask the child starts with: this process's before construction.
@@ -617,9 +615,7 @@ class ChildInterrupts {
   void stop() {
     if (stopped_) return;
     stopped_ = true;
-    sigset_t stops;
-    sigemptyset(&stops);
-    for (int s : kSignals) sigaddset(&stops, s);
+    const sigset_t stops = stop_signals();
     ::pthread_sigmask(SIG_BLOCK, &stops, nullptr);
     g_child = 0;
     if (started_)
@@ -632,6 +628,12 @@ class ChildInterrupts {
 
  private:
   static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+  static sigset_t stop_signals() {
+    sigset_t stops;
+    sigemptyset(&stops);
+    for (int s : kSignals) sigaddset(&stops, s);
+    return stops;
+  }
   sigset_t mask_{};
   std::array<struct sigaction, 3> previous_{};
   bool started_ = false, stopped_ = false;
