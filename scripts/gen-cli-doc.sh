@@ -48,7 +48,7 @@ generate() {
   echo
   echo "Every command prints to stdout. Bad input gets one line on stderr,"
   echo "\`nearcap: error (KIND): ...\`, and exit status 2; \`nearcap\` alone, \`nearcap help [COMMAND]\`, \`--help\` and \`--version\` exit with 0."
-  echo "A control character in the message (a file name may hold a line feed) is written as an escape (\`\\n\`, \`\\xHH\`)."
+  echo "A control character in the message (a file name may hold a line feed) is written as an escape (\`\\n\`, \`\\xHH\`, \`\\u00HH\` for C1), and a byte that is not UTF-8 as \`\\xHH\`."
   echo "\`<source>\` below is the checkout the binary was built from."
   echo "What the commands write is described in [outputs.md](outputs.md); the task pages"
   echo "([README](../README.md#documentation)) show them in use."
