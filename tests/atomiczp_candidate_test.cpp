@@ -16,6 +16,7 @@
 
 #include "box_scene.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/near_rectangle_pyramid.hpp"
 #include "nearcap/analysis/side_plane_clearance.hpp"

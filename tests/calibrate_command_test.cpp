@@ -18,6 +18,7 @@
 #include "cli_support.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/error.hpp"
 
 namespace nearcap {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"

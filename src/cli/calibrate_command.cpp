@@ -25,7 +25,7 @@
 #include "command_output.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
-#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/analysis/work_estimate.hpp"

@@ -44,7 +44,7 @@ if(MODE STREQUAL "install")
   # Installed headers are those of the exported libraries (nearcap::nearcap,
   # nearcap::raytrace): none of the build-only ones, and they compile with
   # nothing but what nearcap::nearcap brings.
-  foreach(build_only render view analysis/policy_fit.hpp analysis/l_near_fit.hpp)
+  foreach(build_only render view analysis/policy_fit.hpp analysis/l_near_fit.hpp analysis/device_profile_fit.hpp)
     if(EXISTS "${prefix}/include/nearcap/${build_only}")
       message(FATAL_ERROR "include/nearcap/${build_only} is installed, but its library is not exported")
     endif()
@@ -55,7 +55,7 @@ if(MODE STREQUAL "install")
     message(FATAL_ERROR "only ${header_count} headers installed: ${headers}")
   endif()
   # The mesh adapters are templates for a program that already includes
-  # OpenMesh or CGAL (their headers say so); my_tool uses the OpenMesh one.
+  # OpenMesh or CGAL (their headers say so).
   list(REMOVE_ITEM headers nearcap/io/openmesh_adapter.hpp nearcap/io/cgal_adapter.hpp)
   set(includes "")
   foreach(h ${headers})
@@ -98,6 +98,25 @@ if(NOT out MATCHES "zpplus-corrected: [0-9]+ wrong pixels" OR NOT out MATCHES "p
 endif()
 
 if(MODE STREQUAL "install")
+  # A consumer of the core needs no Embree (nearcap::raytrace is then not
+  # found, and one that asks for it is told why), and no CMAKE_BUILD_TYPE
+  # draws CGAL's performance notice from nearcap's own lookup of CGAL.
+  run("configuring the consumer without Embree" "${CMAKE_COMMAND}" -S "${work}/src" -B "${work}/build-no-embree"
+      -G Ninja ${find_args} -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON)
+  if(out MATCHES "CGAL performance notice")
+    message(FATAL_ERROR "find_package(nearcap) printed CGAL's performance notice:\n${out}")
+  endif()
+  file(MAKE_DIRECTORY "${work}/raytrace")
+  file(WRITE "${work}/raytrace/CMakeLists.txt"
+       "cmake_minimum_required(VERSION 3.22)\nproject(wants_raytrace CXX)\n"
+       "find_package(nearcap CONFIG REQUIRED COMPONENTS raytrace)\n")
+  execute_process(COMMAND "${CMAKE_COMMAND}" -S "${work}/raytrace" -B "${work}/raytrace/build" -G Ninja ${find_args}
+                          -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc OR NOT out MATCHES "nearcap::raytrace needs Embree 3")
+    message(FATAL_ERROR "COMPONENTS raytrace without Embree: rc ${rc}, not refused naming Embree:\n${out}")
+  endif()
+
   # The installed program's defaults point into the prefix: --policy.
   file(REAL_PATH "${prefix}" real_prefix)
   run("nearcap cracks --help" "${prefix}/bin/nearcap" cracks --help)

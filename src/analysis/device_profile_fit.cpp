@@ -1,4 +1,4 @@
-// Fitting a device cost profile with Ceres (see device_profile.hpp).
+// Fitting a device cost profile with Ceres (see device_profile_fit.hpp).
 //
 // Each pass kind is one small problem: ms ~ intercept + a * Mtriangles +
 // v * Min_view + b * Mfragments, four non-negative unknowns (three where
@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "ceres_solve.hpp"
-#include "nearcap/analysis/device_profile.hpp"
+#include "nearcap/analysis/device_profile_fit.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
 #include "nearcap/error.hpp"
 
