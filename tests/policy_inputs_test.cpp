@@ -255,16 +255,21 @@ TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {
   EXPECT_TRUE(p.cost_models.empty());
 }
 
-// A crack in training: tune fits a crack model; with --no-exact-zpass the
-// decision never asks it, so tune refuses to write it (one line, usage, no
-// file) and says how to write the policy without one.
+// A crack in training: tune would fit a crack model; with --no-exact-zpass
+// the decision never asks it, so tune refuses to fit it (one line, usage, no
+// file, before reading the rows: a missing CSV is not reached) and says how
+// to write the policy without one.
 TEST_F(PolicyInputs, TuneRefusesACrackModelItsSwitchesBypass) {
   const std::string id = training_configurations(8).front();
   const std::string csv = write("rows.csv", with_line(sweep_csv(), 2, row(id, "zpplus-corrected", 1, "1.0")));
   const std::string out = (dir_ / "p.json").string();
   const std::string bypass = " --light-projection clipped-sides --no-exact-zpass";
   expect_one_line_error(test::run_cli("tune " + csv + bypass + " --out " + out, "tune_bypassed"), "usage",
-                        "the fitted crack model (8 features) would never be read: with --no-exact-zpass");
+                        "a crack model (--features all) would never be read: with --no-exact-zpass");
+  expect_one_line_error(
+      test::run_cli("tune " + (dir_ / "missing.csv").string() + bypass + " --features log_skew --out " + out,
+                    "tune_bypassed_unread"),
+      "usage", "a crack model (--features log_skew) would never be read");
   EXPECT_FALSE(fs::exists(out));
   const test::CliResult none = test::run_cli("tune " + csv + bypass + " --features none --out " + out, "tune_none");
   ASSERT_EQ(none.exit_code, 0) << none.err;
@@ -292,6 +297,10 @@ TEST_F(PolicyInputs, TuneRefusesACrackModelForFramesItsRowsDidNotDraw) {
                         "light-projection=paper");
   expect_one_line_error(test::run_cli("tune " + csv + " --depth float32 --out " + out, "tune_depth"), "usage",
                         "--depth float32: the rows of variant 'switch-clamp=clamp-far' were drawn with depth=fixed24");
+  // From the options, before the rows are read (a missing CSV is not reached).
+  expect_one_line_error(
+      test::run_cli("tune " + (dir_ / "missing.csv").string() + " --depth float32 --out " + out, "tune_depth_unread"),
+      "usage", "--depth float32: the rows of variant 'switch-clamp=clamp-far'");
   expect_one_line_error(test::run_cli("tune " + csv + " --features none --plain --out " + out, "tune_plain"), "usage",
                         "--plain is read only when a crack model is fitted");
   EXPECT_FALSE(fs::exists(out));

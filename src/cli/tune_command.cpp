@@ -97,12 +97,26 @@ void run(const TuneOptions& o) {
     throw Error(ErrorKind::Usage, "--capped '" + o.capped + "' must be zpplus or zpplus-corrected");
   if (!fallback || (*fallback != gl::ShadowMethod::ZFail && *fallback != gl::ShadowMethod::Preload))
     throw Error(ErrorKind::Usage, "--fallback '" + o.fallback + "' must be zfail or preload");
+  const bool crack_model = o.features != "none";
+  if (o.no_exact_zpass && o.light_projection != gl::LightProjection::ClippedSides)
+    throw Error(ErrorKind::Usage,
+                "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
+                "near-cap is empty)");
+  // Before the reading and the fit: a crack model asked for frames its rows
+  // did not draw, or one the decision would never read.
+  if (crack_model) {
+    if (o.no_exact_zpass)
+      throw Error(ErrorKind::Usage,
+                  "a crack model (--features " + o.features +
+                      ") would never be read: with --no-exact-zpass every occluder gets the capped method and the "
+                      "decision asks no model; add --features none, or drop --no-exact-zpass");
+    refuse_choices_the_rows_lack(o);
+  }
   const std::vector<analysis::PolicySample> samples =
       analysis::policy_samples(o.results, *capped, *fallback, o.variant);
   analysis::LogisticFitOptions fit;
   fit.robust = !o.plain;
   std::vector<std::string> features;
-  const bool crack_model = o.features != "none";
   if (o.features != "all" && crack_model) {
     std::size_t start = 0;
     while (start <= o.features.size()) {
@@ -114,13 +128,7 @@ void run(const TuneOptions& o) {
   analysis::SwitchPolicy policy =
       analysis::tune_policy(samples, *capped, *fallback, command, fit, features, crack_model);
   policy.light_projection = o.light_projection;
-  if (o.no_exact_zpass) {
-    if (o.light_projection != gl::LightProjection::ClippedSides)
-      throw Error(ErrorKind::Usage,
-                  "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
-                  "near-cap is empty)");
-    policy.exact_zpass = false;
-  }
+  if (o.no_exact_zpass) policy.exact_zpass = false;
   if (o.depth) policy.depth = o.depth;
   if (o.depth_mapping) policy.depth_mapping = o.depth_mapping;
   if (o.near_plane) policy.near_plane = o.near_plane;
@@ -142,15 +150,8 @@ void run(const TuneOptions& o) {
     std::cout << "  threshold " << policy.crack_model.threshold << "\n";
   // A model the policy's own switches bypass is not written: it would say
   // the policy decides by it.
-  for (const std::string& unread : analysis::unread_policy_models(policy)) {
-    if (unread == "crack_model")
-      throw Error(ErrorKind::Usage,
-                  "the fitted crack model (" + std::to_string(policy.crack_model.features.size()) +
-                      " features) would never be read: with --no-exact-zpass every occluder gets the capped method "
-                      "and the decision asks no model; add --features none, or drop --no-exact-zpass");
+  for (const std::string& unread : analysis::unread_policy_models(policy))
     throw Error(ErrorKind::Usage, "the policy would carry " + unread + ", which its decision never reads");
-  }
-  if (!policy.crack_model.features.empty()) refuse_choices_the_rows_lack(o);
   // What the written policy's decision reads of what was fitted here.
   if (policy.crack_model.features.empty()) {
     std::cout << "  fits the policy uses: none (every occluder that meets the light pyramid gets "
