@@ -474,6 +474,10 @@ TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
                    "s.csv: line 5: column 'frame_ms': '-inf' is not a finite number", false);
   expect_csv_error(with_line(csv, 6, row("sample:1:1", "zfail", 0, "1e999")), ErrorKind::Parse,
                    "s.csv: line 6: column 'frame_ms': '1e999'", false);
+  // Spellings the sweep never writes, as report refuses them.
+  for (const char* spelling : {"0x10", "+1", "1e-400", "infinity", " 1", "1 "})
+    expect_csv_error(with_line(csv, 6, row("sample:1:1", "zfail", 0, spelling)), ErrorKind::Parse,
+                     "s.csv: line 6: column 'frame_ms': '" + std::string(spelling) + "' is not a number", false);
   expect_csv_error(with_line(csv, 1, std::string(kHeader) + ",frame_ms"), ErrorKind::Parse,
                    "s.csv: line 1: column 'frame_ms' appears twice");
   expect_csv_error(with_line(csv, 2, "\xc0\xaf"), ErrorKind::Parse, "s.csv: line 2: not UTF-8 (byte 0xC0 at column 1");

@@ -94,13 +94,17 @@ struct Row {
     if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
     if (s == "inf") return std::numeric_limits<double>::infinity();
     if (s == "-inf") return -std::numeric_limits<double>::infinity();
-    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front())))
+    // Decimal as the sweep writes it: no sign '+', no hexadecimal, no other
+    // spelling of infinity or nan than the three above.
+    if (s.empty() || s.front() == '+' || s.find_first_not_of("0123456789.eE+-") != std::string::npos)
       fail(ErrorKind::Parse, name, "'" + s + "' is not a number");
     errno = 0;
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
     if (end != s.c_str() + s.size()) fail(ErrorKind::Parse, name, "'" + s + "' is not a number");
-    if (!std::isfinite(v) || (errno == ERANGE && std::fabs(v) == HUGE_VAL))
+    // Out of double's range: beyond its largest, or so small that it reads as
+    // 0 (the sweep writes 0 as 0).
+    if (!std::isfinite(v) || (errno == ERANGE && (std::fabs(v) == HUGE_VAL || v == 0)))
       fail(ErrorKind::Parse, name, "'" + s + "' is not a number the sweep writes (nan, inf, -inf or a finite one)");
     return v;
   }
