@@ -199,6 +199,47 @@ class LitScenes {
   MeshCache meshes_;
 };
 
+// Every frame's per-light CPU work of one method (--bench), in flat arrays
+// that grow by doubling.  A frame's record holding vectors of its own would
+// leave a few small blocks per frame among the blocks the frame's drawing
+// freed, and glibc's heap would grow by about those blocks every frame
+// (docs/findings/path-memory.md).
+struct CpuLog {
+  struct Occluder {
+    std::size_t object = 0;
+    std::optional<gl::ShadowMethod> method;  // the occluder's method (ShadowFrame::object_methods)
+    double silhouette_ms = 0, cap_build_ms = 0;
+  };
+  struct Light {
+    std::size_t light = 0;
+    double decision_ms = 0, near_plane_ms = 0, light_frustum_ms = 0;
+    double profile_ms = std::numeric_limits<double>::quiet_NaN();
+    std::optional<int> frames_since_priced;
+    std::size_t occluders_begin = 0, occluders_end = 0;  // in `occluders`
+  };
+  std::vector<Light> lights;
+  std::vector<Occluder> occluders;
+
+  // Appends a frame's lights; returns their range in `lights`.
+  std::pair<std::size_t, std::size_t> add(const std::vector<LightCpu>& cpu) {
+    const std::size_t begin = lights.size();
+    for (const LightCpu& l : cpu) {
+      Light row{l.light,      l.decision_ms,         l.work.near_plane_ms, l.work.light_frustum_ms,
+                l.profile_ms, l.frames_since_priced, occluders.size(),     0};
+      for (const gl::OccluderCpuTimes& t : l.work.occluders) {
+        const auto chosen =
+            std::find_if(l.methods.begin(), l.methods.end(), [&](const auto& om) { return om.first == t.object; });
+        occluders.push_back({t.object,
+                             chosen == l.methods.end() ? std::nullopt : std::optional<gl::ShadowMethod>(chosen->second),
+                             t.silhouette_ms, t.cap_build_ms});
+      }
+      row.occluders_end = occluders.size();
+      lights.push_back(row);
+    }
+    return {begin, lights.size()};
+  }
+};
+
 // What render.json and the summary keep of one method's frame: a few
 // numbers, the files named again from the frame's index.
 struct LitFrameRecord {
@@ -206,7 +247,7 @@ struct LitFrameRecord {
   double ms = 0;
   render::LitFramePasses passes;  // with --bench
   double cpu_ms = 0, end_to_end_ms = 0, upload_ms = 0;
-  std::vector<LightCpu> cpu;  // with --bench
+  std::size_t lights_begin = 0, lights_end = 0;  // its lights in the method's CpuLog, with --bench
   // The policy's, with --bench and a device profile: its lights' prices
   // summed, and the end-to-end time predicted from them before drawing
   // (FramePrediction).
@@ -221,10 +262,11 @@ struct LitFrameRecord {
 // spent by then.
 class FramePrediction {
  public:
-  void predict(LitFrameRecord& fr) {
+  void predict(LitFrameRecord& fr, const CpuLog& log) {
     double priced = 0, decision = 0;
     bool any = false;
-    for (const LightCpu& l : fr.cpu) {
+    for (std::size_t k = fr.lights_begin; k < fr.lights_end; ++k) {
+      const CpuLog::Light& l = log.lights[k];
       decision += l.decision_ms;
       if (std::isfinite(l.profile_ms)) {
         priced += l.profile_ms;
@@ -247,23 +289,22 @@ class FramePrediction {
 };
 
 // --bench: render.json's breakdown of a frame's CPU work, per light and occluder.
-nlohmann::json cpu_json(const LitFrameRecord& fr) {
+nlohmann::json cpu_json(const LitFrameRecord& fr, const CpuLog& log) {
   nlohmann::json lights = nlohmann::json::array();
-  for (const LightCpu& l : fr.cpu) {
+  for (std::size_t k = fr.lights_begin; k < fr.lights_end; ++k) {
+    const CpuLog::Light& l = log.lights[k];
     nlohmann::json occluders = nlohmann::json::array();
-    for (std::size_t i = 0; i < l.work.occluders.size(); ++i) {
-      const gl::OccluderCpuTimes& t = l.work.occluders[i];
-      const auto chosen =
-          std::find_if(l.methods.begin(), l.methods.end(), [&](const auto& om) { return om.first == t.object; });
+    for (std::size_t i = l.occluders_begin; i < l.occluders_end; ++i) {
+      const CpuLog::Occluder& t = log.occluders[i];
       occluders.push_back({{"object", t.object},
-                           {"method", chosen == l.methods.end() ? "" : std::string(gl::to_string(chosen->second))},
+                           {"method", t.method ? std::string(gl::to_string(*t.method)) : ""},
                            {"silhouette_ms", t.silhouette_ms},
                            {"cap_build_ms", t.cap_build_ms}});
     }
     lights.push_back({{"light", l.light},
                       {"decision_ms", l.decision_ms},
-                      {"near_plane_ms", l.work.near_plane_ms},
-                      {"light_frustum_ms", l.work.light_frustum_ms},
+                      {"near_plane_ms", l.near_plane_ms},
+                      {"light_frustum_ms", l.light_frustum_ms},
                       {"occluders", std::move(occluders)}});
     if (std::isfinite(l.profile_ms)) lights.back()["profile_ms"] = l.profile_ms;
     if (l.frames_since_priced) lights.back()["frames_since_priced"] = *l.frames_since_priced;
@@ -326,6 +367,8 @@ void run_lit(const RenderOptions& o) {
   const std::filesystem::path dir(o.out);
   io::StagedOutputFiles files;
   std::vector<std::vector<LitFrameRecord>> per_method(methods.count());
+  std::vector<CpuLog> cpu_log(methods.count());  // with --bench
+  for (std::vector<LitFrameRecord>& records : per_method) records.reserve(scenes.count());
   std::vector<double> total_ms(methods.count(), 0);
   std::vector<double> cpu_total_ms(methods.count(), 0), end_to_end_total_ms(methods.count(), 0);  // with --bench
   std::vector<double> decision_total_ms(methods.count(), 0);  // the policy's decisions, with --bench
@@ -414,9 +457,11 @@ void run_lit(const RenderOptions& o) {
         pass_totals[m].eye_count_ms += p.eye_count_ms;
       }
       constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+      const auto [lights_begin, lights_end] =
+          o.bench ? cpu_log[m].add(mf.cpu) : std::pair<std::size_t, std::size_t>{0, 0};
       per_method[m].push_back(
-          {f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, mf.cpu, kNone, kNone});
-      if (o.bench && mf.end_to_end_ms() > 0) prediction[m].predict(per_method[m].back());
+          {f, mf.ms, mf.passes, mf.cpu_ms(), mf.end_to_end_ms(), mf.upload_ms, lights_begin, lights_end, kNone, kNone});
+      if (o.bench && mf.end_to_end_ms() > 0) prediction[m].predict(per_method[m].back(), cpu_log[m]);
       total_ms[m] += mf.ms;
       cpu_total_ms[m] += mf.cpu_ms();
       end_to_end_total_ms[m] += mf.end_to_end_ms();
@@ -446,7 +491,7 @@ void run_lit(const RenderOptions& o) {
           if (p.eye_count_ms > 0) entry["passes"]["eye_count_ms"] = p.eye_count_ms;
           entry["cpu_ms"] = fr.cpu_ms;
           entry["end_to_end_ms"] = fr.end_to_end_ms;
-          entry["cpu"] = cpu_json(fr);
+          entry["cpu"] = cpu_json(fr, cpu_log[m]);
           if (std::isfinite(fr.predicted_ms)) {
             entry["profile_ms"] = fr.profile_ms;
             entry["predicted_ms"] = fr.predicted_ms;
