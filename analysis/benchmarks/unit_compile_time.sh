@@ -1,0 +1,24 @@
+#!/bin/sh
+# One translation unit's compile time, alone, with the sanitizer build's own
+# command line (build-asan, configured as scripts/test.sh configures it), at
+# each optimisation level given (appended to the command line: the last -O
+# and -g win).  No compiler cache; the object goes to a temporary file.
+#   analysis/benchmarks/unit_compile_time.sh OBJECT LEVEL...
+#   e.g. ... tests/CMakeFiles/nearcap_tests.dir/near_cap_test.cpp.o "-O0 -g0" "-O1 -g1"
+# OBJECT as ninja names it (`ninja -C build-asan -t targets all`).
+set -eu
+[ $# -ge 2 ] || { echo "usage: $0 OBJECT LEVEL..." >&2; exit 2; }
+cd "$(dirname "$0")/../../build-asan"
+object=$1
+shift
+command=$(ninja -t commands "$object" | tail -1)
+[ -n "$command" ] || { echo "$0: build-asan has no object $object" >&2; exit 2; }
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+command=$(printf '%s\n' "$command" | sed "s|^/usr/bin/ccache ||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
+for level in "$@"; do
+  start=$(date +%s.%N)
+  sh -c "$(printf '%s\n' "$command" | sed "s| -c | $level -c |")"
+  end=$(date +%s.%N)
+  awk -v o="$object" -v l="$level" -v s="$start" -v e="$end" 'BEGIN { printf "%s\t%s\t%.1f s\n", o, l, e - s }'
+done
