@@ -8,6 +8,10 @@ and the output the README shows for it.
   scripts/readme-tour.py --check [--nearcap BIN]    run every command, fail on a difference
   scripts/readme-tour.py --update [--nearcap BIN]   rewrite the blocks with today's output
 
+The sentence before the tour names the run the README shows ("pasted from a
+real run on DATE at commit HASH"): --update writes today's date and the
+checked-out commit there, --check only that the sentence is there.
+
 Times vary from run to run: every decimal number (`2703.38 ms`, the `ms`
 column) and every number followed by ` ms` (a time printed with six
 significant digits can come out whole: `147 ms`) is compared as a
@@ -15,6 +19,7 @@ placeholder, every other integer (pixel counts, cases, faces) exactly.
 Outputs the commands write (`out/tour/...`) go to a temporary directory.
 """
 import argparse
+import datetime
 import re
 import subprocess
 import sys
@@ -24,6 +29,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BLOCK = re.compile(r"```console\n\$ (?P<command>[^\n]*)\n(?P<output>.*?)```", re.S)
+RUN = re.compile(r"pasted from a(\s+)real run on \d{4}-\d{2}-\d{2} at commit [0-9a-f]+")
 DECIMAL = re.compile(r"[ \t]*(\d+\.\d+(e[-+]\d+)?|\d+(?= ms\b))")
 
 
@@ -59,6 +65,8 @@ def main():
     parser.add_argument("--nearcap", default=str(ROOT / "build" / "nearcap"))
     options = parser.parse_args()
     text = README.read_text()
+    if not RUN.search(text[: tour_span(text)[0]]):
+        sys.exit("readme-tour: README.md names no run before its tour (\"pasted from a real run on DATE at commit HASH\")")
     begin, end = tour_span(text)
     tour = text[begin:end]
     blocks = list(BLOCK.finditer(tour))
@@ -76,7 +84,12 @@ def main():
             last = block.end("output")
     pieces.append(tour[last:])
     if options.update:
-        README.write_text(text[:begin] + "".join(pieces) + text[end:])
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+        today = datetime.date.today().isoformat()
+        head = RUN.sub(
+            lambda m: f"pasted from a{m.group(1)}real run on {today} at commit {commit.stdout.strip()}", text[:begin], count=1
+        )
+        README.write_text(head + "".join(pieces) + text[end:])
         print(f"readme-tour: {len(blocks)} commands run, README.md's tour rewritten ({len(stale)} changed)")
         return 0
     for command, shown, got in stale:
