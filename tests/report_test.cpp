@@ -159,7 +159,8 @@ std::string joined(const std::vector<std::string>& fields) {
 // A count the program never writes (negative, or more wrong pixels than
 // seen), or a time that is not finite or is negative, is refused naming its
 // line and column, not summed; a column a row may leave empty (cap_mismatch,
-// the per-occluder decisions, frame_again_ms) is checked where it has a value.
+// the per-occluder decisions, frame_again_ms) is checked where it has a value;
+// a number is read as the sweep writes it (decimal, no sign +, no spaces).
 TEST_F(Report, ACountNoSweepWritesIsRefused) {
   std::istringstream in(test::slurp(dir_ / "rows.csv"));
   std::vector<std::string> lines;
@@ -186,6 +187,13 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
       {"cap_mismatch", "9007199254740993", "'9007199254740993' is not a count a sweep writes"},
       {"false_negatives", "-2", "line 2: column 'false_negatives': '-2' is not a count (it is negative)"},
       {"occluders", "1.5", "line 2: column 'occluders': '1.5' is not an integer"},
+      // Spellings the sweep never writes, refused as `nearcap tune` refuses them.
+      {"occluders", "+1", "line 2: column 'occluders': '+1' is not an integer"},
+      {"cap_mismatch", "1_0", "line 2: column 'cap_mismatch': '1_0' is not an integer"},
+      {"frame_ms", "+1", "line 2: column 'frame_ms': '+1' is not a number"},
+      {"frame_ms", "infinity", "line 2: column 'frame_ms': 'infinity' is not a number"},
+      {"frame_ms", "1e-400", "line 2: column 'frame_ms': '1e-400' is not a number the sweep writes"},
+      {"frame_again_ms", "1e999", "line 2: column 'frame_again_ms': '1e999' is not a number the sweep writes"},
   };
   const fs::path out = dir_ / "never";
   for (const auto& [name, value, fragment] : cases) {

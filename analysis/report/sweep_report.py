@@ -57,6 +57,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import signal
 import stat
@@ -118,6 +119,14 @@ INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_
 TIME_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"]
 FLOAT_COLUMNS = TIME_COLUMNS + [f for f, _ in FEATURES]
 MAX_COUNT = 1 << 53  # counts above are not exact as the doubles the report sums them in
+# Numbers as the sweep writes them, a row's fields of one kind joined by commas: decimal integers;
+# decimal numbers, nan, inf and -inf.  Python's int() and float() also take a sign '+', spaces,
+# underscores and other spellings of infinity and nan, which `nearcap tune` refuses as the sweep
+# never writes them.
+_INTEGER = r"-?[0-9]+"
+_NUMBER = r"(?:-?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?|nan|inf|-inf)"
+INTEGERS_AS_WRITTEN = re.compile(f"{_INTEGER}(?:,{_INTEGER})*\\Z")
+NUMBERS_AS_WRITTEN = re.compile(f"{_NUMBER}(?:,{_NUMBER})*\\Z")
 PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + PASS_COLUMNS
@@ -233,14 +242,19 @@ class RowConverter:
     def fail(self, line, column, value, what):
         raise ReportError("parse", f"{self.name}: line {line}: column '{column}': '{value}' is not {what}")
 
+    def check_in_range(self, line, column, value, number):
+        """A decimal beyond double's range reads as inf, or as 0 below it: the sweep writes neither so."""
+        mantissa = value.split("e")[0].split("E")[0]
+        if (number == 0 and mantissa.strip("-0.")) or (math.isinf(number) and value not in ("inf", "-inf")):
+            self.fail(line, column, value, "a number the sweep writes (within double's range)")
+
     def optional_count(self, line, column, value):
         """A count of a column that is empty where the row has none (None then)."""
         if not value:
             return None
-        try:
-            count = int(value)
-        except ValueError:
+        if not INTEGERS_AS_WRITTEN.match(value):
             self.fail(line, column, value, "an integer")
+        count = int(value)
         if count < 0:
             self.fail(line, column, value, "a count (it is negative)")
         if count > MAX_COUNT:
@@ -249,22 +263,19 @@ class RowConverter:
 
     def row(self, fields, line):
         """The row's columns; `fields` has the header's field count (parsed_rows checks it)."""
-        try:
-            integers = [int(fields[k]) for k in self.integers]
-        except ValueError:
+        if not INTEGERS_AS_WRITTEN.match(",".join(fields[k] for k in self.integers)):
             for c, k in zip(self.INTEGERS, self.integers):
-                try:
-                    int(fields[k])
-                except ValueError:
+                if not INTEGERS_AS_WRITTEN.match(fields[k]):
                     self.fail(line, c, fields[k], "an integer")
-        try:
-            floats = [float(fields[k]) for k in self.floats]
-        except ValueError:
+        integers = [int(fields[k]) for k in self.integers]
+        if not NUMBERS_AS_WRITTEN.match(",".join(fields[k] for k in self.floats)):
             for c, k in zip(FLOAT_COLUMNS, self.floats):
-                try:
-                    float(fields[k])
-                except ValueError:
+                if not NUMBERS_AS_WRITTEN.match(fields[k]):
                     self.fail(line, c, fields[k], "a number")
+        floats = [float(fields[k]) for k in self.floats]
+        for c, k, v in zip(FLOAT_COLUMNS, self.floats, floats):
+            if v == 0 or math.isinf(v):
+                self.check_in_range(line, c, fields[k], v)
         if integers and min(integers) < 0:  # every integer column is a count or an index
             for c, k in zip(self.INTEGERS, self.integers):
                 if int(fields[k]) < 0:
@@ -296,10 +307,10 @@ class RowConverter:
         r[AGAIN_COLUMN] = None
         value = fields[self.again] if self.again is not None else ""
         if value:  # empty where the row has no second timing
-            try:
-                again = float(value)
-            except ValueError:
+            if not NUMBERS_AS_WRITTEN.match(value):
                 self.fail(line, AGAIN_COLUMN, value, "a number")
+            again = float(value)
+            self.check_in_range(line, AGAIN_COLUMN, value, again)
             if not (math.isfinite(again) and again >= 0):
                 self.fail(line, AGAIN_COLUMN, value, "a time (finite, not negative)")
             r[AGAIN_COLUMN] = again
