@@ -85,6 +85,8 @@ def main():
     pieces.append(tour[last:])
     if options.update:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+        if commit.returncode != 0 or not commit.stdout.strip():
+            sys.exit(f"readme-tour: no commit to name the run by (git rev-parse: {commit.stderr.strip()})")
         today = datetime.date.today().isoformat()
         head = RUN.sub(
             lambda m: f"pasted from a{m.group(1)}real run on {today} at commit {commit.stdout.strip()}", text[:begin], count=1

@@ -256,16 +256,21 @@ TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {
 }
 
 // A crack in training: tune would fit a crack model; with --no-exact-zpass
-// the decision never asks it, so tune refuses to fit it (one line, usage, no
-// file, before reading the rows: a missing CSV is not reached) and says how
-// to write the policy without one.
+// the decision never asks it, so tune fits none unless --features asks for
+// one, which it refuses (one line, usage, no file, before reading the rows:
+// a missing CSV is not reached), saying how to write the policy without one.
 TEST_F(PolicyInputs, TuneRefusesACrackModelItsSwitchesBypass) {
   const std::string id = training_configurations(8).front();
   const std::string csv = write("rows.csv", with_line(sweep_csv(), 2, row(id, "zpplus-corrected", 1, "1.0")));
   const std::string out = (dir_ / "p.json").string();
   const std::string bypass = " --light-projection clipped-sides --no-exact-zpass";
-  expect_one_line_error(test::run_cli("tune " + csv + bypass + " --out " + out, "tune_bypassed"), "usage",
-                        "a crack model (--features all) would never be read: with --no-exact-zpass");
+  const test::CliResult implied = test::run_cli("tune " + csv + bypass + " --out " + out, "tune_implied");
+  ASSERT_EQ(implied.exit_code, 0) << implied.err;
+  EXPECT_NE(implied.out.find("no crack model: none with --no-exact-zpass"), std::string::npos) << implied.out;
+  EXPECT_TRUE(analysis::load_policy(out).crack_model.features.empty());
+  fs::remove(out);
+  expect_one_line_error(test::run_cli("tune " + csv + bypass + " --features all --out " + out, "tune_bypassed"),
+                        "usage", "a crack model (--features all) would never be read: with --no-exact-zpass");
   expect_one_line_error(
       test::run_cli("tune " + (dir_ / "missing.csv").string() + bypass + " --features log_skew --out " + out,
                     "tune_bypassed_unread"),
@@ -297,9 +302,11 @@ TEST_F(PolicyInputs, TuneRefusesACrackModelForFramesItsRowsDidNotDraw) {
                         "light-projection=paper");
   expect_one_line_error(test::run_cli("tune " + csv + " --depth float32 --out " + out, "tune_depth"), "usage",
                         "--depth float32: the rows of variant 'switch-clamp=clamp-far' were drawn with depth=fixed24");
-  // From the options, before the rows are read (a missing CSV is not reached).
+  // Asked for by --features: refused from the options, before the rows are
+  // read (a missing CSV is not reached).
   expect_one_line_error(
-      test::run_cli("tune " + (dir_ / "missing.csv").string() + " --depth float32 --out " + out, "tune_depth_unread"),
+      test::run_cli("tune " + (dir_ / "missing.csv").string() + " --features log_skew --depth float32 --out " + out,
+                    "tune_depth_unread"),
       "usage", "--depth float32: the rows of variant 'switch-clamp=clamp-far'");
   expect_one_line_error(test::run_cli("tune " + csv + " --features none --plain --out " + out, "tune_plain"), "usage",
                         "--plain is read only when a crack model is fitted");

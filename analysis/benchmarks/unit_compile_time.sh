@@ -5,7 +5,8 @@
 # and -g win).  No compiler cache; the object goes to a temporary file.
 #   analysis/benchmarks/unit_compile_time.sh OBJECT LEVEL...
 #   e.g. ... tests/CMakeFiles/nearcap_tests.dir/near_cap_test.cpp.o "-O0 -g0" "-O1 -g1"
-# OBJECT as ninja names it (`ninja -C build-asan -t targets all`).
+# OBJECT as ninja names it (`ninja -C build-asan -t targets all`).  GNU
+# date (%N) times it, as on the Debian machines the project builds on.
 set -eu
 [ $# -ge 2 ] || { echo "usage: $0 OBJECT LEVEL..." >&2; exit 2; }
 cd "$(dirname "$0")/../../build-asan"
@@ -15,7 +16,7 @@ command=$(ninja -t commands "$object" | tail -1)
 [ -n "$command" ] || { echo "$0: build-asan has no object $object" >&2; exit 2; }
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-command=$(printf '%s\n' "$command" | sed "s|^/usr/bin/ccache ||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
+command=$(printf '%s\n' "$command" | sed "s|^[^ ]*ccache ||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
 for level in "$@"; do
   start=$(date +%s.%N)
   sh -c "$(printf '%s\n' "$command" | sed "s| -c | $level -c |")"

@@ -26,6 +26,7 @@ struct TuneOptions {
   std::string variant = "switch-clamp=clamp-far";
   bool plain = false;
   std::string features = "all";
+  bool features_given = false;  // --features on the command line (else "all", "none" with --no-exact-zpass)
   gl::LightProjection light_projection = gl::LightProjection::Paper;
   bool no_exact_zpass = false;
   std::optional<gl::DepthFormat> depth;           // nullopt: not written
@@ -85,7 +86,11 @@ void refuse_choices_the_rows_lack(const TuneOptions& o) {
   }
 }
 
-void run(const TuneOptions& o) {
+void run(const TuneOptions& given) {
+  TuneOptions o = given;
+  // With --no-exact-zpass the decision reads no crack model: none is fitted
+  // unless --features asks for one (refused below).
+  if (o.no_exact_zpass && !o.features_given) o.features = "none";
   const std::string command = command_line(o);
   if (o.plain && o.features == "none")
     throw Error(ErrorKind::Usage, "--plain is read only when a crack model is fitted (not --features none)");
@@ -102,9 +107,9 @@ void run(const TuneOptions& o) {
     throw Error(ErrorKind::Usage,
                 "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
                 "near-cap is empty)");
-  // Before the reading and the fit: a crack model asked for frames its rows
-  // did not draw, or one the decision would never read.
-  if (crack_model) {
+  // Before the reading and the fit: a crack model asked for (--features)
+  // that the decision would never read, or for frames its rows did not draw.
+  if (crack_model && o.features_given) {
     if (o.no_exact_zpass)
       throw Error(ErrorKind::Usage,
                   "a crack model (--features " + o.features +
@@ -143,8 +148,9 @@ void run(const TuneOptions& o) {
   }
   if (policy.crack_model.features.empty())
     std::cout << "  no crack model: "
-              << (crack_model ? "the capped method never cracked more than the fallback in training"
-                              : "none asked for (--features none)")
+              << (crack_model        ? "the capped method never cracked more than the fallback in training"
+                  : o.features_given ? "none asked for (--features none)"
+                                     : "none with --no-exact-zpass (the decision reads none)")
               << "\n";
   else
     std::cout << "  threshold " << policy.crack_model.threshold << "\n";
@@ -152,6 +158,8 @@ void run(const TuneOptions& o) {
   // the policy decides by it.
   for (const std::string& unread : analysis::unread_policy_models(policy))
     throw Error(ErrorKind::Usage, "the policy would carry " + unread + ", which its decision never reads");
+  // The default features fitted a model (a training crack): the same check.
+  if (!policy.crack_model.features.empty()) refuse_choices_the_rows_lack(o);
   // What the written policy's decision reads of what was fitted here.
   if (policy.crack_model.features.empty()) {
     std::cout << "  fits the policy uses: none (every occluder that meets the light pyramid gets "
@@ -207,9 +215,9 @@ void register_tune(CLI::App& app) {
                         names_joined<gl::NearPlane>(" or ") + "; not given, the caller's");
   cmd.add_option("--features", o.features,
                  "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
-                 "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model: "
-                 "with --no-exact-zpass the decision reads none)")
-      ->capture_default_str();
+                 "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model); "
+                 "not given, all, or none with --no-exact-zpass (whose decision reads none)")
+      ->each([&given = o.features_given](const std::string&) { given = true; });
 }
 
 }  // namespace nearcap::cli
