@@ -69,24 +69,18 @@ std::string escaped_control_characters(const std::string& s) {
     const std::size_t length = sequence_length(s, k);
     const auto byte = static_cast<unsigned char>(s[k]);
     char escape[8];
-    if (length == 0) {
-      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
-      out += escape;
-      ++k;
-      continue;
-    }
-    if (!is_control(s, k, length)) {
+    if (length != 0 && !is_control(s, k, length)) {
       out.append(s, k, length);
     } else if (byte == '\n' || byte == '\r' || byte == '\t') {
       out += byte == '\n' ? "\\n" : byte == '\r' ? "\\r" : "\\t";
-    } else if (length == 1) {
-      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
-      out += escape;
-    } else {
+    } else if (length == 2) {  // C1: U+0080 to U+009F
       std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned char>(s[k + 1]));
       out += escape;
+    } else {  // another C0 character, DEL, or a byte outside UTF-8
+      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
+      out += escape;
     }
-    k += length;
+    k += length == 0 ? 1 : length;
   }
   return out;
 }
