@@ -135,6 +135,42 @@ TEST(VolumeCulling, OnASliceOfTheSampler) {
   EXPECT_LT(culled * 4, plain * 3);  // at least a quarter fewer
 }
 
+// Configurations at 160 x 120 where the region once fell short of the
+// float pipeline's volume: far from the origin (a million units out, where
+// float32 rounds positions by sixteenths and the region's cone must widen
+// with the distance from the light), an eye in the shadow, a tiny near plane
+// fitted tight.  Every method but ZP+ with the light frustum: the same
+// stencil at every seen pixel.
+TEST(VolumeCulling, WhereTheFloatVolumeLeavesTheExactOne) {
+  struct Configuration {
+    std::uint64_t seed, index;
+    gl::NearPlane near_plane;
+  };
+  for (const Configuration c :
+       {Configuration{13, 1429, gl::NearPlane::Scene}, Configuration{11, 702, gl::NearPlane::Scene},
+        Configuration{21, 2739, gl::NearPlane::Tight}}) {
+    analysis::SamplerSpec spec = test::bundled_sampler_spec(c.seed);
+    spec.width = 160;
+    spec.height = 120;
+    const analysis::HardCaseSampler sampler(spec);
+    const test::SampleWalk walk = test::for_each_sampled_scene(
+        sampler, std::vector<std::uint64_t>{c.index}, [&](const Scene& scene, const analysis::HardCase&) {
+          for (gl::ShadowMethod m : gl::kAllShadowMethods) {
+            if (m == gl::ShadowMethod::ZPPlus) continue;
+            SCOPED_TRACE("sample:" + std::to_string(c.seed) + ":" + std::to_string(c.index) + " " +
+                         std::string(gl::to_string(m)));
+            gl::EmulationSettings settings;
+            settings.near_plane = c.near_plane;
+            const gl::ShadowFrame none = gl::render_shadow_frame(scene, 0, m, settings);
+            settings.volume_culling = gl::VolumeCulling::Both;
+            const gl::ShadowFrame f = gl::render_shadow_frame(scene, 0, m, settings);
+            EXPECT_EQ(seen_differences(none, f), 0u);
+          }
+        });
+    EXPECT_EQ(walk.scenes, 1u);
+  }
+}
+
 TEST(VolumeCulling, CommandLineChoice) {
   const test::CliResult bad = test::run_cli(
       "cracks " + std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/default.json --light 0 --volume-culling sometimes",

@@ -74,34 +74,38 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
       const glm::dvec4 w = to_world * glm::dvec4(x, y, -f.near, 1.0);
       b_points.push_back({w.x, w.y, w.z});
     }
-  double reach = 0, magnitude = std::max({std::fabs(light.x), std::fabs(light.y), std::fabs(light.z)});
-  for (const Vec3d& p : b_points) {
-    reach = std::max(reach, std::sqrt(dot(p - light, p - light)));
-    magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
-  }
-  // The light in or on the occluder's box (within rounding): R is everything.
-  if (!(to_occluder > 0x1p-18 * magnitude + 0x1p-30 * reach)) return std::nullopt;
-
-  // R = cone(l, Q) ∩ B ∩ {beyond Q's nearest corner along l's axis to Q}:
-  // the vertices of the polytope these planes bound, by enumerating every
-  // triple of planes (at most 19 planes: 969 triples, microseconds).
-  struct Plane {
-    Vec3d n;
-    double d;  // inside: dot(n, x) + d >= 0
-  };
-  std::vector<Plane> planes;
+  double magnitude = std::max({std::fabs(light.x), std::fabs(light.y), std::fabs(light.z)});
   Vec3d b_lo{kInf, kInf, kInf}, b_hi = -1.0 * b_lo;
   for (const Vec3d& p : b_points)
     for (int a = 0; a < 3; ++a) {
       b_lo[a] = std::min(b_lo[a], p[a]);
       b_hi[a] = std::max(b_hi[a], p[a]);
+      magnitude = std::max(magnitude, std::fabs(p[a]));
     }
-  const double scale = magnitude + reach;
-  // Every plane moved out by the float32 pipeline's reach: its positions,
-  // matrices and light are rounded to float32 from coordinates up to
-  // `magnitude` (2^-24 each; far-from-origin scenes: tenths of a unit at
-  // 3e6), so its surfaces and volumes lie within 2^-20 of it of the exact ones.
+  // The farthest point of B from the light.
+  double reach2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = std::max(std::fabs(b_lo[a] - light[a]), std::fabs(b_hi[a] - light[a]));
+    reach2 += d * d;
+  }
+  const double reach = std::sqrt(reach2), scale = magnitude + reach;
+  // The float32 pipeline's positions, matrices and light are rounded to
+  // float32 from coordinates up to `magnitude` (2^-24 each; far-from-origin
+  // scenes: tenths of a unit at 3e6): its surfaces and volumes lie within
+  // slack_b of the exact ones.
   const double slack_b = 0x1p-20 * magnitude + 0x1p-30 * scale;
+  // The light in or on the occluder's box (within rounding): R is everything.
+  if (!(to_occluder > 4 * slack_b)) return std::nullopt;
+
+  // R = cone(l, Q) ∩ B ∩ {beyond Q's nearest corner along l's axis to Q},
+  // each plane moved out to hold the float pipeline's volume and surfaces
+  // too: the vertices of the polytope these planes bound, by enumerating
+  // every triple of planes (at most 19 planes: 969 triples, microseconds).
+  struct Plane {
+    Vec3d n;
+    double d;  // inside: dot(n, x) + d >= 0
+  };
+  std::vector<Plane> planes;
   for (int a = 0; a < 3; ++a) {
     Vec3d n{0, 0, 0};
     n[a] = 1;
@@ -109,8 +113,22 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
     n[a] = -1;
     planes.push_back({n, b_hi[a] + slack_b});
   }
+  // The float pipeline's volume is {l' + t (p' - l') : t >= 1} over its
+  // light l' and points p' of its mesh, each within slack_b of the exact l
+  // and a point p of Q.  For a unit normal n,
+  //   n . (x' - l) = (1 - t) n . (l' - l) + t n . (p' - l)
+  //               >= t n . (p - l) - (2t - 1) slack_b,
+  // and within B grown by slack_b, t = |x' - l'| / |p' - l'| is at most
+  // t_max below (|x' - l| <= reach + sqrt(3) slack_b).
+  const double t_max = (reach + 3 * slack_b) / (to_occluder - 2 * slack_b);
   // The cone's facets: the planes through l and an edge of Q with every
-  // corner of Q on one side.
+  // corner of Q on one side, up to the double rounding of the sides (a
+  // plane with a corner on its far side, however little, does not hold the
+  // rays through that corner far beyond Q).  n . (p - l) >= -facet_rounding
+  // on Q, so the float volume lies within (2 t_max - 1) slack_b + t_max
+  // facet_rounding of each.
+  const double facet_rounding = 0x1p-40 * scale;
+  const double slack_cone = 2 * t_max * slack_b;
   for (int i = 0; i < 8; ++i)
     for (int bit = 1; bit < 8; bit <<= 1) {
       const int j = i | bit;
@@ -125,11 +143,10 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
         lo = std::min(lo, side);
         hi = std::max(hi, side);
       }
-      const double tolerance = slack_b;
-      if (lo >= -tolerance) {
-        planes.push_back({n, -dot(n, light) + tolerance});
-      } else if (hi <= tolerance) {
-        planes.push_back({-1.0 * n, dot(n, light) + tolerance});
+      if (lo >= -facet_rounding) {
+        planes.push_back({n, -dot(n, light) + slack_cone});
+      } else if (hi <= facet_rounding) {
+        planes.push_back({-1.0 * n, dot(n, light) + slack_cone});
       }
     }
   {
@@ -141,7 +158,8 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
       n = (1.0 / length) * n;
       double nearest = kInf;
       for (const Vec3d& c : q) nearest = std::min(nearest, dot(n, c - light));
-      if (nearest > 0) planes.push_back({n, -dot(n, light) - nearest + slack_b});
+      // n . (x' - l) >= t (nearest - 2 slack_b) + slack_b >= nearest - slack_b.
+      if (nearest > 2 * slack_b) planes.push_back({n, -dot(n, light) - nearest + slack_b});
     }
   }
   std::vector<Vec3d> vertices;

@@ -16,18 +16,24 @@
 // Both come from a convex region R that holds V ∩ B, B the box of every
 // object and of the near rectangle (s and q lie in B): the polytope bounded
 // by B's six planes, the facets of the cone from the light l through Q (the
-// occluder's object-space box mapped to world space: the planes through l
-// and an edge of Q with all of Q on one side) and the plane across l's axis
+// occluder's object-space box mapped to world space) and the plane across l's axis
 // to Q through Q's nearest corner (V lies in {l + t (p - l) : p in Q,
 // t >= 1}).  Its vertices, by enumerating every triple of its at most 19
 // planes in double; those in front of the near plane and the near plane's
 // cuts of every pair of them, through the frame's float32 projection in
-// double, give the rectangle and the range.  Allowances for the float
-// pipeline's own error in a surface's depth or a volume's edge: every plane
-// moved out by 2^-20 of the largest coordinate (float32 rounding of
-// positions and matrices: tenths of a unit at 3e6), the rectangle widened by
-// 2 pixels, the range by 2^-16 plus 8 steps of a 24-bit buffer.  Nothing is
-// bounded where the light lies in or on Q's box.
+// double, give the rectangle and the range.  The cone's facets are the
+// planes through l and an edge of Q with every corner of Q on one side up to
+// double rounding.  The float pipeline's volume and surfaces are not the
+// exact ones: taking its positions, matrices and light within e = 2^-20 of
+// the largest coordinate of the exact ones (float32 rounding; tenths of a
+// unit at 3e6), its volume {l' + t (p' - l')} lies within (2t - 1) e of the
+// exact volume, so B's planes and the plane across the axis move out by e
+// and the cone's facets by 2 t_max e, t_max the farthest B reaches along
+// the cone in units of l's distance to Q.  Window-space allowances: the
+// rectangle widened by 2 pixels, the range by 2^-16 plus 8 steps of a
+// 24-bit buffer.  e and these allowances are estimates of the float
+// pipeline's error, not proofs (docs/findings/volume-culling.md measures
+// them).  Nothing is bounded where the light lies in or on Q's box.
 #pragma once
 
 #include <cstddef>
