@@ -184,6 +184,7 @@ step_volume_culling() {  # fragments with each culling, then the stencil pass on
     $n sweep "${paths[@]}" --methods all --policies policy --volume-culling "$c" --out "$dir/paths-$c.csv"
     $n sweep --samples 3000 --seed 7 --methods all --policies policy --volume-culling "$c" --out "$dir/hard-$c.csv"
   done
+  python3 analysis/benchmarks/volume_culling_fragments.py "$dir"
   ./analysis/benchmarks/render_culling_table.sh "$dir/work"
 }
 
