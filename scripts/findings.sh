@@ -298,7 +298,7 @@ step_cap_arrangement() {  # the exact near-cap's build time ("ms") and faces, th
     done
   done
 }
-step_memory() {  # peak resident memory at 2048 x 2048: a box over the ground
+step_memory() {  # peak resident memory at 2048 x 2048 (a box over the ground), and per configuration kept
   local m=$PWD/data/meshes
   cat > "$dir/scene.json" <<EOF
 {"camera":{"eye":[0,2.5,5],"target":[0,0.7,0],"up":[0,1,0],"fovy_deg":50,"near":0.1,"far":100,
@@ -316,6 +316,17 @@ EOF
     tail -1 "$dir/calibrate.err"
     /usr/bin/time -f "evaluate --samples 3 at $s: %M KB" $n evaluate --samples 3 --width $s --height $s \
       --out "$dir/e$s" >/dev/null 2>"$dir/evaluate.err" || cat "$dir/evaluate.err"
+    tail -1 "$dir/evaluate.err"
+  done
+  # What each configuration keeps to the end: the peak at two counts (default sizes)
+  for c in 40 1280; do
+    /usr/bin/time -f "calibrate --samples $c: %M KB" $n calibrate --samples $c --seed 100 --out "$dir/k$c.csv" \
+      >/dev/null 2>"$dir/calibrate.err" || cat "$dir/calibrate.err"
+    tail -1 "$dir/calibrate.err"
+  done
+  for c in 40 320; do
+    /usr/bin/time -f "evaluate --samples $c: %M KB" $n evaluate --samples $c --seed 4242 --out "$dir/v$c" \
+      >/dev/null 2>"$dir/evaluate.err" || cat "$dir/evaluate.err"
     tail -1 "$dir/evaluate.err"
   done
 }

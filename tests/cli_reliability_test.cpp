@@ -507,6 +507,15 @@ TEST_F(Reliability, AFrameOverTheMemoryLimitIsRefusedWithTheEstimate) {
   }
   EXPECT_FALSE(fs::exists(path("c.csv")));
   EXPECT_FALSE(fs::exists(path("e")));
+  // Small frames, but so many configurations that what each keeps to the
+  // end of the run passes the limit: refused before the first is drawn.
+  for (const std::string& cmd :
+       {"calibrate --samples 100000 --out " + path("c.csv"), "evaluate --samples 100000 --out " + path("e")}) {
+    const test::CliResult r = run(cmd + " --width 16 --height 16 --max-memory 1");
+    expect_one_line_error(r, "for each of 100000 configurations", cmd);
+  }
+  EXPECT_FALSE(fs::exists(path("c.csv")));
+  EXPECT_FALSE(fs::exists(path("e")));
 }
 
 TEST_F(Reliability, AFailedAllocationIsAResourceError) {

@@ -66,6 +66,11 @@ struct CalibrateOptions {
 // docs/findings/exact-speed.md, "Memory"): 240 covers both measured peaks
 // beside the estimate's 64 MB.
 constexpr double kCalibrateBytesPerPixel = 240;
+// What each configuration leaves behind to the end of the run: its
+// observations (about 40 rows) and the heap around their names (measured:
+// about 19 KB of peak resident memory per configuration between
+// `calibrate --samples 40` and 1280 at its 160x120, docs/findings/exact-speed.md, "Memory").
+constexpr double kCalibrateBytesPerConfiguration = 48e3;
 
 // The methods calibrated: every candidate of the switch policy's decision.
 // ZP+ with the clipped-sides cap is ZP+ drawn with LightProjection::
@@ -359,8 +364,6 @@ void run(CalibrateOptions o) {
   if (o.policy_given && o.write_policy.empty())
     throw Error(ErrorKind::Usage, "--policy goes with --write-policy (the policy the device profile is added to)");
   if (o.out.empty()) throw Error(ErrorKind::Usage, "nearcap calibrate writes its observations to --out FILE.csv");
-  check_memory_estimate("the configurations", o.width, o.height, "calibrate", kCalibrateBytesPerPixel, o.max_memory_gb,
-                        "lower --width/--height");
   refuse_directory(o.out, "--out");
   std::optional<analysis::SwitchPolicy> policy;
   if (!o.write_policy.empty()) {
@@ -375,6 +378,8 @@ void run(CalibrateOptions o) {
   refuse_unread_sampler_options(o.sampler, o.samples);
   if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
   const CalibrationSet set(o);
+  check_memory_estimate("the configurations", o.width, o.height, "calibrate", kCalibrateBytesPerPixel, o.max_memory_gb,
+                        "lower --width/--height or the configurations", set.count(), kCalibrateBytesPerConfiguration);
   // Every output checked before the measurements: not a file the command
   // reads (the policy, each camera path, its base scene and meshes, the
   // sampler's meshes), writable.

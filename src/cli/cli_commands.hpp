@@ -118,9 +118,12 @@ void add_max_memory_option(CLI::App& cmd, double& max_memory_gb);
 void check_memory_estimate(const Scene& scene, const std::string& command, double bytes_per_pixel,
                            double max_memory_gb);
 // The same for a frame of width x height pixels from `source`; `advice`
-// says what to lower ("lower --width/--height").
+// says what to lower ("lower --width/--height").  A command that keeps
+// something of each of `configurations` frames to the end (calibrate's
+// observations, evaluate's rows) adds bytes_per_configuration for each.
 void check_memory_estimate(const std::string& source, int width, int height, const std::string& command,
-                           double bytes_per_pixel, double max_memory_gb, const std::string& advice);
+                           double bytes_per_pixel, double max_memory_gb, const std::string& advice,
+                           std::size_t configurations = 0, double bytes_per_configuration = 0);
 
 // The float pipeline's choices, as command-line options (cracks, sweep, ...).
 // The options set the fields of gl::EmulationSettings itself, so each

@@ -137,20 +137,26 @@ void check_memory_estimate(const Scene& scene, const std::string& command, doubl
 }
 
 void check_memory_estimate(const std::string& source, int width, int height, const std::string& command,
-                           double bytes_per_pixel, double max_memory_gb, const std::string& advice) {
+                           double bytes_per_pixel, double max_memory_gb, const std::string& advice,
+                           std::size_t configurations, double bytes_per_configuration) {
   const double pixels = static_cast<double>(width) * height;
-  const double estimate = 64e6 + bytes_per_pixel * pixels;
+  const double kept = bytes_per_configuration * static_cast<double>(configurations);
+  const double estimate = 64e6 + bytes_per_pixel * pixels + kept;
   double limit = max_memory_gb * 1e9;
   if (limit <= 0) {
     const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
     limit = pages > 0 && page > 0 ? 0.75 * static_cast<double>(pages) * static_cast<double>(page) : 8e9;
   }
   if (estimate <= limit) return;
-  char message[640];
+  char kept_part[160] = "";
+  if (configurations > 0)
+    std::snprintf(kept_part, sizeof kept_part, " and %.0f KB for each of %zu configurations",
+                  bytes_per_configuration / 1e3, configurations);
+  char message[800];
   std::snprintf(message, sizeof message,
-                "%s: %s at %dx%d needs about %.3g GB (%.0f bytes per pixel), over the limit of %.3g GB; %s, or "
+                "%s: %s at %dx%d needs about %.3g GB (%.0f bytes per pixel%s), over the limit of %.3g GB; %s, or "
                 "raise the limit with --max-memory GB",
-                source.c_str(), command.c_str(), width, height, estimate / 1e9, bytes_per_pixel, limit / 1e9,
+                source.c_str(), command.c_str(), width, height, estimate / 1e9, bytes_per_pixel, kept_part, limit / 1e9,
                 advice.c_str());
   throw Error(ErrorKind::Resource, message);
 }

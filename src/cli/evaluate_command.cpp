@@ -68,6 +68,11 @@ struct EvaluateOptions {
 // docs/findings/exact-speed.md, "Memory"): 240 covers both measured peaks
 // beside the estimate's 64 MB.
 constexpr double kEvaluateBytesPerPixel = 240;
+// What each configuration leaves behind to the end of the run: its scene,
+// its rows and the heap around them (measured: about 32 KB of peak resident
+// memory per configuration between `evaluate --samples 40` and 320 at
+// 48x36, docs/findings/exact-speed.md, "Memory").
+constexpr double kEvaluateBytesPerConfiguration = 64e3;
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -465,6 +470,16 @@ void run(const EvaluateOptions& o) {
     configurations.push_back(
         {seed_set, "sample:" + std::to_string(h.seed) + ":" + std::to_string(h.index), -1, h.scene_json});
   }
+  // And what every configuration keeps to the end, at the largest frame.
+  int width = 0, height = 0;
+  for (const analysis::CameraPath& p : paths)
+    if (static_cast<double>(p.width) * p.height > static_cast<double>(width) * height)
+      width = p.width, height = p.height;
+  if (o.samples > 0 && static_cast<double>(spec.width) * spec.height > static_cast<double>(width) * height)
+    width = spec.width, height = spec.height;
+  check_memory_estimate("the configurations", width, height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
+                        "lower --width/--height or the configurations", configurations.size(),
+                        kEvaluateBytesPerConfiguration);
 
   const render::EglContext context;
   render::LitFrameRenderer renderer;
