@@ -61,8 +61,8 @@ struct CalibrateOptions {
 
 // A configuration's memory beyond the fixed part, per pixel of its frame:
 // every method's emulated and GL frames, one configuration at a time
-// (measured: 162 bytes per pixel between `calibrate --samples 6` at
-// 1024x1024 and 2048x2048 and a fixed part of about 130 MB,
+// (measured: 173 bytes per pixel between `calibrate --samples 6` at
+// 1024x1024 and 2048x2048 and a fixed part of about 115 MB,
 // docs/findings/exact-speed.md, "Memory"): 240 covers both measured peaks
 // beside the estimate's 64 MB.
 constexpr double kCalibrateBytesPerPixel = 240;

@@ -63,8 +63,8 @@ struct EvaluateOptions {
 
 // A configuration's memory beyond the fixed part, per pixel of its frame:
 // the exact reference, its crack distances, every candidate's emulated and GL
-// frames (measured: 165 bytes per pixel between `evaluate --samples 3` at
-// 1024x1024 and 2048x2048 and a fixed part of about 95 MB,
+// frames (measured: 153 bytes per pixel between `evaluate --samples 3` at
+// 1024x1024 and 2048x2048 and a fixed part of about 100 MB,
 // docs/findings/exact-speed.md, "Memory"): 240 covers both measured peaks
 // beside the estimate's 64 MB.
 constexpr double kEvaluateBytesPerPixel = 240;
