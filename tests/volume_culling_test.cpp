@@ -135,8 +135,8 @@ TEST(VolumeCulling, OnASliceOfTheSampler) {
   EXPECT_LT(culled * 4, plain * 3);  // at least a quarter fewer
 }
 
-// Configurations at 160 x 120 where the region once fell short of the
-// float pipeline's volume: far from the origin (a million units out, where
+// Configurations at 160 x 120 that test the region's margins for the float
+// pipeline's volume: far from the origin (a million units out, where
 // float32 rounds positions by sixteenths and the region's cone must widen
 // with the distance from the light), an eye in the shadow, a tiny near plane
 // fitted tight.  Every method but ZP+ with the light frustum: the same

@@ -379,7 +379,8 @@ void run(CalibrateOptions o) {
   if (o.samples > 0) check_sampler_meshes(sampler_spec(o.sampler));
   const CalibrationSet set(o);
   check_memory_estimate("the configurations", o.width, o.height, "calibrate", kCalibrateBytesPerPixel, o.max_memory_gb,
-                        "lower --width/--height or the configurations", set.count(), kCalibrateBytesPerConfiguration);
+                        "lower --samples, the --path frames or --width/--height", set.count(),
+                        kCalibrateBytesPerConfiguration);
   // Every output checked before the measurements: not a file the command
   // reads (the policy, each camera path, its base scene and meshes, the
   // sampler's meshes), writable.

@@ -121,7 +121,8 @@ CLI::Option* add_scene_argument(CLI::App& cmd, std::string& scene) {
 
 void add_max_memory_option(CLI::App& cmd, double& max_memory_gb) {
   cmd.add_option("--max-memory", max_memory_gb,
-                 "refuse a frame whose estimated memory exceeds this many GB (default: 3/4 of the machine's memory)")
+                 "refuse a run whose estimated memory (its largest frame's; for calibrate and evaluate also what each "
+                 "configuration keeps to the end) exceeds this many GB (default: 3/4 of the machine's memory)")
       ->check(finite_number())
       ->check(CLI::Validator(
           [](std::string& value) -> std::string {
@@ -150,8 +151,8 @@ void check_memory_estimate(const std::string& source, int width, int height, con
   if (estimate <= limit) return;
   char kept_part[160] = "";
   if (configurations > 0)
-    std::snprintf(kept_part, sizeof kept_part, " and %.0f KB for each of %zu configurations",
-                  bytes_per_configuration / 1e3, configurations);
+    std::snprintf(kept_part, sizeof kept_part, " and %.0f KB for each of %zu configuration%s",
+                  bytes_per_configuration / 1e3, configurations, configurations == 1 ? "" : "s");
   char message[800];
   std::snprintf(message, sizeof message,
                 "%s: %s at %dx%d needs about %.3g GB (%.0f bytes per pixel%s), over the limit of %.3g GB; %s, or "

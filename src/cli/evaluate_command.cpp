@@ -449,19 +449,33 @@ void run(const EvaluateOptions& o) {
   if (o.width > 0) spec.width = o.width;
   if (o.height > 0) spec.height = o.height;
   if (o.samples > 0) check_sampler_meshes(spec);
-  // The largest frame's memory, checked before any is drawn.
-  for (const analysis::CameraPath& p : paths)
+  // The largest frame's memory, and what every configuration keeps to the
+  // end of the run, checked before any is listed or drawn.
+  auto last_frame_of = [&](const analysis::CameraPath& p) { return o.last_frame >= 0 ? o.last_frame : p.frames - 1; };
+  std::size_t count = static_cast<std::size_t>(o.samples);
+  int width = 0, height = 0;
+  auto keep_largest = [&](int w, int h) {
+    if (static_cast<double>(w) * h > static_cast<double>(width) * height) width = w, height = h;
+  };
+  for (const analysis::CameraPath& p : paths) {
     check_memory_estimate(p.source, p.width, p.height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
                           "lower --width/--height");
-  if (o.samples > 0)
+    count += static_cast<std::size_t>(last_frame_of(p) - o.first_frame + 1);
+    keep_largest(p.width, p.height);
+  }
+  if (o.samples > 0) {
     check_memory_estimate("the sampler", spec.width, spec.height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
                           "lower --width/--height");
+    keep_largest(spec.width, spec.height);
+  }
+  check_memory_estimate("the configurations", width, height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
+                        "lower --samples, the paths' frames (--first-frame/--last-frame) or --width/--height", count,
+                        kEvaluateBytesPerConfiguration);
   const analysis::HardCaseSampler sampler(spec);
   std::vector<Configuration> configurations;
   for (const analysis::CameraPath& p : paths) {
     const std::string name = std::filesystem::path(p.source).stem().string();
-    const int last = o.last_frame >= 0 ? o.last_frame : p.frames - 1;
-    for (int f = o.first_frame; f <= last; ++f)
+    for (int f = o.first_frame; f <= last_frame_of(p); ++f)
       configurations.push_back({name, "path:" + name + ":" + std::to_string(f), f, analysis::path_frame_json(p, f)});
   }
   const std::string seed_set = "seed-" + std::to_string(o.sampler.seed);
@@ -470,16 +484,6 @@ void run(const EvaluateOptions& o) {
     configurations.push_back(
         {seed_set, "sample:" + std::to_string(h.seed) + ":" + std::to_string(h.index), -1, h.scene_json});
   }
-  // And what every configuration keeps to the end, at the largest frame.
-  int width = 0, height = 0;
-  for (const analysis::CameraPath& p : paths)
-    if (static_cast<double>(p.width) * p.height > static_cast<double>(width) * height)
-      width = p.width, height = p.height;
-  if (o.samples > 0 && static_cast<double>(spec.width) * spec.height > static_cast<double>(width) * height)
-    width = spec.width, height = spec.height;
-  check_memory_estimate("the configurations", width, height, "evaluate", kEvaluateBytesPerPixel, o.max_memory_gb,
-                        "lower --width/--height or the configurations", configurations.size(),
-                        kEvaluateBytesPerConfiguration);
 
   const render::EglContext context;
   render::LitFrameRenderer renderer;

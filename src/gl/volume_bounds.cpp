@@ -94,7 +94,7 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
   // scenes: tenths of a unit at 3e6): its surfaces and volumes lie within
   // slack_b of the exact ones.
   const double slack_b = 0x1p-20 * magnitude + 0x1p-30 * scale;
-  // The light in or on the occluder's box (within rounding): R is everything.
+  // The light in, on or within 4 slack_b of the occluder's box: R is everything.
   if (!(to_occluder > 4 * slack_b)) return std::nullopt;
 
   // R = cone(l, Q) ∩ B ∩ {beyond Q's nearest corner along l's axis to Q},
@@ -126,9 +126,9 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
   // plane with a corner on its far side, however little, does not hold the
   // rays through that corner far beyond Q).  n . (p - l) >= -facet_rounding
   // on Q, so the float volume lies within (2 t_max - 1) slack_b + t_max
-  // facet_rounding of each.
+  // facet_rounding of each (moved out by slack_b more).
   const double facet_rounding = 0x1p-40 * scale;
-  const double slack_cone = 2 * t_max * slack_b;
+  const double slack_cone = 2 * t_max * slack_b + t_max * facet_rounding;
   for (int i = 0; i < 8; ++i)
     for (int bit = 1; bit < 8; bit <<= 1) {
       const int j = i | bit;

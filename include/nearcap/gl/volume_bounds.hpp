@@ -33,7 +33,8 @@
 // rectangle widened by 2 pixels, the range by 2^-16 plus 8 steps of a
 // 24-bit buffer.  e and these allowances are estimates of the float
 // pipeline's error, not proofs (docs/findings/volume-culling.md measures
-// them).  Nothing is bounded where the light lies in or on Q's box.
+// them).  Nothing is bounded where the light lies in, on or within 4e of
+// Q's box.
 #pragma once
 
 #include <cstddef>
