@@ -25,7 +25,11 @@ trap 'rm -rf "$work"' EXIT
 taskset -c 0 valgrind --tool=callgrind --callgrind-out-file="$work/callgrind.out" \
   --toggle-collect='nearcap::analysis::decide(*' \
   "$n" sweep --path "$path" --methods zfail --policies policy --policy "$policy" --out "$work/rows.csv" \
-  2> "$work/valgrind.log" > /dev/null
+  2> "$work/valgrind.log" > /dev/null || {
+  echo "decision_instructions: the sweep under valgrind failed:" >&2
+  grep -v "^==" "$work/valgrind.log" | tail -3 >&2
+  exit 1
+}
 total=$(sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$work/valgrind.log")
 decisions=$(python3 -c 'import csv,sys; print(sum(r["method"] == "policy" for r in csv.DictReader(open(sys.argv[1]))))' \
   "$work/rows.csv")

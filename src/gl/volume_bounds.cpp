@@ -119,14 +119,14 @@ std::optional<VolumeBounds> shadow_volume_bounds(const Scene& scene, std::size_t
   //   n . (x' - l) = (1 - t) n . (l' - l) + t n . (p' - l)
   //               >= t n . (p - l) - (2t - 1) slack_b,
   // and within B grown by slack_b, t = |x' - l'| / |p' - l'| is at most
-  // t_max below (|x' - l| <= reach + sqrt(3) slack_b).
+  // t_max below (|x' - l'| <= reach + (sqrt(3) + 1) slack_b).
   const double t_max = (reach + 3 * slack_b) / (to_occluder - 2 * slack_b);
   // The cone's facets: the planes through l and an edge of Q with every
   // corner of Q on one side, up to the double rounding of the sides (a
   // plane with a corner on its far side, however little, does not hold the
   // rays through that corner far beyond Q).  n . (p - l) >= -facet_rounding
   // on Q, so the float volume lies within (2 t_max - 1) slack_b + t_max
-  // facet_rounding of each (moved out by slack_b more).
+  // facet_rounding of each; each is moved out by slack_b more than that.
   const double facet_rounding = 0x1p-40 * scale;
   const double slack_cone = 2 * t_max * slack_b + t_max * facet_rounding;
   for (int i = 0; i < 8; ++i)
