@@ -541,9 +541,11 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
 }
 
 // The digest of what a camera path's frames are made of besides the path
-// file: its base scene's text and every mesh file the scene names.
-std::string path_scene_digest(const std::string& path_file) {
-  const analysis::CameraPath path = analysis::load_camera_path(path_file);
+// file: its base scene's text and every mesh file the scene names.  `meshes`:
+// the sweep's cache, which already holds the path's meshes (the bunny's
+// reading and validation is most of a short sweep's start).
+std::string path_scene_digest(const std::string& path_file, MeshCache* meshes) {
+  const analysis::CameraPath path = analysis::load_camera_path(path_file, meshes);
   const std::string scene_text = io::read_input_file(path.scene_file, "scene file");
   std::string content = scene_text;
   const nlohmann::json scene = nlohmann::json::parse(with_absolute_mesh_paths(scene_text, path.scene_file));
@@ -573,7 +575,7 @@ std::string sampler_meshes_digest(const SamplerOptions& sampler) {
 
 // The options that determine the rows, for the sidecar (analysis/sweep_file.hpp).
 analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::SweepOptions& options,
-                               const analysis::SweepLayout& layout) {
+                               const analysis::SweepLayout& layout, MeshCache* meshes) {
   analysis::SweepMeta meta;
   meta.nearcap_version = NEARCAP_VERSION;
   meta.samples = o.samples;
@@ -581,7 +583,7 @@ analysis::SweepMeta sweep_meta(const SweepCommandOptions& o, const analysis::Swe
   std::vector<std::string> digests, scene_digests;
   for (const std::string& p : o.paths) {
     digests.push_back(analysis::content_digest(io::read_input_file(p, "camera path file")));
-    scene_digests.push_back(path_scene_digest(p));
+    scene_digests.push_back(path_scene_digest(p, meshes));
   }
   meta.options = {
       {"--path", o.paths},
@@ -694,7 +696,7 @@ void run_sweep(const SweepCommandOptions& o) {
                                        ": a symbolic link to a file that does not exist; remove the link, or "
                                        "give the file it names as --out");
       }
-      const analysis::SweepMeta meta = sweep_meta(o, options, layout);
+      const analysis::SweepMeta meta = sweep_meta(o, options, layout, &meshes);
       const std::string exists = o.out + ": exists; give --resume to continue that sweep, or another --out";
       fd = open_existing(o.out);
       bool resuming = fd >= 0;

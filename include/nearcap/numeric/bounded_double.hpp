@@ -86,7 +86,7 @@ inline BoundedDouble& operator*=(BoundedDouble& a, const BoundedDouble& b) { ret
 // BoundedDoubles.  The exact reference's shadow-crossing filter runs three
 // for every candidate light triangle.
 template <>
-inline BoundedDouble dot(const Vec3<BoundedDouble>& a, const Vec3<BoundedDouble>& b) {
+[[gnu::always_inline]] inline BoundedDouble dot(const Vec3<BoundedDouble>& a, const Vec3<BoundedDouble>& b) {
   const double px = a.x.v * b.x.v, py = a.y.v * b.y.v, pz = a.z.v * b.z.v;
   const double sxy = px + py, v = sxy + pz;
   const double propagated = (std::fabs(a.x.v) * b.x.e + std::fabs(b.x.v) * a.x.e + a.x.e * b.x.e) +
