@@ -296,14 +296,19 @@ TEST_F(Reliability, AFileNamedAsTheOutputDirectoryIsRefusedUpFront) {
 
 TEST_F(Reliability, AFullStandardOutputIsAnError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  // Run directly: run_cli redirects stdout to a file of its own.
-  const std::string command =
-      "'" + std::string(NEARCAP_CLI) + "' classify '" + path("B.json") + "' > /dev/full 2> '" + path("err.txt") + "'";
-  const int status = std::system(command.c_str());
-  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
-  const std::string err = test::slurp(path("err.txt"));
-  EXPECT_EQ(err.rfind("nearcap: error (io): standard output", 0), 0u) << err;
-  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  // Run directly: run_cli redirects stdout to a file of its own.  A
+  // command's output, the version, and help in each of its spellings.
+  for (const std::string& args : {"classify '" + path("B.json") + "'", std::string("--version"), std::string("--help"),
+                                 std::string("cap --help"), std::string("help cap")}) {
+    SCOPED_TRACE(args);
+    const std::string command =
+        "'" + std::string(NEARCAP_CLI) + "' " + args + " > /dev/full 2> '" + path("err.txt") + "'";
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+    const std::string err = test::slurp(path("err.txt"));
+    EXPECT_EQ(err.rfind("nearcap: error (io): standard output", 0), 0u) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  }
 }
 
 TEST_F(Reliability, ACameraPathNamedWithoutAFolderIsReadFromTheWorkingFolder) {

@@ -4,11 +4,13 @@
 // does not grow with the rows.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -184,6 +186,36 @@ TEST_F(ReportInputs, AScriptThatFailsWithoutAnErrorLineIsOneLine) {
   EXPECT_NE(logged.find("the report script broke"), std::string::npos) << logged;
   fs::remove(log);
   EXPECT_FALSE(fs::exists(out));
+}
+
+// A file name's control characters and bytes outside UTF-8 are escaped in
+// the line, as nearcap's own errors write them (io/utf8_text.hpp).
+TEST_F(ReportInputs, AFileNameInTheErrorIsEscaped) {
+  Rows r = Rows::read(rows());
+  r.rows[4].pop_back();  // one field short
+  for (const auto& [name, shown] : {std::pair<std::string, std::string>{"line\nfeed.csv", "line\\nfeed.csv"},
+                                    {"tab\tand\x7f.csv", "tab\\tand\\x7f.csv"},
+                                    {"latin\xff.csv", "latin\\xff.csv"}}) {
+    r.write(path(name));
+    const test::CliResult result =
+        test::run_cli("report '" + path(name).string() + "' --out " + path("never_named").string(), "named");
+    expect_one_line(result, shown + ": line 6:", shown);
+    EXPECT_FALSE(fs::exists(path("never_named")));
+    fs::remove(path(name));
+  }
+}
+
+// What the report prints at the end cannot be written (stdout a full
+// device): one line saying so, exit code 2, not a failure of the script.
+TEST_F(ReportInputs, AFullStandardOutputIsOneLine) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string command = "'" + std::string(NEARCAP_CLI) + "' report " + rows() + " --out " +
+                              path("to_full").string() + " > /dev/full 2> " + path("full_err.txt").string();
+  const int status = std::system(command.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+  const std::string err = test::slurp(path("full_err.txt"));
+  EXPECT_EQ(err.rfind("nearcap: error (io): standard output: cannot write what the command printed", 0), 0u) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST_F(ReportInputs, TheInputLimitAppliesToTheCsvsAndThePolicy) {

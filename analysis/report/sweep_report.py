@@ -1196,16 +1196,45 @@ def main(argv):
         signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)  # the cleanup runs to its end
         shutil.rmtree(staging, ignore_errors=True)
         signal.pthread_sigmask(signal.SIG_SETMASK, mask)
-    print(f"report: {report.rows} rows, {len(report.plots)} plots, {target / 'index.html'}")
+    try:
+        print(f"report: {report.rows} rows, {len(report.plots)} plots, {target / 'index.html'}", flush=True)
+    except OSError as e:
+        # Nothing more reaches it: the interpreter's own flush at exit would fail again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        raise ReportError("io", f"standard output: cannot write what the command printed: {e.strerror}")
+
+
+CONTROL_ESCAPES = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+
+
+def escaped(text):
+    """A message's control characters as escapes, as nearcap writes them (io/utf8_text.hpp): a line feed, a carriage
+    return and a tab as \\n, \\r and \\t, another C0 character or DEL as \\xHH, C1 as \\u00HH, and a byte of a
+    file name that is not UTF-8 (decoded by Python as a lone surrogate) as \\xHH."""
+    out = []
+    for c in text:
+        o = ord(c)
+        if c in CONTROL_ESCAPES:
+            out.append(CONTROL_ESCAPES[c])
+        elif o < 0x20 or o == 0x7F:
+            out.append(f"\\x{o:02x}")
+        elif 0x80 <= o <= 0x9F:
+            out.append(f"\\u{o:04x}")
+        elif 0xDC80 <= o <= 0xDCFF:
+            out.append(f"\\x{o - 0xDC00:02x}")
+        else:
+            out.append(c)
+    return "".join(out)
 
 
 def one_line(text, limit=400):
-    text = " ".join(str(text).split())
+    text = escaped(str(text))
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def run(argv):
     """main, with every failure as one line on stderr and exit code 2."""
+    sys.stdout.reconfigure(errors="surrogateescape")  # a file name's bytes as given, UTF-8 or not
     try:
         main(argv)
         return 0

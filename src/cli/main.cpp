@@ -115,7 +115,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    if (e.get_exit_code() == 0) {  // --help, --version
+      app.exit(e);
+      return stdout_written(world.rank() == 0) ? 0 : 2;
+    }
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty())
       return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
     // CLI11's words for an option given more than once.
