@@ -299,7 +299,7 @@ TEST_F(Reliability, AFullStandardOutputIsAnError) {
   // Run directly: run_cli redirects stdout to a file of its own.  A
   // command's output, the version, and help in each of its spellings.
   for (const std::string& args : {"classify '" + path("B.json") + "'", std::string("--version"), std::string("--help"),
-                                 std::string("cap --help"), std::string("help cap")}) {
+                                  std::string("cap --help"), std::string("help cap")}) {
     SCOPED_TRACE(args);
     const std::string command =
         "'" + std::string(NEARCAP_CLI) + "' " + args + " > /dev/full 2> '" + path("err.txt") + "'";
