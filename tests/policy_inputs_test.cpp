@@ -37,6 +37,17 @@ std::string row(const std::string& configuration, const char* method, int cracks
          ",,0,1,2.5,4,0.3,0.1,1e3,0.01,2,0.05,1200,40,900,30000,2000,15000," + ms;
 }
 
+// A row's fields (the test's rows quote nothing).
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> fields(1);
+  for (char c : line)
+    if (c == ',')
+      fields.emplace_back();
+    else
+      fields.back().push_back(c);
+  return fields;
+}
+
 // `count` configurations, none held out (the split hashes the id), with a
 // row of both methods each; times grow with the configuration.
 std::vector<std::string> training_configurations(std::size_t count) {
@@ -492,20 +503,34 @@ TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
 }
 
 // A length ratio or a condition number the sweep never writes negative
-// (skew, cap_window_error_px, ...) is refused, not fitted through its log's
-// magnitude.
+// (every feature but the light's near distance) is refused, not fitted
+// through its log's magnitude.
 TEST(PolicyCsv, NegativeMagnitudesAreRefused) {
-  std::string r = row("sample:1:1", "zpplus-corrected", 0, "1");
-  r.replace(r.find(",0.3,0.1,"), 9, ",0.3,-0.1,");
-  try {
-    (void)analysis::policy_samples_from_text(with_line(sweep_csv(), 3, r), "s.csv", ShadowMethod::ZPPlusCorrected,
-                                             ShadowMethod::ZFail);
-    ADD_FAILURE() << "a negative skew was accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::Parse) << e.what();
-    EXPECT_NE(std::string(e.what()).find("s.csv: line 3: column 'skew': '-0.1' is negative"), std::string::npos)
-        << e.what();
+  const std::vector<std::string> header = split_commas(kHeader);
+  std::size_t refused = 0;
+  for (const char* column : {"l_far_over_width", "delta_over_width", "skew", "cond_light_transform",
+                             "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"}) {
+    SCOPED_TRACE(column);
+    std::vector<std::string> fields = split_commas(row("sample:1:1", "zpplus-corrected", 0, "1"));
+    const std::size_t k = static_cast<std::size_t>(std::find(header.begin(), header.end(), column) - header.begin());
+    ASSERT_LT(k, fields.size());
+    fields[k] = "-" + fields[k];
+    std::string r;
+    for (const std::string& f : fields) r += (r.empty() ? "" : ",") + f;
+    try {
+      (void)analysis::policy_samples_from_text(with_line(sweep_csv(), 3, r), "s.csv", ShadowMethod::ZPPlusCorrected,
+                                               ShadowMethod::ZFail);
+      ADD_FAILURE() << "a negative " << column << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Parse) << e.what();
+      EXPECT_NE(std::string(e.what()).find("s.csv: line 3: column '" + std::string(column) + "': '" + fields[k] +
+                                           "' is negative"),
+                std::string::npos)
+          << e.what();
+      ++refused;
+    }
   }
+  EXPECT_EQ(refused, 7u);
 }
 
 // A row repeated, a configuration's rows apart, or one CSV given twice

@@ -365,7 +365,7 @@ std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs,
                    c.cond_light_transform = row.magnitude("cond_light_transform");
                    c.cap_window_error_px = row.magnitude("cap_window_error_px");
                    c.coordinate_over_size = row.magnitude("coordinate_over_size");
-                   c.l_near_over_l_far = row.number("l_near_over_l_far");
+                   c.l_near_over_l_far = row.magnitude("l_near_over_l_far");
                  } else {
                    p.fallback_cracks = cracks;
                  }
