@@ -509,6 +509,7 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
       {"evaluate --samples 2 --fit-unpriced data" + out, "io", "'data' is a directory"},
       {"evaluate --samples 2 --fit-unpriced '" + (dir / "table.md").string() + "'" + out, "usage",
        "is the table.md --out writes"},
+      {"evaluate --samples 2 --fit-unpriced '" + dir.string() + "'" + out, "usage", "is the directory --out writes"},
   };
   for (const auto& c : cases) {
     const test::CliResult r = test::run_cli(c.args, "evaluate_bad");

@@ -406,6 +406,11 @@ void run(const EvaluateOptions& o) {
     if ((!in_ec && !out_ec && in == outp) ||
         (std::filesystem::equivalent(o.policy, o.fit_unpriced, same_ec) && !same_ec))
       throw Error(ErrorKind::Usage, "--fit-unpriced would replace the policy it evaluates (" + o.policy + ")");
+    {
+      std::error_code ec;
+      if (!out_ec && std::filesystem::weakly_canonical(o.out, ec) == outp && !ec)
+        throw Error(ErrorKind::Usage, "--fit-unpriced '" + o.fit_unpriced + "' is the directory --out writes");
+    }
     for (const char* name : {"evaluation.csv", "table.md"}) {
       std::error_code ec;
       const std::filesystem::path written = std::filesystem::weakly_canonical(std::filesystem::path(o.out) / name, ec);
