@@ -520,7 +520,9 @@ void run(const EvaluateOptions& o) {
   heading += !o.fit_unpriced.empty() ? " with every frame priced (--fit-unpriced)."
              : o.price_every_frame   ? " with every frame priced (--price-every-frame)."
                                      : ".";
-  if (rejected > 0) heading += " " + std::to_string(rejected) + " sampled configurations rejected (they do not load).";
+  if (rejected > 0)
+    heading += " " + std::to_string(rejected) + (rejected > 1 ? " configurations" : " configuration") +
+               std::string(" rejected (they do not load).");
   heading += "\n\n";
   const std::string markdown = heading + analysis::evaluation_table_markdown(table);
   io::StagedOutputFiles files;

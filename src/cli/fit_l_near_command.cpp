@@ -48,18 +48,18 @@ void run(const FitOptions& o) {
   const nlohmann::json j{{"l_near_scale", fit.scale},
                          {"objective", "mean log10 cond(P_l M_l)"},
                          {"train",
-                          {{"configurations", fit.train},
+                          {{"configuration_lights", fit.train},
                            {"at_fitted_scale", fit.train_objective},
                            {"at_scale_1", fit.train_objective_at_one}}},
                          {"held_out",
-                          {{"configurations", fit.held_out},
+                          {{"configuration_lights", fit.held_out},
                            {"at_fitted_scale", fit.held_out_objective},
                            {"at_scale_1", fit.held_out_objective_at_one}}},
                          {"iterations", fit.iterations},
                          {"command", command}};
   std::cout << "fit-l-near: l_near scale " << fit.scale << " (" << fit.iterations << " iterations); mean log10 "
             << "cond(P_l M_l): train " << fit.train_objective << " (" << fit.train_objective_at_one << " at scale 1, "
-            << fit.train << " configurations), held out " << fit.held_out_objective << " ("
+            << fit.train << " (configuration, light) pairs), held out " << fit.held_out_objective << " ("
             << fit.held_out_objective_at_one << " at scale 1, " << fit.held_out << ")\n";
   if (!o.out.empty()) io::write_output_files({{o.out, json_file_text(j)}});
 }
