@@ -111,10 +111,11 @@ TEST_F(Sweep, WritesOneRowPerConfigurationLightAndMethod) {
 }
 
 // Engine rules add a row each; the per-occluder columns agree with the
-// methods' rows of the same configuration.
+// methods' rows of the same configuration, and are empty for the methods
+// that draw no occluder with Z-pass or Z-fail (ZP+, AtomicZP).
 TEST_F(Sweep, PoliciesAddRowsWithTheirOccluderDecisions) {
-  const test::CliResult r =
-      test::run_cli(args(path("p.csv")) + " --methods zpass,zfail --policies doom3,ogre", "sweep_policies");
+  const test::CliResult r = test::run_cli(
+      args(path("p.csv")) + " --methods zpass,zfail,zpplus,atomiczp --policies doom3,ogre", "sweep_policies");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   SweepCsv in(test::slurp(path("p.csv")));
   const std::size_t method = in.column("method"), occluders = in.column("occluders"),
@@ -130,7 +131,11 @@ TEST_F(Sweep, PoliciesAddRowsWithTheirOccluderDecisions) {
     rows[cells[0] + "/" + cells[4]][cells[method]] = cells;
   }
   for (const auto& [key, by_method] : rows) {
-    ASSERT_EQ(by_method.size(), 4u) << key;
+    ASSERT_EQ(by_method.size(), 6u) << key;
+    for (const char* m : {"zpplus", "atomiczp"}) {
+      EXPECT_EQ(by_method.at(m)[fn], "") << key << " " << m;
+      EXPECT_EQ(by_method.at(m)[fp], "") << key << " " << m;
+    }
     const auto& zpass = by_method.at("zpass");
     const auto& zfail = by_method.at("zfail");
     EXPECT_EQ(zpass[fn], zpass[truth]) << key;  // Z-pass misses every occluder that needs Z-fail

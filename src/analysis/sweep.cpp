@@ -119,9 +119,13 @@ std::vector<SweepRow> sweep_configuration(const SweepConfiguration& configuratio
         r.method = entry.name;
         r.occluders = occluders;
         r.zpass_wrong_occluders = wrong_occluders;
-        // The method each occluder gets, where the row decides Z-pass or Z-fail per occluder.
+        // The method each occluder gets, where the row draws each occluder with
+        // Z-pass or a method right where Z-pass is wrong (Z-fail, preload): the
+        // engine rules, the policy, and those methods themselves.
         std::vector<gl::ShadowMethod> decided = entry.object_methods;
-        if (entry.method && !gl::uses_near_cap(*entry.method)) decided.assign(scene.objects.size(), *entry.method);
+        if (entry.method && (*entry.method == gl::ShadowMethod::ZPass || *entry.method == gl::ShadowMethod::ZFail ||
+                             *entry.method == gl::ShadowMethod::Preload))
+          decided.assign(scene.objects.size(), *entry.method);
         if (!decided.empty()) {
           r.false_negatives = r.false_positives = 0;
           for (std::size_t o = 0; o < scene.objects.size(); ++o) {
