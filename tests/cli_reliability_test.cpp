@@ -355,6 +355,12 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "--method names zpass twice", "a method twice");
   expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method foo"), "raytrace, policy (or all)",
                         "an unknown method");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method all,zpass"), "--method all stands alone",
+                        "all with other names");
+  expect_one_line_error(run("sweep --samples 1 --methods zfail,all --out " + path("k.csv")),
+                        "--methods all stands alone", "all with other names in a sweep");
+  expect_one_line_error(run("sweep --samples 1 --policies doom3,none --out " + path("k.csv")),
+                        "--policies none stands alone", "none with other names");
   expect_one_line_error(run("sweep --samples 1 --kinds grazing,grazing --out " + path("k.csv")),
                         "grazing is named twice", "a kind twice");
   expect_one_line_error(run("sweep --samples 1 --kinds grazing, --out " + path("k.csv")), "an empty kind name",

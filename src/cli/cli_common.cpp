@@ -519,6 +519,7 @@ MethodChoice method_choice(const std::string& names) {
   std::string rest;
   std::set<std::string> seen;
   for (const std::string& name : comma_separated(names)) {
+    if (name == "all") throw Error(ErrorKind::Usage, "--method all stands alone: give it without other names");
     if (name != "policy" && name != "raytrace" && !gl::shadow_method_from_string(name))
       throw Error(ErrorKind::Usage, "--method '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() +
                                         ", raytrace, policy (or all)");
@@ -547,6 +548,7 @@ std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::
   if (names == "all") return {gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
   std::vector<gl::ShadowMethod> methods;
   for (const std::string& name : comma_separated(names)) {
+    if (name == "all") throw Error(ErrorKind::Usage, option + " all stands alone: give it without other names");
     const auto m = gl::shadow_method_from_string(name);
     if (!m)
       throw Error(ErrorKind::Usage,
