@@ -371,6 +371,10 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "an empty --out");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --light 1"),
                         "--light is given 2 times (give it once)", "an option twice");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --table --table --table"),
+                        "--table is given 3 times (give it once)", "a flag three times");
+  expect_one_line_error(run("sweep --samples 1 --allow-bunny --allow-bunny --out " + path("k.csv")),
+                        "--allow-bunny is given 2 times (give it once)", "a flag twice");
   expect_one_line_error(run("classify " + path("B.json") + " first second third"),
                         "unexpected arguments: first second third", "extras in the order given");
   // A policy's whole number written as a float.

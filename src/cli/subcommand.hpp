@@ -35,12 +35,22 @@ inline void refuse_empty_file_names(const CLI::App& cmd) {
   }
 }
 
+// A flag given more than once is refused as an option given twice is
+// (CLI11 counts a flag's uses and goes on).
+inline void refuse_repeated_flags(const CLI::App& cmd) {
+  for (const CLI::Option* o : cmd.get_options())
+    if (o->get_expected_max() == 0 && o->count() > 1)  // a flag: no value
+      throw Error(ErrorKind::Usage,
+                  o->get_name() + " is given " + std::to_string(o->count()) + " times (give it once)");
+}
+
 template <class Options, class Run>
 Subcommand<Options> add_subcommand(CLI::App& app, const std::string& name, const std::string& help, Run run) {
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(name, help);
   cmd->callback([cmd, options, run] {
     refuse_empty_file_names(*cmd);
+    refuse_repeated_flags(*cmd);
     run(*options);
   });
   return {*cmd, *options};
