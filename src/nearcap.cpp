@@ -4,15 +4,22 @@
 // judges with the same options.
 #include "nearcap/nearcap.hpp"
 
+#include <new>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "nearcap/exact/camera_space.hpp"
+#include "nearcap/io/scene_builder.hpp"
 #include "nearcap/judge/crack_distances.hpp"
+#include "nearcap/named_values.hpp"
 
 namespace nearcap {
 namespace {
 
+// The scene's fields as load_scene leaves them (check_scene_fields), and the light.
 void check_light(const Scene& scene, std::size_t light) {
+  check_scene_fields(scene);
   if (light >= scene.lights.size())
     throw Error(ErrorKind::Usage, scene.source + ": light " + std::to_string(light) +
                                       " is out of range (the scene has " + std::to_string(scene.lights.size()) +
@@ -45,22 +52,49 @@ struct Judge {
   CrackDistances distances;
 };
 
+// `task()`, with memory that runs out as the command line reports it:
+// Error(Resource) (a frame of the largest viewport needs gigabytes).
+template <class Task>
+auto within_memory(const Scene& scene, Task&& task) {
+  try {
+    return task();
+  } catch (const std::bad_alloc&) {
+    throw Error(ErrorKind::Resource, scene.source + ": out of memory (" + std::to_string(scene.camera.width) + "x" +
+                                         std::to_string(scene.camera.height) + " pixels)");
+  } catch (const std::length_error&) {
+    throw Error(ErrorKind::Resource, scene.source + ": out of memory (" + std::to_string(scene.camera.width) + "x" +
+                                         std::to_string(scene.camera.height) + " pixels)");
+  }
+}
+
+template <class E>
+void check_named(E value, const char* field) {
+  if (name_of(value) == "?")
+    throw Error(ErrorKind::Usage, std::string("FrameSettings: ") + field + " " +
+                                      std::to_string(static_cast<long long>(value)) + " is not one of " +
+                                      names_joined<E>());
+}
+
 }  // namespace
 
 NearCap exact_near_cap(const Scene& scene, std::size_t light) {
   check_light(scene, light);
-  return NearCap::build(CameraSpaceScene(scene), light);
+  return within_memory(scene, [&] { return NearCap::build(CameraSpaceScene(scene), light); });
 }
 
 PixelReference exact_reference(const Scene& scene, std::size_t light) {
   check_light(scene, light);
-  return compute_pixel_reference(CameraSpaceScene(scene), light);
+  return within_memory(scene, [&] { return compute_pixel_reference(CameraSpaceScene(scene), light); });
 }
 
 gl::EmulationSettings emulation_settings(const FrameSettings& settings) {
-  if (settings.width < 0 || settings.height < 0)
+  if (settings.width < 0 || settings.height < 0 || settings.width > 16384 || settings.height > 16384)
     throw Error(ErrorKind::Usage, "FrameSettings: the image size " + std::to_string(settings.width) + "x" +
-                                      std::to_string(settings.height) + " is negative (0 keeps the camera's)");
+                                      std::to_string(settings.height) +
+                                      " is outside [1, 16384] pixels (0 keeps the camera's)");
+  check_named(settings.depth, "depth");
+  check_named(settings.depth_mapping, "depth_mapping");
+  check_named(settings.light_projection, "light_projection");
   gl::EmulationSettings s;
   s.depth = settings.depth;
   s.depth_mapping = settings.depth_mapping;
@@ -75,30 +109,36 @@ JudgedFrame judged_frame(const Scene& scene, const FrameSettings& settings) {
 std::vector<JudgedFrame> judged_frames(const Scene& scene, const std::vector<ShadowMethod>& methods,
                                        const FrameSettings& settings) {
   const gl::EmulationSettings emulation = emulation_settings(settings);
+  for (ShadowMethod m : methods) check_named(m, "method");
   const Scene sized = sized_scene(scene, settings);
-  Judge judge(sized, settings.light);
-  gl::ShadowFrameBatch batch(sized, settings.light, emulation);
-  std::vector<JudgedFrame> frames;
-  frames.reserve(methods.size());
-  for (ShadowMethod m : methods) frames.push_back(judge.judged(batch.render(m)));
-  return frames;
+  return within_memory(sized, [&] {
+    Judge judge(sized, settings.light);
+    gl::ShadowFrameBatch batch(sized, settings.light, emulation);
+    std::vector<JudgedFrame> frames;
+    frames.reserve(methods.size());
+    for (ShadowMethod m : methods) frames.push_back(judge.judged(batch.render(m)));
+    return frames;
+  });
 }
 
 PolicyDecision decide_policy(const SwitchPolicy& policy, const Scene& scene, const FrameSettings& settings) {
   const gl::EmulationSettings emulation = emulation_settings(settings);
   const Scene sized = sized_scene(scene, settings);
-  return analysis::decide(policy, CameraSpaceScene(sized), settings.light, emulation);
+  return within_memory(sized,
+                       [&] { return analysis::decide(policy, CameraSpaceScene(sized), settings.light, emulation); });
 }
 
 JudgedFrame judged_policy_frame(const SwitchPolicy& policy, const Scene& scene, const FrameSettings& settings) {
   const gl::EmulationSettings emulation = emulation_settings(settings);
   const Scene sized = sized_scene(scene, settings);
-  Judge judge(sized, settings.light);
-  const PolicyDecision d = analysis::decide(policy, judge.exact, settings.light, emulation);
-  gl::ShadowFrameBatch batch(sized, settings.light, d.settings);
-  JudgedFrame j = judge.judged(batch.render(d.object_methods));
-  j.report.method = "policy";
-  return j;
+  return within_memory(sized, [&] {
+    Judge judge(sized, settings.light);
+    const PolicyDecision d = analysis::decide(policy, judge.exact, settings.light, emulation);
+    gl::ShadowFrameBatch batch(sized, settings.light, d.settings);
+    JudgedFrame j = judge.judged(batch.render(d.object_methods));
+    j.report.method = "policy";
+    return j;
+  });
 }
 
 }  // namespace nearcap

@@ -5,14 +5,17 @@
 // call is the command's composition of the layers; and the calls' own
 // contracts (errors, the image size).
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -141,6 +144,104 @@ TEST(FrontDoor, ANegativeImageSizeIsAUsageError) {
   settings.height = -1;
   EXPECT_EQ(kind_thrown([&] { emulation_settings(settings); }), "usage");
   EXPECT_EQ(kind_thrown([&] { judged_frame(small_scene(), settings); }), "usage");
+}
+
+TEST(FrontDoor, AnImageSizeOrAChoiceOutsideItsRangeIsAUsageError) {
+  const Scene scene = small_scene();
+  FrameSettings wide;
+  wide.width = 16385;  // beyond the largest viewport a scene file may give
+  EXPECT_EQ(kind_thrown([&] { judged_frame(scene, wide); }), "usage");
+  FrameSettings method;
+  method.method = static_cast<ShadowMethod>(99);
+  EXPECT_EQ(kind_thrown([&] { judged_frame(scene, method); }), "usage");
+  EXPECT_EQ(kind_thrown([&] { judged_frames(scene, {ShadowMethod::ZFail, static_cast<ShadowMethod>(-1)}); }), "usage");
+  FrameSettings depth;
+  depth.depth = static_cast<DepthFormat>(7);
+  EXPECT_EQ(kind_thrown([&] { emulation_settings(depth); }), "usage");
+  FrameSettings mapping;
+  mapping.depth_mapping = static_cast<DepthMapping>(7);
+  EXPECT_EQ(kind_thrown([&] { emulation_settings(mapping); }), "usage");
+  FrameSettings projection;
+  projection.light_projection = static_cast<LightProjection>(42);
+  EXPECT_EQ(kind_thrown([&] { emulation_settings(projection); }), "usage");
+}
+
+// A Scene is a struct a program can edit after loading it: every call checks
+// the fields a loaded scene has valid (check_scene_fields) and throws the
+// kind load_scene would, instead of failing deep in the exact kernel (a NaN
+// light crashed GMP; a missing mesh was dereferenced).
+TEST(FrontDoor, AnEditedSceneIsCheckedOnEntry) {
+  const SwitchPolicy policy = load_policy(std::string(NEARCAP_SOURCE_DIR) + "/" + kPolicy);
+  const struct {
+    const char* edit;
+    std::function<void(Scene&)> apply;
+    const char* kind;
+  } cases[] = {
+      {"a light at NaN", [](Scene& s) { s.lights[0].position.x = std::nan(""); }, "non-finite"},
+      {"no mesh", [](Scene& s) { s.objects[0].mesh = nullptr; }, "schema"},
+      {"a flat frustum", [](Scene& s) { s.camera.frustum.left = s.camera.frustum.right; }, "camera"},
+      {"a negative width", [](Scene& s) { s.camera.width = -5; }, "camera"},
+      {"an infinite transform",
+       [](Scene& s) { s.objects[0].object_to_world.rows[0][3] = std::numeric_limits<double>::infinity(); },
+       "non-finite"},
+      {"a singular transform",
+       [](Scene& s) {
+         s.objects[0].object_to_world.rows[1] = {0, 0, 0, 0};
+       },
+       "schema"},
+      {"no light", [](Scene& s) { s.lights.clear(); }, "schema"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.edit);
+    Scene scene = small_scene();
+    c.apply(scene);
+    EXPECT_EQ(kind_thrown([&] { exact_near_cap(scene, 0); }), c.kind);
+    EXPECT_EQ(kind_thrown([&] { exact_reference(scene, 0); }), c.kind);
+    EXPECT_EQ(kind_thrown([&] { judged_frame(scene); }), c.kind);
+    EXPECT_EQ(kind_thrown([&] { decide_policy(policy, scene); }), c.kind);
+    EXPECT_EQ(kind_thrown([&] { judged_policy_frame(policy, scene); }), c.kind);
+  }
+}
+
+// Memory that runs out is Error(Resource), as on the command line, not
+// std::bad_alloc: a 16384 x 16384 frame (gigabytes) under a 2 GB address
+// space, in a child process.  Not under AddressSanitizer, whose allocator
+// needs the address space itself.
+#if defined(__SANITIZE_ADDRESS__)
+#define NEARCAP_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define NEARCAP_TEST_ASAN 1
+#endif
+#endif
+TEST(FrontDoor, MemoryThatRunsOutIsAResourceError) {
+#ifdef NEARCAP_TEST_ASAN
+  GTEST_SKIP() << "AddressSanitizer reserves the address space this test limits";
+#else
+  const Scene scene = small_scene();
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlimit limit{rlim_t{2} << 30, rlim_t{2} << 30};
+    if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(3);
+    FrameSettings settings;
+    settings.method = ShadowMethod::ZFail;
+    settings.width = settings.height = 16384;
+    try {
+      (void)judged_frame(scene, settings);
+    } catch (const Error& e) {
+      ::_exit(e.kind() == ErrorKind::Resource ? 0 : 1);
+    } catch (...) {
+      ::_exit(2);  // std::bad_alloc, say
+    }
+    ::_exit(4);  // it fitted
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: another Error kind, 2: not an Error, 3: no limit, 4: no failure";
+#endif
 }
 
 TEST(FrontDoor, TheFrameHasTheSettingsImageSizeAndMethod) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <utility>
 
 #include "mesh_reading.hpp"
@@ -20,7 +21,49 @@ bool finite(const Affine3d& m) {
   return true;
 }
 
+void check_camera(const Camera& camera, const std::string& source) {
+  using scene_checks::fail;
+  if (!finite(camera.view)) fail(source, ErrorKind::NonFinite, "camera.view", "a matrix entry is not finite");
+  if (!scene_checks::invertible(camera.view))
+    fail(source, ErrorKind::Camera, "camera.view",
+         "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+  scene_checks::check_frustum(camera.frustum, source, "camera.frustum");
+  for (const auto& [name, pixels] : {std::pair<const char*, int>{"width", camera.width}, {"height", camera.height}})
+    if (pixels < 1 || pixels > 16384)
+      fail(source, ErrorKind::Camera, std::string("camera.") + name,
+           "viewport size " + std::to_string(pixels) + " is outside [1, 16384] pixels");
+}
+
+void check_light(const Light& light, std::size_t k, const std::string& source) {
+  const Vec3d& p = light.position;
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    scene_checks::fail(source, ErrorKind::NonFinite, "lights[" + std::to_string(k) + "].position",
+                       "a coordinate is not finite");
+}
+
+void check_transform(const Affine3d& object_to_world, const std::string& source, const std::string& where) {
+  if (!finite(object_to_world))
+    scene_checks::fail(source, ErrorKind::NonFinite, where + ".matrix", "a matrix entry is not finite");
+  if (!scene_checks::invertible(object_to_world))
+    scene_checks::fail(source, ErrorKind::Schema, where + ".matrix",
+                       "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+}
+
 }  // namespace
+
+void check_scene_fields(const Scene& scene) {
+  using scene_checks::fail;
+  const std::string source = scene.source.empty() ? "in-memory scene" : scene.source;
+  if (scene.lights.empty()) fail(source, ErrorKind::Schema, "lights", "the scene has no light");
+  if (scene.objects.empty()) fail(source, ErrorKind::Schema, "objects", "the scene has no object");
+  check_camera(scene.camera, source);
+  for (std::size_t k = 0; k < scene.lights.size(); ++k) check_light(scene.lights[k], k, source);
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const std::string where = "objects[" + std::to_string(k) + "]";
+    if (scene.objects[k].mesh == nullptr) fail(source, ErrorKind::Schema, where + ".mesh", "no mesh");
+    check_transform(scene.objects[k].object_to_world, source, where);
+  }
+}
 
 SceneBuilder::SceneBuilder(std::string source) : source_(std::move(source)) {}
 
@@ -53,29 +96,15 @@ Scene SceneBuilder::build() const {
   Scene scene;
   scene.source = source_;
   scene.camera = camera_;
-  if (!finite(camera_.view)) fail(source_, ErrorKind::NonFinite, "camera.view", "a matrix entry is not finite");
-  if (!scene_checks::invertible(camera_.view))
-    fail(source_, ErrorKind::Camera, "camera.view",
-         "the matrix is not invertible (its 3x3 linear part has determinant 0)");
-  scene_checks::check_frustum(camera_.frustum, source_, "camera.frustum");
-  for (const auto& [name, pixels] : {std::pair<const char*, int>{"width", camera_.width}, {"height", camera_.height}})
-    if (pixels < 1 || pixels > 16384)
-      fail(source_, ErrorKind::Camera, std::string("camera.") + name,
-           "viewport size " + std::to_string(pixels) + " is outside [1, 16384] pixels");
+  check_camera(camera_, source_);
   for (std::size_t k = 0; k < lights_.size(); ++k) {
-    const Vec3d& p = lights_[k].position;
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      fail(source_, ErrorKind::NonFinite, "lights[" + std::to_string(k) + "].position", "a coordinate is not finite");
+    check_light(lights_[k], k, source_);
     scene.lights.push_back(lights_[k]);
   }
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     const Pending& p = objects_[k];
     const std::string where = "objects[" + std::to_string(k) + "]";
-    if (!finite(p.object_to_world))
-      fail(source_, ErrorKind::NonFinite, where + ".matrix", "a matrix entry is not finite");
-    if (!scene_checks::invertible(p.object_to_world))
-      fail(source_, ErrorKind::Schema, where + ".matrix",
-           "the matrix is not invertible (its 3x3 linear part has determinant 0)");
+    check_transform(p.object_to_world, source_, where);
     auto mesh = std::make_shared<TriangleMesh>(p.mesh);
     if (mesh->source.empty()) mesh->source = where;
     try {

@@ -23,6 +23,15 @@
 
 namespace nearcap {
 
+// The checks of SceneBuilder::build() that read no mesh: lights and objects
+// present, the camera (a finite, invertible view; a frustum as build()
+// accepts it; a viewport of 1 to 16384 pixels), finite lights, and each
+// object with a mesh and a finite, invertible transform.  Microseconds: the
+// front door (nearcap.hpp) runs them on every scene it is given, so that a
+// Scene edited after loading fails with an Error here rather than deep in
+// the exact kernel.  Throws Error naming scene.source and the element.
+void check_scene_fields(const Scene& scene);
+
 class SceneBuilder {
  public:
   explicit SceneBuilder(std::string source = "in-memory scene");
