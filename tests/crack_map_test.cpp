@@ -2,6 +2,7 @@
 // on hand-made pixels: a rasterized frame's stencil is compared with the
 // count mod 256, a ray-traced frame's status with the count's sign alone.
 #include "nearcap/judge/crack_map.hpp"
+#include "nearcap/raytrace/shadow_ray_tracer.hpp"
 
 #include <gtest/gtest.h>
 

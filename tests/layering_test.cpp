@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace nearcap {
 namespace {
@@ -62,6 +64,34 @@ TEST(Layering, EveryIncludePointsToTheSameOrAnEarlierLayer) {
   }
   EXPECT_GT(files, 60u);
   EXPECT_GT(includes, 100u);
+}
+
+// The ray tracer is a library of its own (nearcap::raytrace, Embree): the
+// front door's headers, everything nearcap.hpp includes, name none of its
+// headers, so a program of the core library alone never declares a function
+// it cannot link.
+TEST(Layering, TheFrontDoorIncludesNothingOfTheRaytraceLibrary) {
+  const fs::path include(std::string(NEARCAP_SOURCE_DIR) + "/include");
+  std::set<std::string> seen;
+  std::vector<std::string> todo{"nearcap/nearcap.hpp"};
+  while (!todo.empty()) {
+    const std::string header = todo.back();
+    todo.pop_back();
+    if (!seen.insert(header).second) continue;
+    EXPECT_NE(layer_of(fs::path(header.substr(std::string("nearcap/").size()))), "raytrace")
+        << header << " is included by the front door";
+    std::ifstream in(include / header);
+    ASSERT_TRUE(in) << header;
+    std::string line;
+    while (std::getline(in, line)) {
+      const std::string prefix_text = "#include \"nearcap/";
+      const auto at = line.find(prefix_text);
+      if (at == std::string::npos || line.find_first_not_of(" \t") != at) continue;
+      const auto start = at + std::string("#include \"").size(), end = line.find('"', start);
+      if (end != std::string::npos) todo.push_back(line.substr(start, end - start));
+    }
+  }
+  EXPECT_GT(seen.size(), 10u);
 }
 
 }  // namespace

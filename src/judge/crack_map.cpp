@@ -14,6 +14,7 @@
 #include "nearcap/io/image_io.hpp"
 #include "nearcap/judge/legend.hpp"
 #include "nearcap/judge/reference_images.hpp"
+#include "nearcap/raytrace/shadow_ray_tracer.hpp"
 
 namespace nearcap {
 

@@ -35,9 +35,11 @@
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
-#include "nearcap/raytrace/shadow_ray_tracer.hpp"
-
 namespace nearcap {
+
+namespace raytrace {
+struct RaytraceFrame;  // raytrace/shadow_ray_tracer.hpp, in the nearcap::raytrace library
+}
 
 enum class PixelVerdict : std::uint8_t { NothingSeen, Right, CountOnly, WrongLit, WrongShadowed, VisibilityMismatch };
 
