@@ -20,6 +20,14 @@
 //   a frame, judged               judged_frame(s)            the reference, the frame (float32 raster), and the
 //                                                            crack distance of each wrong pixel (exact)
 //   the switch policy's choice    load_policy, decide_policy each occluder against the light pyramid, exact: O(n)
+//   the policy's frame, judged    judged_policy_frame        its decision, then as judged_frame
+//
+// Every call takes a Scene as load_scene, parse_scene or SceneBuilder return
+// it, and checks on entry what it can in microseconds (check_scene_fields,
+// io/scene_builder.hpp: the camera, finite lights, each object's mesh and
+// transform); a mesh or a light placement edited after loading is not
+// checked again (rebuild the scene through SceneBuilder).  Memory that runs
+// out is Error(Resource).
 //
 // In a judged frame the reference and the crack distances cost the most; the
 // frame itself is a float32 rasterization of the scene and its volumes.
@@ -93,7 +101,8 @@ struct FrameSettings {
 };
 
 // The layer's settings for these choices (gl::EmulationSettings, every other
-// field at its default).  Throws Error(Usage) for a negative width or height.
+// field at its default).  Throws Error(Usage) for a width or height outside
+// [0, 16384] and for a depth, depth mapping or light projection outside its names.
 gl::EmulationSettings emulation_settings(const FrameSettings& settings);
 
 // A frame and its verdict against the exact reference.

@@ -234,8 +234,8 @@ struct ShadowFrame {
   std::vector<std::uint8_t> near_cap;                     // the near-cap pass alone (ZP+ methods; empty otherwise)
   std::array<std::size_t, kQuadCaseCount> float_cases{};  // the engine's cases, all occluders
   std::vector<std::size_t> zfail_objects;                 // occluders drawn with zfail instead (case D)
-  std::string fallback;                                   // why the whole light fell back to zfail, or ""
-  LightFrustum light_frustum;                             // ZP+ methods
+  std::string fallback;  // why the whole light fell back to zfail, or "" (`nearcap cracks` writes it "zfail: WHY")
+  LightFrustum light_frustum;  // ZP+ methods
   // AtomicZP: the float32 eye count the stencil was cleared to (mod 256),
   // and the triangles its pass tested; absent for the other methods.
   std::optional<std::size_t> eye_count;

@@ -1,7 +1,8 @@
 // nearcap/io/cgal_adapter.hpp — a CGAL Surface_mesh as a TriangleMesh.
 //
-// Header-only: include it after <CGAL/Surface_mesh.h> (nearcap's public
-// headers do not include CGAL).  Vertices in the mesh's iteration order
+// Header-only, for a program that uses CGAL: the one nearcap header that
+// includes a CGAL header (its number utilities, for CGAL::to_double); the
+// program's translation unit carries CGAL's compile flags.  Vertices in the mesh's iteration order
 // (removed elements skipped), faces in theirs, each face's vertices as
 // vertices_around_face gives them.  Coordinates go through CGAL::to_double:
 // exact for kernels with double coordinates (Epick, Simple_cartesian<double>),
@@ -10,6 +11,8 @@
 // is an Error(Mesh) naming it; everything else is checked by
 // SceneBuilder::build(), exactly as for a file.
 #pragma once
+
+#include <CGAL/number_utils.h>
 
 #include <array>
 #include <string>
