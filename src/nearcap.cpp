@@ -17,11 +17,14 @@
 namespace nearcap {
 namespace {
 
+// The scene in messages, as check_scene_fields names it.
+std::string source_name(const Scene& scene) { return scene.source.empty() ? "in-memory scene" : scene.source; }
+
 // The scene's fields as load_scene leaves them (check_scene_fields), and the light.
 void check_light(const Scene& scene, std::size_t light) {
   check_scene_fields(scene);
   if (light >= scene.lights.size())
-    throw Error(ErrorKind::Usage, scene.source + ": light " + std::to_string(light) +
+    throw Error(ErrorKind::Usage, source_name(scene) + ": light " + std::to_string(light) +
                                       " is out of range (the scene has " + std::to_string(scene.lights.size()) +
                                       " light(s))");
 }
@@ -54,16 +57,21 @@ struct Judge {
 
 // `task()`, with memory that runs out as the command line reports it:
 // Error(Resource) (a frame of the largest viewport needs gigabytes).
+// `pixels`: whether the task's memory grows with the camera's pixels.
 template <class Task>
-auto within_memory(const Scene& scene, Task&& task) {
+auto within_memory(const Scene& scene, bool pixels, Task&& task) {
+  const auto out_of_memory = [&] {
+    return Error(ErrorKind::Resource, source_name(scene) + ": out of memory" +
+                                          (pixels ? " (" + std::to_string(scene.camera.width) + "x" +
+                                                        std::to_string(scene.camera.height) + " pixels)"
+                                                  : std::string()));
+  };
   try {
     return task();
   } catch (const std::bad_alloc&) {
-    throw Error(ErrorKind::Resource, scene.source + ": out of memory (" + std::to_string(scene.camera.width) + "x" +
-                                         std::to_string(scene.camera.height) + " pixels)");
+    throw out_of_memory();
   } catch (const std::length_error&) {
-    throw Error(ErrorKind::Resource, scene.source + ": out of memory (" + std::to_string(scene.camera.width) + "x" +
-                                         std::to_string(scene.camera.height) + " pixels)");
+    throw out_of_memory();
   }
 }
 
@@ -79,12 +87,12 @@ void check_named(E value, const char* field) {
 
 NearCap exact_near_cap(const Scene& scene, std::size_t light) {
   check_light(scene, light);
-  return within_memory(scene, [&] { return NearCap::build(CameraSpaceScene(scene), light); });
+  return within_memory(scene, false, [&] { return NearCap::build(CameraSpaceScene(scene), light); });
 }
 
 PixelReference exact_reference(const Scene& scene, std::size_t light) {
   check_light(scene, light);
-  return within_memory(scene, [&] { return compute_pixel_reference(CameraSpaceScene(scene), light); });
+  return within_memory(scene, true, [&] { return compute_pixel_reference(CameraSpaceScene(scene), light); });
 }
 
 gl::EmulationSettings emulation_settings(const FrameSettings& settings) {
@@ -111,7 +119,7 @@ std::vector<JudgedFrame> judged_frames(const Scene& scene, const std::vector<Sha
   const gl::EmulationSettings emulation = emulation_settings(settings);
   for (ShadowMethod m : methods) check_named(m, "method");
   const Scene sized = sized_scene(scene, settings);
-  return within_memory(sized, [&] {
+  return within_memory(sized, true, [&] {
     Judge judge(sized, settings.light);
     gl::ShadowFrameBatch batch(sized, settings.light, emulation);
     std::vector<JudgedFrame> frames;
@@ -124,14 +132,14 @@ std::vector<JudgedFrame> judged_frames(const Scene& scene, const std::vector<Sha
 PolicyDecision decide_policy(const SwitchPolicy& policy, const Scene& scene, const FrameSettings& settings) {
   const gl::EmulationSettings emulation = emulation_settings(settings);
   const Scene sized = sized_scene(scene, settings);
-  return within_memory(sized,
+  return within_memory(sized, false,
                        [&] { return analysis::decide(policy, CameraSpaceScene(sized), settings.light, emulation); });
 }
 
 JudgedFrame judged_policy_frame(const SwitchPolicy& policy, const Scene& scene, const FrameSettings& settings) {
   const gl::EmulationSettings emulation = emulation_settings(settings);
   const Scene sized = sized_scene(scene, settings);
-  return within_memory(sized, [&] {
+  return within_memory(sized, true, [&] {
     Judge judge(sized, settings.light);
     const PolicyDecision d = analysis::decide(policy, judge.exact, settings.light, emulation);
     gl::ShadowFrameBatch batch(sized, settings.light, d.settings);

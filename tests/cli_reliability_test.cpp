@@ -6,6 +6,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -307,6 +309,7 @@ TEST_F(Reliability, AFullStandardOutputIsAnError) {
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
     const std::string err = test::slurp(path("err.txt"));
     EXPECT_EQ(err.rfind("nearcap: error (io): standard output", 0), 0u) << err;
+    EXPECT_NE(err.find(std::strerror(ENOSPC)), std::string::npos) << err;  // the reason, /dev/full's
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   }
 }
@@ -361,6 +364,8 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "--methods all stands alone", "all with other names in a sweep");
   expect_one_line_error(run("sweep --samples 1 --policies doom3,none --out " + path("k.csv")),
                         "--policies none stands alone", "none with other names");
+  expect_one_line_error(run("sample --kinds all,grazing --index 0"), "--kinds all stands alone",
+                        "all with other kinds");
   expect_one_line_error(run("sweep --samples 1 --kinds grazing,grazing --out " + path("k.csv")),
                         "grazing is named twice", "a kind twice");
   expect_one_line_error(run("sweep --samples 1 --kinds grazing, --out " + path("k.csv")), "an empty kind name",
@@ -598,6 +603,10 @@ TEST_F(Reliability, VersionAndHelpExitZero) {
   const test::CliResult v = run("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("nearcap 0."), std::string::npos) << v.out;
+  // The version a sweep's sidecar records (which --resume compares) is the one printed.
+  ASSERT_EQ(run("sweep --samples 1 --methods zfail --width 8 --height 6 --out " + path("v.csv")).exit_code, 0);
+  const nlohmann::json meta = nlohmann::json::parse(test::slurp(path("v.csv.meta.json")));
+  EXPECT_EQ(v.out, "nearcap " + meta.at("nearcap").get<std::string>() + "\n");
   const test::CliResult help = run("--help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_EQ(run("cracks --help").exit_code, 0);

@@ -510,6 +510,9 @@ TEST(EvaluateCommand, BadOptionsAreOneLineErrors) {
       {"evaluate --samples 2 --fit-unpriced '" + (dir / "table.md").string() + "'" + out, "usage",
        "is the table.md --out writes"},
       {"evaluate --samples 2 --fit-unpriced '" + dir.string() + "'" + out, "usage", "is the directory --out writes"},
+      {"evaluate --samples 2 --fit-unpriced '" + dir.string() + "/'" + out, "usage", "is the directory --out writes"},
+      {"evaluate --samples 2 --fit-unpriced '" + dir.string() + "' --out '" + dir.string() + "/'", "usage",
+       "is the directory --out writes"},
   };
   for (const auto& c : cases) {
     const test::CliResult r = test::run_cli(c.args, "evaluate_bad");

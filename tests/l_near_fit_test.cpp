@@ -2,11 +2,16 @@
 // l_near_fit.hpp): Ceres finds the minimum that a grid of scales shows, and
 // the held-out configurations are scored at the fitted scale.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <string>
 
+#include "cli_support.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/l_near_fit.hpp"
 #include "nearcap/analysis/policy_fit.hpp"
@@ -86,6 +91,22 @@ TEST(LightNearFit, FindsAnInteriorMinimumFromAStartAwayFromIt) {
   const std::vector<std::function<double(double)>> falling{[](double s) { return 2 - std::log10(s) / 4; }};
   EXPECT_NEAR(analysis::minimize_mean_over_scale(falling, 1e-3, 1.0, 0.01).scale, 1.0, 1e-9);
   EXPECT_THROW(analysis::minimize_mean_over_scale(terms, 1e-3, 1.0, 2.0), Error);
+}
+
+// `nearcap fit-l-near --out`: the counts are (configuration, light) pairs,
+// named so in the JSON and on stdout, the train count the same in both.
+TEST(LightNearFit, TheCommandWritesItsCountsByName) {
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("nearcap_fit_l_near_" + std::to_string(::getpid()) + ".json");
+  const test::CliResult r =
+      test::run_cli("fit-l-near --samples 10 --kinds several-lights --out '" + out.string() + "'", "fit_l_near");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(test::slurp(out));
+  std::filesystem::remove(out);
+  const std::size_t train = j.at("train").at("configuration_lights").get<std::size_t>();
+  const std::size_t held_out = j.at("held_out").at("configuration_lights").get<std::size_t>();
+  EXPECT_GT(train + held_out, 10u);  // several lights per configuration
+  EXPECT_NE(r.out.find(", " + std::to_string(train) + " (configuration, light) pairs)"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <ostream>
@@ -223,6 +224,10 @@ void add_sampler_options(CLI::App& cmd, SamplerOptions& o, bool sizes);
 // The names of a comma-separated list, in order, empty ones kept: "" is one
 // empty name, "a,,b" three (the caller's name table refuses them).
 std::vector<std::string> comma_separated(const std::string& names);
+// Error(Usage) when `name`, one name of `option`'s list, is a word that
+// stands for a whole list (`all`, `none`) and must be given alone.
+void refuse_list_word(const std::string& option, const std::string& name,
+                      std::initializer_list<const char*> words = {"all"});
 // The methods named by --method/--methods: one name, a comma-separated list,
 // or "all".  Throws Error(Usage) naming an unknown one.
 std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::string& option);

@@ -410,6 +410,7 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
     // Each kind once: a kind named twice would be drawn twice as often.
     for (const std::string& name : comma_separated(o.kinds)) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': an empty kind name");
+      refuse_list_word("--kinds", name);
       const analysis::HardCaseKind kind = analysis::hard_case_kind_from_string(name);
       if (std::find(spec.kinds.begin(), spec.kinds.end(), kind) != spec.kinds.end())
         throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': " + name + " is named twice");
@@ -508,6 +509,11 @@ std::vector<std::string> comma_separated(const std::string& names) {
   return out;
 }
 
+void refuse_list_word(const std::string& option, const std::string& name, std::initializer_list<const char*> words) {
+  for (const char* word : words)
+    if (name == word) throw Error(ErrorKind::Usage, option + " " + name + " stands alone: give it without other names");
+}
+
 MethodChoice method_choice(const std::string& names) {
   MethodChoice c;
   if (names == "all") {
@@ -519,7 +525,7 @@ MethodChoice method_choice(const std::string& names) {
   std::string rest;
   std::set<std::string> seen;
   for (const std::string& name : comma_separated(names)) {
-    if (name == "all") throw Error(ErrorKind::Usage, "--method all stands alone: give it without other names");
+    refuse_list_word("--method", name);
     if (name != "policy" && name != "raytrace" && !gl::shadow_method_from_string(name))
       throw Error(ErrorKind::Usage, "--method '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() +
                                         ", raytrace, policy (or all)");
@@ -548,7 +554,7 @@ std::vector<gl::ShadowMethod> methods_from(const std::string& names, const std::
   if (names == "all") return {gl::kAllShadowMethods.begin(), gl::kAllShadowMethods.end()};
   std::vector<gl::ShadowMethod> methods;
   for (const std::string& name : comma_separated(names)) {
-    if (name == "all") throw Error(ErrorKind::Usage, option + " all stands alone: give it without other names");
+    refuse_list_word(option, name);
     const auto m = gl::shadow_method_from_string(name);
     if (!m)
       throw Error(ErrorKind::Usage,

@@ -401,14 +401,20 @@ void run(const EvaluateOptions& o) {
       throw Error(ErrorKind::Usage, "--fit-unpriced: " + o.policy + " has no device profile (nothing is priced)");
     refuse_directory(o.fit_unpriced, "--fit-unpriced");
     std::error_code in_ec, out_ec, same_ec;
-    const std::filesystem::path in = std::filesystem::weakly_canonical(o.policy, in_ec);
-    const std::filesystem::path outp = std::filesystem::weakly_canonical(o.fit_unpriced, out_ec);
+    // Compared without a trailing separator: "DIR/" names what "DIR" names.
+    const auto canonical = [](const std::string& p, std::error_code& ec) {
+      std::filesystem::path c = std::filesystem::weakly_canonical(p, ec);
+      while (!c.has_filename() && c.has_relative_path()) c = c.parent_path();
+      return c;
+    };
+    const std::filesystem::path in = canonical(o.policy, in_ec);
+    const std::filesystem::path outp = canonical(o.fit_unpriced, out_ec);
     if ((!in_ec && !out_ec && in == outp) ||
         (std::filesystem::equivalent(o.policy, o.fit_unpriced, same_ec) && !same_ec))
       throw Error(ErrorKind::Usage, "--fit-unpriced would replace the policy it evaluates (" + o.policy + ")");
     {
       std::error_code ec;
-      if (!out_ec && std::filesystem::weakly_canonical(o.out, ec) == outp && !ec)
+      if (!out_ec && canonical(o.out, ec) == outp && !ec)
         throw Error(ErrorKind::Usage, "--fit-unpriced '" + o.fit_unpriced + "' is the directory --out writes");
     }
     for (const char* name : {"evaluation.csv", "table.md"}) {
@@ -521,8 +527,9 @@ void run(const EvaluateOptions& o) {
              : o.price_every_frame   ? " with every frame priced (--price-every-frame)."
                                      : ".";
   if (rejected > 0)
-    heading += " " + std::to_string(rejected) + (rejected > 1 ? " configurations" : " configuration") +
-               std::string(" rejected (they do not load).");
+    heading +=
+        " " + std::to_string(rejected) +
+        (rejected > 1 ? " configurations rejected (they do not load)." : " configuration rejected (it does not load).");
   heading += "\n\n";
   const std::string markdown = heading + analysis::evaluation_table_markdown(table);
   io::StagedOutputFiles files;

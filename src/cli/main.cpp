@@ -21,7 +21,7 @@
 
 namespace {
 
-constexpr const char* kVersion = "nearcap 0.1.0";
+constexpr const char* kVersion = "nearcap " NEARCAP_VERSION;  // the project version, CMakeLists.txt
 
 int usage_error(const std::string& message) {
   if (const nearcap::cli::MpiWorld* world = nearcap::cli::mpi_world(); world && world->rank() != 0) return 2;
@@ -37,10 +37,13 @@ int usage_error(const std::string& message) {
 // Whether everything printed on stdout was written (a full disk or a closed
 // stdout is not); else reports it (on rank 0) and returns false.
 bool stdout_written(bool report) {
+  // A write that failed before (help text is written through std::cout)
+  // left its reason in errno; the flush's own failure, if any, comes after.
+  const int earlier = std::ferror(stdout) != 0 || !std::cout.good() ? errno : 0;
   errno = 0;
   const bool flushed = std::fflush(stdout) == 0;
   if (flushed && std::cout.good() && std::ferror(stdout) == 0) return true;
-  const int err = errno;
+  const int err = errno != 0 ? errno : earlier;
   if (report)
     std::fprintf(stderr, "nearcap: error (io): standard output: cannot write what the command printed%s%s\n",
                  err != 0 ? ": " : "", err != 0 ? std::strerror(err) : "");

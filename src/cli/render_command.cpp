@@ -231,7 +231,7 @@ void register_render(CLI::App& app) {
                "time each pass (a glFinish after each: the depth pre-pass, the stencil passes, the lit passes) "
                "and the CPU work that builds the draw calls (silhouettes, the clipped-sides cap, the policy's "
                "decision, uploads), the methods interleaved frame by frame and the first of --method drawn twice (the "
-               "first other than policy, which is drawn last; policy when alone): its METHOD#again rows, the noise "
+               "first other than policy, which is drawn last; policy when alone; its METHOD#again rows: the noise "
                "floor): the breakdown on stdout, DIR/bench.csv, the CPU work per "
                "light and occluder in DIR/render.json, and along a path DIR/bench.png (each frame's time "
                "relative to Z-pass, as the paper's Figures 9-11)");

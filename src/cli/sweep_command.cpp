@@ -525,8 +525,7 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
   }
   std::vector<analysis::EnginePolicy> out;
   for (const std::string& name : comma_separated(names)) {
-    if (name == "all" || name == "none")
-      throw Error(ErrorKind::Usage, "--policies " + name + " stands alone: give it without other names");
+    refuse_list_word("--policies", name, {"all", "none"});
     const auto p = analysis::engine_policy_from_string(name);
     if ((name == "policy" && switch_policy) || (p && std::find(out.begin(), out.end(), *p) != out.end()))
       throw Error(ErrorKind::Usage, "--policies names " + name + " twice");

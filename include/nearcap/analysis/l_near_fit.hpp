@@ -36,7 +36,7 @@ inline const double kLightNearScaleStart = std::sqrt(1e-3);
 
 struct LightNearFit {
   double scale = 1;
-  std::size_t train = 0, held_out = 0;  // configurations with a light frustum at every scale tried
+  std::size_t train = 0, held_out = 0;  // (configuration, light) pairs with a light frustum at the fitted scale
   double train_objective = 0, train_objective_at_one = 0;
   double held_out_objective = 0, held_out_objective_at_one = 0;
   int iterations = 0;

@@ -84,7 +84,9 @@ inline BoundedDouble& operator*=(BoundedDouble& a, const BoundedDouble& b) { ret
 // products and two sums above (propagated errors, 2^-52 of each rounded
 // result's magnitude, 2^-1074 per product), summed without the intermediate
 // BoundedDoubles.  The exact reference's shadow-crossing filter runs three
-// for every candidate light triangle.
+// for every candidate light triangle: always inlined there, where GCC's
+// size limits would otherwise make it a call (docs/findings/sweep-speed.md
+// counts the instructions).
 template <>
 [[gnu::always_inline]] inline BoundedDouble dot(const Vec3<BoundedDouble>& a, const Vec3<BoundedDouble>& b) {
   const double px = a.x.v * b.x.v, py = a.y.v * b.y.v, pz = a.z.v * b.z.v;
