@@ -17,14 +17,11 @@
 namespace nearcap {
 namespace {
 
-// The scene in messages, as check_scene_fields names it.
-std::string source_name(const Scene& scene) { return scene.source.empty() ? "in-memory scene" : scene.source; }
-
 // The scene's fields as load_scene leaves them (check_scene_fields), and the light.
 void check_light(const Scene& scene, std::size_t light) {
   check_scene_fields(scene);
   if (light >= scene.lights.size())
-    throw Error(ErrorKind::Usage, source_name(scene) + ": light " + std::to_string(light) +
+    throw Error(ErrorKind::Usage, scene_name(scene) + ": light " + std::to_string(light) +
                                       " is out of range (the scene has " + std::to_string(scene.lights.size()) +
                                       " light(s))");
 }
@@ -61,7 +58,7 @@ struct Judge {
 template <class Task>
 auto within_memory(const Scene& scene, bool pixels, Task&& task) {
   const auto out_of_memory = [&] {
-    return Error(ErrorKind::Resource, source_name(scene) + ": out of memory" +
+    return Error(ErrorKind::Resource, scene_name(scene) + ": out of memory" +
                                           (pixels ? " (" + std::to_string(scene.camera.width) + "x" +
                                                         std::to_string(scene.camera.height) + " pixels)"
                                                   : std::string()));

@@ -51,9 +51,11 @@ void check_transform(const Affine3d& object_to_world, const std::string& source,
 
 }  // namespace
 
+std::string scene_name(const Scene& scene) { return scene.source.empty() ? "in-memory scene" : scene.source; }
+
 void check_scene_fields(const Scene& scene) {
   using scene_checks::fail;
-  const std::string source = scene.source.empty() ? "in-memory scene" : scene.source;
+  const std::string source = scene_name(scene);
   if (scene.lights.empty()) fail(source, ErrorKind::Schema, "lights", "the scene has no light");
   if (scene.objects.empty()) fail(source, ErrorKind::Schema, "objects", "the scene has no object");
   check_camera(scene.camera, source);

@@ -2,9 +2,9 @@
 //
 // Header-only, for a program that uses CGAL: the one nearcap header that
 // includes a CGAL header (its number utilities, for CGAL::to_double); the
-// program's translation unit carries CGAL's compile flags.  Vertices in the mesh's iteration order
-// (removed elements skipped), faces in theirs, each face's vertices as
-// vertices_around_face gives them.  Coordinates go through CGAL::to_double:
+// program's translation unit carries CGAL's compile flags.  Vertices in the
+// mesh's iteration order (removed elements skipped), faces in theirs, each
+// face's vertices as vertices_around_face gives them.  Coordinates go through CGAL::to_double:
 // exact for kernels with double coordinates (Epick, Simple_cartesian<double>),
 // rounded to nearest for exact kernels (then the rounded doubles are the
 // scene, as for any number read from a file).  A face that is not a triangle

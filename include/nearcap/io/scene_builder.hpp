@@ -31,6 +31,8 @@ namespace nearcap {
 // Scene edited after loading fails with an Error here rather than deep in
 // the exact kernel.  Throws Error naming scene.source and the element.
 void check_scene_fields(const Scene& scene);
+// The scene as messages name it: its source, or "in-memory scene" when it has none.
+std::string scene_name(const Scene& scene);
 
 class SceneBuilder {
  public:

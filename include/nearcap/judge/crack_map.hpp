@@ -35,6 +35,7 @@
 #include "nearcap/exact/crack_distance.hpp"
 #include "nearcap/exact/pixel_reference.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
+
 namespace nearcap {
 
 namespace raytrace {
