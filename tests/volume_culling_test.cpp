@@ -5,7 +5,12 @@
 // the same (scissor on llvmpipe; depth bounds where the driver has them).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "llvmpipe_fixture.hpp"
@@ -66,6 +71,108 @@ TEST(VolumeBounds, NothingBoundedWithTheLightInTheOccludersBox) {
   EXPECT_FALSE(gl::shadow_volume_bounds(scene, occluder, scene.objects[occluder].object_to_world.apply(centre),
                                         projection, gl::DepthMapping::Standard)
                    .has_value());
+}
+
+// The region's margins against the premise they are derived from: a light
+// and an occluder each moved by up to e (2^-20 of the largest coordinate,
+// how far the float pipeline's light and mesh may lie from the exact ones)
+// cast a volume every point of which, inside B (grown by e) and in front of
+// the near plane, projects into the scissor rectangle and the depth range.
+// The default scene moved 2^12 and 2^16 units out: at 2^16 the cone
+// facets' margin (2 t_max e) is what holds these points, the rectangle's
+// 2-pixel allowance being too small (the facets unmoved, the test fails).
+TEST(VolumeBounds, HoldTheVolumeOfALightAndOccluderMovedByTheMargin) {
+  const Scene base = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/default.json");
+  std::mt19937_64 random(20261206);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto on_sphere = [&](double radius) {  // a point of the sphere of that radius about 0
+    std::normal_distribution<double> normal;
+    Vec3d v{normal(random), normal(random), normal(random)};
+    return (radius / std::sqrt(dot(v, v))) * v;
+  };
+  for (const double offset : {0x1p12, 0x1p16}) {
+    SCOPED_TRACE("offset " + std::to_string(offset));
+    Scene scene = base;
+    const Vec3d shift{offset, 0.5 * offset, -offset};
+    for (SceneObject& o : scene.objects)
+      for (int r = 0; r < 3; ++r) o.object_to_world.rows[r][3] += shift[r];
+    for (Light& l : scene.lights) l.position = l.position + shift;
+    Affine3d& view = scene.camera.view;  // x -> L (x - shift) + c
+    for (int r = 0; r < 3; ++r)
+      view.rows[r][3] -= view.rows[r][0] * shift.x + view.rows[r][1] * shift.y + view.rows[r][2] * shift.z;
+    const gl::Mat4f projection = gl::infinite_frustum_matrix(scene.camera.frustum, gl::InfiniteFar::Exact);
+    const Vec3d light = scene.lights[0].position;
+    std::size_t occluder = 0;
+    while (!scene.objects[occluder].occluder) ++occluder;
+    const std::optional<gl::VolumeBounds> bounds =
+        gl::shadow_volume_bounds(scene, occluder, light, projection, gl::DepthMapping::Standard);
+    ASSERT_TRUE(bounds.has_value());
+
+    // Q (the occluder's box in world space) and B (every object's box and the near rectangle).
+    auto world_corners = [](const SceneObject& o) {
+      std::array<Vec3d, 8> c;
+      const Vec3d lo = o.mesh->face_planes.box_lo, hi = o.mesh->face_planes.box_hi;
+      for (int k = 0; k < 8; ++k)
+        c[k] = o.object_to_world.apply({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+      return c;
+    };
+    const std::array<Vec3d, 8> q = world_corners(scene.objects[occluder]);
+    std::vector<Vec3d> b_points;
+    for (const SceneObject& o : scene.objects)
+      for (const Vec3d& c : world_corners(o)) b_points.push_back(c);
+    const Frustum& f = scene.camera.frustum;
+    for (const double x : {f.left, f.right})
+      for (const double y : {f.bottom, f.top}) {
+        // The view is a rotation and a translation: world = R^T (camera - t).
+        Vec3d w{0, 0, 0};
+        const double camera[3] = {x, y, -f.near};
+        for (int r = 0; r < 3; ++r)
+          for (int a = 0; a < 3; ++a) w[a] += view.rows[r][a] * (camera[r] - view.rows[r][3]);
+        b_points.push_back(w);
+      }
+    double magnitude = std::max({std::fabs(light.x), std::fabs(light.y), std::fabs(light.z)});
+    Vec3d b_lo = b_points[0], b_hi = b_points[0];
+    for (const Vec3d& p : b_points)
+      for (int a = 0; a < 3; ++a) {
+        b_lo[a] = std::min(b_lo[a], p[a]);
+        b_hi[a] = std::max(b_hi[a], p[a]);
+        magnitude = std::max(magnitude, std::fabs(p[a]));
+      }
+    const double e = 0x1p-20 * magnitude;
+
+    // Points l' + t (p' - l'), t >= 1, p on an edge of Q (where the cone's
+    // facets lie), l' and p' at distance e from l and p.
+    const int width = scene.camera.width, height = scene.camera.height;
+    std::size_t checked = 0;
+    for (int k = 0; k < 200000; ++k) {
+      const int corner = static_cast<int>(random() % 8), other = corner ^ (1 << (random() % 3));
+      const double u = unit(random);
+      const Vec3d p = (1 - u) * q[corner] + u * q[other];
+      const Vec3d moved_light = light + on_sphere(e), moved_p = p + on_sphere(e);
+      const Vec3d x = moved_light + (1 + 4 * unit(random)) * (moved_p - moved_light);
+      bool in_b = true;
+      for (int a = 0; a < 3; ++a) in_b = in_b && x[a] >= b_lo[a] - e && x[a] <= b_hi[a] + e;
+      if (!in_b) continue;
+      const Vec3d c = view.apply(x);
+      const double in[4] = {c.x, c.y, c.z, 1.0};
+      double clip[4];
+      for (int r = 0; r < 4; ++r) {
+        clip[r] = 0;
+        for (int col = 0; col < 4; ++col) clip[r] += double{projection.at(r, col)} * in[col];
+      }
+      if (!(clip[3] > 0) || clip[2] + clip[3] < 0) continue;  // behind the eye or the near plane
+      const double wx = (clip[0] / clip[3] + 1) * 0.5 * width, wy = (clip[1] / clip[3] + 1) * 0.5 * height;
+      if (wx < 0 || wy < 0 || wx >= width || wy >= height) continue;  // outside the viewport
+      ++checked;
+      const int i = static_cast<int>(std::floor(wx)), j = static_cast<int>(std::floor(wy));
+      ASSERT_TRUE(bounds->scissor.contains(i, j))
+          << "pixel " << i << ", " << j << " of the point " << x.x << ", " << x.y << ", " << x.z;
+      const double depth = (clip[2] / clip[3] + 1) * 0.5;
+      ASSERT_GE(depth, bounds->depth_min);
+      ASSERT_LE(depth, bounds->depth_max);
+    }
+    EXPECT_GT(checked, 20000u);
+  }
 }
 
 // Every bundled scene, light and method, each culling: the same stencil at
