@@ -241,6 +241,36 @@ TEST_F(CalibrateCommand, AProfileWithoutHeldOutObservationsIsWrittenWithAWarning
   }
 }
 
+// A set that never draws some pass kind or CPU task (the light in the near
+// plane: no light frustum, no near-cap to test) gives those rows nothing to
+// fit: no policy is written, and the error names them; the observations
+// stay.
+TEST_F(CalibrateCommand, NoPolicyWithARowNothingWasObservedFor) {
+  const fs::path csv = dir_ / "c.csv", policy = dir_ / "p.json";
+  const test::CliResult r =
+      test::run_cli("calibrate --samples 4 --kinds light-in-near-plane --width 32 --height 24 --out '" + csv.string() +
+                        "' --write-policy '" + policy.string() + "'",
+                    "calibrate_unobserved");
+  if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+    GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("nearcap: error (usage): no training observation of "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exact_test"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(policy));
+  ASSERT_TRUE(fs::exists(csv));
+  EXPECT_GT(fs::file_size(csv), 0u);
+  // Each row it names is one the report printed with no training observation.
+  const std::size_t at = r.err.find("no training observation of ") + 27;
+  std::stringstream list(r.err.substr(at, r.err.find(':', at) - at));
+  for (std::string name; std::getline(list, name, ',');) {
+    if (name.front() == ' ') name.erase(0, 1);
+    const std::size_t row = r.out.find("  " + name + " ", r.out.find("device profile for"));
+    ASSERT_NE(row, std::string::npos) << name << "\n" << r.out;
+    const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+    EXPECT_NE(line.find("(0 / "), std::string::npos) << line;
+  }
+}
+
 // A write that fails after the measuring (a full device passes the check made
 // before it) is one error line; stdout names no file that was not written,
 // and the observations, written first, outlive a failed policy write.

@@ -512,6 +512,19 @@ void run(CalibrateOptions o) {
     policy->device_profile->frame = analysis::fit_frame_cost(frames, observations.passes, observations.eye_count,
                                                              *policy->device_profile, &frame_report);
     print_fit_report(*policy->device_profile, report, eye_report, frame_report, o.no_atomiczp);
+    // A row with no training observation is fitted to nothing: its costs
+    // would read 0 ms, a price the decision would trust.
+    std::string unobserved;
+    auto need = [&unobserved](std::string_view name, std::size_t train) {
+      if (train == 0) unobserved += (unobserved.empty() ? "" : ", ") + std::string(name);
+    };
+    for (std::size_t k = 0; k < analysis::kPassKindCount; ++k) need(analysis::kPassKindNames[k], report.train_count[k]);
+    for (std::size_t t = 0; t < 3; ++t) need(analysis::kCpuTaskNames[t], report.cpu_train_count[t]);
+    if (!unobserved.empty())
+      throw Error(ErrorKind::Usage, "no training observation of " + unobserved +
+                                        ": the device profile would price it at 0 ms, so no policy is written (the "
+                                        "observations are in " +
+                                        o.out + "); calibrate on more configurations (--samples, --path)");
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
     nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();
