@@ -279,6 +279,62 @@ TEST_F(Reliability, ADataDirectoryWithoutTheMeshesIsAnError) {
   EXPECT_EQ(paths.exit_code, 0) << paths.err;
 }
 
+// A data folder that lacks one of the sampler's meshes, or holds a broken
+// one, is one error naming the file, before anything is sampled (every
+// configuration naming it would be rejected, or a fit made on the others).
+TEST_F(Reliability, ADataDirectoryWithAMissingOrBrokenMeshIsAnError) {
+  fs::create_directories(dir_ / "data/meshes");
+  for (const char* mesh : {"box.off", "torus.off", "eight.off"})
+    fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes" / mesh, dir_ / "data/meshes" / mesh);
+  const std::string env = "NEARCAP_DATA_DIR='" + path("data") + "' " + test::kHangBound;
+  auto sampling = [&](const std::string& args) { return test::run_cli(args, "reliability", env); };
+  expect_one_line_error(sampling("fit-l-near --samples 20 --width 32 --height 24"), "knot1.off", "fit-l-near");
+  expect_one_line_error(sampling("sweep --samples 2 --width 8 --height 6 --out " + path("s.csv")), "knot1.off",
+                        "sweep");
+  EXPECT_FALSE(fs::exists(path("s.csv")));
+  fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes/knot1.off", dir_ / "data/meshes/knot1.off");
+  write_text("data/meshes/box.off", "garbage\n");
+  const test::CliResult broken = sampling("sample --index 0");
+  expect_one_line_error(broken, "box.off does not load", "a broken box.off");
+  EXPECT_EQ(broken.err.rfind("nearcap: error (parse): NEARCAP_DATA_DIR=", 0), 0u) << broken.err;
+}
+
+// evaluate's and render --bench's plots are drawn by Python after the
+// measuring: a Python that cannot draw them is an error before it.
+TEST_F(Reliability, APlotsPythonIsCheckedBeforeTheMeasuring) {
+  const std::string env = "NEARCAP_PYTHON=/bin/false " + std::string(test::kHangBound);
+  const test::CliResult evaluate = test::run_cli(
+      "evaluate --path data/paths/near_plane_sweep.json --repeats 1 --width 8 --height 6 --out " + path("evaluated"),
+      "reliability", env);
+  expect_one_line_error(evaluate, "policy_oracle.py: the policy-against-oracle plot's script exited with status 1",
+                        "evaluate");
+  EXPECT_FALSE(fs::exists(path("evaluated")));
+  const test::CliResult render =
+      test::run_cli("render --path data/paths/near_plane_sweep.json --method zpass --bench --out " + path("rendered"),
+                    "reliability", env);
+  expect_one_line_error(render, "render_bench.py: the bench plot's script exited with status 1", "render");
+  EXPECT_FALSE(fs::exists(path("rendered")));
+}
+
+// fit-l-near reads the light frustum's options alone: the others, and the
+// scale it fits, are unknown to it; the clipped-sides cap has no l_near.
+// Its JSON names every option that made the fit.
+TEST_F(Reliability, FitLNearTakesOnlyTheOptionsItReads) {
+  for (const char* option : {"--depth float32", "--l-near-scale 0.5", "--fma", "--guard-band 100"}) {
+    const test::CliResult r = run("fit-l-near --samples 4 " + std::string(option));
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nearcap: error (usage): ", 0), 0u) << option << "\n" << r.err;
+  }
+  expect_one_line_error(run("fit-l-near --samples 4 --light-projection clipped-sides"), "no l_near to fit",
+                        "clipped-sides");
+  const test::CliResult fit =
+      run("fit-l-near --samples 6 --width 40 --height 20 --l-near near-clamp --out " + path("fit.json"));
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const std::string command = nlohmann::json::parse(test::slurp(path("fit.json")))["command"];
+  for (const char* part : {"--samples 6", "--width 40", "--height 20", "--l-near near-clamp", "--light-projection"})
+    EXPECT_NE(command.find(part), std::string::npos) << part << " not in " << command;
+}
+
 // A file where an output directory goes is refused before any work (the
 // writes would fail only at the end, after the frames are drawn).
 TEST_F(Reliability, AFileNamedAsTheOutputDirectoryIsRefusedUpFront) {

@@ -294,6 +294,39 @@ TEST(PolicyEvaluation, CsvLineQuotesAndLeavesASamplesFrameEmpty) {
   EXPECT_EQ(analysis::evaluation_csv_line(r).substr(0, 22), "\"a,b\",sample:7:3,4,0,d");
 }
 
+// A path none of whose frames loads (every keyframe's up along the view):
+// nothing is measured, and evaluate and calibrate say so in one line
+// naming the first configuration and why, writing nothing.
+TEST(EvaluateCommand, NothingMeasuredIsAnError) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("nearcap_evaluate_none_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  nlohmann::json path = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/paths/zoom.json"));
+  path["scene"] = std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + path["scene"].get<std::string>().substr(10);
+  path["frames"] = 2;
+  for (nlohmann::json& k : path["keyframes"]) k["up"] = {0, 0, 0};
+  const std::filesystem::path file = dir / "unloadable.json";
+  std::ofstream(file) << path.dump();
+  for (const std::string& command :
+       {"evaluate --path '" + file.string() + "' --repeats 1 --out '" + (dir / "evaluated").string() + "'",
+        "calibrate --samples 0 --path '" + file.string() + "' --out '" + (dir / "c.csv").string() + "'"}) {
+    SCOPED_TRACE(command);
+    const test::CliResult r = test::run_cli(command, "evaluate_none");
+    if (r.exit_code == 2 && r.err.find("error (gl)") != std::string::npos)
+      GTEST_SKIP() << "no headless OpenGL here: " << r.err;
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    const std::string last = r.err.substr(r.err.rfind("nearcap: error ("));
+    EXPECT_NE(last.find("nothing measured: every one of the 2 configurations was rejected"), std::string::npos)
+        << r.err;
+    EXPECT_NE(last.find("the first, path:unloadable:0: "), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(last.begin(), last.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "evaluated"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "c.csv"));
+  std::filesystem::remove_all(dir);
+}
+
 // nearcap evaluate on two sampled configurations at 32 x 24: a row per
 // (configuration, light, rule), the oracle's, and the table.
 TEST(EvaluateCommand, TwoSamplesEndToEnd) {

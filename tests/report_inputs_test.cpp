@@ -188,6 +188,37 @@ TEST_F(ReportInputs, AScriptThatFailsWithoutAnErrorLineIsOneLine) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A script or Python that exits 0 without writing DIR/index.html is an
+// error, not a report: with nothing there, and with an earlier report's page
+// left as it was; a script that is not a regular file is refused.
+TEST_F(ReportInputs, AScriptThatWritesNoPageIsAnError) {
+  const fs::path out = path("nothing_written");
+  test::CliResult r = test::run_cli("report " + rows() + " --out " + out.string(), "true", "NEARCAP_PYTHON=/bin/true");
+  expect_one_line(r, "exited with status 0 without writing " + (out / "index.html").string(), "/bin/true");
+  fs::create_directories(out);
+  std::ofstream(out / "index.html") << "an earlier report";
+  r = test::run_cli("report " + rows() + " --out " + out.string(), "true_stale", "NEARCAP_PYTHON=/bin/true");
+  expect_one_line(r, "exited with status 0 without writing", "/bin/true over an earlier report");
+  EXPECT_EQ(test::slurp(out / "index.html"), "an earlier report");
+  r = test::run_cli("report " + rows() + " --out " + path("device_script").string(), "device_script",
+                    "NEARCAP_REPORT_SCRIPT=/dev/null");
+  expect_one_line(r, "/dev/null: the report script is not a regular file", "/dev/null");
+}
+
+// A CSV named outside UTF-8 is reported, its name escaped in the page; an
+// --out name too long for the file system is one line.
+TEST_F(ReportInputs, OddNamesAreReportedOrRefusedInOneLine) {
+  const fs::path odd = path("latin\xff.csv");
+  fs::copy_file(rows(), odd, fs::copy_options::overwrite_existing);
+  const fs::path out = path("odd_name");
+  const test::CliResult r = test::run_cli("report '" + odd.string() + "' --out " + out.string(), "odd_name");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::slurp(out / "index.html").find("latin\\xff.csv"), std::string::npos);
+  const std::string long_name = path(std::string(300, 'a')).string();
+  expect_one_line(test::run_cli("report " + rows() + " --out " + long_name, "long_name"), "File name too long",
+                  "a 300-byte name");
+}
+
 // A file name's control characters and bytes outside UTF-8 are escaped in
 // the line, as nearcap's own errors write them (io/utf8_text.hpp).
 TEST_F(ReportInputs, AFileNameInTheErrorIsEscaped) {

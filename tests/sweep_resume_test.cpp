@@ -316,11 +316,13 @@ TEST_F(SweepFile, ResumeRefusesSamplerMeshesThatChanged) {
   expect_one_line_error(test::run_cli(args(csv, "--resume"), "sweep_file_meshes_edited", env), "usage",
                         "--samples (meshes digest): ", "a sampler mesh edited");
   EXPECT_EQ(test::slurp(csv), cut);
-  // The shipped meshes are other files again: refused too.
+  // A mesh gone from the folder: the folder is refused before the sidecar is read.
   write_file((meshes / "eight.off").string(), eight);
   fs::remove(meshes / "knot1.off");
-  expect_one_line_error(test::run_cli(args(csv, "--resume"), "sweep_file_meshes_gone", env), "usage",
-                        "--samples (meshes digest): ", "a sampler mesh removed");
+  expect_one_line_error(test::run_cli(args(csv, "--resume"), "sweep_file_meshes_gone", env), "io",
+                        "knot1.off (the sampler reads its meshes from $NEARCAP_DATA_DIR/meshes)",
+                        "a sampler mesh removed");
+  EXPECT_EQ(test::slurp(csv), cut);
   fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes/knot1.off", meshes / "knot1.off");
   const test::CliResult same = test::run_cli(args(csv, "--resume"), "sweep_file_meshes_same", env);
   ASSERT_EQ(same.exit_code, 0) << same.err;

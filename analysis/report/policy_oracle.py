@@ -7,7 +7,9 @@ EVALUATION.csv is what `nearcap evaluate --path PATH --out DIR` writes:
 set,configuration,frame,light,rule,refused,applies,wrong,cracks,decision_ms,
 cpu_ms,end_to_end_ms,choice_ms,chosen (rows of rule "oracle": the fastest candidate as
 right as Z-fail, per frame and light).  SET is the path file's stem.
-Errors are one line on stderr, exit code 2.
+`policy_oracle.py --check` only imports what it needs (nearcap evaluate runs
+it before measuring).  Errors are one line on stderr, "nearcap: error (io):
+...", exit code 2.
 """
 import csv
 import os
@@ -15,20 +17,23 @@ import sys
 
 
 def fail(message):
-    print(f"policy_oracle.py: error: {message}", file=sys.stderr)
+    print(f"nearcap: error (io): policy_oracle.py: {message}", file=sys.stderr)
     sys.exit(2)
 
 
 def main(argv):
-    if len(argv) < 4:
-        fail("usage: policy_oracle.py EVALUATION.csv SET OUT.png [TITLE]")
+    if len(argv) != 2 or argv[1] != "--check":
+        if len(argv) < 4:
+            fail("usage: policy_oracle.py EVALUATION.csv SET OUT.png [TITLE], or policy_oracle.py --check")
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        fail("matplotlib is missing (scripts/install-deps.sh installs python3-matplotlib)")
+        fail(f"{sys.executable} has no matplotlib (scripts/install-deps.sh installs python3-matplotlib)")
+    if argv[1:] == ["--check"]:
+        return
     wanted = ("policy", "oracle", "zfail")
     times = {rule: {} for rule in wanted}  # rule -> {frame: ms}
     name = os.path.basename(argv[3])

@@ -10,7 +10,9 @@ M#again: the first method drawn twice per frame, the noise floor, a line near
 1 when M is Z-pass).  TABLE.json is the settings table (`nearcap settings`;
 nearcap render passes it): the lines follow its order and colours, and the
 times are relative to the method whose role is the timing baseline (Z-pass).
-Errors are one line on stderr, exit code 2.
+`render_bench.py --check` only imports what it needs (nearcap render runs it
+before drawing the path).  Errors are one line on stderr, "nearcap: error
+(io): ...", exit code 2.
 """
 import csv
 import os
@@ -18,7 +20,7 @@ import sys
 
 
 def fail(message):
-    print(f"render_bench.py: error: {message}", file=sys.stderr)
+    print(f"nearcap: error (io): render_bench.py: {message}", file=sys.stderr)
     sys.exit(2)
 
 
@@ -32,8 +34,9 @@ def main(argv):
         else:
             args.append(argv[k])
             k += 1
-    if len(args) < 2 or settings is None:
-        fail("usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json")
+    check = argv[1:] == ["--check"]
+    if not check and (len(args) < 2 or settings is None):
+        fail("usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json, or render_bench.py --check")
     try:
         import matplotlib
 
@@ -41,8 +44,10 @@ def main(argv):
         import matplotlib.pyplot as plt
         import settings_table
     except ImportError as e:
-        fail(f"{e.name} is missing (matplotlib: scripts/install-deps.sh installs python3-matplotlib; "
-             "settings_table.py lies beside this script)")
+        fail(f"{sys.executable}: {e.name} is missing (matplotlib: scripts/install-deps.sh installs "
+             "python3-matplotlib; settings_table.py lies beside this script)")
+    if check:
+        return
     try:
         table = settings_table.read(settings)
     except settings_table.InputError as e:

@@ -897,7 +897,7 @@ class Report:
             who = "occluders that meet no point of the light pyramid get Z-pass (exact); the others"
         else:
             who = "every occluder (no exact Z-pass test) gets"
-        text = (f"<p>From <code>{html.escape(self.policy_source)}</code>: {who} {capped} {rule}. Fitted by <code>"
+        text = (f"<p>From <code>{html.escape(escaped(self.policy_source))}</code>: {who} {capped} {rule}. Fitted by <code>"
                 f"{html.escape(str(prov.get('command', '?')))}</code>; split: "
                 f"{html.escape(str(prov.get('split', '?')))}.</p>")
         body = []
@@ -1011,7 +1011,7 @@ class Report:
 <style>body{{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}} img{{max-width:100%}}
 table{{border-collapse:collapse;margin:0.5em 0 1.5em}} td,th{{border:1px solid #ccc;padding:2px 8px;text-align:right}}
 th{{background:#eee}} td:first-child{{text-align:left}}</style></head><body>
-<h1>nearcap sweep report</h1><p>From {html.escape(', '.join(self.sources))}. Each row of a sweep is one
+<h1>nearcap sweep report</h1><p>From {html.escape(escaped(', '.join(self.sources)))}. Each row of a sweep is one
 (configuration, light, method); "wrong" counts pixels whose shadow status differs from the exact reference,
 "cracks" those among them whose exact status is proven constant over the whole pixel (docs/methods.md, "Crack distance").
 Times are the float pipeline's emulation on the CPU, not a GPU's.</p><ul>{toc}</ul>{body}</body></html>"""
@@ -1154,10 +1154,13 @@ def main(argv):
         raise ReportError("usage", "usage: sweep_report.py RESULTS.csv [MORE.csv ...] --out DIR --settings TABLE.json "
                                    "[--policy FILE] (TABLE.json: what `nearcap settings` prints)")
     target = Path(out)
-    if target.exists() and not target.is_dir():
-        raise ReportError("io", f"{out}: exists and is not a directory")
-    if target.is_dir() and not os.access(target, os.W_OK | os.X_OK):
-        raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
+    try:
+        if target.exists() and not target.is_dir():
+            raise ReportError("io", f"{out}: exists and is not a directory")
+        if target.is_dir() and not os.access(target, os.W_OK | os.X_OK):
+            raise ReportError("io", f"{out}: cannot write the report there: {os.strerror(13)}")
+    except OSError as e:  # a name too long, a loop of links
+        raise ReportError("io", f"{out}: cannot write the report there: {e.strerror}")
     policy_json = read_policy(policy) if policy is not None else None
     table = settings_table.read(settings)
     mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])  # this process's signal mask, restored after the cleanup

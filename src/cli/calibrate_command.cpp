@@ -404,15 +404,16 @@ void run(CalibrateOptions o) {
 
   analysis::CalibrationSet observations;
   MeshCache meshes;
-  std::size_t rejected = 0, refused = 0, drawn = 0;
+  RejectedConfigurations rejected;
+  std::size_t refused = 0, drawn = 0;
   // One configuration: every method's lit frame interleaved, then the first
   // method's again (the noise floor).  `record`: false for the warm-up.
   auto calibrate_one = [&](const Configuration& c, bool record) {
     std::optional<Scene> scene;
     try {
       scene = parse_scene(c.scene_json, c.id, ".", &meshes);
-    } catch (const Error&) {
-      ++rejected;  // a sampled light inside an occluder, and the like: as sweep counts them
+    } catch (const Error& e) {
+      if (record) rejected.add(c.id, e);  // a sampled light inside an occluder, and the like: as sweep counts them
       return;
     }
     EmulatedConfiguration e = emulate(*scene, c.id);
@@ -467,13 +468,14 @@ void run(CalibrateOptions o) {
   // The warm-up: the first configuration drawn once, unrecorded (the
   // driver's first draws, the caches).
   calibrate_one(set.at(0), false);
-  rejected = refused = 0;
+  refused = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < set.count(); ++k) {
     calibrate_one(set.at(k), true);
     std::fprintf(stderr, "\rcalibrate: configuration %zu/%zu (%.0f s)", k + 1, set.count(), ms_since(t0) * 1e-3);
   }
   std::fprintf(stderr, "\n");
+  rejected.refuse_all_rejected(set.count());
   // The observations first, on their own: the measuring is the dear part,
   // kept whatever the fit and the policy's write do; and named only once
   // written.
@@ -481,7 +483,7 @@ void run(CalibrateOptions o) {
   std::printf(
       "calibrated on %s: %zu configurations (%zu rejected), %zu method frames drawn (%zu refused), %zu pass "
       "and %zu cpu observations in %s\n",
-      context.renderer().c_str(), set.count(), rejected, drawn, refused,
+      context.renderer().c_str(), set.count(), rejected.count(), drawn, refused,
       observations.passes.size() + observations.eye_count.size(), observations.cpu.size(), o.out.c_str());
   print_noise_floor(observations);
   if (policy) {

@@ -16,6 +16,7 @@
 
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
+#include "nearcap/error.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/output_files.hpp"
 #include "nearcap/named_values.hpp"
@@ -140,6 +141,9 @@ struct EmulationOptions {
   bool fma = false;                                               // --fma
 };
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options);
+// Only the emulation options named in `names` (without their dashes), for a
+// command that reads no others (the rest are then unknown options).
+void add_emulation_options(CLI::App& cmd, EmulationOptions& options, const std::vector<std::string>& names);
 // `base` with the choices of a variant spec "NAME=VALUE[,NAME=VALUE...]"
 // overridden (NAME: an emulation option without its dashes, e.g.
 // "light-projection=glfrustum,l-near-scale=0.5"; fma=1 or fma=0).  Throws
@@ -212,9 +216,30 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o);
 // name that is not UTF-8 text or holds a control character (it goes into
 // CSV fields and a row's replay command).
 void check_camera_path_names(const std::vector<std::string>& paths);
+// The configurations a command leaves out because they do not load (a
+// sampled light inside an occluder, say; `nearcap sweep` writes each as a
+// rejected row): how many, and the first with its reason, for the
+// command's summary.  All of them left out is an error: nothing was measured.
+class RejectedConfigurations {
+ public:
+  void add(const std::string& id, const Error& e);
+  std::size_t count() const { return count_; }
+  // "2 configurations rejected (they do not load; the first, ID: REASON)".
+  std::string sentence() const;
+  // Error, of the first's kind, when every one of `total` (> 0) was rejected.
+  void refuse_all_rejected(std::size_t total) const;
+
+ private:
+  std::size_t count_ = 0;
+  std::string first_id_, first_reason_;
+  ErrorKind first_kind_ = ErrorKind::Io;
+};
+
 // Where NEARCAP_DATA_DIR is set, its meshes folder must hold the sampler's
-// meshes: Error(Io) naming it otherwise (every configuration would be
-// rejected).  For the commands that sample (--samples above 0).
+// meshes, each loading as an occluder: Error naming the folder and the file
+// otherwise (Io where one is missing, the reading's kind where one is
+// broken; every configuration naming it would be rejected).  For the
+// commands that sample (--samples above 0).
 void check_sampler_meshes(const analysis::SamplerSpec& spec);
 // Error(Usage) where a sampler option is given to a command that samples
 // nothing (`samples` 0: camera paths alone), rather than ignored.

@@ -22,6 +22,7 @@
 
 #include "cli_commands.hpp"
 #include "nearcap/error.hpp"
+#include "nearcap/io/scene_file.hpp"
 #include "nearcap/io/utf8_text.hpp"
 
 extern char** environ;
@@ -281,10 +282,17 @@ void set_from_text(const std::string& spec, const std::string& name, const std::
 }  // namespace
 
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options) {
+  std::vector<std::string> names;
+  visit_emulation_options(options, [&names](const EmulationOption& e, auto&) { names.emplace_back(e.name); });
+  add_emulation_options(cmd, options, names);
+}
+
+void add_emulation_options(CLI::App& cmd, EmulationOptions& options, const std::vector<std::string>& names) {
   // The flags after the valued options.
   std::vector<std::pair<EmulationOption, bool*>> flags;
   visit_emulation_options(options, [&](const EmulationOption& e, auto& field) {
     using T = std::decay_t<decltype(field)>;
+    if (std::find(names.begin(), names.end(), e.name) == names.end()) return;
     const std::string flag = std::string("--") + e.name;
     if constexpr (kIsChoice<T>) {
       add_choice_option(cmd, flag, field, std::string(e.lead) + ": " + values_described<T>() + e.tail);
@@ -445,13 +453,47 @@ void check_camera_path_names(const std::vector<std::string>& paths) {
   }
 }
 
+void RejectedConfigurations::add(const std::string& id, const Error& e) {
+  if (count_++ == 0) {
+    first_id_ = id;
+    first_reason_ = e.what();
+    first_kind_ = e.kind();
+  }
+}
+
+std::string RejectedConfigurations::sentence() const {
+  return std::to_string(count_) +
+         (count_ > 1 ? " configurations rejected (they do not load; the first, " : " configuration rejected (") +
+         first_id_ + ": " + first_reason_ + ")";
+}
+
+void RejectedConfigurations::refuse_all_rejected(std::size_t total) const {
+  if (total > 0 && count_ == total)
+    throw Error(first_kind_, "nothing measured: " +
+                                 (total > 1 ? "every one of the " + std::to_string(total) + " configurations was"
+                                            : std::string("the configuration was")) +
+                                 " rejected (it does not load; the first, " + first_id_ + ": " + first_reason_ + ")");
+}
+
 void check_sampler_meshes(const analysis::SamplerSpec& spec) {
   const char* data = std::getenv("NEARCAP_DATA_DIR");
-  std::error_code ec;
-  const std::filesystem::path box = std::filesystem::path(spec.mesh_directory) / "box.off";
-  if (data && *data && !std::filesystem::is_regular_file(box, ec))
-    throw Error(ErrorKind::Io, "NEARCAP_DATA_DIR=" + std::string(data) + ": no " + box.string() +
-                                   " (the sampler reads its meshes from $NEARCAP_DATA_DIR/meshes)");
+  if (!data || !*data) return;  // the shipped meshes, which the tests read
+  // Each mesh the sampler may name, read and validated as an occluder: a
+  // folder that lacks one, or holds a broken one, would otherwise reject
+  // every configuration that names it, one by one.
+  MeshCache meshes;
+  for (const std::string& file : analysis::sampler_mesh_files(spec)) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      throw Error(ErrorKind::Io, "NEARCAP_DATA_DIR=" + std::string(data) + ": no " + file +
+                                     " (the sampler reads its meshes from $NEARCAP_DATA_DIR/meshes)");
+    try {
+      meshes.get(file, true);
+    } catch (const Error& e) {
+      throw Error(e.kind(), "NEARCAP_DATA_DIR=" + std::string(data) + ": the sampler's mesh " + file +
+                                " does not load: " + e.what());
+    }
+  }
 }
 
 CLI::Option* add_samples_option(CLI::App& cmd, std::uint64_t& samples, const std::string& help, std::uint64_t lo,

@@ -18,6 +18,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -39,6 +40,7 @@
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "output_script.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -460,6 +462,10 @@ void run(const EvaluateOptions& o) {
   if (o.width > 0) spec.width = o.width;
   if (o.height > 0) spec.height = o.height;
   if (o.samples > 0) check_sampler_meshes(spec);
+  // The plot's Python, before the measuring that precedes it.
+  const std::string plot_script = shipped_scripts_dir() + "/report/policy_oracle.py";
+  const std::string plot_what = "the policy-against-oracle plot's script";
+  if (!paths.empty()) check_output_script(plot_script, plot_what);
   // The largest frame's memory, and what every configuration keeps to the
   // end of the run, checked before any is listed or drawn.
   auto last_frame_of = [&](const analysis::CameraPath& p) { return o.last_frame >= 0 ? o.last_frame : p.frames - 1; };
@@ -501,20 +507,23 @@ void run(const EvaluateOptions& o) {
   Evaluation evaluation(policy, renderer, o.repeats, !o.price_every_frame && o.fit_unpriced.empty());
   MeshCache meshes;
   std::vector<analysis::EvaluationRow> rows;
-  std::size_t rejected = 0;
+  RejectedConfigurations rejected;
+  std::set<std::string> drawn_sets;
   const auto t0 = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < configurations.size(); ++k) {
     const Configuration& c = configurations[k];
     std::optional<Scene> scene;
     try {
       scene = parse_scene(c.scene_json, c.id, ".", &meshes);
-    } catch (const Error&) {
-      ++rejected;  // a sampler's light inside an occluder, say: not a configuration
+      drawn_sets.insert(c.set);
+    } catch (const Error& e) {
+      rejected.add(c.id, e);  // a sampler's light inside an occluder, say: not a configuration
     }
     if (scene) evaluation.run(c, *scene, rows);
     std::fprintf(stderr, "evaluate: %zu/%zu configurations (%s), %.0f s\n", k + 1, configurations.size(), c.id.c_str(),
                  ms_since(t0) / 1000);
   }
+  rejected.refuse_all_rejected(configurations.size());
   const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
 
   const std::filesystem::path dir(o.out);
@@ -526,10 +535,7 @@ void run(const EvaluateOptions& o) {
   heading += !o.fit_unpriced.empty() ? " with every frame priced (--fit-unpriced)."
              : o.price_every_frame   ? " with every frame priced (--price-every-frame)."
                                      : ".";
-  if (rejected > 0)
-    heading +=
-        " " + std::to_string(rejected) +
-        (rejected > 1 ? " configurations rejected (they do not load)." : " configuration rejected (it does not load).");
+  if (rejected.count() > 0) heading += " " + rejected.sentence() + ".";
   heading += "\n\n";
   const std::string markdown = heading + analysis::evaluation_table_markdown(table);
   io::StagedOutputFiles files;
@@ -572,12 +578,14 @@ void run(const EvaluateOptions& o) {
   std::printf("evaluate: %s/evaluation.csv, %s/table.md\n", o.out.c_str(), o.out.c_str());
   for (const analysis::CameraPath& p : paths) {
     const std::string name = std::filesystem::path(p.source).stem().string();
+    if (!drawn_sets.count(name)) {
+      std::printf("evaluate: no plot of %s: none of its frames loads\n", name.c_str());
+      continue;
+    }
     const std::string png = (dir / ("oracle-" + name + ".png")).string();
-    const int status =
-        run_python_script(shipped_scripts_dir() + "/report/policy_oracle.py",
-                          {(dir / "evaluation.csv").string(), name, png, name + " (" + context.renderer() + ")"},
-                          "the policy-against-oracle plot");
-    if (status != 0) throw ExitCode{status};
+    run_output_script(plot_script,
+                      {(dir / "evaluation.csv").string(), name, png, name + " (" + context.renderer() + ")"}, plot_what,
+                      png);
     std::printf("evaluate: %s (the policy's frame time against the oracle's, per frame)\n", png.c_str());
   }
 }

@@ -3,7 +3,10 @@
 // (analysis/l_near_fit.hpp).
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "cli_commands.hpp"
 #include "command_output.hpp"
@@ -22,10 +25,24 @@ struct FitOptions {
   std::string out;
 };
 
+// The emulation options the fit reads: those of the light frustum whose
+// P_l M_l it conditions (its l_near scale is what it fits).
+const std::vector<std::string> kFitEmulationOptions{"light-projection", "l-near"};
+
 void run(const FitOptions& o) {
-  const std::string command = "nearcap fit-l-near --samples " + std::to_string(o.samples) + " --seed " +
-                              std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds;
   if (o.samples == 0) throw Error(ErrorKind::Usage, "--samples must be at least 1");
+  if (o.emulation.settings.light_frustum.projection == gl::LightProjection::ClippedSides)
+    throw Error(ErrorKind::Usage,
+                "--light-projection clipped-sides draws the near-cap without a light frustum: it has no l_near to "
+                "fit");
+  // The command that makes this fit again: every option it reads.
+  std::string command = "nearcap fit-l-near --samples " + std::to_string(o.samples) + " --seed " +
+                        std::to_string(o.sampler.seed) + " --kinds " + o.sampler.kinds + " --width " +
+                        std::to_string(o.sampler.width) + " --height " + std::to_string(o.sampler.height);
+  if (o.sampler.allow_bunny) command += " --allow-bunny";
+  for (const auto& [name, value] : emulation_option_values(o.emulation))
+    if (std::find(kFitEmulationOptions.begin(), kFitEmulationOptions.end(), name) != kFitEmulationOptions.end())
+      command += " --" + name + " " + value;
   const analysis::SamplerSpec spec = sampler_spec(o.sampler);
   check_sampler_meshes(spec);
   if (!o.out.empty()) {  // before the fit
@@ -75,7 +92,7 @@ void register_fit_l_near(CLI::App& app) {
   add_samples_option(cmd, o.samples, "this many configurations of the sampler", 1, kMaxFitSamples)
       ->capture_default_str();
   add_sampler_options(cmd, o.sampler, true);
-  add_emulation_options(cmd, o.emulation);
+  add_emulation_options(cmd, o.emulation, kFitEmulationOptions);
   cmd.add_option("--out", o.out, "write the fit as JSON here too");
 }
 

@@ -23,6 +23,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "output_script.hpp"
 #include "render_command.hpp"
 
 namespace nearcap::cli {
@@ -362,6 +363,13 @@ void run_lit(const RenderOptions& o) {
     if (o.light_given) check_light_index(scene, o.light);
     check_memory_estimate(scene, "render", 40, o.max_memory_gb);
   }
+  // The bench plot's Python, before the frames that precede it.
+  const std::string plot_script = shipped_scripts_dir() + "/report/render_bench.py";
+  const std::string plot_what = "the bench plot's script";
+  const bool plot =
+      o.bench && !o.path.empty() &&
+      std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
+  if (plot) check_output_script(plot_script, plot_what);
   const render::EglContext context;
   std::fputs(policy_profile_note(methods, context.renderer()).c_str(), stderr);
   const std::filesystem::path dir(o.out);
@@ -595,20 +603,17 @@ void run_lit(const RenderOptions& o) {
           clamp_totals.end_to_end_ms / n, clamp_totals.zpass_end_to_end_ms / n, clamp_totals.frames,
           clamp_totals.frames == 1 ? "" : "s");
     }
-    const bool has_zpass =
-        std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
-    if (!o.path.empty() && !has_zpass)
+    if (!o.path.empty() && !plot)
       std::printf("bench: no bench.png (its times are relative to Z-pass's: add zpass to --method)\n");
-    if (!o.path.empty() && has_zpass) {
+    if (plot) {
       const std::string png = (dir / "bench.png").string();
       const SettingsFile table;
-      const int status = run_python_script(shipped_scripts_dir() + "/report/render_bench.py",
-                                           {(dir / "bench.csv").string(), png,
-                                            std::filesystem::path(o.path).stem().string() + " (" + context.renderer() +
-                                                ", " + stencil_sides + " stencil)",
-                                            "--settings", table.path()},
-                                           "the bench plot");
-      if (status != 0) throw ExitCode{status};
+      run_output_script(plot_script,
+                        {(dir / "bench.csv").string(), png,
+                         std::filesystem::path(o.path).stem().string() + " (" + context.renderer() + ", " +
+                             stencil_sides + " stencil)",
+                         "--settings", table.path()},
+                        plot_what, png);
       std::printf("bench: %s (frame time relative to Z-pass, per frame)\n", png.c_str());
     }
   }

@@ -19,13 +19,11 @@
 // the settings table (`nearcap settings`), which this command writes to a
 // temporary file and passes as --settings.
 //
-// The script's stderr goes to a log file in the temporary directory; the
-// command prints one line whatever happens to the script: its own
-// "nearcap: error (KIND): ..." line (the log is kept and named only when the
-// script wrote more than that line), or, when the script exits non-zero
-// without one or dies on a signal, a line naming the script, the status and
-// the log.
-#include <signal.h>
+// The script runs as output_script.hpp says: its stderr in a log file of
+// the temporary directory, one line on stderr whatever happens to it (its
+// own "nearcap: error (KIND): ..." line, or one naming the script, its
+// status and the log), and an exit 0 that leaves DIR/index.html unwritten
+// is an error.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -34,14 +32,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
 
 #include "cli_commands.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/input_files.hpp"
-#include "nearcap/io/utf8_text.hpp"
+#include "output_script.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {
@@ -77,35 +73,6 @@ std::uint64_t csv_limit() {
   return env && *env ? io::max_input_bytes() : kDefaultMaxCsvBytes;
 }
 
-// The log's last non-empty line and whether it holds other text besides it;
-// reads at most its last 64 kB.
-struct LogTail {
-  std::string last_line;
-  bool more = false;
-};
-
-LogTail tail_of(const std::string& log) {
-  LogTail t;
-  std::ifstream in(log, std::ios::binary | std::ios::ate);
-  if (!in) return t;
-  const std::streamoff size = in.tellg();
-  const std::streamoff from = size > 65536 ? size - 65536 : 0;
-  in.seekg(from);
-  std::string text(static_cast<std::size_t>(size - from), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
-  const std::size_t start = text.rfind('\n');
-  t.last_line = start == std::string::npos ? text : text.substr(start + 1);
-  t.more = from > 0 || start != std::string::npos;
-  return t;
-}
-
-void forward(const std::string& log) {
-  std::ifstream in(log, std::ios::binary);
-  if (in && in.peek() != std::ifstream::traits_type::eof()) std::cerr << in.rdbuf();
-  std::cerr.flush();
-}
-
 struct ReportOptions {
   std::vector<std::string> results;
   std::string out;
@@ -121,6 +88,7 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
     throw Error(ErrorKind::Io, script +
                                    ": the report script is missing (set NEARCAP_REPORT_SCRIPT to "
                                    "analysis/report/sweep_report.py of a nearcap source tree)");
+  check_script_file(script, "the report script");
   std::vector<std::string> args(results.begin(), results.end());
   args.push_back("--out");
   args.push_back(out);
@@ -131,47 +99,7 @@ void run(const std::vector<std::string>& results, const std::string& out, const 
   const SettingsFile settings;
   args.push_back("--settings");
   args.push_back(settings.path());
-  const std::string log = temporary_file("nearcap-report-", ".log");  // none: the script's stderr stays on the terminal
-  if (log.empty()) {
-    const int code = run_python_script(script, args, "the report");
-    if (code != 0) throw ExitCode{code};
-    return;
-  }
-  int status = 0;
-  try {
-    status = run_python_script_logged(script, args, "the report", log);
-  } catch (...) {
-    std::filesystem::remove(log);
-    throw;
-  }
-  std::error_code ec;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    forward(log);  // warnings, if any
-    std::filesystem::remove(log, ec);
-    return;
-  }
-  const LogTail tail = tail_of(log);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 2 && tail.last_line.rfind("nearcap: error (", 0) == 0) {
-    if (tail.more) {
-      std::cerr << io::escaped_control_characters(tail.last_line) << " (the report script's other output: " << log
-                << ")\n";
-    } else {
-      std::cerr << io::escaped_control_characters(tail.last_line) << "\n";
-      std::filesystem::remove(log, ec);
-    }
-    throw ExitCode{2};
-  }
-  std::string how = WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                                      : "was killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
-                                            std::string(::strsignal(WTERMSIG(status))) + ")";
-  const char* python = std::getenv("NEARCAP_PYTHON");
-  if (python && *python) how += " (NEARCAP_PYTHON=" + std::string(python) + ")";
-  if (tail.last_line.empty() && !tail.more) {
-    std::filesystem::remove(log, ec);
-    throw Error(ErrorKind::Io,
-                script + ": the report script " + how + " without a message (it wrote nothing on stderr)");
-  }
-  throw Error(ErrorKind::Io, script + ": the report script " + how + " without an error line; its output is in " + log);
+  run_output_script(script, args, "the report script", (std::filesystem::path(out) / "index.html").string());
 }
 
 }  // namespace
