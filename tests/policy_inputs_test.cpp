@@ -26,15 +26,16 @@ namespace fs = std::filesystem;
 using gl::ShadowMethod;
 
 constexpr const char* kHeader =
-    "configuration,light,method,variant,cracks,fallback,refused,light_frustum_defined,light_near_distance,"
+    "configuration,light,method,variant,cracks,wrong,pixels_seen,fallback,refused,light_frustum_defined,light_near_"
+    "distance,"
     "l_far_over_width,delta_over_width,skew,cond_light_transform,cap_window_error_px,coordinate_over_size,"
     "l_near_over_l_far,depth_triangles,near_cap_triangles,volume_triangles,depth_fragments,near_cap_fragments,"
     "volume_fragments,frame_ms";
 
 // One row of the policy's variant; `ms` as written in the CSV.
 std::string row(const std::string& configuration, const char* method, int cracks, const std::string& ms) {
-  return configuration + ",0," + method + ",switch-clamp=clamp-far," + std::to_string(cracks) +
-         ",,0,1,2.5,4,0.3,0.1,1e3,0.01,2,0.05,1200,40,900,30000,2000,15000," + ms;
+  return configuration + ",0," + method + ",switch-clamp=clamp-far," + std::to_string(cracks) + "," +
+         std::to_string(cracks) + ",19200,,0,1,2.5,4,0.3,0.1,1e3,0.01,2,0.05,1200,40,900,30000,2000,15000," + ms;
 }
 
 // A row's fields (the test's rows quote nothing).
@@ -156,7 +157,7 @@ TEST_F(PolicyInputs, TuneRefusesALineLongerThan1Mb) {
   // A line of exactly 1 MB is read (and refused for its field count).
   const std::string fits = write("fits.csv", with_line(sweep_csv(), 3, std::string(1u << 20, ',')));
   expect_one_line_error(test::run_cli("tune " + fits + " --out " + (dir_ / "p.json").string(), "tune_fits"), "parse",
-                        "fits.csv: line 3: 1048577 fields, the header has 23");
+                        "fits.csv: line 3: 1048577 fields, the header has 25");
 }
 
 // Lines ended by a carriage return alone read as one line: named as such,
@@ -167,7 +168,7 @@ TEST_F(PolicyInputs, TuneNamesCarriageReturnLineEnds) {
   for (const char c : sweep_csv()) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   const std::string out = (dir_ / "p.json").string();
   expect_one_line_error(test::run_cli("tune " + write("cr.csv", cr) + " --out " + out, "tune_cr"), "parse",
-                        "cr.csv: line 1: a carriage return inside the line at column 333");
+                        "cr.csv: line 1: a carriage return inside the line at column 351");
   const test::CliResult r = test::run_cli("tune " + write("crlf.csv", crlf) + " --out " + out, "tune_crlf");
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
@@ -479,7 +480,7 @@ TEST(PolicyCsv, NamesTheFirstBadLineAndColumn) {
   EXPECT_EQ(analysis::policy_samples_from_text(csv, "s.csv", ShadowMethod::ZPPlusCorrected, ShadowMethod::ZFail).size(),
             8u);
   EXPECT_EQ(analysis::cost_samples_from_text(csv, "s.csv", ShadowMethod::ZFail).size(), 8u);
-  expect_csv_error(with_line(csv, 3, "a,b"), ErrorKind::Parse, "s.csv: line 3: 2 fields, the header has 23");
+  expect_csv_error(with_line(csv, 3, "a,b"), ErrorKind::Parse, "s.csv: line 3: 2 fields, the header has 25");
   expect_csv_error(with_line(csv, 1, "x" + std::string(kHeader)), ErrorKind::Schema,
                    "s.csv: line 1: missing column 'configuration'");
   // A byte order mark before the header is read past.
@@ -547,6 +548,37 @@ TEST(PolicyCsv, EachRowOnceAndEachConfigurationTogether) {
                    "s.csv: line 18: configuration '" + ids[0] + "' again, after other configurations (s.csv: line 2)");
   const std::string empty_id = with_line(csv, 2, row("", "zfail", 0, "1"));
   expect_csv_error(empty_id, ErrorKind::Parse, "s.csv: line 2: column 'configuration': is empty");
+}
+
+// Counts in decimal digits, flags 0 or 1, and cracks among the wrong pixels
+// among those seen, as the sweep writes them and the report reads them: a
+// row that breaks one is refused, not read another way.
+TEST(PolicyCsv, CountsFlagsAndCracksAsTheSweepWritesThem) {
+  const std::string csv = sweep_csv();
+  const std::string id = training_configurations(8)[1];
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string r = row(id, "zpplus-corrected", 0, "1");
+    const std::size_t at = r.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return with_line(csv, 4, r.replace(at, from.size(), to));
+  };
+  auto refused = [](const std::string& text, const std::string& fragment) {
+    try {
+      (void)analysis::policy_samples_from_text(text, "s.csv", ShadowMethod::ZPPlusCorrected, ShadowMethod::ZFail);
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Parse) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  const std::string cracks = ",switch-clamp=clamp-far,0,0,19200,";
+  refused(edited(cracks, ",switch-clamp=clamp-far,1e3,1000,19200,"),
+          "line 4: column 'cracks': '1e3' is not a whole number as the sweep writes it");
+  refused(edited(cracks, ",switch-clamp=clamp-far,5,0,19200,"), "line 4: column 'cracks': 5 cracks of 0 wrong pixels");
+  refused(edited(cracks, ",switch-clamp=clamp-far,0,19201,19200,"),
+          "line 4: column 'wrong': 19201 wrong pixels of 19200 seen");
+  refused(edited(",19200,,0,1,", ",19200,,0,yes,"), "line 4: column 'light_frustum_defined': 'yes' is not 0 or 1");
+  refused(edited(",19200,,0,1,", ",19200,,2,1,"), "line 4: column 'refused': '2' is not 0 or 1");
 }
 
 TEST(PolicyCsv, CountsAreWholeNumbers) {

@@ -118,6 +118,9 @@ INTEGER_COLUMNS = ["light", "refused", "pixels_seen", "wrong", "cracks", "wrong_
                   ["exact_" + c for c in CASES] + ["float_" + c for c in CASES]
 TIME_COLUMNS = ["frame_ms", "setup_ms", "depth_ms", "near_cap_ms", "volume_ms", "reference_ms"]
 FLOAT_COLUMNS = TIME_COLUMNS + [f for f, _ in FEATURES]
+# The features that are ratios of lengths, condition numbers or errors: never negative (nan where undefined),
+# as `nearcap tune` reads them.
+MAGNITUDE_COLUMNS = [f for f, _ in FEATURES if f != "light_near_distance"]
 MAX_COUNT = 1 << 53  # counts above are not exact as the doubles the report sums them in
 # Numbers as the sweep writes them, a row's fields of one kind joined by commas: decimal integers;
 # decimal numbers, nan, inf and -inf.  Python's int() and float() also take a sign '+', spaces,
@@ -285,6 +288,8 @@ class RowConverter:
                 if int(fields[k]) > MAX_COUNT:
                     self.fail(line, c, fields[k], "a count a sweep writes (over 2^53)")
         r = dict(zip(self.INTEGERS, integers))
+        if r["refused"] > 1:  # a flag, as `nearcap tune` reads it
+            self.fail(line, "refused", fields[self.index["refused"]], "0 or 1")
         if r["wrong"] > r["pixels_seen"]:
             raise ReportError("parse", f"{self.name}: line {line}: column 'wrong': {r['wrong']} wrong pixels of "
                                        f"{r['pixels_seen']} seen (pixels_seen)")
@@ -294,6 +299,8 @@ class RowConverter:
         for c, v in zip(FLOAT_COLUMNS, floats):
             if c in TIME_COLUMNS and not (math.isfinite(v) and v >= 0):
                 self.fail(line, c, fields[self.index[c]], "a time (finite, not negative)")
+            if c in MAGNITUDE_COLUMNS and v < 0:
+                self.fail(line, c, fields[self.index[c]], f"a magnitude (the sweep writes no negative {c})")
         r.update(zip(FLOAT_COLUMNS, floats))
         for c, k in self.text:
             r[c] = fields[k]

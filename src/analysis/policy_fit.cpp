@@ -123,11 +123,24 @@ struct Row {
       fail(ErrorKind::Parse, name, "'" + at(name) + "' is negative (the sweep writes no negative " + name + ")");
     return v;
   }
+  // A count, in decimal digits as the sweep writes it (no exponent, no
+  // point), up to 2^53 (what a double the fits sum it in holds exactly).
   std::size_t count(const char* name) const {
-    const double v = measure(name);
-    if (v != std::floor(v) || v > 9007199254740992.0)
-      fail(ErrorKind::Parse, name, "'" + at(name) + "' is not a whole number");
-    return static_cast<std::size_t>(v);
+    const std::string& s = at(name);
+    if (s == "nan" || s == "inf" || s == "-inf") fail(ErrorKind::NonFinite, name, "'" + s + "' is not a finite number");
+    if (!s.empty() && s.front() == '-' && s.size() > 1 && s.find_first_not_of("0123456789", 1) == std::string::npos)
+      fail(ErrorKind::Parse, name, "'" + s + "' is negative");
+    if (s.empty() || s.size() > 16 || s.find_first_not_of("0123456789") != std::string::npos)
+      fail(ErrorKind::Parse, name, "'" + s + "' is not a whole number as the sweep writes it");
+    const std::size_t v = std::stoull(s);
+    if (v > (std::size_t{1} << 53)) fail(ErrorKind::Parse, name, "'" + s + "' is over 2^53");
+    return v;
+  }
+  // A flag: 0 or 1.
+  bool flag(const char* name) const {
+    const std::string& s = at(name);
+    if (s != "0" && s != "1") fail(ErrorKind::Parse, name, "'" + s + "' is not 0 or 1");
+    return s == "1";
   }
 };
 
@@ -342,34 +355,41 @@ std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs,
   };
   std::map<std::pair<std::string, std::size_t>, Pair> pairs;
   const std::string capped_name(gl::to_string(capped)), fallback_name(gl::to_string(fallback));
-  for_each_row(inputs,
-               {"configuration", "light", "method", "variant", "cracks", "fallback", "refused", "light_frustum_defined",
-                "light_near_distance", "l_far_over_width", "delta_over_width", "skew", "cond_light_transform",
-                "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
-               [&](const Row& row) {
-                 const std::string& method = row.at("method");
-                 if ((method != capped_name && method != fallback_name) || row.at("variant") != variant ||
-                     row.at("refused") == "1")
-                   return;
-                 Pair& p = pairs[{row.at("configuration"), row.count("light")}];
-                 const std::size_t cracks = row.count("cracks");
-                 if (method == capped_name) {
-                   p.capped_cracks = cracks;
-                   p.capped_fell_back = !row.at("fallback").empty();
-                   ConditioningFeatures& c = p.features;
-                   c.light_frustum_defined = row.at("light_frustum_defined") == "1";
-                   c.light_near_distance = row.number("light_near_distance");
-                   c.l_far_over_width = row.magnitude("l_far_over_width");
-                   c.delta_over_width = row.magnitude("delta_over_width");
-                   c.skew = row.magnitude("skew");
-                   c.cond_light_transform = row.magnitude("cond_light_transform");
-                   c.cap_window_error_px = row.magnitude("cap_window_error_px");
-                   c.coordinate_over_size = row.magnitude("coordinate_over_size");
-                   c.l_near_over_l_far = row.magnitude("l_near_over_l_far");
-                 } else {
-                   p.fallback_cracks = cracks;
-                 }
-               });
+  for_each_row(
+      inputs,
+      {"configuration", "light", "method", "variant", "pixels_seen", "wrong", "cracks", "fallback", "refused",
+       "light_frustum_defined", "light_near_distance", "l_far_over_width", "delta_over_width", "skew",
+       "cond_light_transform", "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
+      [&](const Row& row) {
+        const std::string& method = row.at("method");
+        if ((method != capped_name && method != fallback_name) || row.at("variant") != variant || row.flag("refused"))
+          return;
+        Pair& p = pairs[{row.at("configuration"), row.count("light")}];
+        const std::size_t cracks = row.count("cracks"), wrong = row.count("wrong");
+        if (wrong > row.count("pixels_seen"))
+          row.fail(ErrorKind::Parse, "wrong",
+                   std::to_string(wrong) + " wrong pixels of " + row.at("pixels_seen") + " seen (pixels_seen)");
+        if (cracks > wrong)
+          row.fail(
+              ErrorKind::Parse, "cracks",
+              std::to_string(cracks) + " cracks of " + row.at("wrong") + " wrong pixels (a crack is a wrong pixel)");
+        if (method == capped_name) {
+          p.capped_cracks = cracks;
+          p.capped_fell_back = !row.at("fallback").empty();
+          ConditioningFeatures& c = p.features;
+          c.light_frustum_defined = row.flag("light_frustum_defined");
+          c.light_near_distance = row.number("light_near_distance");
+          c.l_far_over_width = row.magnitude("l_far_over_width");
+          c.delta_over_width = row.magnitude("delta_over_width");
+          c.skew = row.magnitude("skew");
+          c.cond_light_transform = row.magnitude("cond_light_transform");
+          c.cap_window_error_px = row.magnitude("cap_window_error_px");
+          c.coordinate_over_size = row.magnitude("coordinate_over_size");
+          c.l_near_over_l_far = row.magnitude("l_near_over_l_far");
+        } else {
+          p.fallback_cracks = cracks;
+        }
+      });
   std::vector<PolicySample> out;
   for (const auto& [key, p] : pairs) {
     if (!p.capped_cracks || !p.fallback_cracks || p.capped_fell_back) continue;
@@ -397,7 +417,7 @@ std::vector<CostSample> cost_samples_of(const std::vector<CsvInput>& inputs, gl:
                {"configuration", "method", "variant", "refused", "depth_triangles", "near_cap_triangles",
                 "volume_triangles", "depth_fragments", "near_cap_fragments", "volume_fragments", "frame_ms"},
                [&](const Row& row) {
-                 if (row.at("method") != name || row.at("variant") != variant || row.at("refused") == "1") return;
+                 if (row.at("method") != name || row.at("variant") != variant || row.flag("refused")) return;
                  CostSample s;
                  s.configuration = row.at("configuration");
                  for (const char* c : {"depth_triangles", "near_cap_triangles", "volume_triangles"})
