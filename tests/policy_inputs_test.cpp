@@ -267,6 +267,26 @@ TEST_F(PolicyInputs, TuneWithoutHeldOutPairs) {
   EXPECT_TRUE(p.cost_models.empty());
 }
 
+// --variant names the rows' variant with its choices in any order: the
+// sweep labels it with them in its own order.
+TEST_F(PolicyInputs, TuneReadsAVariantNamedInAnyOrder) {
+  std::string csv = sweep_csv();
+  const std::string label = ",switch-clamp=clamp-far,", sorted = ",\"l-near-scale=0.5,switch-clamp=clamp-far\",";
+  for (std::size_t at = csv.find(label); at != std::string::npos; at = csv.find(label, at + sorted.size()))
+    csv.replace(at, label.size(), sorted);
+  const std::string rows = write("rows.csv", csv), out = (dir_ / "p.json").string();
+  for (const char* given : {"switch-clamp=clamp-far,l-near-scale=0.5", "l-near-scale=0.5,switch-clamp=clamp-far"}) {
+    const test::CliResult r = test::run_cli("tune " + rows + " --variant " + given + " --out " + out, "tune_order");
+    EXPECT_EQ(r.exit_code, 0) << given << "\n" << r.err;
+  }
+  expect_one_line_error(test::run_cli("tune " + rows + " --variant bogus=1 --out " + out, "tune_bogus"), "usage",
+                        "--variant 'bogus=1': unknown choice 'bogus'");
+  // --features' list words stand alone, as --kinds' do.
+  for (const char* features : {"all,all", "skew,none"})
+    expect_one_line_error(test::run_cli("tune " + rows + " --features " + features + " --out " + out, "tune_all"),
+                          "usage", "stands alone");
+}
+
 // A crack in training: tune would fit a crack model; with --no-exact-zpass
 // the decision never asks it, so tune fits none unless --features asks for
 // one, which it refuses (one line, usage, no file, before reading the rows:

@@ -88,6 +88,9 @@ void refuse_choices_the_rows_lack(const TuneOptions& o) {
 
 void run(const TuneOptions& given) {
   TuneOptions o = given;
+  // The variant as the sweep labels its rows: its choices in the sweep's
+  // order, whatever order --variant gives them in.
+  if (o.variant != "default") o.variant = variant_label(with_variant(EmulationOptions{}, o.variant));
   // With --no-exact-zpass the decision reads no crack model: none is fitted
   // unless --features asks for one (refused below).
   if (o.no_exact_zpass && !o.features_given) o.features = "none";
@@ -103,6 +106,8 @@ void run(const TuneOptions& given) {
   if (!fallback || (*fallback != gl::ShadowMethod::ZFail && *fallback != gl::ShadowMethod::Preload))
     throw Error(ErrorKind::Usage, "--fallback '" + o.fallback + "' must be zfail or preload");
   const bool crack_model = o.features != "none";
+  if (o.features != "all" && o.features != "none")
+    for (const std::string& name : comma_separated(o.features)) refuse_list_word("--features", name, {"all", "none"});
   if (o.no_exact_zpass && o.light_projection != gl::LightProjection::ClippedSides)
     throw Error(ErrorKind::Usage,
                 "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
