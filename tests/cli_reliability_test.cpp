@@ -295,7 +295,8 @@ TEST_F(Reliability, ADataDirectoryWithAMissingOrBrokenMeshIsAnError) {
   fs::copy_file(fs::path(NEARCAP_SOURCE_DIR) / "data/meshes/knot1.off", dir_ / "data/meshes/knot1.off");
   write_text("data/meshes/box.off", "garbage\n");
   const test::CliResult broken = sampling("sample --index 0");
-  expect_one_line_error(broken, "box.off does not load", "a broken box.off");
+  expect_one_line_error(broken, "a mesh of the sampler does not load: " + path("data/meshes/box.off"),
+                        "a broken box.off");
   EXPECT_EQ(broken.err.rfind("nearcap: error (parse): NEARCAP_DATA_DIR=", 0), 0u) << broken.err;
 }
 
@@ -314,6 +315,13 @@ TEST_F(Reliability, APlotsPythonIsCheckedBeforeTheMeasuring) {
                     "reliability", env);
   expect_one_line_error(render, "render_bench.py: the bench plot's script exited with status 1", "render");
   EXPECT_FALSE(fs::exists(path("rendered")));
+  // No temporary directory for the script's log: its messages are kept in
+  // memory, and the line quotes the last one.
+  const test::CliResult no_tmp = test::run_cli(
+      "evaluate --path data/paths/near_plane_sweep.json --repeats 1 --width 8 --height 6 --out " + path("evaluated"),
+      "reliability", "TMPDIR=/proc NEARCAP_PYTHON=/bin/ls " + std::string(test::kHangBound));
+  expect_one_line_error(no_tmp, "exited with status 2 (NEARCAP_PYTHON=/bin/ls) without an error line; its last line: ",
+                        "no temporary directory");
 }
 
 // fit-l-near reads the light frustum's options alone: the others, and the

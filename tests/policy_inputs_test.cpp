@@ -281,6 +281,9 @@ TEST_F(PolicyInputs, TuneReadsAVariantNamedInAnyOrder) {
   }
   expect_one_line_error(test::run_cli("tune " + rows + " --variant bogus=1 --out " + out, "tune_bogus"), "usage",
                         "--variant 'bogus=1': unknown choice 'bogus'");
+  expect_one_line_error(
+      test::run_cli("tune " + rows + " --variant l-near-scale=0.5,l-near-scale=1 --out " + out, "tune_twice"), "usage",
+      "l-near-scale is given twice");
   // --features' list words stand alone, as --kinds' do.
   for (const char* features : {"all,all", "skew,none"})
     expect_one_line_error(test::run_cli("tune " + rows + " --features " + features + " --out " + out, "tune_all"),
@@ -599,6 +602,12 @@ TEST(PolicyCsv, CountsFlagsAndCracksAsTheSweepWritesThem) {
           "line 4: column 'wrong': 19201 wrong pixels of 19200 seen");
   refused(edited(",19200,,0,1,", ",19200,,0,yes,"), "line 4: column 'light_frustum_defined': 'yes' is not 0 or 1");
   refused(edited(",19200,,0,1,", ",19200,,2,1,"), "line 4: column 'refused': '2' is not 0 or 1");
+  refused(edited(cracks, ",switch-clamp=clamp-far,0,99999999999999999,19200,"),
+          "line 4: column 'wrong': '99999999999999999' is over 2^53");
+  // Rows the fit does not take are read alike.
+  std::string other = row("sample:9:0", "preload", 0, "1");
+  other.replace(other.find(",19200,,0,1,"), 12, ",19200,,2,1,");
+  refused(csv + other + "\n", "line 18: column 'refused': '2' is not 0 or 1");
 }
 
 TEST(PolicyCsv, CountsAreWholeNumbers) {

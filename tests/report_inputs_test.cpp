@@ -194,12 +194,26 @@ TEST_F(ReportInputs, AScriptThatFailsWithoutAnErrorLineIsOneLine) {
 TEST_F(ReportInputs, AScriptThatWritesNoPageIsAnError) {
   const fs::path out = path("nothing_written");
   test::CliResult r = test::run_cli("report " + rows() + " --out " + out.string(), "true", "NEARCAP_PYTHON=/bin/true");
-  expect_one_line(r, "exited with status 0 without writing " + (out / "index.html").string(), "/bin/true");
+  expect_one_line(r, "exited with status 0 (NEARCAP_PYTHON=/bin/true) without writing " + (out / "index.html").string(),
+                  "/bin/true");
   fs::create_directories(out);
   std::ofstream(out / "index.html") << "an earlier report";
   r = test::run_cli("report " + rows() + " --out " + out.string(), "true_stale", "NEARCAP_PYTHON=/bin/true");
-  expect_one_line(r, "exited with status 0 without writing", "/bin/true over an earlier report");
+  expect_one_line(r, "without writing", "/bin/true over an earlier report");
   EXPECT_EQ(test::slurp(out / "index.html"), "an earlier report");
+  // A Python that warns and writes nothing: one line, naming the log that holds the warning.
+  const fs::path warns = path("warns.sh");
+  std::ofstream(warns) << "#!/bin/sh\necho 'UserWarning: something odd' >&2\nexit 0\n";
+  fs::permissions(warns, fs::perms::owner_all);
+  r = test::run_cli("report " + rows() + " --out " + path("warned").string(), "warns",
+                    "NEARCAP_PYTHON=" + warns.string());
+  expect_one_line(r, "exited with status 0 (NEARCAP_PYTHON=" + warns.string() + ") without writing ", "a warning");
+  const std::string marker = "its output is in ";
+  ASSERT_NE(r.err.find(marker), std::string::npos) << r.err;
+  const fs::path log =
+      r.err.substr(r.err.find(marker) + marker.size(), r.err.size() - r.err.find(marker) - marker.size() - 1);
+  EXPECT_NE(test::slurp(log).find("something odd"), std::string::npos);
+  fs::remove(log);
   r = test::run_cli("report " + rows() + " --out " + path("device_script").string(), "device_script",
                     "NEARCAP_REPORT_SCRIPT=/dev/null");
   expect_one_line(r, "/dev/null: the report script is not a regular file", "/dev/null");

@@ -188,6 +188,7 @@ TEST_F(Report, ACountNoSweepWritesIsRefused) {
       {"false_negatives", "-2", "line 2: column 'false_negatives': '-2' is not a count (it is negative)"},
       {"occluders", "1.5", "line 2: column 'occluders': '1.5' is not an integer"},
       {"refused", "2", "line 2: column 'refused': '2' is not 0 or 1"},
+      {"wrong", "-0", "line 2: column 'wrong': '-0' is not a count or an index"},
       {"skew", "-1", "line 2: column 'skew': '-1' is not a magnitude (the sweep writes no negative skew)"},
       // Spellings the sweep never writes, refused as `nearcap tune` refuses them.
       {"occluders", "+1", "line 2: column 'occluders': '+1' is not an integer"},

@@ -266,7 +266,8 @@ class RowConverter:
 
     def row(self, fields, line):
         """The row's columns; `fields` has the header's field count (parsed_rows checks it)."""
-        if not INTEGERS_AS_WRITTEN.match(",".join(fields[k] for k in self.integers)):
+        joined = ",".join(fields[k] for k in self.integers)
+        if not INTEGERS_AS_WRITTEN.match(joined):
             for c, k in zip(self.INTEGERS, self.integers):
                 if not INTEGERS_AS_WRITTEN.match(fields[k]):
                     self.fail(line, c, fields[k], "an integer")
@@ -279,9 +280,9 @@ class RowConverter:
         for c, k, v in zip(FLOAT_COLUMNS, self.floats, floats):
             if v == 0 or math.isinf(v):
                 self.check_in_range(line, c, fields[k], v)
-        if integers and min(integers) < 0:  # every integer column is a count or an index
+        if "-" in joined:  # every integer column is a count or an index (and the sweep writes no -0)
             for c, k in zip(self.INTEGERS, self.integers):
-                if int(fields[k]) < 0:
+                if fields[k].startswith("-"):
                     self.fail(line, c, fields[k], "a count or an index (it is negative)")
         if integers and max(integers) > MAX_COUNT:
             for c, k in zip(self.INTEGERS, self.integers):

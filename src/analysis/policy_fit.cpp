@@ -130,11 +130,12 @@ struct Row {
     if (s == "nan" || s == "inf" || s == "-inf") fail(ErrorKind::NonFinite, name, "'" + s + "' is not a finite number");
     if (!s.empty() && s.front() == '-' && s.size() > 1 && s.find_first_not_of("0123456789", 1) == std::string::npos)
       fail(ErrorKind::Parse, name, "'" + s + "' is negative");
-    if (s.empty() || s.size() > 16 || s.find_first_not_of("0123456789") != std::string::npos)
+    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos)
       fail(ErrorKind::Parse, name, "'" + s + "' is not a whole number as the sweep writes it");
-    const std::size_t v = std::stoull(s);
-    if (v > (std::size_t{1} << 53)) fail(ErrorKind::Parse, name, "'" + s + "' is over 2^53");
-    return v;
+    const std::size_t digits = s.size() - std::min(s.find_first_not_of('0'), s.size() - 1);
+    if (digits > 16 || std::stoull(s) > (std::size_t{1} << 53))
+      fail(ErrorKind::Parse, name, "'" + s + "' is over 2^53 (not a count a sweep writes)");
+    return std::stoull(s);
   }
   // A flag: 0 or 1.
   bool flag(const char* name) const {
@@ -361,10 +362,8 @@ std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs,
        "light_frustum_defined", "light_near_distance", "l_far_over_width", "delta_over_width", "skew",
        "cond_light_transform", "cap_window_error_px", "coordinate_over_size", "l_near_over_l_far"},
       [&](const Row& row) {
-        const std::string& method = row.at("method");
-        if ((method != capped_name && method != fallback_name) || row.at("variant") != variant || row.flag("refused"))
-          return;
-        Pair& p = pairs[{row.at("configuration"), row.count("light")}];
+        // Every row's flag and counts, as the report reads them, whichever rows the fit takes.
+        const bool refused = row.flag("refused");
         const std::size_t cracks = row.count("cracks"), wrong = row.count("wrong");
         if (wrong > row.count("pixels_seen"))
           row.fail(ErrorKind::Parse, "wrong",
@@ -373,6 +372,9 @@ std::vector<PolicySample> policy_samples_of(const std::vector<CsvInput>& inputs,
           row.fail(
               ErrorKind::Parse, "cracks",
               std::to_string(cracks) + " cracks of " + row.at("wrong") + " wrong pixels (a crack is a wrong pixel)");
+        const std::string& method = row.at("method");
+        if ((method != capped_name && method != fallback_name) || row.at("variant") != variant || refused) return;
+        Pair& p = pairs[{row.at("configuration"), row.count("light")}];
         if (method == capped_name) {
           p.capped_cracks = cracks;
           p.capped_fell_back = !row.at("fallback").empty();
@@ -417,7 +419,8 @@ std::vector<CostSample> cost_samples_of(const std::vector<CsvInput>& inputs, gl:
                {"configuration", "method", "variant", "refused", "depth_triangles", "near_cap_triangles",
                 "volume_triangles", "depth_fragments", "near_cap_fragments", "volume_fragments", "frame_ms"},
                [&](const Row& row) {
-                 if (row.at("method") != name || row.at("variant") != variant || row.flag("refused")) return;
+                 const bool refused = row.flag("refused");
+                 if (row.at("method") != name || row.at("variant") != variant || refused) return;
                  CostSample s;
                  s.configuration = row.at("configuration");
                  for (const char* c : {"depth_triangles", "near_cap_triangles", "volume_triangles"})

@@ -485,6 +485,7 @@ void run(CalibrateOptions o) {
       "and %zu cpu observations in %s\n",
       context.renderer().c_str(), set.count(), rejected.count(), drawn, refused,
       observations.passes.size() + observations.eye_count.size(), observations.cpu.size(), o.out.c_str());
+  if (rejected.count() > 0) std::printf("calibrate: %s\n", rejected.sentence().c_str());
   print_noise_floor(observations);
   if (policy) {
     analysis::ProfileFitReport report;
@@ -526,7 +527,9 @@ void run(CalibrateOptions o) {
       throw Error(ErrorKind::Usage, "no training observation of " + unobserved +
                                         ": the device profile would price it at 0 ms, so no policy is written (the "
                                         "observations are in " +
-                                        o.out + "); calibrate on more configurations (--samples, --path)");
+                                        o.out +
+                                        "); calibrate on configurations that draw it (--samples, --kinds, "
+                                        "--path)");
     // What the profile was measured on, beside how the policy was tuned.
     nlohmann::json provenance = nlohmann::json::parse(policy->provenance_json);
     nlohmann::json held_out = nlohmann::json::object(), cpu_held_out = nlohmann::json::object();

@@ -299,15 +299,12 @@ void check_light_index(const Scene& scene, std::size_t light);
 
 // Runs `python script args...` with the Python that has matplotlib
 // (NEARCAP_PYTHON, else /usr/bin/python3, Debian's, else python3 on the
-// PATH) and returns its exit status (what the script printed stays on
-// stdout and stderr); `what` names the script in the error when Python
-// cannot be started (Error(Io), naming the packages to install).
-int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what);
-
-// As run_python_script, with the script's stderr written to the file
-// `stderr_log` (created or truncated) instead of the terminal, and waitpid's
-// raw status returned (the caller tells an exit from a signal).
+// PATH), its stderr written to the open file `stderr_fd`, and returns
+// waitpid's raw status (the caller tells an exit from a signal); `what`
+// names the script in the error when Python cannot be started (Error(Io),
+// naming the packages to install).  output_script.hpp runs the shipped
+// scripts through it.
 int run_python_script_logged(const std::string& script, const std::vector<std::string>& args, const std::string& what,
-                             const std::string& stderr_log);
+                             int stderr_fd);
 
 }  // namespace nearcap::cli

@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "cli_commands.hpp"
+#include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/io/utf8_text.hpp"
@@ -290,9 +291,11 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& options) {
 void add_emulation_options(CLI::App& cmd, EmulationOptions& options, const std::vector<std::string>& names) {
   // The flags after the valued options.
   std::vector<std::pair<EmulationOption, bool*>> flags;
+  std::size_t added = 0;
   visit_emulation_options(options, [&](const EmulationOption& e, auto& field) {
     using T = std::decay_t<decltype(field)>;
     if (std::find(names.begin(), names.end(), e.name) == names.end()) return;
+    ++added;
     const std::string flag = std::string("--") + e.name;
     if constexpr (kIsChoice<T>) {
       add_choice_option(cmd, flag, field, std::string(e.lead) + ": " + values_described<T>() + e.tail);
@@ -305,6 +308,7 @@ void add_emulation_options(CLI::App& cmd, EmulationOptions& options, const std::
     }
   });
   for (auto& [e, field] : flags) cmd.add_flag(std::string("--") + e.name, *field, e.lead);
+  NEARCAP_CHECK(added == names.size());  // every name is an emulation option's
 }
 
 std::vector<std::pair<std::string, std::string>> emulation_option_values(const EmulationOptions& options) {
@@ -334,11 +338,14 @@ EmulationOptions with_variant(const EmulationOptions& base, const std::string& s
   std::stringstream parts(spec);
   std::string part;
   bool any = false;
+  std::set<std::string> given;
   while (std::getline(parts, part, ',')) {
     const std::size_t eq = part.find('=');
     if (eq == std::string::npos || eq == 0)
       throw Error(ErrorKind::Usage, "--variant '" + spec + "': expected NAME=VALUE, got '" + part + "'");
     const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
+    if (!given.insert(name).second)
+      throw Error(ErrorKind::Usage, "--variant '" + spec + "': " + name + " is given twice");
     any = true;
     bool known = false;
     std::string valued, flags;  // the names, for the message: the flags last, as in the help
@@ -456,7 +463,9 @@ void check_camera_path_names(const std::vector<std::string>& paths) {
 void RejectedConfigurations::add(const std::string& id, const Error& e) {
   if (count_++ == 0) {
     first_id_ = id;
-    first_reason_ = e.what();
+    // The reading's error names the scene by its id already.
+    const std::string what = e.what(), named = id + ": ";
+    first_reason_ = what.rfind(named, 0) == 0 ? what.substr(named.size()) : what;
     first_kind_ = e.kind();
   }
 }
@@ -470,9 +479,10 @@ std::string RejectedConfigurations::sentence() const {
 void RejectedConfigurations::refuse_all_rejected(std::size_t total) const {
   if (total > 0 && count_ == total)
     throw Error(first_kind_, "nothing measured: " +
-                                 (total > 1 ? "every one of the " + std::to_string(total) + " configurations was"
-                                            : std::string("the configuration was")) +
-                                 " rejected (it does not load; the first, " + first_id_ + ": " + first_reason_ + ")");
+                                 (total > 1 ? "none of the " + std::to_string(total) +
+                                                  " configurations loads (the first, " + first_id_
+                                            : "the configuration " + first_id_ + " does not load (") +
+                                 ": " + first_reason_ + ")");
 }
 
 void check_sampler_meshes(const analysis::SamplerSpec& spec) {
@@ -490,8 +500,8 @@ void check_sampler_meshes(const analysis::SamplerSpec& spec) {
     try {
       meshes.get(file, true);
     } catch (const Error& e) {
-      throw Error(e.kind(), "NEARCAP_DATA_DIR=" + std::string(data) + ": the sampler's mesh " + file +
-                                " does not load: " + e.what());
+      throw Error(e.kind(),
+                  "NEARCAP_DATA_DIR=" + std::string(data) + ": a mesh of the sampler does not load: " + e.what());
     }
   }
 }
@@ -696,11 +706,11 @@ class ChildInterrupts {
   bool started_ = false, stopped_ = false;
 };
 
-// Spawns Python on the script; its stderr goes to `stderr_log` when not empty.
+// Spawns Python on the script; its stderr goes to `stderr_fd` when not -1.
 // Returns waitpid's raw status; throws Interrupted when this process was
 // signalled while Python ran (once Python has ended).
 int spawn_python(const std::string& script, const std::vector<std::string>& args, const std::string& what,
-                 const std::string& stderr_log) {
+                 int stderr_fd) {
   const char* env = std::getenv("NEARCAP_PYTHON");
   const std::string py = env && *env ? env : (::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
   std::vector<std::string> all{py, script};
@@ -710,8 +720,7 @@ int spawn_python(const std::string& script, const std::vector<std::string>& args
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   ::posix_spawn_file_actions_init(&actions);
-  if (!stderr_log.empty())
-    ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  if (stderr_fd >= 0) ::posix_spawn_file_actions_adddup2(&actions, stderr_fd, STDERR_FILENO);
   int status = 0;
   ChildInterrupts interrupts;
   posix_spawnattr_t attributes;
@@ -741,14 +750,9 @@ int spawn_python(const std::string& script, const std::vector<std::string>& args
 
 }  // namespace
 
-int run_python_script(const std::string& script, const std::vector<std::string>& args, const std::string& what) {
-  const int status = spawn_python(script, args, what, "");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
-}
-
 int run_python_script_logged(const std::string& script, const std::vector<std::string>& args, const std::string& what,
-                             const std::string& stderr_log) {
-  return spawn_python(script, args, what, stderr_log);
+                             int stderr_fd) {
+  return spawn_python(script, args, what, stderr_fd);
 }
 
 }  // namespace nearcap::cli

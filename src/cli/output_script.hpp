@@ -16,13 +16,14 @@ namespace nearcap::cli {
 void check_script_file(const std::string& script, const std::string& what);
 
 // Runs `python script args...` (run_python_script_logged's Python), its
-// stderr in a log file of the temporary directory (on the terminal when
-// none can be made).  Exit 0: what the script wrote on stderr (its
-// warnings) is forwarded, and `output` must have been written by this run
-// (Error(Io) when it is missing or untouched).  Exit 2 with a last line
+// stderr in a log file of the temporary directory (an anonymous file in
+// memory where that takes none).  Exit 0: `output` must have been written
+// by this run (Error(Io) naming it otherwise), then what the script wrote on
+// stderr (its warnings) is forwarded.  Exit 2 with a last line
 // "nearcap: error (KIND): ...": that line on stderr (with the log's name
 // when the script wrote more), then ExitCode{2}.  Anything else:
-// Error(Io) naming the script, its status or signal, and the log.
+// Error(Io) naming the script, its status or signal, and the log (or, in
+// memory, its last line).
 void run_output_script(const std::string& script, const std::vector<std::string>& args, const std::string& what,
                        const std::string& output);
 

@@ -369,7 +369,11 @@ void run_lit(const RenderOptions& o) {
   const bool plot =
       o.bench && !o.path.empty() &&
       std::find(methods.methods.begin(), methods.methods.end(), gl::ShadowMethod::ZPass) != methods.methods.end();
-  if (plot) check_output_script(plot_script, plot_what);
+  std::optional<SettingsFile> plot_table;  // the plot's settings table, made before the frames too
+  if (plot) {
+    check_output_script(plot_script, plot_what);
+    plot_table.emplace();
+  }
   const render::EglContext context;
   std::fputs(policy_profile_note(methods, context.renderer()).c_str(), stderr);
   const std::filesystem::path dir(o.out);
@@ -607,12 +611,11 @@ void run_lit(const RenderOptions& o) {
       std::printf("bench: no bench.png (its times are relative to Z-pass's: add zpass to --method)\n");
     if (plot) {
       const std::string png = (dir / "bench.png").string();
-      const SettingsFile table;
       run_output_script(plot_script,
                         {(dir / "bench.csv").string(), png,
                          std::filesystem::path(o.path).stem().string() + " (" + context.renderer() + ", " +
                              stencil_sides + " stencil)",
-                         "--settings", table.path()},
+                         "--settings", plot_table->path()},
                         plot_what, png);
       std::printf("bench: %s (frame time relative to Z-pass, per frame)\n", png.c_str());
     }
