@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -210,6 +211,18 @@ TEST(CostDecision, APredictedCrackRemovesThePaperCap) {
   SwitchPolicy clipped = cost_policy(p);
   clipped.light_projection = gl::LightProjection::ClippedSides;
   d = analysis::decide(clipped, cs, 0, {});
+  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reason(0);
+  // A model that gives no probability (NaN) predicts no safety: no paper cap.
+  SwitchPolicy undefined = cost_policy(p);
+  undefined.crack_model.bias = std::numeric_limits<double>::quiet_NaN();
+  d = analysis::decide(undefined, cs, 0, {});
+  EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("crack predicted (P = "), std::string::npos) << d.reason(0);
+  EXPECT_NE(d.reason(0).find("nan)"), std::string::npos) << d.reason(0);
+  // A probability at the threshold is a crack predicted (safe is below it).
+  SwitchPolicy at_threshold = cost_policy(p);
+  at_threshold.crack_model.bias = 0;  // P = 0.5 with no features
+  d = analysis::decide(at_threshold, cs, 0, {});
   EXPECT_FALSE(paper_cap_chosen(d, 0)) << d.reason(0);
 }
 

@@ -113,8 +113,11 @@ TEST(KeptChoices, AnotherSceneSetupIsPriced) {
   EXPECT_TRUE(kept_after(moved_camera, policy));
   EXPECT_FALSE(kept_after(f, other_policy));
   Frame g = f;
-  g.scene.lights[0].position.x += 1e-9;
-  EXPECT_FALSE(kept_after(g, policy)) << "the light moved";
+  for (int axis = 0; axis < 3; ++axis) {
+    g = f;
+    g.scene.lights[0].position[axis] += 1e-9;
+    EXPECT_FALSE(kept_after(g, policy)) << "the light moved along axis " << axis;
+  }
   g = f;
   g.scene.objects[0].object_to_world.rows[1][3] += 1e-9;
   EXPECT_FALSE(kept_after(g, policy)) << "an object moved";

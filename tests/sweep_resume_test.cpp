@@ -465,6 +465,10 @@ TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
   std::vector<std::string> stray_quote = lines, overlong = lines;
   stray_quote[a] = '"' + stray_quote[a];  // a quoted field that the sweep, which writes no line breaks, never opens
   overlong[a] += std::string((std::size_t{1} << 20) + 1, ',');
+  std::vector<std::string> other_replay = lines;  // the command that replays the configuration, edited
+  const std::size_t replay_at = other_replay[a].find(" --width ");
+  ASSERT_NE(replay_at, std::string::npos) << other_replay[a];
+  other_replay[a].insert(replay_at, " --allow-bunny");
   std::vector<std::string> missing_first = lines, missing_last = lines, repeated = lines;
   missing_first.erase(missing_first.begin() + static_cast<std::ptrdiff_t>(a));
   missing_last.erase(missing_last.begin() + static_cast<std::ptrdiff_t>(b - 1));
@@ -488,6 +492,9 @@ TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
        "line " + std::to_string(a + 1) + ": a quoted field is not closed on its line"},
       {"a line longer than 1 MB mid-file", joined(overlong, 0, lines.size()),
        "line " + std::to_string(a + 1) + ": longer than 1 MB"},
+      {"another replay command", joined(other_replay, 0, lines.size()),
+       "line " + std::to_string(a + 1) + ": configuration '" + first_cell(lines[a]) +
+           "' has other source, kind, detail or replay columns"},
   };
   for (const Case& c : cases) {
     for (const std::string repair : {"", " --repair"}) {
@@ -497,6 +504,24 @@ TEST_F(SweepFile, ADamagedRowAnywhereIsAnErrorNamingItsLine) {
       EXPECT_EQ(test::slurp(csv), c.text) << c.what << repair << ": the file was changed";
     }
   }
+}
+
+// A CSV with more configurations than its sidecar's options make (the rows
+// of a longer sweep beside a shorter one's sidecar) is refused at the first
+// extra configuration, unchanged.
+TEST_F(SweepFile, ConfigurationsPastTheOptionsAreRefused) {
+  whole("six.csv");
+  const std::string seven = path("seven.csv");
+  ASSERT_EQ(
+      test::run_cli("sweep --samples 7 --seed 5 --width 16 --height 12 --methods zpass,zfail --out '" + seven + "'",
+                    "sweep_file_seven")
+          .exit_code,
+      0);
+  fs::copy_file(path("six.csv.meta.json"), seven + ".meta.json", fs::copy_options::overwrite_existing);
+  const std::string text = test::slurp(seven);
+  const test::CliResult r = test::run_cli(args(seven, "--resume"), "sweep_file_past");
+  expect_one_line_error(r, "schema", "is past the 6 configurations these options make", "a seventh configuration");
+  EXPECT_EQ(test::slurp(seven), text);
 }
 
 // A kill between two writes leaves whole configurations: resumed as it is.

@@ -34,6 +34,19 @@ std::size_t seen_differences(const gl::ShadowFrame& a, const gl::ShadowFrame& b)
   return n;
 }
 
+// `base` with every object, light and the camera moved by `shift` (the
+// frame unchanged but for float32's rounding far from the origin).
+Scene moved_by(const Scene& base, const Vec3d& shift) {
+  Scene scene = base;
+  for (SceneObject& o : scene.objects)
+    for (int r = 0; r < 3; ++r) o.object_to_world.rows[r][3] += shift[r];
+  for (Light& l : scene.lights) l.position = l.position + shift;
+  Affine3d& view = scene.camera.view;  // x -> L (x - shift) + c
+  for (int r = 0; r < 3; ++r)
+    view.rows[r][3] -= view.rows[r][0] * shift.x + view.rows[r][1] * shift.y + view.rows[r][2] * shift.z;
+  return scene;
+}
+
 TEST(VolumeBounds, HoldEveryPixelTheVolumeChanges) {
   // The default scene: one occluder over a receiver.  Its bounds against
   // the seen pixels where Z-fail's stencil (right there) is not 0.
@@ -92,14 +105,8 @@ TEST(VolumeBounds, HoldTheVolumeOfALightAndOccluderMovedByTheMargin) {
   };
   for (const double offset : {0x1p12, 0x1p16}) {
     SCOPED_TRACE("offset " + std::to_string(offset));
-    Scene scene = base;
-    const Vec3d shift{offset, 0.5 * offset, -offset};
-    for (SceneObject& o : scene.objects)
-      for (int r = 0; r < 3; ++r) o.object_to_world.rows[r][3] += shift[r];
-    for (Light& l : scene.lights) l.position = l.position + shift;
-    Affine3d& view = scene.camera.view;  // x -> L (x - shift) + c
-    for (int r = 0; r < 3; ++r)
-      view.rows[r][3] -= view.rows[r][0] * shift.x + view.rows[r][1] * shift.y + view.rows[r][2] * shift.z;
+    const Scene scene = moved_by(base, {offset, 0.5 * offset, -offset});
+    const Affine3d& view = scene.camera.view;
     const gl::Mat4f projection = gl::infinite_frustum_matrix(scene.camera.frustum, gl::InfiniteFar::Exact);
     const Vec3d light = scene.lights[0].position;
     std::size_t occluder = 0;
@@ -289,14 +296,7 @@ TEST(VolumeCulling, FarFromTheOrigin) {
   for (const char* name : {"default.json", "near_split.json", "eye_in_shadow.json"}) {
     const Scene base = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
     for (const double offset : {0x1p10, 0x1p17, 0x1p20, 0x1p22, 0x1p24}) {
-      Scene scene = base;
-      const Vec3d t{offset, 0.5 * offset, -offset};
-      for (SceneObject& o : scene.objects)
-        for (int r = 0; r < 3; ++r) o.object_to_world.rows[r][3] += t[r];
-      for (Light& l : scene.lights) l.position = l.position + t;
-      Affine3d& view = scene.camera.view;  // x -> L (x - t) + c
-      for (int r = 0; r < 3; ++r)
-        view.rows[r][3] -= view.rows[r][0] * t.x + view.rows[r][1] * t.y + view.rows[r][2] * t.z;
+      Scene scene = moved_by(base, {offset, 0.5 * offset, -offset});
       scene.camera.width = 160;
       scene.camera.height = 120;
       for (gl::ShadowMethod m : gl::kAllShadowMethods) {
