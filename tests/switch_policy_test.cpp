@@ -433,6 +433,31 @@ TEST(SwitchPolicy, TheShippedPolicyLoads) {
 // The light in the near plane: no light frustum, so the paper's ZP+ falls
 // back to Z-fail; with the clipped-sides near-cap the capped method stays,
 // and the frame's settings carry the formulation.
+// A light a hair beyond the near plane: the exact pyramid is defined, the
+// float32 light frustum is not (the light's depth rounds onto the plane).
+// The clipped-sides cap needs no light frustum: ZP+ stays, no fallback.
+TEST(SwitchPolicy, TheClippedSidesCapNeedsNoFloatLightFrustumEither) {
+  Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json");
+  const Affine3d& view = s.camera.view;
+  const Vec3d forward{-view.rows[2][0], -view.rows[2][1], -view.rows[2][2]};  // camera -z in world space
+  s.lights[0].position = s.lights[0].position + (1e-10 * s.camera.frustum.near) * forward;
+  const CameraSpaceScene cs(s);
+  SwitchPolicy p = analysis::parse_policy(valid_policy(), "p.json");
+  p.light_projection = gl::LightProjection::ClippedSides;
+  p.crack_model = {};
+  p.crack_model.bias = -30;
+  p.crack_model.threshold = 1;
+  ASSERT_FALSE(gl::light_frustum(s, 0, {}).defined) << "the float light frustum should be undefined here";
+  const analysis::PolicyDecision d = analysis::decide(p, cs, 0, {});
+  std::size_t capped = 0;
+  for (std::size_t o = 0; o < s.objects.size(); ++o)
+    if (s.objects[o].occluder) {
+      EXPECT_NE(d.object_methods[o], p.fallback_method) << d.reason(o);
+      capped += d.object_methods[o] == gl::ShadowMethod::ZPPlusCorrected;
+    }
+  EXPECT_GT(capped, 0u);
+}
+
 TEST(SwitchPolicy, TheClippedSidesCapNeedsNoLightFrustum) {
   const Scene s = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json");
   const CameraSpaceScene cs(s);
