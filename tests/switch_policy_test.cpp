@@ -285,6 +285,13 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
   d = analysis::decide(p, cs, 0, {});
   EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reason(0);
   EXPECT_NE(d.reason(0).find("crack predicted"), std::string::npos) << d.reason(0);
+  // A probability at the threshold predicts a crack (no crack is below it).
+  p.crack_model = {};
+  p.crack_model.bias = 0;  // P = 0.5 with no features
+  p.crack_model.threshold = 0.5;
+  d = analysis::decide(p, cs, 0, {});
+  EXPECT_EQ(d.crack_probability, 0.5);
+  EXPECT_EQ(d.object_methods[0], gl::ShadowMethod::ZFail) << d.reason(0);
 }
 
 // Whether decide() reads a policy's models, asked of decide() itself: the
