@@ -109,6 +109,12 @@ bool clipped_cap_chosen(const analysis::PolicyDecision& d, std::size_t o) {
 // The eye in the box's shadow: its near-cap is not empty.
 Scene eye_in_shadow() { return box_scene({0.1, -1.5, 0.2}, {0, 8, 0}); }
 
+// Whether the float light-pyramid cull certifies the first occluder's
+// near-cap empty (the decision then needs no exact test for it).
+bool cull_certifies_empty_near_cap(const Scene& s) {
+  return analysis::occluder_work_inputs(s, 0, 0).certainly_misses_light_pyramid;
+}
+
 TEST(CostDecision, ExpensiveNearCapPassGivesZFailExpensiveCapsGiveZPPlus) {
   const Scene s = eye_in_shadow();
   const CameraSpaceScene cs(s);
@@ -256,6 +262,56 @@ TEST(CostDecision, ExactTestTooCostlyMeansNoZPass) {
   SwitchPolicy no_test = cost_policy(flat_profile());
   no_test.exact_zpass = false;
   EXPECT_NE(analysis::decide(no_test, cs, 0, {}).object_methods[0], ShadowMethod::ZPass);
+}
+
+// Equal prices draw the simpler frame: Z-pass where it is right (its own
+// tie rule), the first frame option (no near-cap: Z-fail) among options of
+// equal price, the exact test not run where it saves nothing, and AtomicZP
+// not weighed where it is no cheaper than Z-fail.  Each tie is exact: every
+// price is 0, or the options' prices are equal to the bit.
+TEST(CostDecision, EqualPricesDrawTheSimplerFrame) {
+  DeviceProfile free_profile;
+  free_profile.origin = "hand";
+  free_profile.eye_count = analysis::PassCost{};  // AtomicZP priced, at 0
+
+  // The eye in the shadow: no Z-pass; every candidate and option at 0 ms.
+  const Scene shadowed = eye_in_shadow();
+  const CameraSpaceScene in_shadow(shadowed);
+  analysis::PolicyDecision d = analysis::decide(cost_policy(free_profile), in_shadow, 0, {});
+  ASSERT_TRUE(d.prices.has_value());
+  const analysis::OccluderPrices& oc = d.prices->occluders.at(0);
+  ASSERT_EQ(oc.atomiczp_ms, oc.zfail_ms);
+  EXPECT_EQ(oc.atomiczp_why, "not cheaper than zfail") << d.reason(0);
+  EXPECT_FALSE(oc.atomiczp_ok);
+  ASSERT_FALSE(cull_certifies_empty_near_cap(shadowed)) << "the exact test must be weighed";
+  EXPECT_EQ(oc.zpass_verdict, analysis::ZPassVerdict::TestNotRun) << "a test that saves nothing is not run";
+  EXPECT_EQ(d.predicted_work.exact_test.runs, 0);
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
+  EXPECT_EQ(d.predicted_ms, 0);
+
+  // Far from the shadow, where the cull is certain: Z-pass at the tie.
+  const Scene clear = box_scene({6, 1, 6}, {-6, 3, 6});
+  ASSERT_TRUE(cull_certifies_empty_near_cap(clear));
+  d = analysis::decide(cost_policy(free_profile), CameraSpaceScene(clear), 0, {});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPass) << d.reason(0);
+
+  // Options of equal price that draw different methods: Z-fail's light cap
+  // priced per triangle, the near-cap pass's intercept at exactly that
+  // price, everything else free.  No near-cap (Z-fail), the clipped-sides
+  // cap and the paper cap then cost the same: the first option is drawn.
+  DeviceProfile tied;
+  tied.origin = "hand";
+  tied.passes[k(PassKind::LightCap)].ms_per_mtriangle = 1000;
+  d = analysis::decide(cost_policy(tied), in_shadow, 0, {});
+  const double zfail_ms = d.prices->occluders.at(0).zfail_ms;
+  ASSERT_GT(zfail_ms, 0);
+  ASSERT_EQ(d.prices->occluders.at(0).clipped_ms, 0);
+  tied.passes[k(PassKind::NearCap)].intercept_ms = zfail_ms;
+  d = analysis::decide(cost_policy(tied), in_shadow, 0, {});
+  ASSERT_EQ(d.predicted_options.size(), 3u);
+  for (const auto& [name, ms] : d.predicted_options) ASSERT_EQ(ms, zfail_ms) << name;
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
+  EXPECT_EQ(d.predicted_ms, zfail_ms);
 }
 
 // The shared passes are paid once per frame, whatever the occluders choose.
