@@ -63,6 +63,9 @@ TEST_F(CalibrateCommand, ObservesEveryPassKindEachMethodDrawsWithTheEmulationsCo
     GTEST_SKIP() << "no headless OpenGL here: " << r.err;
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("noise floor"), std::string::npos) << r.out;
+  // Off a terminal the progress comes as lines, not carriage returns.
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("calibrate: configuration 6/6, "), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("held out"), std::string::npos) << r.out;
   // The shipped policy with the fitted profile, naming this GL.
   const analysis::SwitchPolicy written = analysis::load_policy(policy.string());

@@ -446,6 +446,19 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "--allow-bunny is given 2 times (give it once)", "a flag twice");
   expect_one_line_error(run("classify " + path("B.json") + " first second third"),
                         "unexpected arguments: first second third", "extras in the order given");
+  // A misspelt option is named, with the subcommand's nearest option, also
+  // where it leaves a required option missing; the help named is the
+  // subcommand's.
+  expect_one_line_error(run("cracks " + path("B.json") + " --ligth 0"),
+                        "unknown option '--ligth' (did you mean --light?) (see nearcap cracks --help)",
+                        "a misspelt required option");
+  expect_one_line_error(run("cap " + path("B.json") + " --light 0 --svgg=x.svg"),
+                        "unknown option '--svgg' (did you mean --svg?) (see nearcap cap --help)",
+                        "a misspelt option with its value after =");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --frobnicate"),
+                        "unknown option '--frobnicate' (see nearcap cracks --help)", "an option nothing is near");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light -1"), "--light: '-1' is not a light index",
+                        "a negative value is a value, not an option");
   // A policy's whole number written as a float.
   nlohmann::json policy = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
   policy["unpriced_frames"]["max_occluder_triangles"] = 1e30;

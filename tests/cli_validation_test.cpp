@@ -219,7 +219,7 @@ TEST_F(CliValidation, AValueBelowTheDoublesRangeIsFiniteAndAZeroMemoryLimitIsNam
   const test::CliResult zero =
       test::run_cli("cracks B.json --light 0 --max-memory 0", "validation", "cd '" + dir_.string() + "' && ");
   EXPECT_EQ(zero.exit_code, 2);
-  EXPECT_EQ(zero.err, "nearcap: error (usage): --max-memory: '0' is not above 0 (GB) (see nearcap --help)\n");
+  EXPECT_EQ(zero.err, "nearcap: error (usage): --max-memory: '0' is not above 0 (GB) (see nearcap cracks --help)\n");
 }
 
 TEST_F(CliValidation, ASweepTooLargeForTheMachineIsRefusedBeforeItsCsvExists) {

@@ -112,6 +112,14 @@ TEST(RenderCommand, APathWritesEveryFrameAndItsTime) {
     EXPECT_GT(m["mean_ms"].get<double>(), 0.0);
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "zfail" / "frame-0059.png"));
+  // Off a terminal the progress comes as lines (no carriage return): one at
+  // each tenth of the frames, the last among them.
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("render: frame 60/60, "), std::string::npos) << r.err;
+  std::size_t lines = 0;
+  for (std::size_t at = r.err.find("render: frame "); at != std::string::npos; at = r.err.find("render: frame ", at + 1))
+    ++lines;
+  EXPECT_EQ(lines, 10u) << r.err;
   std::filesystem::remove_all(dir);
 }
 

@@ -165,8 +165,10 @@ TEST_F(Sweep, AResumedSweepEqualsAnUninterruptedOne) {
   EXPECT_EQ(untimed_rows(test::slurp(path("resumed.csv"))), untimed_rows(whole));
   // Resuming a finished sweep runs nothing and changes nothing.
   const std::string finished = test::slurp(path("resumed.csv"));
-  ASSERT_EQ(test::run_cli(args(path("resumed.csv")) + " --resume", "sweep_resume2").exit_code, 0);
+  const test::CliResult again = test::run_cli(args(path("resumed.csv")) + " --resume", "sweep_resume2");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(test::slurp(path("resumed.csv")), finished);
+  EXPECT_EQ(again.out.rfind("sweep: nothing to run: all ", 0), 0u) << again.out;
 }
 
 TEST_F(Sweep, CrackDistanceBucketsAddUpToTheWrongPixels) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cli_commands.hpp"
+#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
@@ -469,12 +470,12 @@ void run(CalibrateOptions o) {
   // driver's first draws, the caches).
   calibrate_one(set.at(0), false);
   refused = 0;
-  const auto t0 = std::chrono::steady_clock::now();
+  ProgressLine progress(set.count());
   for (std::size_t k = 0; k < set.count(); ++k) {
     calibrate_one(set.at(k), true);
-    std::fprintf(stderr, "\rcalibrate: configuration %zu/%zu (%.0f s)", k + 1, set.count(), ms_since(t0) * 1e-3);
+    progress.step(k + 1, "calibrate: configuration " + std::to_string(k + 1) + "/" + std::to_string(set.count()));
   }
-  std::fprintf(stderr, "\n");
+  progress.end();
   rejected.refuse_all_rejected(set.count());
   // The observations first, on their own: the measuring is the dear part,
   // kept whatever the fit and the policy's write do; and named only once

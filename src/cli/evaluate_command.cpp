@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "cli_commands.hpp"
+#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
@@ -509,7 +510,7 @@ void run(const EvaluateOptions& o) {
   std::vector<analysis::EvaluationRow> rows;
   RejectedConfigurations rejected;
   std::set<std::string> drawn_sets;
-  const auto t0 = std::chrono::steady_clock::now();
+  ProgressLine progress(configurations.size());
   for (std::size_t k = 0; k < configurations.size(); ++k) {
     const Configuration& c = configurations[k];
     std::optional<Scene> scene;
@@ -520,9 +521,10 @@ void run(const EvaluateOptions& o) {
       rejected.add(c.id, e);  // a sampler's light inside an occluder, say: not a configuration
     }
     if (scene) evaluation.run(c, *scene, rows);
-    std::fprintf(stderr, "evaluate: %zu/%zu configurations (%s), %.0f s\n", k + 1, configurations.size(), c.id.c_str(),
-                 ms_since(t0) / 1000);
+    progress.step(k + 1, "evaluate: " + std::to_string(k + 1) + "/" + std::to_string(configurations.size()) +
+                             " configurations (" + c.id + ")");
   }
+  progress.end();
   rejected.refuse_all_rejected(configurations.size());
   const analysis::EvaluationTable table = analysis::evaluate_rows(rows);
 

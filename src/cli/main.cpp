@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <iostream>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "cli_commands.hpp"
 #include "mpi_world.hpp"
@@ -23,15 +25,59 @@ namespace {
 
 constexpr const char* kVersion = "nearcap " NEARCAP_VERSION;  // the project version, CMakeLists.txt
 
-int usage_error(const std::string& message) {
+// `help`: the page that explains it ("nearcap cap --help" where a
+// subcommand was named).
+int usage_error(const std::string& message, const std::string& help = "nearcap --help") {
   if (const nearcap::cli::MpiWorld* world = nearcap::cli::mpi_world(); world && world->rank() != 0) return 2;
   // CLI11 breaks its messages over lines: joined with spaces.
   std::string line = message;
   std::replace(line.begin(), line.end(), '\n', ' ');
   while (!line.empty() && line.back() == ' ') line.pop_back();
-  std::fprintf(stderr, "nearcap: error (usage): %s (see nearcap --help)\n",
-               nearcap::io::escaped_control_characters(line).c_str());
+  std::fprintf(stderr, "nearcap: error (usage): %s (see %s)\n", nearcap::io::escaped_control_characters(line).c_str(),
+               help.c_str());
   return 2;
+}
+
+// Whether a command-line word is an option's name (--name, --name=value,
+// -x), not a value: "-1" and "-0.5" are values.
+bool names_an_option(const std::string& word) {
+  return word.size() >= 2 && word[0] == '-' && (word[1] == '-' || std::isalpha(static_cast<unsigned char>(word[1])));
+}
+
+// Levenshtein distance (insertions, deletions, substitutions).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// `command`'s long option nearest to `given` (--ligth: --light), where one
+// is within two edits and nearer than any other; "" otherwise.
+std::string nearest_option(const CLI::App& command, const std::string& given) {
+  std::string best;
+  std::size_t best_distance = 3;
+  bool tied = false;
+  for (const CLI::Option* option : command.get_options())
+    for (const std::string& name : option->get_lnames()) {
+      const std::size_t d = edit_distance(given, "--" + name);
+      if (d < best_distance) {
+        best = "--" + name;
+        best_distance = d;
+        tied = false;
+      } else if (d == best_distance) {
+        tied = true;
+      }
+    }
+  return tied ? "" : best;
 }
 
 // Whether everything printed on stdout was written (a full disk or a closed
@@ -124,23 +170,36 @@ int main(int argc, char** argv) {
     }
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty())
       return usage_error("no subcommand given (one of " + nearcap::cli::subcommand_names(app) + ")");
+    const std::vector<CLI::App*> named = app.get_subcommands();
+    const std::string help = named.empty() ? "nearcap --help" : "nearcap " + named.front()->get_name() + " --help";
+    // An option the subcommand does not have is named first: it is often why
+    // another seems missing (--ligth 0 for --light 0).
+    if (!named.empty())
+      for (const std::string& word : app.remaining(true))
+        if (names_an_option(word)) {
+          const std::string given = word.substr(0, word.find('='));
+          const std::string nearest = nearest_option(*named.front(), given);
+          return usage_error("unknown option '" + given + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"),
+                             help);
+        }
     // CLI11's words for an option given more than once.
     const std::string what = e.what();
     const std::size_t at_most = what.find(": At Most 1 required but received ");
     if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && at_most != std::string::npos)
       return usage_error(what.substr(0, at_most) + " is given " +
                          what.substr(at_most + std::strlen(": At Most 1 required but received ")) +
-                         " times (give it once)");
+                         " times (give it once)",
+                         help);
     // CLI11 lists the extras of a subcommand last first: in the order given.
     if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
       const std::vector<std::string> extras = app.remaining(true);
       if (!extras.empty()) {
         std::string list;
         for (const std::string& a : extras) list += (list.empty() ? "" : " ") + a;
-        return usage_error((extras.size() > 1 ? "unexpected arguments: " : "unexpected argument: ") + list);
+        return usage_error((extras.size() > 1 ? "unexpected arguments: " : "unexpected argument: ") + list, help);
       }
     }
-    return usage_error(what);
+    return usage_error(what, help);
   } catch (const nearcap::cli::ExitCode& e) {
     return fail(e.code);
   } catch (const nearcap::cli::Interrupted& e) {

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "cli_commands.hpp"
+#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "frame_source.hpp"
 #include "method_records.hpp"
@@ -419,13 +420,8 @@ void run_lit(const RenderOptions& o) {
   // pays for the driver's first use (shader compilation, allocations).
   render::LitFrameRenderer renderer;  // its programs kept from frame to frame
   if (o.bench) (void)lit_frames(renderer, scenes.at(0), o, methods, settings);
-  // The progress line ended when a frame fails, so that the error has a line of its own.
-  struct ProgressLine {
-    bool open = false;
-    ~ProgressLine() {
-      if (open) std::fprintf(stderr, "\n");
-    }
-  } progress;
+  // A path's frames (ended when a frame fails, so that the error has a line of its own).
+  ProgressLine progress(scenes.count());
   for (std::size_t f = 0; f < scenes.count(); ++f) {
     const LitFrames frames = lit_frames(renderer, scenes.at(f), o, methods, settings);
     lights = frames.lights;
@@ -479,11 +475,10 @@ void run_lit(const RenderOptions& o) {
       end_to_end_total_ms[m] += mf.end_to_end_ms();
       for (const LightCpu& l : mf.cpu) decision_total_ms[m] += l.decision_ms;
     }
-    if (scenes.count() > 1) std::fprintf(stderr, "\rrender: frame %zu/%zu", f + 1, scenes.count());
-    progress.open = scenes.count() > 1;
+    if (scenes.count() > 1)
+      progress.step(f + 1, "render: frame " + std::to_string(f + 1) + "/" + std::to_string(scenes.count()));
   }
-  if (progress.open) std::fprintf(stderr, "\n");
-  progress.open = false;
+  progress.end();
   std::vector<nlohmann::json> records;
   for (std::size_t m = 0; m < methods.count(); ++m) {
     const std::string name = methods.name(m);

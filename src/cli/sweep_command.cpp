@@ -463,6 +463,11 @@ class OrderedWriter {
   bool complete() const { return next_ == total_; }
   void finish() const {
     const double seconds = elapsed();
+    if (first_ == total_) {  // a --resume of a finished sweep
+      std::printf("sweep: nothing to run: all %llu configurations are already in %s\n",
+                  static_cast<unsigned long long>(total_), file_.c_str());
+      return;
+    }
     if (terminal_) std::fprintf(stderr, "\n");
     std::printf("sweep: %llu configurations in %.1f s (%.2f per second), rows in %s\n",
                 static_cast<unsigned long long>(total_ - first_), seconds,
