@@ -63,17 +63,6 @@ DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s
   return {pass, std::move(clip), s, VertexProgramRun{program, part, in, u}};
 }
 
-std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh) {
-  std::vector<ShadowVertex> out;
-  out.reserve(3 * mesh.triangle_count());
-  for (const auto& t : mesh.triangles)
-    for (VertexIndex v : t) {
-      const Vec3d& p = mesh.positions[v];
-      out.push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 1.0f});
-    }
-  return out;
-}
-
 DrawState zpass_state() {
   DrawState s;
   s.front = kCountOnPass;

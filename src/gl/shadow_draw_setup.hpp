@@ -45,7 +45,6 @@ DrawState oriented(DrawState s, bool mirrored);
 // A recorded draw call whose vertices `program` made from `in`.
 DrawCall program_draw(DrawPass pass, std::vector<Vec4f> clip, const DrawState& s, VertexProgram program,
                       GeometryPart part, const std::vector<ShadowVertex>& in, const ShadowUniforms& u);
-std::vector<ShadowVertex> mesh_vertices(const TriangleMesh& mesh);
 
 inline constexpr StencilOps kCountOnPass{StencilOp::Keep, StencilOp::IncrementWrap};
 inline constexpr StencilOps kUncountOnPass{StencilOp::Keep, StencilOp::DecrementWrap};

@@ -4,6 +4,7 @@
 #include "nearcap/gl/shadow_methods.hpp"
 
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -19,6 +20,7 @@
 #include "nearcap/gl/shadow_plan.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/gl/volume_bounds.hpp"
+#include "mesh_vertex_array.hpp"
 #include "shadow_draw_setup.hpp"
 #include "shared_draws.hpp"
 
@@ -44,7 +46,7 @@ struct ShadowFrameBatch::SharedWork {
     double ms = 0;
     std::vector<DrawCall> draws;  // with record_draws
   };
-  std::vector<std::vector<ShadowVertex>> vertices;
+  std::deque<MeshVertexArray> meshes;  // per scene object, its address fixed (SharedDraws knows it by it)
   std::vector<std::optional<EngineSilhouette>> silhouettes;
   std::vector<std::optional<ShadowVolumeGeometry>> geometry;
   std::array<std::optional<DepthPass>, 2> depth;
@@ -140,11 +142,11 @@ class FrameRenderer {
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
         const ShadowUniforms& u = objects_[o].uniforms;
-        std::vector<Vec4f> clip = run_vertex_program(VertexProgram::Extrusion, u, shared_.vertices[o]);
+        std::vector<Vec4f> clip = run_vertex_program(VertexProgram::Extrusion, u, shared_.meshes[o]);
         counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
           draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),
-                                       VertexProgram::Extrusion, GeometryPart::Mesh, shared_.vertices[o], u));
+                                       VertexProgram::Extrusion, GeometryPart::Mesh, corners(shared_.meshes[o]), u));
       }
       depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t), std::move(draws)};
     }
@@ -270,7 +272,7 @@ class FrameRenderer {
         if (plans_[o]->zfail_switch == ZFailSwitch::NoLightFrustumOrCaseD && obj.case_d && frame.fallback.empty())
           frame.zfail_objects.push_back(o);
       }
-      if (shared_.vertices.size() <= o) shared_.vertices.push_back(mesh_vertices(*so.mesh));
+      if (shared_.meshes.size() <= o) shared_.meshes.push_back(mesh_vertex_array(*so.mesh));
       objects_.push_back(std::move(obj));
     }
   }
@@ -304,11 +306,11 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
       const DrawState state = bounded(oriented(s, obj.mirrored), obj);
-      frame.cap_pass += shared_draw(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms, state);
+      frame.cap_pass += shared_draw(shared_.meshes[o], VertexProgram::NearCap, obj.uniforms, state);
       if (settings_.record_draws)
         frame.draws.push_back(program_draw(
-            DrawPass::NearCap, shared_.draws.run(shared_.vertices[o], VertexProgram::NearCap, obj.uniforms).clip, state,
-            VertexProgram::NearCap, GeometryPart::Mesh, shared_.vertices[o], obj.uniforms));
+            DrawPass::NearCap, shared_.draws.run(shared_.meshes[o], VertexProgram::NearCap, obj.uniforms).clip, state,
+            VertexProgram::NearCap, GeometryPart::Mesh, corners(shared_.meshes[o]), obj.uniforms));
     }
   }
 
@@ -439,7 +441,9 @@ class FrameRenderer {
   // setup, a later one with the same uniforms and same_setup state only
   // rasterizes them, and is charged the time they took (reused_ms_), so that
   // each method's times stay what drawing its frame alone takes.
-  DrawCounters shared_draw(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& u,
+  // `inputs`: a vertex array of the batch (volume geometry, or a MeshVertexArray).
+  template <class Inputs>
+  DrawCounters shared_draw(const Inputs& inputs, VertexProgram program, const ShadowUniforms& u,
                            const DrawState& state) {
     const SharedDraws::SetUp set_up = shared_.draws.set_up(inputs, program, u, fb_, state, settings_.raster);
     reused_ms_ += set_up.reused_ms;
@@ -530,7 +534,6 @@ ShadowFrameBatch::ShadowFrameBatch(const Scene& scene, std::size_t light, const 
   shared_->silhouettes.resize(scene.objects.size());
   shared_->geometry.resize(scene.objects.size());
   shared_->object_silhouette_ms.resize(scene.objects.size());
-  shared_->vertices.reserve(scene.objects.size());  // each array stays put: SharedDraws knows it by address
 }
 ShadowFrameBatch::~ShadowFrameBatch() = default;
 

@@ -26,7 +26,8 @@ bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b) {
          a.arithmetic == b.arithmetic && a.depth_mapping == b.depth_mapping;
 }
 
-SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+template <class Inputs>
+SharedDraws::ProgramRun& SharedDraws::find_or_run(const Inputs& inputs, VertexProgram program,
                                                   const ShadowUniforms& uniforms, bool& found) {
   found = true;
   for (ProgramRun& r : runs_)
@@ -42,16 +43,10 @@ SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex
   return r;
 }
 
-SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                                      const ShadowUniforms& uniforms) {
-  bool found = false;
-  const ProgramRun& r = find_or_run(inputs, program, uniforms, found);
-  return {r.clip, found ? r.ms : 0.0};
-}
-
-SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
-                                       const RasterSettings& raster) {
+template <class Inputs>
+SharedDraws::SetUp SharedDraws::find_or_set_up(const Inputs& inputs, VertexProgram program,
+                                               const ShadowUniforms& uniforms, const Framebuffer& fb,
+                                               const DrawState& state, const RasterSettings& raster) {
   bool found = false;
   ProgramRun& r = find_or_run(inputs, program, uniforms, found);
   const double program_ms = found ? r.ms : 0.0;
@@ -65,6 +60,32 @@ SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, 
   s.triangles = std::move(triangles);
   s.ms = ms_since(t);
   return {s.triangles, program_ms};
+}
+
+SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                                      const ShadowUniforms& uniforms) {
+  bool found = false;
+  const ProgramRun& r = find_or_run(inputs, program, uniforms, found);
+  return {r.clip, found ? r.ms : 0.0};
+}
+
+SharedDraws::Program SharedDraws::run(const MeshVertexArray& mesh, VertexProgram program,
+                                      const ShadowUniforms& uniforms) {
+  bool found = false;
+  const ProgramRun& r = find_or_run(mesh, program, uniforms, found);
+  return {r.clip, found ? r.ms : 0.0};
+}
+
+SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
+                                       const RasterSettings& raster) {
+  return find_or_set_up(inputs, program, uniforms, fb, state, raster);
+}
+
+SharedDraws::SetUp SharedDraws::set_up(const MeshVertexArray& mesh, VertexProgram program,
+                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
+                                       const RasterSettings& raster) {
+  return find_or_set_up(mesh, program, uniforms, fb, state, raster);
 }
 
 }  // namespace nearcap::gl

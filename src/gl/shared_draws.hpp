@@ -6,7 +6,8 @@
 // Several methods draw the same geometry with the same program and
 // uniforms: Z-fail's and preload's light and dark caps (preload twice),
 // ZP+'s and ZP+ corrected's near-cap pass, the Z-pass sides of Z-pass, ZP+
-// and AtomicZP.  The clip-space vertices of such a draw are the same bits
+// and AtomicZP; the depth pre-pass and the near-cap pass draw the mesh
+// itself (mesh_vertex_array.hpp).  The clip-space vertices of such a draw are the same bits
 // whichever method asks, and so is its setup (clipping, viewport, culling)
 // under states with the same_setup (pipeline.hpp).  A cached draw therefore
 // rasterizes exactly the triangles a fresh one would.
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "nearcap/gl/pipeline.hpp"
+#include "mesh_vertex_array.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
 
 namespace nearcap::gl {
@@ -41,6 +43,11 @@ class SharedDraws {
   };
   SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
                const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
+  // The same for an object's mesh (its corners' clip-space vertices), known
+  // by the array's address.
+  Program run(const MeshVertexArray& mesh, VertexProgram program, const ShadowUniforms& uniforms);
+  SetUp set_up(const MeshVertexArray& mesh, VertexProgram program, const ShadowUniforms& uniforms,
+               const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
 
  private:
   struct StateSetUp {
@@ -49,7 +56,7 @@ class SharedDraws {
     double ms = 0;
   };
   struct ProgramRun {
-    const std::vector<ShadowVertex>* inputs = nullptr;
+    const void* inputs = nullptr;  // the vertex array's address
     VertexProgram program = VertexProgram::Extrusion;
     ShadowUniforms uniforms;
     std::vector<Vec4f> clip;
@@ -57,8 +64,11 @@ class SharedDraws {
     std::deque<StateSetUp> set_ups;  // a deque: references to earlier ones stay valid
   };
   // `found`: whether it was run before this call.
-  ProgramRun& find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
-                          const ShadowUniforms& uniforms, bool& found);
+  template <class Inputs>
+  ProgramRun& find_or_run(const Inputs& inputs, VertexProgram program, const ShadowUniforms& uniforms, bool& found);
+  template <class Inputs>
+  SetUp find_or_set_up(const Inputs& inputs, VertexProgram program, const ShadowUniforms& uniforms,
+                       const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
   std::deque<ProgramRun> runs_;
 };
 
