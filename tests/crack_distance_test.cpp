@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 #include <string>
@@ -135,6 +136,58 @@ TEST(CrackDistance, EveryClaimedSquareIsConstantUnderDenseSamplingOnSampledScene
   EXPECT_GT(tally.cracks, 50u);
   EXPECT_GT(tally.noise, 50u);
   EXPECT_GT(tally.boundary, 50u);
+}
+
+// Near the exact shadow boundaries, where a tile's proof or a pixel's own
+// decides the level: every pixel within two pixels of a boundary, in frames
+// large enough for tiles of 32.  Each level's square is constant under
+// dense sampling (a tile's level claims no square beyond its tile), and
+// below the crack level the level is the largest square proven (the next
+// is not; level 0: not even the smallest).
+TEST(CrackDistance, NearBoundariesEachLevelIsConstantAndBelowACrackTheLargestProven) {
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(3);
+  spec.width = 64;
+  spec.height = 48;
+  std::size_t from_tiles = 0, from_pixels = 0;
+  test::for_each_sampled_scene(analysis::HardCaseSampler(spec), 6, [&](const Scene& scene, const analysis::HardCase&) {
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer tracer(cs, 0);
+    const PixelReference ref = compute_pixel_reference(tracer);
+    std::vector<bool> near(static_cast<std::size_t>(ref.width) * static_cast<std::size_t>(ref.height), false);
+    for (int j = 0; j + 1 < ref.height; ++j)
+      for (int i = 0; i + 1 < ref.width; ++i)
+        for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}})
+          if (ref.seen(i, j) && ref.seen(i + di, j + dj) && ref.shadowed(i, j) != ref.shadowed(i + di, j + dj))
+            for (int y = std::max(0, j - 2); y <= std::min(ref.height - 1, j + dj + 2); ++y)
+              for (int x = std::max(0, i - 2); x <= std::min(ref.width - 1, i + di + 2); ++x)
+                near[ref.index(x, y)] = true;
+    std::vector<std::pair<int, int>> pixels;
+    for (int j = 0; j < ref.height; ++j)
+      for (int i = 0; i < ref.width; ++i)
+        if (near[ref.index(i, j)] && ref.seen(i, j)) pixels.emplace_back(i, j);
+    CrackDistances distances(tracer, ref);
+    const std::vector<int> levels = distances.levels(pixels);
+    for (std::size_t k = 0; k < pixels.size(); ++k) {
+      const auto [i, j] = pixels[k];
+      const int level = levels[k];
+      (level >= kCrackLevel ? from_tiles : from_pixels)++;
+      if (level < kCrackLevel - 1) {
+        ASSERT_FALSE(tracer.proven_status_over_square(crack_square_centre(i, j),
+                                                      kCrackDistanceRadiiFixed[static_cast<std::size_t>(level)],
+                                                      nullptr))
+            << scene.source << " pixel " << i << "," << j << " level " << level << ": a larger square is proven";
+      }
+      if (level == 0) continue;
+      for (const auto& status : sample_square(tracer, i, j, level))
+        ASSERT_EQ(status, std::optional<bool>(ref.shadowed(i, j)))
+            << scene.source << " pixel " << i << "," << j << " level " << level
+            << ": the exact status changes inside the square";
+    }
+  });
+  std::printf("%zu pixels near boundaries: %zu with a tile's level, %zu with a pixel's\n", from_tiles + from_pixels,
+              from_tiles, from_pixels);
+  EXPECT_GT(from_tiles, 100u);
+  EXPECT_GT(from_pixels, 100u);
 }
 
 TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
