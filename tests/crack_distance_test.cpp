@@ -140,16 +140,18 @@ TEST(CrackDistance, EveryClaimedSquareIsConstantUnderDenseSamplingOnSampledScene
 
 // Near the exact shadow boundaries, where a tile's proof or a pixel's own
 // decides the level: every pixel within two pixels of a boundary, in frames
-// large enough for tiles of 32.  Each level's square is constant under
+// large enough for tiles of 32 (on sample 16 of these a tile's edge lies
+// within half a pixel of a boundary beyond it: a level claimed past the
+// tile's edge holds the boundary).  Each level's square is constant under
 // dense sampling (a tile's level claims no square beyond its tile), and
 // below the crack level the level is the largest square proven (the next
 // is not; level 0: not even the smallest).
 TEST(CrackDistance, NearBoundariesEachLevelIsConstantAndBelowACrackTheLargestProven) {
-  analysis::SamplerSpec spec = test::bundled_sampler_spec(3);
-  spec.width = 64;
-  spec.height = 48;
+  analysis::SamplerSpec spec = test::bundled_sampler_spec(11);
+  spec.width = 96;
+  spec.height = 72;
   std::size_t from_tiles = 0, from_pixels = 0;
-  test::for_each_sampled_scene(analysis::HardCaseSampler(spec), 6, [&](const Scene& scene, const analysis::HardCase&) {
+  test::for_each_sampled_scene(analysis::HardCaseSampler(spec), 30, [&](const Scene& scene, const analysis::HardCase&) {
     const CameraSpaceScene cs(scene);
     const PixelReferenceTracer tracer(cs, 0);
     const PixelReference ref = compute_pixel_reference(tracer);
