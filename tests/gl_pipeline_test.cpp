@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "nearcap/gl/light_frustum.hpp"
 #include "nearcap/gl/pipeline.hpp"
@@ -42,6 +43,38 @@ TEST(Framebuffer, DepthTestLessWithSeparateFailAndPassOps) {
   fb.draw(full_quad(0.0f), count, {});                                 // equal: LESS fails
   fb.draw(full_quad(-0.5f), count, {});                                // in front: passes
   for (std::uint8_t v : fb.stencil()) EXPECT_EQ(v, 1);
+}
+
+// The depth bounds test (GL_EXT_depth_bounds_test) passes a fragment where
+// the depth stored at its pixel lies within [zmin, zmax], both ends
+// included, and drops it elsewhere.
+TEST(Framebuffer, DepthBoundsIncludeBothEnds) {
+  for (DepthFormat format : {DepthFormat::Fixed24, DepthFormat::Float32}) {
+    Framebuffer probe(1, 1, format);
+    const std::uint32_t code = probe.encode_depth(0.5f);
+    float f;
+    std::memcpy(&f, &code, sizeof f);
+    const double stored = format == DepthFormat::Fixed24 ? static_cast<double>(code) / 16777215.0 : f;
+    auto counted = [&](std::array<double, 2> bounds) {
+      Framebuffer fb(4, 4, format);
+      fb.clear_depth(0.5f);
+      DrawState s;
+      s.depth_func = DepthFunc::Always;
+      s.front.depth_pass = StencilOp::IncrementWrap;
+      s.depth_bounds = bounds;
+      const DrawCounters c = fb.draw(full_quad(0.0f), s, {});
+      std::size_t ones = 0;
+      for (std::uint8_t v : fb.stencil()) ones += v == 1 ? 1 : 0;
+      EXPECT_EQ(c.fragments, ones);  // the fragments that reached the stencil test
+      EXPECT_EQ(c.fragments + c.bounds_culled, 16u);
+      return ones;
+    };
+    EXPECT_EQ(counted({stored, stored}), 16u) << "both ends at the stored depth";
+    EXPECT_EQ(counted({0.0, stored}), 16u);
+    EXPECT_EQ(counted({stored, 1.0}), 16u);
+    EXPECT_EQ(counted({std::nextafter(stored, 1.0), 1.0}), 0u) << "above the stored depth";
+    EXPECT_EQ(counted({0.0, std::nextafter(stored, 0.0)}), 0u) << "below it";
+  }
 }
 
 TEST(Framebuffer, DepthEncodings) {
