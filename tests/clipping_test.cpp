@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "nearcap/gl/clipping.hpp"
 
@@ -112,6 +113,52 @@ TEST(Clipping, MesasClipperCutsFromTheEndpointNearerThePlane) {
     for (const Vec4f& v : clip_triangle(in, out, third, settings))
       found |= v.x == expected.x && v.y == expected.y && v.z == expected.z && v.w == expected.w;
     EXPECT_TRUE(found) << (from_out ? "from the outside vertex" : "from the inside vertex");
+  }
+}
+
+// c + t (o - c), t = d_c / (d_c - d_o), each operation in float32: the cut
+// of edge (c, o) from c.
+Vec4f cut_from(const Vec4f& c, const Vec4f& o, float d_c, float d_o) {
+  const float t = d_c / (d_c - d_o);
+  return {c.x + t * (o.x - c.x), c.y + t * (o.y - c.y), c.z + t * (o.z - c.z), c.w + t * (o.w - c.w)};
+}
+bool holds(const std::vector<Vec4f>& polygon, const Vec4f& v) {
+  for (const Vec4f& p : polygon)
+    if (p.x == v.x && p.y == v.y && p.z == v.z && p.w == v.w) return true;
+  return false;
+}
+
+// On a tie (the inside and the outside vertex as far from the plane), Mesa's
+// clipper cuts from the inside vertex.  The two cuts differ in their bits
+// here, so the test tells them apart.
+TEST(Clipping, MesasClipperCutsATieFromTheInsideVertex) {
+  ClipSettings settings;
+  settings.mesa = true;
+  const Vec4f in{1e-3f, 0.1f, 0.7f, 1.3f}, out{3.0f, 0.4f, -2.5f, 0.5f}, third{0.9f, -0.5f, 0.2f, 1.1f};
+  const float d_in = in.z + in.w, d_out = out.z + out.w;
+  ASSERT_EQ(d_in, -d_out);
+  const Vec4f inside = cut_from(in, out, d_in, d_out), outside = cut_from(out, in, d_out, d_in);
+  ASSERT_FALSE(inside.x == outside.x && inside.y == outside.y && inside.z == outside.z && inside.w == outside.w);
+  const std::vector<Vec4f> polygon = clip_triangle(in, out, third, settings);
+  EXPECT_TRUE(holds(polygon, inside));
+  EXPECT_FALSE(holds(polygon, outside));
+}
+
+// The spec clipper cuts from the inside vertex, also when that vertex is far
+// larger than the outside one, where it is the nearer the plane (no digit
+// cancels then); only an outside vertex nearer the plane is the start.
+TEST(Clipping, AHugeInsideVertexNearerThePlaneIsTheCutsStart) {
+  const Vec4f in{0.0f, 0.0f, -28134486.0f, 28134488.0f};  // d = 2
+  const Vec4f out_a{0.25f, 1.0f, -5.0f, 2.0f}, out_b{1.0f, 0.25f, -5.0f, 2.0f};  // d = -3
+  const float d_in = in.z + in.w, d_out = out_a.z + out_a.w;
+  ASSERT_EQ(d_in, 2.0f);
+  ASSERT_EQ(d_out, -3.0f);
+  const std::vector<Vec4f> polygon = clip_triangle(in, out_a, out_b, {});
+  ASSERT_EQ(polygon.size(), 3u);
+  for (const Vec4f& out : {out_a, out_b}) {
+    const Vec4f inside = cut_from(in, out, d_in, d_out), outside = cut_from(out, in, d_out, d_in);
+    ASSERT_FALSE(inside.x == outside.x && inside.y == outside.y && inside.z == outside.z && inside.w == outside.w);
+    EXPECT_TRUE(holds(polygon, inside)) << out.x;
   }
 }
 
