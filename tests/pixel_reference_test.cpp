@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -126,6 +128,28 @@ TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
   EXPECT_TRUE(same(s, tracer.trace_brute_force(1, 1, nullptr)));
   // The pixel to its left sees nothing: its ray (x = -t/2) never reaches the box.
   EXPECT_FALSE(tracer.trace(0, 1, nullptr).stencil.has_value());
+}
+
+// Two coplanar faces both hit at a pixel: the lower (object, face) is seen
+// (pixel_reference.hpp).  The ground slab twice in one place, seen from
+// above: every pixel on its top sees object 0, also without acceleration.
+TEST(PixelReference, OfTwoCoplanarFacesTheLowerObjectIsSeen) {
+  nlohmann::json j;
+  j["camera"] = {{"eye", {0.3, 6, 0.2}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
+                 {"near", 1},           {"far", 50},          {"width", 16},       {"height", 12}};
+  j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
+  const std::string ground = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/ground.off";
+  j["objects"] = nlohmann::json::array({{{"mesh", ground}, {"occluder", false}}, {{"mesh", ground}, {"occluder", false}}});
+  const Scene scene = parse_scene(j.dump(), "twice", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const PixelSample s = tracer.trace(x, y, nullptr);
+      ASSERT_TRUE(s.stencil.has_value()) << x << "," << y;
+      EXPECT_EQ(s.object, 0) << x << "," << y;
+      EXPECT_TRUE(same(s, tracer.trace_brute_force(x, y, nullptr))) << x << "," << y;
+    }
 }
 
 // A face exactly in the near plane is beyond it, as GL's closed clip volume
