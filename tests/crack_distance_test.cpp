@@ -192,6 +192,34 @@ TEST(CrackDistance, NearBoundariesEachLevelIsConstantAndBelowACrackTheLargestPro
   EXPECT_GT(from_pixels, 100u);
 }
 
+// Where the far plane cuts the ground, a seen pixel next to one that sees
+// nothing (beyond the far plane) has no proven square that holds its
+// neighbour's centre: a triangle is hit over a square only where it is in
+// front of the far plane all over it.
+TEST(CrackDistance, NoSquareIsProvenAcrossTheFarPlanesCut) {
+  nlohmann::json j;
+  j["camera"] = {{"eye", {0.1, 1, 6}}, {"target", {0, 0, 0}}, {"fovy_deg", 50}, {"near", 0.5},
+                 {"far", 8},           {"width", 32},          {"height", 24}};
+  j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
+  j["objects"] = nlohmann::json::array(
+      {{{"mesh", std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/ground.off"}, {"occluder", false}}});
+  const Scene scene = parse_scene(j.dump(), "far cut", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  const PixelReference ref = compute_pixel_reference(tracer);
+  std::size_t pairs = 0;
+  for (int y = 0; y + 1 < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x)
+      for (const auto& [seen, beyond] : {std::pair{y, y + 1}, std::pair{y + 1, y}})
+        if (ref.seen(x, seen) && !ref.seen(x, beyond)) {  // the far cut between the two rows
+          ++pairs;
+          EXPECT_FALSE(
+              tracer.proven_status_over_square(crack_square_centre(x, seen), 1 << kCrackDistanceShift, nullptr))
+              << x << "," << seen;
+        }
+  EXPECT_GE(pairs, 32u) << "the far plane cuts the ground across the frame";
+}
+
 TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
   // The bundled eye-in-shadow scene: Z-pass inverts the whole shadow (README,
   // "What the methods get wrong"), a crack of the whole frame; Z-fail is right.
