@@ -7,7 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
@@ -15,6 +18,7 @@
 #include <vector>
 
 #include "box_scene.hpp"
+#include "cli_support.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/exact/crack_distance.hpp"
@@ -218,6 +222,42 @@ TEST(CrackDistance, NoSquareIsProvenAcrossTheFarPlanesCut) {
               << x << "," << seen;
         }
   EXPECT_GE(pairs, 32u) << "the far plane cuts the ground across the frame";
+}
+
+// A diamond (a square of two triangles, turned 45 degrees about the
+// vertical; open, so no side face hides its edges) seen from above: four
+// diagonal edges between it and nothing.  A square half a pixel wide with a
+// corner off the diamond and one on it is never proven, whichever corner is
+// off (the centres on a grid of 1/16 pixel, so that each corner alone is off
+// the diamond for some of them).
+TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
+  const std::filesystem::path mesh = test::temp_path("nearcap_diamond") += ".off";
+  std::ofstream(mesh) << "OFF\n4 2 0\n0.7 0 0\n0 0 -0.7\n-0.7 0 0\n0 0 0.7\n3 0 1 2\n3 0 2 3\n";
+  nlohmann::json j;
+  j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
+                 {"near", 1},        {"far", 50},          {"width", 16},       {"height", 12}};
+  j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
+  j["objects"] = nlohmann::json::array({{{"mesh", mesh.string()}, {"occluder", false}}});
+  const Scene scene = parse_scene(j.dump(), "diamond", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  constexpr std::int64_t kPixel = std::int64_t{1} << kCrackDistanceShift, kHalf = kPixel / 2, kStep = kPixel / 16;
+  auto seen_at = [&](std::int64_t x, std::int64_t y) {
+    return tracer.trace_at({x, y, kCrackDistanceShift}, nullptr).stencil.has_value();
+  };
+  std::array<std::size_t, 4> one_corner_off{};
+  for (std::int64_t y = 2 * kPixel; y <= 10 * kPixel; y += kStep)
+    for (std::int64_t x = 4 * kPixel; x <= 12 * kPixel; x += kStep) {
+      const std::array<bool, 4> on{seen_at(x - kHalf, y - kHalf), seen_at(x + kHalf, y - kHalf),
+                                   seen_at(x - kHalf, y + kHalf), seen_at(x + kHalf, y + kHalf)};
+      const auto count = std::count(on.begin(), on.end(), true);
+      if (count == 0 || count == 4) continue;
+      if (count == 3) ++one_corner_off[static_cast<std::size_t>(std::find(on.begin(), on.end(), false) - on.begin())];
+      ASSERT_FALSE(tracer.proven_status_over_square({x, y, kCrackDistanceShift}, kHalf, nullptr))
+          << "centre (" << x << ", " << y << ")/" << kPixel << ", corners on the diamond " << count;
+    }
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_GT(one_corner_off[k], 0u) << "corner " << k << " alone off the diamond";
+  std::filesystem::remove(mesh);
 }
 
 TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
