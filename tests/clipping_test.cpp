@@ -148,7 +148,7 @@ TEST(Clipping, MesasClipperCutsATieFromTheInsideVertex) {
 // larger than the outside one, where it is the nearer the plane (no digit
 // cancels then); only an outside vertex nearer the plane is the start.
 TEST(Clipping, AHugeInsideVertexNearerThePlaneIsTheCutsStart) {
-  const Vec4f in{0.0f, 0.0f, -28134486.0f, 28134488.0f};  // d = 2
+  const Vec4f in{0.0f, 0.0f, -28134486.0f, 28134488.0f};                         // d = 2
   const Vec4f out_a{0.25f, 1.0f, -5.0f, 2.0f}, out_b{1.0f, 0.25f, -5.0f, 2.0f};  // d = -3
   const float d_in = in.z + in.w, d_out = out_a.z + out_a.w;
   ASSERT_EQ(d_in, 2.0f);

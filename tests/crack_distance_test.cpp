@@ -178,9 +178,8 @@ TEST(CrackDistance, NearBoundariesEachLevelIsConstantAndBelowACrackTheLargestPro
       const int level = levels[k];
       (level >= kCrackLevel ? from_tiles : from_pixels)++;
       if (level < kCrackLevel - 1) {
-        ASSERT_FALSE(tracer.proven_status_over_square(crack_square_centre(i, j),
-                                                      kCrackDistanceRadiiFixed[static_cast<std::size_t>(level)],
-                                                      nullptr))
+        ASSERT_FALSE(tracer.proven_status_over_square(
+            crack_square_centre(i, j), kCrackDistanceRadiiFixed[static_cast<std::size_t>(level)], nullptr))
             << scene.source << " pixel " << i << "," << j << " level " << level << ": a larger square is proven";
       }
       if (level == 0) continue;
@@ -203,7 +202,7 @@ TEST(CrackDistance, NearBoundariesEachLevelIsConstantAndBelowACrackTheLargestPro
 TEST(CrackDistance, NoSquareIsProvenAcrossTheFarPlanesCut) {
   nlohmann::json j;
   j["camera"] = {{"eye", {0.1, 1, 6}}, {"target", {0, 0, 0}}, {"fovy_deg", 50}, {"near", 0.5},
-                 {"far", 8},           {"width", 32},          {"height", 24}};
+                 {"far", 8},           {"width", 32},         {"height", 24}};
   j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
   j["objects"] = nlohmann::json::array(
       {{{"mesh", std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/ground.off"}, {"occluder", false}}});
@@ -235,7 +234,7 @@ TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
   std::ofstream(mesh) << "OFF\n4 2 0\n0.7 0 0\n0 0 -0.7\n-0.7 0 0\n0 0 0.7\n3 0 1 2\n3 0 2 3\n";
   nlohmann::json j;
   j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
-                 {"near", 1},        {"far", 50},          {"width", 16},       {"height", 12}};
+                 {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
   j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
   j["objects"] = nlohmann::json::array({{{"mesh", mesh.string()}, {"occluder", false}}});
   const Scene scene = parse_scene(j.dump(), "diamond", ".");

@@ -135,11 +135,13 @@ TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
 // above: every pixel on its top sees object 0, also without acceleration.
 TEST(PixelReference, OfTwoCoplanarFacesTheLowerObjectIsSeen) {
   nlohmann::json j;
-  j["camera"] = {{"eye", {0.3, 6, 0.2}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
-                 {"near", 1},           {"far", 50},          {"width", 16},       {"height", 12}};
+  j["camera"] = {{"eye", {0.3, 6, 0.2}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}},
+                 {"fovy_deg", 40},       {"near", 1},           {"far", 50},
+                 {"width", 16},          {"height", 12}};
   j["lights"] = nlohmann::json::array({{{"position", {1, 5, 1}}}});
   const std::string ground = std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/ground.off";
-  j["objects"] = nlohmann::json::array({{{"mesh", ground}, {"occluder", false}}, {{"mesh", ground}, {"occluder", false}}});
+  j["objects"] =
+      nlohmann::json::array({{{"mesh", ground}, {"occluder", false}}, {{"mesh", ground}, {"occluder", false}}});
   const Scene scene = parse_scene(j.dump(), "twice", ".");
   const CameraSpaceScene cs(scene);
   const PixelReferenceTracer tracer(cs, 0);

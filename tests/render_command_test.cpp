@@ -117,7 +117,8 @@ TEST(RenderCommand, APathWritesEveryFrameAndItsTime) {
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("render: frame 60/60, "), std::string::npos) << r.err;
   std::size_t lines = 0;
-  for (std::size_t at = r.err.find("render: frame "); at != std::string::npos; at = r.err.find("render: frame ", at + 1))
+  for (std::size_t at = r.err.find("render: frame "); at != std::string::npos;
+       at = r.err.find("render: frame ", at + 1))
     ++lines;
   EXPECT_EQ(lines, 10u) << r.err;
   std::filesystem::remove_all(dir);

@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "cli_commands.hpp"
-#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "nearcap/analysis/calibration_file.hpp"
 #include "nearcap/analysis/camera_path.hpp"
@@ -42,6 +41,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
 #include "nearcap/render/pass_kinds.hpp"
+#include "progress_line.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {

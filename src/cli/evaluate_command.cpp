@@ -23,7 +23,6 @@
 #include <utility>
 
 #include "cli_commands.hpp"
-#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/engine_policies.hpp"
@@ -42,6 +41,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
 #include "output_script.hpp"
+#include "progress_line.hpp"
 #include "subcommand.hpp"
 
 namespace nearcap::cli {

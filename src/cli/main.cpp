@@ -179,16 +179,16 @@ int main(int argc, char** argv) {
         if (names_an_option(word)) {
           const std::string given = word.substr(0, word.find('='));
           const std::string nearest = nearest_option(*named.front(), given);
-          return usage_error("unknown option '" + given + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"),
-                             help);
+          return usage_error(
+              "unknown option '" + given + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"), help);
         }
     // CLI11's words for an option given more than once.
     const std::string what = e.what();
     const std::size_t at_most = what.find(": At Most 1 required but received ");
     if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && at_most != std::string::npos)
       return usage_error(what.substr(0, at_most) + " is given " +
-                         what.substr(at_most + std::strlen(": At Most 1 required but received ")) +
-                         " times (give it once)",
+                             what.substr(at_most + std::strlen(": At Most 1 required but received ")) +
+                             " times (give it once)",
                          help);
     // CLI11 lists the extras of a subcommand last first: in the order given.
     if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {

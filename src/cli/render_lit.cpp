@@ -12,7 +12,6 @@
 #include <optional>
 
 #include "cli_commands.hpp"
-#include "progress_line.hpp"
 #include "command_output.hpp"
 #include "frame_source.hpp"
 #include "method_records.hpp"
@@ -25,6 +24,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
 #include "output_script.hpp"
+#include "progress_line.hpp"
 #include "render_command.hpp"
 
 namespace nearcap::cli {

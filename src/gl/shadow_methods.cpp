@@ -4,13 +4,14 @@
 #include "nearcap/gl/shadow_methods.hpp"
 
 #include <chrono>
-#include <deque>
 #include <cmath>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <tuple>
 #include <utility>
 
+#include "mesh_vertex_array.hpp"
 #include "nearcap/check.hpp"
 #include "nearcap/error.hpp"
 #include "nearcap/gl/engine_classification.hpp"
@@ -20,7 +21,6 @@
 #include "nearcap/gl/shadow_plan.hpp"
 #include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/gl/volume_bounds.hpp"
-#include "mesh_vertex_array.hpp"
 #include "shadow_draw_setup.hpp"
 #include "shared_draws.hpp"
 

@@ -16,8 +16,8 @@
 #include <deque>
 #include <vector>
 
-#include "nearcap/gl/pipeline.hpp"
 #include "mesh_vertex_array.hpp"
+#include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
 
 namespace nearcap::gl {
