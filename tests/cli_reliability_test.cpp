@@ -459,6 +459,17 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "unknown option '--frobnicate' (see nearcap cracks --help)", "an option nothing is near");
   expect_one_line_error(run("cracks " + path("B.json") + " --light -1"), "--light: '-1' is not a light index",
                         "a negative value is a value, not an option");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 -1"), "unexpected argument: -1",
+                        "a negative number left over is an argument, not an option");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 -q"), "unknown option '-q' (see nearcap",
+                        "a short option nothing is near");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --metho zpass"),
+                        "unknown option '--metho' (did you mean --method?)", "one letter short");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --zfaxs-far finite"),
+                        "unknown option '--zfaxs-far' (see nearcap",
+                        "two edits from --zfail-far and from --zpass-far: no name suggested");
+  expect_one_line_error(run("cap --light x -- " + path("B.json")), "--light: 'x'",
+                        "after --, the value's own error, not '--' as an option");
   // A policy's whole number written as a float.
   nlohmann::json policy = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
   policy["unpriced_frames"]["max_occluder_triangles"] = 1e30;

@@ -232,6 +232,10 @@ TEST(CrackDistance, NoSquareIsProvenAcrossTheFarPlanesCut) {
 TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
   const std::filesystem::path mesh = test::temp_path("nearcap_diamond") += ".off";
   std::ofstream(mesh) << "OFF\n4 2 0\n0.7 0 0\n0 0 -0.7\n-0.7 0 0\n0 0 0.7\n3 0 1 2\n3 0 2 3\n";
+  struct Removed {  // also when an assertion returns early
+    std::filesystem::path path;
+    ~Removed() { std::filesystem::remove(path); }
+  } removed{mesh};
   nlohmann::json j;
   j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
                  {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
@@ -256,7 +260,6 @@ TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
           << "centre (" << x << ", " << y << ")/" << kPixel << ", corners on the diamond " << count;
     }
   for (std::size_t k = 0; k < 4; ++k) EXPECT_GT(one_corner_off[k], 0u) << "corner " << k << " alone off the diamond";
-  std::filesystem::remove(mesh);
 }
 
 TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {

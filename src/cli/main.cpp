@@ -60,6 +60,17 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// Whether `given` (--name or -x) names one of `command`'s options.
+bool is_option_of(const CLI::App& command, const std::string& given) {
+  for (const CLI::Option* option : command.get_options()) {
+    for (const std::string& name : option->get_lnames())
+      if (given == "--" + name) return true;
+    for (const std::string& name : option->get_snames())
+      if (given == "-" + name) return true;
+  }
+  return false;
+}
+
 // `command`'s long option nearest to `given` (--ligth: --light), where one
 // is within two edits and nearer than any other; "" otherwise.
 std::string nearest_option(const CLI::App& command, const std::string& given) {
@@ -175,13 +186,14 @@ int main(int argc, char** argv) {
     // An option the subcommand does not have is named first: it is often why
     // another seems missing (--ligth 0 for --light 0).
     if (!named.empty())
-      for (const std::string& word : app.remaining(true))
-        if (names_an_option(word)) {
-          const std::string given = word.substr(0, word.find('='));
-          const std::string nearest = nearest_option(*named.front(), given);
-          return usage_error(
-              "unknown option '" + given + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"), help);
-        }
+      for (const std::string& word : app.remaining(true)) {
+        if (word == "--") break;  // what follows was given as positionals
+        const std::string given = word.substr(0, word.find('='));
+        if (!names_an_option(word) || is_option_of(*named.front(), given)) continue;
+        const std::string nearest = nearest_option(*named.front(), given);
+        return usage_error(
+            "unknown option '" + given + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"), help);
+      }
     // CLI11's words for an option given more than once.
     const std::string what = e.what();
     const std::size_t at_most = what.find(": At Most 1 required but received ");

@@ -23,7 +23,7 @@ class ProgressLine {
   ProgressLine& operator=(const ProgressLine&) = delete;
 
   // Step `done` (1 to steps) finished; `text` says so ("calibrate:
-  // configuration 3/320"), and the seconds since the first step follow it.
+  // configuration 3/320"), and the seconds since this line was made follow it.
   void step(std::size_t done, const std::string& text);
   // Ends the line on a terminal (nothing elsewhere).
   void end();

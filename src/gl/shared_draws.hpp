@@ -6,8 +6,8 @@
 // Several methods draw the same geometry with the same program and
 // uniforms: Z-fail's and preload's light and dark caps (preload twice),
 // ZP+'s and ZP+ corrected's near-cap pass, the Z-pass sides of Z-pass, ZP+
-// and AtomicZP; the depth pre-pass and the near-cap pass draw the mesh
-// itself (mesh_vertex_array.hpp).  The clip-space vertices of such a draw are the same bits
+// and AtomicZP; the near-cap pass draws the mesh itself
+// (mesh_vertex_array.hpp).  The clip-space vertices of such a draw are the same bits
 // whichever method asks, and so is its setup (clipping, viewport, culling)
 // under states with the same_setup (pipeline.hpp).  A cached draw therefore
 // rasterizes exactly the triangles a fresh one would.
