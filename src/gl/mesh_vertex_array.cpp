@@ -13,21 +13,24 @@ MeshVertexArray mesh_vertex_array(const TriangleMesh& mesh) {
   return a;
 }
 
-std::vector<ShadowVertex> corners(const MeshVertexArray& a) {
-  std::vector<ShadowVertex> out;
-  out.reserve(3 * a.mesh->triangles.size());
-  for (const auto& t : a.mesh->triangles)
-    for (VertexIndex v : t) out.push_back(a.vertices[v]);
+namespace {
+
+// One value per corner of `mesh`'s triangles, in order, from one per vertex.
+template <class T>
+std::vector<T> per_corner(const std::vector<T>& per_vertex, const TriangleMesh& mesh) {
+  std::vector<T> out;
+  out.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    for (VertexIndex v : t) out.push_back(per_vertex[v]);
   return out;
 }
 
+}  // namespace
+
+std::vector<ShadowVertex> corners(const MeshVertexArray& a) { return per_corner(a.vertices, *a.mesh); }
+
 std::vector<Vec4f> run_vertex_program(VertexProgram p, const ShadowUniforms& u, const MeshVertexArray& a) {
-  const std::vector<Vec4f> per_vertex = run_vertex_program(p, u, a.vertices);
-  std::vector<Vec4f> out;
-  out.reserve(3 * a.mesh->triangles.size());
-  for (const auto& t : a.mesh->triangles)
-    for (VertexIndex v : t) out.push_back(per_vertex[v]);
-  return out;
+  return per_corner(run_vertex_program(p, u, a.vertices), *a.mesh);
 }
 
 }  // namespace nearcap::gl
