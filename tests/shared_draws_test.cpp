@@ -5,11 +5,16 @@
 // draw (Framebuffer::set_up, rasterize) are the draw.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
+#include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "../src/gl/shared_draws.hpp"
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
 #include "nearcap/io/scene_file.hpp"
@@ -97,6 +102,62 @@ TEST(SharedDraws, EveryFrameOfABatchIsTheFrameRenderedAlone) {
     }
   }
   std::printf("volume and cap triangles drawn by later methods of a batch: %zu\n", reused_triangles);
+}
+
+// A vertex program's run is found again by the uniforms it reads and only
+// by those: a uniform it does not read (the light's matrices for the
+// extrusion program, say, which ZP+'s frames set and Z-pass's do not) finds
+// the run of the other frame, whose bits are those the program computes
+// from either; one it reads runs it again.
+TEST(SharedDraws, AProgramRunIsFoundByTheUniformsItReads) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> entry(-3.0f, 3.0f);
+  auto matrix = [&] {
+    gl::Mat4f m;
+    for (float& e : m.m) e = entry(rng);
+    return m;
+  };
+  std::vector<gl::ShadowVertex> inputs;
+  for (int k = 0; k < 600; ++k)
+    inputs.push_back({entry(rng), entry(rng), entry(rng), std::array{0.f, 1.f, 2.f, 4.f}[k % 4]});
+  gl::ShadowUniforms base;
+  base.modelview_projection = matrix();
+  base.light_modelview = matrix();
+  base.light_projection = matrix();
+  base.light_position = {entry(rng), entry(rng), entry(rng), 1.0f};
+  struct Field {
+    const char* name;
+    std::function<void(gl::ShadowUniforms&)> change;
+    std::vector<gl::VertexProgram> read_by;
+  };
+  using P = gl::VertexProgram;
+  const std::vector<Field> fields{
+      {"modelview_projection",
+       [&](gl::ShadowUniforms& u) { u.modelview_projection = matrix(); },
+       {P::Extrusion, P::Figure7}},
+      {"light_modelview", [&](gl::ShadowUniforms& u) { u.light_modelview = matrix(); }, {P::Figure7, P::NearCap}},
+      {"light_projection", [&](gl::ShadowUniforms& u) { u.light_projection = matrix(); }, {P::Figure7, P::NearCap}},
+      {"light_position", [&](gl::ShadowUniforms& u) { u.light_position.y += 0.5f; }, {P::Extrusion, P::Figure7}},
+      {"arithmetic",
+       [](gl::ShadowUniforms& u) { u.arithmetic = gl::Arithmetic::Fused; },
+       {P::Extrusion, P::Figure7, P::NearCap}},
+      {"depth_mapping", [](gl::ShadowUniforms& u) { u.depth_mapping = gl::DepthMapping::Reversed; }, {P::Figure7}},
+  };
+  for (P program : {P::Extrusion, P::Figure7, P::NearCap})
+    for (const Field& field : fields) {
+      const std::string what = std::string(to_string(program)) + ", " + field.name;
+      gl::ShadowUniforms other = base;
+      field.change(other);
+      const bool read = std::find(field.read_by.begin(), field.read_by.end(), program) != field.read_by.end();
+      gl::SharedDraws draws;
+      const std::vector<gl::Vec4f>& first = draws.run(inputs, program, base).clip;
+      const gl::SharedDraws::Program again = draws.run(inputs, program, other);
+      EXPECT_EQ(&again.clip != &first, read) << what;
+      EXPECT_TRUE(same_bits(again.clip, gl::run_vertex_program(program, other, inputs))) << what;
+      if (read) {
+        EXPECT_FALSE(same_bits(again.clip, first)) << what << ": the change is not seen in the bits";
+      }
+    }
 }
 
 // A full-viewport quad at clip depth z (w = 1), counter-clockwise, with a

@@ -19,11 +19,18 @@ bool same_bits(const T& a, const T& b) {
 
 }  // namespace
 
-bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b) {
-  // Field by field: the struct's padding is not compared.
-  return same_bits(a.modelview_projection, b.modelview_projection) && same_bits(a.light_modelview, b.light_modelview) &&
-         same_bits(a.light_projection, b.light_projection) && same_bits(a.light_position, b.light_position) &&
-         a.arithmetic == b.arithmetic && a.depth_mapping == b.depth_mapping;
+bool same_uniforms(VertexProgram program, const ShadowUniforms& a, const ShadowUniforms& b) {
+  // Field by field (the struct's padding is not compared), the fields the
+  // program reads (shadow_vertex_programs.cpp): the extrusion program the
+  // camera's matrix and the light's position, the near-cap program the
+  // light's matrices, Figure 7 all of them and the depth mapping.
+  const bool camera = program != VertexProgram::NearCap, light_frame = program != VertexProgram::Extrusion;
+  return a.arithmetic == b.arithmetic &&
+         (!camera || (same_bits(a.modelview_projection, b.modelview_projection) &&
+                      same_bits(a.light_position, b.light_position))) &&
+         (!light_frame ||
+          (same_bits(a.light_modelview, b.light_modelview) && same_bits(a.light_projection, b.light_projection))) &&
+         (program != VertexProgram::Figure7 || a.depth_mapping == b.depth_mapping);
 }
 
 template <class Inputs>
@@ -31,7 +38,7 @@ SharedDraws::ProgramRun& SharedDraws::find_or_run(const Inputs& inputs, VertexPr
                                                   const ShadowUniforms& uniforms, bool& found) {
   found = true;
   for (ProgramRun& r : runs_)
-    if (r.inputs == &inputs && r.program == program && same_uniforms(r.uniforms, uniforms)) return r;
+    if (r.inputs == &inputs && r.program == program && same_uniforms(program, r.uniforms, uniforms)) return r;
   found = false;
   const auto t = Clock::now();
   ProgramRun& r = runs_.emplace_back();

@@ -72,7 +72,8 @@ class SharedDraws {
   std::deque<ProgramRun> runs_;
 };
 
-// The same uniforms, bit for bit (so that a program computes the same bits from them).
-bool same_uniforms(const ShadowUniforms& a, const ShadowUniforms& b);
+// The same uniforms, bit for bit, of those `program` reads (so that it
+// computes the same bits from them).
+bool same_uniforms(VertexProgram program, const ShadowUniforms& a, const ShadowUniforms& b);
 
 }  // namespace nearcap::gl
