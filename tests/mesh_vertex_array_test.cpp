@@ -1,6 +1,7 @@
 // The mesh's vertex array (src/gl/mesh_vertex_array.hpp): each vertex program
 // run once per mesh vertex and gathered per corner gives, bit for bit, what
-// running it on every corner gives, the corners in the mesh's triangle order.
+// running it on every corner gives, the corners in the mesh's triangle order;
+// and the shadow volume's caps are its points and directions gathered.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -9,8 +10,11 @@
 #include <vector>
 
 #include "../src/gl/mesh_vertex_array.hpp"
+#include "nearcap/gl/engine_classification.hpp"
 #include "nearcap/gl/shadow_vertex_programs.hpp"
+#include "nearcap/gl/shadow_volume_geometry.hpp"
 #include "nearcap/io/mesh_file.hpp"
+#include "nearcap/io/scene_file.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -55,6 +59,31 @@ TEST(MeshVertexArray, EachProgramGivesTheBitsOfRunningItOnEveryCorner) {
         for (std::size_t k = 0; k < gathered.size(); ++k)
           ASSERT_TRUE(same_bits(gathered[k], per_corner[k])) << to_string(p) << " corner " << k;
       }
+}
+
+bool same_bits(const ShadowVertex& a, const ShadowVertex& b) { return std::memcmp(&a, &b, sizeof(ShadowVertex)) == 0; }
+
+// Z-fail's caps drawn as indexed draws (shadow_methods.cpp) read the mesh's
+// points and directions through the geometry's vertex indices: the caps'
+// own vertices, bit for bit.
+TEST(MeshVertexArray, TheCapsAreThePointsAndDirectionsOfTheirVertices) {
+  for (const char* name : {"near_cap_bunny_wall.json", "case_d.json"}) {
+    const Scene scene = load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/" + name);
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+      if (!scene.objects[o].occluder) continue;
+      const TriangleMesh& mesh = *scene.objects[o].mesh;
+      const MeshVertexArray a = mesh_vertex_array(mesh);
+      const ShadowVolumeGeometry g = shadow_volume_geometry(mesh, engine_silhouette(scene, o, 0));
+      ASSERT_FALSE(g.light_cap.empty()) << name;
+      ASSERT_FALSE(g.dark_cap.empty()) << name;
+      const std::vector<ShadowVertex> light = per_corner(a.vertices, g.light_cap_vertex),
+                                      dark = per_corner(a.directions, g.dark_cap_vertex);
+      ASSERT_EQ(light.size(), g.light_cap.size());
+      ASSERT_EQ(dark.size(), g.dark_cap.size());
+      for (std::size_t k = 0; k < light.size(); ++k) ASSERT_TRUE(same_bits(light[k], g.light_cap[k])) << name << k;
+      for (std::size_t k = 0; k < dark.size(); ++k) ASSERT_TRUE(same_bits(dark[k], g.dark_cap[k])) << name << k;
+    }
+  }
 }
 
 }  // namespace

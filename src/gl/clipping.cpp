@@ -188,6 +188,28 @@ void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::
   clip_at_planes(a, b, c, polygon);
 }
 
+TriangleClipper::VertexCode TriangleClipper::code(const Vec4f& v) const {
+  VertexCode out;
+  for (std::size_t k = 0; k < count_; ++k) {
+    const float d =
+        distance(v, static_cast<Plane>(planes_[k]), settings_.guard_band, settings_.w_min, settings_.depth_mapping);
+    if (d < 0) out.outside = static_cast<std::uint8_t>(out.outside | (1u << k));
+    out.inside = out.inside && d >= 0;
+  }
+  return out;
+}
+
+void TriangleClipper::clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, VertexCode code_a, VertexCode code_b,
+                           VertexCode code_c, std::vector<Vec4f>& polygon) const {
+  polygon.clear();
+  if ((code_a.outside & code_b.outside & code_c.outside) != 0) return;  // one plane has all three outside
+  if (code_a.inside && code_b.inside && code_c.inside) {
+    polygon.insert(polygon.end(), {a, b, c});
+    return;
+  }
+  clip_at_planes(a, b, c, polygon);
+}
+
 void TriangleClipper::clip_at_planes(const Vec4f& a, const Vec4f& b, const Vec4f& c,
                                      std::vector<Vec4f>& polygon) const {
   const ClipSettings& settings = settings_;

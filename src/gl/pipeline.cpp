@@ -137,88 +137,209 @@ DrawCounters Framebuffer::draw(const std::vector<Vec4f>& clip_vertices, const Dr
                                const RasterSettings& raster) {
   std::unique_ptr<SetUpTriangles> triangles = take_buffer<SetUpTriangles>();
   set_up(clip_vertices, state, raster, *triangles);
-  DrawCounters counters = triangles->counters;
-  const DrawCounters fragments = rasterize(*triangles, state, raster);
-  counters.fragments = fragments.fragments;
-  counters.depth_passed = fragments.depth_passed;
-  counters.bounds_culled = fragments.bounds_culled;
-  counters.in_view = fragments.in_view;
+  const DrawCounters counters = rasterize_set_up(*triangles, state, raster);
   give_back(std::move(triangles));
   return counters;
 }
 
-void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
-                         SetUpTriangles& out) const {
-  DrawCounters& counters = out.counters;
-  counters = {};
-  ClipSettings clip;
-  clip.clip_near = !state.depth_clamp_near;
-  clip.w_min = state.clamp_w_min;
-  clip.clip_far = state.clip_far && !state.depth_clamp_far && !state.vertices_on_far_plane;
-  clip.skip_near_side = state.vertices_on_near_plane;
-  clip.far_first = state.far_first || state.vertices_on_far_plane;
-  clip.depth_mapping = state.depth_mapping;
-  clip.mesa = raster.mesa_clipper;
-  // One depth side clamped: drawn on llvmpipe (no GL_AMD_depth_clamp_separate)
-  // with GL_DEPTH_CLAMP and the other plane as a gl_ClipDistance.
-  clip.depth_plane_as_clip_distance = one_sided_depth_clamp(state);
-  clip.guard_band = std::min(raster.guard_band, safe_guard_band(width_, height_, raster.subpixel_bits));
-  // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
-  // snapping holds up to 2^(30 - bits).
-  const float max_window = static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits));
-  const TriangleClipper clipper(clip);
-  // Vertex post-processing and setup, in submission order.
-  std::vector<std::array<WindowVertex, 3>>& triangles = out.triangles;
-  std::vector<Vec4f> polygon;
-  std::vector<WindowVertex> window;
-  triangles.clear();
-  for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3) {
-    ++counters.triangles;
-    clipper.clip(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2], polygon);
-    if (polygon.empty()) {
-      ++counters.clipped;
-      continue;
+DrawCounters Framebuffer::draw(const std::vector<Vec4f>& vertices, const std::vector<std::uint32_t>& corners,
+                               const DrawState& state, const RasterSettings& raster) {
+  std::unique_ptr<SetUpTriangles> triangles = take_buffer<SetUpTriangles>();
+  set_up(vertices, corners, state, raster, *triangles);
+  const DrawCounters counters = rasterize_set_up(*triangles, state, raster);
+  give_back(std::move(triangles));
+  return counters;
+}
+
+DrawCounters Framebuffer::rasterize_set_up(const SetUpTriangles& triangles, const DrawState& state,
+                                           const RasterSettings& raster) {
+  DrawCounters counters = triangles.counters;
+  const DrawCounters fragments = rasterize(triangles, state, raster);
+  counters.fragments = fragments.fragments;
+  counters.depth_passed = fragments.depth_passed;
+  counters.bounds_culled = fragments.bounds_culled;
+  counters.in_view = fragments.in_view;
+  return counters;
+}
+
+namespace {
+
+// A draw's vertex post-processing and setup (Framebuffer::set_up): each
+// triangle clipped, its polygon divided and mapped to the viewport, drawn as
+// a fan whose pieces of zero snapped area or culled by facing are dropped;
+// in submission order.
+class TriangleSetUp {
+ public:
+  TriangleSetUp(int width, int height, const DrawState& state, const RasterSettings& raster, SetUpTriangles& out)
+      : width_(width),
+        height_(height),
+        state_(state),
+        raster_(raster),
+        clipper_(clip_settings(width, height, state, raster)),
+        // |x_w| <= 2^(29 - bits) by the guard band's bound; the rasterizer's
+        // snapping holds up to 2^(30 - bits).
+        max_window_(static_cast<float>(std::ldexp(1.5, 29 - raster.subpixel_bits))),
+        out_(out) {
+    out_.counters = {};
+    out_.triangles.clear();
+  }
+
+  // What the setup of an indexed draw computes once per vertex: its clip
+  // code, and for a vertex inside every plane (which clipping passes on
+  // unchanged) its window position, whether that is in range and its
+  // snapped position.
+  struct Vertex {
+    TriangleClipper::VertexCode code;
+    bool in_range = false;
+    WindowVertex window;
+    detail::FixedPoint snapped{0, 0};
+  };
+  Vertex vertex(const Vec4f& v) const {
+    Vertex out;
+    out.code = clipper_.code(v);
+    if (!out.code.inside) return out;
+    out.window = to_window(v, width_, height_, raster_.viewport, false, state_.depth_mapping);
+    out.in_range = in_range(out.window);
+    if (out.in_range) out.snapped = detail::snap(out.window, raster_.subpixel_bits);
+    return out;
+  }
+
+  // Triangle (a, b, c).
+  void add(const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+    ++out_.counters.triangles;
+    clipper_.clip(a, b, c, polygon_);
+    add_polygon(a, b, c);
+  }
+  // The same from its vertices' vertex(): the same triangles.
+  void add(const Vec4f& a, const Vec4f& b, const Vec4f& c, const Vertex& va, const Vertex& vb, const Vertex& vc) {
+    if (!(va.code.inside && vb.code.inside && vc.code.inside)) {
+      ++out_.counters.triangles;
+      clipper_.clip(a, b, c, va.code, vb.code, vc.code, polygon_);
+      add_polygon(a, b, c);
+      return;
     }
-    window.resize(polygon.size());
-    for (std::size_t k = 0; k < polygon.size(); ++k) {
+    // Unclipped: the triangle itself, its vertices the vertex stage's.
+    ++out_.counters.triangles;
+    const std::array<const Vertex*, 3> v{&va, &vb, &vc};
+    const std::array<const Vec4f*, 3> clip{&a, &b, &c};
+    for (std::size_t k = 0; k < 3; ++k)
+      if (!v[k]->in_range) throw_out_of_range(v[k]->window, *clip[k]);
+    const std::int64_t area = (vb.snapped.x - va.snapped.x) * (vc.snapped.y - va.snapped.y) -
+                              (vc.snapped.x - va.snapped.x) * (vb.snapped.y - va.snapped.y);
+    if (area == 0 || culled(state_.cull, area > 0)) {
+      ++out_.counters.culled;
+      return;
+    }
+    out_.triangles.push_back({va.window, vb.window, vc.window});
+  }
+
+  void finish() { out_.counters.rasterized = out_.triangles.size(); }
+
+ private:
+  static ClipSettings clip_settings(int width, int height, const DrawState& state, const RasterSettings& raster) {
+    ClipSettings clip;
+    clip.clip_near = !state.depth_clamp_near;
+    clip.w_min = state.clamp_w_min;
+    clip.clip_far = state.clip_far && !state.depth_clamp_far && !state.vertices_on_far_plane;
+    clip.skip_near_side = state.vertices_on_near_plane;
+    clip.far_first = state.far_first || state.vertices_on_far_plane;
+    clip.depth_mapping = state.depth_mapping;
+    clip.mesa = raster.mesa_clipper;
+    // One depth side clamped: drawn on llvmpipe (no GL_AMD_depth_clamp_separate)
+    // with GL_DEPTH_CLAMP and the other plane as a gl_ClipDistance.
+    clip.depth_plane_as_clip_distance = one_sided_depth_clamp(state);
+    clip.guard_band = std::min(raster.guard_band, safe_guard_band(width, height, raster.subpixel_bits));
+    return clip;
+  }
+
+  // After clipping every vertex lies within the guard band; only a
+  // degenerate homogeneous vertex ((0, 0, 0, 0): an extrusion whose
+  // direction rounded to zero) can leave it.  Refused, never rasterized.
+  bool in_range(const WindowVertex& w) const {
+    return std::fabs(w.x) < max_window_ && std::fabs(w.y) < max_window_ && std::isfinite(w.z);
+  }
+  [[noreturn]] static void throw_out_of_range(const WindowVertex& w, const Vec4f& clip) {
+    throw Error(ErrorKind::Range, "float pipeline: a clipped vertex has window coordinates (" + std::to_string(w.x) +
+                                      ", " + std::to_string(w.y) + ", " + std::to_string(w.z) +
+                                      ") (clip-space w = " + std::to_string(clip.w) +
+                                      "): the float32 transforms of this scene are degenerate");
+  }
+
+  // The clipper's polygon_ of triangle (a, b, c).
+  void add_polygon(const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+    if (polygon_.empty()) {
+      ++out_.counters.clipped;
+      return;
+    }
+    const std::array<const Vec4f*, 3> input{&a, &b, &c};
+    window_.resize(polygon_.size());
+    for (std::size_t k = 0; k < polygon_.size(); ++k) {
       // A vertex of the input triangle comes back from the clipper unchanged
       // (bit for bit); any other is one it made.
       // Only Mesa's arithmetic tells the two apart.
-      const Vec4f& v = polygon[k];
-      bool original =
-          raster.viewport == ViewportArithmetic::Divide || state.vertices_on_near_plane || state.vertices_on_far_plane;
-      for (std::size_t i = t; i < t + 3 && !original; ++i) {
-        const Vec4f& u = clip_vertices[i];
-        original = std::memcmp(&u, &v, sizeof(Vec4f)) == 0;
-      }
-      window[k] = to_window(v, width_, height_, raster.viewport, !original, state.depth_mapping);
-      // After clipping every vertex lies within the guard band; only a
-      // degenerate homogeneous vertex ((0, 0, 0, 0): an extrusion whose
-      // direction rounded to zero) can leave it.  Refused, never rasterized.
-      if (!(std::fabs(window[k].x) < max_window) || !(std::fabs(window[k].y) < max_window) ||
-          !std::isfinite(window[k].z))
-        throw Error(ErrorKind::Range,
-                    "float pipeline: a clipped vertex has window coordinates (" + std::to_string(window[k].x) + ", " +
-                        std::to_string(window[k].y) + ", " + std::to_string(window[k].z) + ") (clip-space w = " +
-                        std::to_string(polygon[k].w) + "): the float32 transforms of this scene are degenerate");
+      const Vec4f& v = polygon_[k];
+      bool original = raster_.viewport == ViewportArithmetic::Divide || state_.vertices_on_near_plane ||
+                      state_.vertices_on_far_plane;
+      for (std::size_t i = 0; i < 3 && !original; ++i) original = std::memcmp(input[i], &v, sizeof(Vec4f)) == 0;
+      window_[k] = to_window(v, width_, height_, raster_.viewport, !original, state_.depth_mapping);
+      if (!in_range(window_[k])) throw_out_of_range(window_[k], v);
     }
     // The clipped polygon is drawn as a fan from its first vertex, as Mesa's
     // clipper emits it; every piece has the facing of the whole.
-    bool clipped_here = polygon.size() != 3;
+    bool clipped_here = polygon_.size() != 3;
     for (std::size_t k = 0; k < 3 && !clipped_here; ++k)
-      clipped_here = std::memcmp(&polygon[k], &clip_vertices[t + k], sizeof(Vec4f)) != 0;
-    for (std::size_t k = 1; k + 1 < window.size(); ++k) {
-      std::array<WindowVertex, 3> tri{window[0], window[k], window[k + 1]};
-      if (raster.mesa_clipper && clipped_here) tri = {window[k], window[k + 1], window[0]};
-      const int orientation = snapped_orientation(tri, raster.subpixel_bits);
-      if (orientation == 0 || culled(state.cull, orientation > 0)) {
-        ++counters.culled;
+      clipped_here = std::memcmp(&polygon_[k], input[k], sizeof(Vec4f)) != 0;
+    for (std::size_t k = 1; k + 1 < window_.size(); ++k) {
+      std::array<WindowVertex, 3> tri{window_[0], window_[k], window_[k + 1]};
+      if (raster_.mesa_clipper && clipped_here) tri = {window_[k], window_[k + 1], window_[0]};
+      const int orientation = snapped_orientation(tri, raster_.subpixel_bits);
+      if (orientation == 0 || culled(state_.cull, orientation > 0)) {
+        ++out_.counters.culled;
         continue;
       }
-      triangles.push_back(tri);
+      out_.triangles.push_back(tri);
     }
   }
-  counters.rasterized = triangles.size();
+
+  int width_, height_;
+  const DrawState& state_;
+  const RasterSettings& raster_;
+  TriangleClipper clipper_;
+  float max_window_;
+  SetUpTriangles& out_;
+  std::vector<Vec4f> polygon_;
+  std::vector<WindowVertex> window_;
+};
+
+// An indexed draw's per-vertex setup, kept per thread with its capacity.
+struct IndexedVertices {
+  std::vector<TriangleSetUp::Vertex> vertices;
+};
+
+}  // namespace
+
+void Framebuffer::set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
+                         SetUpTriangles& out) const {
+  TriangleSetUp setup(width_, height_, state, raster, out);
+  for (std::size_t t = 0; t + 2 < clip_vertices.size(); t += 3)
+    setup.add(clip_vertices[t], clip_vertices[t + 1], clip_vertices[t + 2]);
+  setup.finish();
+}
+
+void Framebuffer::set_up(const std::vector<Vec4f>& vertices, const std::vector<std::uint32_t>& corners,
+                         const DrawState& state, const RasterSettings& raster, SetUpTriangles& out) const {
+  TriangleSetUp setup(width_, height_, state, raster, out);
+  std::unique_ptr<IndexedVertices> buffer = take_buffer<IndexedVertices>();
+  std::vector<TriangleSetUp::Vertex>& coded = buffer->vertices;
+  coded.resize(vertices.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v) coded[v] = setup.vertex(vertices[v]);
+  for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {
+    const std::uint32_t a = corners[t], b = corners[t + 1], c = corners[t + 2];
+    NEARCAP_CHECK(a < vertices.size() && b < vertices.size() && c < vertices.size());
+    setup.add(vertices[a], vertices[b], vertices[c], coded[a], coded[b], coded[c]);
+  }
+  setup.finish();
+  give_back(std::move(buffer));
 }
 
 DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawState& state,

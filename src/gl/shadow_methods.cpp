@@ -142,11 +142,13 @@ class FrameRenderer {
         s.depth_write = true;
         s.object_id = static_cast<std::int32_t>(o);
         const ShadowUniforms& u = objects_[o].uniforms;
-        std::vector<Vec4f> clip = run_vertex_program(VertexProgram::Extrusion, u, shared_.meshes[o]);
-        counters += fb.draw(clip, oriented(s, objects_[o].mirrored), settings_.raster);
+        const MeshVertexArray& mesh = shared_.meshes[o];
+        const std::vector<Vec4f> clip = run_vertex_program(VertexProgram::Extrusion, u, mesh.vertices);
+        counters += fb.draw(clip, mesh.corner_vertex, oriented(s, objects_[o].mirrored), settings_.raster);
         if (settings_.record_draws)
-          draws.push_back(program_draw(DrawPass::Depth, std::move(clip), oriented(s, objects_[o].mirrored),
-                                       VertexProgram::Extrusion, GeometryPart::Mesh, corners(shared_.meshes[o]), u));
+          draws.push_back(program_draw(DrawPass::Depth, per_corner(clip, mesh.corner_vertex),
+                                       oriented(s, objects_[o].mirrored), VertexProgram::Extrusion, GeometryPart::Mesh,
+                                       corners(mesh), u));
       }
       depth = SharedWork::DepthPass{std::move(fb), counters, ms_since(t), std::move(draws)};
     }
@@ -306,11 +308,12 @@ class FrameRenderer {
       const ObjectSetup& obj = objects_[o];
       if (!obj.occluder || plans_[o]->cap_pass != CapPass::NearCap || switches_to_zfail(obj, frame)) continue;
       const DrawState state = bounded(oriented(s, obj.mirrored), obj);
-      frame.cap_pass += shared_draw(shared_.meshes[o], VertexProgram::NearCap, obj.uniforms, state);
+      const IndexedInputs mesh = shared_.meshes[o].draw();
+      frame.cap_pass += shared_draw(mesh, VertexProgram::NearCap, obj.uniforms, state);
       if (settings_.record_draws)
-        frame.draws.push_back(program_draw(
-            DrawPass::NearCap, shared_.draws.run(shared_.meshes[o], VertexProgram::NearCap, obj.uniforms).clip, state,
-            VertexProgram::NearCap, GeometryPart::Mesh, corners(shared_.meshes[o]), obj.uniforms));
+        frame.draws.push_back(
+            program_draw(DrawPass::NearCap, shared_.draws.run(mesh, VertexProgram::NearCap, obj.uniforms).clip, state,
+                         VertexProgram::NearCap, GeometryPart::Mesh, corners(shared_.meshes[o]), obj.uniforms));
     }
   }
 
@@ -428,9 +431,19 @@ class FrameRenderer {
                                                 : part == GeometryPart::LightCap   ? g.light_cap
                                                                                    : g.dark_cap;
     const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
-    frame.volume_pass += shared_draw(vertices, program, obj.uniforms, state);
+    // The caps as indexed draws of the mesh's points and directions
+    // (mesh_vertex_array.hpp): their corners are those, bit for bit.
+    const MeshVertexArray& mesh = shared_.meshes[obj.index];
+    const std::optional<IndexedInputs> cap =
+        part == GeometryPart::LightCap ? std::optional<IndexedInputs>(IndexedInputs{mesh.vertices, g.light_cap_vertex})
+        : part == GeometryPart::DarkCap
+            ? std::optional<IndexedInputs>(IndexedInputs{mesh.directions, g.dark_cap_vertex})
+            : std::nullopt;
+    frame.volume_pass +=
+        cap ? shared_draw(*cap, program, obj.uniforms, state) : shared_draw(vertices, program, obj.uniforms, state);
     if (!keep && !settings_.record_draws) return;
-    const std::vector<Vec4f>& clip = shared_.draws.run(vertices, program, obj.uniforms).clip;
+    const std::vector<Vec4f>& clip = cap ? shared_.draws.run(*cap, program, obj.uniforms).clip
+                                         : shared_.draws.run(vertices, program, obj.uniforms).clip;
     if (keep) keep->insert(keep->end(), clip.begin(), clip.end());
     if (settings_.record_draws)
       frame.draws.push_back(program_draw(DrawPass::Volume, clip, state, program, part, vertices, obj.uniforms));
@@ -441,7 +454,8 @@ class FrameRenderer {
   // setup, a later one with the same uniforms and same_setup state only
   // rasterizes them, and is charged the time they took (reused_ms_), so that
   // each method's times stay what drawing its frame alone takes.
-  // `inputs`: a vertex array of the batch (volume geometry, or a MeshVertexArray).
+  // `inputs`: a vertex array of the batch (volume geometry), or an indexed draw's
+  // (mesh_vertex_array.hpp).
   template <class Inputs>
   DrawCounters shared_draw(const Inputs& inputs, VertexProgram program, const ShadowUniforms& u,
                            const DrawState& state) {

@@ -33,8 +33,7 @@ bool same_uniforms(VertexProgram program, const ShadowUniforms& a, const ShadowU
          (program != VertexProgram::Figure7 || a.depth_mapping == b.depth_mapping);
 }
 
-template <class Inputs>
-SharedDraws::ProgramRun& SharedDraws::find_or_run(const Inputs& inputs, VertexProgram program,
+SharedDraws::ProgramRun& SharedDraws::find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
                                                   const ShadowUniforms& uniforms, bool& found) {
   found = true;
   for (ProgramRun& r : runs_)
@@ -50,19 +49,24 @@ SharedDraws::ProgramRun& SharedDraws::find_or_run(const Inputs& inputs, VertexPr
   return r;
 }
 
-template <class Inputs>
-SharedDraws::SetUp SharedDraws::find_or_set_up(const Inputs& inputs, VertexProgram program,
+SharedDraws::SetUp SharedDraws::find_or_set_up(const std::vector<ShadowVertex>& inputs,
+                                               const std::vector<std::uint32_t>* corners, VertexProgram program,
                                                const ShadowUniforms& uniforms, const Framebuffer& fb,
                                                const DrawState& state, const RasterSettings& raster) {
   bool found = false;
   ProgramRun& r = find_or_run(inputs, program, uniforms, found);
   const double program_ms = found ? r.ms : 0.0;
   for (const StateSetUp& s : r.set_ups)
-    if (same_setup(s.state, state)) return {s.triangles, program_ms + s.ms};
+    if (s.corners == corners && same_setup(s.state, state)) return {s.triangles, program_ms + s.ms};
   const auto t = Clock::now();
   SetUpTriangles triangles;
-  fb.set_up(r.clip, state, raster, triangles);  // may throw (a degenerate vertex): nothing is kept then
+  // May throw (a degenerate vertex): nothing is kept then.
+  if (corners)
+    fb.set_up(r.clip, *corners, state, raster, triangles);
+  else
+    fb.set_up(r.clip, state, raster, triangles);
   StateSetUp& s = r.set_ups.emplace_back();
+  s.corners = corners;
   s.state = state;
   s.triangles = std::move(triangles);
   s.ms = ms_since(t);
@@ -76,23 +80,28 @@ SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, V
   return {r.clip, found ? r.ms : 0.0};
 }
 
-SharedDraws::Program SharedDraws::run(const MeshVertexArray& mesh, VertexProgram program,
+SharedDraws::Program SharedDraws::run(const IndexedInputs& draw, VertexProgram program,
                                       const ShadowUniforms& uniforms) {
   bool found = false;
-  const ProgramRun& r = find_or_run(mesh, program, uniforms, found);
-  return {r.clip, found ? r.ms : 0.0};
+  ProgramRun& r = find_or_run(draw.inputs, program, uniforms, found);
+  const double reused_ms = found ? r.ms : 0.0;
+  for (const Gathered& g : r.gathered)
+    if (g.corners == &draw.corners) return {g.clip, reused_ms};
+  Gathered& g = r.gathered.emplace_back();
+  g.corners = &draw.corners;
+  g.clip = per_corner(r.clip, draw.corners);
+  return {g.clip, reused_ms};
 }
 
 SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program,
                                        const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
                                        const RasterSettings& raster) {
-  return find_or_set_up(inputs, program, uniforms, fb, state, raster);
+  return find_or_set_up(inputs, nullptr, program, uniforms, fb, state, raster);
 }
 
-SharedDraws::SetUp SharedDraws::set_up(const MeshVertexArray& mesh, VertexProgram program,
-                                       const ShadowUniforms& uniforms, const Framebuffer& fb, const DrawState& state,
-                                       const RasterSettings& raster) {
-  return find_or_set_up(mesh, program, uniforms, fb, state, raster);
+SharedDraws::SetUp SharedDraws::set_up(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms,
+                                       const Framebuffer& fb, const DrawState& state, const RasterSettings& raster) {
+  return find_or_set_up(draw.inputs, &draw.corners, program, uniforms, fb, state, raster);
 }
 
 }  // namespace nearcap::gl

@@ -43,32 +43,41 @@ class SharedDraws {
   };
   SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
                const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
-  // The same for an object's mesh (its corners' clip-space vertices), known
-  // by the array's address.
-  Program run(const MeshVertexArray& mesh, VertexProgram program, const ShadowUniforms& uniforms);
-  SetUp set_up(const MeshVertexArray& mesh, VertexProgram program, const ShadowUniforms& uniforms,
-               const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
+  // The same for an indexed draw (mesh_vertex_array.hpp), both its arrays
+  // known by their addresses: the program is run once per input (and shared
+  // by every draw of those inputs), the setup per vertex once per draw
+  // (Framebuffer::set_up of an indexed draw).  run() gives the clip-space
+  // vertex of each corner, gathered from the inputs'.
+  Program run(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms);
+  SetUp set_up(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms, const Framebuffer& fb,
+               const DrawState& state, const RasterSettings& raster);
 
  private:
   struct StateSetUp {
+    const std::vector<std::uint32_t>* corners = nullptr;  // an indexed draw's; null: one input per corner
     DrawState state;
     SetUpTriangles triangles;
     double ms = 0;
   };
+  struct Gathered {
+    const std::vector<std::uint32_t>* corners = nullptr;
+    std::vector<Vec4f> clip;
+  };
   struct ProgramRun {
-    const void* inputs = nullptr;  // the vertex array's address
+    const std::vector<ShadowVertex>* inputs = nullptr;  // known by its address
     VertexProgram program = VertexProgram::Extrusion;
     ShadowUniforms uniforms;
-    std::vector<Vec4f> clip;
+    std::vector<Vec4f> clip;  // one per input
     double ms = 0;
     std::deque<StateSetUp> set_ups;  // a deque: references to earlier ones stay valid
+    std::deque<Gathered> gathered;   // per corner, for an indexed draw's run()
   };
   // `found`: whether it was run before this call.
-  template <class Inputs>
-  ProgramRun& find_or_run(const Inputs& inputs, VertexProgram program, const ShadowUniforms& uniforms, bool& found);
-  template <class Inputs>
-  SetUp find_or_set_up(const Inputs& inputs, VertexProgram program, const ShadowUniforms& uniforms,
-                       const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
+  ProgramRun& find_or_run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
+                          const ShadowUniforms& uniforms, bool& found);
+  SetUp find_or_set_up(const std::vector<ShadowVertex>& inputs, const std::vector<std::uint32_t>* corners,
+                       VertexProgram program, const ShadowUniforms& uniforms, const Framebuffer& fb,
+                       const DrawState& state, const RasterSettings& raster);
   std::deque<ProgramRun> runs_;
 };
 

@@ -93,6 +93,19 @@ class TriangleClipper {
  public:
   explicit TriangleClipper(const ClipSettings& settings);
   void clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, std::vector<Vec4f>& polygon) const;
+  // What clip()'s trivial accept and reject read of one vertex: the planes
+  // it is outside (distance < 0), a bit each, and whether it is inside every
+  // plane (distance >= 0 at each; not the same as no bit set where a
+  // distance is NaN).  A vertex shared by many triangles (an indexed draw)
+  // is coded once.
+  struct VertexCode {
+    std::uint8_t outside = 0;
+    bool inside = true;
+  };
+  VertexCode code(const Vec4f& v) const;
+  // clip(a, b, c, polygon) from the vertices' codes: the same polygon.
+  void clip(const Vec4f& a, const Vec4f& b, const Vec4f& c, VertexCode code_a, VertexCode code_b, VertexCode code_c,
+            std::vector<Vec4f>& polygon) const;
 
  private:
   // clip() past the trivial accept and reject: the triangle through every

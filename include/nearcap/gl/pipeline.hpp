@@ -212,8 +212,18 @@ class Framebuffer {
   void set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
               SetUpTriangles& out) const;
   DrawCounters rasterize(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster);
+  // The same for an indexed draw (glDrawElements): triangle t's corners are
+  // vertices[corners[3t]], vertices[corners[3t + 1]] and
+  // vertices[corners[3t + 2]].  The triangles and counters of the gathered
+  // corners' draw, bit for bit; each vertex's clip code, and its window
+  // position and snapping where clipping leaves it as it is, computed once.
+  DrawCounters draw(const std::vector<Vec4f>& vertices, const std::vector<std::uint32_t>& corners,
+                    const DrawState& state, const RasterSettings& raster);
+  void set_up(const std::vector<Vec4f>& vertices, const std::vector<std::uint32_t>& corners, const DrawState& state,
+              const RasterSettings& raster, SetUpTriangles& out) const;
 
  private:
+  DrawCounters rasterize_set_up(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster);
   int width_, height_;
   DepthFormat format_;
   std::vector<std::uint32_t> depth_;
