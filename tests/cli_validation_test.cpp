@@ -321,6 +321,9 @@ TEST_F(CliValidation, AMeshFolderJsonCannotNameIsOneIoError) {
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_EQ(r.err.rfind("nearcap: error (" + kind + "): ", 0), 0u) << r.err;
     EXPECT_NE(r.err.find("not UTF-8"), std::string::npos) << r.err;
+    // A usage mistake names the command's help page; an io error does not.
+    const std::string command = args.substr(0, args.find(' '));
+    EXPECT_EQ(r.err.find("(see nearcap " + command + " --help)\n") != std::string::npos, kind == "usage") << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(written().empty()) << written().front();
   }

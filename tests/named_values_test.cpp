@@ -232,7 +232,7 @@ void expect_variant_error_lists_every_name(const std::string& option) {
       "sweep --samples 1 --variant " + option + "=no-such-name --out /nonexistent/s.csv", "named_variant");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "nearcap: error (usage): --variant '" + option + "=no-such-name': " + option +
-                       " 'no-such-name' is not one of " + names_joined<E>() + "\n");
+                       " 'no-such-name' is not one of " + names_joined<E>() + " (see nearcap sweep --help)\n");
 }
 
 TEST(NamedValues, AVariantsBadValueNamesEveryValue) {

@@ -220,9 +220,15 @@ int main(int argc, char** argv) {
     std::raise(e.signal);
     return 128 + e.signal;
   } catch (const nearcap::Error& e) {
+    // A usage mistake the command finds itself names its help page, as
+    // CLI11's do.
+    const std::vector<CLI::App*> named = app.get_subcommands();
+    const std::string help = e.kind() == nearcap::ErrorKind::Usage && !named.empty()
+                                 ? " (see nearcap " + named.front()->get_name() + " --help)"
+                                 : "";
     if (report())
-      std::fprintf(stderr, "nearcap: error (%s): %s\n", std::string(nearcap::to_string(e.kind())).c_str(),
-                   nearcap::io::escaped_control_characters(e.what()).c_str());
+      std::fprintf(stderr, "nearcap: error (%s): %s%s\n", std::string(nearcap::to_string(e.kind())).c_str(),
+                   nearcap::io::escaped_control_characters(e.what()).c_str(), help.c_str());
     return fail(2);
   } catch (const std::bad_alloc&) {
     if (report())
