@@ -71,6 +71,19 @@ bool is_option_of(const CLI::App& command, const std::string& given) {
   return false;
 }
 
+// Whether `message` names one of `command`'s long options (--name, not
+// inside a longer word): what its help page explains.
+bool names_an_option_of(const CLI::App& command, const std::string& message) {
+  auto name_character = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-'; };
+  for (std::size_t at = message.find("--"); at != std::string::npos; at = message.find("--", at + 2)) {
+    if (at > 0 && name_character(message[at - 1])) continue;
+    std::size_t end = at + 2;
+    while (end < message.size() && name_character(message[end])) ++end;
+    if (is_option_of(command, message.substr(at, end - at))) return true;
+  }
+  return false;
+}
+
 // `command`'s long option nearest to `given` (--ligth: --light), where one
 // is within two edits and nearer than any other; "" otherwise.
 std::string nearest_option(const CLI::App& command, const std::string& given) {
@@ -220,12 +233,14 @@ int main(int argc, char** argv) {
     std::raise(e.signal);
     return 128 + e.signal;
   } catch (const nearcap::Error& e) {
-    // A usage mistake the command finds itself names its help page, as
-    // CLI11's do.
+    // A usage mistake the command finds in its options names their help
+    // page, as CLI11's do (not one in an input's content or the
+    // environment, which that page does not explain).
     const std::vector<CLI::App*> named = app.get_subcommands();
-    const std::string help = e.kind() == nearcap::ErrorKind::Usage && !named.empty()
-                                 ? " (see nearcap " + named.front()->get_name() + " --help)"
-                                 : "";
+    const std::string help =
+        e.kind() == nearcap::ErrorKind::Usage && !named.empty() && names_an_option_of(*named.front(), e.what())
+            ? " (see nearcap " + named.front()->get_name() + " --help)"
+            : "";
     if (report())
       std::fprintf(stderr, "nearcap: error (%s): %s%s\n", std::string(nearcap::to_string(e.kind())).c_str(),
                    nearcap::io::escaped_control_characters(e.what()).c_str(), help.c_str());
