@@ -53,7 +53,7 @@ TEST(MeshVertexArray, EachProgramGivesTheBitsOfRunningItOnEveryCorner) {
         u.light_projection = random_matrix(rng);
         u.light_position = {0.5f, 2.0f, -1.0f, 1.0f};
         u.arithmetic = arithmetic;
-        const std::vector<Vec4f> gathered = run_vertex_program(p, u, a);
+        const std::vector<Vec4f> gathered = per_corner(run_vertex_program(p, u, a.vertices), a.corner_vertex);
         const std::vector<Vec4f> per_corner = run_vertex_program(p, u, c);
         ASSERT_EQ(gathered.size(), per_corner.size());
         for (std::size_t k = 0; k < gathered.size(); ++k)

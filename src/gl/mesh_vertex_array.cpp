@@ -5,7 +5,6 @@ namespace nearcap::gl {
 
 MeshVertexArray mesh_vertex_array(const TriangleMesh& mesh) {
   MeshVertexArray a;
-  a.mesh = &mesh;
   a.vertices.reserve(mesh.positions.size());
   a.directions.reserve(mesh.positions.size());
   for (const Vec3d& p : mesh.positions) {
@@ -19,9 +18,5 @@ MeshVertexArray mesh_vertex_array(const TriangleMesh& mesh) {
 }
 
 std::vector<ShadowVertex> corners(const MeshVertexArray& a) { return per_corner(a.vertices, a.corner_vertex); }
-
-std::vector<Vec4f> run_vertex_program(VertexProgram p, const ShadowUniforms& u, const MeshVertexArray& a) {
-  return per_corner(run_vertex_program(p, u, a.vertices), a.corner_vertex);
-}
 
 }  // namespace nearcap::gl

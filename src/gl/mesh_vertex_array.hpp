@@ -28,7 +28,6 @@ struct IndexedInputs {
 };
 
 struct MeshVertexArray {
-  const TriangleMesh* mesh = nullptr;        // outlives the array
   std::vector<ShadowVertex> vertices;        // (x, y, z, 1) per mesh vertex
   std::vector<ShadowVertex> directions;      // (x, y, z, 0) per mesh vertex
   std::vector<std::uint32_t> corner_vertex;  // the mesh's triangles' vertices, 3 per triangle, in order
@@ -49,9 +48,5 @@ std::vector<T> per_corner(const std::vector<T>& per_input, const std::vector<std
 // The draw's inputs, one per corner (a recorded draw call's, which a real GL
 // runs its own program on).
 std::vector<ShadowVertex> corners(const MeshVertexArray& a);
-
-// The clip-space vertex of each corner: run_vertex_program(p, u, corners(a))
-// bit for bit.
-std::vector<Vec4f> run_vertex_program(VertexProgram p, const ShadowUniforms& u, const MeshVertexArray& a);
 
 }  // namespace nearcap::gl

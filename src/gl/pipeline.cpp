@@ -212,14 +212,13 @@ class TriangleSetUp {
   }
   // The same from its vertices' vertex(): the same triangles.
   void add(const Vec4f& a, const Vec4f& b, const Vec4f& c, const Vertex& va, const Vertex& vb, const Vertex& vc) {
+    ++out_.counters.triangles;
     if (!(va.code.inside && vb.code.inside && vc.code.inside)) {
-      ++out_.counters.triangles;
       clipper_.clip(a, b, c, va.code, vb.code, vc.code, polygon_);
       add_polygon(a, b, c);
       return;
     }
     // Unclipped: the triangle itself, its vertices the vertex stage's.
-    ++out_.counters.triangles;
     const std::array<const Vertex*, 3> v{&va, &vb, &vc};
     const std::array<const Vec4f*, 3> clip{&a, &b, &c};
     for (std::size_t k = 0; k < 3; ++k)
@@ -312,9 +311,7 @@ class TriangleSetUp {
 };
 
 // An indexed draw's per-vertex setup, kept per thread with its capacity.
-struct IndexedVertices {
-  std::vector<TriangleSetUp::Vertex> vertices;
-};
+using IndexedVertices = std::vector<TriangleSetUp::Vertex>;
 
 }  // namespace
 
@@ -330,7 +327,7 @@ void Framebuffer::set_up(const std::vector<Vec4f>& vertices, const std::vector<s
                          const DrawState& state, const RasterSettings& raster, SetUpTriangles& out) const {
   TriangleSetUp setup(width_, height_, state, raster, out);
   std::unique_ptr<IndexedVertices> buffer = take_buffer<IndexedVertices>();
-  std::vector<TriangleSetUp::Vertex>& coded = buffer->vertices;
+  std::vector<TriangleSetUp::Vertex>& coded = *buffer;
   coded.resize(vertices.size());
   for (std::size_t v = 0; v < vertices.size(); ++v) coded[v] = setup.vertex(vertices[v]);
   for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {

@@ -422,6 +422,16 @@ class FrameRenderer {
     if (settings_.record_draws) frame.draws.push_back({DrawPass::Volume, std::move(cap), state, std::nullopt});
   }
 
+  // A cap as an indexed draw of the mesh's points (light cap) or directions
+  // (dark cap) (mesh_vertex_array.hpp): its corners, bit for bit; none for
+  // the sides and corrective quads.
+  std::optional<IndexedInputs> indexed_cap(const ObjectSetup& obj, GeometryPart part) const {
+    const MeshVertexArray& mesh = shared_.meshes[obj.index];
+    if (part == GeometryPart::LightCap) return IndexedInputs{mesh.vertices, obj.geometry->light_cap_vertex};
+    if (part == GeometryPart::DarkCap) return IndexedInputs{mesh.directions, obj.geometry->dark_cap_vertex};
+    return std::nullopt;
+  }
+
   // `keep`: where to append the clip-space vertices too.
   void draw(const ObjectSetup& obj, GeometryPart part, VertexProgram program, const DrawState& s, ShadowFrame& frame,
             std::vector<Vec4f>* keep = nullptr) {
@@ -431,14 +441,7 @@ class FrameRenderer {
                                                 : part == GeometryPart::LightCap   ? g.light_cap
                                                                                    : g.dark_cap;
     const DrawState state = bounded(oriented(camera_state(s), obj.mirrored), obj);
-    // The caps as indexed draws of the mesh's points and directions
-    // (mesh_vertex_array.hpp): their corners are those, bit for bit.
-    const MeshVertexArray& mesh = shared_.meshes[obj.index];
-    const std::optional<IndexedInputs> cap =
-        part == GeometryPart::LightCap ? std::optional<IndexedInputs>(IndexedInputs{mesh.vertices, g.light_cap_vertex})
-        : part == GeometryPart::DarkCap
-            ? std::optional<IndexedInputs>(IndexedInputs{mesh.directions, g.dark_cap_vertex})
-            : std::nullopt;
+    const std::optional<IndexedInputs> cap = indexed_cap(obj, part);
     frame.volume_pass +=
         cap ? shared_draw(*cap, program, obj.uniforms, state) : shared_draw(vertices, program, obj.uniforms, state);
     if (!keep && !settings_.record_draws) return;

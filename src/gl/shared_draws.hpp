@@ -6,7 +6,7 @@
 // Several methods draw the same geometry with the same program and
 // uniforms: Z-fail's and preload's light and dark caps (preload twice),
 // ZP+'s and ZP+ corrected's near-cap pass, the Z-pass sides of Z-pass, ZP+
-// and AtomicZP; the near-cap pass draws the mesh itself
+// and AtomicZP; the mesh (near-cap pass) and the caps are indexed draws
 // (mesh_vertex_array.hpp).  The clip-space vertices of such a draw are the same bits
 // whichever method asks, and so is its setup (clipping, viewport, culling)
 // under states with the same_setup (pipeline.hpp).  A cached draw therefore
