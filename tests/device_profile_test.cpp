@@ -486,6 +486,41 @@ std::string version3_policy() {
   "cost_models": {}, "provenance": {"command": "test"}})";
 }
 
+// A count that a few observations hold one of, with times that ask for
+// milliseconds per unit of it (a dark cap of one fragment in a small frame,
+// timed on a busy llvmpipe): the fit keeps the coefficient at the largest a
+// profile holds, and the profile it writes reads back.
+TEST(DeviceProfileFit, ACostBeyondWhatAProfileHoldsIsFittedAtItsBound) {
+  std::vector<PassObservation> passes;
+  std::vector<CpuObservation> cpu;
+  for (int i = 0; i < 40; ++i) {
+    const bool one = i % 8 == 0;
+    for (std::size_t k = 0; k < kPassKindCount; ++k) {
+      PassObservation o;
+      o.frame = "rare:" + std::to_string(i) + ":kind" + std::to_string(k);
+      o.kind = static_cast<PassKind>(k);
+      o.triangles = 1000 + 100 * i;
+      o.fragments = one ? 1 : 0;
+      o.ms = 0.5 + 1e-4 * o.triangles + (one ? 5.0 : 0.0);  // 5 ms for one fragment: 5e6 ms per million
+      passes.push_back(o);
+    }
+    CpuObservation o;
+    o.frame = "rare:" + std::to_string(i) + ":exact";
+    o.task = CpuTask::ExactTest;
+    o.triangles = 1000 + 100 * i;
+    o.straddling = one ? 1 : 0;
+    o.ms = 0.1 + 1e-5 * o.triangles + (one ? 2000.0 : 0.0);  // 2e6 ms per thousand straddling
+    cpu.push_back(o);
+  }
+  const DeviceProfile p = analysis::fit_device_profile(passes, cpu, "busy GL");
+  // At the bound, to the rounding of its units' change (m theta / scale).
+  for (std::size_t k = 0; k < kPassKindCount; ++k)
+    EXPECT_NEAR(p.passes[k].ms_per_mfragment, analysis::kMaxCostCoefficientMs, 1e-6) << analysis::kPassKindNames[k];
+  EXPECT_NEAR(p.cpu.exact_test.ms_per_kstraddling, analysis::kMaxCostCoefficientMs, 1e-6);
+  const std::string written = analysis::device_profile_to_json(p);
+  expect_same(analysis::parse_device_profile(written, "fitted.json"), p);
+}
+
 TEST(DeviceProfileJson, ReadsWhatItWritesOnItsOwnAndInAPolicy) {
   const DeviceProfile p = odd_profile();
   expect_same(analysis::parse_device_profile(analysis::device_profile_to_json(p), "d.json"), p);

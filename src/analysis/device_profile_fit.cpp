@@ -87,16 +87,32 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
-// Minimizes sum rho(log(theta . x_i) - y_i) over theta >= 0 from `theta`.
+// A fitted coefficient in milliseconds per unit of its count: theta, in
+// units of the training median time m per `scale` (the count's training
+// mean; 1 for an intercept), is m theta / scale.  A count a handful of
+// observations hold a few of (a dark cap of one fragment in a 32x24 frame)
+// can ask for more than a profile holds; the fit keeps theta within
+// theta_bound, and the rounding of m theta / scale is taken off here.
+double coefficient_ms(double m, double theta, double scale) {
+  return std::min(kMaxCostCoefficientMs, m * theta / scale);
+}
+double theta_bound(double m, double scale) { return kMaxCostCoefficientMs * scale / m; }
+
+// Minimizes sum rho(log(theta . x_i) - y_i) over 0 <= theta <= upper from
+// `theta` (a start above a bound starts on it).
 template <int N>
 void solve_log_linear(const std::vector<std::array<double, N>>& x, const std::vector<double>& y, bool robust,
-                      const std::string& what, std::array<double, N>& theta) {
+                      const std::string& what, const std::array<double, N>& upper, std::array<double, N>& theta) {
+  for (std::size_t j = 0; j < static_cast<std::size_t>(N); ++j) theta[j] = std::min(theta[j], upper[j]);
   auto solve = [&](double delta) {
     ceres::Problem problem;
     for (std::size_t i = 0; i < x.size(); ++i)
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogResidual<N>, 1, N>(new LogResidual<N>(x[i], y[i])),
                                robust ? new ceres::HuberLoss(delta) : nullptr, theta.data());
-    for (int j = 0; j < N; ++j) problem.SetParameterLowerBound(theta.data(), j, 0.0);
+    for (int j = 0; j < N; ++j) {
+      problem.SetParameterLowerBound(theta.data(), j, 0.0);
+      problem.SetParameterUpperBound(theta.data(), j, upper[static_cast<std::size_t>(j)]);
+    }
     solve_or_throw(problem, deterministic_solver_options(200), what);
   };
   solve(0.1);
@@ -156,19 +172,22 @@ PassCost fit_pass_cost(const std::vector<const PassObservation*>& train,
       for (const PassObservation* o : train)
         x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f, o->in_view * 1e-6 / mean_v});
       std::array<double, 4> theta{0.4, 0.2, 0.2, 0.2};
-      solve_log_linear<4>(x, y, options.robust, what, theta);
-      cost.intercept_ms = m * theta[0];
-      cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
-      cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
-      cost.ms_per_mtriangle_in_view = m * theta[3] / mean_v;
+      solve_log_linear<4>(x, y, options.robust, what,
+                          {theta_bound(m, 1.0), theta_bound(m, s_t), theta_bound(m, s_f), theta_bound(m, mean_v)},
+                          theta);
+      cost.intercept_ms = coefficient_ms(m, theta[0], 1.0);
+      cost.ms_per_mtriangle = mean_t > 0 ? coefficient_ms(m, theta[1], s_t) : 0.0;
+      cost.ms_per_mfragment = mean_f > 0 ? coefficient_ms(m, theta[2], s_f) : 0.0;
+      cost.ms_per_mtriangle_in_view = coefficient_ms(m, theta[3], mean_v);
     } else {
       std::vector<std::array<double, 3>> x;
       for (const PassObservation* o : train) x.push_back({1.0, o->triangles * 1e-6 / s_t, o->fragments * 1e-6 / s_f});
       std::array<double, 3> theta{0.4, 0.3, 0.3};
-      solve_log_linear<3>(x, y, options.robust, what, theta);
-      cost.intercept_ms = m * theta[0];
-      cost.ms_per_mtriangle = mean_t > 0 ? m * theta[1] / s_t : 0.0;
-      cost.ms_per_mfragment = mean_f > 0 ? m * theta[2] / s_f : 0.0;
+      solve_log_linear<3>(x, y, options.robust, what, {theta_bound(m, 1.0), theta_bound(m, s_t), theta_bound(m, s_f)},
+                          theta);
+      cost.intercept_ms = coefficient_ms(m, theta[0], 1.0);
+      cost.ms_per_mtriangle = mean_t > 0 ? coefficient_ms(m, theta[1], s_t) : 0.0;
+      cost.ms_per_mfragment = mean_f > 0 ? coefficient_ms(m, theta[2], s_f) : 0.0;
     }
   }
   for (const auto& [side, error, count] :
@@ -265,7 +284,8 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
     // the median frame; each pass's prediction is at least its intercept,
     // so the start predicts every frame positive.
     const bool can_save = smallest_intercept > 0;
-    std::array<double, 1> saved{can_save ? 0.5 * smallest_intercept / m : 0.0}, intercept{0.1};
+    std::array<double, 1> saved{can_save ? 0.5 * smallest_intercept / m : 0.0},
+        intercept{std::min(0.1, theta_bound(m, 1.0))};
     auto solve = [&](double delta) {
       ceres::Problem problem;
       for (const Frame& f : train)
@@ -280,6 +300,7 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
         problem.SetParameterBlockConstant(saved.data());
       }
       problem.SetParameterLowerBound(intercept.data(), 0, 0.0);
+      problem.SetParameterUpperBound(intercept.data(), 0, theta_bound(m, 1.0));
       solve_or_throw(problem, deterministic_solver_options(200), "whole frame cost");
     };
     solve(0.1);
@@ -291,7 +312,7 @@ std::optional<FrameCost> fit_frame_cost(const std::vector<FrameObservation>& fra
       solve(1.345 * std::clamp(1.4826 * median(abs_residual), 1e-3, 1.0));
     }
     cost.ms_saved_per_pass = std::min(m * saved[0], smallest_intercept);
-    cost.intercept_ms = m * intercept[0];
+    cost.intercept_ms = coefficient_ms(m, intercept[0], 1.0);
   }
   FrameFitReport r;
   for (const auto& [side, with, without, count] :
@@ -375,8 +396,8 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
         std::vector<std::array<double, 1>> x;
         for (const CpuObservation* o : train) x.push_back({o->triangles * 1e-3 / mean[1]});
         std::array<double, 1> theta{1.0};
-        solve_log_linear<1>(x, y, options.robust, kTaskNames[task], theta);
-        cost.ms_per_ktriangle = m * theta[0] / mean[1];
+        solve_log_linear<1>(x, y, options.robust, kTaskNames[task], {theta_bound(m, mean[1])}, theta);
+        cost.ms_per_ktriangle = coefficient_ms(m, theta[0], mean[1]);
       } else {
         std::vector<std::array<double, kCounts>> x;
         for (const CpuObservation* o : train) {
@@ -384,10 +405,12 @@ DeviceProfile fit_device_profile(const std::vector<PassObservation>& passes, con
           std::array<double, kCounts>& row = x.emplace_back();
           for (std::size_t j = 0; j < kCounts; ++j) row[j] = mean[j] > 0 ? c[j] / mean[j] : 0.0;
         }
-        std::array<double, kCounts> theta{0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
-        solve_log_linear<static_cast<int>(kCounts)>(x, y, options.robust, kTaskNames[task], theta);
+        std::array<double, kCounts> theta{0.2, 0.2, 0.2, 0.2, 0.2, 0.2}, upper{};
+        for (std::size_t j = 0; j < kCounts; ++j) upper[j] = theta_bound(m, mean[j] > 0 ? mean[j] : 1.0);
+        solve_log_linear<static_cast<int>(kCounts)>(x, y, options.robust, kTaskNames[task], upper, theta);
         std::array<double, kCounts> coefficient{};
-        for (std::size_t j = 0; j < kCounts; ++j) coefficient[j] = mean[j] > 0 ? m * theta[j] / mean[j] : 0.0;
+        for (std::size_t j = 0; j < kCounts; ++j)
+          coefficient[j] = mean[j] > 0 ? coefficient_ms(m, theta[j], mean[j]) : 0.0;
         cost = {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4], coefficient[5]};
       }
     }

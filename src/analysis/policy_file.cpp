@@ -28,14 +28,13 @@ const std::vector<std::string_view> kCpuTaskCostKeys{"intercept_ms",   "ms_per_k
                                                      "ms_per_ktested", "ms_per_kstraddling", "ms_per_kexamined"};
 
 // A cost coefficient: a finite number of milliseconds, not negative, and at
-// most 10^6 (a quarter of an hour): the decision sums and compares costs in
-// double, and a coefficient near 10^16 would swallow the others' milliseconds.
-constexpr double kMaxCostMs = 1e6;
+// most kMaxCostCoefficientMs (device_profile.hpp).
 double cost_number(const JsonValue& object, std::string_view key) {
+  static_assert(kMaxCostCoefficientMs == 1e6, "the message below names the bound");
   const JsonValue v = object.at(key);
   const double d = v.number();
   if (d < 0) v.fail("must not be negative (a cost)");
-  if (d > kMaxCostMs) v.fail("must be at most 1e6 (milliseconds)");
+  if (d > kMaxCostCoefficientMs) v.fail("must be at most 1e6 (milliseconds)");
   return d;
 }
 

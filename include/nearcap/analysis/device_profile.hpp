@@ -58,6 +58,13 @@ using gl::kPassKindCount;
 using gl::kPassKindNames;
 using gl::PassKind;
 
+// The largest cost coefficient a profile holds, in milliseconds (per pass,
+// per million or thousand of a count, per frame): a quarter of an hour.  The
+// decision sums and compares costs in double, and a coefficient near 10^16
+// would swallow the others' milliseconds; the profile's reader refuses a
+// larger one and the fit stays within it.
+inline constexpr double kMaxCostCoefficientMs = 1e6;
+
 // The eye-count pass's row in a profile's `passes` (optional).
 inline constexpr std::string_view kEyeCountPassName = "eye_count";
 
