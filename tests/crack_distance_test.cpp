@@ -262,6 +262,132 @@ TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
   for (std::size_t k = 0; k < 4; ++k) EXPECT_GT(one_corner_off[k], 0u) << "corner " << k << " alone off the diamond";
 }
 
+// The same across a shadow's edge: a flat prism above the camera (out of its
+// view) shadows the ground below it, a triangle whose three edges run in
+// three directions across the frame.  A square half a pixel wide with one
+// corner on the other side of the shadow's edge is never proven, whichever
+// corner it is; the squares on one side are (the proof has its say).
+TEST(CrackDistance, NoSquareIsProvenWithACornerAcrossTheShadowsEdge) {
+  const std::filesystem::path mesh = test::temp_path("nearcap_prism") += ".off";
+  std::ofstream(mesh) << "OFF\n6 8 0\n-0.5 8 -0.4\n0.6 8 -0.15\n0 8 0.5\n-0.5 7.9 -0.4\n0.6 7.9 -0.15\n0 7.9 0.5\n"
+                         "3 0 2 1\n3 3 4 5\n3 2 0 3\n3 2 3 5\n3 1 2 5\n3 1 5 4\n3 0 1 4\n3 0 4 3\n";
+  struct Removed {  // also when an assertion returns early
+    std::filesystem::path path;
+    ~Removed() { std::filesystem::remove(path); }
+  } removed{mesh};
+  nlohmann::json j;
+  j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
+                 {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
+  j["lights"] = nlohmann::json::array({{{"position", {0, 12, 0}}}});
+  j["objects"] = nlohmann::json::array(
+      {{{"mesh", std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/ground.off"}, {"occluder", false}},
+       {{"mesh", mesh.string()}, {"occluder", true}}});
+  const Scene scene = parse_scene(j.dump(), "prism's shadow", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  constexpr std::int64_t kPixel = std::int64_t{1} << kCrackDistanceShift, kHalf = kPixel / 2, kStep = kPixel / 8;
+  auto shadowed_at = [&](std::int64_t x, std::int64_t y) { return status_at(tracer, {x, y, kCrackDistanceShift}); };
+  std::array<std::size_t, 4> one_corner_across{};
+  std::size_t proven = 0;
+  for (std::int64_t y = kPixel; y <= 11 * kPixel; y += kStep)
+    for (std::int64_t x = kPixel; x <= 15 * kPixel; x += kStep) {
+      // In the proof's corner order: (-,-), (+,-), (+,+), (-,+).
+      const std::array<std::optional<bool>, 4> corner{
+          shadowed_at(x - kHalf, y - kHalf), shadowed_at(x + kHalf, y - kHalf), shadowed_at(x + kHalf, y + kHalf),
+          shadowed_at(x - kHalf, y + kHalf)};
+      ASSERT_TRUE(corner[0] && corner[1] && corner[2] && corner[3]) << "the ground fills the frame";
+      const auto in_shadow = std::count(corner.begin(), corner.end(), std::optional<bool>(true));
+      if (in_shadow == 0 || in_shadow == 4) {
+        proven += tracer.proven_status_over_square({x, y, kCrackDistanceShift}, kHalf, nullptr).has_value();
+        continue;
+      }
+      for (std::size_t k = 0; k < 4; ++k)
+        if (std::count(corner.begin(), corner.end(), corner[k]) == 1) ++one_corner_across[k];
+      ASSERT_FALSE(tracer.proven_status_over_square({x, y, kCrackDistanceShift}, kHalf, nullptr))
+          << "centre (" << x << ", " << y << ")/" << kPixel << ", corners in shadow " << in_shadow;
+    }
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_GT(one_corner_across[k], 0u) << "corner " << k << " alone across the shadow's edge";
+  EXPECT_GT(proven, 1000u);
+}
+
+// A shadow's edge within rounding of a square's corner and on the far side
+// of it: the float filters cannot tell that corner's side, so the proof
+// decides it corner by corner in rationals.  The camera looks straight down
+// at the origin of one large ground triangle, the light straight above; a
+// flat prism's top edge runs along u x + v z = 2^-52 at y = 8 (u, v = +-1,
+// every coordinate a double), so its shadow on the ground runs along
+// u x + v z = 3 * 2^-52, the prism on the side u x + v z > 2^-52.  The
+// window point (8, 6), the view's axis, sees the ground's origin: it is lit.
+// In each of the four squares of half a pixel with a corner there, that
+// corner is the lone lit one (the prism turned so the other three are in
+// shadow), and the square is not proven.
+TEST(CrackDistance, NoSquareIsProvenWithACornerJustAcrossTheShadowsEdge) {
+  const std::filesystem::path ground = test::temp_path("nearcap_ground_triangle") += ".off";
+  const std::filesystem::path prism = test::temp_path("nearcap_thin_prism") += ".off";
+  std::ofstream(ground) << "OFF\n3 1 0\n-20 0 20\n20 0 20\n0 0 -20\n3 0 1 2\n";
+  struct Removed {  // also when an assertion returns early
+    std::vector<std::filesystem::path> paths;
+    ~Removed() {
+      for (const auto& p : paths) std::filesystem::remove(p);
+    }
+  } removed{{ground, prism}};
+  constexpr double e = 0x1p-52;
+  constexpr std::int64_t kPixel = std::int64_t{1} << kCrackDistanceShift, kHalf = kPixel / 2;
+  struct Square {
+    std::int64_t x2, y2;  // the centre, in half pixels
+    double u, v;          // the prism's side: u x + v z > e
+  };
+  // Window x is world x, window y world -z: the other three corners of
+  // corner k's square lie where u x + v z > 0.
+  const std::array<Square, 4> squares{{{17, 13, 1, -1}, {15, 13, -1, -1}, {15, 11, -1, 1}, {17, 11, 1, 1}}};
+  for (std::size_t lone = 0; lone < 4; ++lone) {
+    const Square& sq = squares[lone];
+    // Two points of the edge (u x + v z = e exactly: x = u (e - v z), z = +-1)
+    // and one deep on the prism's side.
+    const std::array<std::array<double, 2>, 3> top{
+        {{sq.u * (e - sq.v), 1.0}, {sq.u * (e + sq.v), -1.0}, {2 * sq.u, 2 * sq.v}}};
+    // The top face turned to face up (+y), the bottom down, the sides out.
+    const double ny =
+        (top[1][1] - top[0][1]) * (top[2][0] - top[0][0]) - (top[1][0] - top[0][0]) * (top[2][1] - top[0][1]);
+    const std::array<int, 3> up = ny > 0 ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
+    {
+      std::ofstream out(prism);
+      out.precision(17);
+      out << "OFF\n6 8 0\n";
+      for (double y : {8.0, 7.9})
+        for (const auto& q : top) out << q[0] << " " << y << " " << q[1] << "\n";
+      out << "3 " << up[0] << " " << up[1] << " " << up[2] << "\n3 " << up[0] + 3 << " " << up[2] + 3 << " "
+          << up[1] + 3 << "\n";
+      for (int k = 0; k < 3; ++k) {
+        const int i = up[static_cast<std::size_t>(k)], j = up[static_cast<std::size_t>((k + 1) % 3)];
+        out << "3 " << j << " " << i << " " << i + 3 << "\n3 " << j << " " << i + 3 << " " << j + 3 << "\n";
+      }
+    }
+    nlohmann::json j;
+    j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
+                   {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
+    j["lights"] = nlohmann::json::array({{{"position", {0, 12, 0}}}});
+    j["objects"] = nlohmann::json::array(
+        {{{"mesh", ground.string()}, {"occluder", false}}, {{"mesh", prism.string()}, {"occluder", true}}});
+    const Scene scene = parse_scene(j.dump(), "prism turned for corner " + std::to_string(lone), ".");
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer tracer(cs, 0);
+    const std::int64_t cx = sq.x2 * kHalf, cy = sq.y2 * kHalf;
+    const std::array<std::optional<bool>, 4> corner{status_at(tracer, {cx - kHalf, cy - kHalf, kCrackDistanceShift}),
+                                                    status_at(tracer, {cx + kHalf, cy - kHalf, kCrackDistanceShift}),
+                                                    status_at(tracer, {cx + kHalf, cy + kHalf, kCrackDistanceShift}),
+                                                    status_at(tracer, {cx - kHalf, cy + kHalf, kCrackDistanceShift})};
+    for (std::size_t k = 0; k < 4; ++k)
+      ASSERT_EQ(corner[k], std::optional<bool>(k != lone)) << "corner " << k << " of corner " << lone << "'s square";
+    FilterStats stats;
+    EXPECT_FALSE(tracer.proven_status_over_square({cx, cy, kCrackDistanceShift}, kHalf, &stats))
+        << "corner " << lone << " alone lit";
+    EXPECT_GT(stats.exact[static_cast<int>(Predicate::ShadowCrossing)], 0u)
+        << "corner " << lone << ": the shadow's edge is within the filters' error of the corner";
+  }
+}
+
 TEST(CrackDistance, EyeInShadowZPassIsCracksAndZFailHasNone) {
   // The bundled eye-in-shadow scene: Z-pass inverts the whole shadow (README,
   // "What the methods get wrong"), a crack of the whole frame; Z-fail is right.
