@@ -537,6 +537,27 @@ TEST(DeviceProfileJson, ReadsWhatItWritesOnItsOwnAndInAPolicy) {
   EXPECT_EQ(analysis::policy_to_json(policy).find("device_profile"), std::string::npos);
 }
 
+// A writer hands on only what its reader takes: a coefficient beyond the
+// largest a profile holds, or not a number (JSON has none: it would be
+// written as null), is the reader's one-line error, naming the field.
+TEST(DeviceProfileJson, WhatItsReaderRefusesIsNotWritten) {
+  analysis::SwitchPolicy policy = analysis::parse_policy(version3_policy(), "v3.json");
+  for (const double bad : {2 * analysis::kMaxCostCoefficientMs, std::nan("")}) {
+    DeviceProfile p = odd_profile();
+    p.passes[static_cast<std::size_t>(PassKind::DarkCap)].ms_per_mfragment = bad;
+    policy.device_profile = p;
+    for (const bool alone : {true, false}) try {
+        (void)(alone ? analysis::device_profile_to_json(p) : analysis::policy_to_json(policy));
+        ADD_FAILURE() << bad << " written";
+      } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(alone ? "the device profile to write" : "the policy to write"), std::string::npos) << what;
+        EXPECT_NE(what.find("dark_cap.ms_per_mfragment"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      }
+  }
+}
+
 // A profile of the count layout without ms_per_kexamined (fitted before the
 // cull's examined faces were counted) reads it as 0, and prices every work
 // to the same bits as before: the term is added last, as + 0.

@@ -133,7 +133,12 @@ DeviceProfile parse_device_profile(const std::string& text, const std::string& s
 
 std::string device_profile_to_json(const DeviceProfile& profile) {
   // The renderer string comes from the GL: one that is not UTF-8 gets U+FFFD.
-  return device_profile_json(profile).dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+  std::string text = device_profile_json(profile).dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+  // What is written reads back: a profile its reader refuses (a coefficient
+  // out of range, a NaN written as null) is this error, naming the field,
+  // instead of a file no command reads.
+  parse_device_profile(text, "the device profile to write");
+  return text;
 }
 
 SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
@@ -295,7 +300,9 @@ std::string policy_to_json(const SwitchPolicy& p) {
                             {"method", p.unpriced_frames->method.name()}};
   j["provenance"] = Json::parse(p.provenance_json);
   // The provenance names files: a name that is not UTF-8 gets U+FFFD.
-  return j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+  std::string text = j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+  parse_policy(text, "the policy to write");  // reads back (device_profile_to_json)
+  return text;
 }
 
 }  // namespace nearcap::analysis

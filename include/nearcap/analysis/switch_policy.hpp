@@ -163,6 +163,8 @@ inline constexpr int kPolicyVersion = 5;  // written; 1 to 5 are read
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);
 SwitchPolicy load_policy(const std::string& path);
+// The policy as policy.json text, read back before it is returned: one its
+// reader refuses throws that reader's error (source "the policy to write").
 std::string policy_to_json(const SwitchPolicy& policy);
 
 // A device profile on its own (the policy's "device_profile" object, as
@@ -173,6 +175,7 @@ std::string policy_to_json(const SwitchPolicy& policy);
 // a policy with `policy.device_profile = parse_device_profile(...)` and
 // policy_to_json.
 DeviceProfile parse_device_profile(const std::string& text, const std::string& source);
+// Read back likewise (source "the device profile to write").
 std::string device_profile_to_json(const DeviceProfile& profile);
 
 // Why the cost decision may or may not draw an occluder with Z-pass.
