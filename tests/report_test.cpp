@@ -531,25 +531,37 @@ TEST(ReportScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "settings.json") << settings_table().dump(1);
   const char* env = std::getenv("NEARCAP_PYTHON");
   const std::string python = env && *env ? env : "/usr/bin/python3";
-  const std::pair<std::string, std::string> cases[] = {
-      {"policy_oracle.py " + d("short.csv") + " p " + d("o.png"), "not an evaluation CSV"},
-      {"policy_oracle.py " + d("binary.csv") + " p " + d("o.png"), "not an evaluation CSV"},
-      {"policy_oracle.py " + d("short.csv") + " p " + d("o.txt"), "name it NAME.png"},
-      {"render_bench.py " + d("bench.csv") + " " + d("o.png") + " --settings " + d("settings.json"), "not a bench CSV"},
-      {"render_bench.py " + d("bench.csv") + " " + d("o.pdf") + " --settings " + d("settings.json"),
+  std::ofstream(dir / "settings.txt") << "not json\n";
+  // Each with nearcap's error kind: usage, io, parse (not the format), schema
+  // (a column missing).
+  const std::array<std::string, 3> cases[] = {
+      {"policy_oracle.py " + d("short.csv") + " p " + d("o.png"), "schema", "not an evaluation CSV (no column"},
+      {"policy_oracle.py " + d("binary.csv") + " p " + d("o.png"), "parse", "not an evaluation CSV"},
+      {"policy_oracle.py " + d("missing.csv") + " p " + d("o.png"), "io", "cannot read it"},
+      {"policy_oracle.py " + d("short.csv") + " p " + d("o.txt"), "usage", "name it NAME.png"},
+      {"policy_oracle.py " + d("short.csv"), "usage", "usage: policy_oracle.py"},
+      {"render_bench.py " + d("bench.csv") + " " + d("o.png") + " --settings " + d("settings.json"), "schema",
+       "not a bench CSV (no column"},
+      {"render_bench.py " + d("binary.csv") + " " + d("o.png") + " --settings " + d("settings.json"), "parse",
+       "not a bench CSV"},
+      {"render_bench.py " + d("missing.csv") + " " + d("o.png") + " --settings " + d("settings.json"), "io",
+       "cannot read it"},
+      {"render_bench.py " + d("bench.csv") + " " + d("o.png") + " --settings " + d("settings.txt"), "parse", ""},
+      {"render_bench.py " + d("bench.csv") + " " + d("o.pdf") + " --settings " + d("settings.json"), "usage",
        "name it NAME.png"},
-      {"replicate_rows.py " + d("header.csv") + " 10 " + d("x.csv"), "no rows to copy"},
-      {"replicate_rows.py " + d("missing.csv") + " 10 " + d("x.csv"), "cannot read it"},
-      {"replicate_rows.py " + d("binary.csv") + " 10 " + d("x.csv"), "cannot read it"},
-      {"replicate_rows.py " + d("header.csv") + " abc " + d("x.csv"), "not a positive whole number"},
+      {"replicate_rows.py " + d("header.csv") + " 10 " + d("x.csv"), "parse", "no rows to copy"},
+      {"replicate_rows.py " + d("missing.csv") + " 10 " + d("x.csv"), "io", "cannot read it"},
+      {"replicate_rows.py " + d("binary.csv") + " 10 " + d("x.csv"), "parse", "cannot read it"},
+      {"replicate_rows.py " + d("header.csv") + " abc " + d("x.csv"), "usage", "not a positive whole number"},
   };
-  for (const auto& [args, fragment] : cases) {
+  for (const auto& [args, kind, fragment] : cases) {
     const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && timeout 60 '" + python +
                                 "' analysis/report/" + args + " 2> " + d("err.txt");
     const int status = std::system(command.c_str());
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
     const std::string err = test::slurp(dir / "err.txt");
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << "\n" << err;
+    EXPECT_EQ(err.rfind("nearcap: error (" + kind + "): ", 0), 0u) << args << "\n" << err;
     EXPECT_NE(err.find(fragment), std::string::npos) << args << "\n" << err;
     EXPECT_EQ(err.find("Traceback"), std::string::npos) << args << "\n" << err;
   }

@@ -12,15 +12,17 @@ nearcap render passes it): the lines follow its order and colours, and the
 times are relative to the method whose role is the timing baseline (Z-pass).
 `render_bench.py --check` only imports what it needs (nearcap render runs it
 before drawing the path).  Errors are one line on stderr, "nearcap: error
-(io): ...", exit code 2.
+(KIND): render_bench.py: ...", exit code 2, KIND as nearcap's own: usage,
+unavailable (no matplotlib), io, parse (not a CSV of numbers, or the table
+not JSON), schema (a column or the table's field missing).
 """
 import csv
 import os
 import sys
 
 
-def fail(message):
-    print(f"nearcap: error (io): render_bench.py: {message}", file=sys.stderr)
+def fail(kind, message):
+    print(f"nearcap: error ({kind}): render_bench.py: {message}", file=sys.stderr)
     sys.exit(2)
 
 
@@ -36,7 +38,7 @@ def main(argv):
             k += 1
     check = argv[1:] == ["--check"]
     if not check and (len(args) < 2 or settings is None):
-        fail("usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json, or render_bench.py --check")
+        fail("usage", "usage: render_bench.py BENCH.csv OUT.png [TITLE] --settings TABLE.json, or render_bench.py --check")
     try:
         import matplotlib
 
@@ -44,27 +46,31 @@ def main(argv):
         import matplotlib.pyplot as plt
         import settings_table
     except ImportError as e:
-        fail(f"{sys.executable}: {e.name} is missing (matplotlib: scripts/install-deps.sh installs "
+        fail("unavailable", f"{sys.executable}: {e.name} is missing (matplotlib: scripts/install-deps.sh installs "
              "python3-matplotlib; settings_table.py lies beside this script)")
     if check:
         return
     try:
         table = settings_table.read(settings)
     except settings_table.InputError as e:
-        fail(str(e))
+        fail(e.kind, str(e))
     baseline = table.role("timing-baseline")
     times = {}  # method -> {frame: ms}
     name = os.path.basename(args[1])
     if not name.lower().endswith(".png") or name.lower() == ".png":
-        fail(f"{args[1]}: the plot is a PNG file: name it NAME.png")
+        fail("usage", f"{args[1]}: the plot is a PNG file: name it NAME.png")
     try:
         with open(args[0], newline="") as f:
             for row in csv.DictReader(f):
                 times.setdefault(row["method"], {})[int(row["frame"])] = float(row["ms"])
-    except (OSError, KeyError, ValueError, TypeError, UnicodeDecodeError, csv.Error) as e:
-        fail(f"{args[0]}: not a bench CSV ({e})")
+    except OSError as e:
+        fail("io", f"{args[0]}: cannot read it ({e.strerror})")
+    except KeyError as e:
+        fail("schema", f"{args[0]}: not a bench CSV (no column {e})")
+    except (ValueError, TypeError, UnicodeDecodeError, csv.Error) as e:
+        fail("parse", f"{args[0]}: not a bench CSV ({e})")
     if baseline not in times:
-        fail(f"{args[0]}: no {baseline} rows (the times are relative to {baseline}'s: render with --method "
+        fail("usage", f"{args[0]}: no {baseline} rows (the times are relative to {baseline}'s: render with --method "
              f"including {baseline})")
     reference = times[baseline]
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -86,7 +92,7 @@ def main(argv):
     try:
         fig.savefig(args[1], dpi=100)
     except (OSError, ValueError) as e:
-        fail(f"{args[1]}: {e}")
+        fail("io", f"{args[1]}: {e}")
 
 
 if __name__ == "__main__":

@@ -10,6 +10,8 @@ and again under new names ("sample:R:N" for the R-th copy of sample N,
 and perturbs each copy's times and conditioning features by a factor in
 [0.9, 1.1] (a fixed seed) so that no two copies are equal.  Counts (pixels,
 cracks, fragments) are kept: every row stays a row nearcap could write.
+Errors are one line on stderr, "nearcap: error (KIND): replicate_rows.py:
+...", exit code 2, KIND as nearcap's own: usage, io, parse (not a sweep CSV).
 """
 import csv
 import random
@@ -21,21 +23,21 @@ PERTURBED = ["frame_ms", "frame_again_ms", "setup_ms", "depth_ms", "near_cap_ms"
              "coordinate_over_size", "depth_step_over_size", "cap_window_error_px", "cap_window_error_ulp"]
 
 
-def fail(message):
-    print(f"replicate_rows.py: error: {message}", file=sys.stderr)
+def fail(kind, message):
+    print(f"nearcap: error ({kind}): replicate_rows.py: {message}", file=sys.stderr)
     sys.exit(2)
 
 
 def main(argv):
     if len(argv) != 3:
-        fail("usage: replicate_rows.py SMALL.csv ROWS OUT.csv")
+        fail("usage", "usage: replicate_rows.py SMALL.csv ROWS OUT.csv")
     small, out = argv[0], argv[2]
     try:
         wanted = int(argv[1])
     except ValueError:
         wanted = 0
     if wanted <= 0:
-        fail(f"ROWS: '{argv[1]}' is not a positive whole number")
+        fail("usage", f"ROWS: '{argv[1]}' is not a positive whole number")
     try:
         with open(small, newline="", encoding="utf-8") as f:
             reader = csv.reader(f)
@@ -43,22 +45,24 @@ def main(argv):
             groups, current = [], None
             for row in reader:
                 if not row or ":" not in row[0]:
-                    fail(f"{small}: line {reader.line_num}: not a sweep row (no configuration id)")
+                    fail("parse", f"{small}: line {reader.line_num}: not a sweep row (no configuration id)")
                 if row[0] != current:
                     groups.append([])
                     current = row[0]
                 groups[-1].append(row)
-    except (OSError, UnicodeDecodeError, csv.Error) as e:
-        fail(f"{small}: cannot read it as a sweep CSV ({e})")
+    except OSError as e:
+        fail("io", f"{small}: cannot read it ({e.strerror})")
+    except (UnicodeDecodeError, csv.Error) as e:
+        fail("parse", f"{small}: cannot read it as a sweep CSV ({e})")
     if header is None or not groups:
-        fail(f"{small}: no rows to copy (a sweep CSV with at least one configuration is needed)")
+        fail("parse", f"{small}: no rows to copy (a sweep CSV with at least one configuration is needed)")
     rng = random.Random(1)
     perturbed = [header.index(c) for c in PERTURBED if c in header]
     written, copy = 0, 0
     try:
         f = open(out, "w", newline="", encoding="utf-8")
     except OSError as e:
-        fail(f"{out}: cannot write it ({e.strerror})")
+        fail("io", f"{out}: cannot write it ({e.strerror})")
     with f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(header)
