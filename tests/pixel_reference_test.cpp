@@ -130,6 +130,37 @@ TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
   EXPECT_FALSE(tracer.trace(0, 1, nullptr).stencil.has_value());
 }
 
+// A view ray exactly on the edge two faces share: the filters cannot decide
+// either face's edge form there, and the perturbation gives the ray to
+// exactly one of the two, so the surface has no hole on its edges: the one
+// the point nudged right (+x, perturbation.hpp) meets.  The
+// camera of edge_scene_json; a diamond at z = -5 split along x = 0, which
+// holds the view's axis, seen at the window's centre.
+TEST(PixelReference, AViewRayOnASharedEdgeSeesOneOfItsFaces) {
+  const std::filesystem::path mesh = test::temp_path("nearcap_split_diamond") += ".off";
+  std::ofstream(mesh) << "OFF\n4 2 0\n0 -1 -5\n0 1 -5\n-1 0 -5\n1 0 -5\n3 0 1 2\n3 1 0 3\n";
+  struct Removed {  // also when an assertion returns early
+    std::filesystem::path path;
+    ~Removed() { std::filesystem::remove(path); }
+  } removed{mesh};
+  nlohmann::json j = nlohmann::json::parse(edge_scene_json(false));
+  j["objects"] = nlohmann::json::array({{{"mesh", mesh.string()}, {"occluder", false}}});
+  const Scene scene = parse_scene(j.dump(), "split diamond", ".");
+  const CameraSpaceScene cs(scene);
+  const PixelReferenceTracer tracer(cs, 0);
+  FilterStats stats;
+  const PixelSample s = tracer.trace_at({1, 1, 0}, &stats);  // the window's centre: the view's axis
+  ASSERT_TRUE(s.stencil.has_value()) << "a hole on the shared edge";
+  EXPECT_EQ(s.face, 1u) << "the face on the right";
+  EXPECT_GE(stats.exact[static_cast<int>(Predicate::RayHit)], 2u) << "both faces' edge forms decided in rationals";
+  // Off the edge by a sixteenth of a pixel, the face on that side.
+  for (const auto& [x, face] : {std::pair{15, 0u}, std::pair{17, 1u}}) {
+    const PixelSample off = tracer.trace_at({x, 16, 4}, nullptr);
+    ASSERT_TRUE(off.stencil.has_value()) << x;
+    EXPECT_EQ(off.face, face) << x;
+  }
+}
+
 // Two coplanar faces both hit at a pixel: the lower (object, face) is seen
 // (pixel_reference.hpp).  The ground slab twice in one place, seen from
 // above: every pixel on its top sees object 0, also without acceleration.
