@@ -161,6 +161,51 @@ TEST(PixelReference, AViewRayOnASharedEdgeSeesOneOfItsFaces) {
   }
 }
 
+// The grid around the eye leaves out the faces of an occluder turned away
+// from the eye where the occluder lies wholly beyond the near plane (a view
+// ray enters it first through a face turned toward the eye): never where a
+// face turned away can be the first hit.  Seen along the view's axis (the
+// camera of edge_scene_json): the inside of an occluder box the near plane
+// cuts (its far face), an open receiver turned away, and the near face of a
+// mirrored occluder box beyond the near plane (its faces' winding reversed
+// in camera space).
+TEST(PixelReference, AFaceTurnedAwayIsSeenWhereItCanBeTheFirstHit) {
+  const std::filesystem::path sheet = test::temp_path("nearcap_turned_away") += ".off";
+  std::ofstream(sheet) << "OFF\n3 1 0\n-1 -1 -5\n0 1 -5\n1 -1 -5\n3 0 1 2\n";  // its normal along -z
+  struct Removed {                                                             // also when an assertion returns early
+    std::filesystem::path path;
+    ~Removed() { std::filesystem::remove(path); }
+  } removed{sheet};
+  struct Case {
+    const char* what;
+    nlohmann::json object;
+    double seen_z;  // the camera-space z of the face seen
+  };
+  const Case cases[] = {
+      {"a box the near plane cuts",
+       {{"mesh", test::unit_box_path()}, {"translate", {0, 0, -1.5}}, {"scale", 2}, {"occluder", true}},
+       -2.5},
+      {"an open receiver turned away", {{"mesh", sheet.string()}, {"occluder", false}}, -5},
+      {"a mirrored box beyond the near plane",
+       {{"mesh", test::unit_box_path()}, {"translate", {0, 0, -5}}, {"scale", -2}, {"occluder", true}},
+       -4},
+      {"a box beyond the near plane",
+       {{"mesh", test::unit_box_path()}, {"translate", {0, 0, -5}}, {"scale", 2}, {"occluder", true}},
+       -4},
+  };
+  for (const Case& c : cases) {
+    nlohmann::json j = nlohmann::json::parse(edge_scene_json(false));
+    j["objects"] = nlohmann::json::array({c.object});
+    const Scene scene = parse_scene(j.dump(), c.what, ".");
+    const CameraSpaceScene cs(scene);
+    const PixelReferenceTracer tracer(cs, 0);
+    const PixelSample s = tracer.trace_at({1, 1, 0}, nullptr);
+    ASSERT_TRUE(s.stencil.has_value()) << c.what << ": nothing seen";
+    const auto& t = cs.mesh(0).triangles[s.face];
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(cs.vertex_estimate(0, t[k]).z, c.seen_z) << c.what << ", face " << s.face;
+  }
+}
+
 // Two coplanar faces both hit at a pixel: the lower (object, face) is seen
 // (pixel_reference.hpp).  The ground slab twice in one place, seen from
 // above: every pixel on its top sees object 0, also without acceleration.

@@ -530,7 +530,15 @@ struct PixelReferenceTracer::Impl {
         }
     }
 
-    const auto eye_candidates = accelerated ? eye_grid->candidates(p.estimate(), p.error()) : eye_grid->all();
+    // The brute-force oracle tests every triangle, also those the grid
+    // leaves out (eye_setup.hpp).
+    std::vector<CentralGrid::Entry> every;
+    if (!accelerated)
+      for (std::uint32_t id = 0; id < eye_side->first_face.back(); ++id)
+        every.push_back({id, -std::numeric_limits<double>::infinity()});
+    const CentralGrid::EntryRange eye_candidates =
+        accelerated ? eye_grid->candidates(p.estimate(), p.error())
+                    : CentralGrid::EntryRange{every.data(), every.data() + every.size()};
     const std::optional<Hit> hit = first_hit(eye_candidates, p, accelerated, stats);
     if (!hit) return out;
     const EyeTriangle& q = eye(hit->eye_index);

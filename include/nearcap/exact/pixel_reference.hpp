@@ -177,7 +177,8 @@ class PixelReferenceTracer {
                                                 std::uint32_t* last_shadower = nullptr,
                                                 CentreHit* centre_hit = nullptr) const;
 
-  // The same quantities without any acceleration: every triangle is tested.
+  // The same quantities without any acceleration: every triangle is tested
+  // (also those the grid around the eye leaves out, eye_setup.hpp).
   // The oracle the grids are tested against (slow).
   PixelSample trace_brute_force(int i, int j, FilterStats* stats) const;
 
