@@ -12,7 +12,9 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "nearcap/error.hpp"
@@ -168,6 +170,47 @@ TEST(MeshValidate, AllFacesFlippedIsInward) {
     faces += "3 " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(b) + "\n";
   }
   expect_invalid_occluder(std::string("OFF\n8 12 0\n") + kBoxVertices + faces, "inward");
+}
+
+// A mesh of boxes, each (centre x, half-size, turned inside out or not):
+// every box its own component.
+std::string boxes_off(const std::vector<std::tuple<double, double, bool>>& boxes) {
+  std::string vertices, faces;
+  int first = 0;
+  for (const auto& [x, half, inside_out] : boxes) {
+    for (int k = 0; k < 8; ++k)
+      vertices += std::to_string(x + ((k & 4) ? half : -half)) + " " + std::to_string((k & 2) ? half : -half) + " " +
+                  std::to_string((k & 1) ? half : -half) + "\n";
+    for (const char* f : kBoxFaces) {
+      int a, b, c;
+      std::sscanf(f, "3 %d %d %d", &a, &b, &c);
+      if (inside_out) std::swap(b, c);
+      faces +=
+          "3 " + std::to_string(first + a) + " " + std::to_string(first + b) + " " + std::to_string(first + c) + "\n";
+    }
+    first += 8;
+  }
+  return "OFF\n" + std::to_string(first) + " " + std::to_string(12 * boxes.size()) + " 0\n" + vertices + faces;
+}
+
+// The whole mesh's orientation is what validation checks; whether each
+// component is outward on its own is recorded (eye_setup.hpp reads it): a
+// small box turned inside out beside a large one, or inside it (a cavity),
+// passes validation and is not.
+TEST(MeshValidate, WhetherEachComponentIsOutwardIsRecorded) {
+  const std::pair<std::vector<std::tuple<double, double, bool>>, bool> cases[] = {
+      {{{0, 0.5, false}}, true},
+      {{{0, 0.5, false}, {3, 0.25, false}}, true},
+      {{{0, 0.5, false}, {3, 0.25, true}}, false},
+      {{{0, 0.5, false}, {0, 0.25, true}}, false},
+  };
+  for (const auto& [boxes, outward] : cases) {
+    TriangleMesh mesh = parse_off(boxes_off(boxes), "boxes.off");
+    EXPECT_FALSE(mesh.components_outward) << "before validation";
+    ASSERT_NO_THROW(validate_occluder(mesh)) << boxes.size();
+    EXPECT_EQ(mesh.components_outward, outward)
+        << boxes.size() << " boxes, the second turned inside out " << (boxes.size() > 1 && std::get<2>(boxes[1]));
+  }
 }
 
 TEST(MeshValidate, TwoSidedFlatMeshHasZeroVolume) {

@@ -168,14 +168,32 @@ TEST(PixelReference, AViewRayOnASharedEdgeSeesOneOfItsFaces) {
 // camera of edge_scene_json): the inside of an occluder box the near plane
 // cuts (its far face), an open receiver turned away, and the near face of a
 // mirrored occluder box beyond the near plane (its faces' winding reversed
-// in camera space).
+// in camera space), and the near face of a component turned inside out.
 TEST(PixelReference, AFaceTurnedAwayIsSeenWhereItCanBeTheFirstHit) {
   const std::filesystem::path sheet = test::temp_path("nearcap_turned_away") += ".off";
   std::ofstream(sheet) << "OFF\n3 1 0\n-1 -1 -5\n0 1 -5\n1 -1 -5\n3 0 1 2\n";  // its normal along -z
-  struct Removed {                                                             // also when an assertion returns early
-    std::filesystem::path path;
-    ~Removed() { std::filesystem::remove(path); }
-  } removed{sheet};
+  // Two boxes in one occluder: the unit box at z = -4 turned inside out, in
+  // front of an outward one four times its size at z = -7 (the whole mesh
+  // outward, so it is a valid occluder).
+  const std::filesystem::path pair = test::temp_path("nearcap_inside_out_box") += ".off";
+  {
+    std::ofstream out(pair);
+    out << "OFF\n16 24 0\n";
+    for (const auto& [z, half] : {std::pair{-4.0, 0.5}, std::pair{-7.0, 1.0}})
+      for (int k = 0; k < 8; ++k)
+        out << ((k & 4) ? half : -half) << " " << ((k & 2) ? half : -half) << " " << z + ((k & 1) ? half : -half)
+            << "\n";
+    const int faces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                              {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+    for (const auto& f : faces) out << "3 " << f[0] << " " << f[2] << " " << f[1] << "\n";  // inside out
+    for (const auto& f : faces) out << "3 " << f[0] + 8 << " " << f[1] + 8 << " " << f[2] + 8 << "\n";
+  }
+  struct Removed {  // also when an assertion returns early
+    std::vector<std::filesystem::path> paths;
+    ~Removed() {
+      for (const auto& p : paths) std::filesystem::remove(p);
+    }
+  } removed{{sheet, pair}};
   struct Case {
     const char* what;
     nlohmann::json object;
@@ -189,6 +207,9 @@ TEST(PixelReference, AFaceTurnedAwayIsSeenWhereItCanBeTheFirstHit) {
       {"a mirrored box beyond the near plane",
        {{"mesh", test::unit_box_path()}, {"translate", {0, 0, -5}}, {"scale", -2}, {"occluder", true}},
        -4},
+      {"a box turned inside out in front of another, one occluder",
+       {{"mesh", pair.string()}, {"occluder", true}},
+       -3.5},
       {"a box beyond the near plane",
        {{"mesh", test::unit_box_path()}, {"translate", {0, 0, -5}}, {"scale", 2}, {"occluder", true}},
        -4},

@@ -98,11 +98,15 @@ void fill_neighbours(TriangleMesh& mesh, const EdgeRuns& runs) {
   });
 }
 
-// Sign of the signed volume (times 6), exactly: filter first, rationals if needed.
-Sign signed_volume_sign(const TriangleMesh& mesh) {
-  const Vec3d r = mesh.positions[mesh.triangles.front()[0]];
+// Sign of the signed volume (times 6) of `faces` (every face when empty),
+// exactly: filter first, rationals if needed.
+Sign signed_volume_sign(const TriangleMesh& mesh, const std::vector<FaceIndex>& faces = {}) {
+  std::vector<std::array<VertexIndex, 3>> subset;
+  for (FaceIndex f : faces) subset.push_back(mesh.triangles[f]);
+  const std::vector<std::array<VertexIndex, 3>>& triangles = faces.empty() ? mesh.triangles : subset;
+  const Vec3d r = mesh.positions[triangles.front()[0]];
   BoundedDouble sum(0.0);
-  for (const auto& t : mesh.triangles) {
+  for (const auto& t : triangles) {
     Vec3<BoundedDouble> p[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3d& q = mesh.positions[t[k]];
@@ -114,13 +118,40 @@ Sign signed_volume_sign(const TriangleMesh& mesh) {
   if (auto s = sum.sign()) return *s;
   const Vec3<Rational> rr = to_rational(r);
   Rational exact(0);
-  for (const auto& t : mesh.triangles) {
+  for (const auto& t : triangles) {
     const Vec3<Rational> a = to_rational(mesh.positions[t[0]]) - rr;
     const Vec3<Rational> b = to_rational(mesh.positions[t[1]]) - rr;
     const Vec3<Rational> c = to_rational(mesh.positions[t[2]]) - rr;
     exact += dot(a, cross(b, c));
   }
   return sign_of(exact);
+}
+
+// Whether every connected component (across shared edges) of a closed mesh
+// of positive signed volume has a positive signed volume of its own.
+bool components_outward(const TriangleMesh& mesh) {
+  const std::size_t nf = mesh.triangles.size();
+  std::vector<bool> reached(nf, false);
+  std::vector<FaceIndex> component, stack;
+  for (FaceIndex seed = 0; seed < nf; ++seed) {
+    if (reached[seed]) continue;
+    component.clear();
+    stack.assign(1, seed);
+    reached[seed] = true;
+    while (!stack.empty()) {
+      const FaceIndex f = stack.back();
+      stack.pop_back();
+      component.push_back(f);
+      for (FaceIndex g : mesh.neighbours[f])
+        if (!reached[g]) {
+          reached[g] = true;
+          stack.push_back(g);
+        }
+    }
+    if (component.size() == nf) return true;  // one component: the whole mesh's volume
+    if (signed_volume_sign(mesh, component) != Sign::Positive) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -213,6 +244,7 @@ void validate_occluder(TriangleMesh& mesh) {
         mesh,
         "the signed volume is negative: faces are oriented inward (expected counter-clockwise seen from outside)");
   if (volume == Sign::Zero) mesh_fault(mesh, "the signed volume is zero (a flat or self-cancelling closed mesh)");
+  mesh.components_outward = components_outward(mesh);
 }
 
 }  // namespace nearcap

@@ -50,6 +50,10 @@ struct TriangleMesh {
   std::vector<std::array<FaceIndex, 3>> neighbours;
   // Filled by compute_face_planes(); empty before.
   FacePlanes face_planes;
+  // Every connected component (across shared edges) has a positive signed
+  // volume of its own: none turned inside out, no cavity.  Set by
+  // validate_occluder(), false before.
+  bool components_outward = false;
 
   std::size_t triangle_count() const { return triangles.size(); }
   bool has_adjacency() const { return neighbours.size() == triangles.size(); }
