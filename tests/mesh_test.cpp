@@ -193,23 +193,34 @@ std::string boxes_off(const std::vector<std::tuple<double, double, bool>>& boxes
   return "OFF\n" + std::to_string(first) + " " + std::to_string(12 * boxes.size()) + " 0\n" + vertices + faces;
 }
 
-// The whole mesh's orientation is what validation checks; whether each
-// component is outward on its own is recorded (eye_setup.hpp reads it): a
-// small box turned inside out beside a large one, or inside it (a cavity),
-// passes validation and is not.
-TEST(MeshValidate, WhetherEachComponentIsOutwardIsRecorded) {
-  const std::pair<std::vector<std::tuple<double, double, bool>>, bool> cases[] = {
-      {{{0, 0.5, false}}, true},
-      {{{0, 0.5, false}, {3, 0.25, false}}, true},
-      {{{0, 0.5, false}, {3, 0.25, true}}, false},
-      {{{0, 0.5, false}, {0, 0.25, true}}, false},
+// The whole mesh's orientation is what validation checks; whether the mesh
+// bounds outward solids is recorded (eye_setup.hpp reads it): not where a
+// small box turned inside out lies beside a large one or inside it (a
+// cavity), nor where two boxes pass through each other, nor with a
+// zero-area face; all of these pass validation.
+TEST(MeshValidate, WhetherTheMeshBoundsOutwardSolidsIsRecorded) {
+  const std::tuple<const char*, std::string, bool> cases[] = {
+      {"a box", boxes_off({{0, 0.5, false}}), true},
+      {"two boxes apart", boxes_off({{0, 0.5, false}, {3, 0.25, false}}), true},
+      {"a box beside one inside out", boxes_off({{0, 0.5, false}, {3, 0.25, true}}), false},
+      {"a box with a cavity", boxes_off({{0, 0.5, false}, {0, 0.25, true}}), false},
+      {"two boxes through each other", boxes_off({{0, 0.5, false}, {0.5, 0.5, false}}), false},
+      {"a box with a zero-area face",
+       "OFF\n9 14 0\n" + std::string(kBoxVertices) + "0 0.5 0.5\n" +
+           [] {
+             std::string f;
+             for (int k = 0; k < 12; ++k)
+               if (k != 6) f += kBoxFaces[k];
+             // Face 6 (2 3 7) split at the midpoint 8 of edge 3-7.
+             return f + "3 2 3 8\n3 2 8 7\n3 3 7 8\n";
+           }(),
+       false},
   };
-  for (const auto& [boxes, outward] : cases) {
-    TriangleMesh mesh = parse_off(boxes_off(boxes), "boxes.off");
-    EXPECT_FALSE(mesh.components_outward) << "before validation";
-    ASSERT_NO_THROW(validate_occluder(mesh)) << boxes.size();
-    EXPECT_EQ(mesh.components_outward, outward)
-        << boxes.size() << " boxes, the second turned inside out " << (boxes.size() > 1 && std::get<2>(boxes[1]));
+  for (const auto& [what, off, bounds] : cases) {
+    TriangleMesh mesh = parse_off(off, "boxes.off");
+    EXPECT_FALSE(mesh.bounds_outward_solids) << what << ": before validation";
+    ASSERT_NO_THROW(validate_occluder(mesh)) << what;
+    EXPECT_EQ(mesh.bounds_outward_solids, bounds) << what;
   }
 }
 

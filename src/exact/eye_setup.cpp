@@ -25,16 +25,14 @@ bool same_bits(const Affine3d& a, const Affine3d& b) {
 }
 
 // Whether no view ray's first hit can be one of object o's faces turned away
-// from the eye: o is an occluder (closed: scene validation) whose every
-// component is outward on its own (TriangleMesh::components_outward), and
-// it lies wholly beyond the near plane, so a ray, which starts there, enters
-// it through a face turned toward the eye before it meets one turned away
-// (where it grazes a silhouette edge the perturbation sends it in through
-// the face turned toward the eye first, pixel_reference.hpp).  A component
-// whose surface passes through itself with a fold turned inside out is
-// taken not to occur (scene-format.md).
+// from the eye: o is an occluder that bounds outward solids
+// (TriangleMesh::bounds_outward_solids: closed, embedded, every component
+// outward) and lies wholly beyond the near plane, so a ray, which starts
+// there, enters it through a face turned toward the eye before it meets one
+// turned away (where it grazes a silhouette edge the perturbation sends it
+// in through the face turned toward the eye first, pixel_reference.hpp).
 bool back_faces_never_seen_first(const CameraSpaceScene& cs, std::size_t o) {
-  if (!cs.object(o).occluder || !cs.mesh(o).components_outward) return false;
+  if (!cs.object(o).occluder || !cs.mesh(o).bounds_outward_solids) return false;
   const double beyond = -cs.frustum().near;
   const double e = cs.max_error(o) * (1.0 + 0x1p-40);
   const std::size_t n = cs.mesh(o).positions.size();

@@ -244,7 +244,7 @@ void validate_occluder(TriangleMesh& mesh) {
         mesh,
         "the signed volume is negative: faces are oriented inward (expected counter-clockwise seen from outside)");
   if (volume == Sign::Zero) mesh_fault(mesh, "the signed volume is zero (a flat or self-cancelling closed mesh)");
-  mesh.components_outward = components_outward(mesh);
+  mesh.bounds_outward_solids = components_outward(mesh) && mesh_is_embedded(mesh);
 }
 
 }  // namespace nearcap

@@ -6,10 +6,10 @@
 // space:
 //   - the grid around the eye: the triangles a view ray can meet first,
 //     binned by their direction from the eye (a CentralGrid): every triangle
-//     of every object, but for an occluder (closed and outward) wholly beyond
-//     the near plane only the faces not certainly turned away from the eye
-//     (a view ray enters it through one of those first), about half of a
-//     large mesh;
+//     of every object, but for an occluder wholly beyond the near plane that
+//     bounds outward solids (TriangleMesh::bounds_outward_solids) only the
+//     faces not certainly turned away from the eye (a view ray enters it
+//     through one of those first), about half of a large mesh;
 //   - per triangle, the edge and plane vectors the view-ray predicates read
 //     (a x b, b x c, c x a, n, d), computed when a trace first reads them
 //     (most triangles of a large mesh are never read at a small resolution).

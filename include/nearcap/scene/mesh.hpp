@@ -50,10 +50,13 @@ struct TriangleMesh {
   std::vector<std::array<FaceIndex, 3>> neighbours;
   // Filled by compute_face_planes(); empty before.
   FacePlanes face_planes;
-  // Every connected component (across shared edges) has a positive signed
-  // volume of its own: none turned inside out, no cavity.  Set by
-  // validate_occluder(), false before.
-  bool components_outward = false;
+  // The mesh is the outward surface of the solids it bounds: its faces meet
+  // only where they share edges and vertices (mesh_is_embedded), and every
+  // connected component (across shared edges) has a positive signed volume
+  // of its own (none turned inside out, no cavity).  So a ray from outside
+  // meets a face turned toward it first.  Set by validate_occluder(), false
+  // before.
+  bool bounds_outward_solids = false;
 
   std::size_t triangle_count() const { return triangles.size(); }
   bool has_adjacency() const { return neighbours.size() == triangles.size(); }
@@ -64,6 +67,12 @@ struct TriangleMesh {
 // triangles, duplicate positions and unreferenced vertices are legal.  Throws
 // nearcap::Error(Mesh) naming the first offending edge or vertex, in face order.
 void validate_occluder(TriangleMesh& mesh);
+
+// Whether the faces meet only where they share edges and vertices (exact
+// predicates; a zero-area face meets its neighbours: false).  About 0.2 s
+// for the 75,408-triangle bunny on the 2-core development machine, part of
+// validate_occluder's time.
+bool mesh_is_embedded(const TriangleMesh& mesh);
 
 // Fills `face_planes` (certified, from the exact double vertices).
 void compute_face_planes(TriangleMesh& mesh);
