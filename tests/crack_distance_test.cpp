@@ -26,6 +26,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
+#include "support/removed_files.hpp"
 #include "support/sampled_scenes.hpp"
 
 namespace nearcap {
@@ -232,10 +233,7 @@ TEST(CrackDistance, NoSquareIsProvenAcrossTheFarPlanesCut) {
 TEST(CrackDistance, NoSquareIsProvenWithACornerOffTheSurface) {
   const std::filesystem::path mesh = test::temp_path("nearcap_diamond") += ".off";
   std::ofstream(mesh) << "OFF\n4 2 0\n0.7 0 0\n0 0 -0.7\n-0.7 0 0\n0 0 0.7\n3 0 1 2\n3 0 2 3\n";
-  struct Removed {  // also when an assertion returns early
-    std::filesystem::path path;
-    ~Removed() { std::filesystem::remove(path); }
-  } removed{mesh};
+  const test::RemovedFiles removed{mesh};
   nlohmann::json j;
   j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
                  {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
@@ -271,10 +269,7 @@ TEST(CrackDistance, NoSquareIsProvenWithACornerAcrossTheShadowsEdge) {
   const std::filesystem::path mesh = test::temp_path("nearcap_prism") += ".off";
   std::ofstream(mesh) << "OFF\n6 8 0\n-0.5 8 -0.4\n0.6 8 -0.15\n0 8 0.5\n-0.5 7.9 -0.4\n0.6 7.9 -0.15\n0 7.9 0.5\n"
                          "3 0 2 1\n3 3 4 5\n3 2 0 3\n3 2 3 5\n3 1 2 5\n3 1 5 4\n3 0 1 4\n3 0 4 3\n";
-  struct Removed {  // also when an assertion returns early
-    std::filesystem::path path;
-    ~Removed() { std::filesystem::remove(path); }
-  } removed{mesh};
+  const test::RemovedFiles removed{mesh};
   nlohmann::json j;
   j["camera"] = {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fovy_deg", 40},
                  {"near", 1},        {"far", 50},           {"width", 16},      {"height", 12}};
@@ -326,12 +321,7 @@ TEST(CrackDistance, NoSquareIsProvenWithACornerJustAcrossTheShadowsEdge) {
   const std::filesystem::path ground = test::temp_path("nearcap_ground_triangle") += ".off";
   const std::filesystem::path prism = test::temp_path("nearcap_thin_prism") += ".off";
   std::ofstream(ground) << "OFF\n3 1 0\n-20 0 20\n20 0 20\n0 0 -20\n3 0 1 2\n";
-  struct Removed {  // also when an assertion returns early
-    std::vector<std::filesystem::path> paths;
-    ~Removed() {
-      for (const auto& p : paths) std::filesystem::remove(p);
-    }
-  } removed{{ground, prism}};
+  const test::RemovedFiles removed{ground, prism};
   constexpr double e = 0x1p-52;
   constexpr std::int64_t kPixel = std::int64_t{1} << kCrackDistanceShift, kHalf = kPixel / 2;
   struct Square {

@@ -19,6 +19,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/reference_images.hpp"
 #include "random_scene.hpp"
+#include "support/removed_files.hpp"
 
 namespace nearcap {
 namespace {
@@ -139,10 +140,7 @@ TEST(PixelReference, PixelCentreOnAProjectedEdgeFollowsThePerturbation) {
 TEST(PixelReference, AViewRayOnASharedEdgeSeesOneOfItsFaces) {
   const std::filesystem::path mesh = test::temp_path("nearcap_split_diamond") += ".off";
   std::ofstream(mesh) << "OFF\n4 2 0\n0 -1 -5\n0 1 -5\n-1 0 -5\n1 0 -5\n3 0 1 2\n3 1 0 3\n";
-  struct Removed {  // also when an assertion returns early
-    std::filesystem::path path;
-    ~Removed() { std::filesystem::remove(path); }
-  } removed{mesh};
+  const test::RemovedFiles removed{mesh};
   nlohmann::json j = nlohmann::json::parse(edge_scene_json(false));
   j["objects"] = nlohmann::json::array({{{"mesh", mesh.string()}, {"occluder", false}}});
   const Scene scene = parse_scene(j.dump(), "split diamond", ".");
@@ -188,12 +186,7 @@ TEST(PixelReference, AFaceTurnedAwayIsSeenWhereItCanBeTheFirstHit) {
     for (const auto& f : faces) out << "3 " << f[0] << " " << f[2] << " " << f[1] << "\n";  // inside out
     for (const auto& f : faces) out << "3 " << f[0] + 8 << " " << f[1] + 8 << " " << f[2] + 8 << "\n";
   }
-  struct Removed {  // also when an assertion returns early
-    std::vector<std::filesystem::path> paths;
-    ~Removed() {
-      for (const auto& p : paths) std::filesystem::remove(p);
-    }
-  } removed{{sheet, pair}};
+  const test::RemovedFiles removed{sheet, pair};
   struct Case {
     const char* what;
     nlohmann::json object;
