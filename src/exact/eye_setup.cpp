@@ -33,6 +33,9 @@ bool same_bits(const Affine3d& a, const Affine3d& b) {
 // in through the face turned toward the eye first, pixel_reference.hpp).
 bool back_faces_never_seen_first(const CameraSpaceScene& cs, std::size_t o) {
   if (!cs.object(o).occluder || !cs.mesh(o).bounds_outward_solids) return false;
+  // Each exact z is at most its estimate plus max_error; e is at least that,
+  // and rounding to nearest is monotonic, so a computed v.z + e below the
+  // near plane's z (an exact double) certifies the exact z below it.
   const double beyond = -cs.frustum().near;
   const double e = cs.max_error(o) * (1.0 + 0x1p-40);
   const std::size_t n = cs.mesh(o).positions.size();

@@ -98,12 +98,9 @@ void fill_neighbours(TriangleMesh& mesh, const EdgeRuns& runs) {
   });
 }
 
-// Sign of the signed volume (times 6) of `faces` (every face when empty),
-// exactly: filter first, rationals if needed.
-Sign signed_volume_sign(const TriangleMesh& mesh, const std::vector<FaceIndex>& faces = {}) {
-  std::vector<std::array<VertexIndex, 3>> subset;
-  for (FaceIndex f : faces) subset.push_back(mesh.triangles[f]);
-  const std::vector<std::array<VertexIndex, 3>>& triangles = faces.empty() ? mesh.triangles : subset;
+// Sign of the signed volume (times 6) of `triangles` (of the mesh's
+// positions), exactly: filter first, rationals if needed.
+Sign signed_volume_sign(const TriangleMesh& mesh, const std::vector<std::array<VertexIndex, 3>>& triangles) {
   const Vec3d r = mesh.positions[triangles.front()[0]];
   BoundedDouble sum(0.0);
   for (const auto& t : triangles) {
@@ -132,7 +129,8 @@ Sign signed_volume_sign(const TriangleMesh& mesh, const std::vector<FaceIndex>& 
 bool components_outward(const TriangleMesh& mesh) {
   const std::size_t nf = mesh.triangles.size();
   std::vector<bool> reached(nf, false);
-  std::vector<FaceIndex> component, stack;
+  std::vector<std::array<VertexIndex, 3>> component;
+  std::vector<FaceIndex> stack;
   for (FaceIndex seed = 0; seed < nf; ++seed) {
     if (reached[seed]) continue;
     component.clear();
@@ -141,7 +139,7 @@ bool components_outward(const TriangleMesh& mesh) {
     while (!stack.empty()) {
       const FaceIndex f = stack.back();
       stack.pop_back();
-      component.push_back(f);
+      component.push_back(mesh.triangles[f]);
       for (FaceIndex g : mesh.neighbours[f])
         if (!reached[g]) {
           reached[g] = true;
@@ -238,7 +236,7 @@ void validate_occluder(TriangleMesh& mesh) {
                            " incident faces in more than one fan (non-manifold vertex)");
   }
 
-  const Sign volume = signed_volume_sign(mesh);
+  const Sign volume = signed_volume_sign(mesh, mesh.triangles);
   if (volume == Sign::Negative)
     mesh_fault(
         mesh,

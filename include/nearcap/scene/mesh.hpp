@@ -69,9 +69,9 @@ struct TriangleMesh {
 void validate_occluder(TriangleMesh& mesh);
 
 // Whether the faces meet only where they share edges and vertices (exact
-// predicates; a zero-area face meets its neighbours: false).  About 0.2 s
-// for the 75,408-triangle bunny on the 2-core development machine, part of
-// validate_occluder's time.
+// predicates; a zero-area face meets its neighbours: false).  Part of
+// validate_occluder's time, the larger part for a large mesh
+// (docs/findings/sweep-speed.md).
 bool mesh_is_embedded(const TriangleMesh& mesh);
 
 // Fills `face_planes` (certified, from the exact double vertices).
