@@ -218,10 +218,34 @@ TEST(MeshValidate, WhetherTheMeshBoundsOutwardSolidsIsRecorded) {
   };
   for (const auto& [what, off, bounds] : cases) {
     TriangleMesh mesh = parse_off(off, "boxes.off");
-    EXPECT_FALSE(mesh.bounds_outward_solids) << what << ": before validation";
+    EXPECT_FALSE(mesh.bounds_outward_solids()) << what << ": before validation";
     ASSERT_NO_THROW(validate_occluder(mesh)) << what;
-    EXPECT_EQ(mesh.bounds_outward_solids, bounds) << what;
+    EXPECT_EQ(mesh.bounds_outward_solids(), bounds) << what;
   }
+}
+
+// The answer is decided at the first call and shared by the mesh's copies;
+// validating a copy again (its positions changed) decides it anew, and a
+// mesh that fails validation answers false.
+TEST(MeshValidate, ACopyValidatedAgainDecidesWhetherItBoundsOutwardSolidsAnew) {
+  TriangleMesh apart = parse_off(boxes_off({{0, 0.5, false}, {3, 0.25, false}}), "apart.off");
+  validate_occluder(apart);
+  const TriangleMesh shared = apart;
+  EXPECT_TRUE(shared.bounds_outward_solids());
+  EXPECT_TRUE(apart.bounds_outward_solids());
+
+  TriangleMesh through = apart;
+  through.positions = parse_off(boxes_off({{0, 0.5, false}, {0.5, 0.5, false}}), "through.off").positions;
+  ASSERT_EQ(through.triangles, apart.triangles);
+  validate_occluder(through);
+  EXPECT_FALSE(through.bounds_outward_solids());
+  EXPECT_TRUE(apart.bounds_outward_solids());
+
+  TriangleMesh open = apart;
+  open.triangles.pop_back();
+  EXPECT_THROW(validate_occluder(open), Error);
+  EXPECT_FALSE(open.bounds_outward_solids());
+  EXPECT_TRUE(apart.bounds_outward_solids());
 }
 
 TEST(MeshValidate, TwoSidedFlatMeshHasZeroVolume) {

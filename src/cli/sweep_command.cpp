@@ -660,6 +660,7 @@ void run_sweep(const SweepCommandOptions& o) {
   LightSetupCache light_setups;
   options.light_setups = &light_setups;
   const Configurations configurations(o, &meshes);
+  meshes.decide_outward_solids();
   const std::uint64_t total = configurations.count();
   MpiWorld* const world_ptr = mpi_world();  // made by main
   NEARCAP_CHECK(world_ptr != nullptr);

@@ -32,7 +32,7 @@ bool same_bits(const Affine3d& a, const Affine3d& b) {
 // turned away (where it grazes a silhouette edge the perturbation sends it
 // in through the face turned toward the eye first, pixel_reference.hpp).
 bool back_faces_never_seen_first(const CameraSpaceScene& cs, std::size_t o) {
-  if (!cs.object(o).occluder || !cs.mesh(o).bounds_outward_solids) return false;
+  if (!cs.object(o).occluder) return false;
   // Each exact z is at most its estimate plus max_error; e is at least that,
   // and rounding to nearest is monotonic, so a computed v.z + e below the
   // near plane's z (an exact double) certifies the exact z below it.
@@ -41,7 +41,8 @@ bool back_faces_never_seen_first(const CameraSpaceScene& cs, std::size_t o) {
   const std::size_t n = cs.mesh(o).positions.size();
   for (VertexIndex v = 0; v < n; ++v)
     if (!(cs.vertex_estimate(o, v).z + e < beyond)) return false;
-  return true;
+  // Asked last: its first call on a mesh runs the self-intersection test.
+  return cs.mesh(o).bounds_outward_solids();
 }
 
 // Face f of object o certainly turned away from the eye: det(a, b, c) has

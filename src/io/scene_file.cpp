@@ -306,6 +306,16 @@ std::shared_ptr<const TriangleMesh> MeshCache::get(const std::string& path, bool
   return e.mesh;
 }
 
+void MeshCache::decide_outward_solids() const {
+  std::vector<std::shared_ptr<TriangleMesh>> occluders;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [path, e] : entries_)
+      if (e.validated) occluders.push_back(e.mesh);
+  }
+  for (const auto& mesh : occluders) mesh->bounds_outward_solids();
+}
+
 std::size_t MeshCache::reads() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return reads_;

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <sstream>
 #include <vector>
 
@@ -154,9 +156,24 @@ bool components_outward(const TriangleMesh& mesh) {
 
 }  // namespace
 
+// bounds_outward_solids()'s answer, decided once for a validated mesh and
+// the copies that share it.
+struct OutwardSolidsAnswer {
+  std::once_flag decided;
+  bool value = false;
+};
+
+bool TriangleMesh::bounds_outward_solids() const {
+  if (!outward_solids) return false;
+  std::call_once(outward_solids->decided,
+                 [&] { outward_solids->value = components_outward(*this) && mesh_is_embedded(*this); });
+  return outward_solids->value;
+}
+
 void build_adjacency(TriangleMesh& mesh) { fill_neighbours(mesh, EdgeRuns(mesh)); }
 
 void validate_occluder(TriangleMesh& mesh) {
+  mesh.outward_solids.reset();  // a mesh that fails validation answers false
   if (mesh.triangles.empty()) mesh_fault(mesh, "the mesh has no faces (empty mesh)");
   const std::size_t nf = mesh.triangles.size();
   const EdgeRuns runs(mesh);
@@ -242,7 +259,7 @@ void validate_occluder(TriangleMesh& mesh) {
         mesh,
         "the signed volume is negative: faces are oriented inward (expected counter-clockwise seen from outside)");
   if (volume == Sign::Zero) mesh_fault(mesh, "the signed volume is zero (a flat or self-cancelling closed mesh)");
-  mesh.bounds_outward_solids = components_outward(mesh) && mesh_is_embedded(mesh);
+  mesh.outward_solids = std::make_shared<OutwardSolidsAnswer>();
 }
 
 }  // namespace nearcap

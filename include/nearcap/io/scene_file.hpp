@@ -34,6 +34,10 @@ class MeshCache {
   // Throws what reading or validating throws (the caller adds the context).
   std::shared_ptr<const TriangleMesh> get(const std::string& path, bool occluder);
   std::size_t reads() const;  // how many times a file was actually read
+  // Asks bounds_outward_solids() of every occluder mesh read so far, so that
+  // its first call (a large mesh's self-intersection test) is paid here and
+  // not by the first frame that traces it (a sweep, before its timer).
+  void decide_outward_solids() const;
 
  private:
   struct Entry {

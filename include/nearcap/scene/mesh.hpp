@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,8 @@ struct FacePlanes {
   std::vector<std::array<Vec3d, 2>> chunk_box;  // chunk k: chunk_faces[k * kFacesPerChunk, ...)
 };
 
+struct OutwardSolidsAnswer;  // mesh_validation.cpp
+
 struct TriangleMesh {
   std::string source;                                 // file it was read from (for messages)
   std::vector<Vec3d> positions;                       // object space
@@ -50,13 +53,18 @@ struct TriangleMesh {
   std::vector<std::array<FaceIndex, 3>> neighbours;
   // Filled by compute_face_planes(); empty before.
   FacePlanes face_planes;
-  // The mesh is the outward surface of the solids it bounds: its faces meet
-  // only where they share edges and vertices (mesh_is_embedded), and every
-  // connected component (across shared edges) has a positive signed volume
-  // of its own (none turned inside out, no cavity).  So a ray from outside
-  // meets a face turned toward it first.  Set by validate_occluder(), false
-  // before.
-  bool bounds_outward_solids = false;
+  // Whether the mesh is the outward surface of the solids it bounds: its
+  // faces meet only where they share edges and vertices (mesh_is_embedded),
+  // and every connected component (across shared edges) has a positive
+  // signed volume of its own (none turned inside out, no cavity).  So a ray
+  // from outside meets a face turned toward it first.  False before
+  // validate_occluder(); after it, decided at the first call and remembered
+  // for the mesh and its copies (the self-intersection test is the larger
+  // part of a large mesh's validation, and most commands never ask).  Safe
+  // to call from several threads.
+  bool bounds_outward_solids() const;
+  // Set by validate_occluder(): what bounds_outward_solids() remembers.
+  std::shared_ptr<OutwardSolidsAnswer> outward_solids;
 
   std::size_t triangle_count() const { return triangles.size(); }
   bool has_adjacency() const { return neighbours.size() == triangles.size(); }
@@ -69,8 +77,8 @@ struct TriangleMesh {
 void validate_occluder(TriangleMesh& mesh);
 
 // Whether the faces meet only where they share edges and vertices (exact
-// predicates; a zero-area face meets its neighbours: false).  Part of
-// validate_occluder's time, the larger part for a large mesh
+// predicates; a zero-area face meets its neighbours: false).  What
+// bounds_outward_solids() costs at its first call on a large mesh
 // (docs/findings/sweep-speed.md).
 bool mesh_is_embedded(const TriangleMesh& mesh);
 
