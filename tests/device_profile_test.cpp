@@ -344,6 +344,26 @@ TEST(DeviceProfile, ScaledLikeAGpu) {
   EXPECT_THROW(analysis::scaled_profile(p, 1.0, std::nan("")), Error);
 }
 
+// A factor below 1 on a cost at the bound a profile holds would give a
+// profile its reader refuses: refused here, naming the field.
+TEST(DeviceProfile, AScaledCostPastWhatAProfileHoldsIsRefused) {
+  DeviceProfile p = true_profile();
+  p.passes[1].ms_per_mfragment = analysis::kMaxCostCoefficientMs;
+  EXPECT_EQ(analysis::scaled_profile(p, 1.0).passes[1].ms_per_mfragment, analysis::kMaxCostCoefficientMs);
+  EXPECT_EQ(analysis::scaled_profile(p, 2.0).passes[1].ms_per_mfragment, analysis::kMaxCostCoefficientMs / 2);
+  try {
+    analysis::scaled_profile(p, 0.5);
+    ADD_FAILURE() << "a cost of twice the bound accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Usage);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("ms_per_mfragment"), std::string::npos) << what;
+    EXPECT_NE(what.find("at most 1e6"), std::string::npos) << what;
+  }
+  p.cpu.exact_test.ms_per_ktriangle = analysis::kMaxCostCoefficientMs;
+  EXPECT_THROW(analysis::scaled_profile(p, 2.0, 0.5), Error);
+}
+
 // The frame row: a frame costs its passes' sum, less the saving per pass
 // drawn, plus the frame's intercept; nothing drawn, nothing added; scaled
 // with the GL.

@@ -110,6 +110,14 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
     c->ms_per_kstraddling /= cpu_factor;
     c->ms_per_kexamined /= cpu_factor;
   }
+  // A factor below 1 can take a cost past what a profile holds
+  // (kMaxCostCoefficientMs): refused, as the profile's reader would.
+  try {
+    device_profile_to_json(s);
+  } catch (const Error& e) {
+    throw Error(ErrorKind::Usage, "a profile scaled by GL " + std::to_string(gl_factor) + ", CPU " +
+                                      std::to_string(cpu_factor) + ": " + e.what());
+  }
   return s;
 }
 

@@ -266,8 +266,9 @@ struct CpuObservation {
 
 // The same profile with its GL passes `gl_factor` times as fast and its CPU
 // work `cpu_factor` times as fast (origin "scaled"): what a GPU would
-// change, the CPU kept.  Factors must be finite and positive (else an error,
-// usage).  In the core library (switch_policy.cpp), beside the profile's
+// change, the CPU kept.  Factors must be finite and positive, and no scaled
+// cost may exceed kMaxCostCoefficientMs (else an error, usage, naming the
+// field).  In the core library (switch_policy.cpp), beside the profile's
 // reader and writer.
 DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cpu_factor = 1.0);
 
