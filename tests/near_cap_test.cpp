@@ -133,12 +133,15 @@ std::vector<std::pair<Rational, Rational>> probe_points(const CameraSpaceScene& 
 }
 
 // Everything the near-cap promises, against the brute force; "" when it holds.
+// Every face_stride-th face's count is checked against the brute force (all
+// of them by default); every face's other promises are.
 std::string near_cap_failure(const CameraSpaceScene& cs, std::size_t light, const NearCap& cap, int grid_w, int grid_h,
-                             bool probe = true) {
+                             bool probe = true, std::size_t face_stride = 1) {
   const Frustum& fr = cs.frustum();
   const auto facing = facings(cs, light);
   std::ostringstream why;
   Rational area(0);
+  std::size_t face_index = 0;
   for (const NearCapFace& f : cap.faces()) {
     const Rational outer = twice_area(f.outer);
     if (sgn(outer) <= 0) why << "an outer ring is not counter-clockwise; ";
@@ -152,10 +155,12 @@ std::string near_cap_failure(const CameraSpaceScene& cs, std::size_t light, cons
     }
     NearCapPoint p = interior_point(cap.faces(), f, 2);
     for (int k = 3; k < 10 && !cap.count_at(p.x, p.y); ++k) p = interior_point(cap.faces(), f, k);
-    const std::size_t brute = near_cap_count_brute_force(cs, light, facing, sample(p.x, p.y, fr), nullptr);
-    if (brute != f.count)
-      why << "face with count " << f.count << " has brute-force count " << brute << " at (" << p.x << ", " << p.y
-          << "); ";
+    if (face_index++ % face_stride == 0) {
+      const std::size_t brute = near_cap_count_brute_force(cs, light, facing, sample(p.x, p.y, fr), nullptr);
+      if (brute != f.count)
+        why << "face with count " << f.count << " has brute-force count " << brute << " at (" << p.x << ", " << p.y
+            << "); ";
+    }
     const auto located = cap.count_at(p.x, p.y);
     if (!located || *located != f.count)
       why << "count_at(" << p.x << ", " << p.y << ") = " << (located ? std::to_string(*located) : "none")
@@ -525,7 +530,15 @@ TEST(NearCap, BunnySilhouetteFolds) {
   const NearCap cap = NearCap::build(cs, 0);
   EXPECT_GT(cap.faces().size(), 100u);
   EXPECT_GE(cap.max_count(), 3u);
-  EXPECT_EQ(near_cap_failure(cs, 0, cap, 16, 16, false), "");
+#if defined(NEARCAP_TESTS_UNDER_ASAN)
+  // Under the sanitizers every fourth face's count against the brute force
+  // (each one reads all 75k triangles: most of the sanitizer suite's longest
+  // test); the Release suite checks every face.
+  constexpr std::size_t kFaceStride = 4;
+#else
+  constexpr std::size_t kFaceStride = 1;
+#endif
+  EXPECT_EQ(near_cap_failure(cs, 0, cap, 16, 16, false, kFaceStride), "");
 }
 
 // ---- the cap command -------------------------------------------------------
