@@ -59,9 +59,9 @@ struct TriangleMesh {
   // signed volume of its own (none turned inside out, no cavity).  So a ray
   // from outside meets a face turned toward it first.  False before
   // validate_occluder(); after it, decided at the first call and remembered
-  // for the mesh and its copies (the self-intersection test is the larger
-  // part of a large mesh's validation, and most commands never ask).  Safe
-  // to call from several threads.
+  // for the mesh and its copies (its self-intersection test is dear on a
+  // large mesh, and most commands never ask).  Safe to call from several
+  // threads.
   bool bounds_outward_solids() const;
   // Set by validate_occluder(): what bounds_outward_solids() remembers.
   std::shared_ptr<OutwardSolidsAnswer> outward_solids;
