@@ -2,7 +2,8 @@
 # One translation unit's compile time, alone, with the sanitizer build's own
 # command line (build-asan, configured as scripts/test.sh configures it), at
 # each optimisation level given (appended to the command line: the last -O
-# and -g win).  No compiler cache; the object goes to a temporary file.
+# and -g win).  No compiler cache and no precompiled header (the unit parses
+# its own includes); the object goes to a temporary file.
 #   analysis/benchmarks/unit_compile_time.sh OBJECT LEVEL...
 #   e.g. ... tests/CMakeFiles/nearcap_tests.dir/near_cap_test.cpp.o "-O0 -g0" "-O1 -g1"
 # OBJECT as ninja names it (`ninja -C build-asan -t targets all`).  GNU
@@ -16,7 +17,7 @@ command=$(ninja -t commands "$object" | tail -1)
 [ -n "$command" ] || { echo "$0: build-asan has no object $object" >&2; exit 2; }
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-command=$(printf '%s\n' "$command" | sed "s|^[^ ]*ccache ||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
+command=$(printf '%s\n' "$command" | sed "s|^.*ccache ||; s| -Xclang -include-pch -Xclang [^ ]*||; s| -Xclang -include -Xclang [^ ]*||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
 for level in "$@"; do
   start=$(date +%s.%N)
   sh -c "$(printf '%s\n' "$command" | sed "s| -c | $level -c |")"
