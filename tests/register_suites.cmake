@@ -5,8 +5,8 @@
 # LeakSanitizer's scan at exit), paid once a suite instead of once a test.
 # Arguments: TEST_EXECUTABLE, OUTPUT, EXCLUDED (suites registered elsewhere,
 # separated by commas), TIMEOUT (seconds an entry may run).
-string(REPLACE "," ";" EXCLUDED "${EXCLUDED}")
 cmake_minimum_required(VERSION 3.16)
+string(REPLACE "," ";" EXCLUDED "${EXCLUDED}")
 execute_process(COMMAND "${TEST_EXECUTABLE}" --gtest_list_tests
                 OUTPUT_VARIABLE listing RESULT_VARIABLE status TIMEOUT 60)
 if(NOT status EQUAL 0)
