@@ -361,11 +361,11 @@ TEST(DepthLimited, ThePolicysRecordSaysSoWhereNoMethodIsRight) {
         cracking_unflagged += !d.depth_limited;
       }
       if (d.depth_limited) {
-        EXPECT_NE(d.depth_note.find("--depth-mapping reversed"), std::string::npos) << d.depth_note;
+        EXPECT_NE(d.depth_note().find("--depth-mapping reversed"), std::string::npos) << d.depth_note();
       } else {
-        EXPECT_TRUE(d.depth_note.empty());
+        EXPECT_TRUE(d.depth_note().empty());
       }
-      EXPECT_TRUE(d.near_plane_note.empty()) << "a policy with a near plane of its own keeps it";
+      EXPECT_TRUE(d.near_plane_note().empty()) << "a policy with a near plane of its own keeps it";
       alternatives_flagged += analysis::decide(reversed, cs, light, {}).depth_limited;
       alternatives_flagged += analysis::decide(tight, cs, light, {}).depth_limited;
       alternatives_flagged += analysis::decide(shipped, cs, light, {}).depth_limited;
@@ -408,11 +408,11 @@ TEST(DepthLimited, TheShippedPolicyMovesTheNearPlaneWhereTheDepthBufferIsTheLimi
       const analysis::PolicyDecision d = analysis::decide(shipped, cs, light, {});
       const bool limited = analysis::decide(pinned, cs, light, {}).depth_limited;
       EXPECT_EQ(d.settings.near_plane == gl::NearPlane::Tight, limited);
-      EXPECT_EQ(!d.near_plane_note.empty(), limited);
+      EXPECT_EQ(!d.near_plane_note().empty(), limited);
       EXPECT_FALSE(d.depth_limited);
       if (!limited) continue;
       ++moved;
-      EXPECT_NE(d.near_plane_note.find("tight near plane"), std::string::npos) << d.near_plane_note;
+      EXPECT_NE(d.near_plane_note().find("tight near plane"), std::string::npos) << d.near_plane_note();
       const PixelReferenceTracer tracer(cs, light);
       const PixelReference ref = compute_pixel_reference(tracer);
       gl::ShadowFrameBatch batch(scene, light, d.settings);

@@ -183,23 +183,34 @@ void evict_caches(std::vector<std::uint64_t>& other) {
 // range(1) times in a row: 1 is the order `nearcap evaluate` times its first
 // call in (a different frame before each), 2 also times the call repeated
 // at once (warm, as a renderer's frame loop pays it), 0 decides once after
-// writing 64 MB of other memory (cold, as `nearcap evaluate`'s first call).
+// writing 64 MB of other memory (cold, as `nearcap evaluate`'s first call),
+// 3 decides the set's previous (configuration, light) untimed after writing
+// it and then this one (the code warm, this one's data cold).
 // range(0): 0 the hard-case sampler, 1 the bundled paths.  Counter:
 // us_per_decision.
 void BM_PolicyDecision(benchmark::State& state) {
   const bool paths = state.range(0) == 1;
   const int repeat = static_cast<int>(state.range(1));
-  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") + (repeat > 1    ? ", each decided twice"
-                                                                        : repeat == 0 ? ", caches evicted before each"
-                                                                                      : ""));
+  state.SetLabel(std::string(paths ? "bundled paths" : "hard cases") +
+                 (repeat == 2   ? ", each decided twice"
+                  : repeat == 3 ? ", caches evicted, then the previous one decided before each"
+                  : repeat == 0 ? ", caches evicted before each"
+                                : ""));
   const Setup& s = paths ? paths_setup() : sampler_setup();
   std::vector<std::uint64_t> other(kEvictionBytes / sizeof(std::uint64_t), 1);
   std::size_t decisions = 0;
   double ms = 0;
   for (auto _ : state)
-    for (const Pair& p : s.pairs)
-      for (int k = 0; k < std::max(repeat, 1); ++k) {
-        if (repeat == 0) evict_caches(other);
+    for (std::size_t i = 0; i < s.pairs.size(); ++i)
+      for (int k = 0; k < (repeat == 2 ? 2 : 1); ++k) {
+        const Pair& p = s.pairs[i];
+        if (repeat == 0 || repeat == 3) evict_caches(other);
+        if (repeat == 3) {
+          const Pair& before = s.pairs[(i + s.pairs.size() - 1) % s.pairs.size()];
+          const nearcap::analysis::PolicyDecision warm_up =
+              nearcap::analysis::decide(s.policy, *before.cs, before.light, {}, nullptr, kChoice);
+          benchmark::DoNotOptimize(warm_up.object_methods.data());
+        }
         const auto t0 = Clock::now();
         const nearcap::analysis::PolicyDecision d =
             nearcap::analysis::decide(s.policy, *p.cs, p.light, {}, nullptr, kChoice);
@@ -242,5 +253,5 @@ void BM_CameraSpaceScene(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_CameraSpaceScene)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
-BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
+BENCHMARK(BM_PolicyDecision)->ArgsProduct({{0, 1}, {0, 1, 2, 3}})->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 BENCHMARK(BM_PolicyCost)->ArgsProduct({{1, 0}, {1, 0}, {0, 1}})->Unit(benchmark::kMillisecond)->MinTime(3.0);

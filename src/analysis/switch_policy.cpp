@@ -122,7 +122,7 @@ DeviceProfile scaled_profile(const DeviceProfile& p, double gl_factor, double cp
 }
 
 namespace {
-PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Frustum* tight,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
                               FacingCache* facings, DecisionPricing pricing, double* margin,
                               const PolicyDecision* forced);
@@ -161,50 +161,31 @@ PolicyDecision decide_impl(const SwitchPolicy& policy, const CameraSpaceScene& c
   // right where the paper's frustum is undefined.
   const bool frustum_free =
       gl::uses_near_cap(policy.capped_method) && policy.light_projection == gl::LightProjection::ClippedSides;
-  // The scene as the frame draws it where that is with the tight near plane
+  // The frustum with the tight near plane, where the frame is drawn with it
   // (the work estimate's camera): the settings' plane, or the one a
   // depth-limited frame moves to below.
-  auto with_tight_plane = [&scene] {
-    Scene t = scene;
-    t.camera.frustum = gl::tight_frustum(scene);
-    return t;
-  };
-  std::optional<Scene> tight_scene;
-  if (d.settings.near_plane == gl::NearPlane::Tight) tight_scene = with_tight_plane();
-  double near = tight_scene ? tight_scene->camera.frustum.near : scene.camera.frustum.near;
+  std::optional<Frustum> tight;
+  if (d.settings.near_plane == gl::NearPlane::Tight) tight = gl::tight_frustum(scene);
+  double near = tight ? tight->near : scene.camera.frustum.near;
   d.depth_step_over_size = depth_step_against_limit(cs, near, d.settings.depth, d.settings.depth_mapping).over_size;
   d.depth_limited = d.depth_step_over_size >= kDepthLimitedStep;
   // A depth-limited frame the policy may move its near plane for (no near
   // plane of its own, no exact test tied to the scene's plane): drawn with
   // the tight near plane where that frame is not depth-limited.
-  if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && !tight_scene) {
-    Scene moved = with_tight_plane();
-    const double tight = moved.camera.frustum.near;
-    const double step = depth_step_against_limit(cs, tight, d.settings.depth, d.settings.depth_mapping).over_size;
+  if (d.depth_limited && !policy.near_plane && !policy.exact_zpass && !tight) {
+    const Frustum moved = gl::tight_frustum(scene);
+    const double step = depth_step_against_limit(cs, moved.near, d.settings.depth, d.settings.depth_mapping).over_size;
     if (step < kDepthLimitedStep) {
-      char note[512];
-      std::snprintf(note, sizeof note,
-                    "drawn with the tight near plane (%.3g): with the scene's (%.3g) one depth step would span %.3g "
-                    "of the scene's size, and no method is right there",
-                    tight, near, d.depth_step_over_size);
-      d.near_plane_note = note;
+      d.moved_from_near = near;
+      d.moved_from_step_over_size = d.depth_step_over_size;
       d.settings.near_plane = gl::NearPlane::Tight;
-      tight_scene = std::move(moved);
-      near = tight;
+      tight = moved;
+      near = moved.near;
       d.depth_step_over_size = step;
       d.depth_limited = false;
     }
   }
-  if (d.depth_limited) {
-    char note[512];
-    std::snprintf(note, sizeof note,
-                  "depth-limited: one depth step spans %.3g of the scene's size at its farthest point (near plane "
-                  "%.3g): surfaces that close share a depth value, and no method is guaranteed right (Z-fail "
-                  "cracks in about a third of such sampled frames); reversed-Z with a float depth buffer (--depth "
-                  "float32 --depth-mapping reversed) or the tight near plane (--near-plane tight) fixes it",
-                  d.depth_step_over_size, near);
-    d.depth_note = note;
-  }
+  d.near = near;
   d.object_methods.assign(scene.objects.size(), gl::ShadowMethod::ZPass);
   // The cost decision's reasons are its prices (PolicyDecision::reason).
   if (!policy.device_profile) d.step_reasons.assign(scene.objects.size(), "");
@@ -227,7 +208,7 @@ PolicyDecision decide_impl(const SwitchPolicy& policy, const CameraSpaceScene& c
     // The margin is weighed only where a choice may be kept.
     const bool keeps = kept && !forced && pricing == DecisionPricing::ChoiceOnly;
     double margin = kNaN;
-    d = decide_by_cost(policy, cs, tight_scene ? *tight_scene : scene, light, base, std::move(d), facings, pricing,
+    d = decide_by_cost(policy, cs, tight ? &*tight : nullptr, light, base, std::move(d), facings, pricing,
                        keeps ? &margin : nullptr, forced);
     d.choice_margin = margin;
     if (keeps)
@@ -438,14 +419,13 @@ bool atomiczp_admitted(const CameraSpaceScene& cs, std::size_t o, std::size_t li
   return true;
 }
 
-// `drawn`: the scene as the frame draws it (its near plane the tight one
-// where the frame uses it), for the work estimate.
-PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Scene& drawn,
+// `tight`: the frustum with the tight near plane where the frame is drawn
+// with it, for the work estimate; null where it is drawn with the scene's.
+PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene& cs, const Frustum* tight,
                               std::size_t light, const gl::EmulationSettings& base, PolicyDecision d,
                               FacingCache* facings, DecisionPricing pricing, double* margin,
                               const PolicyDecision* forced) {
   const DeviceProfile& profile = *policy.device_profile;
-  const Scene& scene = drawn;
   const gl::ZPassFar far = policy.zpass_far;
   const CandidateMethod zpass{gl::ShadowMethod::ZPass, gl::LightProjection::Paper, far};
   const CandidateMethod zfail{gl::ShadowMethod::ZFail, gl::LightProjection::Paper, far};
@@ -458,15 +438,22 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const bool choice_only = pricing == DecisionPricing::ChoiceOnly;
   // A frame the policy draws without pricing: the choice is made here; the
   // full decision prices its candidates for the reasons, then draws it.
-  const bool unpriced =
-      policy.unpriced_frames && largest_occluder_triangles(scene) <= policy.unpriced_frames->max_occluder_triangles;
+  const bool unpriced = policy.unpriced_frames &&
+                        largest_occluder_triangles(cs.scene()) <= policy.unpriced_frames->max_occluder_triangles;
   if (unpriced && choice_only) {
     const CandidateMethod& m = policy.unpriced_frames->method;
     if (m.method != gl::ShadowMethod::ZFail) d.settings.light_frustum.projection = m.cap;
-    for (std::size_t o = 0; o < scene.objects.size(); ++o)
-      if (scene.objects[o].occluder) d.object_methods[o] = m.method;
+    for (std::size_t o = 0; o < cs.scene().objects.size(); ++o)
+      if (cs.scene().objects[o].occluder) d.object_methods[o] = m.method;
     return d;
   }
+  // The scene as the frame draws it.
+  std::optional<Scene> tight_scene;
+  if (tight) {
+    tight_scene = cs.scene();
+    tight_scene->camera.frustum = *tight;
+  }
+  const Scene& scene = tight_scene ? *tight_scene : cs.scene();
 
   // The light in the near plane (exactly): no pyramid test, no light frustum.
   const bool light_on_near_plane = light_lies_on_near_plane(cs, light);
@@ -815,6 +802,28 @@ void price_decision(PolicyDecision& d, const SwitchPolicy& policy, const CameraS
         p.chosen.method = d.object_methods[p.object];
         p.chosen.cap = d.settings.light_frustum.projection;
       }
+}
+
+std::string PolicyDecision::depth_note() const {
+  if (!depth_limited) return {};
+  char note[512];
+  std::snprintf(note, sizeof note,
+                "depth-limited: one depth step spans %.3g of the scene's size at its farthest point (near plane "
+                "%.3g): surfaces that close share a depth value, and no method is guaranteed right (Z-fail "
+                "cracks in about a third of such sampled frames); reversed-Z with a float depth buffer (--depth "
+                "float32 --depth-mapping reversed) or the tight near plane (--near-plane tight) fixes it",
+                depth_step_over_size, near);
+  return note;
+}
+
+std::string PolicyDecision::near_plane_note() const {
+  if (std::isnan(moved_from_near)) return {};
+  char note[512];
+  std::snprintf(note, sizeof note,
+                "drawn with the tight near plane (%.3g): with the scene's (%.3g) one depth step would span %.3g "
+                "of the scene's size, and no method is right there",
+                near, moved_from_near, moved_from_step_over_size);
+  return note;
 }
 
 std::string PolicyDecision::reason(std::size_t object) const {

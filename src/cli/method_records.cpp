@@ -17,8 +17,8 @@ std::size_t MethodRecords::refuse(const std::string& method, const Error& e,
 
 nlohmann::json policy_decision_json(const Scene& scene, const analysis::PolicyDecision& d) {
   nlohmann::json j{{"occluders", policy_occluders_json(scene, d)}, {"depth_limited", d.depth_limited}};
-  if (d.depth_limited) j["depth_note"] = d.depth_note;
-  if (!d.near_plane_note.empty()) j["near_plane_note"] = d.near_plane_note;
+  if (d.depth_limited) j["depth_note"] = d.depth_note();
+  if (const std::string note = d.near_plane_note(); !note.empty()) j["near_plane_note"] = note;
   return j;
 }
 

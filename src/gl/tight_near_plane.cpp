@@ -5,7 +5,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
+
+#include "nearcap/check.hpp"
 
 namespace nearcap::gl {
 namespace {
@@ -13,20 +16,33 @@ namespace {
 // A plane through the eye, a . p >= 0 inside.
 using Plane = std::array<double, 3>;
 
-std::vector<Vec3d> clipped(std::vector<Vec3d> poly, const Plane& plane) {
-  std::vector<Vec3d> out;
-  const std::size_t n = poly.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3d &a = poly[k], &b = poly[(k + 1) % n];
+// A triangle clipped by planes.  One clip keeps the k of n vertices inside
+// and adds a point per sign change along the loop, of which there are at
+// most 2 min(k, n - k) even where rounding makes the signs alternate: at
+// most 1.5 n + 0.5 vertices.  A triangle clipped by the five
+// planes below: 3, 5, 8, 12, 18, 27.
+struct ClippedPolygon {
+  static constexpr std::size_t kCapacity = 27;
+  std::array<Vec3d, kCapacity> v;
+  std::size_t n = 0;
+};
+
+void clip(const ClippedPolygon& in, const Plane& plane, ClippedPolygon& out) {
+  out.n = 0;
+  auto push = [&out](const Vec3d& p) {
+    NEARCAP_CHECK(out.n < ClippedPolygon::kCapacity);
+    out.v[out.n++] = p;
+  };
+  for (std::size_t k = 0; k < in.n; ++k) {
+    const Vec3d &a = in.v[k], &b = in.v[(k + 1) % in.n];
     const double da = plane[0] * a.x + plane[1] * a.y + plane[2] * a.z,
                  db = plane[0] * b.x + plane[1] * b.y + plane[2] * b.z;
-    if (da >= 0) out.push_back(a);
+    if (da >= 0) push(a);
     if ((da >= 0) != (db >= 0)) {
       const double t = da / (da - db);
-      out.push_back(a + t * (b - a));
+      push(a + t * (b - a));
     }
   }
-  return out;
 }
 
 }  // namespace
@@ -47,17 +63,24 @@ Frustum tight_frustum(const Scene& scene) {
       {0, 0, -1},  // in front of the eye: -z >= 0
   }};
   double nearest = std::numeric_limits<double>::infinity();
+  std::vector<Vec3d> camera;
+  ClippedPolygon first, second;
   for (const SceneObject& o : scene.objects) {
-    std::vector<Vec3d> camera(o.mesh->positions.size());
+    camera.resize(o.mesh->positions.size());
     for (std::size_t v = 0; v < camera.size(); ++v)
       camera[v] = scene.camera.view.apply(o.object_to_world.apply(o.mesh->positions[v]));
     for (const auto& tri : o.mesh->triangles) {
-      std::vector<Vec3d> poly{camera[tri[0]], camera[tri[1]], camera[tri[2]]};
+      ClippedPolygon *poly = &first, *next = &second;
+      poly->v[0] = camera[tri[0]];
+      poly->v[1] = camera[tri[1]];
+      poly->v[2] = camera[tri[2]];
+      poly->n = 3;
       for (const Plane& p : planes) {
-        poly = clipped(poly, p);
-        if (poly.empty()) break;
+        clip(*poly, p, *next);
+        std::swap(poly, next);
+        if (poly->n == 0) break;
       }
-      for (const Vec3d& p : poly) nearest = std::min(nearest, -p.z);
+      for (std::size_t k = 0; k < poly->n; ++k) nearest = std::min(nearest, -poly->v[k].z);
     }
   }
   Frustum out = f;

@@ -250,14 +250,20 @@ struct PolicyDecision {
   // the settings below, or a bound of it where the bound is below
   // kDepthLimitedStep (conditioning.hpp, depth_step_against_limit), and
   // whether it reaches kDepthLimitedStep: then no method is guaranteed
-  // right, and `depth_note` says so and what fixes it.
+  // right, and depth_note() says so and what fixes it.
   double depth_step_over_size = 0;
   bool depth_limited = false;
-  std::string depth_note;
+  std::string depth_note() const;  // empty where not depth_limited
   // Where the scene's near plane would leave the frame depth-limited and the
   // policy moved it (settings.near_plane Tight, depth_limited false): why,
   // with both planes; empty elsewhere.
-  std::string near_plane_note;
+  std::string near_plane_note() const;
+  // What the notes say, formatted only when asked: the near plane's
+  // distance the frame is drawn with, and where the policy moved it, the
+  // scene's and its depth step over the scene's size (NaN where not moved).
+  double near = std::numeric_limits<double>::quiet_NaN();
+  double moved_from_near = std::numeric_limits<double>::quiet_NaN();
+  double moved_from_step_over_size = std::numeric_limits<double>::quiet_NaN();
   // The emulation settings the frame needs (the policy's switch clamp).
   gl::EmulationSettings settings;
   // With a device profile (the cost decision): the chosen frame's predicted
