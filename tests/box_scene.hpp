@@ -24,6 +24,7 @@ struct BoxSceneOptions {
   Vec3d centre{0, 0, 0};  // the box's centre
   double size = 1.0;      // the box's edge (data/meshes/box.off is the unit box)
   int width = 64, height = 48;
+  std::string occluder = "box.off";  // in data/meshes/: another mesh in the box's place
 };
 
 // The box (an occluder) and a 40-wide receiver below it (top face at y = -0.6).
@@ -34,7 +35,9 @@ inline Scene box_scene(const Vec3d& eye, const Vec3d& light, const BoxSceneOptio
   b.light(light);
   Affine3d box = translate(o.centre.x, o.centre.y, o.centre.z);
   for (int k = 0; k < 3; ++k) box.rows[k][k] = o.size;
-  b.object(box_mesh, box);
+  b.object(
+      o.occluder == "box.off" ? box_mesh : read_mesh(std::string(NEARCAP_SOURCE_DIR) + "/data/meshes/" + o.occluder),
+      box);
   Affine3d ground = translate(0, -20.6, 0);
   for (int k = 0; k < 3; ++k) ground.rows[k][k] = 40;
   b.receiver(box_mesh, ground);

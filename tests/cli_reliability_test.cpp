@@ -472,7 +472,7 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "after --, the value's own error, not '--' as an option");
   // A policy's whole number written as a float.
   nlohmann::json policy = nlohmann::json::parse(test::slurp(std::string(NEARCAP_SOURCE_DIR) + "/data/policy.json"));
-  policy["unpriced_frames"]["max_occluder_triangles"] = 1e30;
+  policy["unpriced_frames"][0]["max_occluder_triangles"] = 1e30;
   write_scene("p.json", policy);
   expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method policy --policy " + path("p.json")),
                         "a whole number written as a float", "1e30 triangles");

@@ -164,7 +164,7 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
 
   const analysis::CandidateMethod zfail{ShadowMethod::ZFail, gl::LightProjection::Paper, policy.zpass_far};
   const analysis::CandidateMethod clipped{ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, policy.zpass_far};
-  policy.unpriced_frames = analysis::UnpricedFrames{12, zfail};
+  policy.unpriced_frames = {analysis::UnpricedFrames{12, zfail}};
   for (analysis::DecisionPricing pricing : {analysis::DecisionPricing::Full, analysis::DecisionPricing::ChoiceOnly}) {
     const analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {}, nullptr, pricing);
     EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail) << d.reason(0);
@@ -179,7 +179,7 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
   EXPECT_GT(full.predicted_ms, priced.predicted_ms);
   const analysis::PolicyDecision clipped_choice = [&] {
     SwitchPolicy c = policy;
-    c.unpriced_frames = analysis::UnpricedFrames{12, clipped};
+    c.unpriced_frames = {analysis::UnpricedFrames{12, clipped}};
     return analysis::decide(c, cs, 0, {}, nullptr, analysis::DecisionPricing::ChoiceOnly);
   }();
   // The choice estimates no work: no occluder's facing is computed.
@@ -192,7 +192,7 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
   EXPECT_EQ(clipped_choice.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
 
   // Below the box's 12 triangles: priced.
-  policy.unpriced_frames = analysis::UnpricedFrames{11, zfail};
+  policy.unpriced_frames = {analysis::UnpricedFrames{11, zfail}};
   for (analysis::DecisionPricing pricing : {analysis::DecisionPricing::Full, analysis::DecisionPricing::ChoiceOnly}) {
     const analysis::PolicyDecision d = analysis::decide(policy, cs, 0, {}, nullptr, pricing);
     EXPECT_EQ(d.object_methods, priced.object_methods) << d.reason(0);
@@ -200,6 +200,21 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
   }
   EXPECT_EQ(analysis::decide(policy, cs, 0, {}).reason(0).find("unpriced"), std::string::npos);
   EXPECT_EQ(analysis::largest_occluder_triangles(box), 12u);  // the receiver's box is no occluder
+
+  // Tiers: the frame falls in the first whose bound holds its largest occluder.
+  auto chosen = [&](std::vector<analysis::UnpricedFrames> tiers) {
+    SwitchPolicy c = policy;
+    c.unpriced_frames = std::move(tiers);
+    return analysis::decide(c, cs, 0, {}, nullptr, analysis::DecisionPricing::ChoiceOnly);
+  };
+  analysis::PolicyDecision d = chosen({{5, zfail}, {12, clipped}, {100, zfail}});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZPPlus);
+  EXPECT_EQ(d.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
+  d = chosen({{12, zfail}, {100, clipped}});
+  EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail);
+  d = chosen({{3, clipped}, {11, clipped}});  // above every tier: priced
+  EXPECT_EQ(d.object_methods, priced.object_methods);
+  EXPECT_EQ(d.settings.light_frustum.projection, priced.settings.light_frustum.projection);
 }
 
 TEST(CostDecision, APredictedCrackRemovesThePaperCap) {

@@ -435,38 +435,59 @@ TEST(PolicyReader, IsStrict) {
 }
 
 // unpriced_frames: read and written back; only with a device profile, a
-// known method and a count.
-TEST(PolicyReader, UnpricedFramesNeedAProfileAndAKnownMethod) {
+// known method, a count, and tiers ascending; one tier may be the object
+// alone.
+TEST(PolicyReader, UnpricedFramesNeedAProfileAndAKnownMethodAndAscendingTiers) {
   const std::string shipped = test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json");
   const analysis::SwitchPolicy p = analysis::parse_policy(shipped, "p.json");
-  ASSERT_TRUE(p.unpriced_frames);
+  ASSERT_FALSE(p.unpriced_frames.empty());
   const analysis::SwitchPolicy q = analysis::parse_policy(analysis::policy_to_json(p), "q.json");
-  ASSERT_TRUE(q.unpriced_frames);
-  EXPECT_EQ(q.unpriced_frames->max_occluder_triangles, p.unpriced_frames->max_occluder_triangles);
-  EXPECT_EQ(q.unpriced_frames->method.name(), p.unpriced_frames->method.name());
-  const std::string field = "\"unpriced_frames\": {\n  \"max_occluder_triangles\": " +
-                            std::to_string(p.unpriced_frames->max_occluder_triangles) + ",\n  \"method\": \"" +
-                            p.unpriced_frames->method.name() + "\"\n },";
-  const std::size_t at = shipped.find(field);
-  ASSERT_NE(at, std::string::npos) << field;
-  auto with = [&](const std::string& replacement) {
-    return std::string(shipped).replace(at, field.size(), replacement);
+  ASSERT_EQ(q.unpriced_frames.size(), p.unpriced_frames.size());
+  for (std::size_t k = 0; k < p.unpriced_frames.size(); ++k) {
+    EXPECT_EQ(q.unpriced_frames[k].max_occluder_triangles, p.unpriced_frames[k].max_occluder_triangles);
+    EXPECT_EQ(q.unpriced_frames[k].method.name(), p.unpriced_frames[k].method.name());
+  }
+  using Json = nlohmann::json;
+  const Json shipped_json = Json::parse(shipped);
+  auto with = [&](const Json& tiers) {
+    Json j = shipped_json;
+    j["unpriced_frames"] = tiers;
+    return j.dump(1);
   };
-  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 12, \"method\": \"zpass\"},"),
-                      ErrorKind::Schema, "unpriced_frames.method: 'zpass' is not zfail or zpplus-clipped-sides");
-  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": -1, \"method\": \"zfail\"},"),
-                      ErrorKind::Schema, "unpriced_frames.max_occluder_triangles: must not be negative");
-  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 1.5, \"method\": \"zfail\"},"),
-                      ErrorKind::Schema, "unpriced_frames.max_occluder_triangles");
-  expect_policy_error(with("\"unpriced_frames\": {\"method\": \"zfail\"},"), ErrorKind::Schema,
-                      "unpriced_frames.max_occluder_triangles: missing");
-  expect_policy_error(with("\"unpriced_frames\": {\"max_occluder_triangles\": 12, \"method\": \"zfail\", \"x\": 1},"),
-                      ErrorKind::Schema, "unpriced_frames.x");
+  auto tier = [](const Json& max, const Json& method) {
+    return Json{{"max_occluder_triangles", max}, {"method", method}};
+  };
+  const analysis::SwitchPolicy one = analysis::parse_policy(with(tier(12, "zfail")), "one.json");
+  ASSERT_EQ(one.unpriced_frames.size(), 1u);
+  EXPECT_EQ(one.unpriced_frames[0].max_occluder_triangles, 12u);
+  EXPECT_EQ(one.unpriced_frames[0].method.method, gl::ShadowMethod::ZFail);
+  const analysis::SwitchPolicy two =
+      analysis::parse_policy(with(Json::array({tier(12, "zfail"), tier(6400, "zpplus-clipped-sides")})), "two.json");
+  ASSERT_EQ(two.unpriced_frames.size(), 2u);
+  EXPECT_EQ(two.unpriced_frames[1].max_occluder_triangles, 6400u);
+  EXPECT_EQ(two.unpriced_frames[1].method.name(), "zpplus-clipped-sides");
+
+  expect_policy_error(with(tier(12, "zpass")), ErrorKind::Schema,
+                      "unpriced_frames.method: 'zpass' is not zfail or zpplus-clipped-sides");
+  expect_policy_error(with(Json::array({tier(12, "zfail"), tier(100, "zpass")})), ErrorKind::Schema,
+                      "unpriced_frames[1].method: 'zpass' is not zfail or zpplus-clipped-sides");
+  expect_policy_error(with(Json::array({tier(-1, "zfail")})), ErrorKind::Schema,
+                      "unpriced_frames[0].max_occluder_triangles: must not be negative");
+  expect_policy_error(with(tier(1.5, "zfail")), ErrorKind::Schema, "unpriced_frames.max_occluder_triangles");
+  expect_policy_error(with(Json::array({Json{{"method", "zfail"}}})), ErrorKind::Schema,
+                      "unpriced_frames[0].max_occluder_triangles: missing");
+  Json extra = tier(12, "zfail");
+  extra["x"] = 1;
+  expect_policy_error(with(Json::array({extra})), ErrorKind::Schema, "unpriced_frames[0].x");
+  expect_policy_error(with(Json::array({tier(12, "zfail"), tier(12, "zpplus-clipped-sides")})), ErrorKind::Schema,
+                      "unpriced_frames[1].max_occluder_triangles: must be above the tier before's (12)");
+  expect_policy_error(with(Json::array()), ErrorKind::Schema, "unpriced_frames: expected at least one tier");
+  expect_policy_error(with("zfail"), ErrorKind::Schema, "unpriced_frames: expected a JSON object");
   std::string v4 = shipped;
   v4.replace(v4.find("\"version\": 5"), 12, "\"version\": 4");
   expect_policy_error(v4, ErrorKind::Schema, "unpriced_frames: is a version 5 field (this file says version 4)");
   // Without the profile it would name frames that nothing prices.
-  nlohmann::json j = nlohmann::json::parse(shipped);
+  Json j = shipped_json;
   j.erase("device_profile");
   expect_policy_error(j.dump(), ErrorKind::Schema, "unpriced_frames: needs a device_profile");
 }

@@ -301,10 +301,18 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
 // does), and the bundled scene with the light in the near plane.
 // Boxes (12 triangles, which a policy's unpriced frames may hold) and a
 // torus (2,304).
+// The box seen from afar and from its shadow, the light on the near plane,
+// the default scene, and the room paths' 12,000-triangle twisted torus in the
+// box's place (above a policy's unpriced frames).
 std::vector<Scene> probe_scenes() {
+  test::BoxSceneOptions torus;
+  torus.width = 32;
+  torus.height = 24;
+  torus.occluder = "twisted_torus.off";
   return {box_scene({6, 1, 6}, {0, 8, 0}), box_scene({0.1, -1.5, 0.2}, {0, 8, 0}),
           load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/light_on_near_plane.json"),
-          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/default.json")};
+          load_scene(std::string(NEARCAP_SOURCE_DIR) + "/data/scenes/default.json"),
+          test::box_scene({0.1, -1.5, 0.2}, {0, 8, 0}, torus)};
 }
 
 bool decisions_differ(const std::vector<SwitchPolicy>& variants) {
@@ -420,13 +428,33 @@ TEST(SwitchPolicy, TheShippedPolicyLoads) {
     if (p.device_profile) {
       EXPECT_TRUE(decide_reads_device_profile(p));
     }
-    if (p.unpriced_frames) {  // its frames drawn with its method: the other one draws other frames
+    // Each tier of its unpriced frames draws its frames with its method: on
+    // a frame whose occluder (a bundled mesh) falls in the tier, the other
+    // method draws another frame.
+    for (std::size_t t = 0; t < p.unpriced_frames.size(); ++t) {
       SwitchPolicy other = p;
-      other.unpriced_frames->method =
-          p.unpriced_frames->method.method == gl::ShadowMethod::ZFail
+      other.unpriced_frames[t].method =
+          p.unpriced_frames[t].method.method == gl::ShadowMethod::ZFail
               ? analysis::CandidateMethod{gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, p.zpass_far}
               : analysis::CandidateMethod{gl::ShadowMethod::ZFail, gl::LightProjection::Paper, p.zpass_far};
-      EXPECT_TRUE(decisions_differ({p, other}));
+      const std::size_t above = t == 0 ? 0 : p.unpriced_frames[t - 1].max_occluder_triangles + 1;
+      std::optional<Scene> in_tier;
+      for (const char* mesh : {"box.off", "eight.off", "torus.off", "knot1.off", "twisted_torus.off"}) {
+        test::BoxSceneOptions o;
+        o.width = 32;
+        o.height = 24;
+        o.occluder = mesh;
+        Scene s = test::box_scene({0.1, -1.5, 0.2}, {0, 8, 0}, o);
+        const std::size_t n = analysis::largest_occluder_triangles(s);
+        if (n >= above && n <= p.unpriced_frames[t].max_occluder_triangles) {
+          in_tier = std::move(s);
+          break;
+        }
+      }
+      ASSERT_TRUE(in_tier) << "no bundled mesh falls in unpriced tier " << t;
+      const CameraSpaceScene cs(*in_tier);
+      EXPECT_NE(analysis::decide(p, cs, 0, {}).object_methods, analysis::decide(other, cs, 0, {}).object_methods)
+          << "tier " << t;
     }
     for (const std::string& f : p.crack_model.features)  // the decision stays O(1) beyond the pyramid test
       EXPECT_TRUE(analysis::cheap_policy_feature(f)) << f;

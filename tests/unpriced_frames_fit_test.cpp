@@ -1,6 +1,7 @@
 // The unpriced frames' fit (analysis/unpriced_frames_fit.hpp) on synthetic
-// training rows: the threshold and the method with the smallest total, none
-// where pricing every frame is cheapest, refused frames as Z-fail's.
+// training rows: the threshold with the smallest total, each count's cheaper
+// method, neighbours with the same method one tier, none where pricing every
+// frame is cheapest, refused frames as Z-fail's.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -42,41 +43,65 @@ std::vector<EvaluationRow> boxes_and_tori(double box_zfail_ms, double box_clippe
 
 TEST(UnpricedFramesFit, TheThresholdAndMethodWithTheSmallestTotal) {
   analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(boxes_and_tori(0.9, 0.95), gl::ZPassFar::Infinite);
-  ASSERT_TRUE(fit.unpriced);
-  EXPECT_EQ(fit.unpriced->max_occluder_triangles, 12u);
-  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZFail);
+  ASSERT_EQ(fit.unpriced.size(), 1u);
+  EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 12u);
+  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
   EXPECT_EQ(fit.frames, 7u);
   EXPECT_EQ(fit.unpriced_frames, 4u);
   EXPECT_DOUBLE_EQ(fit.priced_total_ms, 4 * 1.0 + 3 * 2.0);
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 4 * (0.9 + 0.01) + 3 * 2.0);
 
   fit = analysis::fit_unpriced_frames(boxes_and_tori(0.95, 0.9), gl::ZPassFar::Infinite);
-  ASSERT_TRUE(fit.unpriced);
-  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZPPlus);
-  EXPECT_EQ(fit.unpriced->method.cap, gl::LightProjection::ClippedSides);
-  EXPECT_EQ(fit.unpriced->method.name(), "zpplus-clipped-sides");
+  ASSERT_EQ(fit.unpriced.size(), 1u);
+  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZPPlus);
+  EXPECT_EQ(fit.unpriced[0].method.cap, gl::LightProjection::ClippedSides);
+  EXPECT_EQ(fit.unpriced[0].method.name(), "zpplus-clipped-sides");
 }
 
 TEST(UnpricedFramesFit, NoneWherePricingEveryFrameIsCheapest) {
   // The unpriced frame's decision still costs: 0.995 + 0.01 is above 1.0.
   const analysis::UnpricedFramesFit fit =
       analysis::fit_unpriced_frames(boxes_and_tori(0.995, 1.2), gl::ZPassFar::Infinite);
-  EXPECT_FALSE(fit.unpriced);
+  EXPECT_TRUE(fit.unpriced.empty());
   EXPECT_EQ(fit.unpriced_frames, 0u);
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, fit.priced_total_ms);
 }
 
-TEST(UnpricedFramesFit, EveryFrameUnpricedWhereThatIsCheapest) {
+TEST(UnpricedFramesFit, EveryFrameUnpricedWhereThatIsCheapestEachCountWithItsMethod) {
   std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
   for (EvaluationRow& r : rows)
     if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = 1.5;
   const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Finite);
-  ASSERT_TRUE(fit.unpriced);
-  // Z-fail on the boxes would be cheaper, but one method serves every unpriced frame.
-  EXPECT_EQ(fit.unpriced->max_occluder_triangles, 2304u);
-  EXPECT_EQ(fit.unpriced->method.method, gl::ShadowMethod::ZPPlus);
-  EXPECT_EQ(fit.unpriced->method.zpass_far, gl::ZPassFar::Finite);
+  // Z-fail on the boxes, the clipped-sides ZP+ on the tori: two tiers.
+  ASSERT_EQ(fit.unpriced.size(), 2u);
+  EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 12u);
+  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
+  EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
+  EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
+  EXPECT_EQ(fit.unpriced[1].method.zpass_far, gl::ZPassFar::Finite);
   EXPECT_EQ(fit.unpriced_frames, 7u);
+  EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 4 * (0.9 + 0.01) + 3 * (1.5 + 0.01));
+}
+
+// The unpriced frames are those up to a threshold: a count where pricing
+// gained a little lies below one where it lost more, and is unpriced with
+// it; neighbouring counts with the same method make one tier, up to the
+// larger count; counts above the threshold stay priced.
+TEST(UnpricedFramesFit, UpToTheBestThresholdNeighboursWithOneMethodOneTier) {
+  std::vector<EvaluationRow> rows;
+  add_frame(rows, "a", 12, 1.0, 0.8, 0.9);    // Z-fail gains 0.19
+  add_frame(rows, "b", 100, 1.0, 1.05, 1.2);  // pricing gains 0.06 (Z-fail 1.06)
+  add_frame(rows, "c", 634, 2.0, 2.5, 1.5);   // clipped gains 0.49
+  add_frame(rows, "d", 2304, 2.0, 2.5, 1.8);  // clipped gains 0.19
+  add_frame(rows, "e", 6400, 2.0, 2.5, 2.2);  // pricing gains 0.21
+  const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
+  ASSERT_EQ(fit.unpriced.size(), 2u);
+  EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 100u);
+  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
+  EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
+  EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
+  EXPECT_EQ(fit.unpriced_frames, 4u);
+  EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 0.81 + 1.06 + 1.51 + 1.81 + 2.0);
 }
 
 // The clipped-sides ZP+ is no method where always clipped did not draw or
@@ -92,7 +117,7 @@ TEST(UnpricedFramesFit, ClippedOnlyWhereItDrewAndIsAsRightAsZFail) {
           r.cracks = 1;  // Z-fail's: none
       }
     const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
-    EXPECT_FALSE(fit.unpriced) << (broken == 0 ? "refused" : "a crack Z-fail lacks");
+    EXPECT_TRUE(fit.unpriced.empty()) << (broken == 0 ? "refused" : "a crack Z-fail lacks");
   }
   // A box frame the policy did not draw is left out.
   std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
@@ -111,7 +136,7 @@ TEST(UnpricedFramesFit, FramesOfOneCountShareTheirFate) {
   add_frame(rows, "b", 12, 1.0, 1.8, 2.0);  // and dearer here: together 2.32 against 2.0
   add_frame(rows, "c", 100, 1.0, 2.0, 2.0);
   const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
-  EXPECT_FALSE(fit.unpriced) << "frame a alone would gain, but b shares its count";
+  EXPECT_TRUE(fit.unpriced.empty()) << "frame a alone would gain, but b shares its count";
 }
 
 }  // namespace

@@ -241,21 +241,29 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (const auto v = j.find("unpriced_frames")) {
     since(*v, 5);
     if (!p.device_profile) v->fail("needs a device_profile (it names the frames the cost decision does not price)");
-    v->only_keys({"max_occluder_triangles", "method"});
-    UnpricedFrames u;
-    const JsonValue max = v->at("max_occluder_triangles");
-    const long long count = max.integer();
-    if (count < 0) max.fail("must not be negative");
-    u.max_occluder_triangles = static_cast<std::size_t>(count);
-    const JsonValue method = v->at("method");
-    const std::string name = method.string();
-    if (name == "zfail")
-      u.method = {gl::ShadowMethod::ZFail, gl::LightProjection::Paper, p.zpass_far};
-    else if (name == "zpplus-clipped-sides")
-      u.method = {gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, p.zpass_far};
-    else
-      method.fail("'" + name + "' is not zfail or zpplus-clipped-sides");
-    p.unpriced_frames = u;
+    // Its tiers, or one tier as the object alone.
+    const std::vector<JsonValue> tiers = v->is_array() ? v->elements() : std::vector<JsonValue>{*v};
+    if (tiers.empty()) v->fail("expected at least one tier (leave the field out to price every frame)");
+    for (const JsonValue& t : tiers) {
+      t.only_keys({"max_occluder_triangles", "method"});
+      UnpricedFrames u;
+      const JsonValue max = t.at("max_occluder_triangles");
+      const long long count = max.integer();
+      if (count < 0) max.fail("must not be negative");
+      u.max_occluder_triangles = static_cast<std::size_t>(count);
+      if (!p.unpriced_frames.empty() && !(u.max_occluder_triangles > p.unpriced_frames.back().max_occluder_triangles))
+        max.fail("must be above the tier before's (" + std::to_string(p.unpriced_frames.back().max_occluder_triangles) +
+                 "): the tiers ascend");
+      const JsonValue method = t.at("method");
+      const std::string name = method.string();
+      if (name == "zfail")
+        u.method = {gl::ShadowMethod::ZFail, gl::LightProjection::Paper, p.zpass_far};
+      else if (name == "zpplus-clipped-sides")
+        u.method = {gl::ShadowMethod::ZPPlus, gl::LightProjection::ClippedSides, p.zpass_far};
+      else
+        method.fail("'" + name + "' is not zfail or zpplus-clipped-sides");
+      p.unpriced_frames.push_back(u);
+    }
   }
   const JsonValue provenance = j.at("provenance");
   if (!provenance.is_object()) provenance.fail("expected a JSON object, found " + std::string(provenance.type_name()));
@@ -295,9 +303,12 @@ std::string policy_to_json(const SwitchPolicy& p) {
                                                  {"ms_per_mfragment", cm.ms_per_mfragment}};
   j["cost_models"] = costs;
   if (p.device_profile) j["device_profile"] = device_profile_json(*p.device_profile);
-  if (p.unpriced_frames)
-    j["unpriced_frames"] = {{"max_occluder_triangles", p.unpriced_frames->max_occluder_triangles},
-                            {"method", p.unpriced_frames->method.name()}};
+  if (!p.unpriced_frames.empty()) {
+    Json tiers = Json::array();
+    for (const UnpricedFrames& u : p.unpriced_frames)
+      tiers.push_back({{"max_occluder_triangles", u.max_occluder_triangles}, {"method", u.method.name()}});
+    j["unpriced_frames"] = tiers;
+  }
   j["provenance"] = Json::parse(p.provenance_json);
   // The provenance names files: a name that is not UTF-8 gets U+FFFD.
   std::string text = j.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";

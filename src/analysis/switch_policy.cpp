@@ -135,6 +135,12 @@ std::size_t largest_occluder_triangles(const Scene& scene) {
   return largest;
 }
 
+const UnpricedFrames* unpriced_tier(const SwitchPolicy& policy, std::size_t largest_occluder_triangles) {
+  for (const UnpricedFrames& tier : policy.unpriced_frames)
+    if (largest_occluder_triangles <= tier.max_occluder_triangles) return &tier;
+  return nullptr;
+}
+
 namespace {
 
 // decide(), and price_decision's pricing of a kept choice: `forced`, a
@@ -438,10 +444,10 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   const bool choice_only = pricing == DecisionPricing::ChoiceOnly;
   // A frame the policy draws without pricing: the choice is made here; the
   // full decision prices its candidates for the reasons, then draws it.
-  const bool unpriced = policy.unpriced_frames &&
-                        largest_occluder_triangles(cs.scene()) <= policy.unpriced_frames->max_occluder_triangles;
+  const UnpricedFrames* const tier = unpriced_tier(policy, largest_occluder_triangles(cs.scene()));
+  const bool unpriced = tier != nullptr;
   if (unpriced && choice_only) {
-    const CandidateMethod& m = policy.unpriced_frames->method;
+    const CandidateMethod& m = tier->method;
     if (m.method != gl::ShadowMethod::ZFail) d.settings.light_frustum.projection = m.cap;
     for (std::size_t o = 0; o < cs.scene().objects.size(); ++o)
       if (cs.scene().objects[o].occluder) d.object_methods[o] = m.method;
@@ -670,14 +676,14 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
     Frame f;
     f.work = shared;
     for (const Occluder& oc : occluders) {
-      CandidateMethod m = unpriced ? policy.unpriced_frames->method : zfail;
+      CandidateMethod m = unpriced ? tier->method : zfail;
       if (forced && forced->object_methods[oc.object] != gl::ShadowMethod::ZFail)
         m = {forced->object_methods[oc.object], forced->settings.light_frustum.projection, far};
       f.work += occluder_work(oc.in, m);
       f.choice.push_back(m);
     }
     if (unpriced) {
-      const CandidateMethod& m = policy.unpriced_frames->method;
+      const CandidateMethod& m = tier->method;
       f.projection = m.method == gl::ShadowMethod::ZFail ? policy.light_projection : m.cap;
     } else {
       f.projection = forced->settings.light_frustum.projection;
@@ -699,7 +705,7 @@ PolicyDecision decide_by_cost(const SwitchPolicy& policy, const CameraSpaceScene
   prices.paper_ok = paper_ok;
   if (!paper_ok) prices.paper_why = std::move(paper_why);
   prices.atomiczp_priced = atomiczp_priced;
-  if (unpriced) prices.unpriced = policy.unpriced_frames;
+  if (unpriced) prices.unpriced = *tier;
   if (forced) prices.frames_since_priced = forced->frames_since_priced;
   prices.occluders.reserve(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) {

@@ -493,7 +493,7 @@ void run(CalibrateOptions o) {
     policy->device_profile =
         analysis::fit_device_profile(observations.passes, observations.cpu, context.renderer(), &report);
     // Frames fitted against another profile's prices: `evaluate --fit-unpriced` fits them again.
-    policy->unpriced_frames.reset();
+    policy->unpriced_frames.clear();
     analysis::EyeCountFitReport eye_report;
     policy->device_profile->eye_count = analysis::fit_eye_count_pass(observations.eye_count, &eye_report);
     // Without the eye-count row, AtomicZP's whole frames (whose eye-count

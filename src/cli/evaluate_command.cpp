@@ -426,7 +426,7 @@ void run(const EvaluateOptions& o) {
       if (!out_ec && !ec && written == outp)
         throw Error(ErrorKind::Usage, "--fit-unpriced '" + o.fit_unpriced + "' is the " + name + " --out writes");
     }
-    policy.unpriced_frames.reset();  // every frame priced: the fit compares against that
+    policy.unpriced_frames.clear();  // every frame priced: the fit compares against that
   }
   // Everything read and checked before the GL starts.
   std::vector<analysis::CameraPath> paths;
@@ -549,12 +549,16 @@ void run(const EvaluateOptions& o) {
     analysis::SwitchPolicy fitted = policy;
     fitted.unpriced_frames = fit.unpriced;
     char line[512];
-    if (fit.unpriced)
+    std::string tiers;  // "at most 12 triangles drawn with zfail, at most 6400 with ..."
+    for (std::size_t k = 0; k < fit.unpriced.size(); ++k)
+      tiers += (k == 0 ? "at most " : ", at most ") + std::to_string(fit.unpriced[k].max_occluder_triangles) +
+               (k == 0 ? " triangles drawn with " : " with ") + fit.unpriced[k].method.name();
+    if (!fit.unpriced.empty())
       std::snprintf(line, sizeof line,
-                    "evaluate: unpriced frames: every occluder at most %zu triangles drawn with %s (%zu of %zu "
-                    "frames; %.2f ms in all against %.2f ms with every frame priced); %s",
-                    fit.unpriced->max_occluder_triangles, fit.unpriced->method.name().c_str(), fit.unpriced_frames,
-                    fit.frames, fit.fitted_total_ms, fit.priced_total_ms, o.fit_unpriced.c_str());
+                    "evaluate: unpriced frames: every occluder %s (%zu of %zu frames; %.2f ms in all against %.2f ms "
+                    "with every frame priced); %s",
+                    tiers.c_str(), fit.unpriced_frames, fit.frames, fit.fitted_total_ms, fit.priced_total_ms,
+                    o.fit_unpriced.c_str());
     else
       std::snprintf(line, sizeof line,
                     "evaluate: unpriced frames: none (pricing every frame was cheapest, %.2f ms); %s",
@@ -607,8 +611,8 @@ void register_evaluate(CLI::App& app) {
   cmd.add_option("--policy", o.policy, "the switch policy under test (nearcap tune writes one)")->capture_default_str();
   cmd.add_option("--fit-unpriced", o.fit_unpriced,
                  "training data instead of held-out: evaluate the policy with every frame priced, fit the frames its "
-                 "decision should not price (the largest occluder's triangles at most a threshold, one method) and "
-                 "write the policy with them to FILE");
+                 "decision should not price (tiers of the largest occluder's triangles up to a threshold, each with "
+                 "one method) and write the policy with them to FILE");
   cmd.add_flag("--price-every-frame", o.price_every_frame,
                "price the policy's choice on every frame of a path (by default a choice that undercut every other "
                "by a wide margin is kept for the next few frames, as `nearcap render` keeps it)");

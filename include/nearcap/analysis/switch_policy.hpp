@@ -37,9 +37,10 @@
 // t}, "cost_models": {"zfail": {"intercept_ms": c, "ms_per_mtriangle": a,
 // "ms_per_mfragment": b}, ...} (possibly empty), "device_profile": {...}
 // (version 4, optional: DeviceProfile's fields, parse_device_profile below),
-// "unpriced_frames": {"max_occluder_triangles": n, "method": "zfail" or
-// "zpplus-clipped-sides"} (version 5, optional, with a device_profile:
-// UnpricedFrames below), "provenance": {...}}.
+// "unpriced_frames": [{"max_occluder_triangles": n, "method": "zfail" or
+// "zpplus-clipped-sides"}, ...] (version 5, optional, with a
+// device_profile: its tiers, n ascending, UnpricedFrames below; one tier
+// may also be written as the object alone), "provenance": {...}}.
 // Every field is checked: an unknown key, a duplicate key (in any object,
 // provenance's too), a missing one (cost_models and provenance included), a
 // wrong type, an unknown or repeated feature, an unknown method, lengths that
@@ -112,11 +113,12 @@ struct CostModel {
   }
 };
 
-// Frames whose every occluder has at most `max_occluder_triangles`
-// triangles: the cost decision gives each occluder `method` (Z-fail, or ZP+
+// One tier of a policy's unpriced frames: frames whose every occluder has
+// at most `max_occluder_triangles` triangles (and more than the tier
+// below's): the cost decision gives each occluder `method` (Z-fail, or ZP+
 // with the clipped-sides cap: both as right as Z-fail) and prices nothing.
 // On such frames choosing gains less than the pricing costs (its code and
-// data cold in a new configuration); both fields are fitted on training
+// data cold in a new configuration); the tiers are fitted on training
 // frames from `nearcap evaluate`'s rows (unpriced_frames_fit.hpp).
 struct UnpricedFrames {
   std::size_t max_occluder_triangles = 0;
@@ -153,10 +155,16 @@ struct SwitchPolicy {
   // policy was calibrated on (device_profile.hpp); the decision's costs.
   std::optional<DeviceProfile> device_profile;
   // Version 5, optional, with a device profile: the frames the cost
-  // decision draws without pricing (UnpricedFrames).
-  std::optional<UnpricedFrames> unpriced_frames;
+  // decision draws without pricing, tier by tier (UnpricedFrames), their
+  // max_occluder_triangles ascending; empty: every frame priced.
+  std::vector<UnpricedFrames> unpriced_frames;
   std::string provenance_json = "{}";  // how it was fitted (kept as written)
 };
+
+// The tier of the policy's unpriced frames a frame whose largest occluder
+// has `largest_occluder_triangles` falls in (the first whose bound holds
+// it), or null: the frame is priced.
+const UnpricedFrames* unpriced_tier(const SwitchPolicy& policy, std::size_t largest_occluder_triangles);
 
 inline constexpr int kPolicyVersion = 5;  // written; 1 to 5 are read
 
@@ -210,8 +218,8 @@ struct FramePrices {
   bool paper_ok = false;
   std::string paper_why;  // why not, where !paper_ok
   bool atomiczp_priced = false;
-  // The policy's UnpricedFrames applied: every occluder drawn with its
-  // method whatever the prices, which the reason still lists.
+  // The tier of the policy's unpriced frames applied: every occluder drawn
+  // with its method whatever the prices, which the reason still lists.
   std::optional<UnpricedFrames> unpriced;
   // A kept choice priced (PolicyDecision::frames_since_priced): the reason
   // says so, and lists this frame's prices.
