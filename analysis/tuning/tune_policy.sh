@@ -27,8 +27,9 @@
 #   4. nearcap evaluate --fit-unpriced on 500 configurations of seed 100 at
 #      160 x 120: the calibrated policy drawn and timed end to end beside the
 #      fixed rules, and the frames its decision should not price fitted
-#      (every occluder at most N triangles, one method: where choosing gained
-#      less than the pricing's own time; docs/policy.md);
+#      (tiers of the largest occluder's triangles up to a threshold, each
+#      with the cheaper of Z-fail and the clipped-sides ZP+: where choosing
+#      gained less than the pricing's own time; docs/policy.md);
 #   5. with --reversed-z: the same with reversed-Z (a float depth buffer and
 #      the reversed depth mapping) in the sweeps and the policy:
 #      data/policy-reversed-z.json; with --tight-near: the same with the
