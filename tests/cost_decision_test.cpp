@@ -212,7 +212,7 @@ TEST(CostDecision, UnpricedFramesDrawTheirMethodWithoutPricing) {
   EXPECT_EQ(d.settings.light_frustum.projection, gl::LightProjection::ClippedSides);
   d = chosen({{12, zfail}, {100, clipped}});
   EXPECT_EQ(d.object_methods[0], ShadowMethod::ZFail);
-  d = chosen({{3, clipped}, {11, clipped}});  // above every tier: priced
+  d = chosen({{3, zfail}, {11, zfail}});  // above every tier: priced (a near-cap method, not Z-fail)
   EXPECT_EQ(d.object_methods, priced.object_methods);
   EXPECT_EQ(d.settings.light_frustum.projection, priced.settings.light_frustum.projection);
 }

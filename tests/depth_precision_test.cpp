@@ -22,6 +22,7 @@
 #include "nearcap/gl/clipping.hpp"
 #include "nearcap/gl/pipeline.hpp"
 #include "nearcap/gl/shadow_methods.hpp"
+#include "nearcap/gl/tight_near_plane.hpp"
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/judge/crack_distances.hpp"
 #include "nearcap/judge/crack_map.hpp"
@@ -413,6 +414,10 @@ TEST(DepthLimited, TheShippedPolicyMovesTheNearPlaneWhereTheDepthBufferIsTheLimi
       if (!limited) continue;
       ++moved;
       EXPECT_NE(d.near_plane_note().find("tight near plane"), std::string::npos) << d.near_plane_note();
+      char planes[128];  // the plane it moved to, then the scene's
+      std::snprintf(planes, sizeof planes, "tight near plane (%.3g): with the scene's (%.3g)",
+                    gl::tight_frustum(scene).near, scene.camera.frustum.near);
+      EXPECT_NE(d.near_plane_note().find(planes), std::string::npos) << planes << " in " << d.near_plane_note();
       const PixelReferenceTracer tracer(cs, light);
       const PixelReference ref = compute_pixel_reference(tracer);
       gl::ShadowFrameBatch batch(scene, light, d.settings);

@@ -548,7 +548,7 @@ TEST(DeviceProfileJson, ReadsWhatItWritesOnItsOwnAndInAPolicy) {
   EXPECT_FALSE(policy.device_profile.has_value());
   policy.device_profile = p;
   const std::string written = analysis::policy_to_json(policy);
-  EXPECT_NE(written.find("\"version\": 5"), std::string::npos) << written;
+  EXPECT_NE(written.find("\"version\": 6"), std::string::npos) << written;
   const analysis::SwitchPolicy back = analysis::parse_policy(written, "v4.json");
   ASSERT_TRUE(back.device_profile.has_value());
   expect_same(*back.device_profile, p);
@@ -877,7 +877,7 @@ TEST(DeviceProfileJson, EachSchemaErrorIsOneLineNamingTheField) {
               std::string::npos)
         << e.what();
   }
-  const std::string as_v3 = v4.replace(v4.find("\"version\": 5"), 12, "\"version\": 3");
+  const std::string as_v3 = v4.replace(v4.find("\"version\": 6"), 12, "\"version\": 3");
   try {
     analysis::parse_policy(as_v3, "p.json");
     ADD_FAILURE() << "a device profile accepted in a version 3 policy";

@@ -425,7 +425,7 @@ TEST(PolicyReader, IsStrict) {
   expect_policy_error(replaced("\"l_near_over_l_far\"]", "\"log_skew\"]"), ErrorKind::Schema,
                       "crack_model.features[1]: 'log_skew' appears twice");
   expect_policy_error(replaced("\"version\": 3", "\"version\": 99"), ErrorKind::Schema,
-                      "version: 99 is not a version this nearcap reads (1 to 5)");
+                      "version: 99 is not a version this nearcap reads (1 to 6)");
   expect_policy_error(replaced("\"bias\": -3", "\"bias\": 1e999"), ErrorKind::Parse,
                       "p.json: crack_model.bias: malformed JSON: number overflow parsing '1e999'");
   expect_policy_error(replaced("\"mean\": [0, 0.2]", "\"mean\": [0, -1e999]"), ErrorKind::Parse,
@@ -484,8 +484,14 @@ TEST(PolicyReader, UnpricedFramesNeedAProfileAndAKnownMethodAndAscendingTiers) {
   expect_policy_error(with(Json::array()), ErrorKind::Schema, "unpriced_frames: expected at least one tier");
   expect_policy_error(with("zfail"), ErrorKind::Schema, "unpriced_frames: expected a JSON object");
   std::string v4 = shipped;
-  v4.replace(v4.find("\"version\": 5"), 12, "\"version\": 4");
+  v4.replace(v4.find("\"version\": 6"), 12, "\"version\": 4");
   expect_policy_error(v4, ErrorKind::Schema, "unpriced_frames: is a version 5 field (this file says version 4)");
+  // Version 5 holds one tier, the object alone; its tiers are version 6's.
+  Json v5 = Json::parse(with(Json::array({tier(12, "zfail")})));
+  v5["version"] = 5;
+  expect_policy_error(v5.dump(), ErrorKind::Schema, "unpriced_frames: is a version 6 field (this file says version 5)");
+  v5["unpriced_frames"] = tier(12, "zfail");
+  EXPECT_EQ(analysis::parse_policy(v5.dump(), "v5.json").unpriced_frames.size(), 1u);
   // Without the profile it would name frames that nothing prices.
   Json j = shipped_json;
   j.erase("device_profile");

@@ -56,6 +56,15 @@ TEST_F(Report, WritesThePageWithPlotsThatHoldData) {
        {"Speed against error", "Camera paths", "Cracks against conditioning", "Crack distance", "Does case D flag",
         "engine rules", "fitted models", "The policy&#x27;s cost", "Hard cases by kind"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
+  // The shipped policy's unpriced tiers, each named with its method.
+  const nlohmann::json shipped =
+      nlohmann::json::parse(test::slurp(fs::path(NEARCAP_SOURCE_DIR) / "data" / "policy.json"));
+  ASSERT_TRUE(shipped.at("unpriced_frames").is_array());
+  for (const nlohmann::json& tier : shipped.at("unpriced_frames")) {
+    const std::string text = "at most " + std::to_string(tier.at("max_occluder_triangles").get<int>()) +
+                             " triangles: <code>" + tier.at("method").get<std::string>() + "</code>";
+    EXPECT_NE(page.find(text), std::string::npos) << text;
+  }
   const nlohmann::json manifest = nlohmann::json::parse(test::slurp(out / "report.json"));
   EXPECT_EQ(manifest["configurations"], 60 + 12 - manifest["rejected"].get<int>());
   ASSERT_GE(manifest["plots"].size(), 4u);

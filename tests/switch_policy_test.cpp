@@ -156,7 +156,7 @@ TEST(SwitchPolicy, ReadsWhatItWrites) {
   SwitchPolicy sides = p;
   sides.light_projection = gl::LightProjection::ClippedSides;
   const std::string written = analysis::policy_to_json(sides);
-  EXPECT_NE(written.find("\"version\": 5"), std::string::npos) << written;
+  EXPECT_NE(written.find("\"version\": 6"), std::string::npos) << written;
   EXPECT_EQ(written.find("\"depth"), std::string::npos) << "unset version-3 fields are not written: " << written;
   EXPECT_EQ(analysis::parse_policy(written, "s.json").light_projection, gl::LightProjection::ClippedSides);
   EXPECT_TRUE(analysis::parse_policy(written, "s.json").exact_zpass);
@@ -201,7 +201,7 @@ TEST(SwitchPolicy, ABadFileIsOneLineNamingTheField) {
   };
   const std::pair<std::string, std::string> cases[] = {
       {"{", "malformed JSON"},
-      {replaced("\"version\": 1", "\"version\": 6"), "version: 6 is not a version"},
+      {replaced("\"version\": 1", "\"version\": 7"), "version: 7 is not a version"},
       {replaced("\"zpass_far\": \"infinite\"", "\"zpass_far\": \"infinite\", \"depth\": \"float32\""),
        "depth: is a version 3 field (this file says version 1)"},
       {replaced("\"version\": 1, \"capped_method\"", "\"version\": 3, \"depth\": \"float16\", \"capped_method\""),
@@ -298,12 +298,9 @@ TEST(SwitchPolicy, DecidesExactlyWhereItCanAndByTheModelElsewhere) {
 // same frames decided with the model at two extremes, a decision that
 // differs somewhere means it is read.  The frames: the box seen from far
 // away (nothing meets the light pyramid) and from inside its shadow (it
-// does), and the bundled scene with the light in the near plane.
-// Boxes (12 triangles, which a policy's unpriced frames may hold) and a
-// torus (2,304).
-// The box seen from afar and from its shadow, the light on the near plane,
-// the default scene, and the room paths' 12,000-triangle twisted torus in the
-// box's place (above a policy's unpriced frames).
+// does), the bundled scene with the light in the near plane, the default
+// scene, and the room paths' 12,000-triangle twisted torus in the box's
+// place (above the shipped policy's unpriced frames, which hold the box).
 std::vector<Scene> probe_scenes() {
   test::BoxSceneOptions torus;
   torus.width = 32;

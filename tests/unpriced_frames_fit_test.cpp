@@ -104,8 +104,9 @@ TEST(UnpricedFramesFit, UpToTheBestThresholdNeighboursWithOneMethodOneTier) {
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 0.81 + 1.06 + 1.51 + 1.81 + 2.0);
 }
 
-// The clipped-sides ZP+ is no method where always clipped did not draw or
-// is less right than Z-fail on a frame at or below the threshold.
+// The clipped-sides ZP+ is no method for a triangle count where always
+// clipped did not draw or is less right than Z-fail on one of its frames;
+// it stays one for the other counts.
 TEST(UnpricedFramesFit, ClippedOnlyWhereItDrewAndIsAsRightAsZFail) {
   for (int broken = 0; broken < 2; ++broken) {
     std::vector<EvaluationRow> rows = boxes_and_tori(0.995, 0.5);
@@ -118,6 +119,25 @@ TEST(UnpricedFramesFit, ClippedOnlyWhereItDrewAndIsAsRightAsZFail) {
       }
     const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
     EXPECT_TRUE(fit.unpriced.empty()) << (broken == 0 ? "refused" : "a crack Z-fail lacks");
+  }
+  // Cheap on the tori too: the boxes get Z-fail, the tori the clipped-sides ZP+.
+  for (int broken = 0; broken < 2; ++broken) {
+    std::vector<EvaluationRow> rows = boxes_and_tori(0.95, 0.5);
+    for (EvaluationRow& r : rows) {
+      if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = 1.5;
+      if (r.configuration == "box2" && r.rule == "always-clipped") {
+        if (broken == 0)
+          r.refused = true;
+        else
+          r.cracks = 1;
+      }
+    }
+    const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
+    ASSERT_EQ(fit.unpriced.size(), 2u) << broken;
+    EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 12u);
+    EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
+    EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
+    EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
   }
   // A box frame the policy did not draw is left out.
   std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);

@@ -133,7 +133,7 @@ NUMBERS_AS_WRITTEN = re.compile(f"{_NUMBER}(?:,{_NUMBER})*\\Z")
 PASS_COLUMNS = [p + "_" + c for p in ("depth", "near_cap", "volume") for c in ("fragments", "depth_pass", "depth_fail")]
 REQUIRED = ["configuration", "source", "kind", "detail", "method", "variant", "fallback", "cap_mismatch"] + INTEGER_COLUMNS + \
            FLOAT_COLUMNS + PASS_COLUMNS
-POLICY_VERSIONS = (1, 5)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
+POLICY_VERSIONS = (1, 6)  # the nearcap-policy versions read (kPolicyVersion in switch_policy.hpp)
 MAX_LINE_BYTES = 1 << 20  # a sweep row is under 1 kB; a longer line is not a sweep CSV
 FEATURE_POINTS = 20000  # scatter points kept per (feature, method, cracked or not) before sampling
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
@@ -939,11 +939,15 @@ class Report:
         else:
             self.table(cost_header, costs, "policy_costs.csv")  # the CSV, header only: the decision reads none
         unpriced = p.get("unpriced_frames")
-        if isinstance(unpriced, dict):
+        if isinstance(unpriced, dict):  # a version 5 policy: one tier
+            unpriced = [unpriced]
+        if isinstance(unpriced, list) and unpriced:
             fit = prov.get("unpriced_frames", {})
-            text += (f"<p>Unpriced frames: where every occluder has at most "
-                     f"{html.escape(str(unpriced.get('max_occluder_triangles')))} triangles the decision draws "
-                     f"<code>{html.escape(str(unpriced.get('method')))}</code> without pricing (fitted on "
+            tiers = ", ".join(f"at most {html.escape(str(t.get('max_occluder_triangles')))} triangles: "
+                              f"<code>{html.escape(str(t.get('method')))}</code>"
+                              for t in unpriced if isinstance(t, dict))
+            text += (f"<p>Unpriced frames: where every occluder has {tiers}, the decision draws that method "
+                     f"without pricing (tiers of the largest occluder, the first that holds it; fitted on "
                      f"{html.escape(str(fit.get('frames', '?')))} training frames, "
                      f"{html.escape(str(fit.get('unpriced_frames', '?')))} of them unpriced).</p>")
         self.sections.append(("The switch policy's fitted models", text))

@@ -241,7 +241,8 @@ SwitchPolicy parse_policy(const std::string& text, const std::string& source) {
   if (const auto v = j.find("unpriced_frames")) {
     since(*v, 5);
     if (!p.device_profile) v->fail("needs a device_profile (it names the frames the cost decision does not price)");
-    // Its tiers, or one tier as the object alone.
+    // Its tiers (version 6), or one tier as the object alone (version 5).
+    if (v->is_array()) since(*v, 6);
     const std::vector<JsonValue> tiers = v->is_array() ? v->elements() : std::vector<JsonValue>{*v};
     if (tiers.empty()) v->fail("expected at least one tier (leave the field out to price every frame)");
     for (const JsonValue& t : tiers) {

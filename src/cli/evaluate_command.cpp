@@ -553,17 +553,15 @@ void run(const EvaluateOptions& o) {
     for (std::size_t k = 0; k < fit.unpriced.size(); ++k)
       tiers += (k == 0 ? "at most " : ", at most ") + std::to_string(fit.unpriced[k].max_occluder_triangles) +
                (k == 0 ? " triangles drawn with " : " with ") + fit.unpriced[k].method.name();
-    if (!fit.unpriced.empty())
-      std::snprintf(line, sizeof line,
-                    "evaluate: unpriced frames: every occluder %s (%zu of %zu frames; %.2f ms in all against %.2f ms "
-                    "with every frame priced); %s",
-                    tiers.c_str(), fit.unpriced_frames, fit.frames, fit.fitted_total_ms, fit.priced_total_ms,
-                    o.fit_unpriced.c_str());
-    else
-      std::snprintf(line, sizeof line,
-                    "evaluate: unpriced frames: none (pricing every frame was cheapest, %.2f ms); %s",
-                    fit.priced_total_ms, o.fit_unpriced.c_str());
-    fit_line = line;
+    if (!fit.unpriced.empty()) {
+      std::snprintf(line, sizeof line, " (%zu of %zu frames; %.2f ms in all against %.2f ms with every frame priced); ",
+                    fit.unpriced_frames, fit.frames, fit.fitted_total_ms, fit.priced_total_ms);
+      fit_line = "evaluate: unpriced frames: every occluder " + tiers + line + o.fit_unpriced;
+    } else {
+      std::snprintf(line, sizeof line, "evaluate: unpriced frames: none (pricing every frame was cheapest, %.2f ms); ",
+                    fit.priced_total_ms);
+      fit_line = line + o.fit_unpriced;
+    }
     nlohmann::json provenance = nlohmann::json::parse(fitted.provenance_json);
     provenance["unpriced_frames"] = {{"samples", o.samples},
                                      {"seed", o.sampler.seed},

@@ -38,9 +38,9 @@
 // "ms_per_mfragment": b}, ...} (possibly empty), "device_profile": {...}
 // (version 4, optional: DeviceProfile's fields, parse_device_profile below),
 // "unpriced_frames": [{"max_occluder_triangles": n, "method": "zfail" or
-// "zpplus-clipped-sides"}, ...] (version 5, optional, with a
-// device_profile: its tiers, n ascending, UnpricedFrames below; one tier
-// may also be written as the object alone), "provenance": {...}}.
+// "zpplus-clipped-sides"}, ...] (version 6, optional, with a
+// device_profile: its tiers, n ascending, UnpricedFrames below; version 5
+// files hold one tier, the object alone), "provenance": {...}}.
 // Every field is checked: an unknown key, a duplicate key (in any object,
 // provenance's too), a missing one (cost_models and provenance included), a
 // wrong type, an unknown or repeated feature, an unknown method, lengths that
@@ -154,7 +154,7 @@ struct SwitchPolicy {
   // Version 4, optional: what each pass and CPU task costs on the GL the
   // policy was calibrated on (device_profile.hpp); the decision's costs.
   std::optional<DeviceProfile> device_profile;
-  // Version 5, optional, with a device profile: the frames the cost
+  // Versions 5 (one tier) and 6, optional, with a device profile: the frames the cost
   // decision draws without pricing, tier by tier (UnpricedFrames), their
   // max_occluder_triangles ascending; empty: every frame priced.
   std::vector<UnpricedFrames> unpriced_frames;
@@ -166,7 +166,7 @@ struct SwitchPolicy {
 // it), or null: the frame is priced.
 const UnpricedFrames* unpriced_tier(const SwitchPolicy& policy, std::size_t largest_occluder_triangles);
 
-inline constexpr int kPolicyVersion = 5;  // written; 1 to 5 are read
+inline constexpr int kPolicyVersion = 6;  // written; 1 to 6 are read
 
 // Reads and checks policy.json text; `source` names it in errors.
 SwitchPolicy parse_policy(const std::string& text, const std::string& source);
