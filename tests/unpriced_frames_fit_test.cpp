@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nearcap/analysis/unpriced_frames_fit.hpp"
@@ -41,6 +42,33 @@ std::vector<EvaluationRow> boxes_and_tori(double box_zfail_ms, double box_clippe
   return rows;
 }
 
+// The tori's always-clipped frames at `ms`.
+void set_tori_clipped(std::vector<EvaluationRow>& rows, double ms) {
+  for (EvaluationRow& r : rows)
+    if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = ms;
+}
+
+// Always clipped on box2: refused (`broken` 0) or with a crack Z-fail lacks (1).
+void break_box2_clipped(std::vector<EvaluationRow>& rows, int broken) {
+  for (EvaluationRow& r : rows)
+    if (r.configuration == "box2" && r.rule == "always-clipped") {
+      if (broken == 0)
+        r.refused = true;
+      else
+        r.cracks = 1;  // Z-fail's: none
+    }
+}
+
+// The fit's tiers are these (bound, method).
+void expect_tiers(const analysis::UnpricedFramesFit& fit,
+                  const std::vector<std::pair<std::size_t, gl::ShadowMethod>>& tiers) {
+  ASSERT_EQ(fit.unpriced.size(), tiers.size());
+  for (std::size_t k = 0; k < tiers.size(); ++k) {
+    EXPECT_EQ(fit.unpriced[k].max_occluder_triangles, tiers[k].first) << k;
+    EXPECT_EQ(fit.unpriced[k].method.method, tiers[k].second) << k;
+  }
+}
+
 TEST(UnpricedFramesFit, TheThresholdAndMethodWithTheSmallestTotal) {
   analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(boxes_and_tori(0.9, 0.95), gl::ZPassFar::Infinite);
   ASSERT_EQ(fit.unpriced.size(), 1u);
@@ -69,15 +97,11 @@ TEST(UnpricedFramesFit, NoneWherePricingEveryFrameIsCheapest) {
 
 TEST(UnpricedFramesFit, EveryFrameUnpricedWhereThatIsCheapestEachCountWithItsMethod) {
   std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
-  for (EvaluationRow& r : rows)
-    if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = 1.5;
+  set_tori_clipped(rows, 1.5);
   const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Finite);
   // Z-fail on the boxes, the clipped-sides ZP+ on the tori: two tiers.
+  expect_tiers(fit, {{12, gl::ShadowMethod::ZFail}, {2304, gl::ShadowMethod::ZPPlus}});
   ASSERT_EQ(fit.unpriced.size(), 2u);
-  EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 12u);
-  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
-  EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
-  EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
   EXPECT_EQ(fit.unpriced[1].method.zpass_far, gl::ZPassFar::Finite);
   EXPECT_EQ(fit.unpriced_frames, 7u);
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 4 * (0.9 + 0.01) + 3 * (1.5 + 0.01));
@@ -95,11 +119,7 @@ TEST(UnpricedFramesFit, UpToTheBestThresholdNeighboursWithOneMethodOneTier) {
   add_frame(rows, "d", 2304, 2.0, 2.5, 1.8);  // clipped gains 0.19
   add_frame(rows, "e", 6400, 2.0, 2.5, 2.2);  // pricing gains 0.21
   const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
-  ASSERT_EQ(fit.unpriced.size(), 2u);
-  EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 100u);
-  EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
-  EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
-  EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
+  expect_tiers(fit, {{100, gl::ShadowMethod::ZFail}, {2304, gl::ShadowMethod::ZPPlus}});
   EXPECT_EQ(fit.unpriced_frames, 4u);
   EXPECT_DOUBLE_EQ(fit.fitted_total_ms, 0.81 + 1.06 + 1.51 + 1.81 + 2.0);
 }
@@ -110,34 +130,18 @@ TEST(UnpricedFramesFit, UpToTheBestThresholdNeighboursWithOneMethodOneTier) {
 TEST(UnpricedFramesFit, ClippedOnlyWhereItDrewAndIsAsRightAsZFail) {
   for (int broken = 0; broken < 2; ++broken) {
     std::vector<EvaluationRow> rows = boxes_and_tori(0.995, 0.5);
-    for (EvaluationRow& r : rows)
-      if (r.configuration == "box2" && r.rule == "always-clipped") {
-        if (broken == 0)
-          r.refused = true;
-        else
-          r.cracks = 1;  // Z-fail's: none
-      }
+    break_box2_clipped(rows, broken);
     const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
     EXPECT_TRUE(fit.unpriced.empty()) << (broken == 0 ? "refused" : "a crack Z-fail lacks");
   }
   // Cheap on the tori too: the boxes get Z-fail, the tori the clipped-sides ZP+.
   for (int broken = 0; broken < 2; ++broken) {
     std::vector<EvaluationRow> rows = boxes_and_tori(0.95, 0.5);
-    for (EvaluationRow& r : rows) {
-      if (r.configuration.rfind("torus", 0) == 0 && r.rule == "always-clipped") r.end_to_end_ms = 1.5;
-      if (r.configuration == "box2" && r.rule == "always-clipped") {
-        if (broken == 0)
-          r.refused = true;
-        else
-          r.cracks = 1;
-      }
-    }
-    const analysis::UnpricedFramesFit fit = analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite);
-    ASSERT_EQ(fit.unpriced.size(), 2u) << broken;
-    EXPECT_EQ(fit.unpriced[0].max_occluder_triangles, 12u);
-    EXPECT_EQ(fit.unpriced[0].method.method, gl::ShadowMethod::ZFail);
-    EXPECT_EQ(fit.unpriced[1].max_occluder_triangles, 2304u);
-    EXPECT_EQ(fit.unpriced[1].method.method, gl::ShadowMethod::ZPPlus);
+    set_tori_clipped(rows, 1.5);
+    break_box2_clipped(rows, broken);
+    SCOPED_TRACE(broken);
+    expect_tiers(analysis::fit_unpriced_frames(rows, gl::ZPassFar::Infinite),
+                 {{12, gl::ShadowMethod::ZFail}, {2304, gl::ShadowMethod::ZPPlus}});
   }
   // A box frame the policy did not draw is left out.
   std::vector<EvaluationRow> rows = boxes_and_tori(0.9, 0.95);
