@@ -204,6 +204,10 @@ step_policy_oracle() {  # the shipped policy against the oracle and the fixed ru
   $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
     --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/policy-oracle"
 }
+step_price_residuals() {  # how far a work-based price follows a whole frame's GL time (docs/findings/policy-oracle.md)
+  $n calibrate --samples 500 --seed 4242 --width 160 --height 120 --out "$dir/cal-4242.csv"
+  python3 analysis/benchmarks/frame_price_residuals.py "$dir/cal-4242.csv" data/policy.json
+}
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }
 step_whole_frame() {  # a whole frame against its passes timed each on its own; the frame row's effect end to end
@@ -358,7 +362,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
