@@ -29,19 +29,13 @@ import collections
 import csv
 import json
 import math
-import re
 import signal
 import statistics
 import sys
 
+from frame_against_passes import frame_of_pass  # the same directory
+
 KINDS = ["depth", "sides", "lit", "light_cap", "dark_cap", "near_cap"]
-
-
-def frame_of_pass(name):
-    parts = name.split(":")
-    if len(parts) >= 3 and parts[-1] and re.fullmatch(r"light[0-9]+", parts[-2]):
-        return ":".join(parts[:-2] + [parts[-1]])
-    return name
 
 
 def price(profile, passes):
