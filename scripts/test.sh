@@ -54,13 +54,13 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # stacks end inside it.
 egl_tests='^(LlvmpipeRasterizer|GlFrameReplayTest|EyeCountPassTest|GlHandleTest|LitFrameTest|LitShadingTest|GlslShadowProgramsTest|SideStripsTest|VolumeCullingGlTest|FarPlaneCapGlTest|RenderCommand|ViewCommand|ViewCommandErrors|PassKinds|CalibrateCommand|EvaluateCommand)(\.|$)'
 # The tests of the documents, of the Python report's pages and of those pages
-# in a browser run in the Release suite alone: what they check is text,
-# Python and Chromium.  The C++ they start (the fixture's sweep, the commands
+# in a browser, and of the benchmark helper scripts, run in the Release suite
+# alone: what they check is text, Python and Chromium.  The C++ they start (the fixture's sweep, the commands
 # the README's tour runs) is left unchecked by the sanitizers there, and
 # checked by the commands' own tests; ReportInputs, report's own input checks,
 # stays, but for its tests of what the script itself draws and reads
 # (tests/report_inputs_test.cpp skips them there).
-not_instrumented='^(Docs\.|Report$|ReportBrowser(\.|$))'
+not_instrumented='^(Docs\.|Report$|ReportBrowser(\.|$)|BenchmarkScripts(\.|$))'
 NEARCAP_STRESS_COUNT=150 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j2 -E "$egl_tests|$not_instrumented"
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \

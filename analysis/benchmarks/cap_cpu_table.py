@@ -9,31 +9,35 @@ the median GL frame (ms), end_to_end_ms and cpu_ms; the cap's build time per
 frame (every light's and occluder's cap_build_ms, summed: 0 for Z-pass and
 Z-fail), median, 90th percentile and max; the cap's share of the frame's
 end_to_end_ms, median and max.
-Errors are one line on stderr, exit code 2.
+Bad input is one line on stderr, exit code 2 (script_errors.py).
 """
 import json
 import statistics
 import sys
 
-
-def fail(message):
-    print(f"cap_cpu_table.py: error: {message}", file=sys.stderr)
-    sys.exit(2)
+from script_errors import fail, run  # the same directory
 
 
 def main(argv):
     if len(argv) not in (3, 5):
-        fail("usage: cap_cpu_table.py RENDER.json LABEL [FIRST LAST]")
+        fail("usage", "usage: cap_cpu_table.py RENDER.json LABEL [FIRST LAST]")
     try:
-        with open(argv[1]) as f:
-            root = json.load(f)
         first, last = (int(argv[3]), int(argv[4])) if len(argv) == 5 else (0, None)
-    except (OSError, ValueError) as e:
-        fail(f"{argv[1]}: {e}")
+    except ValueError:
+        fail("usage", f"FIRST and LAST: '{argv[3]}', '{argv[4]}' are not whole numbers")
+    try:
+        with open(argv[1], encoding="utf-8") as f:
+            root = json.load(f)
+    except OSError as e:
+        fail("io", f"{argv[1]}: cannot read it ({e.strerror})")
+    except ValueError as e:
+        fail("parse", f"{argv[1]}: not a render.json ({e})")
+    if not isinstance(root, dict) or not isinstance(root.get("methods"), list):
+        fail("schema", f"{argv[1]}: not a render.json (no methods list)")
     for method in root["methods"]:
         frames = [f for f in method.get("frames", []) if f["frame"] >= first and (last is None or f["frame"] <= last)]
         if not frames or "cpu" not in frames[0]:
-            fail(f"{argv[1]}: {method['method']}: no frames with a CPU breakdown (render with --bench)")
+            fail("schema", f"{argv[1]}: {method['method']}: no frames with a CPU breakdown (render with --bench)")
         cap = [sum(o["cap_build_ms"] for l in f["cpu"]["lights"] for o in l["occluders"]) for f in frames]
         e2e = [f["end_to_end_ms"] for f in frames]
         share = [c / e for c, e in zip(cap, e2e)]
@@ -45,4 +49,4 @@ def main(argv):
                max(cap), 100 * statistics.median(share), 100 * max(share)))
 
 if __name__ == "__main__":
-    main(sys.argv)
+    run(lambda: main(sys.argv))

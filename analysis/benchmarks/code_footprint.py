@@ -16,6 +16,8 @@ import collections
 import re
 import sys
 
+from script_errors import fail, run  # the same directory
+
 
 def footprint(path):
     names, lines, current, address = {}, collections.defaultdict(set), None, 0
@@ -42,16 +44,18 @@ def footprint(path):
 
 
 def main():
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
+    if len(sys.argv) not in (2, 3):
+        fail("usage", "usage: code_footprint.py CALLGRIND_FILE [TOP]")
     try:
         top = int(sys.argv[2]) if len(sys.argv) > 2 else 12
     except ValueError:
-        sys.exit(f"code_footprint.py: TOP: '{sys.argv[2]}' is not a whole number")
+        fail("usage", f"TOP: '{sys.argv[2]}' is not a whole number")
     try:
         lines = footprint(sys.argv[1])
     except OSError as e:
-        sys.exit(f"code_footprint.py: {sys.argv[1]}: {e.strerror}")
+        fail("io", f"{sys.argv[1]}: cannot read it ({e.strerror})")
+    if not lines:
+        fail("parse", f"{sys.argv[1]}: no cost line (a callgrind profile written with --dump-instr=yes)")
     total = set()
     for s in lines.values():
         total |= s
@@ -62,4 +66,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

@@ -12,14 +12,18 @@ first differences printed), 2 on unusable input.
 import csv
 import sys
 
+from script_errors import fail, run  # the same directory
+
 KEY = ("configuration", "light", "method", "variant")
 
 
 def read(path):
     try:
         return read_rows(path)
-    except (OSError, UnicodeDecodeError, csv.Error) as e:
-        sys.exit(f"compare_sweep_rows: {path}: cannot read it as a sweep CSV ({e})")
+    except OSError as e:
+        fail("io", f"{path}: cannot read it ({e.strerror})")
+    except (UnicodeDecodeError, csv.Error) as e:
+        fail("parse", f"{path}: not a sweep CSV ({e})")
 
 
 def read_rows(path):
@@ -27,25 +31,26 @@ def read_rows(path):
         reader = csv.reader(f)
         header = next(reader, None)
         if header is None:
-            sys.exit(f"compare_sweep_rows: {path}: empty")
+            fail("parse", f"{path}: empty")
         rows = {}
         for line, cells in enumerate(reader, start=2):
             if cells == header:
                 continue  # a second group's header
             if len(cells) != len(header):
-                sys.exit(f"compare_sweep_rows: {path}:{line}: {len(cells)} fields, the header has {len(header)}")
+                fail("parse", f"{path}:{line}: {len(cells)} fields, the header has {len(header)}")
             row = dict(zip(header, cells))
+            if any(k not in row for k in KEY):
+                fail("schema", f"{path}: not a sweep CSV (no column {next(k for k in KEY if k not in row)})")
             key = tuple(row[k] for k in KEY)
             if key in rows:
-                sys.exit(f"compare_sweep_rows: {path}:{line}: row {key} repeated")
+                fail("parse", f"{path}:{line}: row {key} repeated")
             rows[key] = row
         return header, rows
 
 
 def main(argv):
     if len(argv) != 2:
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
+        fail("usage", "usage: compare_sweep_rows.py BEFORE.csv AFTER.csv")
     before_header, before = read(argv[0])
     after_header, after = read(argv[1])
     common = [c for c in before_header if c in after_header and not c.endswith("_ms")]
@@ -70,4 +75,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    run(lambda: main(sys.argv[1:]))

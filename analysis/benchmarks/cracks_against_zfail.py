@@ -13,27 +13,24 @@ import collections
 import csv
 import sys
 
+from script_errors import fail, run  # the same directory
+
 
 def main(path):
     try:
         with open(path, newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
     except OSError as e:
-        print(f"cracks_against_zfail.py: error (io): {path}: {e.strerror}", file=sys.stderr)
-        sys.exit(2)
+        fail("io", f"{path}: cannot read it ({e.strerror})")
     except (UnicodeDecodeError, csv.Error) as e:
-        print(f"cracks_against_zfail.py: error (parse): {path}: not a sweep CSV ({e})", file=sys.stderr)
-        sys.exit(2)
+        fail("parse", f"{path}: not a sweep CSV ({e})")
     needed = {"configuration", "light", "variant", "method", "cracks", "wrong", "refused"}
     if not rows or not needed <= set(rows[0]):
-        print(f"cracks_against_zfail.py: error (schema): {path}: not a sweep CSV with rows", file=sys.stderr)
-        sys.exit(2)
+        fail("schema", f"{path}: not a sweep CSV with rows")
     for line, r in enumerate(rows, start=2):
         for c in ("cracks", "wrong"):
             if not (r[c] or "").isdigit():
-                print(f"cracks_against_zfail.py: error (parse): {path}: line {line}: column '{c}': "
-                      f"'{r[c]}' is not a count", file=sys.stderr)
-                sys.exit(2)
+                fail("parse", f"{path}: line {line}: column '{c}': '{r[c]}' is not a count")
     frames = collections.defaultdict(dict)
     for r in rows:
         frames[(r["configuration"], r["light"], r["variant"])][r["method"]] = r
@@ -52,6 +49,5 @@ def main(path):
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
-        print(__doc__, file=sys.stderr)
-        sys.exit(2)
-    main(sys.argv[1])
+        fail("usage", "usage: cracks_against_zfail.py SWEEP.csv")
+    run(lambda: main(sys.argv[1]))

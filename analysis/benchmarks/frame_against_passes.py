@@ -17,6 +17,8 @@ import re
 import statistics
 import sys
 
+from script_errors import fail, run  # the same directory
+
 RANGES = [(0, 0.5), (0.5, 1), (1, 2), (2, 5), (5, 20), (20, float("inf"))]
 
 
@@ -38,13 +40,15 @@ def main(path):
                 passes[k] += float(r["ms"])
                 drawn[k] += 1
         frames = [(r["frame"], float(r["ms"])) for r in rows if r["record"] == "frame"]
-    except (OSError, KeyError, ValueError, csv.Error) as e:
-        print(f"nearcap: error (parse): {path}: not a calibration CSV with frame rows ({e})", file=sys.stderr)
-        return 2
+    except OSError as e:
+        fail("io", f"{path}: cannot read it ({e.strerror})")
+    except KeyError as e:
+        fail("schema", f"{path}: not a calibration CSV (no column {e})")
+    except (ValueError, csv.Error) as e:
+        fail("parse", f"{path}: not a calibration CSV with frame rows ({e})")
     frames = [(f, ms) for f, ms in frames if passes[f] > 0 and ms > 0]
     if not frames:
-        print(f"nearcap: error (schema): {path}: no frame row with its passes (run nearcap calibrate)", file=sys.stderr)
-        return 2
+        fail("schema", f"{path}: no frame row with its passes (run nearcap calibrate)")
     print("passes' sum (ms)  frames  whole/sum  median sum  median whole  (sum - whole) per pass")
     for lo, hi in RANGES:
         sel = [(f, ms) for f, ms in frames if lo <= passes[f] < hi]
@@ -62,6 +66,5 @@ def main(path):
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
-        print("usage: frame_against_passes.py CALIBRATION.csv", file=sys.stderr)
-        sys.exit(2)
-    sys.exit(main(sys.argv[1]))
+        fail("usage", "usage: frame_against_passes.py CALIBRATION.csv")
+    run(lambda: main(sys.argv[1]))

@@ -29,11 +29,11 @@ import collections
 import csv
 import json
 import math
-import signal
 import statistics
 import sys
 
 from frame_against_passes import frame_of_pass  # the same directory
+from script_errors import fail, run
 
 KINDS = ["depth", "sides", "lit", "light_cap", "dark_cap", "near_cap"]
 
@@ -107,10 +107,10 @@ def main(csv_path, policy_path):
                         "in_view": float(r["in_view"] or 0)})
                 elif r["record"] == "frame":
                     frames[r["frame"]] = float(r["ms"])
-    except (OSError, KeyError, ValueError, TypeError, csv.Error, json.JSONDecodeError) as e:
-        print(f"nearcap: error (parse): {csv_path} or {policy_path}: not a calibration CSV and a policy "
-              f"with a device profile ({e})", file=sys.stderr)
-        return 2
+    except OSError as e:
+        fail("io", f"{e.filename}: cannot read it ({e.strerror})")
+    except (KeyError, ValueError, TypeError, csv.Error) as e:
+        fail("parse", f"{csv_path} or {policy_path}: not a calibration CSV and a policy with a device profile ({e})")
     by_method = collections.defaultdict(dict)  # method -> configuration -> (measured, price, inputs)
     try:
         for name, ms in frames.items():
@@ -118,14 +118,11 @@ def main(csv_path, policy_path):
             if ms > 0 and passes.get(name) and name not in unpriced:
                 by_method[method][config] = (ms, price(profile, passes[name]), inputs(passes[name]))
     except (KeyError, TypeError) as e:
-        print(f"nearcap: error (schema): {policy_path}: its device profile lacks a pass kind's costs ({e})",
-              file=sys.stderr)
-        return 2
+        fail("schema", f"{policy_path}: its device profile lacks a pass kind's costs ({e})")
     by_method = {m: rows for m, rows in by_method.items() if len(rows) >= 3}
     if len(by_method) < 2 or any(p <= 0 for rows in by_method.values() for _, p, _ in rows.values()):
-        print(f"nearcap: error (schema): {csv_path}: frame rows of two methods in three configurations or more, "
-              "with their passes and a positive price, needed (run nearcap calibrate)", file=sys.stderr)
-        return 2
+        fail("schema", f"{csv_path}: frame rows of two methods in three configurations or more, "
+             "with their passes and a positive price, needed (run nearcap calibrate)")
     residual = {}
     print("method                 frames  measured/priced  price, best scale  refit in sample")
     for method, rows in sorted(by_method.items()):
@@ -155,8 +152,6 @@ def main(csv_path, policy_path):
 
 
 if __name__ == "__main__":
-    signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet under `| head`
     if len(sys.argv) != 3:
-        print("usage: frame_price_residuals.py CALIBRATION.csv POLICY.json", file=sys.stderr)
-        sys.exit(2)
-    sys.exit(main(sys.argv[1], sys.argv[2]))
+        fail("usage", "usage: frame_price_residuals.py CALIBRATION.csv POLICY.json")
+    run(lambda: main(sys.argv[1], sys.argv[2]))

@@ -20,6 +20,8 @@ import csv
 import statistics
 import sys
 
+from script_errors import fail, run  # the same directory
+
 KINDS = ["depth", "sides", "light_cap", "dark_cap", "near_cap", "lit"]
 
 
@@ -84,12 +86,14 @@ def main(path):
                 by_kind[r["kind"]].append({"frame": r["frame"], "ms": float(r["ms"]),
                                            "triangles": float(r["triangles"]), "fragments": float(r["fragments"]),
                                            "in_view": float(r["in_view"])})
-    except (OSError, KeyError, ValueError, csv.Error) as e:
-        print(f"nearcap: error (parse): {path}: not a calibration CSV with in_view counts ({e})", file=sys.stderr)
-        return 2
+    except OSError as e:
+        fail("io", f"{path}: cannot read it ({e.strerror})")
+    except KeyError as e:
+        fail("schema", f"{path}: not a calibration CSV (no column {e})")
+    except (ValueError, csv.Error) as e:
+        fail("parse", f"{path}: not a calibration CSV with in_view counts ({e})")
     if not by_kind:
-        print(f"nearcap: error (schema): {path}: no pass row (run nearcap calibrate)", file=sys.stderr)
-        return 2
+        fail("schema", f"{path}: no pass row (run nearcap calibrate)")
     two, three = ["triangles", "fragments"], ["triangles", "in_view", "fragments"]
     print("pass kind   train / held out   median error, triangles + fragments   with triangles in view")
     print("                                      train    held out                train    held out")
@@ -108,6 +112,5 @@ def main(path):
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
-        print("usage: in_view_fit.py CALIBRATION.csv", file=sys.stderr)
-        sys.exit(2)
-    sys.exit(main(sys.argv[1]))
+        fail("usage", "usage: in_view_fit.py CALIBRATION.csv")
+    run(lambda: main(sys.argv[1]))

@@ -17,11 +17,18 @@ import sys
 import tempfile
 from pathlib import Path
 
+from script_errors import fail, run  # the same directory
+
 EPSILONS = ["fixed", "relative", "primitive-id"]
 
 
+class Arguments(argparse.ArgumentParser):
+    def error(self, message):
+        fail("usage", f"{message} (usage: raytrace_hard_cases.py [--samples N] [--seed S] [--nearcap PATH])")
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = Arguments(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=300)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--nearcap", default="./build/nearcap")
@@ -31,8 +38,11 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         scene = Path(tmp) / "s.json"
         for i in range(args.samples):
-            subprocess.run([args.nearcap, "sample", "--seed", str(args.seed), "--index", str(i), "--out", str(scene)],
-                           check=True, capture_output=True)
+            sampled = subprocess.run([args.nearcap, "sample", "--seed", str(args.seed), "--index", str(i), "--out",
+                                      str(scene)], capture_output=True, text=True)
+            if sampled.returncode != 0:
+                fail("io", f"{args.nearcap} sample --seed {args.seed} --index {i} failed (exit status {sampled.returncode}): "
+                     f"{sampled.stderr.strip()}")
             kind = json.loads(scene.read_text())["description"].split(": ", 1)[1].split(",")[0]
             row = rows[kind]
             for e in EPSILONS:
@@ -80,4 +90,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

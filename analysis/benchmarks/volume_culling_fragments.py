@@ -15,25 +15,26 @@ import csv
 import os
 import sys
 
+from script_errors import fail, run  # the same directory
+
 METHODS = ["zpass", "zfail", "zpplus-corrected", "preload", "policy"]
 SETS = [("paths", "seven bundled paths (`--path` each, 160×120)"), ("hard", "3,000 hard cases (seed 7, 48×36)")]
 CULLINGS = ["scissor", "depth-bounds", "both"]
 
 
-def fail(message):
-    print(f"volume_culling_fragments: error (input): {message}", file=sys.stderr)
-    sys.exit(2)
-
-
 def load(path):
     try:
-        with open(path, newline="") as f:
+        with open(path, newline="", encoding="utf-8") as f:
             rows = {}
             for r in csv.DictReader(f):
                 rows[(r["configuration"], r["light"], r["method"])] = r
             return rows
-    except (OSError, KeyError, csv.Error) as e:
-        fail(f"{path}: {e}")
+    except OSError as e:
+        fail("io", f"{path}: cannot read it ({e.strerror})")
+    except KeyError as e:
+        fail("schema", f"{path}: not a sweep CSV (no column {e})")
+    except (UnicodeDecodeError, csv.Error) as e:
+        fail("parse", f"{path}: not a sweep CSV ({e})")
 
 
 def fragments(r):
@@ -42,8 +43,7 @@ def fragments(r):
 
 def main():
     if len(sys.argv) != 2:
-        print(__doc__, file=sys.stderr)
-        sys.exit(2)
+        fail("usage", "usage: volume_culling_fragments.py DIR")
     top = sys.argv[1]
     for name, label in SETS:
         rows = {c: load(os.path.join(top, f"{name}-{c}.csv")) for c in ["none"] + CULLINGS}
@@ -66,7 +66,4 @@ def main():
 
 
 if __name__ == "__main__":
-    try:
-        main()
-    except ValueError as e:
-        fail(str(e))
+    run(main)

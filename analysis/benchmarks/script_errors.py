@@ -1,0 +1,39 @@
+"""Bad input to a benchmark helper script: one line on stderr, exit status 2,
+"nearcap: error (KIND): SCRIPT: ...", as nearcap's own commands write it
+(docs/cli.md), never a traceback.
+
+A script calls fail() where it knows what is wrong (the file and the field),
+and runs its main through run(), which turns what a bad input raises
+anywhere else into the same one line: a file that cannot be opened (io),
+text that is not the format (parse), a field the input lacks (schema).
+"""
+import csv
+import json
+import os
+import signal
+import statistics
+import sys
+
+
+def fail(kind, message):
+    script = os.path.basename(sys.argv[0])
+    print(f"nearcap: error ({kind}): {script}: {' '.join(str(message).split())}", file=sys.stderr)
+    sys.exit(2)
+
+
+def run(main):
+    """Exits with main()'s status (None: 0), or with fail()'s line."""
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet under `| head`
+    try:
+        status = main()
+    except OSError as e:
+        fail("io", f"{e.filename}: {e.strerror}" if e.filename else str(e))
+    except (UnicodeDecodeError, csv.Error, json.JSONDecodeError) as e:
+        fail("parse", f"the input is not the format it reads ({e})")
+    except (KeyError, IndexError, TypeError, AttributeError) as e:
+        fail("schema", f"the input lacks a field it reads ({type(e).__name__}: {e})")
+    except (ValueError, ZeroDivisionError, statistics.StatisticsError) as e:
+        fail("parse", f"a value it reads is not usable ({e})")
+    except MemoryError:
+        fail("resource", "out of memory")
+    sys.exit(status or 0)

@@ -1,0 +1,91 @@
+// The helper scripts of analysis/benchmarks/ (the tables of docs/findings/):
+// bad input is one line on stderr, "nearcap: error (KIND): SCRIPT: ...",
+// exit 2, never a traceback or a hang (script_errors.py).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_support.hpp"
+
+namespace nearcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
+  const fs::path dir = test::temp_path("nearcap_benchmark_scripts");
+  fs::remove_all(dir);
+  fs::create_directories(dir / "empty");
+  const auto d = [&](const std::string& name) { return "'" + (dir / name).string() + "'"; };
+  std::ofstream(dir / "binary.csv") << "\xff\xfe\n";
+  std::ofstream(dir / "other.csv") << "a,b\n1,2\n";
+  std::ofstream(dir / "header.csv") << "record,frame,kind,triangles,fragments,ms,in_view\n";
+  std::ofstream(dir / "other.json") << "{\"x\": 1}\n";
+  std::ofstream(dir / "frameless.json") << "{\"methods\": [{\"method\": \"zpass\", \"frames\": [{\"ms\": 1}]}]}\n";
+  std::ofstream(dir / "counts.csv") << "configuration,light,variant,method,cracks,wrong,refused\nc,0,,zfail,x,0,0\n";
+  const char* env = std::getenv("NEARCAP_PYTHON");
+  const std::string python = env && *env ? env : "/usr/bin/python3";
+  // {script and arguments, the error's kind, a fragment of its message}
+  const std::array<std::string, 3> cases[] = {
+      {"cap_cpu_table.py", "usage", "usage: cap_cpu_table.py"},
+      {"cap_cpu_table.py " + d("missing.json") + " L", "io", "cannot read it"},
+      {"cap_cpu_table.py " + d("binary.csv") + " L", "parse", "not a render.json"},
+      {"cap_cpu_table.py " + d("other.json") + " L", "schema", "no methods list"},
+      {"cap_cpu_table.py " + d("other.json") + " L a b", "usage", "not whole numbers"},
+      // What none of the script's own checks names: script_errors.run()'s one line.
+      {"cap_cpu_table.py " + d("frameless.json") + " L", "schema", "lacks a field it reads (KeyError: 'frame')"},
+      {"code_footprint.py", "usage", "usage: code_footprint.py"},
+      {"code_footprint.py " + d("missing"), "io", "cannot read it"},
+      {"code_footprint.py " + d("other.csv"), "parse", "no cost line"},
+      {"code_footprint.py " + d("other.csv") + " x", "usage", "not a whole number"},
+      {"compare_sweep_rows.py " + d("other.csv"), "usage", "usage: compare_sweep_rows.py"},
+      {"compare_sweep_rows.py " + d("missing.csv") + " " + d("other.csv"), "io", "cannot read it"},
+      {"compare_sweep_rows.py " + d("binary.csv") + " " + d("other.csv"), "parse", "not a sweep CSV"},
+      {"compare_sweep_rows.py " + d("other.csv") + " " + d("other.csv"), "schema", "no column configuration"},
+      {"cracks_against_zfail.py", "usage", "usage: cracks_against_zfail.py"},
+      {"cracks_against_zfail.py " + d("missing.csv"), "io", "cannot read it"},
+      {"cracks_against_zfail.py " + d("binary.csv"), "parse", "not a sweep CSV"},
+      {"cracks_against_zfail.py " + d("other.csv"), "schema", "not a sweep CSV with rows"},
+      {"cracks_against_zfail.py " + d("counts.csv"), "parse", "'x' is not a count"},
+      {"frame_against_passes.py", "usage", "usage: frame_against_passes.py"},
+      {"frame_against_passes.py " + d("missing.csv"), "io", "cannot read it"},
+      {"frame_against_passes.py " + d("binary.csv"), "parse", "not a calibration CSV"},
+      {"frame_against_passes.py " + d("other.csv"), "schema", "no column 'record'"},
+      {"frame_price_residuals.py " + d("header.csv"), "usage", "usage: frame_price_residuals.py"},
+      {"frame_price_residuals.py " + d("missing.csv") + " data/policy.json", "io", "cannot read it"},
+      {"frame_price_residuals.py " + d("binary.csv") + " data/policy.json", "parse", "not a calibration CSV"},
+      {"frame_price_residuals.py " + d("header.csv") + " data/policy.json", "schema", "frame rows of two methods"},
+      {"frame_price_residuals.py " + d("header.csv") + " " + d("other.json"), "parse", "a device profile"},
+      {"in_view_fit.py", "usage", "usage: in_view_fit.py"},
+      {"in_view_fit.py " + d("missing.csv"), "io", "cannot read it"},
+      {"in_view_fit.py " + d("binary.csv"), "parse", "not a calibration CSV"},
+      {"in_view_fit.py " + d("header.csv"), "schema", "no pass row"},
+      {"raytrace_hard_cases.py --samples x", "usage", "invalid int value"},
+      {"raytrace_hard_cases.py --samples 1 --nearcap " + d("missing"), "io", "No such file"},
+      {"raytrace_hard_cases.py --samples 1 --nearcap /bin/false", "io", "sample --seed 1 --index 0 failed"},
+      {"volume_culling_fragments.py", "usage", "usage: volume_culling_fragments.py"},
+      {"volume_culling_fragments.py " + d("empty"), "io", "paths-none.csv: cannot read it"},
+  };
+  for (const auto& [args, kind, fragment] : cases) {
+    const std::string script = args.substr(0, args.find(' '));
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + test::kHangBound + " '" + python +
+                                "' analysis/benchmarks/" + args + " > /dev/null 2> " + d("err.txt");
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
+    const std::string err = test::slurp(dir / "err.txt");
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << "\n" << err;
+    EXPECT_EQ(err.rfind("nearcap: error (" + kind + "): " + script + ": ", 0), 0u) << args << "\n" << err;
+    EXPECT_NE(err.find(fragment), std::string::npos) << args << "\n" << err;
+    EXPECT_EQ(err.find("Traceback"), std::string::npos) << args << "\n" << err;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace nearcap
