@@ -1,6 +1,6 @@
 // The helper scripts of analysis/benchmarks/ (the tables of docs/findings/):
 // bad input is one line on stderr, "nearcap: error (KIND): SCRIPT: ...",
-// exit 2, never a traceback or a hang (script_errors.py).
+// exit 2, never a traceback or a hang (script_errors.py, script_errors.sh).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -29,6 +29,8 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "other.json") << "{\"x\": 1}\n";
   std::ofstream(dir / "frameless.json") << "{\"methods\": [{\"method\": \"zpass\", \"frames\": [{\"ms\": 1}]}]}\n";
   std::ofstream(dir / "counts.csv") << "configuration,light,variant,method,cracks,wrong,refused\nc,0,,zfail,x,0,0\n";
+  const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
+  ASSERT_EQ(fs::path(NEARCAP_CLI).filename(), "nearcap") << "the shell scripts run BUILD_DIR/nearcap";
   const char* env = std::getenv("NEARCAP_PYTHON");
   const std::string python = env && *env ? env : "/usr/bin/python3";
   // {script and arguments, the error's kind, a fragment of its message}
@@ -71,11 +73,19 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"raytrace_hard_cases.py --samples 1 --nearcap /bin/false", "io", "sample --seed 1 --index 0 failed"},
       {"volume_culling_fragments.py", "usage", "usage: volume_culling_fragments.py"},
       {"volume_culling_fragments.py " + d("empty"), "io", "paths-none.csv: cannot read it"},
+      // The shell ones (script_errors.sh), BUILD_DIR the folder of the nearcap under test.
+      {"sweep_rates.sh " + d("empty"), "usage", "nearcap: no such program"},
+      {"orbit_instructions.sh " + d("empty"), "usage", "nearcap: no such program"},
+      {"orbit_instructions.sh " + build + " x", "usage", "'x' is not a positive whole number"},
+      {"decision_instructions.sh " + build + " " + d("missing.json"), "io", "missing.json: no such path file"},
+      {"unit_compile_time.sh", "usage", "usage: unit_compile_time.sh OBJECT LEVEL"},
   };
   for (const auto& [args, kind, fragment] : cases) {
     const std::string script = args.substr(0, args.find(' '));
-    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + test::kHangBound + " '" + python +
-                                "' analysis/benchmarks/" + args + " > /dev/null 2> " + d("err.txt");
+    const bool shell = script.size() > 3 && script.compare(script.size() - 3, 3, ".sh") == 0;
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + test::kHangBound + " " +
+                                (shell ? std::string("bash") : "'" + python + "'") + " analysis/benchmarks/" + args +
+                                " > /dev/null 2> " + d("err.txt");
     const int status = std::system(command.c_str());
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
     const std::string err = test::slurp(dir / "err.txt");

@@ -12,30 +12,28 @@
 #        (defaults: build, data/paths/near_plane_sweep.json, data/policy.json;
 #        valgrind must be installed)
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=${1:-build}/nearcap
+need_nearcap "$n"
 path=${2:-data/paths/near_plane_sweep.json}
 policy=${3:-data/policy.json}
-command -v valgrind > /dev/null || {
-  echo "decision_instructions: valgrind is not installed (apt-get install valgrind)" >&2
-  exit 2
-}
+[ -f "$path" ] || fail io "$path: no such path file"
+[ -f "$policy" ] || fail io "$policy: no such policy file"
+command -v valgrind > /dev/null || fail usage "valgrind is not installed (apt-get install valgrind)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 taskset -c 0 valgrind --tool=callgrind --callgrind-out-file="$work/callgrind.out" \
   --toggle-collect='nearcap::analysis::decide(*' \
   "$n" sweep --path "$path" --methods zfail --policies policy --policy "$policy" --out "$work/rows.csv" \
   2> "$work/valgrind.log" > /dev/null || {
-  echo "decision_instructions: the sweep under valgrind failed:" >&2
-  grep -v "^==" "$work/valgrind.log" | tail -3 >&2
-  exit 1
+  fail io "the sweep under valgrind failed: $(grep -v "^==" "$work/valgrind.log" | tail -1)"
 }
 total=$(sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$work/valgrind.log")
 decisions=$(python3 -c 'import csv,sys; print(sum(r["method"] == "policy" for r in csv.DictReader(open(sys.argv[1]))))' \
   "$work/rows.csv")
 [ "$decisions" -gt 0 ] || {
-  echo "decision_instructions: the sweep made no decision" >&2
-  exit 1
+  fail io "the sweep made no decision"
 }
 printf '%s: %s decisions, %s instructions in decide (%.2f M per decision)\n' "$path" "$decisions" "$total" \
   "$(python3 -c "print($total / $decisions / 1e6)")"

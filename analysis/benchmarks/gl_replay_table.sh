@@ -8,8 +8,10 @@
 # docs/findings/real-gl.md.  Needs a build (./scripts/build.sh).
 #   ./analysis/benchmarks/gl_replay_table.sh
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
+need_nearcap "$n"
 methods=(zpass zfail zpplus zpplus-corrected preload policy)
 echo "| scene | $(IFS='|'; echo "${methods[*]}" | sed 's/|/ | /g') |"
 echo "|---|$(for _ in "${methods[@]}"; do printf -- '---|'; done)"

@@ -7,13 +7,13 @@
 # Usage: analysis/benchmarks/orbit_instructions.sh [BUILD_DIR] [FRAMES]
 #        (defaults: build, 6; valgrind must be installed)
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=${1:-build}/nearcap
+need_nearcap "$n"
 frames=${2:-6}
-command -v valgrind > /dev/null || {
-  echo "orbit_instructions: valgrind is not installed (apt-get install valgrind)" >&2
-  exit 2
-}
+[[ $frames =~ ^[1-9][0-9]*$ ]] || fail usage "FRAMES: '$frames' is not a positive whole number"
+command -v valgrind > /dev/null || fail usage "valgrind is not installed (apt-get install valgrind)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 python3 - "$frames" "$work/orbit.json" << 'EOF'

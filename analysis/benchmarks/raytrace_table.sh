@@ -5,8 +5,10 @@
 # (wrong-lit, wrong-shadowed).  Needs a build (./scripts/build.sh) with Embree.
 #   ./analysis/benchmarks/raytrace_table.sh
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
+need_nearcap "$n"
 echo "| scene | seen | fixed | relative | primitive-id | Z-fail |"
 echo "|---|---:|---:|---:|---:|---:|"
 for scene in data/scenes/*.json; do

@@ -10,8 +10,10 @@
 # docs/findings/volume-culling.md.  Needs a build.
 #   REPEATS=3 ./analysis/benchmarks/render_culling_table.sh [OUT_DIR]
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
+need_nearcap "$n"
 out=${1:-$(mktemp -d)}
 repeats=${REPEATS:-3}
 echo "| path | Z-pass stencil | Z-fail stencil | ZP+ corrected stencil | policy stencil | policy frame / Z-pass (scissor) |"

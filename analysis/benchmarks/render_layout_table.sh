@@ -9,8 +9,10 @@
 # The table of docs/findings/real-gl.md ("Vertex layouts").  Needs a build.
 #   REPEATS=3 ./analysis/benchmarks/render_layout_table.sh [OUT_DIR]
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
+need_nearcap "$n"
 out=${1:-$(mktemp -d)}
 repeats=${REPEATS:-3}
 echo "| path | Z-pass stencil | Z-fail stencil | ZP+ corrected stencil | policy stencil | ZP+ corrected frame (strips) | policy frame (strips) |"

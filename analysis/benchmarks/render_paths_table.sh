@@ -8,8 +8,10 @@
 # docs/findings/real-gl.md ("Frame times along the bundled paths").  Needs a build (./scripts/build.sh).
 #   REPEATS=3 ./analysis/benchmarks/render_paths_table.sh [OUT_DIR]
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=./build/nearcap
+need_nearcap "$n"
 out=${1:-$(mktemp -d)}
 repeats=${REPEATS:-3}
 for stage in glsl recorded; do

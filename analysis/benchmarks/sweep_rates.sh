@@ -6,8 +6,10 @@
 #   at 160x120, and 200 hard cases of the sampler at 160x120.
 # Usage: analysis/benchmarks/sweep_rates.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
+. "$(dirname "$0")/script_errors.sh"
 cd "$(dirname "$0")/../.."
 n=${1:-build}/nearcap
+need_nearcap "$n"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 rate() {  # label, then the sweep's arguments

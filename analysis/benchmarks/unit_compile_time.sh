@@ -9,12 +9,14 @@
 # OBJECT as ninja names it (`ninja -C build-asan -t targets all`).  GNU
 # date (%N) times it, as on the Debian machines the project builds on.
 set -eu
-[ $# -ge 2 ] || { echo "usage: $0 OBJECT LEVEL..." >&2; exit 2; }
+. "$(dirname "$0")/script_errors.sh"
+[ $# -ge 2 ] || fail usage "usage: unit_compile_time.sh OBJECT LEVEL..."
+[ -d "$(dirname "$0")/../../build-asan" ] || fail usage "no build-asan folder (./scripts/test.sh configures it)"
 cd "$(dirname "$0")/../../build-asan"
 object=$1
 shift
-command=$(ninja -t commands "$object" | tail -1)
-[ -n "$command" ] || { echo "$0: build-asan has no object $object" >&2; exit 2; }
+command=$(ninja -t commands "$object" 2> /dev/null | tail -1)
+[ -n "$command" ] || fail usage "build-asan has no object $object"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 command=$(printf '%s\n' "$command" | sed "s|^.*ccache ||; s| -Xclang -include-pch -Xclang [^ ]*||; s| -Xclang -include -Xclang [^ ]*||; s| -MD -MT [^ ]* -MF [^ ]*||; s| -o [^ ]*| -o $scratch/unit.o|")
