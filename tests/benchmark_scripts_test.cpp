@@ -27,6 +27,7 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "other.csv") << "a,b\n1,2\n";
   std::ofstream(dir / "header.csv") << "record,frame,kind,triangles,fragments,ms,in_view\n";
   std::ofstream(dir / "other.json") << "{\"x\": 1}\n";
+  std::ofstream(dir / "deep.json") << std::string(100000, '[') << std::string(100000, ']') << "\n";
   std::ofstream(dir / "frameless.json") << "{\"methods\": [{\"method\": \"zpass\", \"frames\": [{\"ms\": 1}]}]}\n";
   std::ofstream(dir / "counts.csv") << "configuration,light,variant,method,cracks,wrong,refused\nc,0,,zfail,x,0,0\n";
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
@@ -39,9 +40,10 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"cap_cpu_table.py " + d("missing.json") + " L", "io", "cannot read it"},
       {"cap_cpu_table.py " + d("binary.csv") + " L", "parse", "not a render.json"},
       {"cap_cpu_table.py " + d("other.json") + " L", "schema", "no methods list"},
+      {"cap_cpu_table.py " + d("deep.json") + " L", "parse", "not a render.json"},
       {"cap_cpu_table.py " + d("other.json") + " L a b", "usage", "not whole numbers"},
       // What none of the script's own checks names: script_errors.run()'s one line.
-      {"cap_cpu_table.py " + d("frameless.json") + " L", "schema", "lacks a field it reads (KeyError: 'frame')"},
+      {"cap_cpu_table.py " + d("frameless.json") + " L", "schema", "missing or of the wrong type (KeyError: 'frame')"},
       {"code_footprint.py", "usage", "usage: code_footprint.py"},
       {"code_footprint.py " + d("missing"), "io", "cannot read it"},
       {"code_footprint.py " + d("other.csv"), "parse", "no cost line"},
@@ -63,7 +65,8 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"frame_price_residuals.py " + d("missing.csv") + " data/policy.json", "io", "cannot read it"},
       {"frame_price_residuals.py " + d("binary.csv") + " data/policy.json", "parse", "not a calibration CSV"},
       {"frame_price_residuals.py " + d("header.csv") + " data/policy.json", "schema", "frame rows of two methods"},
-      {"frame_price_residuals.py " + d("header.csv") + " " + d("other.json"), "parse", "a device profile"},
+      {"frame_price_residuals.py " + d("header.csv") + " " + d("other.json"), "schema", "without a device profile"},
+      {"frame_price_residuals.py " + d("header.csv") + " " + d("deep.json"), "parse", "not a policy file"},
       {"in_view_fit.py", "usage", "usage: in_view_fit.py"},
       {"in_view_fit.py " + d("missing.csv"), "io", "cannot read it"},
       {"in_view_fit.py " + d("binary.csv"), "parse", "not a calibration CSV"},
@@ -82,9 +85,10 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   };
   for (const auto& [args, kind, fragment] : cases) {
     const std::string script = args.substr(0, args.find(' '));
+    // A shell script runs as findings.sh runs it, under its own #! (sh or bash).
     const bool shell = script.size() > 3 && script.compare(script.size() - 3, 3, ".sh") == 0;
     const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + test::kHangBound + " " +
-                                (shell ? std::string("bash") : "'" + python + "'") + " analysis/benchmarks/" + args +
+                                (shell ? std::string() : "'" + python + "' ") + "analysis/benchmarks/" + args +
                                 " > /dev/null 2> " + d("err.txt");
     const int status = std::system(command.c_str());
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
@@ -94,6 +98,37 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
     EXPECT_NE(err.find(fragment), std::string::npos) << args << "\n" << err;
     EXPECT_EQ(err.find("Traceback"), std::string::npos) << args << "\n" << err;
   }
+  // script_errors.sh under dash (unit_compile_time.sh's #!): a backslash in
+  // the message is printed as it is, not read as an escape.
+  const std::string dash = "cd '" + std::string(NEARCAP_SOURCE_DIR) +
+                           "' && sh -c '. analysis/benchmarks/script_errors.sh; fail usage \"a\\\\cb\"' x.sh 2> " +
+                           d("err.txt");
+  const int status = std::system(dash.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+  EXPECT_EQ(test::slurp(dir / "err.txt"), "nearcap: error (usage): x.sh: a\\cb\n");
+  fs::remove_all(dir);
+}
+
+// Valid input keeps its meaning: compare_sweep_rows.py exits 0 when the rows
+// match but for the times (columns ending in _ms), 1 when any other cell
+// differs, as the "identical rows" checks read it.
+TEST(BenchmarkScripts, CompareSweepRowsExitsOneOnlyWhereACellOtherThanATimeDiffers) {
+  const fs::path dir = test::temp_path("nearcap_compare_rows");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string header = "configuration,light,method,variant,wrong,frame_ms\n";
+  std::ofstream(dir / "a.csv") << header << "c,0,zpass,,3,1.5\nc,0,zfail,,0,2.0\n";
+  std::ofstream(dir / "times.csv") << header << "c,0,zfail,,0,9.0\nc,0,zpass,,3,7.5\n";
+  std::ofstream(dir / "wrong.csv") << header << "c,0,zpass,,4,1.5\nc,0,zfail,,0,2.0\n";
+  const auto status = [&](const std::string& other) {
+    const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) +
+                                "' && python3 analysis/benchmarks/compare_sweep_rows.py '" + (dir / "a.csv").string() +
+                                "' '" + (dir / other).string() + "' > /dev/null";
+    const int s = std::system(command.c_str());
+    return WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  };
+  EXPECT_EQ(status("times.csv"), 0);
+  EXPECT_EQ(status("wrong.csv"), 1);
   fs::remove_all(dir);
 }
 

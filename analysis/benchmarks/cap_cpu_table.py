@@ -30,8 +30,8 @@ def main(argv):
             root = json.load(f)
     except OSError as e:
         fail("io", f"{argv[1]}: cannot read it ({e.strerror})")
-    except ValueError as e:
-        fail("parse", f"{argv[1]}: not a render.json ({e})")
+    except (ValueError, RecursionError) as e:
+        fail("parse", f"{argv[1]}: not a render.json ({type(e).__name__}: {e})")
     if not isinstance(root, dict) or not isinstance(root.get("methods"), list):
         fail("schema", f"{argv[1]}: not a render.json (no methods list)")
     for method in root["methods"]:
@@ -49,4 +49,4 @@ def main(argv):
                max(cap), 100 * statistics.median(share), 100 * max(share)))
 
 if __name__ == "__main__":
-    run(lambda: main(sys.argv))
+    run(lambda: main(sys.argv), sys.argv[1] if len(sys.argv) > 1 else "")

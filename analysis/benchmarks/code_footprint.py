@@ -66,4 +66,4 @@ def main():
 
 
 if __name__ == "__main__":
-    run(main)
+    run(main, sys.argv[1] if len(sys.argv) > 1 else "")

@@ -32,6 +32,8 @@ def read_rows(path):
         header = next(reader, None)
         if header is None:
             fail("parse", f"{path}: empty")
+        if any(k not in header for k in KEY):
+            fail("schema", f"{path}: not a sweep CSV (no column {next(k for k in KEY if k not in header)})")
         rows = {}
         for line, cells in enumerate(reader, start=2):
             if cells == header:
@@ -39,8 +41,6 @@ def read_rows(path):
             if len(cells) != len(header):
                 fail("parse", f"{path}:{line}: {len(cells)} fields, the header has {len(header)}")
             row = dict(zip(header, cells))
-            if any(k not in row for k in KEY):
-                fail("schema", f"{path}: not a sweep CSV (no column {next(k for k in KEY if k not in row)})")
             key = tuple(row[k] for k in KEY)
             if key in rows:
                 fail("parse", f"{path}:{line}: row {key} repeated")
@@ -75,4 +75,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    run(lambda: main(sys.argv[1:]))
+    run(lambda: main(sys.argv[1:]), " or ".join(sys.argv[1:3]))

@@ -50,4 +50,4 @@ def main(path):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         fail("usage", "usage: cracks_against_zfail.py SWEEP.csv")
-    run(lambda: main(sys.argv[1]))
+    run(lambda: main(sys.argv[1]), sys.argv[1])

@@ -67,4 +67,4 @@ def main(path):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         fail("usage", "usage: frame_against_passes.py CALIBRATION.csv")
-    run(lambda: main(sys.argv[1]))
+    run(lambda: main(sys.argv[1]), sys.argv[1])

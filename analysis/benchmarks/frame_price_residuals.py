@@ -95,7 +95,15 @@ def correlation(a, b):
 def main(csv_path, policy_path):
     try:
         with open(policy_path, encoding="utf-8") as f:
-            profile = json.load(f)["device_profile"]
+            policy = json.load(f)
+    except OSError as e:
+        fail("io", f"{policy_path}: cannot read it ({e.strerror})")
+    except (ValueError, RecursionError) as e:
+        fail("parse", f"{policy_path}: not a policy file ({type(e).__name__}: {e})")
+    if not isinstance(policy, dict) or not isinstance(policy.get("device_profile"), dict):
+        fail("schema", f"{policy_path}: a policy without a device profile (nearcap calibrate --write-policy)")
+    profile = policy["device_profile"]
+    try:
         passes, frames, unpriced = collections.defaultdict(list), {}, set()
         with open(csv_path, newline="", encoding="utf-8") as f:
             for r in csv.DictReader(f):
@@ -108,9 +116,11 @@ def main(csv_path, policy_path):
                 elif r["record"] == "frame":
                     frames[r["frame"]] = float(r["ms"])
     except OSError as e:
-        fail("io", f"{e.filename}: cannot read it ({e.strerror})")
-    except (KeyError, ValueError, TypeError, csv.Error) as e:
-        fail("parse", f"{csv_path} or {policy_path}: not a calibration CSV and a policy with a device profile ({e})")
+        fail("io", f"{csv_path}: cannot read it ({e.strerror})")
+    except KeyError as e:
+        fail("schema", f"{csv_path}: not a calibration CSV (no column {e})")
+    except (ValueError, TypeError, csv.Error) as e:
+        fail("parse", f"{csv_path}: not a calibration CSV ({e})")
     by_method = collections.defaultdict(dict)  # method -> configuration -> (measured, price, inputs)
     try:
         for name, ms in frames.items():
@@ -154,4 +164,4 @@ def main(csv_path, policy_path):
 if __name__ == "__main__":
     if len(sys.argv) != 3:
         fail("usage", "usage: frame_price_residuals.py CALIBRATION.csv POLICY.json")
-    run(lambda: main(sys.argv[1], sys.argv[2]))
+    run(lambda: main(sys.argv[1], sys.argv[2]), f"{sys.argv[1]} or {sys.argv[2]}")

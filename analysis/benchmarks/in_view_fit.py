@@ -113,4 +113,4 @@ def main(path):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         fail("usage", "usage: in_view_fit.py CALIBRATION.csv")
-    run(lambda: main(sys.argv[1]))
+    run(lambda: main(sys.argv[1]), sys.argv[1])

@@ -12,7 +12,7 @@ cd "$(dirname "$0")/../.."
 n=${1:-build}/nearcap
 need_nearcap "$n"
 frames=${2:-6}
-[[ $frames =~ ^[1-9][0-9]*$ ]] || fail usage "FRAMES: '$frames' is not a positive whole number"
+[[ $frames =~ ^[0-9]{1,9}$ ]] && ((10#$frames > 0)) || fail usage "FRAMES: '$frames' is not a positive whole number"
 command -v valgrind > /dev/null || fail usage "valgrind is not installed (apt-get install valgrind)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -41,6 +41,8 @@ def main():
             sampled = subprocess.run([args.nearcap, "sample", "--seed", str(args.seed), "--index", str(i), "--out",
                                       str(scene)], capture_output=True, text=True)
             if sampled.returncode != 0:
+                if i > 0:
+                    print(file=sys.stderr)  # after the progress count
                 fail("io", f"{args.nearcap} sample --seed {args.seed} --index {i} failed (exit status {sampled.returncode}): "
                      f"{sampled.stderr.strip()}")
             kind = json.loads(scene.read_text())["description"].split(": ", 1)[1].split(",")[0]
@@ -90,4 +92,4 @@ def main():
 
 
 if __name__ == "__main__":
-    run(main)
+    run(main, "the output of nearcap sample and nearcap cracks")

@@ -4,8 +4,10 @@
 
 A script calls fail() where it knows what is wrong (the file and the field),
 and runs its main through run(), which turns what a bad input raises
-anywhere else into the same one line: a file that cannot be opened (io),
-text that is not the format (parse), a field the input lacks (schema).
+anywhere else into the same one line, naming the script's inputs: a file
+that cannot be opened (io), text that is not the format or a value out of
+range (parse), a field the input lacks or holds with the wrong type
+(schema).
 """
 import csv
 import json
@@ -21,19 +23,22 @@ def fail(kind, message):
     sys.exit(2)
 
 
-def run(main):
-    """Exits with main()'s status (None: 0), or with fail()'s line."""
+def run(main, inputs):
+    """Exits with main()'s status (None: 0), or with fail()'s line naming
+    `inputs` (the files main reads, as the user gave them)."""
     signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet under `| head`
     try:
         status = main()
     except OSError as e:
-        fail("io", f"{e.filename}: {e.strerror}" if e.filename else str(e))
+        fail("io", f"{e.filename}: {e.strerror}" if e.filename else f"{inputs}: {e}")
     except (UnicodeDecodeError, csv.Error, json.JSONDecodeError) as e:
-        fail("parse", f"the input is not the format it reads ({e})")
+        fail("parse", f"{inputs}: not the format it reads ({e})")
+    except RecursionError:
+        fail("parse", f"{inputs}: nested too deeply to read")
     except (KeyError, IndexError, TypeError, AttributeError) as e:
-        fail("schema", f"the input lacks a field it reads ({type(e).__name__}: {e})")
-    except (ValueError, ZeroDivisionError, statistics.StatisticsError) as e:
-        fail("parse", f"a value it reads is not usable ({e})")
+        fail("schema", f"{inputs}: a field it reads is missing or of the wrong type ({type(e).__name__}: {e})")
+    except (ValueError, ArithmeticError, statistics.StatisticsError) as e:
+        fail("parse", f"{inputs}: a value it reads is not usable ({type(e).__name__}: {e})")
     except MemoryError:
-        fail("resource", "out of memory")
+        fail("resource", f"{inputs}: out of memory")
     sys.exit(status or 0)

@@ -12,6 +12,7 @@ set -eu
 . "$(dirname "$0")/script_errors.sh"
 [ $# -ge 2 ] || fail usage "usage: unit_compile_time.sh OBJECT LEVEL..."
 [ -d "$(dirname "$0")/../../build-asan" ] || fail usage "no build-asan folder (./scripts/test.sh configures it)"
+command -v ninja > /dev/null || fail usage "ninja is not installed (apt-get install ninja-build)"
 cd "$(dirname "$0")/../../build-asan"
 object=$1
 shift
