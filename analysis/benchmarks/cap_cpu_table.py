@@ -11,11 +11,10 @@ Z-fail), median, 90th percentile and max; the cap's share of the frame's
 end_to_end_ms, median and max.
 Bad input is one line on stderr, exit code 2 (script_errors.py).
 """
-import json
 import statistics
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, read_json, run  # the same directory
 
 
 def main(argv):
@@ -25,13 +24,7 @@ def main(argv):
         first, last = (int(argv[3]), int(argv[4])) if len(argv) == 5 else (0, None)
     except ValueError:
         fail("usage", f"FIRST and LAST: '{argv[3]}', '{argv[4]}' are not whole numbers")
-    try:
-        with open(argv[1], encoding="utf-8") as f:
-            root = json.load(f)
-    except OSError as e:
-        fail("io", f"{argv[1]}: cannot read it ({e.strerror})")
-    except (ValueError, RecursionError) as e:
-        fail("parse", f"{argv[1]}: not a render.json ({type(e).__name__}: {e})")
+    root = read_json(argv[1], "a render.json")
     if not isinstance(root, dict) or not isinstance(root.get("methods"), list):
         fail("schema", f"{argv[1]}: not a render.json (no methods list)")
     for method in root["methods"]:

@@ -27,13 +27,12 @@ the frame row whose frame it names without its ":lightK"
 """
 import collections
 import csv
-import json
 import math
 import statistics
 import sys
 
 from frame_against_passes import frame_of_pass  # the same directory
-from script_errors import fail, run
+from script_errors import fail, read_json, run
 
 KINDS = ["depth", "sides", "lit", "light_cap", "dark_cap", "near_cap"]
 
@@ -93,13 +92,7 @@ def correlation(a, b):
 
 
 def main(csv_path, policy_path):
-    try:
-        with open(policy_path, encoding="utf-8") as f:
-            policy = json.load(f)
-    except OSError as e:
-        fail("io", f"{policy_path}: cannot read it ({e.strerror})")
-    except (ValueError, RecursionError) as e:
-        fail("parse", f"{policy_path}: not a policy file ({type(e).__name__}: {e})")
+    policy = read_json(policy_path, "a policy file")
     if not isinstance(policy, dict) or not isinstance(policy.get("device_profile"), dict):
         fail("schema", f"{policy_path}: a policy without a device profile (nearcap calibrate --write-policy)")
     profile = policy["device_profile"]

@@ -23,6 +23,17 @@ def fail(kind, message):
     sys.exit(2)
 
 
+def read_json(path, what):
+    """The JSON document in `path`, or fail()'s line: `what` names the format."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except OSError as e:
+        fail("io", f"{path}: cannot read it ({e.strerror})")
+    except (ValueError, RecursionError) as e:
+        fail("parse", f"{path}: not {what} ({type(e).__name__}: {e})")
+
+
 def run(main, inputs):
     """Exits with main()'s status (None: 0), or with fail()'s line naming
     `inputs` (the files main reads, as the user gave them)."""
