@@ -206,7 +206,8 @@ step_policy_oracle() {  # the shipped policy against the oracle and the fixed ru
 }
 step_price_residuals() {  # how far a work-based price follows a whole frame's GL time (docs/findings/policy-oracle.md)
   $n calibrate --samples 500 --seed 4242 --width 160 --height 120 --out "$dir/cal-4242.csv"
-  python3 analysis/benchmarks/frame_price_residuals.py "$dir/cal-4242.csv" data/policy.json
+  $n calibrate --samples 500 --seed 4242 --width 160 --height 120 --out "$dir/cal-4242-again.csv"
+  python3 analysis/benchmarks/frame_price_residuals.py "$dir/cal-4242.csv" data/policy.json "$dir/cal-4242-again.csv"
 }
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }

@@ -3,7 +3,7 @@
 `nearcap calibrate` CSV (its `frame` and `pass` rows) and a policy file
 with a device profile.
 
-Usage: frame_price_residuals.py CALIBRATION.csv POLICY.json
+Usage: frame_price_residuals.py CALIBRATION.csv POLICY.json [AGAIN.csv ...]
 
 Per method, over the frames drawn with it (not those with a pass the six
 kinds below leave out, AtomicZP's eye count):
@@ -19,9 +19,12 @@ kinds below leave out, AtomicZP's eye count):
   - the correlation, between two methods, of the log residuals
     log(measured / scaled price) of the same configuration, and between
     one configuration and the next for the first method.
-The last line is the error left when each configuration's frame of the
-first method is priced with the scale its frame of the second method
-shows: a predictor told that configuration's speed.  A pass row belongs to
+Then the error left when each configuration's frame of the first method
+is priced with the scale its frame of the second method shows: a
+predictor told that configuration's speed.  With AGAIN.csv (the same
+configurations calibrated again), the correlation of the first method's
+residuals of the same configuration in the two runs: what of a
+configuration's residual comes back, beside what moves with the moment.  A pass row belongs to
 the frame row whose frame it names without its ":lightK"
 (docs/calibration.md).  Exit status 2 on unusable input.
 """
@@ -91,11 +94,8 @@ def correlation(a, b):
     return num / den if den > 0 else float("nan")
 
 
-def main(csv_path, policy_path):
-    policy = read_json(policy_path, "a policy file")
-    if not isinstance(policy, dict) or not isinstance(policy.get("device_profile"), dict):
-        fail("schema", f"{policy_path}: a policy without a device profile (nearcap calibrate --write-policy)")
-    profile = policy["device_profile"]
+def frame_rows(csv_path, profile, policy_path):
+    """Per method, per configuration: (measured ms, price, refit inputs)."""
     try:
         passes, frames, unpriced = collections.defaultdict(list), {}, set()
         with open(csv_path, newline="", encoding="utf-8") as f:
@@ -114,7 +114,7 @@ def main(csv_path, policy_path):
         fail("schema", f"{csv_path}: not a calibration CSV (no column {e})")
     except (ValueError, TypeError, csv.Error) as e:
         fail("parse", f"{csv_path}: not a calibration CSV ({e})")
-    by_method = collections.defaultdict(dict)  # method -> configuration -> (measured, price, inputs)
+    by_method = collections.defaultdict(dict)
     try:
         for name, ms in frames.items():
             config, _, method = name.rpartition(":")
@@ -126,12 +126,26 @@ def main(csv_path, policy_path):
     if len(by_method) < 2 or any(p <= 0 for rows in by_method.values() for _, p, _ in rows.values()):
         fail("schema", f"{csv_path}: frame rows of two methods in three configurations or more, "
              "with their passes and a positive price, needed (run nearcap calibrate)")
+    return by_method
+
+
+def centred_residuals(rows):
+    """log(measured / price) per configuration, less the method's median, and that median."""
+    logs = {c: math.log(ms / p) for c, (ms, p, _) in rows.items()}
+    centre = statistics.median(logs.values())
+    return {c: v - centre for c, v in logs.items()}, centre
+
+
+def main(csv_path, policy_path, again_paths):
+    policy = read_json(policy_path, "a policy file")
+    if not isinstance(policy, dict) or not isinstance(policy.get("device_profile"), dict):
+        fail("schema", f"{policy_path}: a policy without a device profile (nearcap calibrate --write-policy)")
+    profile = policy["device_profile"]
+    by_method = frame_rows(csv_path, profile, policy_path)
     residual = {}
     print("method                 frames  measured/priced  price, best scale  refit in sample")
     for method, rows in sorted(by_method.items()):
-        logs = {c: math.log(ms / p) for c, (ms, p, _) in rows.items()}
-        centre = statistics.median(logs.values())
-        residual[method] = {c: v - centre for c, v in logs.items()}
+        residual[method], centre = centred_residuals(rows)
         scaled = statistics.median(abs(math.exp(v) - 1) for v in residual[method].values())
         refit = refit_error([(x, ms) for ms, _, x in rows.values()])
         print(f"{method:<22} {len(rows):>6}  {math.exp(centre):15.3f}  {100 * scaled:16.1f}%  {100 * refit:14.1f}%")
@@ -147,14 +161,21 @@ def main(csv_path, policy_path):
     print(f"residuals of {first} in one configuration and the next: correlation "
           f"{correlation([residual[first][c] for c in order[:-1]], [residual[first][c] for c in order[1:]]):.2f}")
     common = set(residual[first]) & set(residual[second])
-    if len(common) < 3:
-        return 0
-    told = statistics.median(abs(math.exp(residual[first][c] - residual[second][c]) - 1) for c in common)
-    print(f"{first}'s price scaled by its configuration's {second} residual: median error {100 * told:.1f}%")
+    if len(common) >= 3:
+        told = statistics.median(abs(math.exp(residual[first][c] - residual[second][c]) - 1) for c in common)
+        print(f"{first}'s price scaled by its configuration's {second} residual: median error {100 * told:.1f}%")
+    for again_path in again_paths:
+        again = frame_rows(again_path, profile, policy_path).get(first, {})
+        again_residual, _ = centred_residuals(again) if len(again) >= 3 else ({}, 0)
+        common = sorted(set(residual[first]) & set(again_residual))
+        if len(common) < 3:
+            fail("schema", f"{again_path}: not three of {csv_path}'s configurations drawn with {first}")
+        print(f"residuals of {first} in the same configuration in {again_path}: correlation "
+              f"{correlation([residual[first][c] for c in common], [again_residual[c] for c in common]):.2f}")
     return 0
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        fail("usage", "usage: frame_price_residuals.py CALIBRATION.csv POLICY.json")
-    run(lambda: main(sys.argv[1], sys.argv[2]), f"{sys.argv[1]} or {sys.argv[2]}")
+    if len(sys.argv) < 3:
+        fail("usage", "usage: frame_price_residuals.py CALIBRATION.csv POLICY.json [AGAIN.csv ...]")
+    run(lambda: main(sys.argv[1], sys.argv[2], sys.argv[3:]), " or ".join(sys.argv[1:]))
