@@ -12,18 +12,14 @@ first differences printed), 2 on unusable input.
 import csv
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, reading, run  # the same directory
 
 KEY = ("configuration", "light", "method", "variant")
 
 
 def read(path):
-    try:
+    with reading(path, "a sweep CSV"):
         return read_rows(path)
-    except OSError as e:
-        fail("io", f"{path}: cannot read it ({e.strerror})")
-    except (UnicodeDecodeError, csv.Error) as e:
-        fail("parse", f"{path}: not a sweep CSV ({e})")
 
 
 def read_rows(path):

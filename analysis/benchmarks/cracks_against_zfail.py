@@ -13,17 +13,12 @@ import collections
 import csv
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, reading, run  # the same directory
 
 
 def main(path):
-    try:
-        with open(path, newline="", encoding="utf-8") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        fail("io", f"{path}: cannot read it ({e.strerror})")
-    except (UnicodeDecodeError, csv.Error) as e:
-        fail("parse", f"{path}: not a sweep CSV ({e})")
+    with reading(path, "a sweep CSV"), open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
     needed = {"configuration", "light", "variant", "method", "cracks", "wrong", "refused"}
     if not rows or not needed <= set(rows[0]):
         fail("schema", f"{path}: not a sweep CSV with rows")

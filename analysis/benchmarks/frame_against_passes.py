@@ -17,7 +17,7 @@ import re
 import statistics
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, reading, run  # the same directory
 
 RANGES = [(0, 0.5), (0.5, 1), (1, 2), (2, 5), (5, 20), (20, float("inf"))]
 
@@ -30,7 +30,7 @@ def frame_of_pass(name):
 
 
 def main(path):
-    try:
+    with reading(path, "a calibration CSV"):
         with open(path, newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
         passes, drawn = collections.defaultdict(float), collections.defaultdict(int)
@@ -40,12 +40,6 @@ def main(path):
                 passes[k] += float(r["ms"])
                 drawn[k] += 1
         frames = [(r["frame"], float(r["ms"])) for r in rows if r["record"] == "frame"]
-    except OSError as e:
-        fail("io", f"{path}: cannot read it ({e.strerror})")
-    except KeyError as e:
-        fail("schema", f"{path}: not a calibration CSV (no column {e})")
-    except (ValueError, csv.Error) as e:
-        fail("parse", f"{path}: not a calibration CSV with frame rows ({e})")
     frames = [(f, ms) for f, ms in frames if passes[f] > 0 and ms > 0]
     if not frames:
         fail("schema", f"{path}: no frame row with its passes (run nearcap calibrate)")

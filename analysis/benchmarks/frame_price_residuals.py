@@ -35,7 +35,7 @@ import statistics
 import sys
 
 from frame_against_passes import frame_of_pass  # the same directory
-from script_errors import fail, read_json, run
+from script_errors import fail, read_json, reading, run
 
 KINDS = ["depth", "sides", "lit", "light_cap", "dark_cap", "near_cap"]
 
@@ -96,8 +96,8 @@ def correlation(a, b):
 
 def frame_rows(csv_path, profile, policy_path):
     """Per method, per configuration: (measured ms, price, refit inputs)."""
-    try:
-        passes, frames, unpriced = collections.defaultdict(list), {}, set()
+    passes, frames, unpriced = collections.defaultdict(list), {}, set()
+    with reading(csv_path, "a calibration CSV"):
         with open(csv_path, newline="", encoding="utf-8") as f:
             for r in csv.DictReader(f):
                 if r["record"] == "pass" and r["kind"] not in KINDS:
@@ -108,12 +108,6 @@ def frame_rows(csv_path, profile, policy_path):
                         "in_view": float(r["in_view"] or 0)})
                 elif r["record"] == "frame":
                     frames[r["frame"]] = float(r["ms"])
-    except OSError as e:
-        fail("io", f"{csv_path}: cannot read it ({e.strerror})")
-    except KeyError as e:
-        fail("schema", f"{csv_path}: not a calibration CSV (no column {e})")
-    except (ValueError, TypeError, csv.Error) as e:
-        fail("parse", f"{csv_path}: not a calibration CSV ({e})")
     by_method = collections.defaultdict(dict)
     try:
         for name, ms in frames.items():

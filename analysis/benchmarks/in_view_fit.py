@@ -20,7 +20,7 @@ import csv
 import statistics
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, reading, run  # the same directory
 
 KINDS = ["depth", "sides", "light_cap", "dark_cap", "near_cap", "lit"]
 
@@ -77,7 +77,7 @@ def median_error(coefficients, rows, columns):
 
 
 def main(path):
-    try:
+    with reading(path, "a calibration CSV"):
         with open(path, newline="", encoding="utf-8") as f:
             by_kind = collections.defaultdict(list)
             for r in csv.DictReader(f):
@@ -86,12 +86,6 @@ def main(path):
                 by_kind[r["kind"]].append({"frame": r["frame"], "ms": float(r["ms"]),
                                            "triangles": float(r["triangles"]), "fragments": float(r["fragments"]),
                                            "in_view": float(r["in_view"])})
-    except OSError as e:
-        fail("io", f"{path}: cannot read it ({e.strerror})")
-    except KeyError as e:
-        fail("schema", f"{path}: not a calibration CSV (no column {e})")
-    except (ValueError, csv.Error) as e:
-        fail("parse", f"{path}: not a calibration CSV with in_view counts ({e})")
     if not by_kind:
         fail("schema", f"{path}: no pass row (run nearcap calibrate)")
     two, three = ["triangles", "fragments"], ["triangles", "in_view", "fragments"]

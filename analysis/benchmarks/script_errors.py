@@ -9,6 +9,7 @@ that cannot be opened (io), text that is not the format or a value out of
 range (parse), a field the input lacks or holds with the wrong type
 (schema).
 """
+import contextlib
 import csv
 import json
 import os
@@ -23,15 +24,25 @@ def fail(kind, message):
     sys.exit(2)
 
 
-def read_json(path, what):
-    """The JSON document in `path`, or fail()'s line: `what` names the format."""
+@contextlib.contextmanager
+def reading(path, what):
+    """Turns what reading `path` raises into fail()'s line; `what` names its
+    format ("a sweep CSV"): a file that cannot be read (io), a column the
+    rows lack (schema), text or a value that is not the format (parse)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f)
+        yield
     except OSError as e:
         fail("io", f"{path}: cannot read it ({e.strerror})")
-    except (ValueError, RecursionError) as e:
+    except KeyError as e:
+        fail("schema", f"{path}: not {what} (no column {e})")
+    except (ValueError, TypeError, RecursionError, csv.Error) as e:
         fail("parse", f"{path}: not {what} ({type(e).__name__}: {e})")
+
+
+def read_json(path, what):
+    """The JSON document in `path`, or fail()'s line: `what` names the format."""
+    with reading(path, what), open(path, encoding="utf-8") as f:
+        return json.load(f)
 
 
 def run(main, inputs):

@@ -15,7 +15,7 @@ import csv
 import os
 import sys
 
-from script_errors import fail, run  # the same directory
+from script_errors import fail, reading, run  # the same directory
 
 METHODS = ["zpass", "zfail", "zpplus-corrected", "preload", "policy"]
 SETS = [("paths", "seven bundled paths (`--path` each, 160×120)"), ("hard", "3,000 hard cases (seed 7, 48×36)")]
@@ -23,18 +23,8 @@ CULLINGS = ["scissor", "depth-bounds", "both"]
 
 
 def load(path):
-    try:
-        with open(path, newline="", encoding="utf-8") as f:
-            rows = {}
-            for r in csv.DictReader(f):
-                rows[(r["configuration"], r["light"], r["method"])] = r
-            return rows
-    except OSError as e:
-        fail("io", f"{path}: cannot read it ({e.strerror})")
-    except KeyError as e:
-        fail("schema", f"{path}: not a sweep CSV (no column {e})")
-    except (UnicodeDecodeError, csv.Error) as e:
-        fail("parse", f"{path}: not a sweep CSV ({e})")
+    with reading(path, "a sweep CSV"), open(path, newline="", encoding="utf-8") as f:
+        return {(r["configuration"], r["light"], r["method"]): r for r in csv.DictReader(f)}
 
 
 def fragments(r):
