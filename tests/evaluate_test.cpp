@@ -373,6 +373,8 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
   // near-cap (Z-pass is wrong there).
   std::map<std::string, std::vector<std::string>> zpass, zfail;  // configuration and light -> fields
   analysis::FrameTimeDrift drift;                                // the policy's frames so far, in the rows' order
+  constexpr double kHalfUnit = 5e-5;                             // ms: the CSV's rounding, either way
+  double log_ratio_error = 0;  // the largest rounding error of an observed ratio's logarithm
   std::istringstream rows_of(csv);
   std::getline(rows_of, line);
   while (std::getline(rows_of, line)) {
@@ -390,10 +392,16 @@ TEST(EvaluateCommand, TwoSamplesEndToEnd) {
       const double predicted = std::stod(fields[15]), priced = std::stod(fields[16]);
       EXPECT_GT(priced, 0) << "the shipped profile's price: " << line;
       // The prediction: the price times the last frames' measured / priced
-      // (1 before any), plus the decision's own time.
+      // (1 before any), plus the decision's own time.  The CSV rounds each
+      // time to 0.1 us (half a unit, 5e-5 ms, either way), and a scale is the
+      // median of logarithms, so its error is at most the largest of its
+      // ratios' (first order, doubled for what that leaves out).
       const double expected = priced * drift.scale() + decision;
-      EXPECT_NEAR(predicted, expected, 1e-3 * expected + 2e-4) << line;
+      const double scale_error = std::expm1(kHalfUnit / priced + log_ratio_error) + 1e-9;
+      EXPECT_NEAR(predicted, expected, priced * drift.scale() * scale_error + 2 * kHalfUnit) << line;
       drift.observe(priced, measured - decision);
+      if (measured > decision)  // else not observed
+        log_ratio_error = std::max(log_ratio_error, 2 * (kHalfUnit / priced + 2 * kHalfUnit / (measured - decision)));
     }
     if (fields[4] == "zpass") zpass[fields[1] + "/" + fields[3]] = fields;
     if (fields[4] == "zfail") zfail[fields[1] + "/" + fields[3]] = fields;
@@ -508,7 +516,8 @@ TEST(EvaluateCommand, FitUnpricedWritesThePolicyWithTheFittedFrames) {
     ++policy_rows;
   }
   EXPECT_EQ(policy_rows, frames);
-  EXPECT_NEAR(fit.at("priced_total_ms").get<double>(), policy_total, 1e-3 * policy_total);
+  // Each row's time rounded to 0.1 us (5e-5 ms either way) in the CSV.
+  EXPECT_NEAR(fit.at("priced_total_ms").get<double>(), policy_total, 5e-5 * static_cast<double>(policy_rows) + 1e-9);
   EXPECT_LE(fit.at("fitted_total_ms").get<double>(), fit.at("priced_total_ms").get<double>());
   const analysis::SwitchPolicy written = analysis::load_policy(fitted.string());
   EXPECT_EQ(!written.unpriced_frames.empty(), fit.at("unpriced_frames").get<std::size_t>() > 0);
