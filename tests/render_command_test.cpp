@@ -150,14 +150,21 @@ TEST(RenderCommand, BenchWritesEachFramesPassTimesAndThePlot) {
   EXPECT_NE(csv.find("\n59,zpass#again,two-sided,"), std::string::npos);
   EXPECT_GT(std::filesystem::file_size(dir / "two" / "bench.png"), 1000u);
   const nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "two" / "render.json"));
-  for (const nlohmann::json& m : j["methods"])
+  for (const nlohmann::json& m : j["methods"]) {
+    // The timer query ran (what it measures is the driver's: llvmpipe's is
+    // the CPU clock around its rasterizer's work, which one short frame's
+    // pass could leave unmoved).
+    double gpu_stencil_ms = 0;
     for (const nlohmann::json& f : m["frames"]) {
       const nlohmann::json& p = f["passes"];
       const double sum = p["depth_ms"].get<double>() + p["stencil_ms"].get<double>() + p["lit_ms"].get<double>();
       EXPECT_GT(p["stencil_ms"].get<double>(), 0.0);
-      EXPECT_GT(p["gpu_stencil_ms"].get<double>(), 0.0);      // the timer query ran (what it measures is the driver's)
+      EXPECT_GE(p["gpu_stencil_ms"].get<double>(), 0.0);
+      gpu_stencil_ms += p["gpu_stencil_ms"].get<double>();
       EXPECT_LE(sum, f["ms"].get<double>() * 1.0001 + 1e-3);  // the passes lie within the frame's time
     }
+    EXPECT_GT(gpu_stencil_ms, 0.0) << m["method"];
+  }
   const test::CliResult one = test::run_cli(
       "render --path data/paths/eye_in_shadow.json --method zpass --bench "
       "--one-sided-stencil --side-strips --stencil --out '" +
