@@ -31,8 +31,9 @@ stage_done "packages and format check"
 ./scripts/build.sh -DNEARCAP_WERROR=ON -DNEARCAP_BUILD_TESTS=ON -DNEARCAP_TEST_CXX_FLAGS=-O1
 stage_done "Release build"
 # matplotlib builds its font cache on its first import, and when that takes
-# long it says so on stderr, which some tests read whole: build it first.
-python3 -c 'import matplotlib.font_manager'
+# long it says so on stderr, which some tests read whole: build it first,
+# with the Python nearcap runs its scripts with.
+"${NEARCAP_PYTHON:-/usr/bin/python3}" -c 'import matplotlib.font_manager'
 ctest --test-dir build --output-on-failure --no-tests=error -j2
 stage_done "Release suite"
 if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi
