@@ -434,6 +434,26 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "grazing is named twice", "a kind twice");
   expect_one_line_error(run("sweep --samples 1 --kinds grazing, --out " + path("k.csv")), "an empty kind name",
                         "a trailing comma in --kinds");
+  // An unknown name in a list: the option, the names it takes, its help.
+  expect_one_line_error(run("sample --kinds grazing,nope --index 0"),
+                        "--kinds: 'nope' is not a hard-case kind (one of light-near-plane, ", "an unknown kind");
+  expect_one_line_error(run("sample --kinds nope --index 0"), ", or all) (see nearcap sample --help)",
+                        "an unknown kind's help");
+  expect_one_line_error(run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,log_magic"),
+                        "--features: 'log_magic' is not a policy feature (one of log_light_near_distance, "
+                        "log_l_far_over_width, log_delta_over_width, log_skew, log_cond_light_transform, "
+                        "log_cap_window_error_px, log_coordinate_over_size, l_near_over_l_far; or all, or none) "
+                        "(see nearcap tune --help)",
+                        "an unknown feature, before any row is read");
+  // The real-GL commands draw no ray tracer, and do not offer it.
+  for (const std::string command : {"render", "view"}) {
+    const test::CliResult r = run(command + " " + path("B.json") + " --light 0 --method foo --out " + path("r"));
+    expect_one_line_error(r, "--method 'foo' is not one of zpass, ", command + ": an unknown method");
+    EXPECT_EQ(r.err.find("raytrace"), std::string::npos) << r.err;
+  }
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 99999999999999999999"),
+                        "--light: '99999999999999999999' is far above any scene's number of lights",
+                        "a light index too large to read");
   EXPECT_FALSE(fs::exists(path("k.csv")));
   expect_one_line_error(run("--bogus classify " + path("B.json")), "unknown option '--bogus'", "an option first");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out ''"), "--out: the file name is empty",

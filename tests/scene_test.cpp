@@ -342,6 +342,9 @@ TEST(SceneErrors, CameraFaults) {
   expect_error(with("far", 0.5), ErrorKind::Camera, "must be < far");
   expect_error(with("width", 0), ErrorKind::Camera, "outside [1, 16384]");
   expect_error(with("height", 16385), ErrorKind::Camera, "outside [1, 16384]");
+  expect_error(with("width", 1e20), ErrorKind::Camera,
+               "viewport size 1e+20 is outside [1, 16384]");  // whole, too large
+  expect_error(with("width", 64.5), ErrorKind::Schema, "must be an integer number of pixels");
   expect_error(with("target", Json{0, 1, 8}), ErrorKind::Camera, "coincide");
   expect_error(with("up", Json{0, 2, 16}), ErrorKind::Camera, "parallel");  // along target - eye
   expect_error(with("up", Json{0, 0, 0}), ErrorKind::Camera, "parallel");

@@ -341,7 +341,7 @@ TEST_F(Sweep, BadInvocationsAreOneLineErrors) {
   const std::pair<std::string, std::string> cases[] = {
       {"sweep --out " + out, "nothing to sweep"},
       {"sweep --samples 2 --methods zpass,bogus --out " + out, "'bogus'"},
-      {"sweep --samples 2 --kinds grazing,nope --out " + out, "unknown hard-case kind 'nope'"},
+      {"sweep --samples 2 --kinds grazing,nope --out " + out, "--kinds: 'nope' is not a hard-case kind"},
       {"sweep --samples 2 --policies doom3,doom4 --out " + out, "--policies 'doom4'"},
       {"sweep --path data/paths/missing.json --out " + out, "missing.json"},
   };

@@ -266,7 +266,9 @@ struct MethodChoice {
   bool policy = false;
   std::size_t count() const { return methods.size() + (raytrace ? 1 : 0) + (policy ? 1 : 0); }
 };
-MethodChoice method_choice(const std::string& names);
+// `lists_raytrace`: false where the command refuses the ray tracer (the
+// real-GL commands), so that an unknown name's message leaves it out.
+MethodChoice method_choice(const std::string& names, bool lists_raytrace = true);
 // The policy's method per occluder and why, as a JSON array of
 // {"object", "method", "why"}.
 nlohmann::json policy_occluders_json(const Scene& scene, const analysis::PolicyDecision& d);

@@ -94,9 +94,10 @@ CLI::Validator finite_number() {
 CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) {
   const CLI::Validator digits(
       [](std::string& value) -> std::string {
-        const bool ok = !value.empty() && value.size() <= 9 &&
-                        std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
-        return ok ? std::string() : "'" + value + "' is not a light index (a non-negative integer)";
+        const bool digits_only =
+            !value.empty() && std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+        if (!digits_only) return "'" + value + "' is not a light index (a non-negative integer)";
+        return value.size() <= 9 ? std::string() : "'" + value + "' is far above any scene's number of lights";
       },
       "INDEX");
   CLI::Option* option = cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)");
@@ -426,6 +427,9 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
     for (const std::string& name : comma_separated(o.kinds)) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': an empty kind name");
       refuse_list_word("--kinds", name);
+      if (!value_named<analysis::HardCaseKind>(name))
+        throw Error(ErrorKind::Usage, "--kinds: '" + name + "' is not a hard-case kind (one of " +
+                                          names_joined<analysis::HardCaseKind>() + ", or all)");
       const analysis::HardCaseKind kind = analysis::hard_case_kind_from_string(name);
       if (std::find(spec.kinds.begin(), spec.kinds.end(), kind) != spec.kinds.end())
         throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': " + name + " is named twice");
@@ -566,7 +570,7 @@ void refuse_list_word(const std::string& option, const std::string& name, std::i
     if (name == word) throw Error(ErrorKind::Usage, option + " " + name + " stands alone: give it without other names");
 }
 
-MethodChoice method_choice(const std::string& names) {
+MethodChoice method_choice(const std::string& names, bool lists_raytrace) {
   MethodChoice c;
   if (names == "all") {
     c.methods = methods_from("all", "--method");
@@ -580,7 +584,7 @@ MethodChoice method_choice(const std::string& names) {
     refuse_list_word("--method", name);
     if (name != "policy" && name != "raytrace" && !gl::shadow_method_from_string(name))
       throw Error(ErrorKind::Usage, "--method '" + name + "' is not one of " + names_joined<gl::ShadowMethod>() +
-                                        ", raytrace, policy (or all)");
+                                        (lists_raytrace ? ", raytrace" : "") + ", policy (or all)");
     if (!seen.insert(name).second) throw Error(ErrorKind::Usage, "--method names " + name + " twice");
     if (name == "policy")
       c.policy = true;

@@ -10,7 +10,7 @@ namespace nearcap::cli {
 
 RenderMethods render_methods(const std::string& method, const std::string& policy_file, bool policy_given,
                              const std::string& command) {
-  const MethodChoice choice = method_choice(method);
+  const MethodChoice choice = method_choice(method, false);
   refuse_unread_policy(policy_given, choice.policy, "--method policy (or all)");
   if (choice.raytrace && method != "all")
     throw Error(ErrorKind::Usage, "--method raytrace: nearcap " + command +

@@ -107,7 +107,16 @@ void run(const TuneOptions& given) {
     throw Error(ErrorKind::Usage, "--fallback '" + o.fallback + "' must be zfail or preload");
   const bool crack_model = o.features != "none";
   if (o.features != "all" && o.features != "none")
-    for (const std::string& name : comma_separated(o.features)) refuse_list_word("--features", name, {"all", "none"});
+    for (const std::string& name : comma_separated(o.features)) {
+      refuse_list_word("--features", name, {"all", "none"});
+      if (std::find(analysis::kPolicyFeatures.begin(), analysis::kPolicyFeatures.end(), name) ==
+          analysis::kPolicyFeatures.end()) {
+        std::string names;
+        for (std::string_view f : analysis::kPolicyFeatures) names += (names.empty() ? "" : ", ") + std::string(f);
+        throw Error(ErrorKind::Usage,
+                    "--features: '" + name + "' is not a policy feature (one of " + names + "; or all, or none)");
+      }
+    }
   if (o.no_exact_zpass && o.light_projection != gl::LightProjection::ClippedSides)
     throw Error(ErrorKind::Usage,
                 "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
@@ -219,9 +228,11 @@ void register_tune(CLI::App& app) {
                     "the camera's near plane the policy's frames use, written to the policy: " +
                         names_joined<gl::NearPlane>(" or ") + "; not given, the caller's");
   cmd.add_option("--features", o.features,
-                 "the model's features, comma-separated (log_light_near_distance, log_l_far_over_width, "
-                 "log_delta_over_width and log_skew need no pass over the geometry), all, or none (no crack model); "
-                 "not given, all, or none with --no-exact-zpass (whose decision reads none)")
+                 "the model's features, comma-separated, from log_light_near_distance, log_l_far_over_width, "
+                 "log_delta_over_width, log_skew (these four need no pass over the geometry), "
+                 "log_cond_light_transform, log_cap_window_error_px, log_coordinate_over_size and "
+                 "l_near_over_l_far (docs/policy.md); all, or none (no crack model); not given, all, or none with "
+                 "--no-exact-zpass (whose decision reads none)")
       ->each([&given = o.features_given](const std::string&) { given = true; });
 }
 

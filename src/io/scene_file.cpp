@@ -35,8 +35,7 @@ class SceneReader {
 
   static int pixels(const JsonValue& j) {
     // 64.0 is the integer 64; an integer too large for long long is outside the range too.
-    const bool whole =
-        j.is_integer() || (j.is_number() && j.number() == std::floor(j.number()) && std::fabs(j.number()) <= 1e9);
+    const bool whole = j.is_integer() || (j.is_number() && j.number() == std::floor(j.number()));
     if (!whole)
       j.fail(j.is_number() ? "must be an integer number of pixels"
                            : "expected an integer pixel count, found " + std::string(j.type_name()));
