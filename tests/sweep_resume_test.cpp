@@ -287,6 +287,18 @@ TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
       test::run_cli(relative + " --resume", "sweep_file_scene_b", "cd '" + b.string() + "' &&");
   ASSERT_EQ(there.exit_code, 0) << there.err;
   EXPECT_EQ(untimed_rows(test::slurp(b / "p.csv")), untimed_rows(joined(a_lines, 0, a_lines.size())));
+  // The same file named another way is refused, saying how to name it: the
+  // rows' replay column holds the path as the sweep was given it.
+  const std::string a_cut = test::slurp(a / "p.csv");
+  const test::CliResult spelled =
+      test::run_cli("sweep --path '" + (a / "p.json").string() + "' --methods zpass --out p.csv --resume",
+                    "sweep_file_scene_spelled", "cd '" + a.string() + "' &&");
+  expect_one_line_error(spelled, "usage",
+                        "--path: " + (a / "p.json").string() +
+                            " here, p.json in the sweep being resumed (a path is compared as written, as each row's "
+                            "replay column names it: give it as that sweep did, from the folder it ran in)",
+                        "the same path file spelled otherwise");
+  EXPECT_EQ(test::slurp(a / "p.csv"), a_cut);
   // A sidecar without the scene digest (nothing to compare) resumes as before.
   std::string without = test::slurp(path("p.csv.meta.json"));
   const std::size_t key = without.find("\"--path (scene and meshes digest)\"");

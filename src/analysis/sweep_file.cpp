@@ -195,7 +195,11 @@ std::optional<std::string> resume_mismatch(const SweepMeta& here_as_given, const
     // A sweep without samples has no row the sampler's meshes made.
     if (name == kSamplerMeshesDigestKey && resumed.samples == 0) continue;
     if (it == resumed.options.end()) return name + ": " + listed(values) + " here, not recorded" + there;
-    if (it->second != values) return name + ": " + listed(values) + " here, " + listed(it->second) + there;
+    if (it->second != values)
+      return name + ": " + listed(values) + " here, " + listed(it->second) + there +
+             (name == "--path" ? " (a path is compared as written, as each row's replay column names it: give it as "
+                                 "that sweep did, from the folder it ran in)"
+                               : "");
   }
   for (const auto& [name, values] : resumed.options) {
     const auto it = std::find_if(here.options.begin(), here.options.end(),
