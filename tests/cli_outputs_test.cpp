@@ -260,6 +260,7 @@ TEST(CliHelp, NoSubcommandAndHelpPrintTheHelp) {
   const test::CliResult cracks = test::run_cli("help cracks", "outputs_help");
   EXPECT_EQ(cracks.exit_code, 0) << cracks.err;
   EXPECT_NE(cracks.out.find("--method"), std::string::npos) << cracks.out;
+  EXPECT_NE(cracks.out.find("\nUsage: nearcap cracks [OPTIONS] scene\n"), std::string::npos) << cracks.out;
   const test::CliResult bogus = test::run_cli("help bogus", "outputs_help");
   EXPECT_EQ(bogus.exit_code, 2);
   EXPECT_EQ(bogus.err.rfind("nearcap: error (usage): no help on 'bogus'", 0), 0u) << bogus.err;

@@ -171,7 +171,8 @@ int main(int argc, char** argv) {
                            ")");
       topic = *sub;
     }
-    if (world.rank() == 0) std::fputs(topic->help().c_str(), stdout);
+    // A subcommand's usage line under the program's name, as `CMD --help` gives it.
+    if (world.rank() == 0) std::fputs(topic->help(topic == &app ? "" : "nearcap").c_str(), stdout);
     return stdout_written(world.rank() == 0) ? 0 : 2;
   }
   // The subcommand comes first; name an unknown one as such.
