@@ -417,6 +417,24 @@ TEST_F(Reliability, MessagesShowTheBytesTheyQuoteAsText) {
   for (char c : g.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << g.err;
 }
 
+// calibrate takes a bundled path by its name; the other commands need its
+// file, and name it.
+TEST_F(Reliability, ABundledPathsNameWhereAFileIsNeededNamesTheFile) {
+  const std::string file = std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json";
+  for (const std::string& command :
+       {"sweep --path near_plane_sweep --out " + path("n.csv"), std::string("frame near_plane_sweep --frame 0"),
+        "render --path near_plane_sweep --out " + path("n"), "evaluate --path near_plane_sweep --out " + path("e")})
+    expect_one_line_error(run(command),
+                          "near_plane_sweep: cannot open the camera path file (no such file; the bundled path of that "
+                          "name is " +
+                              file + ")",
+                          command);
+  EXPECT_FALSE(fs::exists(path("n.csv")));
+  expect_one_line_error(run("sweep --path no_such_path --out " + path("n.csv")),
+                        "no_such_path: cannot open the camera path file (no such file)",
+                        "no bundled path of that name");
+}
+
 TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
   expect_one_line_error(run("cracks " + path("B.json") + " --light 0 --method zpass,zpass"),
                         "--method names zpass twice", "a method twice");

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "nearcap/analysis/camera_path.hpp"
 #include "nearcap/analysis/hard_case_sampler.hpp"
 #include "nearcap/analysis/switch_policy.hpp"
 #include "nearcap/error.hpp"
@@ -46,6 +47,11 @@ void register_evaluate(CLI::App& app);   // the real-GL library too
 // tree's) reads the source tree it was built from (data/ and analysis/).
 std::string shipped_data_dir();     // policy*.json, meshes/, scenes/, paths/
 std::string shipped_scripts_dir();  // report/*.py
+
+// A camera path file's path and its frames (analysis::load_camera_path).  A
+// name that is no file here but a bundled path's (data/paths/NAME.json) is
+// refused naming that file: only calibrate takes the bundled paths by name.
+analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes = nullptr);
 
 // Thrown by a command whose child process already reported its error on
 // stderr: main exits with this code and prints nothing more.

@@ -418,6 +418,18 @@ std::string shipped_scripts_dir() {
   return share.empty() ? std::string(NEARCAP_ANALYSIS_DIR) : share.string();
 }
 
+analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes) {
+  std::error_code ec;
+  const std::string bundled = shipped_data_dir() + "/paths/" + file + ".json";
+  if (!file.empty() && file.find('/') == std::string::npos && !std::filesystem::exists(file, ec) &&
+      std::filesystem::exists(bundled, ec))
+    throw Error(ErrorKind::Io, file +
+                                   ": cannot open the camera path file (no such file; the bundled path of that name "
+                                   "is " +
+                                   bundled + ")");
+  return analysis::load_camera_path(file, meshes);
+}
+
 analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
   analysis::SamplerSpec spec;
   spec.seed = o.seed;

@@ -431,7 +431,7 @@ void run(const EvaluateOptions& o) {
   // Everything read and checked before the GL starts.
   std::vector<analysis::CameraPath> paths;
   for (const std::string& file : o.paths) {
-    analysis::CameraPath p = analysis::load_camera_path(file);
+    analysis::CameraPath p = load_camera_path_file(file);
     if (o.width > 0) p.width = o.width;
     if (o.height > 0) p.height = o.height;
     if (o.first_frame >= p.frames)

@@ -21,7 +21,7 @@ struct FrameOptions {
 };
 
 void run(const std::string& path_file, int frame, int width, int height, const std::string& out) {
-  analysis::CameraPath path = analysis::load_camera_path(path_file);
+  analysis::CameraPath path = load_camera_path_file(path_file);
   if (width > 0) path.width = width;
   if (height > 0) path.height = height;
   if (frame < 0 || frame >= path.frames)

@@ -182,7 +182,7 @@ class LitScenes {
     if (o.path.empty())
       scene_ = load_scene(o.scene);
     else
-      path_ = analysis::load_camera_path(o.path);
+      path_ = load_camera_path_file(o.path);
   }
   std::size_t count() const { return path_ ? static_cast<std::size_t>(path_->frames) : 1; }
   // The files the frames are read from: the scene or the camera path, its

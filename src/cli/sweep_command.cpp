@@ -142,7 +142,7 @@ class Configurations {
   // `meshes`: the sweep's, so that reading a path's base scene reads its meshes for the frames.
   Configurations(const SweepCommandOptions& o, MeshCache* meshes) : options_(o) {
     for (const std::string& file : o.paths) {
-      analysis::CameraPath path = analysis::load_camera_path(file, meshes);
+      analysis::CameraPath path = load_camera_path_file(file, meshes);
       if (o.width > 0) path.width = o.width;
       if (o.height > 0) path.height = o.height;
       paths_.push_back(std::move(path));
@@ -551,7 +551,7 @@ std::vector<analysis::EnginePolicy> policies_from(const std::string& names, bool
 // the sweep's cache, which already holds the path's meshes (the bunny's
 // reading and validation is most of a short sweep's start).
 std::string path_scene_digest(const std::string& path_file, MeshCache* meshes) {
-  const analysis::CameraPath path = analysis::load_camera_path(path_file, meshes);
+  const analysis::CameraPath path = load_camera_path_file(path_file, meshes);
   const std::string scene_text = io::read_input_file(path.scene_file, "scene file");
   std::string content = scene_text;
   const nlohmann::json scene = nlohmann::json::parse(with_absolute_mesh_paths(scene_text, path.scene_file));
