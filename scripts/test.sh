@@ -32,8 +32,11 @@ stage_done "packages and format check"
 stage_done "Release build"
 # matplotlib builds its font cache on its first import, and when that takes
 # long it says so on stderr, which some tests read whole: build it first,
-# with the Python nearcap runs its scripts with.
-"${NEARCAP_PYTHON:-/usr/bin/python3}" -c 'import matplotlib.font_manager'
+# with the Python nearcap runs its scripts with (NEARCAP_PYTHON, else
+# Debian's, else the first python3 on PATH).
+python=${NEARCAP_PYTHON:-/usr/bin/python3}
+if [ -z "${NEARCAP_PYTHON:-}" ] && [ ! -x /usr/bin/python3 ]; then python=python3; fi
+"$python" -c 'import matplotlib.font_manager'
 ctest --test-dir build --output-on-failure --no-tests=error -j2
 stage_done "Release suite"
 if [ "${NEARCAP_QUICK:-0}" = "1" ]; then exit 0; fi

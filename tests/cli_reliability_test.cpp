@@ -422,13 +422,11 @@ TEST_F(Reliability, MessagesShowTheBytesTheyQuoteAsText) {
 TEST_F(Reliability, ABundledPathsNameWhereAFileIsNeededNamesTheFile) {
   const std::string file = std::string(NEARCAP_SOURCE_DIR) + "/data/paths/near_plane_sweep.json";
   for (const std::string& command :
-       {"sweep --path near_plane_sweep --out " + path("n.csv"), std::string("frame near_plane_sweep --frame 0"),
+       {"sweep --path near_plane_sweep --out " + path("n.csv"), std::string("frame near_plane_sweep.json --frame 0"),
         "render --path near_plane_sweep --out " + path("n"), "evaluate --path near_plane_sweep --out " + path("e")})
-    expect_one_line_error(run(command),
-                          "near_plane_sweep: cannot open the camera path file (no such file; the bundled path of that "
-                          "name is " +
-                              file + ")",
-                          command);
+    expect_one_line_error(
+        run(command),
+        ": cannot open the camera path file (no such file; the bundled path of that name is " + file + ")", command);
   EXPECT_FALSE(fs::exists(path("n.csv")));
   expect_one_line_error(run("sweep --path no_such_path --out " + path("n.csv")),
                         "no_such_path: cannot open the camera path file (no such file)",
@@ -463,6 +461,12 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "log_cap_window_error_px, log_coordinate_over_size, l_near_over_l_far; or all, or none) "
                         "(see nearcap tune --help)",
                         "an unknown feature, before any row is read");
+  expect_one_line_error(run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,log_skew"),
+                        "--features 'log_skew,log_skew': log_skew is named twice (see nearcap tune --help)",
+                        "a feature twice, before any row is read");
+  expect_one_line_error(run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,"),
+                        "--features 'log_skew,': an empty feature name (see nearcap tune --help)",
+                        "a trailing comma in --features");
   // The real-GL commands draw no ray tracer, and do not offer it.
   for (const std::string command : {"render", "view"}) {
     const test::CliResult r = run(command + " " + path("B.json") + " --light 0 --method foo --out " + path("r"));
@@ -472,6 +476,13 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
   expect_one_line_error(run("cracks " + path("B.json") + " --light 99999999999999999999"),
                         "--light: '99999999999999999999' is far above any scene's number of lights",
                         "a light index too large to read");
+  // Leading zeros are no part of the value: light 1 of a one-light scene.
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 00000000001"),
+                        "--light 1 is out of range (the scene has 1 light(s))", "a light index with leading zeros");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 010"), "--light 10 is out of range",
+                        "a leading zero: decimal, not octal");
+  expect_one_line_error(run("cracks " + path("B.json") + " --light 08"), "--light 8 is out of range",
+                        "a leading zero before a digit octal lacks");
   EXPECT_FALSE(fs::exists(path("k.csv")));
   expect_one_line_error(run("--bogus classify " + path("B.json")), "unknown option '--bogus'", "an option first");
   expect_one_line_error(run("cap " + path("B.json") + " --light 0 --out ''"), "--out: the file name is empty",

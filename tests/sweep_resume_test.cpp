@@ -299,6 +299,13 @@ TEST_F(SweepFile, ResumeRefusesAPathWhoseSceneOrMeshChanged) {
                             "replay column names it: give it as that sweep did, from the folder it ran in)",
                         "the same path file spelled otherwise");
   EXPECT_EQ(test::slurp(a / "p.csv"), a_cut);
+  // Another file is not a spelling: no such advice.
+  fs::copy_file(a / "p.json", a / "q.json");
+  const test::CliResult other_file = test::run_cli("sweep --path q.json --methods zpass --out p.csv --resume",
+                                                   "sweep_file_scene_other", "cd '" + a.string() + "' &&");
+  expect_one_line_error(other_file, "usage", "--path: q.json here, p.json in the sweep being resumed", "another file");
+  EXPECT_EQ(other_file.err.find("compared as written"), std::string::npos) << other_file.err;
+  EXPECT_EQ(test::slurp(a / "p.csv"), a_cut);
   // A sidecar without the scene digest (nothing to compare) resumes as before.
   std::string without = test::slurp(path("p.csv.meta.json"));
   const std::size_t key = without.find("\"--path (scene and meshes digest)\"");

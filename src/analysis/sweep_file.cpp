@@ -14,6 +14,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -128,6 +129,15 @@ class RecordReader {
   std::size_t at_ = 0, size_ = 0;
 };
 
+// Two lists of paths naming the same file names in the same order: one
+// written another way (p.json and /home/a/p.json), not another file.
+bool same_file_names(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  if (a.empty() || a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (std::filesystem::path(a[k]).filename() != std::filesystem::path(b[k]).filename()) return false;
+  return true;
+}
+
 }  // namespace
 
 std::string sweep_meta_path(const std::string& csv) { return csv + ".meta.json"; }
@@ -197,9 +207,10 @@ std::optional<std::string> resume_mismatch(const SweepMeta& here_as_given, const
     if (it == resumed.options.end()) return name + ": " + listed(values) + " here, not recorded" + there;
     if (it->second != values)
       return name + ": " + listed(values) + " here, " + listed(it->second) + there +
-             (name == "--path" ? " (a path is compared as written, as each row's replay column names it: give it as "
-                                 "that sweep did, from the folder it ran in)"
-                               : "");
+             (name == "--path" && same_file_names(values, it->second)
+                  ? " (a path is compared as written, as each row's replay column names it: give it as that sweep "
+                    "did, from the folder it ran in)"
+                  : "");
   }
   for (const auto& [name, values] : resumed.options) {
     const auto it = std::find_if(here.options.begin(), here.options.end(),

@@ -49,8 +49,9 @@ std::string shipped_data_dir();     // policy*.json, meshes/, scenes/, paths/
 std::string shipped_scripts_dir();  // report/*.py
 
 // A camera path file's path and its frames (analysis::load_camera_path).  A
-// name that is no file here but a bundled path's (data/paths/NAME.json) is
-// refused naming that file: only calibrate takes the bundled paths by name.
+// name that is no file here but a bundled path's (data/paths/NAME.json, or
+// NAME.json given) is refused naming that file: only calibrate takes the
+// bundled paths by name.
 analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes = nullptr);
 
 // Thrown by a command whose child process already reported its error on

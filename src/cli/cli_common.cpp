@@ -97,7 +97,12 @@ CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) 
         const bool digits_only =
             !value.empty() && std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
         if (!digits_only) return "'" + value + "' is not a light index (a non-negative integer)";
-        return value.size() <= 9 ? std::string() : "'" + value + "' is far above any scene's number of lights";
+        // Leading zeros are no part of the value (010 is light 10, not
+        // CLI11's octal 8).
+        const std::string digits = value.substr(std::min(value.find_first_not_of('0'), value.size() - 1));
+        if (digits.size() > 9) return "'" + value + "' is far above any scene's number of lights";
+        value = digits;
+        return std::string();
       },
       "INDEX");
   CLI::Option* option = cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)");
@@ -420,7 +425,8 @@ std::string shipped_scripts_dir() {
 
 analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes) {
   std::error_code ec;
-  const std::string bundled = shipped_data_dir() + "/paths/" + file + ".json";
+  const bool named_json = file.size() > 5 && file.compare(file.size() - 5, 5, ".json") == 0;
+  const std::string bundled = shipped_data_dir() + "/paths/" + file + (named_json ? "" : ".json");
   if (!file.empty() && file.find('/') == std::string::npos && !std::filesystem::exists(file, ec) &&
       std::filesystem::exists(bundled, ec))
     throw Error(ErrorKind::Io, file +

@@ -171,7 +171,8 @@ int main(int argc, char** argv) {
                            ")");
       topic = *sub;
     }
-    // A subcommand's usage line under the program's name, as `CMD --help` gives it.
+    // A subcommand's usage line under the program's name, "nearcap CMD"
+    // (`CMD --help` names it as it was run, argv[0]).
     if (world.rank() == 0) std::fputs(topic->help(topic == &app ? "" : "nearcap").c_str(), stdout);
     return stdout_written(world.rank() == 0) ? 0 : 2;
   }

@@ -108,7 +108,11 @@ void run(const TuneOptions& given) {
   const bool crack_model = o.features != "none";
   if (o.features != "all" && o.features != "none")
     for (const std::string& name : comma_separated(o.features)) {
+      if (name.empty()) throw Error(ErrorKind::Usage, "--features '" + o.features + "': an empty feature name");
       refuse_list_word("--features", name, {"all", "none"});
+      const std::vector<std::string> names = comma_separated(o.features);
+      if (std::count(names.begin(), names.end(), name) > 1)
+        throw Error(ErrorKind::Usage, "--features '" + o.features + "': " + name + " is named twice");
       if (std::find(analysis::kPolicyFeatures.begin(), analysis::kPolicyFeatures.end(), name) ==
           analysis::kPolicyFeatures.end()) {
         std::string names;

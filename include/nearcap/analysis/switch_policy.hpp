@@ -73,7 +73,8 @@ namespace nearcap::analysis {
 
 // The model's inputs, each a transform of a conditioning feature that keeps
 // it in a few units: logs of the quantities that span decades.
-// Logs are floored at 10^-15 (an exact zero would otherwise dominate a fit).
+// Each logged quantity is taken as its absolute value floored at 10^-15 (an
+// exact zero would otherwise dominate a fit), so a log is at least -15.
 inline constexpr std::array<std::string_view, 8> kPolicyFeatures{
     "log_light_near_distance",   // log10 |signed distance of the light to the near plane / near|
     "log_l_far_over_width",      // log10 l_far / near-rectangle width (tiny near planes: large)
