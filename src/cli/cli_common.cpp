@@ -99,14 +99,14 @@ CLI::Option* add_light_option(CLI::App& cmd, std::size_t& light, bool required) 
         if (!digits_only) return "'" + value + "' is not a light index (a non-negative integer)";
         // Leading zeros are no part of the value (010 is light 10, not
         // CLI11's octal 8).
-        const std::string digits = value.substr(std::min(value.find_first_not_of('0'), value.size() - 1));
-        if (digits.size() > 9) return "'" + value + "' is far above any scene's number of lights";
-        value = digits;
+        const std::string significant = value.substr(std::min(value.find_first_not_of('0'), value.size() - 1));
+        if (significant.size() > 9) return "'" + value + "' is far above any scene's number of lights";
+        value = significant;
         return std::string();
       },
       "INDEX");
   CLI::Option* option = cmd.add_option("--light", light, "index of the light in the scene's list (0, 1, ...)");
-  option->required(required)->check(digits);
+  option->required(required)->transform(digits);
   return option;
 }
 

@@ -106,12 +106,12 @@ void run(const TuneOptions& given) {
   if (!fallback || (*fallback != gl::ShadowMethod::ZFail && *fallback != gl::ShadowMethod::Preload))
     throw Error(ErrorKind::Usage, "--fallback '" + o.fallback + "' must be zfail or preload");
   const bool crack_model = o.features != "none";
+  const std::vector<std::string> given_features = comma_separated(o.features);
   if (o.features != "all" && o.features != "none")
-    for (const std::string& name : comma_separated(o.features)) {
+    for (const std::string& name : given_features) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--features '" + o.features + "': an empty feature name");
       refuse_list_word("--features", name, {"all", "none"});
-      const std::vector<std::string> names = comma_separated(o.features);
-      if (std::count(names.begin(), names.end(), name) > 1)
+      if (std::count(given_features.begin(), given_features.end(), name) > 1)
         throw Error(ErrorKind::Usage, "--features '" + o.features + "': " + name + " is named twice");
       if (std::find(analysis::kPolicyFeatures.begin(), analysis::kPolicyFeatures.end(), name) ==
           analysis::kPolicyFeatures.end()) {
