@@ -461,9 +461,10 @@ TEST_F(Reliability, MethodListsAndOptionsAreNamedWhenWrong) {
                         "log_cap_window_error_px, log_coordinate_over_size, l_near_over_l_far; or all, or none) "
                         "(see nearcap tune --help)",
                         "an unknown feature, before any row is read");
-  expect_one_line_error(run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,log_skew"),
-                        "--features 'log_skew,log_skew': log_skew is named twice (see nearcap tune --help)",
-                        "a feature twice, before any row is read");
+  expect_one_line_error(
+      run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,log_skew"),
+      "--features 'log_skew,log_skew': 'log_skew' is named twice (each once) (see nearcap tune --help)",
+      "a feature twice, before any row is read");
   expect_one_line_error(run("tune " + path("none.csv") + " --out " + path("p.json") + " --features log_skew,"),
                         "--features 'log_skew,': an empty feature name (see nearcap tune --help)",
                         "a trailing comma in --features");

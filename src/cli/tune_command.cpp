@@ -107,12 +107,14 @@ void run(const TuneOptions& given) {
     throw Error(ErrorKind::Usage, "--fallback '" + o.fallback + "' must be zfail or preload");
   const bool crack_model = o.features != "none";
   const std::vector<std::string> given_features = comma_separated(o.features);
-  if (o.features != "all" && o.features != "none")
+  if (o.features != "all" && o.features != "none") {
     for (const std::string& name : given_features) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--features '" + o.features + "': an empty feature name");
       refuse_list_word("--features", name, {"all", "none"});
+    }
+    for (const std::string& name : given_features) {
       if (std::count(given_features.begin(), given_features.end(), name) > 1)
-        throw Error(ErrorKind::Usage, "--features '" + o.features + "': " + name + " is named twice");
+        throw Error(ErrorKind::Usage, "--features '" + o.features + "': '" + name + "' is named twice (each once)");
       if (std::find(analysis::kPolicyFeatures.begin(), analysis::kPolicyFeatures.end(), name) ==
           analysis::kPolicyFeatures.end()) {
         std::string names;
@@ -121,6 +123,7 @@ void run(const TuneOptions& given) {
                     "--features: '" + name + "' is not a policy feature (one of " + names + "; or all, or none)");
       }
     }
+  }
   if (o.no_exact_zpass && o.light_projection != gl::LightProjection::ClippedSides)
     throw Error(ErrorKind::Usage,
                 "--no-exact-zpass needs --light-projection clipped-sides (any other cap draws fragments where the "
