@@ -35,6 +35,7 @@ import statistics
 import sys
 
 from frame_against_passes import frame_of_pass  # the same directory
+from in_view_fit import solve
 from script_errors import fail, read_json, reading, run
 
 KINDS = ["depth", "sides", "lit", "light_cap", "dark_cap", "near_cap"]
@@ -64,26 +65,17 @@ def inputs(passes):
 def refit_error(samples):
     """Median |fit - ms| / ms of least squares on relative error, in sample."""
     n = len(samples[0][0])
-    a = [[0.0] * n + [0.0] for _ in range(n)]
+    a = [[0.0] * n for _ in range(n)]
+    b = [0.0] * n
     for x, ms in samples:
         w = 1.0 / (ms * ms)
         for i in range(n):
-            a[i][n] += w * x[i] * ms
+            b[i] += w * x[i] * ms
             for j in range(n):
                 a[i][j] += w * x[i] * x[j]
     for i in range(n):
-        a[i][i] += 1e-9
-    for c in range(n):  # Gauss-Jordan with partial pivoting
-        p = max(range(c, n), key=lambda i: abs(a[i][c]))
-        a[c], a[p] = a[p], a[c]
-        if abs(a[c][c]) < 1e-12:
-            continue
-        for i in range(n):
-            if i != c:
-                f = a[i][c] / a[c][c]
-                for j in range(c, n + 1):
-                    a[i][j] -= f * a[c][j]
-    w = [a[i][n] / a[i][i] if abs(a[i][i]) > 1e-12 else 0.0 for i in range(n)]
+        a[i][i] += 1e-9  # a pass kind the method never draws: its columns are zero
+    w = solve(a, b)
     return statistics.median(abs(sum(p * q for p, q in zip(w, x)) - ms) / ms for x, ms in samples)
 
 

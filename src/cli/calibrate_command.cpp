@@ -352,13 +352,11 @@ void print_fit_report(const analysis::DeviceProfile& p, const analysis::ProfileF
                  unchecked.c_str());
 }
 
-// --path NAME: a file, or a bundled path's name (data/paths/NAME.json).
+// --path NAME: a file, or a bundled path's name (data/paths/NAME.json); a
+// file that is neither is named by load_camera_path's error.
 std::string resolve_path(const std::string& p) {
-  std::error_code ec;
-  if (std::filesystem::exists(p, ec)) return p;
-  const std::string bundled = shipped_data_dir() + "/paths/" + p + ".json";
-  if (p.find('/') == std::string::npos && std::filesystem::exists(bundled, ec)) return bundled;
-  return p;  // load_camera_path names it in its error
+  const std::string bundled = bundled_path_file(p);
+  return bundled.empty() ? p : bundled;
 }
 
 void run(CalibrateOptions o) {

@@ -48,10 +48,12 @@ void register_evaluate(CLI::App& app);   // the real-GL library too
 std::string shipped_data_dir();     // policy*.json, meshes/, scenes/, paths/
 std::string shipped_scripts_dir();  // report/*.py
 
+// The bundled camera path (data/paths/NAME.json) that `name`, NAME or
+// NAME.json, names where no file of that name is here; "" otherwise.
+std::string bundled_path_file(const std::string& name);
 // A camera path file's path and its frames (analysis::load_camera_path).  A
-// name that is no file here but a bundled path's (data/paths/NAME.json, or
-// NAME.json given) is refused naming that file: only calibrate takes the
-// bundled paths by name.
+// bundled path's name (bundled_path_file) is refused naming that file: only
+// calibrate takes the bundled paths by name.
 analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes = nullptr);
 
 // Thrown by a command whose child process already reported its error on

@@ -423,15 +423,20 @@ std::string shipped_scripts_dir() {
   return share.empty() ? std::string(NEARCAP_ANALYSIS_DIR) : share.string();
 }
 
-analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes) {
+std::string bundled_path_file(const std::string& name) {
   std::error_code ec;
-  const bool named_json = file.size() > 5 && file.compare(file.size() - 5, 5, ".json") == 0;
-  const std::string bundled = shipped_data_dir() + "/paths/" + file + (named_json ? "" : ".json");
-  if (!file.empty() && file.find('/') == std::string::npos && !std::filesystem::exists(file, ec) &&
-      std::filesystem::exists(bundled, ec))
+  if (name.empty() || name.find('/') != std::string::npos || std::filesystem::exists(name, ec)) return "";
+  const bool named_json = name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0;
+  const std::string bundled = shipped_data_dir() + "/paths/" + name + (named_json ? "" : ".json");
+  return std::filesystem::exists(bundled, ec) ? bundled : "";
+}
+
+analysis::CameraPath load_camera_path_file(const std::string& file, MeshCache* meshes) {
+  const std::string bundled = bundled_path_file(file);
+  if (!bundled.empty())
     throw Error(ErrorKind::Io, file +
-                                   ": cannot open the camera path file (no such file; the bundled path of that name "
-                                   "is " +
+                                   ": cannot open the camera path file (no such file; the bundled path of that "
+                                   "name is " +
                                    bundled + ")");
   return analysis::load_camera_path(file, meshes);
 }
@@ -445,13 +450,13 @@ analysis::SamplerSpec sampler_spec(const SamplerOptions& o) {
     for (const std::string& name : comma_separated(o.kinds)) {
       if (name.empty()) throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': an empty kind name");
       refuse_list_word("--kinds", name);
-      if (!value_named<analysis::HardCaseKind>(name))
+      const std::optional<analysis::HardCaseKind> kind = value_named<analysis::HardCaseKind>(name);
+      if (!kind)
         throw Error(ErrorKind::Usage, "--kinds: '" + name + "' is not a hard-case kind (one of " +
                                           names_joined<analysis::HardCaseKind>() + ", or all)");
-      const analysis::HardCaseKind kind = analysis::hard_case_kind_from_string(name);
-      if (std::find(spec.kinds.begin(), spec.kinds.end(), kind) != spec.kinds.end())
+      if (std::find(spec.kinds.begin(), spec.kinds.end(), *kind) != spec.kinds.end())
         throw Error(ErrorKind::Usage, "--kinds '" + o.kinds + "': " + name + " is named twice");
-      spec.kinds.push_back(kind);
+      spec.kinds.push_back(*kind);
     }
   }
   spec.width = o.width;

@@ -142,15 +142,8 @@ void run(const TuneOptions& given) {
       analysis::policy_samples(o.results, *capped, *fallback, o.variant);
   analysis::LogisticFitOptions fit;
   fit.robust = !o.plain;
-  std::vector<std::string> features;
-  if (o.features != "all" && crack_model) {
-    std::size_t start = 0;
-    while (start <= o.features.size()) {
-      const std::size_t comma = std::min(o.features.find(',', start), o.features.size());
-      features.push_back(o.features.substr(start, comma - start));
-      start = comma + 1;
-    }
-  }
+  const std::vector<std::string> features =
+      o.features != "all" && crack_model ? given_features : std::vector<std::string>{};
   analysis::SwitchPolicy policy =
       analysis::tune_policy(samples, *capped, *fallback, command, fit, features, crack_model);
   policy.light_projection = o.light_projection;
