@@ -209,6 +209,15 @@ step_price_residuals() {  # how far a work-based price follows a whole frame's G
   $n calibrate --samples 500 --seed 4242 --width 160 --height 120 --out "$dir/cal-4242-again.csv"
   python3 analysis/benchmarks/frame_price_residuals.py "$dir/cal-4242.csv" data/policy.json "$dir/cal-4242-again.csv"
 }
+step_prediction_floor() {  # the policy's predicted frame time against the same frames timed in another run
+  local k
+  for k in first again; do
+    $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
+      --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/prediction-floor-$k"
+  done
+  python3 analysis/benchmarks/prediction_floor.py "$dir/prediction-floor-first/evaluation.csv" \
+    "$dir/prediction-floor-again/evaluation.csv"
+}
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }
 step_whole_frame() {  # a whole frame against its passes timed each on its own; the frame row's effect end to end
@@ -363,7 +372,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

@@ -30,6 +30,11 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "deep.json") << std::string(100000, '[') << std::string(100000, ']') << "\n";
   std::ofstream(dir / "frameless.json") << "{\"methods\": [{\"method\": \"zpass\", \"frames\": [{\"ms\": 1}]}]}\n";
   std::ofstream(dir / "counts.csv") << "configuration,light,variant,method,cracks,wrong,refused\nc,0,,zfail,x,0,0\n";
+  const std::string evaluation_header = "set,configuration,frame,light,rule,end_to_end_ms,predicted_ms\n";
+  std::ofstream(dir / "eval-header.csv") << evaluation_header;
+  std::ofstream(dir / "eval.csv") << evaluation_header << "s,c,,0,policy,1.0,1.1\ns,c,,0,zfail,1.0,\n";
+  std::ofstream(dir / "eval-other-set.csv") << evaluation_header << "t,c,,0,policy,1.0,1.1\n";
+  std::ofstream(dir / "eval-other-frames.csv") << evaluation_header << "s,d,,0,policy,1.0,1.1\n";
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
   ASSERT_EQ(fs::path(NEARCAP_CLI).filename(), "nearcap") << "the shell scripts run BUILD_DIR/nearcap";
   const char* env = std::getenv("NEARCAP_PYTHON");
@@ -71,6 +76,14 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"in_view_fit.py " + d("missing.csv"), "io", "cannot read it"},
       {"in_view_fit.py " + d("binary.csv"), "parse", "not a calibration CSV"},
       {"in_view_fit.py " + d("header.csv"), "schema", "no pass row"},
+      {"prediction_floor.py " + d("eval.csv"), "usage", "usage: prediction_floor.py"},
+      {"prediction_floor.py " + d("missing.csv") + " " + d("eval.csv"), "io", "cannot read it"},
+      {"prediction_floor.py " + d("binary.csv") + " " + d("eval.csv"), "parse", "not an evaluation CSV"},
+      {"prediction_floor.py " + d("other.csv") + " " + d("eval.csv"), "schema", "no column 'set'"},
+      {"prediction_floor.py " + d("eval-header.csv") + " " + d("eval.csv"), "schema", "no policy row"},
+      {"prediction_floor.py " + d("eval.csv") + " " + d("eval-other-set.csv"), "schema", "no set s"},
+      {"prediction_floor.py " + d("eval.csv") + " " + d("eval-other-frames.csv"), "schema", "holds other frames"},
+      {"prediction_floor.py " + d("eval.csv") + " " + d("eval.csv"), "schema", "fewer than two Z-fail frames"},
       {"raytrace_hard_cases.py --samples x", "usage", "invalid int value"},
       {"raytrace_hard_cases.py --samples 1 --nearcap " + d("missing"), "io", "No such file"},
       {"raytrace_hard_cases.py --samples 1 --nearcap /bin/false", "io", "sample --seed 1 --index 0 failed"},
@@ -129,6 +142,45 @@ TEST(BenchmarkScripts, CompareSweepRowsExitsOneOnlyWhereACellOtherThanATimeDiffe
   };
   EXPECT_EQ(status("times.csv"), 0);
   EXPECT_EQ(status("wrong.csv"), 1);
+  fs::remove_all(dir);
+}
+
+// prediction_floor.py on two runs whose Z-fail frames take 2, 2, 4, 4 and 4
+// times as long in the second: along a path (the last frame's ratio) the
+// second run's times follow exactly from the first's; across sampled
+// configurations (the median of the last 8 ratios) they are off by half on
+// the median frame, and by all of it from the second run back to the first.
+TEST(BenchmarkScripts, PredictionFloorScalesTheOtherRunsTimesByTheWindowsRatios) {
+  const fs::path dir = test::temp_path("nearcap_prediction_floor");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const double ratio[] = {2, 2, 4, 4, 4};
+  std::ofstream first(dir / "first.csv"), again(dir / "again.csv");
+  for (std::ofstream* f : {&first, &again}) *f << "set,configuration,frame,light,rule,end_to_end_ms,predicted_ms\n";
+  for (const std::string set : {"p", "s"})
+    for (int k = 0; k < 5; ++k) {
+      const std::string key = set + ",c" + std::to_string(k) + "," + (set == "p" ? std::to_string(k) : "") + ",0,";
+      first << key << "policy,1.0,1.1\n" << key << "zfail,1.0,\n" << key << "zfail#again,1.2,\n";
+      again << key << "policy,1.0,0.95\n" << key << "zfail," << ratio[k] << ",\n" << key << "zfail#again,1.2,\n";
+    }
+  first.close();
+  again.close();
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) +
+                              "' && python3 analysis/benchmarks/prediction_floor.py '" + (dir / "first.csv").string() +
+                              "' '" + (dir / "again.csv").string() + "' > '" + (dir / "out.txt").string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const std::string out = test::slurp(dir / "out.txt");
+  const std::string p_part = out.substr(0, out.find("s:\n")), s_part = out.substr(out.find("s:\n"));
+  EXPECT_NE(p_part.find("median error 10.0%; Z-fail timed twice in its rounds, median |again/first - 1| 20.0%"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(p_part.find("median error 5.0%;"), std::string::npos) << out;
+  EXPECT_NE(p_part.find("|B/A - 1| 300.0%; predicted from the other run's time and the last 1 frame(s)' B/A, "
+                        "median error 0.0% (A to B), 0.0% (B to A)"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(s_part.find("the last 8 frame(s)' B/A, median error 50.0% (A to B), 100.0% (B to A)"), std::string::npos)
+      << out;
   fs::remove_all(dir);
 }
 
