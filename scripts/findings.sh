@@ -209,14 +209,14 @@ step_price_residuals() {  # how far a work-based price follows a whole frame's G
   $n calibrate --samples 500 --seed 4242 --width 160 --height 120 --out "$dir/cal-4242-again.csv"
   python3 analysis/benchmarks/frame_price_residuals.py "$dir/cal-4242.csv" data/policy.json "$dir/cal-4242-again.csv"
 }
-step_prediction_floor() {  # the policy's predicted frame time against the same frames timed in another run
+step_prediction_floor() {  # the policy's predicted frame time against the same frames timed in other runs
   local k
-  for k in first again; do
+  for k in first again third; do
     $n evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
       --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/prediction-floor-$k"
   done
   python3 analysis/benchmarks/prediction_floor.py "$dir/prediction-floor-first/evaluation.csv" \
-    "$dir/prediction-floor-again/evaluation.csv"
+    "$dir/prediction-floor-again/evaluation.csv" "$dir/prediction-floor-third/evaluation.csv"
 }
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }

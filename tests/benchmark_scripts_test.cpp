@@ -81,9 +81,11 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"prediction_floor.py " + d("binary.csv") + " " + d("eval.csv"), "parse", "not an evaluation CSV"},
       {"prediction_floor.py " + d("other.csv") + " " + d("eval.csv"), "schema", "no column 'set'"},
       {"prediction_floor.py " + d("eval-header.csv") + " " + d("eval.csv"), "schema", "no policy row"},
-      {"prediction_floor.py " + d("eval.csv") + " " + d("eval-other-set.csv"), "schema", "no set s"},
+      {"prediction_floor.py " + d("eval.csv") + " " + d("eval-other-set.csv"), "schema",
+       "no set is in two of the runs"},
       {"prediction_floor.py " + d("eval.csv") + " " + d("eval-other-frames.csv"), "schema", "holds other frames"},
-      {"prediction_floor.py " + d("eval.csv") + " " + d("eval.csv"), "schema", "fewer than two Z-fail frames"},
+      {"prediction_floor.py " + d("eval.csv") + " " + d("eval.csv"), "schema",
+       "fewer than two frames with Z-fail's time"},
       {"raytrace_hard_cases.py --samples x", "usage", "invalid int value"},
       {"raytrace_hard_cases.py --samples 1 --nearcap " + d("missing"), "io", "No such file"},
       {"raytrace_hard_cases.py --samples 1 --nearcap /bin/false", "io", "sample --seed 1 --index 0 failed"},
@@ -145,41 +147,57 @@ TEST(BenchmarkScripts, CompareSweepRowsExitsOneOnlyWhereACellOtherThanATimeDiffe
   fs::remove_all(dir);
 }
 
-// prediction_floor.py on two runs whose Z-fail frames take 2, 2, 4, 4 and 4
-// times as long in the second: along a path (the last frame's ratio) the
-// second run's times follow exactly from the first's; across sampled
-// configurations (the median of the last 8 ratios) they are off by half on
-// the median frame, and by all of it from the second run back to the first.
+// prediction_floor.py on three runs whose Z-fail frames take 2, 2, 4, 4 and 4
+// times as long in the second and third as in the first.  From one run to
+// the next: along a path (the last frame's ratio) the second run's times
+// follow exactly from the first's; across sampled configurations (the median
+// of the last 8 ratios) they are off by half on the median frame, and by
+// all of it from the second back to the first.  From the mean of the other
+// runs: the first run is off by all of it, the others by 1 - 2^-1/2 (the
+// ratio to the mean of 1 and 2 or 4 is the square root of 2 or of 4).
 TEST(BenchmarkScripts, PredictionFloorScalesTheOtherRunsTimesByTheWindowsRatios) {
   const fs::path dir = test::temp_path("nearcap_prediction_floor");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const double ratio[] = {2, 2, 4, 4, 4};
-  std::ofstream first(dir / "first.csv"), again(dir / "again.csv");
-  for (std::ofstream* f : {&first, &again}) *f << "set,configuration,frame,light,rule,end_to_end_ms,predicted_ms\n";
+  std::ofstream first(dir / "first.csv"), again(dir / "again.csv"), third(dir / "third.csv");
+  for (std::ofstream* f : {&first, &again, &third})
+    *f << "set,configuration,frame,light,rule,end_to_end_ms,predicted_ms\n";
   for (const std::string set : {"p", "s"})
     for (int k = 0; k < 5; ++k) {
       const std::string key = set + ",c" + std::to_string(k) + "," + (set == "p" ? std::to_string(k) : "") + ",0,";
       first << key << "policy,1.0,1.1\n" << key << "zfail,1.0,\n" << key << "zfail#again,1.2,\n";
-      again << key << "policy,1.0,0.95\n" << key << "zfail," << ratio[k] << ",\n" << key << "zfail#again,1.2,\n";
+      for (std::ofstream* f : {&again, &third})
+        *f << key << "policy,1.0,0.95\n" << key << "zfail," << ratio[k] << ",\n" << key << "zfail#again,1.2,\n";
     }
-  first.close();
-  again.close();
-  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) +
-                              "' && python3 analysis/benchmarks/prediction_floor.py '" + (dir / "first.csv").string() +
-                              "' '" + (dir / "again.csv").string() + "' > '" + (dir / "out.txt").string() + "'";
-  ASSERT_EQ(std::system(command.c_str()), 0);
-  const std::string out = test::slurp(dir / "out.txt");
-  const std::string p_part = out.substr(0, out.find("s:\n")), s_part = out.substr(out.find("s:\n"));
-  EXPECT_NE(p_part.find("median error 10.0%; Z-fail timed twice in its rounds, median |again/first - 1| 20.0%"),
+  for (std::ofstream* f : {&first, &again, &third}) f->close();
+  const auto output = [&](const std::string& runs) {
+    const std::string command = "cd '" + (dir).string() + "' && python3 '" + std::string(NEARCAP_SOURCE_DIR) +
+                                "/analysis/benchmarks/prediction_floor.py' " + runs + " > out.txt";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    return test::slurp(dir / "out.txt");
+  };
+  std::string out = output("first.csv again.csv");
+  std::string p_part = out.substr(0, out.find("s (")), s_part = out.substr(out.find("s ("));
+  EXPECT_NE(p_part.find("p (5 frames, window 1):\n  first.csv: the policy's prediction, median error 10.0%; "
+                        "Z-fail timed twice in its rounds, median |again/first - 1| 20.0%\n"
+                        "  again.csv: the policy's prediction, median error 5.0%;"),
             std::string::npos)
       << out;
-  EXPECT_NE(p_part.find("median error 5.0%;"), std::string::npos) << out;
-  EXPECT_NE(p_part.find("|B/A - 1| 300.0%; predicted from the other run's time and the last 1 frame(s)' B/A, "
-                        "median error 0.0% (A to B), 0.0% (B to A)"),
+  EXPECT_NE(p_part.find("first.csv then again.csv: Z-fail's frame in the other run, median |B/A - 1| 300.0%; "
+                        "from the other run's time, median error 0.0% (A to B), 0.0% (B to A)"),
             std::string::npos)
       << out;
-  EXPECT_NE(s_part.find("the last 8 frame(s)' B/A, median error 50.0% (A to B), 100.0% (B to A)"), std::string::npos)
+  EXPECT_NE(s_part.find("s (5 frames, window 8):"), std::string::npos) << out;
+  EXPECT_NE(s_part.find("from the other run's time, median error 50.0% (A to B), 100.0% (B to A)"), std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("from the mean of the other"), std::string::npos) << out;
+  out = output("first.csv again.csv third.csv");
+  s_part = out.substr(out.find("s ("));
+  EXPECT_NE(s_part.find("first.csv: from the mean of the other 2 runs' times, median error 100.0%\n"
+                        "  again.csv: from the mean of the other 2 runs' times, median error 29.3%\n"
+                        "  third.csv: from the mean of the other 2 runs' times, median error 29.3%\n"),
+            std::string::npos)
       << out;
   fs::remove_all(dir);
 }

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """How close a prediction made before drawing can come to a frame's measured
-time, from two or more `nearcap evaluate` runs of the same command (their
-evaluation.csv files, in the order they ran).
+time, from two or more `nearcap evaluate` runs that drew the same frames
+(their evaluation.csv files, in the order they ran; a set, a path or a
+sampler seed, is compared across the runs that hold it).
 
 Usage: prediction_floor.py FIRST.csv AGAIN.csv [MORE.csv ...]
 
-Per set (a path, or a sampler seed) and run:
+Per set and run:
   - the policy's predicted frame time: the median of |predicted_ms -
     end_to_end_ms| / end_to_end_ms over its rows with a prediction, as
     evaluate's table reports it;
@@ -13,16 +14,19 @@ Per set (a path, or a sampler seed) and run:
     zfail#again): the median of |again / first - 1|, evaluate's noise floor.
     The two timings are moments apart and share the machine's speed of
     that moment.
-Per set and pair of consecutive runs (A, then B):
+Per set and pair of consecutive runs holding it (A, then B):
   - the same frame in the other run: the median of |B / A - 1| of Z-fail's
     end-to-end time, frame by frame;
-  - a predictor that knows each frame's time from run A: A's time scaled by
-    the median of B / A over the set's last W frames before it (W = 1 along
-    a path, 8 across sampled configurations: the windows of the policy's own
-    prediction, analysis::FrameTimeDrift), judged against B's time, and the
-    same from B to A.  What that predictor misses is what no price of the
-    frame's work can know before drawing: the speed of the moment the frame
-    is drawn in.
+  - A's Z-fail times scaled by the median of B / A over the set's last W
+    frames before each (W = 1 along a path, 8 across sampled
+    configurations: the windows of the policy's own prediction,
+    analysis::FrameTimeDrift), judged against B's, and the same from B to A.
+    Both runs' timings are noisy, so this error holds the noise of two runs.
+Per set held by three runs or more, per run:
+  - the same with the geometric mean of every other run's Z-fail times in
+    place of A's: as runs are added, that mean approaches the frame's
+    typical time, and the error approaches what one run's timing of a frame
+    strays from it, which no prediction made before drawing can know.
 Exit status 2 on unusable input.
 """
 import csv
@@ -57,14 +61,14 @@ def read_run(path):
     return sets
 
 
-def predicted_from(first, again, order, window):
-    """Median relative error of `first`'s time scaled by the median
-    again/first of the last `window` frames before it, against `again`."""
+def predicted_from(known, measured, order, window):
+    """Median relative error of `known` times scaled by the median
+    measured/known of the last `window` frames before each, against `measured`."""
     logs, errors = [], []
     for key in order:
         scale = math.exp(statistics.median(logs[-window:])) if logs else 1.0
-        errors.append(abs(first[key] * scale - again[key]) / again[key])
-        logs.append(math.log(again[key] / first[key]))
+        errors.append(abs(known[key] * scale - measured[key]) / measured[key])
+        logs.append(math.log(measured[key] / known[key]))
     return statistics.median(errors)
 
 
@@ -74,32 +78,43 @@ def percent(x):
 
 def main(paths):
     runs = [read_run(p) for p in paths]
-    for name in runs[0]:
-        print(f"{name}:")
-        for path, sets in zip(paths, runs):
-            s = sets.get(name)
-            if s is None:
-                fail("schema", f"{path}: no set {name} (give runs of the same evaluate command)")
-            twice = [abs(s["again"][k] / s["zfail"][k] - 1) for k in s["order"] if k in s["zfail"] and k in s["again"]]
-            print(f"  {path}: {len(s['order'])} frames; the policy's prediction, median error "
+    names = list(dict.fromkeys(name for sets in runs for name in sets))
+    compared = 0
+    for name in names:
+        holding = [(path, sets[name]) for path, sets in zip(paths, runs) if name in sets]
+        if len(holding) < 2:
+            continue
+        compared += 1
+        first_path, first = holding[0]
+        for path, s in holding[1:]:
+            if s["order"] != first["order"]:
+                fail("schema", f"{path}: set {name} holds other frames than {first_path}'s, or in another order "
+                     "(give runs of the same evaluate command)")
+        order = [k for k in first["order"] if all(k in s["zfail"] for _, s in holding)]
+        if len(order) < 2:
+            fail("schema", f"set {name}: fewer than two frames with Z-fail's time in every run that holds it")
+        window = PATH_WINDOW if first["path"] else SAMPLED_WINDOW
+        print(f"{name} ({len(order)} frames, window {window}):")
+        for path, s in holding:
+            twice = [abs(s["again"][k] / s["zfail"][k] - 1) for k in order if k in s["again"]]
+            print(f"  {path}: the policy's prediction, median error "
                   f"{percent(statistics.median(s['predicted'])) if s['predicted'] else '-'}; "
                   f"Z-fail timed twice in its rounds, median |again/first - 1| "
                   f"{percent(statistics.median(twice)) if twice else '-'}")
-        for (path_a, a), (path_b, b) in zip(zip(paths, runs), zip(paths[1:], runs[1:])):
-            sa, sb = a[name], b[name]
-            if sa["order"] != sb["order"]:
-                fail("schema", f"{path_b}: set {name} holds other frames than {path_a}'s, or in another order "
-                     "(give runs of the same evaluate command)")
-            order = [k for k in sa["order"] if k in sa["zfail"] and k in sb["zfail"]]
-            if len(order) < 2:
-                fail("schema", f"{path_a}, {path_b}: set {name} has fewer than two Z-fail frames in both")
-            window = PATH_WINDOW if sa["path"] else SAMPLED_WINDOW
-            raw = statistics.median(abs(sb["zfail"][k] / sa["zfail"][k] - 1) for k in order)
-            forward = predicted_from(sa["zfail"], sb["zfail"], order, window)
-            backward = predicted_from(sb["zfail"], sa["zfail"], order, window)
+        for (path_a, a), (path_b, b) in zip(holding, holding[1:]):
+            raw = statistics.median(abs(b["zfail"][k] / a["zfail"][k] - 1) for k in order)
+            forward = predicted_from(a["zfail"], b["zfail"], order, window)
+            backward = predicted_from(b["zfail"], a["zfail"], order, window)
             print(f"  {path_a} then {path_b}: Z-fail's frame in the other run, median |B/A - 1| {percent(raw)}; "
-                  f"predicted from the other run's time and the last {window} frame(s)' B/A, median error "
-                  f"{percent(forward)} (A to B), {percent(backward)} (B to A)")
+                  f"from the other run's time, median error {percent(forward)} (A to B), {percent(backward)} (B to A)")
+        if len(holding) >= 3:
+            for i, (path, s) in enumerate(holding):
+                others = [o for j, (_, o) in enumerate(holding) if j != i]
+                mean = {k: math.exp(sum(math.log(o["zfail"][k]) for o in others) / len(others)) for k in order}
+                print(f"  {path}: from the mean of the other {len(others)} runs' times, median error "
+                      f"{percent(predicted_from(mean, s['zfail'], order, window))}")
+    if compared == 0:
+        fail("schema", f"{' and '.join(paths)}: no set is in two of the runs (give runs of the same evaluate command)")
     return 0
 
 
