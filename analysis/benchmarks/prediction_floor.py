@@ -24,9 +24,9 @@ Per set and pair of consecutive runs holding it (A, then B):
     Both runs' timings are noisy, so this error holds the noise of two runs.
 Per set held by three runs or more, per run:
   - the same with the geometric mean of every other run's Z-fail times in
-    place of A's: as runs are added, that mean approaches the frame's
-    typical time, and the error approaches what one run's timing of a frame
-    strays from it, which no prediction made before drawing can know.
+    place of A's: an estimate of how far one run's timing of a frame strays
+    from the frame's typical time, which a prediction made before drawing
+    cannot know.  It runs high: the mean carries the other runs' noise.
 Exit status 2 on unusable input.
 """
 import csv
