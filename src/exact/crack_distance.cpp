@@ -215,7 +215,8 @@ class CandidateBuffer {
 
 std::optional<bool> PixelReferenceTracer::proven_status_over_square(const WindowPoint& c, std::int64_t half_width,
                                                                     FilterStats* stats, std::uint32_t* last_shadower,
-                                                                    CentreHit* centre_hit) const {
+                                                                    CentreHit* centre_hit,
+                                                                    std::optional<bool> status_inside) const {
   const Impl& t = *impl_;
   const Scene& scene = t.cs.scene();
   const int width = scene.camera.width, height = scene.camera.height;
@@ -284,6 +285,15 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
     ids.clear();
     for (const auto& e : t.light_grid->all()) ids.push_back(e.id);
   }
+  // Never crossed anywhere in the square: the square is lit.
+  const auto lit_everywhere = [&] {
+    for (std::uint32_t id : ids)
+      if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) != SquareProof::Crossing::Never) return false;
+    return true;
+  };
+  // A point of the square known lit: only a lit proof can succeed, and it
+  // needs every triangle never crossed (one crossed at the centre is not).
+  if (status_inside == false) return lit_everywhere() ? std::optional<bool>(false) : std::nullopt;
   // The status at the centre decides which proof can succeed.  In shadow:
   // only a triangle crossed at the centre can be crossed everywhere, so those
   // are tried as they are found, and the first crossed everywhere ends the
@@ -314,10 +324,9 @@ std::optional<bool> PixelReferenceTracer::proven_status_over_square(const Window
       }
       shadowed_at_centre = true;
     }
-  if (shadowed_at_centre) return std::nullopt;
-  for (std::uint32_t id : ids)
-    if (proof.crossing(t.light_triangle(id), seen, hit->eye_index) != SquareProof::Crossing::Never) return std::nullopt;
-  return false;
+  // A point of the square known in shadow: a lit proof cannot succeed.
+  if (shadowed_at_centre || status_inside == true) return std::nullopt;
+  return lit_everywhere() ? std::optional<bool>(false) : std::nullopt;
 }
 
 }  // namespace nearcap

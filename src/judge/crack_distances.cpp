@@ -97,11 +97,15 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
       // The tile's centre and half-width in units of 2^-10 pixel.
       const std::int64_t half = std::int64_t{size} << (kCrackDistanceShift - 1);
       const WindowPoint centre{(2 * a + 1) * half, (2 * b + 1) * half, kCrackDistanceShift};
-      proven[k] = tile_may_be_constant(size, static_cast<int>(a), static_cast<int>(b)) &&
-                  tracer_
-                      .proven_status_over_square(centre, half, &stats.local(), &last_shadower.local(),
-                                                 size == 1 ? &one_pixel_hits[k] : nullptr)
-                      .has_value();
+      // Every pixel centre of a tile that may be constant has the status of
+      // its first: a proof of the other status cannot succeed.
+      proven[k] =
+          tile_may_be_constant(size, static_cast<int>(a), static_cast<int>(b)) &&
+          tracer_
+              .proven_status_over_square(centre, half, &stats.local(), &last_shadower.local(),
+                                         size == 1 ? &one_pixel_hits[k] : nullptr,
+                                         reference_.shadowed(static_cast<int>(a) * size, static_cast<int>(b) * size))
+              .has_value();
     });
     proofs_ += todo.size();
     for (std::size_t k = 0; k < todo.size(); ++k) tiles_[todo[k]] = proven[k] != 0;
@@ -131,8 +135,9 @@ void CrackDistances::resolve(const std::vector<std::size_t>& pixels) {
       centre_hit = one_pixel_hits[static_cast<std::size_t>(tile - one_pixel_tiles.begin())];
     for (int r = kCrackLevel - 2; r >= 0; --r) {
       ++tried[k];
-      if (tracer_.proven_status_over_square(crack_square_centre(i, j), kCrackDistanceRadiiFixed[r], &stats.local(),
-                                            &last_shadower.local(), &centre_hit)) {
+      if (tracer_.proven_status_over_square(
+              crack_square_centre(i, j), kCrackDistanceRadiiFixed[r], &stats.local(), &last_shadower.local(),
+              &centre_hit, reference_.seen(i, j) ? std::optional<bool>(reference_.shadowed(i, j)) : std::nullopt)) {
         level = r + 1;
         break;
       }

@@ -165,6 +165,10 @@ class PixelReferenceTracer {
   // the first proof around that centre) for the next proof around the same
   // centre: a pixel's squares share its centre.  A fresh CentreHit knows
   // nothing; the answer is the same with or without it.
+  // `status_inside`, when given, is the exact status at a point inside the
+  // square (a pixel centre's, from the full-frame reference): a proof of the
+  // other status cannot succeed there, so its search is skipped; the answer
+  // is the same with or without it.
   static constexpr std::uint32_t kNoShadower = 0xffffffffu;
   struct CentreHit {
     bool known = false;  // the primary ray through the centre traced
@@ -174,8 +178,8 @@ class PixelReferenceTracer {
     double t_value = 0, t_error = 0;  // the hit parameter's estimate and bound
   };
   std::optional<bool> proven_status_over_square(const WindowPoint& centre, std::int64_t half_width, FilterStats* stats,
-                                                std::uint32_t* last_shadower = nullptr,
-                                                CentreHit* centre_hit = nullptr) const;
+                                                std::uint32_t* last_shadower = nullptr, CentreHit* centre_hit = nullptr,
+                                                std::optional<bool> status_inside = std::nullopt) const;
 
   // The same quantities without any acceleration: every triangle is tested
   // (also those the grid around the eye leaves out, eye_setup.hpp).
