@@ -6,6 +6,7 @@
 # python3-matplotlib is).  Needs a build (./scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. analysis/benchmarks/script_errors.sh  # quietly: a failing command's own error line
 n=./build/nearcap
 work=out/pictures-work
 rm -rf "$work"
@@ -28,16 +29,16 @@ $n render data/scenes/near_cap_bunny_wall.json --light 0 --method zpass,zfail --
 $n reference data/scenes/near_cap_bunny_wall.json --light 0 --out "$work/hero/reference" >/dev/null
 /usr/bin/python3 analysis/pictures/hero_picture.py "$work/hero" data/pictures/hero.png near_cap_bunny_wall
 # The sweep report's figures: the near-plane sweep path and 100 hard cases.
-$n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv" >/dev/null 2>&1
+quietly $n sweep --path data/paths/near_plane_sweep.json --samples 100 --seed 1 --out "$work/sweep.csv"
 $n report "$work/sweep.csv" --out "$work/report" >/dev/null
 cp "$work/report/path_near_plane_sweep.png" data/pictures/report_near_plane_sweep.png
 cp "$work/report/pareto.png" data/pictures/report_pareto.png
 # The viewer (nearcap view under Xvfb): case D's depth-clamp switch on the
 # real GL, and the shipped policy, each with its crack overlay.
-view="xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy"
-eval "$view --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png" >/dev/null 2>&1
-eval "$view --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png" >/dev/null 2>&1
+view() { xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy "$@"; }
+quietly view --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png
+quietly view --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png
 # The real GL's per-frame times along the near-plane sweep, relative to Z-pass.
-$n render --path data/paths/near_plane_sweep.json --method zpass,zfail,zpplus-corrected,policy --bench \
-  --out "$work/bench" >/dev/null 2>&1
+quietly $n render --path data/paths/near_plane_sweep.json --method zpass,zfail,zpplus-corrected,policy --bench \
+  --out "$work/bench"
 cp "$work/bench/bench.png" data/pictures/render_bench_near_plane_sweep.png

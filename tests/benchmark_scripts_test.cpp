@@ -35,6 +35,16 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "eval.csv") << evaluation_header << "s,c,,0,policy,1.0,1.1\ns,c,,0,zfail,1.0,\n";
   std::ofstream(dir / "eval-other-set.csv") << evaluation_header << "t,c,,0,policy,1.0,1.1\n";
   std::ofstream(dir / "eval-other-frames.csv") << evaluation_header << "s,d,,0,policy,1.0,1.1\n";
+  // Builds whose nearcap fails: with nearcap's own error line after progress
+  // (the script passes its kind and message on), and with another failure.
+  const auto stub = [&](const std::string& folder, const std::string& body) {
+    fs::create_directories(dir / folder);
+    std::ofstream(dir / folder / "nearcap") << "#!/bin/sh\n" << body;
+    fs::permissions(dir / folder / "nearcap", fs::perms::owner_all);
+  };
+  stub("failing",
+       "echo 'sweep: 1/40 configurations' >&2\necho 'nearcap: error (io): x/rows.csv: cannot write it' >&2\nexit 2\n");
+  stub("crashing", "echo boom >&2\nexit 3\n");
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
   ASSERT_EQ(fs::path(NEARCAP_CLI).filename(), "nearcap") << "the shell scripts run BUILD_DIR/nearcap";
   const char* env = std::getenv("NEARCAP_PYTHON");
@@ -93,6 +103,8 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"volume_culling_fragments.py " + d("empty"), "io", "paths-none.csv: cannot read it"},
       // The shell ones (script_errors.sh), BUILD_DIR the folder of the nearcap under test.
       {"sweep_rates.sh " + d("empty"), "usage", "nearcap: no such program"},
+      {"sweep_rates.sh " + d("failing"), "io", "sweep_rates.sh: x/rows.csv: cannot write it"},
+      {"sweep_rates.sh " + d("crashing"), "unavailable", "nearcap sweep failed (exit status 3): boom"},
       {"orbit_instructions.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"orbit_instructions.sh " + build + " x", "usage", "'x' is not a positive whole number"},
       {"decision_instructions.sh " + build + " " + d("missing.json"), "io", "missing.json: no such path file"},
@@ -121,6 +133,16 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   const int status = std::system(dash.c_str());
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
   EXPECT_EQ(test::slurp(dir / "err.txt"), "nearcap: error (usage): x.sh: a\\cb\n");
+  // quietly: a command that succeeds says nothing; one that fails stops the
+  // script with the last line of its output, nearcap's kind kept.
+  const std::string quietly = "cd '" + std::string(NEARCAP_SOURCE_DIR) +
+                              "' && sh -c '. analysis/benchmarks/script_errors.sh; quietly echo said; echo ran; "
+                              "quietly \"$1\" sweep; echo after' x.sh " +
+                              d("failing/nearcap") + " > " + d("out.txt") + " 2> " + d("err.txt");
+  const int quietly_status = std::system(quietly.c_str());
+  EXPECT_EQ(WIFEXITED(quietly_status) ? WEXITSTATUS(quietly_status) : -1, 2);
+  EXPECT_EQ(test::slurp(dir / "out.txt"), "ran\n");
+  EXPECT_EQ(test::slurp(dir / "err.txt"), "nearcap: error (io): x.sh: x/rows.csv: cannot write it\n");
   fs::remove_all(dir);
 }
 

@@ -22,24 +22,18 @@ for path in data/paths/*.json; do
   name=$(basename "$path" .json)
   for r in $(seq 1 "$repeats"); do
     for culling in none scissor; do
-      $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench --volume-culling "$culling" \
-        --out "$out/$culling/$name/$r" >/dev/null 2>&1
+      quietly $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench --volume-culling "$culling" \
+        --out "$out/$culling/$name/$r"
     done
   done
   /usr/bin/python3 - "$name" "$out" "$repeats" <<'PY'
-import csv, statistics, sys
+import sys
+sys.path.insert(0, "analysis/benchmarks")
+from bench_runs import median_of_means
 name, root, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
-def means(culling, column):
-    runs = []
-    for r in range(1, repeats + 1):
-        per = {}
-        with open("%s/%s/%s/%d/bench.csv" % (root, culling, name, r)) as f:
-            for row in csv.DictReader(f):
-                per.setdefault(row["method"], []).append(float(row[column]))
-        runs.append({m: sum(v) / len(v) for m, v in per.items()})
-    return {m: statistics.median(run[m] for run in runs) for m in runs[0]}
-plain, scissor = means("none", "stencil_ms"), means("scissor", "stencil_ms")
-frame = means("scissor", "ms")
+plain = median_of_means(root, "none", name, repeats, "stencil_ms")
+scissor = median_of_means(root, "scissor", name, repeats, "stencil_ms")
+frame = median_of_means(root, "scissor", name, repeats, "ms")
 cells = ["%.2f → %.2f ms" % (plain[m], scissor[m]) for m in ("zpass", "zfail", "zpplus-corrected", "policy")]
 cells.append("%.2f×" % (frame["policy"] / frame["zpass"]))
 print("| %s | %s |" % (name, " | ".join(cells)))

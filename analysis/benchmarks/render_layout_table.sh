@@ -20,25 +20,19 @@ echo "|---|---:|---:|---:|---:|---:|---:|"
 for path in data/paths/*.json; do
   name=$(basename "$path" .json)
   for r in $(seq 1 "$repeats"); do
-    $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench \
-      --out "$out/triangles/$name/$r" >/dev/null 2>&1
-    $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench --side-strips \
-      --out "$out/strips/$name/$r" >/dev/null 2>&1
+    quietly $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench \
+      --out "$out/triangles/$name/$r"
+    quietly $n render --path "$path" --method zpass,zfail,zpplus-corrected,policy --bench --side-strips \
+      --out "$out/strips/$name/$r"
   done
   /usr/bin/python3 - "$name" "$out" "$repeats" <<'PY'
-import csv, statistics, sys
+import sys
+sys.path.insert(0, "analysis/benchmarks")
+from bench_runs import median_of_means
 name, root, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
-def means(layout, column):
-    runs = []
-    for r in range(1, repeats + 1):
-        per = {}
-        with open("%s/%s/%s/%d/bench.csv" % (root, layout, name, r)) as f:
-            for row in csv.DictReader(f):
-                per.setdefault(row["method"], []).append(float(row[column]))
-        runs.append({m: sum(v) / len(v) for m, v in per.items()})
-    return {m: statistics.median(run[m] for run in runs) for m in runs[0]}
-tri, strip = means("triangles", "stencil_ms"), means("strips", "stencil_ms")
-frame = means("strips", "ms")
+tri = median_of_means(root, "triangles", name, repeats, "stencil_ms")
+strip = median_of_means(root, "strips", name, repeats, "stencil_ms")
+frame = median_of_means(root, "strips", name, repeats, "ms")
 cells = ["%.2f → %.2f ms" % (tri[m], strip[m]) for m in ("zpass", "zfail", "zpplus-corrected", "policy")]
 cells += ["%.2f×" % (frame[m] / frame["zpass"]) for m in ("zpplus-corrected", "policy")]
 print("| %s | %s |" % (name, " | ".join(cells)))

@@ -22,7 +22,7 @@ for stage in glsl recorded; do
   for path in data/paths/*.json; do
     name=$(basename "$path" .json)
     for r in $(seq 1 "$repeats"); do
-      $n render --path "$path" --vertex-stage "$stage" --out "$out/$stage/$name/$r" >/dev/null 2>&1
+      quietly $n render --path "$path" --vertex-stage "$stage" --out "$out/$stage/$name/$r"
     done
     /usr/bin/python3 - "$name" "$out/$stage/$name" "$repeats" <<'PY'
 import json, statistics, sys

@@ -15,8 +15,9 @@ trap 'rm -rf "$work"' EXIT
 rate() {  # label, then the sweep's arguments
   local label=$1
   shift
-  local line
-  line=$("$n" sweep "$@" --out "$work/rows.csv" 2>/dev/null | tail -1)
+  local out line
+  out=$("$n" sweep "$@" --out "$work/rows.csv" 2>"$work/err.txt") || fail_from $? "$n sweep" "$(cat "$work/err.txt")"
+  line=$(printf '%s\n' "$out" | tail -1)
   rm -f "$work/rows.csv"
   printf '%-44s %s\n' "$label" "${line#sweep: }"
 }
