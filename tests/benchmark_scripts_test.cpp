@@ -45,6 +45,7 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   stub("failing",
        "echo 'sweep: 1/40 configurations' >&2\necho 'nearcap: error (io): x/rows.csv: cannot write it' >&2\nexit 2\n");
   stub("crashing", "echo boom >&2\nexit 3\n");
+  stub("silent", "exit 5\n");
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
   ASSERT_EQ(fs::path(NEARCAP_CLI).filename(), "nearcap") << "the shell scripts run BUILD_DIR/nearcap";
   const char* env = std::getenv("NEARCAP_PYTHON");
@@ -105,6 +106,7 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"sweep_rates.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"sweep_rates.sh " + d("failing"), "io", "sweep_rates.sh: x/rows.csv: cannot write it"},
       {"sweep_rates.sh " + d("crashing"), "unavailable", "nearcap sweep failed (exit status 3): boom"},
+      {"sweep_rates.sh " + d("silent"), "unavailable", "nearcap sweep failed (exit status 5), printing nothing"},
       {"orbit_instructions.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"orbit_instructions.sh " + build + " x", "usage", "'x' is not a positive whole number"},
       {"decision_instructions.sh " + build + " " + d("missing.json"), "io", "missing.json: no such path file"},

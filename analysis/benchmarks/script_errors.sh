@@ -21,6 +21,7 @@ fail_from() {  # STATUS COMMAND OUTPUT: a command that failed, in fail()'s
       fail_from_kind=${fail_from_kind%%)*}
       fail "$fail_from_kind" "${fail_from_last#"nearcap: error ($fail_from_kind): "}"
       ;;
+    "") fail unavailable "$2 failed (exit status $1), printing nothing" ;;
     *) fail unavailable "$2 failed (exit status $1): $fail_from_last" ;;
   esac
 }
