@@ -35,9 +35,9 @@ cp "$work/report/path_near_plane_sweep.png" data/pictures/report_near_plane_swee
 cp "$work/report/pareto.png" data/pictures/report_pareto.png
 # The viewer (nearcap view under Xvfb): case D's depth-clamp switch on the
 # real GL, and the shipped policy, each with its crack overlay.
-view() { xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy "$@"; }
-quietly view --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png
-quietly view --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png
+view_case_d() { xvfb-run -a -s '-screen 0 1280x720x24' $n view data/scenes/case_d.json --method zpplus-corrected,policy "$@"; }
+quietly view_case_d --keys 'c wait' --screenshot data/pictures/view_case_d_corrected.png
+quietly view_case_d --keys 'm c wait' --screenshot data/pictures/view_case_d_policy.png
 # The real GL's per-frame times along the near-plane sweep, relative to Z-pass.
 quietly $n render --path data/paths/near_plane_sweep.json --method zpass,zfail,zpplus-corrected,policy --bench \
   --out "$work/bench"

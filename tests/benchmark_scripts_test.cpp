@@ -36,14 +36,16 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
   std::ofstream(dir / "eval-other-set.csv") << evaluation_header << "t,c,,0,policy,1.0,1.1\n";
   std::ofstream(dir / "eval-other-frames.csv") << evaluation_header << "s,d,,0,policy,1.0,1.1\n";
   // Builds whose nearcap fails: with nearcap's own error line after progress
-  // (the script passes its kind and message on), and with another failure.
+  // on stderr (the script passes its kind and message on, also where the
+  // program's buffered stdout comes out after it), and with another failure.
   const auto stub = [&](const std::string& folder, const std::string& body) {
     fs::create_directories(dir / folder);
     std::ofstream(dir / folder / "nearcap") << "#!/bin/sh\n" << body;
     fs::permissions(dir / folder / "nearcap", fs::perms::owner_all);
   };
   stub("failing",
-       "echo 'sweep: 1/40 configurations' >&2\necho 'nearcap: error (io): x/rows.csv: cannot write it' >&2\nexit 2\n");
+       "echo 'sweep: 1/40 configurations' >&2\necho 'nearcap: error (io): x/rows.csv: cannot write it' >&2\n"
+       "echo 'sweep: a summary'\nexit 2\n");
   stub("crashing", "echo boom >&2\nexit 3\n");
   stub("silent", "exit 5\n");
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
@@ -106,7 +108,8 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"sweep_rates.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"sweep_rates.sh " + d("failing"), "io", "sweep_rates.sh: x/rows.csv: cannot write it"},
       {"sweep_rates.sh " + d("crashing"), "unavailable", "nearcap sweep failed (exit status 3): boom"},
-      {"sweep_rates.sh " + d("silent"), "unavailable", "nearcap sweep failed (exit status 5), printing nothing"},
+      {"sweep_rates.sh " + d("silent"), "unavailable",
+       "nearcap sweep failed (exit status 5), printing nothing on stderr"},
       {"orbit_instructions.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"orbit_instructions.sh " + build + " x", "usage", "'x' is not a positive whole number"},
       {"decision_instructions.sh " + build + " " + d("missing.json"), "io", "missing.json: no such path file"},

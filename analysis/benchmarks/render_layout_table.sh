@@ -27,6 +27,7 @@ for path in data/paths/*.json; do
   done
   /usr/bin/python3 - "$name" "$out" "$repeats" <<'PY'
 import sys
+sys.argv[0] = "render_layout_table.sh"  # the name its errors give
 sys.path.insert(0, "analysis/benchmarks")
 from bench_runs import median_of_means
 name, root, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])

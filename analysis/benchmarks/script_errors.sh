@@ -8,11 +8,13 @@ fail() {  # KIND MESSAGE
 need_nearcap() {  # PROGRAM: the nearcap a script runs, built
   [ -f "$1" ] && [ -x "$1" ] || fail usage "$1: no such program (build it first: ./scripts/build.sh)"
 }
-quietly() {  # COMMAND [ARG...]: runs it with its output dropped (fail_from where it fails)
-  quietly_log=$("$@" 2>&1) || fail_from $? "$1" "$quietly_log"
+quietly() {  # COMMAND [ARG...]: runs it with its output dropped (fail_from
+  # its stderr where it fails: nearcap's error line is its last line there,
+  # while its buffered stdout could come after it)
+  quietly_log=$("$@" 2>&1 >/dev/null) || fail_from $? "$1" "$quietly_log"
 }
-fail_from() {  # STATUS COMMAND OUTPUT: a command that failed, in fail()'s
-  # form from the last line of its output: nearcap's own error line keeps its
+fail_from() {  # STATUS COMMAND STDERR: a command that failed, in fail()'s
+  # form from the last line of its stderr: nearcap's own error line keeps its
   # kind and message; any other failure is "unavailable", naming the command
   fail_from_last=$(printf '%s\n' "$3" | tail -n 1)
   case $fail_from_last in
@@ -21,7 +23,7 @@ fail_from() {  # STATUS COMMAND OUTPUT: a command that failed, in fail()'s
       fail_from_kind=${fail_from_kind%%)*}
       fail "$fail_from_kind" "${fail_from_last#"nearcap: error ($fail_from_kind): "}"
       ;;
-    "") fail unavailable "$2 failed (exit status $1), printing nothing" ;;
+    "") fail unavailable "$2 failed (exit status $1), printing nothing on stderr" ;;
     *) fail unavailable "$2 failed (exit status $1): $fail_from_last" ;;
   esac
 }
