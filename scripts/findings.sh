@@ -287,6 +287,22 @@ step_sweep_rates() {  # configurations per second
   ./analysis/benchmarks/sweep_rates.sh; }
 step_orbit_instructions() {  # the bunny orbit's instructions per frame (callgrind, one core)
   ./analysis/benchmarks/orbit_instructions.sh; }
+step_orbit_against_168e363() {  # the orbit's rate against a build of 168e363, alternated (the code its target was set on)
+  local old=$dir/nearcap-168e363
+  git worktree prune
+  git worktree add --detach "$old" 168e363
+  cmake -S "$old" -B "$old/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+  ninja -C "$old/build" nearcap > /dev/null
+  ./analysis/benchmarks/orbit_against_build.sh build "$old/build" 8
+  ./analysis/benchmarks/orbit_against_build.sh build "$old/build" 8 --methods zpass,zfail,zpplus,zpplus-corrected,preload
+  ./analysis/benchmarks/orbit_against_build.sh build build 4
+  ./analysis/benchmarks/orbit_against_build.sh "$old/build" "$old/build" 4
+  for build in "$old/build" build build "$old/build"; do
+    echo "sweep_rates.sh $build"
+    ./analysis/benchmarks/sweep_rates.sh "$build"
+  done
+  git worktree remove --force "$old"
+}
 step_shadow_method_speed() {  # the emulated frame on the armadillo: each method but AtomicZP, then all six back to back
   $bench/nearcap_benchmarks --benchmark_filter='ShadowMethod|AllShadow'; }
 step_classification_speed() {  # exact against float classification on the bunny
@@ -372,7 +388,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions orbit-against-168e363 shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

@@ -48,6 +48,7 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
        "echo 'sweep: a summary'\nexit 2\n");
   stub("crashing", "echo boom >&2\nexit 3\n");
   stub("silent", "exit 5\n");
+  stub("rateless", "echo 'sweep: done'\n");
   const std::string build = "'" + fs::path(NEARCAP_CLI).parent_path().string() + "'";
   ASSERT_EQ(fs::path(NEARCAP_CLI).filename(), "nearcap") << "the shell scripts run BUILD_DIR/nearcap";
   const char* env = std::getenv("NEARCAP_PYTHON");
@@ -110,6 +111,11 @@ TEST(BenchmarkScripts, BadInputIsOneLineNeverATraceback) {
       {"sweep_rates.sh " + d("crashing"), "unavailable", "nearcap sweep failed (exit status 3): boom"},
       {"sweep_rates.sh " + d("silent"), "unavailable",
        "nearcap sweep failed (exit status 5), printing nothing on stderr"},
+      {"orbit_against_build.sh " + build, "usage", "usage: orbit_against_build.sh BUILD_DIR OTHER_BUILD_DIR"},
+      {"orbit_against_build.sh " + build + " " + d("empty"), "usage", "nearcap: no such program"},
+      {"orbit_against_build.sh " + build + " " + build + " 0", "usage", "'0' is not a positive whole number"},
+      {"orbit_against_build.sh " + d("failing") + " " + build, "io", "x/rows.csv: cannot write it"},
+      {"orbit_against_build.sh " + d("rateless") + " " + build, "parse", "no rate in its closing line: sweep: done"},
       {"orbit_instructions.sh " + d("empty"), "usage", "nearcap: no such program"},
       {"orbit_instructions.sh " + build + " x", "usage", "'x' is not a positive whole number"},
       {"decision_instructions.sh " + build + " " + d("missing.json"), "io", "missing.json: no such path file"},
@@ -226,6 +232,36 @@ TEST(BenchmarkScripts, PredictionFloorScalesTheOtherRunsTimesByTheWindowsRatios)
                         "  third.csv: from the mean of the other 2 runs' times, median error 29.3%\n"),
             std::string::npos)
       << out;
+  fs::remove_all(dir);
+}
+
+// orbit_against_build.sh runs the two builds alternately, the order swapped
+// from one pair to the next, and prints each pair's ratio and their median:
+// stub builds log each call and print a rate (the first 10, 20, 30 /s at its
+// 1st, 2nd, 3rd call, the other 10 /s).
+TEST(BenchmarkScripts, OrbitAgainstBuildAlternatesTheBuildsAndGivesTheRatiosMedian) {
+  const fs::path dir = test::temp_path("nearcap_orbit_against_build");
+  fs::remove_all(dir);
+  const auto stub = [&](const std::string& name, const std::string& rate) {
+    fs::create_directories(dir / name);
+    std::ofstream(dir / name / "nearcap")
+        << "#!/bin/sh\necho " << name << " >> '" << (dir / "calls.txt").string() << "'\n"
+        << "echo 'sweep: 1/40 configurations' >&2\n"
+        << "echo \"sweep: 40 configurations in 2.0 s (" << rate << " per second), rows in x\"\n";
+    fs::permissions(dir / name / "nearcap", fs::perms::owner_all);
+  };
+  stub("a", "$((10 * $(grep -c a '" + (dir / "calls.txt").string() + "'))).00");
+  stub("b", "10.00");
+  const std::string command = "cd '" + std::string(NEARCAP_SOURCE_DIR) + "' && " + test::kHangBound +
+                              " analysis/benchmarks/orbit_against_build.sh '" + (dir / "a").string() + "' '" +
+                              (dir / "b").string() + "' 3 > '" + (dir / "out.txt").string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  EXPECT_EQ(test::slurp(dir / "calls.txt"), "a\nb\nb\na\na\nb\n");
+  const std::string out = test::slurp(dir / "out.txt");
+  EXPECT_NE(out.find("a 10.00 /s  " + (dir / "b").string() + " 10.00 /s  ratio 1.000\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("a 20.00 /s  " + (dir / "b").string() + " 10.00 /s  ratio 2.000\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("a 30.00 /s  " + (dir / "b").string() + " 10.00 /s  ratio 3.000\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("3 pairs: ratio median 2.000, range 1.000-3.000\n"), std::string::npos) << out;
   fs::remove_all(dir);
 }
 
