@@ -6,8 +6,8 @@
 # within minutes, shares between the two.  One line per pair (the time, both
 # rates, BUILD's over OTHER's), then the ratios' median and range.  Give the
 # same folder twice for the noise floor (the build against itself).
-# Usage: analysis/benchmarks/orbit_against_build.sh BUILD_DIR OTHER_BUILD_DIR [PAIRS]
-#        (PAIRS: default 8; any further arguments go to both sweeps, e.g.
+# Usage: analysis/benchmarks/orbit_against_build.sh BUILD_DIR OTHER_BUILD_DIR [PAIRS] [SWEEP OPTIONS...]
+#        (PAIRS: default 8; the sweep options go to both sweeps, e.g.
 #        --methods zpass,zfail)
 set -euo pipefail
 . "$(dirname "$0")/script_errors.sh"
