@@ -199,5 +199,109 @@ TEST(SharedDraws, ASetUpRasterizedWithAnotherStateIsThatStatesDraw) {
   }
 }
 
+// The fragments a rasterization kept, replayed with any state of the same
+// setup, are that state's draw: random triangles (both facings, some
+// crossing the near plane) on framebuffers of both depth formats and both
+// depth interpolations, drawn with depth writes, then counted with every
+// depth function, scissor, depth bounds and stencil operations, and with
+// depth writes, under which the fragments that pass depend on each pixel
+// seeing its fragments in submission order.
+TEST(SharedDraws, ReplayedFragmentsAreTheStatesDraw) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coordinate(-1.3f, 1.3f), depth(-1.2f, 1.0f);
+  std::vector<gl::Vec4f> clip;
+  for (int t = 0; t < 3 * 120; ++t) clip.push_back({coordinate(rng), coordinate(rng), depth(rng), 1.0f});
+  gl::DrawState writes;  // the depth pre-pass
+  writes.depth_write = true;
+  writes.object_id = 3;
+  std::vector<gl::DrawState> states;
+  for (gl::DepthFunc f : {gl::DepthFunc::Less, gl::DepthFunc::Greater, gl::DepthFunc::Always}) {
+    gl::DrawState s;
+    s.depth_func = f;
+    s.front.depth_pass = gl::StencilOp::IncrementWrap;
+    s.back.depth_pass = gl::StencilOp::DecrementWrap;
+    s.back.depth_fail = gl::StencilOp::IncrementWrap;
+    states.push_back(s);
+    s.scissor = gl::PixelRect{3, 2, 17, 11};
+    states.push_back(s);
+    s.depth_bounds = std::array<double, 2>{0.3, 0.8};
+    std::swap(s.front, s.back);
+    states.push_back(s);
+    // Depth writes: how many fragments pass depends on their order.
+    s.depth_write = true;
+    s.object_id = 5;
+    states.push_back(s);
+  }
+  for (gl::DepthFormat format : {gl::DepthFormat::Fixed24, gl::DepthFormat::Float32})
+    for (gl::DepthInterpolation interpolation : {gl::DepthInterpolation::Exact, gl::DepthInterpolation::Llvmpipe}) {
+      gl::RasterSettings raster;
+      raster.depth = interpolation;
+      const std::string what = std::string(format == gl::DepthFormat::Fixed24 ? "fixed24" : "float32") +
+                               (interpolation == gl::DepthInterpolation::Llvmpipe ? ", llvmpipe depth" : "");
+      // 70 rows: three bands, the last one partial.
+      gl::Framebuffer drawn(23, 70, format), replayed(23, 70, format);
+      gl::SetUpTriangles set_up;
+      replayed.set_up(clip, writes, raster, set_up);
+      gl::CoveredFragments kept;
+      expect_same_counters(
+          drawn.draw(clip, writes, raster),
+          [&] {
+            gl::DrawCounters c = set_up.counters;
+            c += replayed.rasterize(set_up, writes, raster, &kept);
+            return c;
+          }(),
+          what + ", kept");
+      ASSERT_EQ(kept.bands.size(), 3u);
+      std::size_t fronts = 0;
+      for (const auto& band : kept.bands)
+        for (const gl::CoveredFragments::Covered& f : band) fronts += (f.pixel_and_facing & kept.kFront) != 0;
+      EXPECT_GT(fronts, 0u) << what;
+      EXPECT_LT(fronts, kept.size()) << what;
+      for (std::size_t k = 0; k < states.size(); ++k) {
+        gl::DrawCounters a = drawn.draw(clip, states[k], raster);
+        gl::DrawCounters b = set_up.counters;
+        b += replayed.replay(kept, states[k], raster);
+        expect_same_counters(a, b, what + ", state " + std::to_string(k));
+        EXPECT_EQ(drawn.stencil(), replayed.stencil()) << what << ", state " << k;
+      }
+      EXPECT_EQ(drawn.depth(), replayed.depth()) << what;
+      EXPECT_EQ(drawn.objects(), replayed.objects()) << what;
+    }
+}
+
+// A batch keeps a setup's fragments and replays them while its kept
+// fragments stay within SharedDraws::kKeptFragments; a draw that would go
+// over is rasterized each time, and so is every later one.
+TEST(SharedDraws, FragmentsAreKeptWithinTheBound) {
+  const int width = 1025, height = 1024;  // one full-viewport quad covers more than the bound
+  ASSERT_GT(static_cast<std::size_t>(width) * height, gl::SharedDraws::kKeptFragments);
+  const std::vector<gl::ShadowVertex> large{{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {1, 1, 0.5f, 1},
+                                            {-1, -1, 0.5f, 1}, {1, 1, 0.5f, 1},  {-1, 1, 0.5f, 1}};
+  const std::vector<gl::ShadowVertex> small{{-0.1f, -0.1f, 0.5f, 1}, {0.1f, -0.1f, 0.5f, 1}, {0.1f, 0.1f, 0.5f, 1}};
+  gl::ShadowUniforms u;  // the identity: the inputs are clip space
+  for (int k = 0; k < 4; ++k) u.modelview_projection.at(k, k) = 1.0f;
+  gl::DrawState count;
+  count.depth_func = gl::DepthFunc::Always;
+  count.front.depth_pass = gl::StencilOp::IncrementWrap;
+  gl::Framebuffer fb(width, height, gl::DepthFormat::Fixed24), alone(width, height, gl::DepthFormat::Fixed24);
+  gl::SharedDraws draws;
+  auto rasterize = [&](const std::vector<gl::ShadowVertex>& inputs) {
+    const gl::SharedDraws::SetUp set_up = draws.set_up(inputs, gl::VertexProgram::Extrusion, u, fb, count, {});
+    const gl::SharedDraws::Fragments f = draws.rasterize(set_up, fb, count, {});
+    alone.draw(gl::run_vertex_program(gl::VertexProgram::Extrusion, u, inputs), count, {});
+    EXPECT_EQ(fb.stencil(), alone.stencil());
+    return f.replayed;
+  };
+  EXPECT_FALSE(rasterize(small));
+  EXPECT_TRUE(rasterize(small));  // kept
+  EXPECT_FALSE(rasterize(large));
+  EXPECT_FALSE(rasterize(large));  // over the bound: rasterized again
+  EXPECT_TRUE(rasterize(small));   // kept before
+  std::vector<gl::ShadowVertex> later = small;
+  for (gl::ShadowVertex& v : later) v.x += 0.2f;
+  EXPECT_FALSE(rasterize(later));
+  EXPECT_FALSE(rasterize(later));  // after the bound was met: not kept
+}
+
 }  // namespace
 }  // namespace nearcap

@@ -339,18 +339,118 @@ void Framebuffer::set_up(const std::vector<Vec4f>& vertices, const std::vector<s
   give_back(std::move(buffer));
 }
 
-DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawState& state,
-                                    const RasterSettings& raster) {
-  const std::vector<std::array<WindowVertex, 3>>& triangles = prepared.triangles;
+std::size_t CoveredFragments::size() const {
+  std::size_t n = 0;
+  for (const std::vector<Covered>& band : bands) n += band.size();
+  return n;
+}
+
+namespace {
+
+constexpr int kBandRows = 32;  // rows per band of the parallel fragment stage
+
+using FragmentCounts = std::array<std::uint64_t, 3>;  // fragments, depth test passed, dropped by the bounds
+
+}  // namespace
+
+// What happens to one fragment under a draw's state: volume culling, the
+// depth test, the stencil operation, depth and object writes.
+class Framebuffer::FragmentStage {
+ public:
+  FragmentStage(Framebuffer& fb, const DrawState& state, const RasterSettings& raster)
+      : fb_(fb),
+        state_(state),
+        test_depth_(state.depth_func != DepthFunc::Always),
+        greater_(state.depth_func == DepthFunc::Greater),
+        needs_depth_(test_depth_ || state.depth_write),
+        llvmpipe_depth_(raster.depth == DepthInterpolation::Llvmpipe),
+        scissor_(state.scissor.has_value()),
+        rect_(scissor_ ? *state.scissor : PixelRect{0, 0, fb.width_, fb.height_}),
+        depth_bounds_(state.depth_bounds.has_value()),
+        bounds_(depth_bounds_ ? *state.depth_bounds : std::array<double, 2>{0.0, 1.0}),
+        fixed24_(fb.format_ == DepthFormat::Fixed24) {}
+
+  bool scissor() const { return scissor_; }
+
+  void operator()(std::size_t p, int x, int y, float depth, bool front, FragmentCounts& counts) const {
+    // Volume culling: fragments outside the scissor, or where the stored
+    // depth (decoded to window depth) lies outside the depth bounds, are
+    // dropped before the stencil test and counted apart.
+    if ((scissor_ && !rect_.contains(x, y)) || (depth_bounds_ && !in_bounds(fb_.depth_[p]))) {
+      ++counts[2];
+      return;
+    }
+    ++counts[0];
+    // The near-cap pass neither tests nor writes depth.
+    const std::uint32_t z = !needs_depth_     ? 0
+                            : llvmpipe_depth_ ? fb_.encode_depth_llvmpipe(depth)
+                                              : fb_.encode_depth(depth);
+    const bool pass = !test_depth_ || (greater_ ? z > fb_.depth_[p] : z < fb_.depth_[p]);
+    counts[1] += pass;
+    const StencilOps& ops = front ? state_.front : state_.back;
+    fb_.stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, fb_.stencil_[p]);
+    if (pass && state_.depth_write) {
+      fb_.depth_[p] = z;
+      fb_.objects_[p] = state_.object_id;
+    }
+  }
+
+ private:
+  // The stored depth, decoded to window depth, within the bounds.
+  bool in_bounds(std::uint32_t z) const {
+    double stored;
+    if (fixed24_) {
+      stored = static_cast<double>(z) / 16777215.0;
+    } else {
+      float f;
+      std::memcpy(&f, &z, sizeof f);
+      stored = f;
+    }
+    return stored >= bounds_[0] && stored <= bounds_[1];
+  }
+
+  Framebuffer& fb_;
+  const DrawState& state_;
+  bool test_depth_, greater_, needs_depth_, llvmpipe_depth_, scissor_;
+  PixelRect rect_;
+  bool depth_bounds_;
+  std::array<double, 2> bounds_;
+  bool fixed24_;
+};
+
+namespace {
+
+// `body(band, counts)` on each band, in parallel; the counts summed.
+template <class Body>
+FragmentCounts over_bands(int bands, Body&& body) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, bands), FragmentCounts{0, 0, 0},
+      [&](const tbb::blocked_range<int>& range, FragmentCounts counts) {
+        for (int b = range.begin(); b != range.end(); ++b) body(b, counts);
+        return counts;
+      },
+      [](const FragmentCounts& a, const FragmentCounts& b) {
+        return FragmentCounts{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      });
+}
+
+DrawCounters fragment_counters(const FragmentCounts& counts, std::uint64_t in_view) {
   DrawCounters counters;
+  counters.in_view = in_view;
+  counters.fragments = counts[0];
+  counters.depth_passed = counts[1];
+  counters.bounds_culled = counts[2];
+  return counters;
+}
+
+}  // namespace
+
+DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawState& state,
+                                    const RasterSettings& raster, CoveredFragments* keep) {
+  const std::vector<std::array<WindowVertex, 3>>& triangles = prepared.triangles;
   // Fragments: horizontal bands in parallel, each band seeing every triangle
   // in submission order, so every pixel gets its fragments in GL's order and
   // the result does not depend on the number of threads.
-  const bool test_depth = state.depth_func != DepthFunc::Always;
-  const bool greater = state.depth_func == DepthFunc::Greater;
-  const bool needs_depth = test_depth || state.depth_write;
-  const bool llvmpipe_depth = raster.depth == DepthInterpolation::Llvmpipe;
-  constexpr int kBandRows = 32;
   const int bands = (height_ + kBandRows - 1) / kBandRows;
   // Bin the triangles by the bands their rows may touch (a conservative range
   // from the float y extent, widened by a pixel), keeping submission order.
@@ -361,78 +461,60 @@ DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawSt
   binned.resize(static_cast<std::size_t>(bands));
   for (std::vector<std::uint32_t>& bin : binned) bin.clear();
   const float width = static_cast<float>(width_), height = static_cast<float>(height_);
+  std::uint64_t in_view = 0;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
     const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
     if (hi < 0 || lo > height || std::max({tri[0].x, tri[1].x, tri[2].x}) < 0 ||
         std::min({tri[0].x, tri[1].x, tri[2].x}) > width)
       continue;
-    ++counters.in_view;
+    ++in_view;
     const int b0 = std::clamp(static_cast<int>(std::floor(lo)) - 1, 0, height_ - 1) / kBandRows;
     const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
     for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
   }
-  // Volume culling: fragments outside the scissor, or where the stored
-  // depth (decoded to window depth) lies outside the depth bounds, are
-  // dropped before the stencil test and counted apart.
-  const bool scissor = state.scissor.has_value();
-  const PixelRect rect = scissor ? *state.scissor : PixelRect{0, 0, width_, height_};
-  const bool depth_bounds = state.depth_bounds.has_value();
-  const std::array<double, 2> bounds = depth_bounds ? *state.depth_bounds : std::array<double, 2>{0.0, 1.0};
-  const bool fixed24 = format_ == DepthFormat::Fixed24;
-  // The stored depth, decoded to window depth, within the bounds.
-  auto in_bounds = [&](std::uint32_t z) {
-    double stored;
-    if (fixed24) {
-      stored = static_cast<double>(z) / 16777215.0;
-    } else {
-      float f;
-      std::memcpy(&f, &z, sizeof f);
-      stored = f;
-    }
-    return stored >= bounds[0] && stored <= bounds[1];
-  };
-  using Counts = std::array<std::uint64_t, 3>;  // fragments, depth test passed, dropped by the bounds
-  const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, bands), Counts{0, 0, 0},
-      [&](const tbb::blocked_range<int>& range, Counts fragments) {
-        for (int b = range.begin(); b != range.end(); ++b) {
-          const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
-          for (std::uint32_t t : binned[static_cast<std::size_t>(b)])
-            rasterize_triangle_with(
-                triangles[t], width_, height_, raster,
-                [&](const Fragment& f) {
-                  const std::size_t p = index(f.x, f.y);
-                  if ((scissor && !rect.contains(f.x, f.y)) || (depth_bounds && !in_bounds(depth_[p]))) {
-                    ++fragments[2];
-                    return;
-                  }
-                  ++fragments[0];
-                  // The near-cap pass neither tests nor writes depth.
-                  const std::uint32_t z = !needs_depth     ? 0
-                                          : llvmpipe_depth ? encode_depth_llvmpipe(f.depth)
-                                                           : encode_depth(f.depth);
-                  const bool pass = !test_depth || (greater ? z > depth_[p] : z < depth_[p]);
-                  fragments[1] += pass;
-                  const StencilOps& ops = f.front ? state.front : state.back;
-                  stencil_[p] = apply(pass ? ops.depth_pass : ops.depth_fail, stencil_[p]);
-                  if (pass && state.depth_write) {
-                    depth_[p] = z;
-                    objects_[p] = state.object_id;
-                  }
-                },
-                row_begin, row_end);
-        }
-        return fragments;
-      },
-      [](const Counts& a, const Counts& b) {
-        return Counts{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-      });
-  counters.fragments = counts[0];
-  counters.depth_passed = counts[1];
-  counters.bounds_culled = counts[2];
+  if (keep) {
+    NEARCAP_CHECK(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) <= CoveredFragments::kFront);
+    keep->bands.resize(static_cast<std::size_t>(bands));
+    for (std::vector<CoveredFragments::Covered>& band : keep->bands) band.clear();
+    keep->in_view = in_view;
+  }
+  const FragmentStage stage(*this, state, raster);
+  const FragmentCounts counts = over_bands(bands, [&](int b, FragmentCounts& band_counts) {
+    const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
+    std::vector<CoveredFragments::Covered>* kept = keep ? &keep->bands[static_cast<std::size_t>(b)] : nullptr;
+    for (std::uint32_t t : binned[static_cast<std::size_t>(b)])
+      rasterize_triangle_with(
+          triangles[t], width_, height_, raster,
+          [&](const Fragment& f) {
+            const std::size_t p = index(f.x, f.y);
+            if (kept)
+              kept->push_back({static_cast<std::uint32_t>(p) | (f.front ? CoveredFragments::kFront : 0u), f.depth});
+            stage(p, f.x, f.y, f.depth, f.front, band_counts);
+          },
+          row_begin, row_end);
+  });
   give_back(std::move(bins));
-  return counters;
+  return fragment_counters(counts, in_view);
+}
+
+DrawCounters Framebuffer::replay(const CoveredFragments& covered, const DrawState& state,
+                                 const RasterSettings& raster) {
+  NEARCAP_CHECK(covered.bands.size() == static_cast<std::size_t>((height_ + kBandRows - 1) / kBandRows));
+  const FragmentStage stage(*this, state, raster);
+  const std::size_t width = static_cast<std::size_t>(width_);
+  const FragmentCounts counts =
+      over_bands(static_cast<int>(covered.bands.size()), [&](int b, FragmentCounts& band_counts) {
+        for (const CoveredFragments::Covered& f : covered.bands[static_cast<std::size_t>(b)]) {
+          const std::size_t p = f.pixel_and_facing & ~CoveredFragments::kFront;
+          const bool front = (f.pixel_and_facing & CoveredFragments::kFront) != 0;
+          // The pixel's column and row, for the scissor only.
+          const int x = stage.scissor() ? static_cast<int>(p % width) : 0,
+                    y = stage.scissor() ? static_cast<int>(p / width) : 0;
+          stage(p, x, y, f.depth, front, band_counts);
+        }
+      });
+  return fragment_counters(counts, covered.in_view);
 }
 
 }  // namespace nearcap::gl

@@ -453,10 +453,11 @@ class FrameRenderer {
   }
 
   // A draw of `program` on `inputs` through the batch's shared work: the
-  // first method that draws them computes the clip-space vertices and their
-  // setup, a later one with the same uniforms and same_setup state only
-  // rasterizes them, and is charged the time they took (reused_ms_), so that
-  // each method's times stay what drawing its frame alone takes.
+  // first method that draws them computes the clip-space vertices, their
+  // setup and the fragments they cover; a later one with the same uniforms
+  // and same_setup state replays those fragments with its own state, and is
+  // charged the time they took (reused_ms_), so that each method's times
+  // stay what drawing its frame alone takes.
   // `inputs`: a vertex array of the batch (volume geometry), or an indexed draw's
   // (mesh_vertex_array.hpp).
   template <class Inputs>
@@ -465,7 +466,9 @@ class FrameRenderer {
     const SharedDraws::SetUp set_up = shared_.draws.set_up(inputs, program, u, fb_, state, settings_.raster);
     reused_ms_ += set_up.reused_ms;
     DrawCounters counters = set_up.triangles.counters;
-    counters += fb_.rasterize(set_up.triangles, state, settings_.raster);
+    const SharedDraws::Fragments fragments = shared_.draws.rasterize(set_up, fb_, state, settings_.raster);
+    reused_ms_ += fragments.reused_ms;
+    counters += fragments.counters;
     return counters;
   }
 

@@ -56,8 +56,8 @@ SharedDraws::SetUp SharedDraws::find_or_set_up(const std::vector<ShadowVertex>& 
   bool found = false;
   ProgramRun& r = find_or_run(inputs, program, uniforms, found);
   const double program_ms = found ? r.ms : 0.0;
-  for (const StateSetUp& s : r.set_ups)
-    if (s.corners == corners && same_setup(s.state, state)) return {s.triangles, program_ms + s.ms};
+  for (StateSetUp& s : r.set_ups)
+    if (s.corners == corners && same_setup(s.state, state)) return {s.triangles, program_ms + s.ms, s};
   const auto t = Clock::now();
   SetUpTriangles triangles;
   // May throw (a degenerate vertex): nothing is kept then.
@@ -70,7 +70,7 @@ SharedDraws::SetUp SharedDraws::find_or_set_up(const std::vector<ShadowVertex>& 
   s.state = state;
   s.triangles = std::move(triangles);
   s.ms = ms_since(t);
-  return {s.triangles, program_ms};
+  return {s.triangles, program_ms, s};
 }
 
 SharedDraws::Program SharedDraws::run(const std::vector<ShadowVertex>& inputs, VertexProgram program,
@@ -102,6 +102,29 @@ SharedDraws::SetUp SharedDraws::set_up(const std::vector<ShadowVertex>& inputs, 
 SharedDraws::SetUp SharedDraws::set_up(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms,
                                        const Framebuffer& fb, const DrawState& state, const RasterSettings& raster) {
   return find_or_set_up(draw.inputs, &draw.corners, program, uniforms, fb, state, raster);
+}
+
+SharedDraws::Fragments SharedDraws::rasterize(const SetUp& set_up, Framebuffer& fb, const DrawState& state,
+                                              const RasterSettings& raster) {
+  StateSetUp& s = set_up.kept;
+  const auto t = Clock::now();
+  if (s.replayable) {
+    const DrawCounters counters = fb.replay(s.fragments, state, raster);
+    return {counters, s.rasterized_ms - ms_since(t), true};
+  }
+  if (s.rasterized || !keeping_) return {fb.rasterize(s.triangles, state, raster), 0.0, false};
+  const DrawCounters counters = fb.rasterize(s.triangles, state, raster, &s.fragments);
+  s.rasterized = true;
+  s.rasterized_ms = ms_since(t);
+  const std::size_t kept = s.fragments.size();
+  if (kept_fragments_ + kept <= kKeptFragments) {
+    s.replayable = true;
+    kept_fragments_ += kept;
+  } else {
+    keeping_ = false;
+    s.fragments = {};
+  }
+  return {counters, 0.0, false};
 }
 
 }  // namespace nearcap::gl

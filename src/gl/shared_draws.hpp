@@ -1,7 +1,7 @@
-// gl/shared_draws.hpp — the vertex programs' outputs and triangle setups that
-// the methods of one frame batch (shadow_methods.hpp: ShadowFrameBatch)
-// share, so that each is computed once per batch (private to gl/; not
-// installed).
+// gl/shared_draws.hpp — the vertex programs' outputs, triangle setups and
+// covered fragments that the methods of one frame batch (shadow_methods.hpp:
+// ShadowFrameBatch) share, so that each is computed once per batch (private
+// to gl/; not installed).
 //
 // Several methods draw the same geometry with the same program and
 // uniforms: Z-fail's and preload's light and dark caps (preload twice),
@@ -9,8 +9,11 @@
 // and AtomicZP; the mesh (near-cap pass) and the caps are indexed draws
 // (mesh_vertex_array.hpp).  The clip-space vertices of such a draw are the same bits
 // whichever method asks, and so is its setup (clipping, viewport, culling)
-// under states with the same_setup (pipeline.hpp).  A cached draw therefore
-// rasterizes exactly the triangles a fresh one would.
+// under states with the same_setup (pipeline.hpp), and so are the fragments
+// its triangles cover: what differs between the methods (depth test, stencil
+// operations, volume culling) acts on each fragment.  A cached draw therefore
+// rasterizes exactly the triangles a fresh one would, and its replayed
+// fragments meet the same tests in the same order.
 #pragma once
 
 #include <deque>
@@ -34,12 +37,24 @@ class SharedDraws {
     double reused_ms;
   };
   Program run(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms);
+  // A setup kept: the draw's setup with its state, and its first
+  // rasterization's fragments (where `replayable`) and time.
+  struct StateSetUp {
+    const std::vector<std::uint32_t>* corners = nullptr;  // an indexed draw's; null: one input per corner
+    DrawState state;
+    SetUpTriangles triangles;
+    double ms = 0;
+    bool rasterized = false, replayable = false;
+    CoveredFragments fragments;
+    double rasterized_ms = 0;
+  };
   // Those vertices set up on `fb` with `state` (Framebuffer::set_up);
   // `reused_ms`: the time of what of that (program, setup) this call found
   // done before.  The same framebuffer size and raster settings on every call.
   struct SetUp {
     const SetUpTriangles& triangles;
     double reused_ms;
+    StateSetUp& kept;  // for rasterize()
   };
   SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
                const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
@@ -51,14 +66,25 @@ class SharedDraws {
   Program run(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms);
   SetUp set_up(const IndexedInputs& draw, VertexProgram program, const ShadowUniforms& uniforms, const Framebuffer& fb,
                const DrawState& state, const RasterSettings& raster);
+  // The fragment stage of `set_up` on `fb` with `state` (a same_setup state,
+  // the same framebuffer and raster settings as the setup's): the first call
+  // rasterizes its triangles and keeps the fragments they cover, a later one
+  // replays them (Framebuffer::replay).  Fragments are kept until a draw
+  // would take the batch's over kKeptFragments; that draw's and later ones'
+  // are rasterized each time.  `reused_ms`: what the rasterization replayed
+  // took, less the replay; 0 when this call rasterized (`replayed` false).
+  struct Fragments {
+    DrawCounters counters;
+    double reused_ms;
+    bool replayed;
+  };
+  Fragments rasterize(const SetUp& set_up, Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
+  // 8 MiB of kept fragments (8 bytes each), 54 per pixel at 160x120, where
+  // the room paths' batches keep at most 53 per pixel and the bunny orbit's
+  // 16; at 640x480 a few draws' fit.
+  static constexpr std::size_t kKeptFragments = std::size_t{1} << 20;
 
  private:
-  struct StateSetUp {
-    const std::vector<std::uint32_t>* corners = nullptr;  // an indexed draw's; null: one input per corner
-    DrawState state;
-    SetUpTriangles triangles;
-    double ms = 0;
-  };
   struct Gathered {
     const std::vector<std::uint32_t>* corners = nullptr;
     std::vector<Vec4f> clip;
@@ -79,6 +105,8 @@ class SharedDraws {
                        VertexProgram program, const ShadowUniforms& uniforms, const Framebuffer& fb,
                        const DrawState& state, const RasterSettings& raster);
   std::deque<ProgramRun> runs_;
+  std::size_t kept_fragments_ = 0;
+  bool keeping_ = true;  // until a draw's fragments would exceed kKeptFragments
 };
 
 // The same uniforms, bit for bit, of those `program` reads (so that it

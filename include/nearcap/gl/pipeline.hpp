@@ -167,6 +167,24 @@ struct SetUpTriangles {
   std::vector<std::array<WindowVertex, 3>> triangles;
   DrawCounters counters;
 };
+// The fragments a set-up draw covers, as the rasterizer emits them, before
+// any per-fragment test: per band of rows (Framebuffer's parallel bands), in
+// the order each band's triangles emit them, so that each pixel sees its
+// fragments in submission order.  Kept by Framebuffer::rasterize when asked;
+// Framebuffer::replay applies them again with another state that has the
+// same_setup, on a framebuffer of the same size and RasterSettings: the same
+// fragments, tests and stencil operations as rasterizing the triangles again.
+struct CoveredFragments {
+  struct Covered {
+    std::uint32_t pixel_and_facing;  // Framebuffer::index, front-facing in the top bit
+    float depth;                     // window depth, interpolated as RasterSettings::depth says
+  };
+  static constexpr std::uint32_t kFront = std::uint32_t{1} << 31;
+  std::vector<std::vector<Covered>> bands;
+  std::uint64_t in_view = 0;  // DrawCounters::in_view of the draw
+  std::size_t size() const;   // fragments, over all bands
+};
+
 // Do two states set up the same clip-space vertices alike (same clipping,
 // depth mapping and face culling) on one framebuffer size and RasterSettings?
 // The rest of a state (depth test and writes, stencil operations, scissor,
@@ -211,7 +229,13 @@ class Framebuffer {
   // rasterized again with any state that has the same_setup.
   void set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
               SetUpTriangles& out) const;
-  DrawCounters rasterize(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster);
+  // `keep`, where given: the fragments covered, for replay().
+  DrawCounters rasterize(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster,
+                         CoveredFragments* keep = nullptr);
+  // The fragment stage of a draw whose triangles `rasterize` kept the
+  // covered fragments of: its counters (fragments, depth_passed,
+  // bounds_culled, in_view) and buffers as rasterizing them with `state`.
+  DrawCounters replay(const CoveredFragments& covered, const DrawState& state, const RasterSettings& raster);
   // The same for an indexed draw (glDrawElements): triangle t's corners are
   // vertices[corners[3t]], vertices[corners[3t + 1]] and
   // vertices[corners[3t + 2]].  The triangles and counters of the gathered
@@ -224,6 +248,7 @@ class Framebuffer {
 
  private:
   DrawCounters rasterize_set_up(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster);
+  class FragmentStage;
   int width_, height_;
   DepthFormat format_;
   std::vector<std::uint32_t> depth_;
