@@ -269,11 +269,13 @@ TEST(SharedDraws, ReplayedFragmentsAreTheStatesDraw) {
     }
 }
 
-// A batch keeps a setup's fragments and replays them while its kept
-// fragments stay within SharedDraws::kKeptFragments; a draw that would go
-// over is rasterized each time, and so is every later one.
+// A batch keeps a setup's fragments and replays them where they fit in what
+// its kept fragments leave of SharedDraws::kKeptFragments; a draw that does
+// not fit, alone or beside those kept, is rasterized each time, and a later
+// one that fits is still kept.
 TEST(SharedDraws, FragmentsAreKeptWithinTheBound) {
-  const int width = 1025, height = 1024;  // one full-viewport quad covers more than the bound
+  // One full-viewport quad covers more than the bound.
+  const int height = 1024, width = static_cast<int>(gl::SharedDraws::kKeptFragments / height) + 1;
   ASSERT_GT(static_cast<std::size_t>(width) * height, gl::SharedDraws::kKeptFragments);
   const std::vector<gl::ShadowVertex> large{{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {1, 1, 0.5f, 1},
                                             {-1, -1, 0.5f, 1}, {1, 1, 0.5f, 1},  {-1, 1, 0.5f, 1}};
@@ -300,7 +302,44 @@ TEST(SharedDraws, FragmentsAreKeptWithinTheBound) {
   std::vector<gl::ShadowVertex> later = small;
   for (gl::ShadowVertex& v : later) v.x += 0.2f;
   EXPECT_FALSE(rasterize(later));
-  EXPECT_FALSE(rasterize(later));  // after the bound was met: not kept
+  EXPECT_TRUE(rasterize(later));  // it fits
+
+  // Two draws over 60% of the viewport each: the first is kept, the second
+  // does not fit beside it.
+  draws = gl::SharedDraws();
+  auto part = [&](float left, float right) {
+    return std::vector<gl::ShadowVertex>{{left, -1, 0.5f, 1}, {right, -1, 0.5f, 1}, {right, 1, 0.5f, 1},
+                                         {left, -1, 0.5f, 1}, {right, 1, 0.5f, 1},  {left, 1, 0.5f, 1}};
+  };
+  const std::vector<gl::ShadowVertex> first = part(-1.0f, 0.2f), second = part(-0.2f, 1.0f);
+  EXPECT_FALSE(rasterize(first));
+  EXPECT_FALSE(rasterize(second));
+  EXPECT_TRUE(rasterize(first));
+  EXPECT_FALSE(rasterize(second));
+}
+
+// Framebuffer::rasterize keeps a draw's fragments where they are at most
+// keep_at_most: a quad over two of the framebuffer's bands of rows, kept
+// with a bound of its fragments, not with one less.
+TEST(SharedDraws, ADrawIsKeptWhereItsFragmentsFit) {
+  const std::vector<gl::Vec4f> quad{{-0.5f, -0.5f, 0, 1}, {0.5f, -0.5f, 0, 1}, {0.5f, 0.5f, 0, 1},
+                                    {-0.5f, -0.5f, 0, 1}, {0.5f, 0.5f, 0, 1},  {-0.5f, 0.5f, 0, 1}};
+  gl::Framebuffer fb(12, 70, gl::DepthFormat::Fixed24);
+  gl::DrawState state;
+  state.depth_func = gl::DepthFunc::Always;
+  gl::SetUpTriangles set_up;
+  fb.set_up(quad, state, {}, set_up);
+  gl::CoveredFragments kept;
+  const std::uint64_t fragments = fb.rasterize(set_up, state, {}, &kept).fragments;
+  EXPECT_EQ(fragments, 6u * 35u);
+  ASSERT_EQ(kept.bands.size(), 3u);
+  EXPECT_FALSE(kept.bands[0].empty());
+  EXPECT_FALSE(kept.bands[1].empty());
+  EXPECT_EQ(kept.size(), fragments);
+  fb.rasterize(set_up, state, {}, &kept, fragments);
+  EXPECT_EQ(kept.size(), fragments);
+  fb.rasterize(set_up, state, {}, &kept, fragments - 1);
+  EXPECT_TRUE(kept.bands.empty());
 }
 
 }  // namespace

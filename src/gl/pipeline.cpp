@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -446,7 +447,7 @@ DrawCounters fragment_counters(const FragmentCounts& counts, std::uint64_t in_vi
 }  // namespace
 
 DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawState& state,
-                                    const RasterSettings& raster, CoveredFragments* keep) {
+                                    const RasterSettings& raster, CoveredFragments* keep, std::size_t keep_at_most) {
   const std::vector<std::array<WindowVertex, 3>>& triangles = prepared.triangles;
   // Fragments: horizontal bands in parallel, each band seeing every triangle
   // in submission order, so every pixel gets its fragments in GL's order and
@@ -465,13 +466,13 @@ DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawSt
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
     const float lo = std::min({tri[0].y, tri[1].y, tri[2].y}), hi = std::max({tri[0].y, tri[1].y, tri[2].y});
-    if (hi < 0 || lo > height || std::max({tri[0].x, tri[1].x, tri[2].x}) < 0 ||
-        std::min({tri[0].x, tri[1].x, tri[2].x}) > width)
-      continue;
+    const float left = std::min({tri[0].x, tri[1].x, tri[2].x}), right = std::max({tri[0].x, tri[1].x, tri[2].x});
+    if (hi < 0 || lo > height || right < 0 || left > width) continue;
     ++in_view;
-    const int b0 = std::clamp(static_cast<int>(std::floor(lo)) - 1, 0, height_ - 1) / kBandRows;
-    const int b1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1) / kBandRows;
-    for (int b = b0; b <= b1; ++b) binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
+    const int row0 = std::clamp(static_cast<int>(std::floor(lo)) - 1, 0, height_ - 1);
+    const int row1 = std::clamp(static_cast<int>(std::floor(hi)) + 1, 0, height_ - 1);
+    for (int b = row0 / kBandRows; b <= row1 / kBandRows; ++b)
+      binned[static_cast<std::size_t>(b)].push_back(static_cast<std::uint32_t>(t));
   }
   if (keep) {
     NEARCAP_CHECK(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) <= CoveredFragments::kFront);
@@ -479,11 +480,16 @@ DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawSt
     for (std::vector<CoveredFragments::Covered>& band : keep->bands) band.clear();
     keep->in_view = in_view;
   }
+  // The fragments kept so far over all bands, each band's added after each
+  // of its triangles; past keep_at_most, every band stops keeping.
+  std::atomic<std::size_t> kept_in_all{0};
+  std::atomic<bool> over{false};
   const FragmentStage stage(*this, state, raster);
   const FragmentCounts counts = over_bands(bands, [&](int b, FragmentCounts& band_counts) {
     const int row_begin = b * kBandRows, row_end = std::min(height_, row_begin + kBandRows);
     std::vector<CoveredFragments::Covered>* kept = keep ? &keep->bands[static_cast<std::size_t>(b)] : nullptr;
-    for (std::uint32_t t : binned[static_cast<std::size_t>(b)])
+    for (std::uint32_t t : binned[static_cast<std::size_t>(b)]) {
+      const std::size_t before = kept ? kept->size() : 0;
       rasterize_triangle_with(
           triangles[t], width_, height_, raster,
           [&](const Fragment& f) {
@@ -493,7 +499,16 @@ DrawCounters Framebuffer::rasterize(const SetUpTriangles& prepared, const DrawSt
             stage(p, f.x, f.y, f.depth, f.front, band_counts);
           },
           row_begin, row_end);
+      if (!kept) continue;
+      const std::size_t added = kept->size() - before;
+      if (over.load(std::memory_order_relaxed) ||
+          kept_in_all.fetch_add(added, std::memory_order_relaxed) + added > keep_at_most) {
+        over.store(true, std::memory_order_relaxed);
+        kept = nullptr;
+      }
+    }
   });
+  if (keep && over.load()) keep->bands.clear();
   give_back(std::move(bins));
   return fragment_counters(counts, in_view);
 }

@@ -112,18 +112,13 @@ SharedDraws::Fragments SharedDraws::rasterize(const SetUp& set_up, Framebuffer& 
     const DrawCounters counters = fb.replay(s.fragments, state, raster);
     return {counters, s.rasterized_ms - ms_since(t), true};
   }
-  if (s.rasterized || !keeping_) return {fb.rasterize(s.triangles, state, raster), 0.0, false};
-  const DrawCounters counters = fb.rasterize(s.triangles, state, raster, &s.fragments);
+  if (s.rasterized) return {fb.rasterize(s.triangles, state, raster), 0.0, false};
+  const DrawCounters counters =
+      fb.rasterize(s.triangles, state, raster, &s.fragments, kKeptFragments - kept_fragments_);
   s.rasterized = true;
   s.rasterized_ms = ms_since(t);
-  const std::size_t kept = s.fragments.size();
-  if (kept_fragments_ + kept <= kKeptFragments) {
-    s.replayable = true;
-    kept_fragments_ += kept;
-  } else {
-    keeping_ = false;
-    s.fragments = {};
-  }
+  s.replayable = !s.fragments.bands.empty();
+  kept_fragments_ += s.fragments.size();
   return {counters, 0.0, false};
 }
 

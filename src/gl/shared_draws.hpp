@@ -69,9 +69,9 @@ class SharedDraws {
   // The fragment stage of `set_up` on `fb` with `state` (a same_setup state,
   // the same framebuffer and raster settings as the setup's): the first call
   // rasterizes its triangles and keeps the fragments they cover, a later one
-  // replays them (Framebuffer::replay).  Fragments are kept until a draw
-  // would take the batch's over kKeptFragments; that draw's and later ones'
-  // are rasterized each time.  `reused_ms`: what the rasterization replayed
+  // replays them (Framebuffer::replay).  A draw's fragments are kept where
+  // they fit in what the batch's kept fragments leave of kKeptFragments; the
+  // others are rasterized each time.  `reused_ms`: what the rasterization replayed
   // took, less the replay; 0 when this call rasterized (`replayed` false).
   struct Fragments {
     DrawCounters counters;
@@ -106,7 +106,6 @@ class SharedDraws {
                        const DrawState& state, const RasterSettings& raster);
   std::deque<ProgramRun> runs_;
   std::size_t kept_fragments_ = 0;
-  bool keeping_ = true;  // until a draw's fragments would exceed kKeptFragments
 };
 
 // The same uniforms, bit for bit, of those `program` reads (so that it

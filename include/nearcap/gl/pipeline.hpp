@@ -229,9 +229,10 @@ class Framebuffer {
   // rasterized again with any state that has the same_setup.
   void set_up(const std::vector<Vec4f>& clip_vertices, const DrawState& state, const RasterSettings& raster,
               SetUpTriangles& out) const;
-  // `keep`, where given: the fragments covered, for replay().
+  // `keep`, where given: the fragments covered, for replay(), where they are
+  // at most `keep_at_most`; else no bands (keeping stops once past it).
   DrawCounters rasterize(const SetUpTriangles& triangles, const DrawState& state, const RasterSettings& raster,
-                         CoveredFragments* keep = nullptr);
+                         CoveredFragments* keep = nullptr, std::size_t keep_at_most = SIZE_MAX);
   // The fragment stage of a draw whose triangles `rasterize` kept the
   // covered fragments of: its counters (fragments, depth_passed,
   // bounds_culled, in_view) and buffers as rasterizing them with `state`.
