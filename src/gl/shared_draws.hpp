@@ -81,7 +81,7 @@ class SharedDraws {
   Fragments rasterize(const SetUp& set_up, Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
   // 8 MiB of kept fragments (8 bytes each), 54 per pixel at 160x120, where
   // the room paths' batches keep at most 53 per pixel and the bunny orbit's
-  // 16; at 640x480 a few draws' fit.
+  // 15 (docs/findings/sweep-speed.md); at 640x480 some draws fit.
   static constexpr std::size_t kKeptFragments = std::size_t{1} << 20;
 
  private:
