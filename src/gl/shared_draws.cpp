@@ -106,7 +106,7 @@ SharedDraws::SetUp SharedDraws::set_up(const IndexedInputs& draw, VertexProgram 
 
 SharedDraws::Fragments SharedDraws::rasterize(const SetUp& set_up, Framebuffer& fb, const DrawState& state,
                                               const RasterSettings& raster) {
-  StateSetUp& s = set_up.kept;
+  StateSetUp& s = set_up.entry;
   const auto t = Clock::now();
   if (s.replayable) {
     const DrawCounters counters = fb.replay(s.fragments, state, raster);

@@ -54,7 +54,7 @@ class SharedDraws {
   struct SetUp {
     const SetUpTriangles& triangles;
     double reused_ms;
-    StateSetUp& kept;  // for rasterize()
+    StateSetUp& entry;  // this object's, for rasterize()
   };
   SetUp set_up(const std::vector<ShadowVertex>& inputs, VertexProgram program, const ShadowUniforms& uniforms,
                const Framebuffer& fb, const DrawState& state, const RasterSettings& raster);
