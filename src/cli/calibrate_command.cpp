@@ -41,6 +41,7 @@
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
 #include "nearcap/render/pass_kinds.hpp"
+#include "nearcap/worker_threads.hpp"
 #include "progress_line.hpp"
 #include "subcommand.hpp"
 
@@ -417,11 +418,12 @@ void run(CalibrateOptions o) {
     }
     EmulatedConfiguration e = emulate(*scene, c.id);
     // Everything on the CPU first (the emulation and the counting run on
-    // all cores, and their threads spin a while after): no timed pass
-    // shares the processor with them.
+    // all cores), then their worker threads released (worker_threads.hpp):
+    // no timed pass shares the processor with them.
     std::array<std::optional<MethodWork>, kMethodCount> work;
     for (std::size_t m = 0; m < kMethodCount; ++m)
       if (!e.frames[m].empty()) work[m] = method_work(e.frames[m], settings);
+    release_worker_threads();
     // One untimed frame first: what follows the CPU work and the scene's
     // first uploads lands there, not in the first method's passes.
     bool first_drawn = false;

@@ -40,6 +40,7 @@
 #include "nearcap/judge/crack_map.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "nearcap/worker_threads.hpp"
 #include "output_script.hpp"
 #include "progress_line.hpp"
 #include "subcommand.hpp"
@@ -316,7 +317,10 @@ class Evaluation {
     }
     // The GL: a warm-up draw, then `repeats` rounds of every rule's frame
     // interleaved, then Z-fail's again from a batch of its own, as many
-    // times (the noise floor); each timed by its rounds (set_times).
+    // times (the noise floor); each timed by its rounds (set_times).  The
+    // reference's and the emulation's worker threads are released first
+    // (worker_threads.hpp): none spins beside a timed frame.
+    release_worker_threads();
     const std::size_t zfail = 1;  // its index in rule_frames()
     if (frames[zfail].refused.empty()) {
       try {
@@ -346,6 +350,7 @@ class Evaluation {
     if (frames[zfail].refused.empty()) {
       RuleFrame again = frames[zfail];
       again.frame = draw(scene, light, again);
+      release_worker_threads();
       std::vector<std::pair<double, double>> again_times;
       for (int round = 0; round < repeats_; ++round) again_times.push_back(time_frame(scene, again));
       analysis::EvaluationRow row = out[zfail];

@@ -23,6 +23,7 @@
 #include "nearcap/io/scene_file.hpp"
 #include "nearcap/render/egl_context.hpp"
 #include "nearcap/render/lit_frame.hpp"
+#include "nearcap/worker_threads.hpp"
 #include "output_script.hpp"
 #include "progress_line.hpp"
 #include "render_command.hpp"
@@ -116,6 +117,9 @@ MethodFrame method_frame(render::LitFrameRenderer& renderer, const Scene& scene,
   options.one_sided_stencil = o.one_sided_stencil;
   options.vertex_stage = o.vertex_stage;
   options.side_strips = o.side_strips;
+  // --bench: the emulation's worker threads released before the timed draws
+  // (worker_threads.hpp), so that none spins beside them.
+  if (o.bench) release_worker_threads();
   const render::LitFrame lit = renderer.render(scene, frames, sources.front()->depth(m), options);
   out.passes = lit.passes;
   out.ms = lit.ms;

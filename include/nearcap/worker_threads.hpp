@@ -1,0 +1,28 @@
+// nearcap/worker_threads.hpp — the process's worker threads (oneTBB's),
+// sent away before the real GL is timed.
+//
+// The emulation's rasterizer and the exact reference run their loops on
+// oneTBB's worker threads.  A worker that runs out of work keeps spinning
+// for a while before it sleeps, and on a machine with few cores it spins on
+// a core that the GL's own threads (llvmpipe's rasterizer threads) need: a
+// frame timed right after such a loop runs beside a spinning worker for an
+// unknown part of its time.  Measured in docs/findings/policy-oracle.md
+// ("Timing after the worker threads are released"): with the workers
+// released before each configuration's timed frames, the same frames' times
+// follow the device profile's price about twice as closely.
+//
+// A renderer does not run those loops between its frames, so the commands
+// that time the real GL (calibrate, evaluate, render --bench) release the
+// workers after their CPU work and before their first timed draw; the next
+// parallel loop starts them again (about 0.1-0.2 ms, outside every timing).
+#pragma once
+
+namespace nearcap {
+
+// Joins oneTBB's worker threads (tbb::finalize): every worker has finished
+// and exited when it returns true.  Returns false where oneTBB refuses, as
+// from inside a parallel loop.  Not to be called while another thread runs
+// parallel work.
+bool release_worker_threads();
+
+}  // namespace nearcap
