@@ -218,6 +218,28 @@ step_prediction_floor() {  # the policy's predicted frame time against the same 
   python3 analysis/benchmarks/prediction_floor.py "$dir/prediction-floor-first/evaluation.csv" \
     "$dir/prediction-floor-again/evaluation.csv" "$dir/prediction-floor-third/evaluation.csv"
 }
+step_released_workers() {  # the policy-oracle command with oneTBB's workers released before timing, against a build of dd2b93a (not released), alternated
+  local old=$dir/nearcap-dd2b93a k build name
+  git worktree prune
+  git worktree add --detach "$old" dd2b93a
+  cmake -S "$old" -B "$old/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+  ninja -C "$old/build" nearcap > /dev/null
+  for k in 1 2 3; do
+    for build in $( ((k % 2)) && echo "build $old/build" || echo "$old/build build"); do
+      name=$([ "$build" = build ] && echo released || echo spinning)-$k
+      echo "== $name, $(date -u +%H:%M:%S) UTC"
+      "$build/nearcap" evaluate --policy data/policy.json --samples 500 --seed 4242 --width 160 --height 120 \
+        --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$name" > /dev/null
+      grep -E '^### |^\| (oracle|policy|always-zfail|always-clipped|exact-zpass\+zfail|doom3|doom3-bfg) |noise floor|predicted frame time' "$dir/$name/table.md"
+    done
+  done
+  for name in released spinning; do
+    echo "== prediction_floor.py, $name"
+    python3 analysis/benchmarks/prediction_floor.py "$dir/$name-1/evaluation.csv" "$dir/$name-2/evaluation.csv" \
+      "$dir/$name-3/evaluation.csv"
+  done
+  git worktree remove --force "$old"
+}
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }
 step_whole_frame() {  # a whole frame against its passes timed each on its own; the frame row's effect end to end
@@ -388,7 +410,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions orbit-against-168e363 shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor released-workers decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions orbit-against-168e363 shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then

@@ -6,15 +6,15 @@
 // for a while before it sleeps, and on a machine with few cores it spins on
 // a core that the GL's own threads (llvmpipe's rasterizer threads) need: a
 // frame timed right after such a loop runs beside a spinning worker for an
-// unknown part of its time.  Measured in docs/findings/policy-oracle.md
-// ("Timing after the worker threads are released"): with the workers
-// released before each configuration's timed frames, the same frames' times
-// follow the device profile's price about twice as closely.
+// unknown part of its time, different from one configuration to the next,
+// which no prediction made before drawing can follow
+// (docs/findings/policy-oracle.md, "Timing after the worker threads are
+// released").
 //
 // A renderer does not run those loops between its frames, so the commands
 // that time the real GL (calibrate, evaluate, render --bench) release the
 // workers after their CPU work and before their first timed draw; the next
-// parallel loop starts them again (about 0.1-0.2 ms, outside every timing).
+// parallel loop starts them again, outside every timing.
 #pragma once
 
 namespace nearcap {
