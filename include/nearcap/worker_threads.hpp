@@ -3,13 +3,12 @@
 //
 // The emulation's rasterizer and the exact reference run their loops on
 // oneTBB's worker threads.  A worker that runs out of work keeps spinning
-// for a while before it sleeps, and on a machine with few cores it spins on
-// a core that the GL's own threads (llvmpipe's rasterizer threads) need: a
-// frame timed right after such a loop runs beside a spinning worker for an
-// unknown part of its time, different from one configuration to the next,
-// which no prediction made before drawing can follow
-// (docs/findings/policy-oracle.md, "Timing after the worker threads are
-// released").
+// for a while before it sleeps, and on a machine with few cores it may spin
+// on a core that the GL's own threads (llvmpipe's rasterizer threads) need:
+// a frame timed right after such a loop may run beside a spinning worker.
+// With the workers released, the same frames' times strayed less from one
+// configuration to the next (docs/findings/policy-oracle.md, "Timing after
+// the worker threads are released").
 //
 // A renderer does not run those loops between its frames, so the commands
 // that time the real GL (calibrate, evaluate, render --bench) release the
