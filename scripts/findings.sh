@@ -240,6 +240,24 @@ step_released_workers() {  # the policy-oracle command with oneTBB's workers rel
   done
   git worktree remove --force "$old"
 }
+step_recalibrated_profile() {  # the policy-oracle command with data/policy.json against the profile of 057fc4e (calibrated with the workers spinning), alternated
+  local k name policy
+  git show 057fc4e:data/policy.json > "$dir/policy-057fc4e.json"
+  for k in 1 2 3; do
+    for name in $( ((k % 2)) && echo "recalibrated 057fc4e" || echo "057fc4e recalibrated"); do
+      policy=$([ "$name" = recalibrated ] && echo data/policy.json || echo "$dir/policy-057fc4e.json")
+      echo "== $name-$k, $(date -u +%H:%M:%S) UTC"
+      $n evaluate --policy "$policy" --samples 500 --seed 4242 --width 160 --height 120 \
+        --path data/paths/near_plane_sweep.json --path data/paths/fly_around.json --repeats 8 --out "$dir/$name-$k" > /dev/null
+      grep -E '^### |^\| (oracle|policy|always-zfail|always-clipped|exact-zpass\+zfail|exact-zpass\+clipped|doom3|doom3-bfg) |decision:|noise floor|predicted frame time|frames 40-59' "$dir/$name-$k/table.md"
+    done
+  done
+  for name in recalibrated 057fc4e; do
+    echo "== prediction_floor.py, $name"
+    python3 analysis/benchmarks/prediction_floor.py "$dir/$name-1/evaluation.csv" "$dir/$name-2/evaluation.csv" \
+      "$dir/$name-3/evaluation.csv"
+  done
+}
 step_decision_instructions() {  # the decision's instructions on near_plane_sweep (callgrind, one core)
   ./analysis/benchmarks/decision_instructions.sh build data/paths/near_plane_sweep.json; }
 step_whole_frame() {  # a whole frame against its passes timed each on its own; the frame row's effect end to end
@@ -410,7 +428,7 @@ step_fuzz_campaign() {  # 10 million executions per fuzz target
 
 steps=(bundled-scenes stress far-plane-cap infinite-far l-near light-projection clipped-sides-10k far-light depth-precision
        raytrace-scenes raytrace-hard-cases raytrace-speed gl-replay render-paths one-sided-stencil render-layouts
-       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor released-workers decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions orbit-against-168e363 shadow-method-speed
+       volume-culling engine-baselines policy-tuning policy-evaluation policy-oracle price-residuals prediction-floor released-workers recalibrated-profile decision-instructions whole-frame cpu-task-models in-view-triangles sweep-rates orbit-instructions orbit-against-168e363 shadow-method-speed
        classification-speed reference-speed reference-setup cap-arrangement memory cap-cpu-time report-scale fuzz-campaign)
 
 if [ "${1:-}" = "--list" ]; then
